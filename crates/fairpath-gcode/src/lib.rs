@@ -1,0 +1,1 @@
+//! G-code reader and writers.

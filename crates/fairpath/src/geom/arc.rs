@@ -1,0 +1,157 @@
+//! Circular, helical and spiral arcs as G2/G3 describe them.
+
+use super::{ParamCurve, Vec3};
+use crate::math;
+use core::f64::consts::PI;
+
+/// An arc turning counter-clockwise about the unit `normal` through `sweep`
+/// radians (more than 2 pi for several turns), with radius varying linearly
+/// from `r0` to `r1` (a G2/G3 whose end radius differs slightly from its start
+/// radius, as LinuxCNC runs it) and a helical rise `rise` along `normal`:
+///
+/// `C(t) = center + r(t) (cos(t sweep) u + sin(t sweep) v) + t rise normal`,
+/// `r(t) = r0 + t (r1 - r0)`, `t` in `[0, 1]`, `v = normal x u`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arc {
+    /// Centre, in the plane of the start point.
+    pub center: Vec3,
+    /// Unit normal; the arc turns counter-clockwise about it.
+    pub normal: Vec3,
+    /// Unit vector from the centre towards the start point.
+    pub u: Vec3,
+    pub r0: f64,
+    pub r1: f64,
+    /// Total turning angle in radians, > 0.
+    pub sweep: f64,
+    /// Displacement along `normal` from start to end, mm.
+    pub rise: f64,
+}
+
+/// Why an arc could not be built from G2/G3 data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArcError {
+    /// Start or end coincides with the centre.
+    ZeroRadius,
+    /// A coordinate is NaN or infinite.
+    NotFinite,
+}
+
+impl Arc {
+    /// The arc from `start` to `end` about the axis through `center` along
+    /// `axis` (the plane normal: +Z for G17, +Y for G18, +X for G19),
+    /// clockwise about `axis` for G2, counter-clockwise for G3, making
+    /// `turns >= 1` turns (G-code `P`). `coincident` (mm) is the distance
+    /// below which start and end are the same point in the plane, which makes
+    /// a full circle.
+    pub fn from_center(
+        start: Vec3,
+        end: Vec3,
+        center: Vec3,
+        axis: Vec3,
+        clockwise: bool,
+        turns: u32,
+        coincident: f64,
+    ) -> Result<Arc, ArcError> {
+        if !(start.is_finite() && end.is_finite() && center.is_finite()) {
+            return Err(ArcError::NotFinite);
+        }
+        let normal = if clockwise { -axis } else { axis };
+        let c = center + normal * (start - center).dot(normal);
+        let a = start - c;
+        let r0 = a.norm();
+        let rise = (end - start).dot(normal);
+        let e_in_plane = end - normal * rise;
+        let b = e_in_plane - c;
+        let r1 = b.norm();
+        if r0 <= coincident || r1 <= coincident {
+            return Err(ArcError::ZeroRadius);
+        }
+        let u = a / r0;
+        let mut phi = math::atan2(a.cross(b).dot(normal), a.dot(b));
+        if (e_in_plane - start).norm() <= coincident {
+            phi = 2.0 * PI;
+        } else if phi <= 0.0 {
+            phi += 2.0 * PI;
+        }
+        let sweep = phi + 2.0 * PI * (turns.max(1) - 1) as f64;
+        Ok(Arc {
+            center: c,
+            normal,
+            u,
+            r0,
+            r1,
+            sweep,
+            rise,
+        })
+    }
+
+    fn v(&self) -> Vec3 {
+        self.normal.cross(self.u)
+    }
+
+    /// True when the radius is constant and there is no rise: the arc is
+    /// exactly a rational quadratic NURBS.
+    pub fn is_circular(&self, tol: f64) -> bool {
+        math::abs(self.r1 - self.r0) <= tol && math::abs(self.rise) <= tol
+    }
+
+    /// Exact length of a circular or helical arc; for a spiral (r0 != r1),
+    /// the length of the circular arc of the mean radius, which is within
+    /// `|r1 - r0| * sweep` of it; use [`super::arc_length`] for more.
+    pub fn approx_length(&self) -> f64 {
+        let r = 0.5 * (self.r0 + self.r1);
+        math::sqrt((r * self.sweep) * (r * self.sweep) + self.rise * self.rise)
+    }
+
+    /// Radius at `t`.
+    pub fn radius(&self, t: f64) -> f64 {
+        self.r0 + t * (self.r1 - self.r0)
+    }
+
+    /// The arc reversed (same points, opposite direction).
+    pub fn reversed(&self) -> Arc {
+        let end = self.eval(1.0);
+        let e_in = end - self.normal * self.rise;
+        let b = e_in - self.center;
+        let r1 = b.norm();
+        Arc {
+            center: self.center + self.normal * self.rise,
+            normal: -self.normal,
+            u: b / r1,
+            r0: self.r1,
+            r1: self.r0,
+            sweep: self.sweep,
+            rise: self.rise,
+        }
+    }
+}
+
+impl ParamCurve for Arc {
+    fn domain(&self) -> (f64, f64) {
+        (0.0, 1.0)
+    }
+    fn eval(&self, t: f64) -> Vec3 {
+        let a = t * self.sweep;
+        let (s, c) = (math::sin(a), math::cos(a));
+        self.center + (self.u * c + self.v() * s) * self.radius(t) + self.normal * (t * self.rise)
+    }
+    fn deriv1(&self, t: f64) -> Vec3 {
+        let a = t * self.sweep;
+        let (s, c) = (math::sin(a), math::cos(a));
+        let v = self.v();
+        let radial = self.u * c + v * s;
+        let tang = v * c - self.u * s;
+        radial * (self.r1 - self.r0)
+            + tang * (self.radius(t) * self.sweep)
+            + self.normal * self.rise
+    }
+    fn deriv2(&self, t: f64) -> Vec3 {
+        let a = t * self.sweep;
+        let (s, c) = (math::sin(a), math::cos(a));
+        let v = self.v();
+        let radial = self.u * c + v * s;
+        let tang = v * c - self.u * s;
+        tang * (2.0 * (self.r1 - self.r0) * self.sweep)
+            - radial * (self.radius(t) * self.sweep * self.sweep)
+    }
+}

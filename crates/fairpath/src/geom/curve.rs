@@ -1,0 +1,166 @@
+//! The parametric-curve interface shared by lines, arcs and NURBS, with the
+//! generic algorithms built on it: curvature, arc length, flattening.
+
+use super::Vec3;
+use crate::math;
+use alloc::vec::Vec;
+
+/// A parametric curve `C(t)`, `t` in [`ParamCurve::domain`], coordinates in mm.
+pub trait ParamCurve {
+    /// Parameter interval `(t0, t1)`.
+    fn domain(&self) -> (f64, f64);
+    /// Position `C(t)`.
+    fn eval(&self, t: f64) -> Vec3;
+    /// First derivative `C'(t)`.
+    fn deriv1(&self, t: f64) -> Vec3;
+    /// Second derivative `C''(t)`.
+    fn deriv2(&self, t: f64) -> Vec3;
+
+    fn start(&self) -> Vec3 {
+        self.eval(self.domain().0)
+    }
+    fn end(&self) -> Vec3 {
+        self.eval(self.domain().1)
+    }
+    /// Curvature `|C' x C''| / |C'|^3` (1/mm); 0 where `C'` vanishes.
+    fn curvature(&self, t: f64) -> f64 {
+        curvature_from(self.deriv1(t), self.deriv2(t))
+    }
+    /// Curvature vector `kappa * N` (1/mm): the part of `C''` normal to
+    /// `C'`, divided by `|C'|^2`. Equal curvature vectors on both sides of a
+    /// joint with equal unit tangents make the joint G2.
+    fn curvature_vector(&self, t: f64) -> Vec3 {
+        curvature_vector_from(self.deriv1(t), self.deriv2(t))
+    }
+    /// Unit tangent, or `None` where the curve is singular.
+    fn unit_tangent(&self, t: f64) -> Option<Vec3> {
+        self.deriv1(t).normalized(0.0)
+    }
+}
+
+/// Curvature from the first two derivatives.
+pub fn curvature_from(d1: Vec3, d2: Vec3) -> f64 {
+    let s = d1.norm();
+    if s == 0.0 {
+        return 0.0;
+    }
+    d1.cross(d2).norm() / (s * s * s)
+}
+
+/// Curvature vector `(C'' - (C''.T)T) / |C'|^2` from the first two derivatives.
+pub fn curvature_vector_from(d1: Vec3, d2: Vec3) -> Vec3 {
+    let s2 = d1.norm_sq();
+    if s2 == 0.0 {
+        return Vec3::ZERO;
+    }
+    (d2 - d1 * (d2.dot(d1) / s2)) / s2
+}
+
+// 5-point Gauss-Legendre nodes and weights on [-1, 1].
+const GL5_X: [f64; 5] = [
+    0.0,
+    -0.538_469_310_105_683_1,
+    0.538_469_310_105_683_1,
+    -0.906_179_845_938_664,
+    0.906_179_845_938_664,
+];
+const GL5_W: [f64; 5] = [
+    0.568_888_888_888_888_9,
+    0.478_628_670_499_366_5,
+    0.478_628_670_499_366_5,
+    0.236_926_885_056_189_1,
+    0.236_926_885_056_189_1,
+];
+
+fn gl5<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64) -> f64 {
+    let h = 0.5 * (b - a);
+    let m = 0.5 * (a + b);
+    let mut s = 0.0;
+    for i in 0..5 {
+        s += GL5_W[i] * c.deriv1(m + h * GL5_X[i]).norm();
+    }
+    s * h
+}
+
+/// Arc length of `c` over `[a, b]`, accurate to `accuracy` mm: adaptive
+/// 5-point Gauss-Legendre quadrature of `|C'(t)|`, bisecting until the
+/// whole-interval and two-halves estimates agree within the share of
+/// `accuracy` that interval owns.
+pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
+    fn rec<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, whole: f64, acc: f64, depth: u32) -> f64 {
+        let m = 0.5 * (a + b);
+        let l = gl5(c, a, m);
+        let r = gl5(c, m, b);
+        if depth == 0 || math::abs(l + r - whole) <= acc {
+            l + r
+        } else {
+            rec(c, a, m, l, 0.5 * acc, depth - 1) + rec(c, m, b, r, 0.5 * acc, depth - 1)
+        }
+    }
+    let whole = gl5(c, a, b);
+    rec(c, a, b, whole, accuracy.max(0.0), 30)
+}
+
+/// Arc length of the whole curve, accurate to `accuracy` mm.
+pub fn arc_length<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
+    let (a, b) = c.domain();
+    arc_length_between(c, a, b, accuracy)
+}
+
+/// Parameters at which chords of `c` stay within `chord` mm of the curve:
+/// the chord error of a short span is about `kappa * l^2 / 8`, so a span of
+/// length `l <= sqrt(8 chord / kappa)` is accepted when its chord error
+/// measured at the span's quarter, half and three-quarter points is within
+/// `chord`; longer spans are bisected. Returns increasing parameters from
+/// start to end, both included.
+pub fn flatten_params<C: ParamCurve + ?Sized>(c: &C, chord: f64) -> Vec<f64> {
+    let (a, b) = c.domain();
+    let mut out = Vec::new();
+    out.push(a);
+    // Start from a few spans so that an S-shaped span cannot hide its bulge
+    // between the test points.
+    let n0 = 4;
+    for i in 0..n0 {
+        let t0 = a + (b - a) * (i as f64) / (n0 as f64);
+        let t1 = a + (b - a) * ((i + 1) as f64) / (n0 as f64);
+        flatten_rec(c, t0, t1, chord, 40, &mut out);
+    }
+    out
+}
+
+fn chord_error<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> f64 {
+    let p0 = c.eval(t0);
+    let p1 = c.eval(t1);
+    let mut e: f64 = 0.0;
+    for f in [0.25, 0.5, 0.75] {
+        let q = c.eval(t0 + (t1 - t0) * f);
+        e = e.max(super::polyline::point_segment_distance(q, p0, p1));
+    }
+    e
+}
+
+fn flatten_rec<C: ParamCurve + ?Sized>(
+    c: &C,
+    t0: f64,
+    t1: f64,
+    chord: f64,
+    depth: u32,
+    out: &mut Vec<f64>,
+) {
+    // Second-derivative bound: |C''| (dt)^2 / 8 is the chord error of a span
+    // for a curve with nearly constant C''. Use it plus the sampled error.
+    let dt = t1 - t0;
+    let tm = 0.5 * (t0 + t1);
+    let d2 = c
+        .deriv2(t0)
+        .norm()
+        .max(c.deriv2(tm).norm())
+        .max(c.deriv2(t1).norm());
+    let est = d2 * dt * dt / 8.0;
+    if depth == 0 || (est <= chord && chord_error(c, t0, t1) <= chord) {
+        out.push(t1);
+    } else {
+        flatten_rec(c, t0, tm, chord, depth - 1, out);
+        flatten_rec(c, tm, t1, chord, depth - 1, out);
+    }
+}

@@ -1,0 +1,84 @@
+//! Geometry kernel: points, lines, arcs, B-spline/NURBS curves, curvature,
+//! arc length, distances to polylines.
+
+mod arc;
+mod curve;
+mod line;
+mod nurbs;
+mod polyline;
+mod vec3;
+
+pub use arc::{Arc, ArcError};
+pub use curve::{
+    arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
+    ParamCurve,
+};
+pub use line::Line;
+pub use nurbs::{Nurbs, NurbsError};
+pub use polyline::{
+    distance_to_polyline, point_segment_distance, point_segment_distance_t, SegmentGrid,
+};
+pub use vec3::Vec3;
+
+/// One piece of a tool path: a line, a G2/G3 arc, or a NURBS curve.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Curve {
+    Line(Line),
+    Arc(Arc),
+    Nurbs(Nurbs),
+}
+
+impl Curve {
+    /// Length accurate to `accuracy` mm (exact for lines, circular and
+    /// helical arcs).
+    pub fn length(&self, accuracy: f64) -> f64 {
+        match self {
+            Curve::Line(l) => l.length(),
+            Curve::Arc(a) if a.r0 == a.r1 => a.approx_length(),
+            c => arc_length(c, accuracy),
+        }
+    }
+}
+
+impl ParamCurve for Curve {
+    fn domain(&self) -> (f64, f64) {
+        match self {
+            Curve::Line(c) => c.domain(),
+            Curve::Arc(c) => c.domain(),
+            Curve::Nurbs(c) => c.domain(),
+        }
+    }
+    fn eval(&self, t: f64) -> Vec3 {
+        match self {
+            Curve::Line(c) => c.eval(t),
+            Curve::Arc(c) => c.eval(t),
+            Curve::Nurbs(c) => c.eval(t),
+        }
+    }
+    fn deriv1(&self, t: f64) -> Vec3 {
+        match self {
+            Curve::Line(c) => c.deriv1(t),
+            Curve::Arc(c) => c.deriv1(t),
+            Curve::Nurbs(c) => c.deriv1(t),
+        }
+    }
+    fn deriv2(&self, t: f64) -> Vec3 {
+        match self {
+            Curve::Line(c) => c.deriv2(t),
+            Curve::Arc(c) => c.deriv2(t),
+            Curve::Nurbs(c) => c.deriv2(t),
+        }
+    }
+    fn start(&self) -> Vec3 {
+        match self {
+            Curve::Line(c) => c.p0,
+            c => c.eval(c.domain().0),
+        }
+    }
+    fn end(&self) -> Vec3 {
+        match self {
+            Curve::Line(c) => c.p1,
+            c => c.eval(c.domain().1),
+        }
+    }
+}

@@ -1,0 +1,377 @@
+//! General-degree B-spline and NURBS curves (Piegl and Tiller, The NURBS
+//! Book, 2nd ed.: A2.1 FindSpan, A2.3 DersBasisFuns, eq. 4.8 for rational
+//! derivatives).
+
+use super::{arc::Arc, ParamCurve, Vec3};
+use crate::math;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::f64::consts::PI;
+
+/// A B-spline (weights `None`) or NURBS curve of any degree, clamped or not.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Nurbs {
+    pub degree: usize,
+    /// Non-decreasing, `points.len() + degree + 1` values.
+    pub knots: Vec<f64>,
+    pub points: Vec<Vec3>,
+    /// One positive weight per control point, or `None` for a polynomial
+    /// B-spline.
+    pub weights: Option<Vec<f64>>,
+}
+
+/// Why a NURBS definition is invalid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NurbsError {
+    TooFewPoints,
+    KnotCount,
+    KnotsDecreasing,
+    EmptyDomain,
+    BadWeights,
+    NotFinite,
+}
+
+impl Nurbs {
+    /// Checks the definition and builds the curve.
+    pub fn new(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<Vec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Nurbs, NurbsError> {
+        if degree == 0 || points.len() < degree + 1 {
+            return Err(NurbsError::TooFewPoints);
+        }
+        if knots.len() != points.len() + degree + 1 {
+            return Err(NurbsError::KnotCount);
+        }
+        if knots.iter().any(|k| !k.is_finite()) || points.iter().any(|p| !p.is_finite()) {
+            return Err(NurbsError::NotFinite);
+        }
+        if knots.windows(2).any(|w| w[1] < w[0]) {
+            return Err(NurbsError::KnotsDecreasing);
+        }
+        if knots[points.len()] <= knots[degree] {
+            return Err(NurbsError::EmptyDomain);
+        }
+        if let Some(w) = &weights {
+            if w.len() != points.len() || w.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+                return Err(NurbsError::BadWeights);
+            }
+        }
+        Ok(Nurbs {
+            degree,
+            knots,
+            points,
+            weights,
+        })
+    }
+
+    /// Piegl-Tiller A2.1: the span index `i` with `knots[i] <= t < knots[i+1]`
+    /// (the last non-empty span at the domain end).
+    pub fn find_span(&self, t: f64) -> usize {
+        let n = self.points.len() - 1;
+        let p = self.degree;
+        if t >= self.knots[n + 1] {
+            // last non-empty span
+            let mut i = n;
+            while i > p && self.knots[i] >= self.knots[n + 1] {
+                i -= 1;
+            }
+            return i;
+        }
+        if t <= self.knots[p] {
+            let mut i = p;
+            while i < n && self.knots[i + 1] <= self.knots[p] {
+                i += 1;
+            }
+            return i;
+        }
+        let (mut lo, mut hi) = (p, n + 1);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if t < self.knots[mid] {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        lo
+    }
+
+    /// Piegl-Tiller A2.3: non-zero basis functions and their derivatives up
+    /// to order `nd` at `t` in span `span`; `ders[k][j]` is the k-th
+    /// derivative of `N_{span-p+j, p}`.
+    fn ders_basis(&self, span: usize, t: f64, nd: usize) -> [[f64; 8]; 3] {
+        let p = self.degree;
+        assert!(p < 8, "degree above 7 is not supported");
+        let u = &self.knots;
+        let mut ndu = [[0.0f64; 8]; 8];
+        let mut left = [0.0f64; 8];
+        let mut right = [0.0f64; 8];
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = t - u[span + 1 - j];
+            right[j] = u[span + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = if ndu[j][r] != 0.0 {
+                    ndu[r][j - 1] / ndu[j][r]
+                } else {
+                    0.0
+                };
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut ders = [[0.0f64; 8]; 3];
+        for j in 0..=p {
+            ders[0][j] = ndu[j][p];
+        }
+        let nd = nd.min(p).min(2);
+        let mut a = [[0.0f64; 8]; 2];
+        for r in 0..=p {
+            let (mut s1, mut s2) = (0usize, 1usize);
+            a[0] = [0.0; 8];
+            a[0][0] = 1.0;
+            for k in 1..=nd {
+                let mut d = 0.0;
+                let rk = r as isize - k as isize;
+                let pk = p - k;
+                if r >= k {
+                    let rk = rk as usize;
+                    a[s2][0] = if ndu[pk + 1][rk] != 0.0 {
+                        a[s1][0] / ndu[pk + 1][rk]
+                    } else {
+                        0.0
+                    };
+                    d = a[s2][0] * ndu[rk][pk];
+                }
+                let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+                let j2 = if (r as isize - 1) <= pk as isize {
+                    k - 1
+                } else {
+                    p - r
+                };
+                for j in j1..=j2 {
+                    let idx = (rk + j as isize) as usize;
+                    a[s2][j] = if ndu[pk + 1][idx] != 0.0 {
+                        (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx]
+                    } else {
+                        0.0
+                    };
+                    d += a[s2][j] * ndu[idx][pk];
+                }
+                if r <= pk {
+                    a[s2][k] = if ndu[pk + 1][r] != 0.0 {
+                        -a[s1][k - 1] / ndu[pk + 1][r]
+                    } else {
+                        0.0
+                    };
+                    d += a[s2][k] * ndu[r][pk];
+                }
+                ders[k][r] = d;
+                core::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut f = p as f64;
+        for k in 1..=nd {
+            for j in 0..=p {
+                ders[k][j] *= f;
+            }
+            f *= (p - k) as f64;
+        }
+        ders
+    }
+
+    /// Position and first two derivatives at `t` (clamped to the domain).
+    pub fn derivs(&self, t: f64) -> [Vec3; 3] {
+        let (a, b) = self.domain();
+        let t = t.clamp(a, b);
+        let p = self.degree;
+        let span = self.find_span(t);
+        let nd = 2;
+        let ders = self.ders_basis(span, t, nd);
+        match &self.weights {
+            None => {
+                let mut out = [Vec3::ZERO; 3];
+                for (k, o) in out.iter_mut().enumerate() {
+                    for j in 0..=p {
+                        *o += self.points[span - p + j] * ders[k][j];
+                    }
+                }
+                out
+            }
+            Some(w) => {
+                // Homogeneous derivatives A^(k), w^(k), then eq. 4.8.
+                let mut aw = [Vec3::ZERO; 3];
+                let mut ww = [0.0; 3];
+                for k in 0..3 {
+                    for j in 0..=p {
+                        let i = span - p + j;
+                        aw[k] += self.points[i] * (w[i] * ders[k][j]);
+                        ww[k] += w[i] * ders[k][j];
+                    }
+                }
+                let c0 = aw[0] / ww[0];
+                let c1 = (aw[1] - c0 * ww[1]) / ww[0];
+                let c2 = (aw[2] - c1 * (2.0 * ww[1]) - c0 * ww[2]) / ww[0];
+                [c0, c1, c2]
+            }
+        }
+    }
+
+    /// Distinct knot values inside the domain, ends included: the breaks
+    /// between polynomial pieces.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let (a, b) = self.domain();
+        let mut out: Vec<f64> = vec![a];
+        for &k in &self.knots {
+            if k > *out.last().unwrap() && k < b {
+                out.push(k);
+            }
+        }
+        out.push(b);
+        out
+    }
+
+    /// A circular arc as a rational quadratic NURBS (Piegl and Tiller A7.1):
+    /// pieces of at most 90 degrees, weights `cos(half piece angle)`.
+    /// Exact for circular arcs (`r0 == r1`, no rise); for spiral or helical
+    /// arcs use [`Nurbs::approximate`] instead.
+    pub fn from_circular_arc(arc: &Arc) -> Nurbs {
+        let n_pieces = math::ceil(arc.sweep / (0.5 * PI)).max(1.0) as usize;
+        let dphi = arc.sweep / n_pieces as f64;
+        let w1 = math::cos(0.5 * dphi);
+        let v = arc.normal.cross(arc.u);
+        let r = arc.r0;
+        let mut points = Vec::with_capacity(2 * n_pieces + 1);
+        let mut weights = Vec::with_capacity(2 * n_pieces + 1);
+        let at = |a: f64| arc.center + (arc.u * math::cos(a) + v * math::sin(a)) * r;
+        points.push(arc.eval(0.0));
+        weights.push(1.0);
+        for i in 0..n_pieces {
+            let a0 = dphi * i as f64;
+            let am = a0 + 0.5 * dphi;
+            let a1 = a0 + dphi;
+            // The middle control point is the intersection of the end
+            // tangents: at distance r / cos(dphi/2) from the centre.
+            points.push(arc.center + (at(am) - arc.center) / w1);
+            weights.push(w1);
+            points.push(if i + 1 == n_pieces {
+                arc.eval(1.0)
+            } else {
+                at(a1)
+            });
+            weights.push(1.0);
+        }
+        let mut knots = vec![0.0, 0.0, 0.0];
+        for i in 1..n_pieces {
+            let k = i as f64 / n_pieces as f64;
+            knots.push(k);
+            knots.push(k);
+        }
+        knots.extend_from_slice(&[1.0, 1.0, 1.0]);
+        Nurbs {
+            degree: 2,
+            knots,
+            points,
+            weights: Some(weights),
+        }
+    }
+
+    /// A piecewise cubic (C1 Hermite, knots of multiplicity 3) approximation
+    /// of any curve, within `accuracy` mm of it: spans are halved until the
+    /// distance between curve and approximation, sampled at 7 points per span,
+    /// is below `accuracy` (the Hermite error is O(h^4), so the sampled
+    /// maximum is close to the true one).
+    pub fn approximate<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> Nurbs {
+        let (a, b) = c.domain();
+        let mut spans: Vec<(f64, f64)> = Vec::new();
+        let n0 = 4;
+        let mut stack: Vec<(f64, f64, u32)> = (0..n0)
+            .rev()
+            .map(|i| {
+                (
+                    a + (b - a) * i as f64 / n0 as f64,
+                    a + (b - a) * (i + 1) as f64 / n0 as f64,
+                    0,
+                )
+            })
+            .collect();
+        while let Some((t0, t1, depth)) = stack.pop() {
+            let bez = hermite(c, t0, t1);
+            let mut err: f64 = 0.0;
+            for i in 1..8 {
+                let s = i as f64 / 8.0;
+                err = err.max(bezier_eval(&bez, s).dist(c.eval(t0 + (t1 - t0) * s)));
+            }
+            if err <= accuracy || depth >= 30 {
+                spans.push((t0, t1));
+            } else {
+                let tm = 0.5 * (t0 + t1);
+                stack.push((tm, t1, depth + 1));
+                stack.push((t0, tm, depth + 1));
+            }
+        }
+        let mut points = Vec::with_capacity(3 * spans.len() + 1);
+        let mut knots = vec![a; 4];
+        for (i, &(t0, t1)) in spans.iter().enumerate() {
+            let bez = hermite(c, t0, t1);
+            if i == 0 {
+                points.push(bez[0]);
+            }
+            points.extend_from_slice(&bez[1..]);
+            if i + 1 < spans.len() {
+                knots.extend_from_slice(&[t1, t1, t1]);
+            }
+        }
+        knots.extend_from_slice(&[b; 4]);
+        Nurbs {
+            degree: 3,
+            knots,
+            points,
+            weights: None,
+        }
+    }
+}
+
+fn hermite<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> [Vec3; 4] {
+    let h = (t1 - t0) / 3.0;
+    let p0 = c.eval(t0);
+    let p3 = c.eval(t1);
+    [p0, p0 + c.deriv1(t0) * h, p3 - c.deriv1(t1) * h, p3]
+}
+
+fn bezier_eval(b: &[Vec3; 4], s: f64) -> Vec3 {
+    let m = 1.0 - s;
+    b[0] * (m * m * m) + b[1] * (3.0 * m * m * s) + b[2] * (3.0 * m * s * s) + b[3] * (s * s * s)
+}
+
+impl ParamCurve for Nurbs {
+    fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.points.len()])
+    }
+    fn eval(&self, t: f64) -> Vec3 {
+        // Clamped ends are the end control points exactly (no rounding from
+        // the rational division).
+        let (a, b) = self.domain();
+        let p = self.degree;
+        let n = self.points.len();
+        if t <= a && self.knots[..=p].iter().all(|&k| k == a) {
+            return self.points[0];
+        }
+        if t >= b && self.knots[n..].iter().all(|&k| k == b) {
+            return self.points[n - 1];
+        }
+        self.derivs(t)[0]
+    }
+    fn deriv1(&self, t: f64) -> Vec3 {
+        self.derivs(t)[1]
+    }
+    fn deriv2(&self, t: f64) -> Vec3 {
+        self.derivs(t)[2]
+    }
+}

@@ -1,0 +1,33 @@
+//! # fairpath
+//!
+//! Tolerance-bounded, curvature-continuous (G2) smoothing of CNC tool paths.
+//!
+//! Data flows one way:
+//!
+//! ```text
+//! G-code text --(fairpath-gcode reader)--> Program --> Runs of feed moves (path::Run)
+//!     --> smoother (smooth::Smoother, e.g. smooth::BsplineCorner) --> smoothed pieces
+//!     --> smooth::verify (independent: deviation, joint continuity, endpoints)
+//!     --> (feed planning: not yet) --> writers (fairpath-gcode: G-code, JSON)
+//! ```
+//!
+//! * [`geom`]: vectors, lines, arcs, B-spline/NURBS curves; derivatives,
+//!   curvature, arc length, distances to polylines.
+//! * [`path`]: pieces of geometry tied to the input lines they replace,
+//!   grouped in runs.
+//! * [`smooth`]: smoothing methods behind one trait, and [`smooth::verify`].
+//!
+//! The crate has no I/O and builds without `std` (`default-features = false`)
+//! for `core + alloc` targets such as a controller's firmware. Coordinates are
+//! f64 millimetres throughout.
+#![cfg_attr(not(feature = "std"), no_std)]
+
+extern crate alloc;
+
+pub mod geom;
+mod math;
+pub mod path;
+pub mod smooth;
+
+pub use geom::{Curve, ParamCurve, Vec3};
+pub use path::{Piece, Run};
