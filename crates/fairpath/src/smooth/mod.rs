@@ -1,1 +1,72 @@
-//! Smoothing methods (filled in below).
+//! Smoothing methods behind one trait, and the independent verifier.
+//!
+//! A [`Smoother`] turns one [`Run`] of feed moves into pieces that stay
+//! within a tolerance of it, start and end exactly where it does, and join
+//! with G2 continuity wherever it can; corners it cannot blend are kept and
+//! reported. [`verify`] checks all of that without trusting the smoother.
+
+mod bspline_corner;
+mod chains;
+pub mod verify;
+
+pub use bspline_corner::{
+    corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve, BsplineCorner,
+    BsplineCornerOptions, ErrorTarget, TRANSITION_KNOTS,
+};
+pub use chains::{CornerReason, KeptCorner};
+
+use crate::path::{Piece, Run};
+use alloc::vec::Vec;
+
+/// What a smoother produced for one run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SmoothedRun {
+    /// The new pieces, continuous, from the run's start to its end.
+    pub pieces: Vec<Piece>,
+    /// Corners left as corners, with the reason.
+    pub kept_corners: Vec<KeptCorner>,
+    /// Zero-length moves that were dropped.
+    pub dropped_zero_length: usize,
+    /// Vertices where the path runs straight on, merged into one line.
+    pub merged_collinear: usize,
+    /// Corners replaced by a transition curve.
+    pub transitions: usize,
+}
+
+/// Why smoothing could not be done.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SmoothError {
+    /// The tolerance is not a positive finite number of mm.
+    #[error("tolerance must be a positive number of mm, got {0}")]
+    BadTolerance(f64),
+    /// Consecutive pieces of the run do not meet.
+    #[error("run is not continuous at input line {line}")]
+    Discontinuous { line: usize },
+    /// A coordinate is NaN or infinite.
+    #[error("non-finite coordinate at input line {line}")]
+    NotFinite { line: usize },
+    /// A method option is out of range.
+    #[error("invalid option: {0}")]
+    BadOption(&'static str),
+}
+
+/// A smoothing method.
+pub trait Smoother {
+    /// The name used on the command line (`bspline-corner`, ...).
+    fn name(&self) -> &'static str;
+    /// Smooths one run so that every point of the result lies within
+    /// `tolerance` mm (3D Euclidean) of the run, with the run's endpoints
+    /// kept exactly.
+    fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError>;
+}
+
+/// Rejects tolerances that are not positive and finite, or absurdly small
+/// or large: below 1 nm (beneath any machine's resolution and f64 rounding on
+/// metre-sized parts) or above 1 m.
+pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
+    if tolerance.is_finite() && (1e-6..=1000.0).contains(&tolerance) {
+        Ok(())
+    } else {
+        Err(SmoothError::BadTolerance(tolerance))
+    }
+}

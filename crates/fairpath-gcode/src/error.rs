@@ -1,0 +1,120 @@
+//! Typed errors of the reader and writers. Every reader error names the
+//! 1-based line and column of the offending text.
+
+use thiserror::Error;
+
+/// A reader error at a position of the input. Displays as
+/// `line:column: message`.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[error("{line}:{column}: {kind}")]
+pub struct GcodeError {
+    /// 1-based line number.
+    pub line: usize,
+    /// 1-based column (in characters; bytes for invalid UTF-8).
+    pub column: usize,
+    pub kind: ErrorKind,
+}
+
+impl GcodeError {
+    pub fn new(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
+        GcodeError { line, column, kind }
+    }
+
+    /// True for input that is valid G-code of some dialect but uses a feature
+    /// this reader does not support (parameters, expressions, o-words,
+    /// splines, canned cycles, ...), as opposed to malformed input.
+    pub fn is_unsupported(&self) -> bool {
+        matches!(
+            self.kind,
+            ErrorKind::Unsupported(_)
+                | ErrorKind::UnsupportedGCode(_)
+                | ErrorKind::UnsupportedWord(_)
+        )
+    }
+}
+
+/// What went wrong.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum ErrorKind {
+    // ---- lexical ----
+    #[error("invalid UTF-8")]
+    InvalidUtf8,
+    #[error("unexpected character {0:?}")]
+    UnexpectedCharacter(char),
+    #[error("comment not closed before the end of the line")]
+    UnclosedComment,
+    #[error("nested '(' inside a comment")]
+    NestedComment,
+    #[error("word {0} has no number")]
+    MissingValue(char),
+    #[error("malformed number for word {letter}: {text:?}")]
+    MalformedNumber { letter: char, text: String },
+    #[error("number for word {0} is out of range")]
+    NumberOutOfRange(char),
+    #[error("word {0} appears twice on one line")]
+    DuplicateWord(char),
+    // ---- unsupported features ----
+    #[error("unsupported: {0}")]
+    Unsupported(&'static str),
+    #[error("unsupported G code G{0}")]
+    UnsupportedGCode(String),
+    #[error("unsupported word {0}")]
+    UnsupportedWord(char),
+    // ---- semantic ----
+    #[error("unknown G code G{0}")]
+    UnknownGCode(String),
+    #[error("two G codes of the same modal group ({0}) on one line")]
+    ConflictingGCodes(&'static str),
+    #[error("two M codes of the same modal group on one line")]
+    ConflictingMCodes,
+    #[error("two commands on one line use the axis words")]
+    ConflictingAxisUsers,
+    #[error("axis words without a motion mode (after G80 or at program start)")]
+    NoMotionMode,
+    #[error("G2/G3 without any axis word")]
+    ArcWithoutAxes,
+    #[error("G2/G3 needs either a centre (I/J/K) or a radius R")]
+    ArcWithoutCenter,
+    #[error("G2/G3 has both a radius R and centre words")]
+    ArcRadiusAndCenter,
+    #[error("centre word {0} is not in the selected plane")]
+    ArcOffPlaneCenter(char),
+    #[error("R-form arc with the end point equal to the start point")]
+    ArcRadiusFullCircle,
+    #[error("arc radius {radius} is too small to reach the end point (half chord {half_chord})")]
+    ArcRadiusTooSmall { radius: f64, half_chord: f64 },
+    #[error("arc radius differs between start ({r_start}) and end ({r_end}) by more than {tolerance} (program units)")]
+    ArcRadiusMismatch {
+        r_start: f64,
+        r_end: f64,
+        tolerance: f64,
+    },
+    #[error("degenerate arc: start or end coincides with the centre")]
+    ArcZeroRadius,
+    #[error("P (number of turns) must be a positive integer, got {0}")]
+    BadTurns(f64),
+    #[error("value of {0} is out of range")]
+    BadValue(char),
+}
+
+/// Errors of the writers and of [`crate::read_json`].
+#[derive(Debug, Error)]
+pub enum WriteError {
+    #[error("{expected} smoothed runs expected, {got} given")]
+    RunCount { expected: usize, got: usize },
+    #[error("chord tolerance must be positive and finite, got {0}")]
+    BadChord(f64),
+    #[error("a smoothed piece has a non-finite coordinate")]
+    NotFinite,
+}
+
+/// Errors of [`crate::read_json`].
+#[derive(Debug, Error)]
+pub enum JsonError {
+    #[error("JSON: {0}")]
+    Syntax(#[from] serde_json::Error),
+    #[error("piece {index}: {message}")]
+    Piece { index: usize, message: String },
+    #[error("units {0:?} not supported (only \"mm\")")]
+    Units(String),
+}

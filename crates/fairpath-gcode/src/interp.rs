@@ -1,0 +1,864 @@
+//! The modal interpreter: turns lexed lines into moves (pieces in mm), tracks
+//! the modal state, decides which moves are pinned and which lines end runs,
+//! and groups the runs.
+
+use crate::error::{ErrorKind, GcodeError};
+use crate::lexer::{lex_line, split_lines, LexedLine, Word};
+use crate::program::{
+    Feed, Move, MoveKind, MotionMode, PinReason, Program, ProgramLine, RunSpan, Units,
+};
+use fairpath::geom::{Arc, ArcError, Curve, Line, ParamCurve, Vec3};
+use fairpath::path::Piece;
+
+/// Distance (mm) below which an arc's start and end coincide in the plane
+/// (a full circle) or a point coincides with the centre: below G-code
+/// resolution (1e-4 mm or 1e-5 in are the finest programs write).
+pub const COINCIDENT_MM: f64 = 1e-7;
+
+/// Largest difference between an IJK arc's start and end radius accepted
+/// (a spiral arc within it is kept as a spiral, like LinuxCNC does); larger
+/// is an error. LinuxCNC's defaults: 0.0005 in for inch programs, 0.01 mm for
+/// mm programs (absolute, in program units). The same tolerance bounds how
+/// much an R-form arc's radius may fall short of half the chord.
+pub const ARC_RADIUS_TOLERANCE_INCH: f64 = 0.0005;
+/// See [`ARC_RADIUS_TOLERANCE_INCH`].
+pub const ARC_RADIUS_TOLERANCE_MM: f64 = 0.01;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FeedMode {
+    InverseTime,
+    PerMinute,
+    PerRev,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Plane {
+    XY,
+    ZX,
+    YZ,
+}
+
+impl Plane {
+    /// In-plane axes (first, second), normal axis, and the centre-word
+    /// letters for the in-plane axes and the off-plane one.
+    fn axes(self) -> (usize, usize, usize, char, char, char) {
+        match self {
+            Plane::XY => (0, 1, 2, 'I', 'J', 'K'),
+            Plane::ZX => (2, 0, 1, 'K', 'I', 'J'),
+            Plane::YZ => (1, 2, 0, 'J', 'K', 'I'),
+        }
+    }
+    fn normal(self) -> Vec3 {
+        match self {
+            Plane::XY => Vec3::Z,
+            Plane::ZX => Vec3::Y,
+            Plane::YZ => Vec3::X,
+        }
+    }
+}
+
+/// Group-0 (non-modal) codes that matter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NonModal {
+    Dwell,
+    G10,
+    G28,
+    G28_1,
+    G30,
+    G30_1,
+    G52,
+    G53,
+    G92,
+    G92_1,
+    G92_2,
+    G92_3,
+}
+
+impl NonModal {
+    fn uses_axes(self) -> bool {
+        matches!(
+            self,
+            NonModal::G10 | NonModal::G28 | NonModal::G30 | NonModal::G52 | NonModal::G92
+        )
+    }
+}
+
+/// A classified G code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum G {
+    Motion(MotionMode),
+    Plane(Plane),
+    Units(Units),
+    Incremental(bool),
+    ArcIncremental(bool),
+    FeedMode(FeedMode),
+    CutterComp(bool),
+    ToolLength(bool),
+    CoordSystem(u16),
+    PathControl(u16),
+    ReturnMode,
+    SpindleMode(u16),
+    LatheRadius,
+    Cancel(u16),
+    NonModal(NonModal),
+}
+
+impl G {
+    fn group(self) -> &'static str {
+        match self {
+            G::Motion(_) => "motion",
+            G::Plane(_) => "plane",
+            G::Units(_) => "units",
+            G::Incremental(_) => "distance mode",
+            G::ArcIncremental(_) => "arc distance mode",
+            G::FeedMode(_) => "feed mode",
+            G::CutterComp(_) => "cutter compensation",
+            G::ToolLength(_) => "tool length offset",
+            G::CoordSystem(_) => "coordinate system",
+            G::PathControl(_) => "path control",
+            G::ReturnMode => "canned cycle return",
+            G::SpindleMode(_) => "spindle speed mode",
+            G::LatheRadius => "lathe diameter mode",
+            G::Cancel(10) => "polar coordinates",
+            G::Cancel(_) => "rotation",
+            G::NonModal(_) => "non-modal",
+        }
+    }
+}
+
+/// Classifies `G<code/10>`.
+fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
+    let unsupported = |what: &'static str| Err(ErrorKind::Unsupported(what));
+    Ok(match code {
+        0 => G::Motion(MotionMode::Rapid),
+        10 => G::Motion(MotionMode::Linear),
+        20 => G::Motion(MotionMode::ArcCw),
+        30 => G::Motion(MotionMode::ArcCcw),
+        40 => G::NonModal(NonModal::Dwell),
+        50 | 51 | 52 | 53 | 62 => return unsupported("splines (G5, G5.1, G5.2, G5.3, G6.2)"),
+        70 => return unsupported("lathe diameter mode G7"),
+        80 => G::LatheRadius,
+        100 => G::NonModal(NonModal::G10),
+        150 => G::Cancel(10),
+        160 => return unsupported("polar coordinates G16"),
+        170 => G::Plane(Plane::XY),
+        180 => G::Plane(Plane::ZX),
+        190 => G::Plane(Plane::YZ),
+        171 | 181 | 191 => return unsupported("UVW planes (G17.1, G18.1, G19.1)"),
+        200 => G::Units(Units::Inch),
+        210 => G::Units(Units::Mm),
+        280 => G::NonModal(NonModal::G28),
+        281 => G::NonModal(NonModal::G28_1),
+        300 => G::NonModal(NonModal::G30),
+        301 => G::NonModal(NonModal::G30_1),
+        330 => G::Motion(MotionMode::Thread),
+        331 => G::Motion(MotionMode::RigidTap),
+        382..=385 => G::Motion(MotionMode::Probe(code)),
+        400 => G::CutterComp(false),
+        410 | 411 | 420 | 421 => G::CutterComp(true),
+        430 | 431 | 432 => G::ToolLength(true),
+        490 => G::ToolLength(false),
+        520 => G::NonModal(NonModal::G52),
+        530 => G::NonModal(NonModal::G53),
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => G::CoordSystem(code),
+        610 | 611 | 640 => G::PathControl(code),
+        680 => return unsupported("coordinate rotation G68"),
+        690 => G::Cancel(69),
+        510 => return unsupported("scaling G51"),
+        700 | 710 | 720 => return unsupported("G70/G71/G72 (lathe cycles or legacy units)"),
+        730 | 740 | 760 | 810..=890 => return unsupported("canned cycles (G73, G74, G76, G81-G89)"),
+        800 => G::Motion(MotionMode::None),
+        900 => G::Incremental(false),
+        910 => G::Incremental(true),
+        901 => G::ArcIncremental(false),
+        911 => G::ArcIncremental(true),
+        930 => G::FeedMode(FeedMode::InverseTime),
+        940 => G::FeedMode(FeedMode::PerMinute),
+        950 => G::FeedMode(FeedMode::PerRev),
+        920 => G::NonModal(NonModal::G92),
+        921 => G::NonModal(NonModal::G92_1),
+        922 => G::NonModal(NonModal::G92_2),
+        923 => G::NonModal(NonModal::G92_3),
+        960 | 970 => G::SpindleMode(code),
+        980 | 990 => G::ReturnMode,
+        _ => return Err(ErrorKind::UnknownGCode(text.to_string())),
+    })
+}
+
+/// M-code modal group (LinuxCNC), or 0 for codes without a group.
+fn m_group(code: i64) -> u8 {
+    match code {
+        0 | 1 | 2 | 30 | 60 => 4,
+        6 | 61 => 6,
+        3..=5 => 7,
+        7..=9 => 8,
+        48..=53 => 9,
+        _ => 0,
+    }
+}
+
+/// The modal state of the interpreter.
+struct State {
+    /// Current position, mm, program coordinates.
+    pos: Vec3,
+    /// Whether each axis of `pos` is known (see the crate docs).
+    known: [bool; 3],
+    /// Text of the absolute coordinate last written for each axis.
+    axis_text: [Option<String>; 3],
+    units: Units,
+    incremental: bool,
+    arc_incremental: bool,
+    plane: Plane,
+    motion: MotionMode,
+    feed: Option<Feed>,
+    feed_mode: FeedMode,
+    comp: bool,
+    tlo: bool,
+    coord: u16,
+    path: u16,
+    spindle_mode: u16,
+    ended: bool,
+    percent_lines: usize,
+}
+
+impl State {
+    fn new() -> State {
+        State {
+            pos: Vec3::ZERO,
+            known: [true; 3],
+            axis_text: [None, None, None],
+            units: Units::Mm,
+            incremental: false,
+            arc_incremental: true,
+            plane: Plane::XY,
+            motion: MotionMode::None,
+            feed: None,
+            feed_mode: FeedMode::PerMinute,
+            comp: false,
+            tlo: false,
+            coord: 540,
+            path: 640,
+            spindle_mode: 970,
+            ended: false,
+            percent_lines: 0,
+        }
+    }
+    fn forget(&mut self, axes: [bool; 3]) {
+        for a in 0..3 {
+            if axes[a] {
+                self.known[a] = false;
+                self.axis_text[a] = None;
+            }
+        }
+    }
+}
+
+const AXIS_LETTERS: [char; 3] = ['X', 'Y', 'Z'];
+const EXTRA_AXES: &str = "ABCUVW";
+
+/// Reads a program. See the crate documentation for what is accepted.
+pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
+    let raw = split_lines(text)?;
+    let mut st = State::new();
+    let mut lines = Vec::with_capacity(raw.len());
+    let mut moves: Vec<Move> = Vec::new();
+    let mut start_units: Option<Units> = None;
+    for (i, (text, ending)) in raw.into_iter().enumerate() {
+        let number = i + 1;
+        let motion_before = st.motion;
+        if st.ended {
+            lines.push(ProgramLine {
+                number,
+                text,
+                ending,
+                units: st.units,
+                incremental: st.incremental,
+                words: Vec::new(),
+                breaks_run: false,
+                moves: moves.len()..moves.len(),
+                interpreted: false,
+                motion_before,
+                sets_motion: false,
+                uses_modal_motion: false,
+                feed_after: st.feed.clone(),
+                insert_column: 1,
+            });
+            continue;
+        }
+        let lexed = lex_line(&text, number)?;
+        let first_move = moves.len();
+        let info = interpret_line(&lexed, number, &mut st, &mut moves)?;
+        if start_units.is_none() && moves.len() > first_move {
+            start_units = Some(st.units);
+        }
+        let insert_column = lexed
+            .words
+            .iter()
+            .find(|w| w.letter != 'N')
+            .map(|w| w.column)
+            .unwrap_or_else(|| text.chars().count() + 1);
+        lines.push(ProgramLine {
+            number,
+            text,
+            ending,
+            units: st.units,
+            incremental: st.incremental,
+            words: lexed.words,
+            breaks_run: info.breaks_run,
+            moves: first_move..moves.len(),
+            interpreted: true,
+            motion_before,
+            sets_motion: info.sets_motion,
+            uses_modal_motion: info.uses_modal_motion,
+            feed_after: st.feed.clone(),
+            insert_column,
+        });
+    }
+    let runs = group_runs(&lines, &moves);
+    Ok(Program {
+        lines,
+        moves,
+        runs,
+        start_units: start_units.unwrap_or(st.units),
+    })
+}
+
+struct LineInfo {
+    breaks_run: bool,
+    sets_motion: bool,
+    uses_modal_motion: bool,
+}
+
+fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
+    GcodeError::new(line, column, kind)
+}
+
+/// Interprets one lexed line, appending its moves.
+fn interpret_line(
+    lx: &LexedLine,
+    ln: usize,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+) -> Result<LineInfo, GcodeError> {
+    let none = LineInfo {
+        breaks_run: false,
+        sets_motion: false,
+        uses_modal_motion: false,
+    };
+    if lx.percent {
+        st.percent_lines += 1;
+        if st.percent_lines >= 2 {
+            st.ended = true;
+        }
+        return Ok(none);
+    }
+    if lx.words.is_empty() {
+        return Ok(none);
+    }
+    // ---- classify G and M codes ----
+    let mut gs: Vec<(G, &Word)> = Vec::new();
+    let mut ms: Vec<(i64, &Word)> = Vec::new();
+    for w in &lx.words {
+        match w.letter {
+            'G' => {
+                let tenths = w.value * 10.0;
+                let code = tenths.round();
+                if (tenths - code).abs() > 1e-6 || !(0.0..=9999.0).contains(&code) {
+                    return Err(err(ln, w.column, ErrorKind::UnknownGCode(w.text.clone())));
+                }
+                let g = classify_g(code as u16, &w.text).map_err(|k| err(ln, w.column, k))?;
+                if let Some((_, other)) = gs.iter().find(|(o, _)| o.group() == g.group()) {
+                    let _ = other;
+                    return Err(err(ln, w.column, ErrorKind::ConflictingGCodes(g.group())));
+                }
+                gs.push((g, w));
+            }
+            'M' => {
+                if w.value.fract() != 0.0 || !(0.0..=1.0e6).contains(&w.value) {
+                    return Err(err(ln, w.column, ErrorKind::BadValue('M')));
+                }
+                let code = w.value as i64;
+                let grp = m_group(code);
+                if grp != 0 && ms.iter().any(|(c, _)| m_group(*c) == grp) {
+                    return Err(err(ln, w.column, ErrorKind::ConflictingMCodes));
+                }
+                ms.push((code, w));
+            }
+            _ => {}
+        }
+    }
+    let word = |l: char| lx.word(l);
+    let motion_g = gs.iter().find_map(|(g, w)| match g {
+        G::Motion(m) => Some((*m, *w)),
+        _ => None,
+    });
+    let nonmodal = gs.iter().find_map(|(g, w)| match g {
+        G::NonModal(n) => Some((*n, *w)),
+        _ => None,
+    });
+    // G53 is non-modal but modifies the motion on its line.
+    let axis_user_nonmodal = nonmodal.filter(|(n, _)| n.uses_axes());
+    let has_axes = lx
+        .words
+        .iter()
+        .any(|w| AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter));
+    if let (Some((_, w)), Some((m, _))) = (axis_user_nonmodal, motion_g) {
+        if m != MotionMode::None && has_axes {
+            return Err(err(ln, w.column, ErrorKind::ConflictingAxisUsers));
+        }
+    }
+
+    // ---- state changes (LinuxCNC order of execution) ----
+    let mut changes = lx.block_delete || !ms.is_empty();
+    for l in ['S', 'T', 'H', 'D', 'L', 'Q'] {
+        if word(l).is_some() {
+            changes = true;
+        }
+    }
+    for (g, w) in &gs {
+        if let G::FeedMode(m) = g {
+            changes |= *m != st.feed_mode;
+            st.feed_mode = *m;
+            let _ = w;
+        }
+    }
+    if let Some(f) = word('F') {
+        if f.value < 0.0 {
+            return Err(err(ln, f.column, ErrorKind::BadValue('F')));
+        }
+        st.feed = Some(Feed {
+            mm_per_min: f.value * st.units.mm_per_unit(),
+            text: f.text.clone(),
+            units: st.units,
+        });
+    }
+    let mut sets_motion = false;
+    let mut restated_motion = false;
+    for (g, w) in &gs {
+        match *g {
+            G::Plane(p) => {
+                changes |= p != st.plane;
+                st.plane = p;
+            }
+            G::Units(u) => {
+                if u != st.units {
+                    changes = true;
+                    st.units = u;
+                    st.axis_text = [None, None, None];
+                }
+            }
+            G::Incremental(inc) => {
+                changes |= inc != st.incremental;
+                st.incremental = inc;
+            }
+            G::ArcIncremental(inc) => {
+                changes |= inc != st.arc_incremental;
+                st.arc_incremental = inc;
+            }
+            G::FeedMode(_) => {}
+            G::CutterComp(on) => {
+                changes |= on || st.comp;
+                st.comp = on;
+            }
+            G::ToolLength(on) => {
+                if on || st.tlo {
+                    changes = true;
+                    st.forget([false, false, true]);
+                }
+                st.tlo = on;
+            }
+            G::CoordSystem(c) => {
+                if c != st.coord {
+                    changes = true;
+                    st.forget([true; 3]);
+                }
+                st.coord = c;
+            }
+            G::PathControl(c) => {
+                changes |= c != st.path || word('P').is_some() || word('Q').is_some();
+                st.path = c;
+            }
+            G::ReturnMode | G::LatheRadius => {}
+            G::SpindleMode(c) => {
+                changes |= c != st.spindle_mode;
+                st.spindle_mode = c;
+            }
+            G::Cancel(_) => changes = true,
+            G::NonModal(_) => changes = true,
+            G::Motion(m) => {
+                sets_motion = true;
+                if m == st.motion && !has_axes {
+                    restated_motion = true;
+                }
+                if !has_axes && m != st.motion {
+                    changes = true;
+                }
+                let _ = w;
+            }
+        }
+    }
+    let _ = restated_motion;
+    if let Some((m, _)) = motion_g {
+        st.motion = m;
+    }
+
+    // ---- group-0 axis users ----
+    let mm = st.units.mm_per_unit();
+    let given: [Option<&Word>; 3] = [word('X'), word('Y'), word('Z')];
+    let given_mask = [given[0].is_some(), given[1].is_some(), given[2].is_some()];
+    if let Some((n, _)) = nonmodal {
+        match n {
+            NonModal::G92 => {
+                for a in 0..3 {
+                    if let Some(w) = given[a] {
+                        let v = finite(w.value * mm, ln, w)?;
+                        let c = [&mut st.pos.x, &mut st.pos.y, &mut st.pos.z];
+                        *c[a] = v;
+                        st.known[a] = true;
+                        st.axis_text[a] = Some(w.text.clone());
+                    }
+                }
+            }
+            NonModal::G52 => st.forget(given_mask),
+            NonModal::G10 | NonModal::G92_1 | NonModal::G92_2 | NonModal::G92_3 => {
+                st.forget([true; 3])
+            }
+            NonModal::G28 | NonModal::G30 => {
+                // Rapid to the intermediate point (if any), then home: the
+                // position is unknown afterwards.
+                if has_axes {
+                    let target = target_point(st, &given, ln)?;
+                    let start = st.pos;
+                    moves.push(Move {
+                        piece: Piece {
+                            curve: Curve::Line(Line::new(start, target)),
+                            rapid: true,
+                            source_lines: (ln, ln),
+                            feed: None,
+                        },
+                        line: ln,
+                        kind: MoveKind::Rapid,
+                        pinned: Some(PinReason::SpecialMotion),
+                        end_text: [None, None, None],
+                    });
+                    st.pos = target;
+                }
+                st.forget([true; 3]);
+            }
+            NonModal::G28_1 | NonModal::G30_1 | NonModal::Dwell | NonModal::G53 => {}
+        }
+    }
+    let ended_now = ms.iter().any(|(c, _)| *c == 2 || *c == 30);
+
+    // ---- motion ----
+    let uses_modal_motion = has_axes && motion_g.is_none() && axis_user_nonmodal.is_none();
+    let mut breaks_run = changes;
+    if has_axes && axis_user_nonmodal.is_none() {
+        let mode = st.motion;
+        let first_axis = lx
+            .words
+            .iter()
+            .find(|w| AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter))
+            .map_or(1, |w| w.column);
+        if mode == MotionMode::None {
+            return Err(err(ln, first_axis, ErrorKind::NoMotionMode));
+        }
+        let g53 = matches!(nonmodal, Some((NonModal::G53, _)));
+        let start = st.pos;
+        let start_known = st.known.iter().all(|&k| k);
+        let target = if g53 {
+            let mut t = st.pos;
+            for a in 0..3 {
+                if let Some(w) = given[a] {
+                    set_axis(&mut t, a, finite(w.value * mm, ln, w)?);
+                }
+            }
+            t
+        } else {
+            target_point(st, &given, ln)?
+        };
+        let (curve, kind) = match mode {
+            MotionMode::ArcCw | MotionMode::ArcCcw => {
+                let arc = build_arc(lx, ln, st, start, target, mode == MotionMode::ArcCw, first_axis)?;
+                (Curve::Arc(arc), MoveKind::Arc)
+            }
+            MotionMode::Rapid => (Curve::Line(Line::new(start, target)), MoveKind::Rapid),
+            _ => (Curve::Line(Line::new(start, target)), MoveKind::Linear),
+        };
+        // Words that are part of a plain move.
+        let extra_words = lx.words.iter().any(|w| {
+            !matches!(w.letter, 'N' | 'F' | 'X' | 'Y' | 'Z' | 'G')
+                && !(kind == MoveKind::Arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P'))
+                && !EXTRA_AXES.contains(w.letter)
+        });
+        let extra_axes = lx.words.iter().any(|w| EXTRA_AXES.contains(w.letter));
+        let pinned = if lx.block_delete {
+            Some(PinReason::BlockDelete)
+        } else if g53 || matches!(mode, MotionMode::Thread | MotionMode::RigidTap | MotionMode::Probe(_)) {
+            Some(PinReason::SpecialMotion)
+        } else if extra_axes {
+            Some(PinReason::ExtraAxes)
+        } else if extra_words {
+            Some(PinReason::ExtraWords)
+        } else if changes {
+            Some(PinReason::StateChange)
+        } else if st.comp {
+            Some(PinReason::CutterComp)
+        } else if st.feed_mode != FeedMode::PerMinute && kind != MoveKind::Rapid {
+            Some(PinReason::FeedMode)
+        } else if !start_known {
+            Some(PinReason::UnknownStart)
+        } else {
+            None
+        };
+        let end = match &curve {
+            Curve::Arc(a) => a.end(),
+            _ => target,
+        };
+        // Update the position and what is known of it.
+        st.pos = end;
+        for a in 0..3 {
+            if let Some(w) = given[a] {
+                if g53 {
+                    st.known[a] = false;
+                    st.axis_text[a] = None;
+                } else if st.incremental {
+                    st.axis_text[a] = None;
+                } else {
+                    st.known[a] = true;
+                    st.axis_text[a] = Some(w.text.clone());
+                }
+            }
+        }
+        match mode {
+            MotionMode::Probe(_) => st.forget(given_mask),
+            MotionMode::RigidTap => st.pos = start,
+            _ => {}
+        }
+        let feed = if kind == MoveKind::Rapid || st.feed_mode != FeedMode::PerMinute {
+            None
+        } else {
+            st.feed.as_ref().map(|f| f.mm_per_min)
+        };
+        breaks_run |= pinned.is_some() || kind == MoveKind::Rapid;
+        moves.push(Move {
+            piece: Piece {
+                curve,
+                rapid: kind == MoveKind::Rapid,
+                source_lines: (ln, ln),
+                feed,
+            },
+            line: ln,
+            kind,
+            pinned,
+            end_text: st.axis_text.clone(),
+        });
+    }
+    if ended_now {
+        st.ended = true;
+    }
+    Ok(LineInfo {
+        breaks_run,
+        sets_motion,
+        uses_modal_motion,
+    })
+}
+
+fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(ln, w.column, ErrorKind::NumberOutOfRange(w.letter)))
+    }
+}
+
+fn set_axis(p: &mut Vec3, a: usize, v: f64) {
+    match a {
+        0 => p.x = v,
+        1 => p.y = v,
+        _ => p.z = v,
+    }
+}
+
+fn axis(p: Vec3, a: usize) -> f64 {
+    match a {
+        0 => p.x,
+        1 => p.y,
+        _ => p.z,
+    }
+}
+
+/// The end point of a move from the axis words, in mm.
+fn target_point(st: &State, given: &[Option<&Word>; 3], ln: usize) -> Result<Vec3, GcodeError> {
+    let mm = st.units.mm_per_unit();
+    let mut t = st.pos;
+    for a in 0..3 {
+        if let Some(w) = given[a] {
+            let v = if st.incremental {
+                axis(st.pos, a) + w.value * mm
+            } else {
+                w.value * mm
+            };
+            set_axis(&mut t, a, finite(v, ln, w)?);
+        }
+    }
+    Ok(t)
+}
+
+/// Builds a G2/G3 arc from the current state.
+fn build_arc(
+    lx: &LexedLine,
+    ln: usize,
+    st: &State,
+    start: Vec3,
+    end: Vec3,
+    clockwise: bool,
+    first_axis_col: usize,
+) -> Result<Arc, GcodeError> {
+    let (a1, a2, _an, l1, l2, loff) = st.plane.axes();
+    let mm = st.units.mm_per_unit();
+    let tol = match st.units {
+        Units::Inch => ARC_RADIUS_TOLERANCE_INCH,
+        Units::Mm => ARC_RADIUS_TOLERANCE_MM,
+    };
+    let has_axis = lx.words.iter().any(|w| AXIS_LETTERS.contains(&w.letter));
+    if !has_axis {
+        return Err(err(ln, first_axis_col, ErrorKind::ArcWithoutAxes));
+    }
+    let r_word = lx.word('R');
+    let c1 = lx.word(l1);
+    let c2 = lx.word(l2);
+    if let Some(w) = lx.word(loff) {
+        if w.value != 0.0 {
+            return Err(err(ln, w.column, ErrorKind::ArcOffPlaneCenter(loff)));
+        }
+    }
+    let turns = match lx.word('P') {
+        None => 1,
+        Some(w) => {
+            if w.value.fract() != 0.0 || w.value < 1.0 || w.value > 1.0e6 {
+                return Err(err(ln, w.column, ErrorKind::BadTurns(w.value)));
+            }
+            w.value as u32
+        }
+    };
+    let (s1, s2) = (axis(start, a1), axis(start, a2));
+    let (e1, e2) = (axis(end, a1), axis(end, a2));
+    let mut center = start;
+    match (r_word, c1.or(c2)) {
+        (Some(r), Some(_)) => return Err(err(ln, r.column, ErrorKind::ArcRadiusAndCenter)),
+        (None, None) => return Err(err(ln, first_axis_col, ErrorKind::ArcWithoutCenter)),
+        (None, Some(_)) => {
+            let off = |w: Option<&Word>, s: f64| -> Result<f64, GcodeError> {
+                let v = w.map_or(0.0, |w| w.value) * mm;
+                let c = if st.arc_incremental { s + v } else { v };
+                match w {
+                    Some(w) => finite(c, ln, w),
+                    None => Ok(c),
+                }
+            };
+            let cc1 = off(c1, s1)?;
+            let cc2 = off(c2, s2)?;
+            let r0 = (s1 - cc1).hypot(s2 - cc2) / mm;
+            let r1 = (e1 - cc1).hypot(e2 - cc2) / mm;
+            if (r1 - r0).abs() > tol {
+                let w = c1.or(c2).map_or(first_axis_col, |w| w.column);
+                return Err(err(
+                    ln,
+                    w,
+                    ErrorKind::ArcRadiusMismatch {
+                        r_start: r0,
+                        r_end: r1,
+                        tolerance: tol,
+                    },
+                ));
+            }
+            set_axis(&mut center, a1, cc1);
+            set_axis(&mut center, a2, cc2);
+        }
+        (Some(rw), None) => {
+            // LinuxCNC's arc_data_r.
+            let radius = rw.value * mm;
+            let abs_r = radius.abs();
+            let (m1, m2) = (0.5 * (s1 + e1), 0.5 * (s2 + e2));
+            let mut half = (m1 - e1).hypot(m2 - e2);
+            if half <= COINCIDENT_MM {
+                return Err(err(ln, rw.column, ErrorKind::ArcRadiusFullCircle));
+            }
+            if abs_r <= COINCIDENT_MM || half - abs_r > tol * mm {
+                return Err(err(
+                    ln,
+                    rw.column,
+                    ErrorKind::ArcRadiusTooSmall {
+                        radius: rw.value.abs(),
+                        half_chord: half / mm,
+                    },
+                ));
+            }
+            if half > abs_r {
+                half = abs_r;
+            }
+            let chord_dir = (e2 - s2).atan2(e1 - s1);
+            let theta = if clockwise == (radius > 0.0) {
+                chord_dir - std::f64::consts::FRAC_PI_2
+            } else {
+                chord_dir + std::f64::consts::FRAC_PI_2
+            };
+            let offset = (abs_r * abs_r - half * half).max(0.0).sqrt();
+            set_axis(&mut center, a1, m1 + offset * theta.cos());
+            set_axis(&mut center, a2, m2 + offset * theta.sin());
+        }
+    }
+    Arc::from_center(start, end, center, st.plane.normal(), clockwise, turns, COINCIDENT_MM).map_err(
+        |e| match e {
+            ArcError::ZeroRadius => err(ln, first_axis_col, ErrorKind::ArcZeroRadius),
+            ArcError::NotFinite => err(ln, first_axis_col, ErrorKind::BadValue('R')),
+        },
+    )
+}
+
+/// Groups the runs: consecutive non-pinned feed moves on lines that do not
+/// break runs.
+fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
+    let mut runs = Vec::new();
+    let mut cur: Option<RunSpan> = None;
+    let mut feed_before: Option<Feed> = None;
+    for line in lines {
+        if line.breaks_run || !line.interpreted {
+            if let Some(r) = cur.take() {
+                runs.push(r);
+            }
+        } else {
+            for mi in line.moves.clone() {
+                let m = &moves[mi];
+                debug_assert!(m.pinned.is_none() && m.kind != MoveKind::Rapid);
+                match &mut cur {
+                    Some(r) => {
+                        r.moves.end = mi + 1;
+                        r.last_line = line.number;
+                        r.feed_after = line.feed_after.clone();
+                    }
+                    None => {
+                        cur = Some(RunSpan {
+                            moves: mi..mi + 1,
+                            first_line: line.number,
+                            last_line: line.number,
+                            units: line.units,
+                            incremental: line.incremental,
+                            feed_before: feed_before.clone(),
+                            feed_after: line.feed_after.clone(),
+                        })
+                    }
+                }
+            }
+            // Feed changes on interior lines after the last move count too:
+            // they are emitted after the run, so feed_after is the modal
+            // feed after the run's last line.
+        }
+        feed_before = line.feed_after.clone();
+    }
+    if let Some(r) = cur.take() {
+        runs.push(r);
+    }
+    runs
+}

@@ -1,0 +1,222 @@
+//! The result of reading a program: its original lines, every move as a
+//! [`Piece`] in mm, and the runs of smoothable feed moves.
+
+use crate::lexer::Word;
+use fairpath::path::{Piece, Run};
+use std::ops::Range;
+
+/// Length units of the program (G20 inch, G21 mm).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    Mm,
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per program unit.
+    pub fn mm_per_unit(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+}
+
+/// Modal motion mode (G-code modal group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionMode {
+    /// No motion mode: program start (as LinuxCNC) or after G80. Axis words
+    /// without a motion G word are then an error.
+    None,
+    /// G0
+    Rapid,
+    /// G1
+    Linear,
+    /// G2
+    ArcCw,
+    /// G3
+    ArcCcw,
+    /// G33 spindle-synchronised motion.
+    Thread,
+    /// G33.1 rigid tapping.
+    RigidTap,
+    /// G38.2 .. G38.5 probing (the code times 10).
+    Probe(u16),
+}
+
+impl MotionMode {
+    /// The G word selecting this mode (`None` for [`MotionMode::None`]).
+    pub fn gword(self) -> Option<String> {
+        Some(match self {
+            MotionMode::None => return None,
+            MotionMode::Rapid => "G0".into(),
+            MotionMode::Linear => "G1".into(),
+            MotionMode::ArcCw => "G2".into(),
+            MotionMode::ArcCcw => "G3".into(),
+            MotionMode::Thread => "G33".into(),
+            MotionMode::RigidTap => "G33.1".into(),
+            MotionMode::Probe(c) => format!("G{}.{}", c / 10, c % 10),
+        })
+    }
+}
+
+/// Why a move is pinned: written back verbatim, never smoothed, and ends the
+/// run before it and starts a new one after it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PinReason {
+    /// The line starts with the block-delete `/`.
+    BlockDelete,
+    /// The line carries non-motion words (M, S, T, H, D, P on G1, ...).
+    ExtraWords,
+    /// The line changes modal state (units, distance mode, offsets, ...).
+    StateChange,
+    /// Cutter radius compensation (G41/G42) is active.
+    CutterComp,
+    /// Inverse-time (G93) or per-revolution (G95) feed mode.
+    FeedMode,
+    /// The move has rotary or secondary linear axis words (A B C U V W).
+    ExtraAxes,
+    /// The start position is unknown (after G28/G30, offset or tool-length
+    /// changes, probing, machine-coordinate moves).
+    UnknownStart,
+    /// G33, G33.1, G38.x or G53: special motion.
+    SpecialMotion,
+}
+
+/// The modal feed rate: mm/min and the F word's text as written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Feed {
+    pub mm_per_min: f64,
+    pub text: String,
+    /// Units in force when the F word was written.
+    pub units: Units,
+}
+
+/// One line of the input, with its interpretation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramLine {
+    /// 1-based line number.
+    pub number: usize,
+    /// The exact text, without the line ending.
+    pub text: String,
+    /// `"\n"`, `"\r\n"` or `""` (last line without newline).
+    pub ending: &'static str,
+    /// Units in force after this line.
+    pub units: Units,
+    /// Incremental distance mode (G91) in force after this line.
+    pub incremental: bool,
+    /// The words of the line (empty for lines after the program end).
+    pub words: Vec<Word>,
+    /// The line ends the current run (it affects motion, or holds a rapid or
+    /// pinned move).
+    pub breaks_run: bool,
+    /// Indices of this line's moves in [`Program::moves`].
+    pub moves: Range<usize>,
+    /// False for lines after the program end (M2/M30 or a closing `%`),
+    /// which are passed through unread.
+    pub interpreted: bool,
+    /// Modal motion mode before this line.
+    pub motion_before: MotionMode,
+    /// The line has an explicit motion G word (group 1).
+    pub sets_motion: bool,
+    /// The line has axis words that move in the modal motion mode (no G word
+    /// of group 1 and no G10/G28/G30/G52/G92 on the line).
+    pub uses_modal_motion: bool,
+    /// Modal feed after this line.
+    pub feed_after: Option<Feed>,
+    /// Column (1-based) before which a motion word can be inserted: the
+    /// first word that is not N, or the end of the words.
+    pub insert_column: usize,
+}
+
+/// What kind of move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveKind {
+    Rapid,
+    Linear,
+    Arc,
+}
+
+/// One move of the program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Move {
+    pub piece: Piece,
+    /// 1-based line number.
+    pub line: usize,
+    pub kind: MoveKind,
+    /// Why the move may not be smoothed (rapids are never smoothed either).
+    pub pinned: Option<PinReason>,
+    /// Text of the absolute coordinate of each axis at the end of the move as
+    /// last written in the program (in the line's units), when known: lets
+    /// writers reproduce run endpoints exactly.
+    pub end_text: [Option<String>; 3],
+}
+
+/// Where a run sits in the program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSpan {
+    /// Indices of the run's moves in [`Program::moves`].
+    pub moves: Range<usize>,
+    /// First and last line (1-based) holding the run's moves.
+    pub first_line: usize,
+    pub last_line: usize,
+    pub units: Units,
+    pub incremental: bool,
+    /// Modal feed before the run's first line and after its last line.
+    pub feed_before: Option<Feed>,
+    pub feed_after: Option<Feed>,
+}
+
+/// A read program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    pub(crate) lines: Vec<ProgramLine>,
+    pub(crate) moves: Vec<Move>,
+    pub(crate) runs: Vec<RunSpan>,
+    pub(crate) start_units: Units,
+}
+
+impl Program {
+    /// Every move in order (rapids included) as pieces in mm.
+    pub fn pieces(&self) -> Vec<Piece> {
+        self.moves.iter().map(|m| m.piece.clone()).collect()
+    }
+
+    /// The feed runs: maximal sequences of consecutive non-pinned feed moves
+    /// not separated by a run-breaking line or a rapid. Each run's pieces are
+    /// exactly continuous.
+    pub fn runs(&self) -> Vec<Run> {
+        self.runs
+            .iter()
+            .map(|r| Run::new(self.moves[r.moves.clone()].iter().map(|m| m.piece.clone()).collect()))
+            .collect()
+    }
+
+    /// Where each run of [`Program::runs`] sits (same order).
+    pub fn run_spans(&self) -> &[RunSpan] {
+        &self.runs
+    }
+
+    /// Units at program start (mm unless the program selects G20 before its
+    /// first move... precisely: the units in force after the first line that
+    /// is not a comment, i.e. the default mm changed by a leading G20).
+    pub fn units(&self) -> Units {
+        self.start_units
+    }
+
+    /// The lines of the program with their interpretation.
+    pub fn lines(&self) -> &[ProgramLine] {
+        &self.lines
+    }
+
+    /// Every move with its line and pinning.
+    pub fn moves(&self) -> &[Move] {
+        &self.moves
+    }
+
+    /// True when the program has no move at all.
+    pub fn is_empty(&self) -> bool {
+        self.moves.is_empty()
+    }
+}
+

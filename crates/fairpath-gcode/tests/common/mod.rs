@@ -1,0 +1,32 @@
+#![allow(dead_code)]
+use std::path::PathBuf;
+
+/// The shared reference programs (`/work/shared/paths` beside the repo), or
+/// None (with a message) if absent.
+pub fn shared_paths() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipping: shared test data not found at {}", dir.display());
+        None
+    }
+}
+
+/// All files under `dir`, sorted.
+pub fn files_under(dir: &std::path::Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "ngc" || x == "gcode" || x == "nc") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}

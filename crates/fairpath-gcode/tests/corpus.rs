@@ -1,0 +1,32 @@
+//! Every shared program parses or fails with a clear error.
+mod common;
+
+#[test]
+fn corpus_parses_or_is_rejected_clearly() {
+    let Some(dir) = common::shared_paths() else { return };
+    let mut ok = 0;
+    let mut rejected = Vec::new();
+    for f in common::files_under(&dir) {
+        let bytes = std::fs::read(&f).unwrap();
+        let rel = f.strip_prefix(&dir).unwrap().display().to_string();
+        match fairpath_gcode::parse(&bytes) {
+            Ok(p) => {
+                ok += 1;
+                // runs are continuous
+                for r in p.runs() {
+                    for w in r.pieces.windows(2) {
+                        assert_eq!(w[0].end(), w[1].start(), "{rel}");
+                    }
+                }
+            }
+            Err(e) => {
+                assert!(e.line >= 1 && e.column >= 1, "{rel}: {e}");
+                rejected.push(format!("{rel}: {e}"));
+            }
+        }
+    }
+    eprintln!("{ok} parsed, {} rejected:", rejected.len());
+    for r in &rejected {
+        eprintln!("  {r}");
+    }
+}

@@ -1,0 +1,283 @@
+//! Method `bspline-corner`: corner transitions by a symmetric five-point
+//! cubic B-spline inside the tolerance band (Guo, Yan, Wang 2023, "Toolpath
+//! Smoothing Based on Controlled NURBS Interpolation", J. Eng. Res. Rep.
+//! 25(12), sections 3.1 to 3.5; seed 000).
+//!
+//! At a corner `Q1` between segments towards `Q0` and `Q2` (unit directions
+//! `a`, `b` from the corner, half corner angle `theta`), the control points
+//! are `P0 = Q1 + 2L a`, `P1 = Q1 + L a`, `P2 = Q1`, `P3 = Q1 + L b`,
+//! `P4 = Q1 + 2L b`, knots `{0,0,0,0,0.5,1,1,1,1}` (section 3.1). Closed forms
+//! (derived here from the knot vector; the paper computes `e` by evaluation):
+//!
+//! * `C(0.5) = (P1 + 2 P2 + P3) / 4`, so the paper's error (eq. 7)
+//!   `e = |P2 C(0.5)| = (L/2) cos(theta)` ([`corner_error`]);
+//! * the band corner lies at `epsilon = delta / sin(theta)` from `Q1`
+//!   (section 3.3), and the largest distance of the curve from the two
+//!   segments is at `C(0.5)`: `e sin(theta) = L sin(2 theta) / 4`
+//!   ([`corner_deviation`]), so `e <= epsilon` is exactly "within delta";
+//! * the curvature peaks at `C(0.5)`: `kappa = 4 cos(theta) / (3 L sin^2(theta))`
+//!   ([`corner_peak_curvature`]); at both ends the curvature is zero
+//!   (`P0 P1 P2` collinear), so every joint with the segments is G2.
+//!
+//! Scaling the control polygon by `alpha` about `Q1` scales `e` by `alpha`
+//! (section 3.3). The paper aims at `e* = delta / 2`
+//! ([`ErrorTarget::HalfBand`]); [`ErrorTarget::FullBand`] uses the band
+//! fully (`e* = epsilon`, deviation exactly `delta`), which gives longer
+//! transitions and, since `kappa ~ 1/L`, lower peak curvature: it is the
+//! default.
+//!
+//! Routines 1 to 3 (section 3.5) are run along each chain of segments:
+//! the first corner starts from `Q0`, every later one from
+//! `S = P4 + lambda (Q_next - P4)` of the previous transition (overlap
+//! avoidance, section 3.4, eq. 8); the initial `L` is half the shorter of
+//! the available incoming length `|S Q1|` and the outgoing segment (the three
+//! cases of section 3.2: the longer side is cut to the shorter one's length).
+//! Where the paper halves `L` when `P4` would reach the next vertex
+//! (section 3.4, "set alpha = 1/2"), this implementation applies the same rule
+//! whenever `P4` would pass the middle of the next segment, so that the next
+//! corner is never starved; the last corner may use its whole outgoing
+//! segment. Gaps the paper leaves, and what is done here:
+//!
+//! * zero-length moves are dropped; vertices where the path runs straight on
+//!   are merged (see `chains.rs`);
+//! * a full reversal (half-angle below [`BsplineCornerOptions::min_half_angle`])
+//!   is kept as a corner and reported;
+//! * arcs of the input stay arcs: chains of lines are smoothed between them,
+//!   and the joints next to arcs keep the continuity they had;
+//! * a closed run (ending where it starts) keeps its start and end exactly,
+//!   so its closing corner, where the tool starts and stops anyway, is not
+//!   blended (see the README: blending it needs a lead-in and lead-out that
+//!   the paper does not define).
+
+use super::chains::{min_feed, split_run, CleanTolerances, CornerReason, Element, KeptCorner, LineChain};
+use super::verify::{classify_joint, Continuity, JointTolerances};
+use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
+use crate::geom::{Curve, Line, Nurbs, Vec3};
+use crate::math;
+use crate::path::{Piece, Run};
+
+/// Which approximation error the transitions aim at when they must shrink.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorTarget {
+    /// The paper's `e* = delta / 2` (section 3.3).
+    HalfBand,
+    /// `e* = epsilon = delta / sin(theta)`: the deviation reaches the whole
+    /// tolerance, the transition is as long as the band allows.
+    FullBand,
+}
+
+/// Share of the tolerance the transitions aim at: the rest (0.1%) absorbs
+/// rounding and the accuracy of the verifier (`VerifyOptions::new` measures
+/// to 0.01% of the tolerance), so a full-band result always verifies.
+pub const BAND_USE: f64 = 0.999;
+
+/// Options of [`BsplineCorner`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsplineCornerOptions {
+    pub target: ErrorTarget,
+    /// Overlap-avoidance ratio `lambda` in `[0, 1)` (paper eq. 8): the share
+    /// of the room left on a segment that is kept straight between two
+    /// transitions.
+    pub lambda: f64,
+    /// Corners whose half-angle `theta` (radians) is below this are
+    /// reversals and kept.
+    pub min_half_angle: f64,
+}
+
+impl Default for BsplineCornerOptions {
+    fn default() -> Self {
+        BsplineCornerOptions {
+            target: ErrorTarget::FullBand,
+            lambda: 0.0,
+            min_half_angle: 1e-6,
+        }
+    }
+}
+
+/// The `bspline-corner` method (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BsplineCorner {
+    pub options: BsplineCornerOptions,
+}
+
+/// Paper eq. 7 in closed form: `e = |P2 C(0.5)| = (L/2) cos(theta)` for
+/// control-polygon edge `L` and half corner angle `theta`.
+pub fn corner_error(l: f64, theta: f64) -> f64 {
+    0.5 * l * math::cos(theta)
+}
+
+/// Largest distance of the transition from its two segments:
+/// `e sin(theta) = L sin(2 theta) / 4`, reached at `C(0.5)`.
+pub fn corner_deviation(l: f64, theta: f64) -> f64 {
+    0.25 * l * math::sin(2.0 * theta)
+}
+
+/// Peak curvature of the transition, at `C(0.5)`:
+/// `4 cos(theta) / (3 L sin^2(theta))`.
+pub fn corner_peak_curvature(l: f64, theta: f64) -> f64 {
+    let s = math::sin(theta);
+    4.0 * math::cos(theta) / (3.0 * l * s * s)
+}
+
+/// The largest edge `L` whose transition deviates at most `delta` from the
+/// segments: `L = 4 delta / sin(2 theta)`.
+pub fn edge_for_deviation(delta: f64, theta: f64) -> f64 {
+    4.0 * delta / math::sin(2.0 * theta)
+}
+
+/// The knot vector of every transition.
+pub const TRANSITION_KNOTS: [f64; 9] = [0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
+
+/// The transition curve from its five control points.
+pub fn transition_curve(p: [Vec3; 5]) -> Nurbs {
+    Nurbs {
+        degree: 3,
+        knots: TRANSITION_KNOTS.to_vec(),
+        points: p.to_vec(),
+        weights: None,
+    }
+}
+
+impl Smoother for BsplineCorner {
+    fn name(&self) -> &'static str {
+        "bspline-corner"
+    }
+
+    fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        check_tolerance(tolerance)?;
+        let o = &self.options;
+        let delta = tolerance * BAND_USE;
+        if !(0.0..1.0).contains(&o.lambda) {
+            return Err(SmoothError::BadOption("lambda must be in [0, 1)"));
+        }
+        if !(o.min_half_angle >= 0.0 && o.min_half_angle < 0.5) {
+            return Err(SmoothError::BadOption("min_half_angle must be in [0, 0.5) rad"));
+        }
+        let clean = CleanTolerances::from_tolerance(tolerance);
+        let (elements, dropped, merged) = split_run(run, clean)?;
+        let mut out = SmoothedRun {
+            dropped_zero_length: dropped,
+            merged_collinear: merged,
+            ..SmoothedRun::default()
+        };
+        let joints = JointTolerances::from_tolerance(tolerance);
+        for (i, el) in elements.iter().enumerate() {
+            let first_of_element = out.pieces.len();
+            match el {
+                Element::Chain(chain) => self.smooth_chain(chain, delta, clean.min_segment, &mut out),
+                Element::Other(p) => {
+                    let mut p = p.clone();
+                    p.rapid = false;
+                    out.pieces.push(p);
+                }
+            }
+            // A joint between an arc and anything else stays as it was;
+            // report it when that is not G2.
+            if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
+                let (a, b) = (&out.pieces[first_of_element - 1], &out.pieces[first_of_element]);
+                if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
+                    out.kept_corners.push(KeptCorner {
+                        at: b.start(),
+                        source_line: a.source_lines.1,
+                        reason: CornerReason::ArcJoint,
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl BsplineCorner {
+    fn smooth_chain(&self, chain: &LineChain, delta: f64, min_seg: f64, out: &mut SmoothedRun) {
+        let o = &self.options;
+        let q = &chain.pts;
+        let n = chain.segments();
+        let mut cursor = q[0];
+        let mut room_start = q[0];
+        let push_line = |out: &mut SmoothedRun, a: Vec3, b: Vec3, seg: usize| {
+            if a.dist(b) > 0.0 {
+                out.pieces.push(Piece {
+                    curve: Curve::Line(Line::new(a, b)),
+                    rapid: false,
+                    source_lines: chain.lines[seg],
+                    feed: chain.feed[seg],
+                });
+            }
+        };
+        for k in 1..n {
+            let qk = q[k];
+            let seg_in = q[k - 1] - qk;
+            let out_vec = q[k + 1] - qk;
+            let len_in = room_start.dist(qk);
+            let len_out = out_vec.norm();
+            let (Some(a), Some(b)) = (seg_in.normalized(0.0), out_vec.normalized(0.0)) else {
+                continue;
+            };
+            let theta = 0.5 * a.angle_to(b);
+            let reason = if theta < o.min_half_angle {
+                Some(CornerReason::Reversal)
+            } else if len_in <= min_seg || len_out <= min_seg {
+                Some(CornerReason::NoRoom)
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                push_line(out, cursor, qk, k - 1);
+                out.kept_corners.push(KeptCorner {
+                    at: qk,
+                    source_line: chain.lines[k - 1].1,
+                    reason,
+                });
+                cursor = qk;
+                room_start = qk;
+                continue;
+            }
+            // Section 3.2: the longer side is cut to the shorter's length;
+            // the polygon spans 2L on each side.
+            let mut l = 0.5 * len_in.min(len_out);
+            // Section 3.3: scale the polygon when the error leaves the band.
+            let e = corner_error(l, theta);
+            let eps = delta / math::sin(theta);
+            if e > eps {
+                let e_star = match o.target {
+                    ErrorTarget::HalfBand => 0.5 * delta,
+                    ErrorTarget::FullBand => eps,
+                };
+                l *= e_star / e;
+            }
+            // Section 3.4: leave room for the next corner.
+            let last = k == n - 1;
+            if !last && 2.0 * l > 0.5 * len_out {
+                l = 0.25 * len_out;
+            }
+            // Control points; the far ones exactly on the room boundary or
+            // the next vertex when they reach it, so endpoints stay exact.
+            let p0 = if 2.0 * l >= len_in {
+                room_start
+            } else {
+                qk + a * (2.0 * l)
+            };
+            let p0 = if p0.dist(cursor) <= min_seg { cursor } else { p0 };
+            let p4 = if 2.0 * l >= len_out {
+                q[k + 1]
+            } else {
+                qk + out_vec * (2.0 * l / len_out)
+            };
+            let p4 = if last && p4.dist(q[n]) <= min_seg { q[n] } else { p4 };
+            let p1 = p0.lerp(qk, 0.5);
+            let p3 = qk.lerp(p4, 0.5);
+            push_line(out, cursor, p0, k - 1);
+            out.pieces.push(Piece {
+                curve: Curve::Nurbs(transition_curve([p0, p1, qk, p3, p4])),
+                rapid: false,
+                source_lines: (chain.lines[k - 1].0, chain.lines[k].1),
+                feed: min_feed(chain.feed[k - 1], chain.feed[k]),
+            });
+            out.transitions += 1;
+            cursor = p4;
+            room_start = p4 + (q[k + 1] - p4) * o.lambda;
+        }
+        push_line(out, cursor, q[n], n - 1);
+    }
+}

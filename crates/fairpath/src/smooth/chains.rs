@@ -1,0 +1,192 @@
+//! Splitting a run into chains of straight segments (where corner methods
+//! work) and the pieces between them (arcs, curves), after dropping
+//! zero-length moves and merging vertices where the path runs straight on.
+
+use crate::geom::{point_segment_distance, Curve, Vec3};
+use crate::path::{Piece, Run};
+use crate::smooth::SmoothError;
+use alloc::vec::Vec;
+
+/// A corner left as a corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeptCorner {
+    /// Position of the corner, mm.
+    pub at: Vec3,
+    /// Input line of the move that ends at the corner.
+    pub source_line: usize,
+    pub reason: CornerReason,
+}
+
+/// Why a corner was kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerReason {
+    /// The path reverses on itself: no curve can turn there inside the band.
+    Reversal,
+    /// A neighbouring transition used all the room on a segment.
+    NoRoom,
+    /// A joint next to an arc or curve of the input, which keeps the
+    /// continuity it had (arcs stay arcs in this method).
+    ArcJoint,
+}
+
+impl CornerReason {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CornerReason::Reversal => "reversal",
+            CornerReason::NoRoom => "no room",
+            CornerReason::ArcJoint => "next to an arc",
+        }
+    }
+}
+
+/// Consecutive straight segments `pts[i] -> pts[i+1]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct LineChain {
+    pub pts: Vec<Vec3>,
+    /// Input lines of segment `i` (first, last: several after merging).
+    pub lines: Vec<(usize, usize)>,
+    pub feed: Vec<Option<f64>>,
+}
+
+impl LineChain {
+    pub fn segments(&self) -> usize {
+        self.pts.len().saturating_sub(1)
+    }
+}
+
+/// A run cut into line chains and other pieces, in order.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Element {
+    Chain(LineChain),
+    Other(Piece),
+}
+
+/// Thresholds for cleaning a run, in mm.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CleanTolerances {
+    /// Moves no longer than this are zero-length and dropped; consecutive
+    /// pieces must meet within it.
+    pub min_segment: f64,
+    /// A vertex whose removal moves the path by no more than this is a
+    /// straight-on vertex and merged away.
+    pub collinear: f64,
+}
+
+impl CleanTolerances {
+    /// Both thresholds are a millionth of the smoothing tolerance: far below
+    /// G-code resolution (1 um), so merging never costs visible accuracy.
+    pub fn from_tolerance(tol: f64) -> Self {
+        CleanTolerances {
+            min_segment: tol * 1e-6,
+            collinear: tol * 1e-6,
+        }
+    }
+}
+
+/// Splits `run` into elements. Returns the elements, the number of dropped
+/// zero-length moves and the number of merged straight-on vertices.
+pub(crate) fn split_run(run: &Run, clean: CleanTolerances) -> Result<(Vec<Element>, usize, usize), SmoothError> {
+    let mut out: Vec<Element> = Vec::new();
+    let mut dropped = 0;
+    let mut merged = 0;
+    let mut prev_end: Option<Vec3> = None;
+    let mut chain = LineChain::default();
+    for piece in &run.pieces {
+        let s = piece.start();
+        let e = piece.end();
+        if !s.is_finite() || !e.is_finite() {
+            return Err(SmoothError::NotFinite { line: piece.source_lines.0 });
+        }
+        if let Some(pe) = prev_end {
+            if pe.dist(s) > clean.min_segment {
+                return Err(SmoothError::Discontinuous { line: piece.source_lines.0 });
+            }
+        }
+        prev_end = Some(e);
+        match &piece.curve {
+            Curve::Line(l) => {
+                if l.length() <= clean.min_segment {
+                    dropped += 1;
+                    continue;
+                }
+                if chain.pts.is_empty() {
+                    chain.pts.push(l.p0);
+                }
+                // Keep the chain continuous exactly even when a tiny dropped
+                // move sat in between.
+                chain.pts.push(l.p1);
+                chain.lines.push(piece.source_lines);
+                chain.feed.push(piece.feed);
+            }
+            _ => {
+                if chain.segments() > 0 {
+                    merged += merge_collinear(&mut chain, clean.collinear);
+                    out.push(Element::Chain(core::mem::take(&mut chain)));
+                } else {
+                    chain = LineChain::default();
+                }
+                out.push(Element::Other(piece.clone()));
+            }
+        }
+    }
+    if chain.segments() > 0 {
+        merged += merge_collinear(&mut chain, clean.collinear);
+        out.push(Element::Chain(chain));
+    }
+    Ok((out, dropped, merged))
+}
+
+/// Removes vertices where the chain runs straight on: every removed vertex
+/// lies within `tol` of the merged segment, and the direction does not
+/// reverse. Returns the number removed.
+fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
+    let n = chain.pts.len();
+    if n < 3 {
+        return 0;
+    }
+    let mut pts = Vec::with_capacity(n);
+    let mut lines = Vec::with_capacity(n - 1);
+    let mut feed = Vec::with_capacity(n - 1);
+    pts.push(chain.pts[0]);
+    let mut span_start = 0; // index in chain.pts of the last kept vertex
+    let mut cur_lines = chain.lines[0];
+    let mut cur_feed = chain.feed[0];
+    for k in 1..n - 1 {
+        let a = chain.pts[span_start];
+        let b = chain.pts[k + 1];
+        let d_in = chain.pts[k] - chain.pts[k - 1];
+        let d_out = chain.pts[k + 1] - chain.pts[k];
+        let straight = d_in.dot(d_out) > 0.0
+            && (b - a).dot(d_out) > 0.0
+            && (span_start + 1..=k).all(|j| point_segment_distance(chain.pts[j], a, b) <= tol);
+        if straight {
+            cur_lines.1 = chain.lines[k].1;
+            cur_feed = min_feed(cur_feed, chain.feed[k]);
+        } else {
+            pts.push(chain.pts[k]);
+            lines.push(cur_lines);
+            feed.push(cur_feed);
+            span_start = k;
+            cur_lines = chain.lines[k];
+            cur_feed = chain.feed[k];
+        }
+    }
+    pts.push(chain.pts[n - 1]);
+    lines.push(cur_lines);
+    feed.push(cur_feed);
+    let removed = n - pts.len();
+    chain.pts = pts;
+    chain.lines = lines;
+    chain.feed = feed;
+    removed
+}
+
+/// The lower of two optional feeds (a transition between two moves runs at
+/// the slower one's feed).
+pub(crate) fn min_feed(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}

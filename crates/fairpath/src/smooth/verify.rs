@@ -1,0 +1,337 @@
+//! Independent verification of a smoothed run against the original: the
+//! largest deviation, the continuity class of every joint, and the
+//! endpoints. It shares no code with the smoothers beyond the geometry
+//! kernel, and trusts nothing they report (not even `source_lines`).
+//!
+//! **Deviation** is the largest distance from any point of the smoothed
+//! pieces to the original run (one-sided Hausdorff distance), found by
+//! branch and bound and reported as an upper bound that exceeds the true
+//! value by at most `accuracy` plus the flattening error of original arcs
+//! (also `accuracy`):
+//! * the original run is a set of segments (arcs and curves flattened with
+//!   chord error `<= accuracy`, so distances to it over-estimate by at most
+//!   that) in a uniform grid;
+//! * on a straight piece, the distance to one fixed original segment is a
+//!   convex function of position, so its value at the two ends bounds it in
+//!   between: a span is certified when that bound is within `accuracy` of
+//!   the distances measured at its ends, else it is halved;
+//! * on a curved piece, the distance is 1-Lipschitz in arc length, so over a
+//!   span of length `s` with end values `fa`, `fb` it is at most
+//!   `(fa + fb + s) / 2`; spans are halved until that bound is below the
+//!   largest deviation found so far plus `accuracy`.
+//!
+//! **Joints** are classed by position gap, tangent angle and the difference
+//! of curvature vectors, with thresholds in [`JointTolerances`].
+
+use crate::geom::{flatten_params, Curve, ParamCurve, SegmentGrid, Vec3};
+use crate::math;
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// Continuity class of a joint between two pieces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Continuity {
+    /// The pieces do not meet.
+    Gap,
+    /// Position only: a corner.
+    G0,
+    /// Common unit tangent, curvature jumps.
+    G1,
+    /// Common unit tangent and curvature vector.
+    G2,
+}
+
+impl Continuity {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Continuity::Gap => "gap",
+            Continuity::G0 => "G0",
+            Continuity::G1 => "G1",
+            Continuity::G2 => "G2",
+        }
+    }
+}
+
+/// Thresholds for classing joints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointTolerances {
+    /// Largest gap (mm) that still counts as meeting.
+    pub position: f64,
+    /// Largest angle (rad) between unit tangents that counts as tangent.
+    pub angle: f64,
+    /// Largest difference of curvature vectors (1/mm) that counts as G2,
+    /// relative part: times the larger curvature...
+    pub curvature_rel: f64,
+    /// ...plus this absolute part (1/mm).
+    pub curvature_abs: f64,
+}
+
+impl JointTolerances {
+    /// From the user's tolerance: gaps up to a millionth of it, tangents
+    /// within 1 microradian, curvature vectors equal to 1e-6 relative plus
+    /// `1e-6 / tolerance` absolute (for 0.05 mm: radius differences beyond
+    /// 50 km count as jumps).
+    pub fn from_tolerance(tol: f64) -> Self {
+        JointTolerances {
+            position: tol * 1e-6,
+            angle: 1e-6,
+            curvature_rel: 1e-6,
+            curvature_abs: 1e-6 / tol,
+        }
+    }
+}
+
+/// Continuity of the joint where `a` ends and `b` starts.
+pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity {
+    let (_, ta) = a.domain();
+    let (tb, _) = b.domain();
+    if a.end().dist(b.start()) > jt.position {
+        return Continuity::Gap;
+    }
+    let (da1, da2) = (a.deriv1(ta), a.deriv2(ta));
+    let (db1, db2) = (b.deriv1(tb), b.deriv2(tb));
+    let (Some(ua), Some(ub)) = (da1.normalized(0.0), db1.normalized(0.0)) else {
+        return Continuity::G0;
+    };
+    if ua.angle_to(ub) > jt.angle {
+        return Continuity::G0;
+    }
+    let ka = crate::geom::curvature_vector_from(da1, da2);
+    let kb = crate::geom::curvature_vector_from(db1, db2);
+    let lim = jt.curvature_rel * ka.norm().max(kb.norm()) + jt.curvature_abs;
+    if (ka - kb).norm() <= lim {
+        Continuity::G2
+    } else {
+        Continuity::G1
+    }
+}
+
+/// One joint of the smoothed run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Joint {
+    /// Index of the piece that ends at the joint.
+    pub after: usize,
+    pub at: Vec3,
+    pub class: Continuity,
+}
+
+/// What [`verify_run`] found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunReport {
+    /// Largest distance from the smoothed run to the original that was
+    /// found (mm); the true largest distance is at most `accuracy` more.
+    pub max_deviation: f64,
+    /// `max_deviation + accuracy`: a bound the true deviation never exceeds.
+    pub deviation_bound: f64,
+    /// Where it was found.
+    pub worst_at: Vec3,
+    pub joints: Vec<Joint>,
+    /// Distance between the original and smoothed start points (0 = exact).
+    pub start_gap: f64,
+    pub end_gap: f64,
+    /// Largest curvature sampled on the smoothed run (1/mm).
+    pub peak_curvature: f64,
+}
+
+impl RunReport {
+    /// True when the deviation bound is within `tolerance` and both
+    /// endpoints are exact.
+    pub fn within(&self, tolerance: f64) -> bool {
+        self.deviation_bound <= tolerance && self.start_gap == 0.0 && self.end_gap == 0.0
+    }
+    /// Number of joints of each class: `[gap, G0, G1, G2]`.
+    pub fn joint_counts(&self) -> [usize; 4] {
+        let mut c = [0; 4];
+        for j in &self.joints {
+            c[j.class as usize] += 1;
+        }
+        c
+    }
+}
+
+/// Settings of the verifier.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VerifyOptions {
+    /// The tolerance the smoothed run should keep (mm); sets the search
+    /// radius of the grid and the joint thresholds.
+    pub tolerance: f64,
+    /// Accuracy of the deviation bound (mm).
+    pub accuracy: f64,
+}
+
+impl VerifyOptions {
+    /// Accuracy of a ten-thousandth of the tolerance.
+    pub fn new(tolerance: f64) -> Self {
+        VerifyOptions {
+            tolerance,
+            accuracy: tolerance * 1e-4,
+        }
+    }
+}
+
+/// The original run as segments in a grid.
+struct Reference {
+    grid: SegmentGrid,
+    radius: f64,
+}
+
+impl Reference {
+    fn new(original: &[Piece], opts: &VerifyOptions) -> Reference {
+        let mut segs = Vec::new();
+        for p in original {
+            match &p.curve {
+                Curve::Line(l) => segs.push((l.p0, l.p1)),
+                c => {
+                    let ts = flatten_params(c, opts.accuracy);
+                    for w in ts.windows(2) {
+                        segs.push((c.eval(w[0]), c.eval(w[1])));
+                    }
+                }
+            }
+        }
+        let radius = 2.0 * opts.tolerance;
+        Reference {
+            grid: SegmentGrid::new(segs, radius),
+            radius,
+        }
+    }
+    fn dist(&self, q: Vec3) -> (f64, usize) {
+        self.grid.nearest(q, self.radius).unwrap_or((f64::INFINITY, 0))
+    }
+    fn dist_to(&self, q: Vec3, seg: usize) -> f64 {
+        let (a, b) = self.grid.segments()[seg];
+        crate::geom::point_segment_distance(q, a, b)
+    }
+}
+
+/// Verifies `smoothed` against `original` (both continuous runs).
+pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) -> RunReport {
+    let jt = JointTolerances::from_tolerance(opts.tolerance);
+    let mut report = RunReport {
+        max_deviation: 0.0,
+        deviation_bound: 0.0,
+        worst_at: Vec3::ZERO,
+        joints: Vec::new(),
+        start_gap: f64::INFINITY,
+        end_gap: f64::INFINITY,
+        peak_curvature: 0.0,
+    };
+    if let (Some(o0), Some(s0)) = (original.first(), smoothed.first()) {
+        report.start_gap = o0.start().dist(s0.start());
+    }
+    if let (Some(o1), Some(s1)) = (original.last(), smoothed.last()) {
+        report.end_gap = o1.end().dist(s1.end());
+    }
+    if original.is_empty() && smoothed.is_empty() {
+        report.start_gap = 0.0;
+        report.end_gap = 0.0;
+    }
+    for (i, w) in smoothed.windows(2).enumerate() {
+        report.joints.push(Joint {
+            after: i,
+            at: w[0].end(),
+            class: classify_joint(&w[0].curve, &w[1].curve, &jt),
+        });
+    }
+    if original.is_empty() || smoothed.is_empty() {
+        if original.len() != smoothed.len() {
+            report.max_deviation = f64::INFINITY;
+            report.deviation_bound = f64::INFINITY;
+        }
+        return report;
+    }
+    let reference = Reference::new(original, opts);
+    let mut best = (0.0f64, smoothed[0].start());
+    // First pass: a coarse sample of every piece, to start the bound high.
+    let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
+    for (pi, p) in smoothed.iter().enumerate() {
+        let (t0, t1) = p.curve.domain();
+        let n = match &p.curve {
+            Curve::Line(_) => 1,
+            c => {
+                let len = c.length(opts.accuracy);
+                (math::ceil(len / opts.tolerance) as usize).clamp(8, 1 << 16)
+            }
+        };
+        let mut prev_t = t0;
+        let mut prev_f = reference.dist(p.curve.eval(t0)).0;
+        note(&mut best, prev_f, p.curve.eval(t0));
+        for k in 1..=n {
+            let t = t0 + (t1 - t0) * k as f64 / n as f64;
+            let q = p.curve.eval(t);
+            let f = reference.dist(q).0;
+            note(&mut best, f, q);
+            spans.push((pi, prev_t, t, prev_f, f));
+            prev_t = t;
+            prev_f = f;
+        }
+        if !matches!(p.curve, Curve::Line(_)) {
+            for k in 0..=n {
+                let t = t0 + (t1 - t0) * k as f64 / n as f64;
+                report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
+            }
+        }
+    }
+    // Second pass: refine each span.
+    for &(pi, ta, tb, fa, fb) in &spans {
+        let c = &smoothed[pi].curve;
+        refine(c, matches!(c, Curve::Line(_)), ta, tb, fa, fb, &reference, opts.accuracy, &mut best, 0);
+    }
+    report.max_deviation = best.0;
+    report.deviation_bound = best.0 + opts.accuracy;
+    report.worst_at = best.1;
+    report
+}
+
+fn note(best: &mut (f64, Vec3), f: f64, q: Vec3) {
+    if f > best.0 || !f.is_finite() {
+        *best = (f, q);
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn refine(
+    c: &Curve,
+    straight: bool,
+    ta: f64,
+    tb: f64,
+    fa: f64,
+    fb: f64,
+    r: &Reference,
+    acc: f64,
+    best: &mut (f64, Vec3),
+    depth: u32,
+) {
+    let (qa, qb) = (c.eval(ta), c.eval(tb));
+    let chord = qa.dist(qb);
+    let bound = if straight {
+        // Convexity of the distance to one segment along a line: try the
+        // segments nearest to each end.
+        let (_, ia) = r.dist(qa);
+        let (_, ib) = r.dist(qb);
+        let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
+        let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
+        ba.min(bb).min(0.5 * (fa + fb + chord))
+    } else {
+        // Arc length over the span: chord times a margin that covers the
+        // arc/chord ratio of spans short enough to be refined (1 + k^2 s^2 / 24).
+        0.5 * (fa + fb + chord * 1.05)
+    };
+    if bound <= best.0 + acc || depth >= 48 || !bound.is_finite() {
+        if bound > best.0 && depth >= 48 {
+            note(best, bound, qa);
+        }
+        return;
+    }
+    if straight && bound <= fa.max(fb) + acc {
+        note(best, bound, if fa > fb { qa } else { qb });
+        return;
+    }
+    let tm = 0.5 * (ta + tb);
+    let qm = c.eval(tm);
+    let fm = r.dist(qm).0;
+    note(best, fm, qm);
+    refine(c, straight, ta, tm, fa, fm, r, acc, best, depth + 1);
+    refine(c, straight, tm, tb, fm, fb, r, acc, best, depth + 1);
+}
+

@@ -1,0 +1,134 @@
+//! Invariants of `bspline-corner` on random 2D and 3D polylines, degenerate
+//! ones included, at several tolerances: within tolerance (checked by the
+//! independent verifier), G2 at every joint but kept corners, endpoints exact.
+
+mod common;
+use common::{polyline_run, v};
+use fairpath::geom::Vec3;
+use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
+use fairpath::smooth::{BsplineCorner, BsplineCornerOptions, ErrorTarget, Smoother};
+use proptest::prelude::*;
+
+fn check(pts: &[Vec3], tol: f64, smoother: &BsplineCorner) -> Result<(), TestCaseError> {
+    let run = polyline_run(pts);
+    let out = smoother.smooth_run(&run, tol).unwrap();
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    prop_assert!(rep.deviation_bound <= tol, "deviation {} > {} at {:?}", rep.deviation_bound, tol, rep.worst_at);
+    prop_assert_eq!(rep.start_gap, 0.0);
+    prop_assert_eq!(rep.end_gap, 0.0);
+    for j in &rep.joints {
+        if j.class != Continuity::G2 {
+            let kept = out.kept_corners.iter().any(|k| k.at.dist(j.at) <= tol * 1e-6);
+            prop_assert!(kept, "joint {:?} is {:?} but not a kept corner", j.at, j.class);
+        }
+    }
+    Ok(())
+}
+
+fn pt2(scale: f64) -> impl Strategy<Value = Vec3> {
+    (-scale..scale, -scale..scale).prop_map(|(x, y)| v(x, y, 0.0))
+}
+fn pt3(scale: f64) -> impl Strategy<Value = Vec3> {
+    (-scale..scale, -scale..scale, -scale..scale).prop_map(|(x, y, z)| v(x, y, z))
+}
+
+/// Polylines with duplicates, exact reversals and collinear points mixed in.
+fn degenerate(base: Vec<Vec3>, ops: Vec<u8>) -> Vec<Vec3> {
+    let mut out: Vec<Vec3> = Vec::new();
+    for (i, p) in base.into_iter().enumerate() {
+        out.push(p);
+        match ops.get(i).copied().unwrap_or(0) % 6 {
+            1 => out.push(p),
+            2 if out.len() >= 2 => {
+                let q = out[out.len() - 2];
+                out.push(q); // exact reversal
+                out.push(p);
+            }
+            3 if out.len() >= 2 => {
+                let q = out[out.len() - 2];
+                out.pop();
+                out.push(q.lerp(p, 0.5)); // collinear point
+                out.push(p);
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+fn tol() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(0.001), Just(0.01), Just(0.05), Just(0.5)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn random_2d(pts in prop::collection::vec(pt2(20.0), 2..40), tol in tol(), half in any::<bool>()) {
+        let o = BsplineCornerOptions { target: if half { ErrorTarget::HalfBand } else { ErrorTarget::FullBand }, ..Default::default() };
+        check(&pts, tol, &BsplineCorner { options: o })?;
+    }
+
+    #[test]
+    fn random_3d(pts in prop::collection::vec(pt3(5.0), 2..40), tol in tol(), lambda in 0.0..0.9f64) {
+        let o = BsplineCornerOptions { lambda, ..Default::default() };
+        check(&pts, tol, &BsplineCorner { options: o })?;
+    }
+
+    #[test]
+    fn degenerate_3d(base in prop::collection::vec(pt3(3.0), 2..25), ops in prop::collection::vec(any::<u8>(), 25), tol in tol()) {
+        let pts = degenerate(base, ops);
+        check(&pts, tol, &BsplineCorner::default())?;
+    }
+
+    #[test]
+    fn dense_short_segments(start in pt3(1.0), steps in prop::collection::vec(pt3(0.01), 2..200), tol in tol()) {
+        let mut pts = vec![start];
+        for s in steps { let p = *pts.last().unwrap() + s; pts.push(p); }
+        check(&pts, tol, &BsplineCorner::default())?;
+    }
+}
+
+#[test]
+fn full_band_has_lower_peak_curvature_than_half_band() {
+    let pts: Vec<Vec3> = (0..40).map(|i| {
+        let t = i as f64 * 0.3;
+        v(10.0 * t.cos(), 10.0 * t.sin(), 0.0) * (1.0 + 0.1 * (i % 3) as f64)
+    }).collect();
+    let run = polyline_run(&pts);
+    let peak = |target| {
+        let s = BsplineCorner { options: BsplineCornerOptions { target, ..Default::default() } };
+        let out = s.smooth_run(&run, 0.05).unwrap();
+        verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.05)).peak_curvature
+    };
+    let full = peak(ErrorTarget::FullBand);
+    let half = peak(ErrorTarget::HalfBand);
+    assert!(full < half, "full {full} half {half}");
+}
+
+#[test]
+fn reversal_is_kept_and_reported() {
+    let pts = [v(0.0, 0.0, 0.0), v(10.0, 0.0, 0.0), v(5.0, 0.0, 0.0), v(5.0, 5.0, 0.0)];
+    let run = polyline_run(&pts);
+    let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert_eq!(out.kept_corners.len(), 1);
+    assert_eq!(out.kept_corners[0].at, v(10.0, 0.0, 0.0));
+    assert_eq!(out.transitions, 1);
+}
+
+#[test]
+fn collinear_vertices_pass_straight_through() {
+    let pts: Vec<Vec3> = (0..=10).map(|i| v(i as f64, 0.0, 0.0)).chain([v(10.0, 5.0, 0.0)]).collect();
+    let run = polyline_run(&pts);
+    let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert_eq!(out.merged_collinear, 9);
+    assert_eq!(out.transitions, 1);
+}
+
+#[test]
+fn bad_tolerances_are_rejected() {
+    let run = polyline_run(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0)]);
+    for t in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e-12, 1e9] {
+        assert!(BsplineCorner::default().smooth_run(&run, t).is_err(), "tolerance {t}");
+    }
+}

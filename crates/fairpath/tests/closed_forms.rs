@@ -1,0 +1,71 @@
+//! The closed forms of the bspline-corner transition (seed 000) against
+//! evaluation of the curve.
+
+mod common;
+use common::v;
+use fairpath::geom::{point_segment_distance, ParamCurve, Vec3};
+use fairpath::smooth::{corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve};
+
+/// Transition at the origin between directions at half-angle theta.
+fn corner(theta: f64, l: f64) -> (fairpath::geom::Nurbs, Vec3, Vec3) {
+    let a = v(1.0, 0.0, 0.0);
+    let b = v((2.0 * theta).cos(), (2.0 * theta).sin(), 0.0);
+    let q = Vec3::ZERO;
+    let c = transition_curve([q + a * 2.0 * l, q + a * l, q, q + b * l, q + b * 2.0 * l]);
+    (c, a, b)
+}
+
+#[test]
+fn error_deviation_and_peak_curvature_match_evaluation() {
+    for i in 1..60 {
+        let theta = 0.02 + (i as f64) * (std::f64::consts::FRAC_PI_2 - 0.04) / 60.0;
+        for &l in &[0.01, 0.3, 7.0] {
+            let (c, a, b) = corner(theta, l);
+            let mid = c.eval(0.5);
+            // e = |P2 C(0.5)|
+            assert!((mid.norm() - corner_error(l, theta)).abs() < 1e-12 * l.max(1.0), "e at theta {theta}");
+            // deviation: the largest distance to the two segments, sampled densely
+            let far = 10.0 * l;
+            let mut dev: f64 = 0.0;
+            let mut kmax: f64 = 0.0;
+            let n = 4000;
+            for k in 0..=n {
+                let t = k as f64 / n as f64;
+                let p = c.eval(t);
+                let d = point_segment_distance(p, Vec3::ZERO, a * far).min(point_segment_distance(p, Vec3::ZERO, b * far));
+                dev = dev.max(d);
+                kmax = kmax.max(c.curvature(t));
+            }
+            let want = corner_deviation(l, theta);
+            assert!((dev - want).abs() <= 1e-9 * l.max(1.0), "dev {dev} vs {want} at theta {theta}");
+            let kw = corner_peak_curvature(l, theta);
+            assert!((kmax - kw).abs() <= 1e-9 * kw, "kappa {kmax} vs {kw} at theta {theta}");
+            assert!((c.curvature(0.5) - kw).abs() <= 1e-9 * kw);
+            // curvature is zero at both ends: G2 with the segments
+            assert!(c.curvature(0.0) * l < 1e-12 && c.curvature(1.0) * l < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn edge_for_deviation_inverts_deviation() {
+    for i in 1..50 {
+        let theta = i as f64 * 0.031;
+        let l = edge_for_deviation(0.05, theta);
+        assert!((corner_deviation(l, theta) - 0.05).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn paper_example_section_3_3() {
+    // delta = 0.01 mm, theta = 35 deg: epsilon = delta / sin(theta) ~ 0.0174 mm
+    // (the paper prints 0.0173), and L ~ 0.0479 gives e0 ~ 0.0195 mm.
+    let theta = 35f64.to_radians();
+    let eps = 0.01 / theta.sin();
+    assert!((eps - 0.0174).abs() < 1e-4);
+    let e0 = corner_error(0.0479, theta);
+    assert!((e0 - 0.0196).abs() < 2e-4, "e0 {e0}");
+    // alpha = e*/e0 with e* = delta/2 scales L to about 0.0123 mm
+    let alpha = 0.005 / e0;
+    assert!((alpha * 0.0479 - 0.0123).abs() < 2e-4);
+}

@@ -1,0 +1,24 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use fairpath::geom::{Curve, Line, Vec3};
+use fairpath::path::{Piece, Run};
+
+/// A run of G1 moves through `pts`, input lines numbered from 1.
+pub fn polyline_run(pts: &[Vec3]) -> Run {
+    Run::new(
+        pts.windows(2)
+            .enumerate()
+            .map(|(i, w)| Piece {
+                curve: Curve::Line(Line::new(w[0], w[1])),
+                rapid: false,
+                source_lines: (i + 1, i + 1),
+                feed: Some(1000.0),
+            })
+            .collect(),
+    )
+}
+
+pub fn v(x: f64, y: f64, z: f64) -> Vec3 {
+    Vec3::new(x, y, z)
+}

@@ -1,0 +1,80 @@
+//! Derivatives of every curve type against finite differences, and exact
+//! arc NURBS.
+
+mod common;
+use common::v;
+use fairpath::geom::{arc_length, Arc, Curve, Nurbs, ParamCurve, Vec3};
+use proptest::prelude::*;
+
+fn check_fd<C: ParamCurve>(c: &C, scale: f64) {
+    let (a, b) = c.domain();
+    let h = 1e-5 * (b - a);
+    for k in 1..=20 {
+        let t = a + (b - a) * (k as f64 - 0.5 + 0.0137) / 20.0;
+        let d1 = (c.eval(t + h) - c.eval(t - h)) / (2.0 * h);
+        let d2 = (c.deriv1(t + h) - c.deriv1(t - h)) / (2.0 * h);
+        assert!((d1 - c.deriv1(t)).norm() <= 1e-5 * scale, "d1 at {t}: {:?} vs {:?}", d1, c.deriv1(t));
+        assert!((d2 - c.deriv2(t)).norm() <= 1e-4 * scale, "d2 at {t}: {:?} vs {:?}", d2, c.deriv2(t));
+    }
+}
+
+fn pt() -> impl Strategy<Value = Vec3> {
+    (-50.0..50.0f64, -50.0..50.0f64, -50.0..50.0f64).prop_map(|(x, y, z)| v(x, y, z))
+}
+
+proptest! {
+    #[test]
+    fn bspline_derivatives_match_finite_differences(pts in prop::collection::vec(pt(), 4..9), deg in 1usize..4, rational in any::<bool>(), ws in prop::collection::vec(0.5..2.0f64, 9)) {
+        let n = pts.len();
+        let mut knots = vec![0.0; deg + 1];
+        for i in 1..(n - deg) { knots.push(i as f64 / (n - deg) as f64); }
+        knots.extend(std::iter::repeat_n(1.0, deg + 1));
+        let weights = if rational { Some(ws[..n].to_vec()) } else { None };
+        let c = Nurbs::new(deg, knots, pts, weights).unwrap();
+        check_fd(&c, 1000.0);
+        prop_assert_eq!(c.eval(0.0), c.points[0]);
+        prop_assert_eq!(c.eval(1.0), *c.points.last().unwrap());
+    }
+
+    #[test]
+    fn arc_derivatives_match_finite_differences(r0 in 0.5..20.0f64, dr in -0.1..0.1f64, rise in -5.0..5.0f64, sweep in 0.1..12.0f64) {
+        let a = Arc { center: v(1.0, 2.0, 3.0), normal: v(0.0, 0.0, 1.0), u: v(1.0, 0.0, 0.0), r0, r1: r0 + dr, sweep, rise };
+        check_fd(&a, 100.0);
+    }
+
+    #[test]
+    fn circular_arc_nurbs_is_exact(r in 0.1..100.0f64, sweep in 0.01..(2.0 * std::f64::consts::PI), turns_cw in any::<bool>()) {
+        let axis = v(0.0, 0.0, 1.0);
+        let c = v(3.0, -4.0, 2.0);
+        let start = c + v(r, 0.0, 0.0);
+        let end = c + v(r * sweep.cos(), r * sweep.sin(), 0.0);
+        let arc = Arc::from_center(start, end, c, axis, turns_cw, 1, 1e-9).unwrap();
+        let nurbs = Nurbs::from_circular_arc(&arc);
+        for k in 0..=50 {
+            let p = nurbs.eval(k as f64 / 50.0);
+            prop_assert!(((p - c).norm() - r).abs() <= 1e-9 * r.max(1.0));
+        }
+        prop_assert!(nurbs.eval(0.0).dist(arc.eval(0.0)) <= 1e-12 * r.max(1.0));
+        prop_assert!(nurbs.eval(1.0).dist(arc.eval(1.0)) <= 1e-9 * r.max(1.0));
+        let len = arc_length(&Curve::Nurbs(nurbs), 1e-9);
+        prop_assert!((len - r * arc.sweep).abs() <= 1e-6 * r.max(1.0));
+    }
+}
+
+#[test]
+fn g2_arc_full_circle_and_turns() {
+    let c = Vec3::ZERO;
+    let s = v(5.0, 0.0, 0.0);
+    let full = Arc::from_center(s, s, c, v(0.0, 0.0, 1.0), false, 1, 1e-7).unwrap();
+    assert!((full.sweep - 2.0 * std::f64::consts::PI).abs() < 1e-15);
+    let two = Arc::from_center(s, s, c, v(0.0, 0.0, 1.0), true, 2, 1e-7).unwrap();
+    assert!((two.sweep - 4.0 * std::f64::consts::PI).abs() < 1e-12);
+    // G2 (clockwise in G17) goes to negative y first.
+    assert!(two.eval(0.05).y < 0.0);
+    let quarter = Arc::from_center(s, v(0.0, 5.0, 1.0), c, v(0.0, 0.0, 1.0), false, 1, 1e-7).unwrap();
+    assert!((quarter.sweep - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    assert!(quarter.eval(1.0).dist(v(0.0, 5.0, 1.0)) < 1e-12);
+    let rev = quarter.reversed();
+    assert!(rev.eval(0.0).dist(quarter.eval(1.0)) < 1e-12);
+    assert!(rev.eval(1.0).dist(quarter.eval(0.0)) < 1e-12);
+}

@@ -1,0 +1,58 @@
+//! The verifier must catch what it is there to catch: a path outside the
+//! band, a corner, a wrong endpoint.
+
+mod common;
+use common::{polyline_run, v};
+use fairpath::geom::{Curve, Line, Nurbs};
+use fairpath::path::Piece;
+use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
+
+#[test]
+fn bulge_between_samples_is_found() {
+    // Original: a straight line. Smoothed: a cubic bump of height 0.06 mm
+    // that is zero at the ends, i.e. every coarse sample at the ends is fine.
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
+    let bump = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![v(0.0, 0.0, 0.0), v(49.0, 0.08, 0.0), v(51.0, 0.08, 0.0), v(100.0, 0.0, 0.0)],
+        None,
+    )
+    .unwrap();
+    let smoothed = vec![Piece { curve: Curve::Nurbs(bump), rapid: false, source_lines: (1, 1), feed: None }];
+    let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05));
+    assert!((rep.max_deviation - 0.06).abs() < 1e-5, "{}", rep.max_deviation);
+    assert!(!rep.within(0.05));
+    assert!(rep.within(0.07));
+}
+
+#[test]
+fn straight_piece_off_the_path_is_found() {
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(10.0, 0.0, 0.0), v(10.0, 10.0, 0.0)]);
+    // A chord that cuts the corner: 5/sqrt(2) mm from the corner... the
+    // farthest point of the chord from the path is its middle.
+    let smoothed = polyline_run(&[v(0.0, 0.0, 0.0), v(5.0, 0.0, 0.0), v(10.0, 5.0, 0.0), v(10.0, 10.0, 0.0)]);
+    let rep = verify_run(&orig.pieces, &smoothed.pieces, &VerifyOptions::new(0.05));
+    let want = 2.5;
+    assert!((rep.max_deviation - want).abs() < 1e-4, "{}", rep.max_deviation);
+    assert_eq!(rep.joint_counts(), [0, 2, 0, 0]);
+}
+
+#[test]
+fn endpoints_and_joints() {
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(10.0, 0.0, 0.0)]);
+    let moved = vec![Piece {
+        curve: Curve::Line(Line::new(v(0.0, 0.0, 0.0), v(10.0, 1e-12, 0.0))),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
+    let rep = verify_run(&orig.pieces, &moved, &VerifyOptions::new(0.05));
+    assert!(rep.end_gap > 0.0);
+    assert!(!rep.within(0.05));
+    // Collinear lines: G2 joint (both curvatures zero).
+    let two = polyline_run(&[v(0.0, 0.0, 0.0), v(4.0, 0.0, 0.0), v(10.0, 0.0, 0.0)]);
+    let rep = verify_run(&orig.pieces, &two.pieces, &VerifyOptions::new(0.05));
+    assert_eq!(rep.joints[0].class, Continuity::G2);
+    assert!(rep.within(0.05));
+}
