@@ -2,10 +2,13 @@
 //! the modal state, decides which moves are pinned and which lines end runs,
 //! and groups the runs.
 
+// Axis loops index several parallel arrays by axis number.
+#![allow(clippy::needless_range_loop)]
+
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::{lex_line, split_lines, LexedLine, Word};
 use crate::program::{
-    Feed, Move, MoveKind, MotionMode, PinReason, Program, ProgramLine, RunSpan, Units,
+    Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
 use fairpath::geom::{Arc, ArcError, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::Piece;
@@ -153,10 +156,10 @@ fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
         301 => G::NonModal(NonModal::G30_1),
         330 => G::Motion(MotionMode::Thread),
         331 => G::Motion(MotionMode::RigidTap),
-        382..=385 => G::Motion(MotionMode::Probe(code)),
+        382..=385 | 310 => G::Motion(MotionMode::Probe(code)),
         400 => G::CutterComp(false),
         410 | 411 | 420 | 421 => G::CutterComp(true),
-        430 | 431 | 432 => G::ToolLength(true),
+        430..=432 => G::ToolLength(true),
         490 => G::ToolLength(false),
         520 => G::NonModal(NonModal::G52),
         530 => G::NonModal(NonModal::G53),
@@ -166,7 +169,9 @@ fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
         690 => G::Cancel(69),
         510 => return unsupported("scaling G51"),
         700 | 710 | 720 => return unsupported("G70/G71/G72 (lathe cycles or legacy units)"),
-        730 | 740 | 760 | 810..=890 => return unsupported("canned cycles (G73, G74, G76, G81-G89)"),
+        730 | 740 | 760 | 810..=890 => {
+            return unsupported("canned cycles (G73, G74, G76, G81-G89)")
+        }
         800 => G::Motion(MotionMode::None),
         900 => G::Incremental(false),
         910 => G::Incremental(true),
@@ -367,8 +372,16 @@ fn interpret_line(
                     return Err(err(ln, w.column, ErrorKind::UnknownGCode(w.text.clone())));
                 }
                 let g = classify_g(code as u16, &w.text).map_err(|k| err(ln, w.column, k))?;
-                if let Some((_, other)) = gs.iter().find(|(o, _)| o.group() == g.group()) {
-                    let _ = other;
+                // G80 beside another motion code (`G0 G80`, common in
+                // headers): the other code wins, as on Fanuc controls.
+                let cancel = G::Motion(MotionMode::None);
+                if let Some(k) = gs.iter().position(|(o, _)| o.group() == g.group()) {
+                    if gs[k].0 == cancel && g.group() == "motion" {
+                        gs[k] = (g, w);
+                        continue;
+                    } else if g == cancel {
+                        continue;
+                    }
                     return Err(err(ln, w.column, ErrorKind::ConflictingGCodes(g.group())));
                 }
                 gs.push((g, w));
@@ -551,6 +564,17 @@ fn interpret_line(
     let ended_now = ms.iter().any(|(c, _)| *c == 2 || *c == 30);
 
     // ---- motion ----
+    if !has_axes {
+        if let Some((MotionMode::ArcCw | MotionMode::ArcCcw, w)) = motion_g {
+            if ['I', 'J', 'K', 'R', 'P'].iter().any(|&l| word(l).is_some()) {
+                return Err(err(ln, w.column, ErrorKind::ArcWithoutAxes));
+            }
+        }
+        // Words that do nothing without a move: keep the line out of runs.
+        if ['I', 'J', 'K', 'R', 'P'].iter().any(|&l| word(l).is_some()) {
+            changes = true;
+        }
+    }
     let uses_modal_motion = has_axes && motion_g.is_none() && axis_user_nonmodal.is_none();
     let mut breaks_run = changes;
     if has_axes && axis_user_nonmodal.is_none() {
@@ -579,7 +603,35 @@ fn interpret_line(
         };
         let (curve, kind) = match mode {
             MotionMode::ArcCw | MotionMode::ArcCcw => {
-                let arc = build_arc(lx, ln, st, start, target, mode == MotionMode::ArcCw, first_axis)?;
+                let arc = build_arc(
+                    lx,
+                    ln,
+                    st,
+                    start,
+                    target,
+                    mode == MotionMode::ArcCw,
+                    first_axis,
+                )?;
+                // When the arc's computed start cannot be made exactly equal
+                // to `start` (see snap_arc_start), move the end of a
+                // preceding line onto it (a change of a few 1e-16 relative),
+                // so that pieces join exactly.
+                let s = arc.start();
+                if s != start {
+                    if let Some(Move {
+                        piece:
+                            Piece {
+                                curve: Curve::Line(l),
+                                ..
+                            },
+                        ..
+                    }) = moves.last_mut()
+                    {
+                        if l.p1 == start {
+                            l.p1 = s;
+                        }
+                    }
+                }
                 (Curve::Arc(arc), MoveKind::Arc)
             }
             MotionMode::Rapid => (Curve::Line(Line::new(start, target)), MoveKind::Rapid),
@@ -587,14 +639,20 @@ fn interpret_line(
         };
         // Words that are part of a plain move.
         let extra_words = lx.words.iter().any(|w| {
-            !matches!(w.letter, 'N' | 'F' | 'X' | 'Y' | 'Z' | 'G')
-                && !(kind == MoveKind::Arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P'))
-                && !EXTRA_AXES.contains(w.letter)
+            let plain = matches!(w.letter, 'N' | 'F' | 'X' | 'Y' | 'Z' | 'G')
+                || EXTRA_AXES.contains(w.letter)
+                || (kind == MoveKind::Arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P'));
+            !plain
         });
         let extra_axes = lx.words.iter().any(|w| EXTRA_AXES.contains(w.letter));
         let pinned = if lx.block_delete {
             Some(PinReason::BlockDelete)
-        } else if g53 || matches!(mode, MotionMode::Thread | MotionMode::RigidTap | MotionMode::Probe(_)) {
+        } else if g53
+            || matches!(
+                mode,
+                MotionMode::Thread | MotionMode::RigidTap | MotionMode::Probe(_)
+            )
+        {
             Some(PinReason::SpecialMotion)
         } else if extra_axes {
             Some(PinReason::ExtraAxes)
@@ -809,12 +867,77 @@ fn build_arc(
             set_axis(&mut center, a2, m2 + offset * theta.sin());
         }
     }
-    Arc::from_center(start, end, center, st.plane.normal(), clockwise, turns, COINCIDENT_MM).map_err(
-        |e| match e {
-            ArcError::ZeroRadius => err(ln, first_axis_col, ErrorKind::ArcZeroRadius),
-            ArcError::NotFinite => err(ln, first_axis_col, ErrorKind::BadValue('R')),
-        },
+    let mut arc = Arc::from_center(
+        start,
+        end,
+        center,
+        st.plane.normal(),
+        clockwise,
+        turns,
+        COINCIDENT_MM,
     )
+    .map_err(|e| match e {
+        ArcError::ZeroRadius => err(ln, first_axis_col, ErrorKind::ArcZeroRadius),
+        ArcError::NotFinite => err(ln, first_axis_col, ErrorKind::BadValue('R')),
+    })?;
+    snap_arc_start(&mut arc, start);
+    Ok(arc)
+}
+
+/// The next representable f64 `k` steps up (k > 0) or down (k < 0).
+fn step_ulps(x: f64, k: i64) -> f64 {
+    let mut y = x;
+    for _ in 0..k.unsigned_abs() {
+        if !y.is_finite() {
+            return y;
+        }
+        let bits = y.to_bits();
+        y = if y == 0.0 {
+            if k > 0 {
+                f64::from_bits(1)
+            } else {
+                -f64::from_bits(1)
+            }
+        } else if (y > 0.0) == (k > 0) {
+            f64::from_bits(bits + 1)
+        } else {
+            f64::from_bits(bits - 1)
+        };
+    }
+    y
+}
+
+/// Nudges `arc.u` (or, failing that, `arc.center`) by a few ulps so that
+/// `arc.eval(0.0)` is exactly `start`: pieces of a run must join exactly as
+/// f64 values, and an arc's start is computed as `center + r0 u`. The
+/// change is a few 1e-16 relative: far below any tolerance.
+fn snap_arc_start(arc: &mut Arc, start: Vec3) {
+    for i in 0..3 {
+        if axis(arc.eval(0.0), i) == axis(start, i) {
+            continue;
+        }
+        let u0 = axis(arc.u, i);
+        let c0 = axis(arc.center, i);
+        let mut done = false;
+        'search: for which in 0..2 {
+            for m in 1..=64i64 {
+                for k in [m, -m] {
+                    if which == 0 {
+                        set_axis(&mut arc.u, i, step_ulps(u0, k));
+                    } else {
+                        set_axis(&mut arc.center, i, step_ulps(c0, k));
+                    }
+                    if axis(arc.eval(0.0), i) == axis(start, i) {
+                        done = true;
+                        break 'search;
+                    }
+                }
+            }
+            set_axis(&mut arc.u, i, u0);
+            set_axis(&mut arc.center, i, c0);
+        }
+        let _ = done;
+    }
 }
 
 /// Groups the runs: consecutive non-pinned feed moves on lines that do not

@@ -133,12 +133,7 @@ pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
                 out.has_comment = true;
                 break;
             }
-            '#' => {
-                return Err(err(
-                    i,
-                    ErrorKind::Unsupported("LinuxCNC parameters (#)"),
-                ))
-            }
+            '#' => return Err(err(i, ErrorKind::Unsupported("LinuxCNC parameters (#)"))),
             '[' => return Err(err(i, ErrorKind::Unsupported("expressions ([...])"))),
             _ if c.is_ascii_alphabetic() => {
                 let letter = c.to_ascii_uppercase();
@@ -155,10 +150,7 @@ pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
                 }
                 let (word, next) = lex_number(&chars, i + 1, letter, col, line_no)?;
                 i = next;
-                if letter != 'G'
-                    && letter != 'M'
-                    && out.words.iter().any(|w| w.letter == letter)
-                {
+                if letter != 'G' && letter != 'M' && out.words.iter().any(|w| w.letter == letter) {
                     return Err(err(col, ErrorKind::DuplicateWord(letter)));
                 }
                 out.words.push(word);
@@ -289,10 +281,19 @@ mod tests {
     #[test]
     fn words_and_spans() {
         let l = lex_line("N10 g1 X - 1.5 y2 (c) ; rest", 3).unwrap();
-        let w: Vec<_> = l.words.iter().map(|w| (w.letter, w.value, w.column)).collect();
+        let w: Vec<_> = l
+            .words
+            .iter()
+            .map(|w| (w.letter, w.value, w.column))
+            .collect();
         assert_eq!(
             w,
-            vec![('N', 10.0, 1), ('G', 1.0, 5), ('X', -1.5, 8), ('Y', 2.0, 16)]
+            vec![
+                ('N', 10.0, 1),
+                ('G', 1.0, 5),
+                ('X', -1.5, 8),
+                ('Y', 2.0, 16)
+            ]
         );
         assert!(l.has_comment);
     }

@@ -1,9 +1,91 @@
-//! G-code reader and writers for fairpath.
+//! # fairpath-gcode
+//!
+//! G-code reader (lexer with spans, modal interpreter) and writers (G-code,
+//! JSON) for fairpath. Everything inside is mm and f64.
+//!
+//! ```text
+//! parse(&[u8]) -> Program --runs()--> Vec<Run> --smoother--> Vec<Vec<Piece>>
+//!     --> write_gcode(&Program, &smoothed, &GcodeWriteOptions) -> String
+//!     --> write_json(&Program, &smoothed) -> String;  read_json(&str) -> Vec<Piece>
+//! ```
+//! A smoothed G-code file is read back with [`parse`] (it is plain G-code).
+//!
+//! ## What is read
+//! Programs as LinuxCNC, Fanuc, Mach3, grbl and CAM post-processors write
+//! them (see [`lexer`] for the syntax). G0/G1/G2/G3 (IJK and R forms, negative
+//! R = the long arc, G17/G18/G19, helical moves, full circles, P turns),
+//! G20/G21, G90/G91, G90.1/G91.1 (default incremental IJK), F (program units
+//! per minute, stored as mm/min), axis words without a G word (the modal
+//! motion mode). LinuxCNC's execution order within a line applies: F is read
+//! before a G20/G21 on the same line (`G21 F100` in an inch program is
+//! 100 in/min), the units change before the move.
+//!
+//! * The position before any move is (0,0,0) in program coordinates.
+//! * Work offsets are not known: coordinates are program coordinates. After
+//!   a change of coordinate system (G54..G59.3), G10, G92.1/G92.2/G92.3,
+//!   G28/G30 (home), tool-length changes (G43/G49: Z), G52 (the axes given),
+//!   G53 and probe moves (the axes moved), the affected axes are *unknown*;
+//!   a move that starts with any unknown axis is pinned (its piece starts at
+//!   the last tracked value). G92 sets the position of the axes it names.
+//! * The motion mode at program start is none (as LinuxCNC): axis words
+//!   before any G0/G1/G2/G3 are an error. `G80` beside another motion code on
+//!   the same line (`G0 G80`, common in headers) is ignored.
+//! * IJK arcs whose end radius differs from the start radius by more than
+//!   [`interp::ARC_RADIUS_TOLERANCE_MM`] (mm programs) or
+//!   [`interp::ARC_RADIUS_TOLERANCE_INCH`] (inch programs) are errors;
+//!   smaller differences make spiral arcs, as LinuxCNC runs them. An R arc
+//!   whose radius is shorter than half the chord by more than the same
+//!   tolerance is an error. `P` must be a positive integer. A centre word of
+//!   the axis normal to the plane (K in G17, ...) must be 0 if present.
+//! * Lines after `M2`/`M30` or after a closing `%` are passed through
+//!   unread.
+//!
+//! ## Runs, pinned moves
+//! A *run* ([`Program::runs`]) is a maximal sequence of consecutive
+//! non-pinned feed moves (G1, G2, G3) with no run-breaking line between them.
+//! A line *breaks runs* when it holds a rapid or a pinned move, or changes
+//! state: any M code, S, T, H, D, L, Q words, G4 dwell, G10, G28/G30, G52,
+//! G53, G92/G92.x, a change of coordinate system, tool length offset
+//! (G43*/G49 when active), cutter compensation (G41/G42, G40 when active),
+//! feed mode (G93/G94/G95), path control (G61/G61.1/G64, or G64 with P/Q),
+//! units, distance mode, arc distance mode, plane, spindle mode, G15/G69,
+//! a motion G word alone that changes the mode, and block-delete (`/`)
+//! lines. Lines holding only comments, blank, `%`, N, F, an O program
+//! number, or modal words restating the current state do not break runs.
+//!
+//! A move is *pinned* (written back verbatim, never smoothed) when its line
+//! starts with `/`, carries words other than N, F, X, Y, Z, G (and I, J, K,
+//! R, P for arcs) such as M8 or S1000, changes state, has A/B/C/U/V/W words,
+//! runs with cutter compensation active or in G93/G95 feed mode, starts at
+//! an unknown position, or is G33/G33.1/G38.x/G31 or G53 motion.
+//!
+//! Each run's pieces join exactly as f64 values (arcs are nudged by a few
+//! ulps so that their computed start is the previous end; between two arcs
+//! the join can be off by a few ulps, ~1e-14 mm). Zero-length moves are kept.
+//!
+//! ## Errors
+//! Every reader error is a [`GcodeError`] with 1-based line and column
+//! (`Display`: `line:column: message`); [`GcodeError::is_unsupported`] tells
+//! unsupported features from malformed input. Unsupported: LinuxCNC
+//! parameters `#`, expressions `[...]`, o-words (except a Fanuc `O1234`
+//! program number alone on a line), G5/G5.1/G5.2/G5.3/G6.2 splines, canned
+//! cycles (G73, G74, G76, G81..G89), G7 diameter mode, G16 polar
+//! coordinates, G51 scaling, G68 rotation, G70/G71/G72, G17.1/G18.1/G19.1,
+//! the extruder word E. Unknown G codes are errors; unknown M codes are
+//! passed through (they break runs). An empty program is an empty
+//! [`Program`] (no moves, no runs), not an error.
+
 pub mod error;
 pub mod interp;
 pub mod lexer;
 pub mod program;
+pub mod write_gcode;
+pub mod write_json;
 
-pub use error::{ErrorKind, GcodeError};
+pub use error::{ErrorKind, GcodeError, JsonError, WriteError};
 pub use interp::parse;
-pub use program::{Program, Units};
+pub use program::{
+    Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+};
+pub use write_gcode::{write_gcode, GcodeWriteOptions};
+pub use write_json::{read_json, write_json, ARC_APPROX_MM};

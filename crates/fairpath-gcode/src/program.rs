@@ -40,7 +40,7 @@ pub enum MotionMode {
     Thread,
     /// G33.1 rigid tapping.
     RigidTap,
-    /// G38.2 .. G38.5 probing (the code times 10).
+    /// G38.2 .. G38.5 probing, or G31 (Mach3, Fanuc): the code times 10.
     Probe(u16),
 }
 
@@ -55,6 +55,7 @@ impl MotionMode {
             MotionMode::ArcCcw => "G3".into(),
             MotionMode::Thread => "G33".into(),
             MotionMode::RigidTap => "G33.1".into(),
+            MotionMode::Probe(310) => "G31".into(),
             MotionMode::Probe(c) => format!("G{}.{}", c / 10, c % 10),
         })
     }
@@ -188,7 +189,14 @@ impl Program {
     pub fn runs(&self) -> Vec<Run> {
         self.runs
             .iter()
-            .map(|r| Run::new(self.moves[r.moves.clone()].iter().map(|m| m.piece.clone()).collect()))
+            .map(|r| {
+                Run::new(
+                    self.moves[r.moves.clone()]
+                        .iter()
+                        .map(|m| m.piece.clone())
+                        .collect(),
+                )
+            })
             .collect()
     }
 
@@ -197,9 +205,9 @@ impl Program {
         &self.runs
     }
 
-    /// Units at program start (mm unless the program selects G20 before its
-    /// first move... precisely: the units in force after the first line that
-    /// is not a comment, i.e. the default mm changed by a leading G20).
+    /// The program's units: those in force at its first move (the default
+    /// mm, changed by a G20 before the first move), or at its end when it has
+    /// no move. Internally everything is mm; writers use each line's units.
     pub fn units(&self) -> Units {
         self.start_units
     }
@@ -219,4 +227,3 @@ impl Program {
         self.moves.is_empty()
     }
 }
-

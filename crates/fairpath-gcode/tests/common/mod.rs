@@ -22,7 +22,10 @@ pub fn files_under(dir: &std::path::Path) -> Vec<PathBuf> {
             let p = e.unwrap().path();
             if p.is_dir() {
                 stack.push(p);
-            } else if p.extension().is_some_and(|x| x == "ngc" || x == "gcode" || x == "nc") {
+            } else if p
+                .extension()
+                .is_some_and(|x| x == "ngc" || x == "gcode" || x == "nc")
+            {
                 out.push(p);
             }
         }

@@ -64,8 +64,9 @@ pub(crate) enum Element {
 /// Thresholds for cleaning a run, in mm.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct CleanTolerances {
-    /// Moves no longer than this are zero-length and dropped; consecutive
-    /// pieces must meet within it.
+    /// Moves no longer than this are zero-length: their end vertex is
+    /// dropped (moving the path by at most this much); consecutive pieces
+    /// must meet within it.
     pub min_segment: f64,
     /// A vertex whose removal moves the path by no more than this is a
     /// straight-on vertex and merged away.
@@ -73,11 +74,14 @@ pub(crate) struct CleanTolerances {
 }
 
 impl CleanTolerances {
-    /// Both thresholds are a millionth of the smoothing tolerance: far below
-    /// G-code resolution (1 um), so merging never costs visible accuracy.
+    /// Zero-length below a thousandth of the tolerance (50 nm at 0.05 mm:
+    /// below the resolution of any G-code, so only rounding artefacts such
+    /// as `Y14.828427124746183` followed by `Y14.828427` fall under it);
+    /// straight-on within a millionth of it. Smoothers keep this much of
+    /// the band in reserve.
     pub fn from_tolerance(tol: f64) -> Self {
         CleanTolerances {
-            min_segment: tol * 1e-6,
+            min_segment: tol * 1e-3,
             collinear: tol * 1e-6,
         }
     }
@@ -91,6 +95,19 @@ pub(crate) fn split_run(run: &Run, clean: CleanTolerances) -> Result<(Vec<Elemen
     let mut merged = 0;
     let mut prev_end: Option<Vec3> = None;
     let mut chain = LineChain::default();
+    let finish = |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
+        if chain.segments() > 0 {
+            // A dropped tail leaves the chain short of the true end: move
+            // the last vertex there (by at most `min_segment`).
+            if let Some(e) = end {
+                *chain.pts.last_mut().unwrap() = e;
+            }
+            *merged += merge_collinear(chain, clean.collinear);
+            out.push(Element::Chain(core::mem::take(chain)));
+        } else {
+            *chain = LineChain::default();
+        }
+    };
     for piece in &run.pieces {
         let s = piece.start();
         let e = piece.end();
@@ -102,37 +119,42 @@ pub(crate) fn split_run(run: &Run, clean: CleanTolerances) -> Result<(Vec<Elemen
                 return Err(SmoothError::Discontinuous { line: piece.source_lines.0 });
             }
         }
-        prev_end = Some(e);
         match &piece.curve {
             Curve::Line(l) => {
-                if l.length() <= clean.min_segment {
-                    dropped += 1;
-                    continue;
-                }
                 if chain.pts.is_empty() {
-                    chain.pts.push(l.p0);
+                    chain.pts.push(prev_end.unwrap_or(l.p0));
                 }
-                // Keep the chain continuous exactly even when a tiny dropped
-                // move sat in between.
-                chain.pts.push(l.p1);
-                chain.lines.push(piece.source_lines);
-                chain.feed.push(piece.feed);
+                let last = *chain.pts.last().unwrap();
+                if last.dist(l.p1) <= clean.min_segment {
+                    dropped += 1;
+                    if let Some(lines) = chain.lines.last_mut() {
+                        lines.1 = piece.source_lines.1;
+                    }
+                } else {
+                    chain.pts.push(l.p1);
+                    chain.lines.push(piece.source_lines);
+                    chain.feed.push(piece.feed);
+                }
             }
             _ => {
-                if chain.segments() > 0 {
-                    merged += merge_collinear(&mut chain, clean.collinear);
-                    out.push(Element::Chain(core::mem::take(&mut chain)));
-                } else {
-                    chain = LineChain::default();
-                }
+                finish(&mut chain, &mut out, &mut merged, prev_end);
                 out.push(Element::Other(piece.clone()));
             }
         }
+        prev_end = Some(e);
     }
-    if chain.segments() > 0 {
-        merged += merge_collinear(&mut chain, clean.collinear);
-        out.push(Element::Chain(chain));
+    if chain.segments() == 0 && !chain.pts.is_empty() && out.is_empty() {
+        // Nothing but zero-length moves: keep one segment so the run still
+        // goes from its start to its end.
+        if let (Some(first), Some(last)) = (run.pieces.first(), run.pieces.last()) {
+            if first.start() != last.end() {
+                chain.pts.push(last.end());
+                chain.lines.push((first.source_lines.0, last.source_lines.1));
+                chain.feed.push(last.feed);
+            }
+        }
     }
+    finish(&mut chain, &mut out, &mut merged, prev_end);
     Ok((out, dropped, merged))
 }
 

@@ -70,3 +70,14 @@ pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
         Err(SmoothError::BadTolerance(tolerance))
     }
 }
+
+/// Names of the methods [`by_name`] knows.
+pub const METHODS: &[&str] = &["bspline-corner"];
+
+/// The method called `name` on the command line, with default options.
+pub fn by_name(name: &str) -> Option<alloc::boxed::Box<dyn Smoother>> {
+    match name {
+        "bspline-corner" => Some(alloc::boxed::Box::new(BsplineCorner::default())),
+        _ => None,
+    }
+}

@@ -82,10 +82,17 @@ impl JointTolerances {
 }
 
 /// Continuity of the joint where `a` ends and `b` starts.
+///
+/// Besides the thresholds of `jt`, differences that f64 rounding of the
+/// control points alone can cause are ignored: coordinates of magnitude `X`
+/// carry errors of about `X * 2^-52`, which tilt a tangent of a piece of
+/// length `l` by `~X eps / l` and bend it by `~X eps / l^2`; a thousand
+/// times those amounts is allowed on top.
 pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity {
     let (_, ta) = a.domain();
     let (tb, _) = b.domain();
-    if a.end().dist(b.start()) > jt.position {
+    let at = a.end();
+    if at.dist(b.start()) > jt.position {
         return Continuity::Gap;
     }
     let (da1, da2) = (a.deriv1(ta), a.deriv2(ta));
@@ -93,12 +100,15 @@ pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity 
     let (Some(ua), Some(ub)) = (da1.normalized(0.0), db1.normalized(0.0)) else {
         return Continuity::G0;
     };
-    if ua.angle_to(ub) > jt.angle {
+    let scale = 1.0 + at.x.abs().max(at.y.abs()).max(at.z.abs());
+    let l = a.start().dist(at).min(b.end().dist(at)).max(jt.position);
+    let round = 1e3 * f64::EPSILON * scale;
+    if ua.angle_to(ub) > jt.angle + round / l {
         return Continuity::G0;
     }
     let ka = crate::geom::curvature_vector_from(da1, da2);
     let kb = crate::geom::curvature_vector_from(db1, db2);
-    let lim = jt.curvature_rel * ka.norm().max(kb.norm()) + jt.curvature_abs;
+    let lim = jt.curvature_rel * ka.norm().max(kb.norm()) + jt.curvature_abs + round / (l * l);
     if (ka - kb).norm() <= lim {
         Continuity::G2
     } else {
