@@ -1,1 +1,122 @@
-fn main() {}
+//! `fairpath`: smooth CNC tool paths within a tolerance, and check the result.
+
+mod check;
+mod output;
+mod pipeline;
+mod summary;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "fairpath", version, about = "Tolerance-bounded G2 smoothing of CNC tool paths")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Gcode,
+    Json,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Replace the feed moves of a program with a G2 path within the tolerance.
+    Smooth {
+        /// Input G-code program.
+        input: PathBuf,
+        /// Output file (written only when the result verifies).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Largest distance (mm) of the output feed path from the original.
+        #[arg(short, long)]
+        tolerance: f64,
+        /// Smoothing method.
+        #[arg(short, long, default_value = "bspline-corner")]
+        method: String,
+        /// Output format: G-code (dense G1) or JSON (exact curves, mm).
+        #[arg(short, long, value_enum, default_value_t = Format::Gcode)]
+        format: Format,
+        /// Chord tolerance (mm) of the G1 output; taken from the tolerance
+        /// budget. Default: a tenth of the tolerance.
+        #[arg(long)]
+        chord: Option<f64>,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json_summary: bool,
+    },
+    /// Verify a smoothed program (G-code or JSON) against its original.
+    Check {
+        original: PathBuf,
+        smoothed: PathBuf,
+        /// Largest allowed distance (mm) of the smoothed feed path from the original.
+        #[arg(short, long)]
+        tolerance: f64,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Smooth {
+            input,
+            output,
+            tolerance,
+            method,
+            format,
+            chord,
+            json_summary,
+        } => {
+            let opts = pipeline::SmoothOptions::new(tolerance, chord, &method, format)?;
+            let started = std::time::Instant::now();
+            let mut phases = pipeline::Phases::new();
+            let program = pipeline::read_program(&input)?;
+            phases.mark("read");
+            let result = pipeline::smooth_program(&program, &opts, &mut phases)?;
+            let text = pipeline::render(&program, &result, &opts)?;
+            phases.mark("render");
+            let written = pipeline::check_written(&program, &text, &opts)?;
+            phases.mark("check written output");
+            let elapsed = started.elapsed();
+            if std::env::var_os("FAIRPATH_TIMING").is_some() {
+                eprint!("{}", phases.report());
+            }
+            let summary = summary::Summary::new(&input, &output, &opts, &program, &result, &written, elapsed);
+            if !written.within {
+                eprint!("{}", summary.text());
+                anyhow::bail!(
+                    "refusing to write {}: the output leaves the tolerance ({:.6} mm > {} mm) or moves a run endpoint",
+                    output.display(),
+                    written.max_deviation,
+                    tolerance
+                );
+            }
+            output::write_atomically(&output, text.as_bytes())?;
+            if json_summary {
+                println!("{}", summary.json());
+            } else {
+                print!("{}", summary.text());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Check {
+            original,
+            smoothed,
+            tolerance,
+        } => check::run(&original, &smoothed, tolerance),
+    }
+}

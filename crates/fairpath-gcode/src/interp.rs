@@ -612,26 +612,7 @@ fn interpret_line(
                     mode == MotionMode::ArcCw,
                     first_axis,
                 )?;
-                // When the arc's computed start cannot be made exactly equal
-                // to `start` (see snap_arc_start), move the end of a
-                // preceding line onto it (a change of a few 1e-16 relative),
-                // so that pieces join exactly.
-                let s = arc.start();
-                if s != start {
-                    if let Some(Move {
-                        piece:
-                            Piece {
-                                curve: Curve::Line(l),
-                                ..
-                            },
-                        ..
-                    }) = moves.last_mut()
-                    {
-                        if l.p1 == start {
-                            l.p1 = s;
-                        }
-                    }
-                }
+                // `Arc` keeps the programmed start and end exactly.
                 (Curve::Arc(arc), MoveKind::Arc)
             }
             MotionMode::Rapid => (Curve::Line(Line::new(start, target)), MoveKind::Rapid),
@@ -867,7 +848,7 @@ fn build_arc(
             set_axis(&mut center, a2, m2 + offset * theta.sin());
         }
     }
-    let mut arc = Arc::from_center(
+    let arc = Arc::from_center(
         start,
         end,
         center,
@@ -880,64 +861,7 @@ fn build_arc(
         ArcError::ZeroRadius => err(ln, first_axis_col, ErrorKind::ArcZeroRadius),
         ArcError::NotFinite => err(ln, first_axis_col, ErrorKind::BadValue('R')),
     })?;
-    snap_arc_start(&mut arc, start);
     Ok(arc)
-}
-
-/// The next representable f64 `k` steps up (k > 0) or down (k < 0).
-fn step_ulps(x: f64, k: i64) -> f64 {
-    let mut y = x;
-    for _ in 0..k.unsigned_abs() {
-        if !y.is_finite() {
-            return y;
-        }
-        let bits = y.to_bits();
-        y = if y == 0.0 {
-            if k > 0 {
-                f64::from_bits(1)
-            } else {
-                -f64::from_bits(1)
-            }
-        } else if (y > 0.0) == (k > 0) {
-            f64::from_bits(bits + 1)
-        } else {
-            f64::from_bits(bits - 1)
-        };
-    }
-    y
-}
-
-/// Nudges `arc.u` (or, failing that, `arc.center`) by a few ulps so that
-/// `arc.eval(0.0)` is exactly `start`: pieces of a run must join exactly as
-/// f64 values, and an arc's start is computed as `center + r0 u`. The
-/// change is a few 1e-16 relative: far below any tolerance.
-fn snap_arc_start(arc: &mut Arc, start: Vec3) {
-    for i in 0..3 {
-        if axis(arc.eval(0.0), i) == axis(start, i) {
-            continue;
-        }
-        let u0 = axis(arc.u, i);
-        let c0 = axis(arc.center, i);
-        let mut done = false;
-        'search: for which in 0..2 {
-            for m in 1..=64i64 {
-                for k in [m, -m] {
-                    if which == 0 {
-                        set_axis(&mut arc.u, i, step_ulps(u0, k));
-                    } else {
-                        set_axis(&mut arc.center, i, step_ulps(c0, k));
-                    }
-                    if axis(arc.eval(0.0), i) == axis(start, i) {
-                        done = true;
-                        break 'search;
-                    }
-                }
-            }
-            set_axis(&mut arc.u, i, u0);
-            set_axis(&mut arc.center, i, c0);
-        }
-        let _ = done;
-    }
 }
 
 /// Groups the runs: consecutive non-pinned feed moves on lines that do not

@@ -59,9 +59,8 @@
 //! runs with cutter compensation active or in G93/G95 feed mode, starts at
 //! an unknown position, or is G33/G33.1/G38.x/G31 or G53 motion.
 //!
-//! Each run's pieces join exactly as f64 values (arcs are nudged by a few
-//! ulps so that their computed start is the previous end; between two arcs
-//! the join can be off by a few ulps, ~1e-14 mm). Zero-length moves are kept.
+//! Each run's pieces join exactly as f64 values (arcs keep their programmed
+//! start and end points exactly). Zero-length moves are kept.
 //!
 //! ## Errors
 //! Every reader error is a [`GcodeError`] with 1-based line and column

@@ -40,8 +40,50 @@ impl Default for GcodeWriteOptions {
 const SAME_POINT_MM: f64 = 1e-9;
 
 /// Formats `v` with `decimals` decimals, trailing zeros and a trailing point
-/// removed, and no negative zero.
+/// removed, and no negative zero. Values are rounded to the nearest unit of
+/// the last decimal through integer arithmetic (std's exact float formatting
+/// is the slowest part of writing large programs otherwise).
 pub(crate) fn fmt_fixed(v: f64, decimals: usize) -> String {
+    let scale = 10f64.powi(decimals as i32);
+    let scaled = (v * scale).round();
+    if decimals > 15 || !scaled.is_finite() || scaled.abs() >= 9.0e15 {
+        return fmt_fixed_slow(v, decimals);
+    }
+    let n = scaled as i64;
+    let neg = n < 0;
+    let mut digits = n.unsigned_abs();
+    let mut frac = [0u8; 16];
+    let mut nf = 0;
+    // Fraction digits, dropping trailing zeros.
+    let mut significant = false;
+    for _ in 0..decimals {
+        let d = (digits % 10) as u8;
+        digits /= 10;
+        if d != 0 || significant {
+            significant = true;
+            frac[nf] = b'0' + d;
+            nf += 1;
+        }
+    }
+    let mut s = String::with_capacity(24);
+    if neg && (digits != 0 || nf != 0) {
+        s.push('-');
+    }
+    s.push_str(itoa_u64(digits).as_str());
+    if nf > 0 {
+        s.push('.');
+        for i in (0..nf).rev() {
+            s.push(frac[i] as char);
+        }
+    }
+    s
+}
+
+fn itoa_u64(v: u64) -> String {
+    v.to_string()
+}
+
+fn fmt_fixed_slow(v: f64, decimals: usize) -> String {
     let mut s = format!("{:.*}", decimals, v);
     if s.contains('.') {
         while s.ends_with('0') {
@@ -55,6 +97,27 @@ pub(crate) fn fmt_fixed(v: f64, decimals: usize) -> String {
         s = "0".into();
     }
     s
+}
+
+#[cfg(test)]
+mod fmt_tests {
+    use super::{fmt_fixed, fmt_fixed_slow};
+
+    #[test]
+    fn fast_formatting_matches_std_within_half_a_unit() {
+        for &v in &[0.0, -0.0, 1.5, -1.25, 0.00004, -0.00004, 12.34565, 99999.0, -3.0e-5, 1.0e9, 0.1 + 0.2] {
+            for d in [3usize, 4, 5] {
+                let a: f64 = fmt_fixed(v, d).parse().unwrap();
+                let b: f64 = fmt_fixed_slow(v, d).parse().unwrap();
+                assert!((a - b).abs() <= 10f64.powi(-(d as i32)) * 1.0001, "{v} {d}: {a} {b}");
+                assert!((a - v).abs() <= 0.5 * 10f64.powi(-(d as i32)) * 1.0001);
+            }
+        }
+        assert_eq!(fmt_fixed(-0.00001, 4), "0");
+        assert_eq!(fmt_fixed(2.5, 4), "2.5");
+        assert_eq!(fmt_fixed(-12.0, 4), "-12");
+        assert_eq!(fmt_fixed(0.05, 4), "0.05");
+    }
 }
 
 fn axis(p: Vec3, a: usize) -> f64 {

@@ -38,7 +38,9 @@ proptest! {
 
     #[test]
     fn arc_derivatives_match_finite_differences(r0 in 0.5..20.0f64, dr in -0.1..0.1f64, rise in -5.0..5.0f64, sweep in 0.1..12.0f64) {
-        let a = Arc { center: v(1.0, 2.0, 3.0), normal: v(0.0, 0.0, 1.0), u: v(1.0, 0.0, 0.0), r0, r1: r0 + dr, sweep, rise };
+        let mut a = Arc { center: v(1.0, 2.0, 3.0), normal: v(0.0, 0.0, 1.0), u: v(1.0, 0.0, 0.0), r0, r1: r0 + dr, sweep, rise, p0: Vec3::ZERO, p1: Vec3::ZERO };
+        a.p0 = a.eval_formula(0.0);
+        a.p1 = a.eval_formula(1.0);
         check_fd(&a, 100.0);
     }
 

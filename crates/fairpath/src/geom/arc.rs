@@ -25,6 +25,10 @@ pub struct Arc {
     pub sweep: f64,
     /// Displacement along `normal` from start to end, mm.
     pub rise: f64,
+    /// The programmed start and end points: `C(0)` and `C(1)` return them
+    /// exactly, so pieces join without rounding gaps.
+    pub p0: Vec3,
+    pub p1: Vec3,
 }
 
 /// Why an arc could not be built from G2/G3 data.
@@ -82,6 +86,8 @@ impl Arc {
             r1,
             sweep,
             rise,
+            p0: start,
+            p1: end,
         })
     }
 
@@ -110,7 +116,7 @@ impl Arc {
 
     /// The arc reversed (same points, opposite direction).
     pub fn reversed(&self) -> Arc {
-        let end = self.eval(1.0);
+        let end = self.eval_formula(1.0);
         let e_in = end - self.normal * self.rise;
         let b = e_in - self.center;
         let r1 = b.norm();
@@ -122,7 +128,18 @@ impl Arc {
             r1: self.r0,
             sweep: self.sweep,
             rise: self.rise,
+            p0: self.p1,
+            p1: self.p0,
         }
+    }
+}
+
+impl Arc {
+    /// `C(t)` from the formula, without snapping the ends.
+    pub fn eval_formula(&self, t: f64) -> Vec3 {
+        let a = t * self.sweep;
+        let (s, c) = (math::sin(a), math::cos(a));
+        self.center + (self.u * c + self.v() * s) * self.radius(t) + self.normal * (t * self.rise)
     }
 }
 
@@ -131,6 +148,12 @@ impl ParamCurve for Arc {
         (0.0, 1.0)
     }
     fn eval(&self, t: f64) -> Vec3 {
+        if t <= 0.0 {
+            return self.p0;
+        }
+        if t >= 1.0 {
+            return self.p1;
+        }
         let a = t * self.sweep;
         let (s, c) = (math::sin(a), math::cos(a));
         self.center + (self.u * c + self.v() * s) * self.radius(t) + self.normal * (t * self.rise)

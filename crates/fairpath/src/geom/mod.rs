@@ -69,6 +69,13 @@ impl ParamCurve for Curve {
             Curve::Nurbs(c) => c.deriv2(t),
         }
     }
+    fn curvature(&self, t: f64) -> f64 {
+        match self {
+            Curve::Line(_) => 0.0,
+            Curve::Arc(c) => c.curvature(t),
+            Curve::Nurbs(c) => c.curvature(t),
+        }
+    }
     fn start(&self) -> Vec3 {
         match self {
             Curve::Line(c) => c.p0,

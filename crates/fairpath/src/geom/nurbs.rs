@@ -131,6 +131,9 @@ impl Nurbs {
             ders[0][j] = ndu[j][p];
         }
         let nd = nd.min(p).min(2);
+        if nd == 0 {
+            return ders;
+        }
         let mut a = [[0.0f64; 8]; 2];
         for r in 0..=p {
             let (mut s1, mut s2) = (0usize, 1usize);
@@ -188,11 +191,15 @@ impl Nurbs {
 
     /// Position and first two derivatives at `t` (clamped to the domain).
     pub fn derivs(&self, t: f64) -> [Vec3; 3] {
+        self.derivs_upto(t, 2)
+    }
+
+    /// Position and derivatives up to order `nd <= 2` (the others are zero).
+    fn derivs_upto(&self, t: f64, nd: usize) -> [Vec3; 3] {
         let (a, b) = self.domain();
         let t = t.clamp(a, b);
         let p = self.degree;
         let span = self.find_span(t);
-        let nd = 2;
         let ders = self.ders_basis(span, t, nd);
         match &self.weights {
             None => {
@@ -208,11 +215,11 @@ impl Nurbs {
                 // Homogeneous derivatives A^(k), w^(k), then eq. 4.8.
                 let mut aw = [Vec3::ZERO; 3];
                 let mut ww = [0.0; 3];
-                for k in 0..3 {
-                    for j in 0..=p {
+                for (k, (awk, wwk)) in aw.iter_mut().zip(ww.iter_mut()).enumerate() {
+                    for (j, dkj) in ders[k].iter().take(p + 1).enumerate() {
                         let i = span - p + j;
-                        aw[k] += self.points[i] * (w[i] * ders[k][j]);
-                        ww[k] += w[i] * ders[k][j];
+                        *awk += self.points[i] * (w[i] * dkj);
+                        *wwk += w[i] * dkj;
                     }
                 }
                 let c0 = aw[0] / ww[0];
@@ -366,12 +373,20 @@ impl ParamCurve for Nurbs {
         if t >= b && self.knots[n..].iter().all(|&k| k == b) {
             return self.points[n - 1];
         }
-        self.derivs(t)[0]
+        self.derivs_upto(t, 0)[0]
     }
     fn deriv1(&self, t: f64) -> Vec3 {
-        self.derivs(t)[1]
+        self.derivs_upto(t, 1)[1]
     }
     fn deriv2(&self, t: f64) -> Vec3 {
         self.derivs(t)[2]
+    }
+    fn curvature(&self, t: f64) -> f64 {
+        let [_, d1, d2] = self.derivs(t);
+        super::curvature_from(d1, d2)
+    }
+    fn curvature_vector(&self, t: f64) -> Vec3 {
+        let [_, d1, d2] = self.derivs(t);
+        super::curvature_vector_from(d1, d2)
     }
 }

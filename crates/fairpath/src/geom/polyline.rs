@@ -39,23 +39,28 @@ pub fn distance_to_polyline(q: Vec3, pts: &[Vec3]) -> Option<(f64, usize)> {
     }
 }
 
-/// A uniform grid over a set of segments: each cell lists the segments whose
-/// bounding boxes (grown by the cell size) touch it.
+/// A sparse uniform grid over a set of segments: each occupied cell lists
+/// the segments whose bounding boxes, grown by the query radius, touch it.
+/// Cells are kept as sorted `(cell key, segment)` pairs, so memory follows
+/// the segments, not the bounding volume (a helix or a raster fills a small
+/// part of its box).
 #[derive(Clone, Debug)]
 pub struct SegmentGrid {
     segs: Vec<(Vec3, Vec3)>,
     origin: Vec3,
     cell: f64,
-    dims: [usize; 3],
-    start: Vec<u32>,
-    items: Vec<u32>,
+    /// Sorted by key.
+    items: Vec<(u64, u32)>,
 }
+
+const KEY_BITS: u32 = 21;
+const KEY_MAX: i64 = (1 << KEY_BITS) - 1;
 
 impl SegmentGrid {
     /// Builds the index. `radius` (mm) is the largest query distance that
-    /// will be answered exactly by [`SegmentGrid::nearest_within`]; the cell
-    /// size is chosen from it and from the segment lengths so that long
-    /// segments do not fill too many cells.
+    /// will be answered exactly by [`SegmentGrid::nearest_within`]. The cell
+    /// size is the radius, or the mean segment length if that is larger,
+    /// grown if needed so that the grid spans at most 2^21 cells per axis.
     pub fn new(segs: Vec<(Vec3, Vec3)>, radius: f64) -> SegmentGrid {
         let mut lo = Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let mut hi = -lo;
@@ -71,97 +76,57 @@ impl SegmentGrid {
             lo = Vec3::ZERO;
             hi = Vec3::ZERO;
         }
+        let mean = if segs.is_empty() { 1.0 } else { total / segs.len() as f64 };
         let ext = hi - lo;
-        let mean = if segs.is_empty() {
-            1.0
-        } else {
-            total / segs.len() as f64
-        };
-        // Cell at least the query radius, around the mean segment length,
-        // and no more than ~4 cells per segment in total.
-        let vol_cells_max = (4 * segs.len().max(1)) as f64;
-        let mut cell = radius.max(mean).max(1e-6);
-        loop {
-            let n = |e: f64| (math::floor(e / cell) + 1.0).max(1.0);
-            if n(ext.x) * n(ext.y) * n(ext.z) <= vol_cells_max.max(64.0) {
-                break;
-            }
-            cell *= 1.5;
+        let span = ext.x.max(ext.y).max(ext.z) + 2.0 * radius;
+        let mut cell = radius.max(mean).max(span / (KEY_MAX as f64 - 2.0));
+        if !(cell > 0.0 && cell.is_finite()) {
+            cell = 1.0;
         }
-        let dims = [
-            (math::floor(ext.x / cell) as usize) + 1,
-            (math::floor(ext.y / cell) as usize) + 1,
-            (math::floor(ext.z / cell) as usize) + 1,
-        ];
-        let ncell = dims[0] * dims[1] * dims[2];
+        let origin = lo - Vec3::new(radius, radius, radius);
         let mut g = SegmentGrid {
             segs,
-            origin: lo,
+            origin,
             cell,
-            dims,
-            start: Vec::new(),
             items: Vec::new(),
         };
-        // Two passes: count, then fill (CSR layout).
-        let mut count = alloc::vec![0u32; ncell + 1];
+        let mut items = Vec::with_capacity(g.segs.len() * 4);
         for i in 0..g.segs.len() {
-            g.for_cells_of(i, radius, |c| count[c + 1] += 1);
+            g.for_cells_of(i, radius, |k| items.push((k, i as u32)));
         }
-        for i in 0..ncell {
-            count[i + 1] += count[i];
-        }
-        let mut fill = count.clone();
-        let mut items = alloc::vec![0u32; count[ncell] as usize];
-        for i in 0..g.segs.len() {
-            g.for_cells_of(i, radius, |c| {
-                items[fill[c] as usize] = i as u32;
-                fill[c] += 1;
-            });
-        }
-        g.start = count;
+        items.sort_unstable();
         g.items = items;
         g
     }
 
-    fn cell_coord(&self, v: f64, o: f64, n: usize) -> usize {
-        let c = math::floor((v - o) / self.cell);
-        if c < 0.0 {
-            0
-        } else {
-            (c as usize).min(n - 1)
-        }
+    fn coord(&self, v: f64, o: f64) -> i64 {
+        (math::floor((v - o) / self.cell) as i64).clamp(0, KEY_MAX)
     }
 
-    fn for_cells_of(&self, i: usize, grow: f64, mut f: impl FnMut(usize)) {
+    fn key(c: [i64; 3]) -> u64 {
+        ((c[0] as u64) << (2 * KEY_BITS)) | ((c[1] as u64) << KEY_BITS) | c[2] as u64
+    }
+
+    fn for_cells_of(&self, i: usize, grow: f64, mut f: impl FnMut(u64)) {
         let (a, b) = self.segs[i];
-        let lo = [
-            a.x.min(b.x) - grow,
-            a.y.min(b.y) - grow,
-            a.z.min(b.z) - grow,
-        ];
-        let hi = [
-            a.x.max(b.x) + grow,
-            a.y.max(b.y) + grow,
-            a.z.max(b.z) + grow,
-        ];
+        let lo = [a.x.min(b.x) - grow, a.y.min(b.y) - grow, a.z.min(b.z) - grow];
+        let hi = [a.x.max(b.x) + grow, a.y.max(b.y) + grow, a.z.max(b.z) + grow];
         let o = [self.origin.x, self.origin.y, self.origin.z];
-        let c0: [usize; 3] = core::array::from_fn(|k| self.cell_coord(lo[k], o[k], self.dims[k]));
-        let c1: [usize; 3] = core::array::from_fn(|k| self.cell_coord(hi[k], o[k], self.dims[k]));
-        let dir = b - a;
-        let len = dir.norm();
+        let c0: [i64; 3] = core::array::from_fn(|k| self.coord(lo[k], o[k]));
+        let c1: [i64; 3] = core::array::from_fn(|k| self.coord(hi[k], o[k]));
+        let long = a.dist(b) > 2.0 * self.cell;
+        let half_diag = 0.5 * self.cell * math::sqrt(3.0);
         for x in c0[0]..=c1[0] {
             for y in c0[1]..=c1[1] {
                 for z in c0[2]..=c1[2] {
                     // Skip cells far from a long diagonal segment.
-                    if len > 2.0 * self.cell {
-                        let centre = self.origin
-                            + Vec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * self.cell;
-                        let half_diag = 0.5 * self.cell * math::sqrt(3.0);
+                    if long {
+                        let centre = self.origin + Vec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * self.cell;
                         if point_segment_distance(centre, a, b) > half_diag + grow {
                             continue;
                         }
                     }
-                    f((x * self.dims[1] + y) * self.dims[2] + z);
+                    f(Self::key([x, y, z]));
                 }
             }
         }
@@ -185,18 +150,21 @@ impl SegmentGrid {
     pub fn nearest_within(&self, q: Vec3) -> Option<(f64, usize)> {
         let o = [self.origin.x, self.origin.y, self.origin.z];
         let v = [q.x, q.y, q.z];
-        let mut c = [0usize; 3];
+        let mut c = [0i64; 3];
         for k in 0..3 {
             let f = math::floor((v[k] - o[k]) / self.cell);
-            if f < 0.0 || f >= self.dims[k] as f64 {
+            if !(0.0..=KEY_MAX as f64).contains(&f) {
                 return None;
             }
-            c[k] = f as usize;
+            c[k] = f as i64;
         }
-        let id = (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2];
-        let (s, e) = (self.start[id] as usize, self.start[id + 1] as usize);
+        let key = Self::key(c);
+        let start = self.items.partition_point(|&(k, _)| k < key);
         let mut best: Option<(f64, usize)> = None;
-        for &i in &self.items[s..e] {
+        for &(k, i) in &self.items[start..] {
+            if k != key {
+                break;
+            }
             let (a, b) = self.segs[i as usize];
             let d = point_segment_distance(q, a, b);
             if best.is_none_or(|(bd, _)| d < bd) {

@@ -20,6 +20,11 @@
 //!   `(fa + fb + s) / 2`; spans are halved until that bound is below the
 //!   largest deviation found so far plus `accuracy`.
 //!
+//! Spans whose bound is below 5% of the tolerance are not refined further
+//! (the exact size of a deviation that small does not matter), so where
+//! the whole run lies on the original the bound can be up to 5% of the
+//! tolerance while the deviation found is 0.
+//!
 //! **Joints** are classed by position gap, tangent angle and the difference
 //! of curvature vectors, with thresholds in [`JointTolerances`].
 
@@ -131,7 +136,8 @@ pub struct RunReport {
     /// Largest distance from the smoothed run to the original that was
     /// found (mm); the true largest distance is at most `accuracy` more.
     pub max_deviation: f64,
-    /// `max_deviation + accuracy`: a bound the true deviation never exceeds.
+    /// A bound the true deviation never exceeds: `max_deviation + accuracy`,
+    /// or 5% of the tolerance if that is more (see the module docs).
     pub deviation_bound: f64,
     /// Where it was found.
     pub worst_at: Vec3,
@@ -252,6 +258,12 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
     }
     let reference = Reference::new(original, opts);
     let mut best = (0.0f64, smoothed[0].start());
+    let mut ctx = Refine {
+        r: &reference,
+        acc: opts.accuracy,
+        floor: opts.tolerance * 5e-2,
+        pruned_max: 0.0,
+    };
     // First pass: a coarse sample of every piece, to start the bound high.
     let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
     for (pi, p) in smoothed.iter().enumerate() {
@@ -285,10 +297,10 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
     // Second pass: refine each span.
     for &(pi, ta, tb, fa, fb) in &spans {
         let c = &smoothed[pi].curve;
-        refine(c, matches!(c, Curve::Line(_)), ta, tb, fa, fb, &reference, opts.accuracy, &mut best, 0);
+        ctx.refine(c, matches!(c, Curve::Line(_)), (ta, tb), (fa, fb), &mut best, 0);
     }
     report.max_deviation = best.0;
-    report.deviation_bound = best.0 + opts.accuracy;
+    report.deviation_bound = (best.0 + opts.accuracy).max(ctx.pruned_max);
     report.worst_at = best.1;
     report
 }
@@ -299,49 +311,48 @@ fn note(best: &mut (f64, Vec3), f: f64, q: Vec3) {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn refine(
-    c: &Curve,
-    straight: bool,
-    ta: f64,
-    tb: f64,
-    fa: f64,
-    fb: f64,
-    r: &Reference,
+struct Refine<'a> {
+    r: &'a Reference,
     acc: f64,
-    best: &mut (f64, Vec3),
-    depth: u32,
-) {
-    let (qa, qb) = (c.eval(ta), c.eval(tb));
-    let chord = qa.dist(qb);
-    let bound = if straight {
-        // Convexity of the distance to one segment along a line: try the
-        // segments nearest to each end.
-        let (_, ia) = r.dist(qa);
-        let (_, ib) = r.dist(qb);
-        let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
-        let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
-        ba.min(bb).min(0.5 * (fa + fb + chord))
-    } else {
-        // Arc length over the span: chord times a margin that covers the
-        // arc/chord ratio of spans short enough to be refined (1 + k^2 s^2 / 24).
-        0.5 * (fa + fb + chord * 1.05)
-    };
-    if bound <= best.0 + acc || depth >= 48 || !bound.is_finite() {
-        if bound > best.0 && depth >= 48 {
-            note(best, bound, qa);
-        }
-        return;
-    }
-    if straight && bound <= fa.max(fb) + acc {
-        note(best, bound, if fa > fb { qa } else { qb });
-        return;
-    }
-    let tm = 0.5 * (ta + tb);
-    let qm = c.eval(tm);
-    let fm = r.dist(qm).0;
-    note(best, fm, qm);
-    refine(c, straight, ta, tm, fa, fm, r, acc, best, depth + 1);
-    refine(c, straight, tm, tb, fm, fb, r, acc, best, depth + 1);
+    /// Spans bounded below this are not refined.
+    floor: f64,
+    /// Largest bound of a span left unrefined.
+    pruned_max: f64,
 }
 
+impl Refine<'_> {
+    fn refine(&mut self, c: &Curve, straight: bool, t: (f64, f64), f: (f64, f64), best: &mut (f64, Vec3), depth: u32) {
+        let ((ta, tb), (fa, fb)) = (t, f);
+        let r = self.r;
+        let (qa, qb) = (c.eval(ta), c.eval(tb));
+        let chord = qa.dist(qb);
+        let bound = if straight {
+            // Convexity of the distance to one segment along a line: try
+            // the segments nearest to each end.
+            let (_, ia) = r.dist(qa);
+            let (_, ib) = r.dist(qb);
+            let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
+            let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
+            ba.min(bb).min(0.5 * (fa + fb + chord))
+        } else {
+            // Arc length over the span: chord times a margin that covers the
+            // arc/chord ratio of spans short enough to be refined
+            // (1 + k^2 s^2 / 24).
+            0.5 * (fa + fb + chord * 1.05)
+        };
+        if !bound.is_finite() {
+            note(best, bound, qa);
+            return;
+        }
+        if bound <= best.0.max(self.floor) + self.acc || depth >= 48 || (straight && bound <= fa.max(fb) + self.acc) {
+            self.pruned_max = self.pruned_max.max(bound);
+            return;
+        }
+        let tm = 0.5 * (ta + tb);
+        let qm = c.eval(tm);
+        let fm = r.dist(qm).0;
+        note(best, fm, qm);
+        self.refine(c, straight, (ta, tm), (fa, fm), best, depth + 1);
+        self.refine(c, straight, (tm, tb), (fm, fb), best, depth + 1);
+    }
+}

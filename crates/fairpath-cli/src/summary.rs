@@ -1,0 +1,186 @@
+//! The evidence printed after smoothing.
+
+use crate::pipeline::{SmoothOptions, SmoothResult, WrittenCheck};
+use fairpath::geom::Curve;
+use fairpath::smooth::CornerReason;
+use fairpath_gcode::Program;
+use serde_json::json;
+use std::fmt::Write;
+use std::path::Path;
+use std::time::Duration;
+
+/// Figures for one smoothing job.
+pub struct Summary {
+    pub input: String,
+    pub output: String,
+    pub method: String,
+    pub tolerance: f64,
+    pub chord: f64,
+    pub feed_moves_in: usize,
+    pub rapids: usize,
+    pub runs: usize,
+    pub pieces_out: usize,
+    pub curves_out: usize,
+    pub transitions: usize,
+    pub kept_corners: Vec<(CornerReason, usize)>,
+    pub dropped_zero_length: usize,
+    pub merged_collinear: usize,
+    pub max_deviation_curves: f64,
+    pub max_deviation_written: f64,
+    pub joints: [usize; 4],
+    pub length_before: f64,
+    pub length_after: f64,
+    pub peak_curvature: f64,
+    pub elapsed: Duration,
+}
+
+impl Summary {
+    pub fn new(
+        input: &Path,
+        output: &Path,
+        opts: &SmoothOptions,
+        program: &Program,
+        result: &SmoothResult,
+        written: &WrittenCheck,
+        elapsed: Duration,
+    ) -> Summary {
+        let pieces = program.pieces();
+        let acc = opts.tolerance * 1e-4;
+        let mut kept = Vec::new();
+        for reason in [CornerReason::Reversal, CornerReason::NoRoom, CornerReason::ArcJoint] {
+            let n = result
+                .runs
+                .iter()
+                .map(|r| r.smoothed.kept_corners.iter().filter(|k| k.reason == reason).count())
+                .sum();
+            kept.push((reason, n));
+        }
+        let mut joints = [0; 4];
+        for r in &result.runs {
+            let c = r.report.joint_counts();
+            for i in 0..4 {
+                joints[i] += c[i];
+            }
+        }
+        Summary {
+            input: input.display().to_string(),
+            output: output.display().to_string(),
+            method: opts.method_name.clone(),
+            tolerance: opts.tolerance,
+            chord: opts.chord,
+            feed_moves_in: result.runs.iter().map(|r| r.original.pieces.len()).sum(),
+            rapids: pieces.iter().filter(|p| p.rapid).count(),
+            runs: result.runs.len(),
+            pieces_out: result.runs.iter().map(|r| r.smoothed.pieces.len()).sum(),
+            curves_out: result
+                .runs
+                .iter()
+                .flat_map(|r| &r.smoothed.pieces)
+                .filter(|p| !matches!(p.curve, Curve::Line(_)))
+                .count(),
+            transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
+            kept_corners: kept,
+            dropped_zero_length: result.runs.iter().map(|r| r.smoothed.dropped_zero_length).sum(),
+            merged_collinear: result.runs.iter().map(|r| r.smoothed.merged_collinear).sum(),
+            max_deviation_curves: result.runs.iter().map(|r| r.report.max_deviation).fold(0.0, f64::max),
+            max_deviation_written: written.max_deviation,
+            joints,
+            length_before: result.runs.iter().map(|r| r.original.length(acc)).sum(),
+            length_after: result
+                .runs
+                .iter()
+                .flat_map(|r| &r.smoothed.pieces)
+                .map(|p| p.curve.length(acc))
+                .sum(),
+            peak_curvature: result.runs.iter().map(|r| r.report.peak_curvature).fold(0.0, f64::max),
+            elapsed,
+        }
+    }
+
+    pub fn kept_total(&self) -> usize {
+        self.kept_corners.iter().map(|k| k.1).sum()
+    }
+
+    pub fn text(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "fairpath smooth: {} -> {} ({}, tolerance {} mm, chord {} mm)",
+            self.input, self.output, self.method, self.tolerance, self.chord
+        );
+        let _ = writeln!(
+            s,
+            "  moves in:        {} feed moves in {} runs, {} rapids (untouched)",
+            self.feed_moves_in, self.runs, self.rapids
+        );
+        let _ = writeln!(
+            s,
+            "  pieces out:      {} ({} curves: {} corner transitions)",
+            self.pieces_out, self.curves_out, self.transitions
+        );
+        let _ = writeln!(
+            s,
+            "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged",
+            self.dropped_zero_length, self.merged_collinear
+        );
+        let _ = writeln!(
+            s,
+            "  max deviation:   {:.6} mm (curves), {:.6} mm (written output, bound)",
+            self.max_deviation_curves, self.max_deviation_written
+        );
+        let [gap, g0, g1, g2] = self.joints;
+        let _ = writeln!(s, "  joints:          {g2} G2, {g1} G1, {g0} G0 (corner), {gap} gaps");
+        let kept: Vec<String> = self
+            .kept_corners
+            .iter()
+            .filter(|k| k.1 > 0)
+            .map(|(r, n)| format!("{n} {}", r.as_str()))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  kept corners:    {}{}",
+            self.kept_total(),
+            if kept.is_empty() { String::new() } else { format!(" ({})", kept.join(", ")) }
+        );
+        let _ = writeln!(
+            s,
+            "  length:          {:.4} mm -> {:.4} mm",
+            self.length_before, self.length_after
+        );
+        if self.peak_curvature > 0.0 {
+            let _ = writeln!(
+                s,
+                "  peak curvature:  {:.4} 1/mm (radius {:.4} mm)",
+                self.peak_curvature,
+                1.0 / self.peak_curvature
+            );
+        } else {
+            let _ = writeln!(s, "  peak curvature:  0 (no curves)");
+        }
+        let _ = writeln!(s, "  time taken:      {:.3} s", self.elapsed.as_secs_f64());
+        s
+    }
+
+    pub fn json(&self) -> String {
+        let kept: serde_json::Map<String, serde_json::Value> = self
+            .kept_corners
+            .iter()
+            .map(|(r, n)| (r.as_str().to_string(), json!(n)))
+            .collect();
+        json!({
+            "input": self.input, "output": self.output, "method": self.method,
+            "tolerance_mm": self.tolerance, "chord_mm": self.chord,
+            "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
+            "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
+            "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
+            "merged_collinear": self.merged_collinear,
+            "max_deviation_curves_mm": self.max_deviation_curves,
+            "max_deviation_written_mm": self.max_deviation_written,
+            "joints": {"G2": self.joints[3], "G1": self.joints[2], "G0": self.joints[1], "gap": self.joints[0]},
+            "length_before_mm": self.length_before, "length_after_mm": self.length_after,
+            "peak_curvature_per_mm": self.peak_curvature,
+            "time_s": self.elapsed.as_secs_f64(),
+        })
+        .to_string()
+    }
+}
