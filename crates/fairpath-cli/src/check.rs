@@ -9,12 +9,15 @@ use std::process::ExitCode;
 pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode> {
     fairpath::smooth::check_tolerance(tolerance).map_err(|e| anyhow!("--tolerance: {e}"))?;
     let orig = crate::pipeline::read_program(original)?;
-    let bytes = std::fs::read(smoothed).with_context(|| format!("cannot read {}", smoothed.display()))?;
+    let bytes =
+        std::fs::read(smoothed).with_context(|| format!("cannot read {}", smoothed.display()))?;
     let original_runs = orig.runs();
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     let candidate = if is_json {
-        let text = std::str::from_utf8(&bytes).map_err(|_| anyhow!("{}: not UTF-8", smoothed.display()))?;
-        let pieces = fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", smoothed.display()))?;
+        let text = std::str::from_utf8(&bytes)
+            .map_err(|_| anyhow!("{}: not UTF-8", smoothed.display()))?;
+        let pieces =
+            fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", smoothed.display()))?;
         group_by_source(&original_runs, &pieces)
     } else {
         parse_program(smoothed, &bytes)?.runs()

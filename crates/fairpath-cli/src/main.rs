@@ -11,7 +11,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "fairpath", version, about = "Tolerance-bounded G2 smoothing of CNC tool paths")]
+#[command(
+    name = "fairpath",
+    version,
+    about = "Tolerance-bounded G2 smoothing of CNC tool paths"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -95,7 +99,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             if std::env::var_os("FAIRPATH_TIMING").is_some() {
                 eprint!("{}", phases.report());
             }
-            let summary = summary::Summary::new(&input, &output, &opts, &program, &result, &written, elapsed);
+            let summary =
+                summary::Summary::new(&input, &output, &opts, &program, &result, &written, elapsed);
             if !written.within {
                 eprint!("{}", summary.text());
                 anyhow::bail!(

@@ -22,13 +22,18 @@ pub struct SmoothOptions {
 
 impl SmoothOptions {
     pub fn new(tolerance: f64, chord: Option<f64>, method: &str, format: Format) -> Result<Self> {
-        smooth::check_tolerance(tolerance).map_err(|e| anyhow!("--tolerance: {e} (allowed: 1e-6 to 1000 mm)"))?;
+        smooth::check_tolerance(tolerance)
+            .map_err(|e| anyhow!("--tolerance: {e} (allowed: 1e-6 to 1000 mm)"))?;
         let chord = chord.unwrap_or(tolerance / 10.0);
         if !(chord.is_finite() && chord > 0.0 && chord <= 0.5 * tolerance) {
             bail!("--chord must be a positive number of mm, at most half the tolerance ({} mm); got {chord}", 0.5 * tolerance);
         }
-        let m = smooth::by_name(method)
-            .ok_or_else(|| anyhow!("unknown method {method:?}; known: {}", smooth::METHODS.join(", ")))?;
+        let m = smooth::by_name(method).ok_or_else(|| {
+            anyhow!(
+                "unknown method {method:?}; known: {}",
+                smooth::METHODS.join(", ")
+            )
+        })?;
         Ok(SmoothOptions {
             tolerance,
             chord,
@@ -99,7 +104,11 @@ pub struct SmoothResult {
 
 /// Smooths every run with the budget left by the chord tolerance and
 /// verifies the curves against that budget.
-pub fn smooth_program(program: &Program, opts: &SmoothOptions, phases: &mut Phases) -> Result<SmoothResult> {
+pub fn smooth_program(
+    program: &Program,
+    opts: &SmoothOptions,
+    phases: &mut Phases,
+) -> Result<SmoothResult> {
     let budget = opts.budget();
     let mut smoothed_runs = Vec::new();
     let runs = program.runs();
@@ -127,16 +136,23 @@ pub fn smooth_program(program: &Program, opts: &SmoothOptions, phases: &mut Phas
 
 /// The output text in the chosen format.
 pub fn render(program: &Program, result: &SmoothResult, opts: &SmoothOptions) -> Result<String> {
-    let smoothed: Vec<Vec<Piece>> = result.runs.iter().map(|r| r.smoothed.pieces.clone()).collect();
+    let smoothed: Vec<Vec<Piece>> = result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.clone())
+        .collect();
     match opts.format {
         Format::Gcode => {
             let wo = fairpath_gcode::GcodeWriteOptions {
                 chord_mm: opts.chord,
                 ..Default::default()
             };
-            fairpath_gcode::write_gcode(program, &smoothed, &wo).map_err(|e| anyhow!("writing G-code: {e}"))
+            fairpath_gcode::write_gcode(program, &smoothed, &wo)
+                .map_err(|e| anyhow!("writing G-code: {e}"))
         }
-        Format::Json => fairpath_gcode::write_json(program, &smoothed).map_err(|e| anyhow!("writing JSON: {e}")),
+        Format::Json => {
+            fairpath_gcode::write_json(program, &smoothed).map_err(|e| anyhow!("writing JSON: {e}"))
+        }
     }
 }
 
@@ -157,7 +173,8 @@ pub fn check_written(program: &Program, text: &str, opts: &SmoothOptions) -> Res
             .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?
             .runs(),
         Format::Json => {
-            let pieces = fairpath_gcode::read_json(text).map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
+            let pieces = fairpath_gcode::read_json(text)
+                .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
             group_by_source(&original, &pieces)
         }
     };
@@ -184,14 +201,19 @@ pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
 }
 
 fn is_zero_length(run: &Run) -> bool {
-    run.pieces.iter().all(|p| matches!(&p.curve, fairpath::Curve::Line(l) if l.p0 == l.p1))
+    run.pieces
+        .iter()
+        .all(|p| matches!(&p.curve, fairpath::Curve::Line(l) if l.p0 == l.p1))
 }
 
 /// Pairs runs in order (runs of zero length on either side are skipped)
 /// and verifies each pair.
 pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Result<WrittenCheck> {
     let o: Vec<&Run> = original.iter().filter(|r| !is_zero_length(r)).collect();
-    let c: Vec<&Run> = candidate.iter().filter(|r| !r.pieces.is_empty() && !is_zero_length(r)).collect();
+    let c: Vec<&Run> = candidate
+        .iter()
+        .filter(|r| !r.pieces.is_empty() && !is_zero_length(r))
+        .collect();
     if o.len() != c.len() {
         bail!(
             "the smoothed program has {} runs of feed moves where the original has {}",

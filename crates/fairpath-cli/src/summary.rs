@@ -47,11 +47,21 @@ impl Summary {
         let pieces = program.pieces();
         let acc = opts.tolerance * 1e-4;
         let mut kept = Vec::new();
-        for reason in [CornerReason::Reversal, CornerReason::NoRoom, CornerReason::ArcJoint] {
+        for reason in [
+            CornerReason::Reversal,
+            CornerReason::NoRoom,
+            CornerReason::ArcJoint,
+        ] {
             let n = result
                 .runs
                 .iter()
-                .map(|r| r.smoothed.kept_corners.iter().filter(|k| k.reason == reason).count())
+                .map(|r| {
+                    r.smoothed
+                        .kept_corners
+                        .iter()
+                        .filter(|k| k.reason == reason)
+                        .count()
+                })
                 .sum();
             kept.push((reason, n));
         }
@@ -80,9 +90,21 @@ impl Summary {
                 .count(),
             transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
             kept_corners: kept,
-            dropped_zero_length: result.runs.iter().map(|r| r.smoothed.dropped_zero_length).sum(),
-            merged_collinear: result.runs.iter().map(|r| r.smoothed.merged_collinear).sum(),
-            max_deviation_curves: result.runs.iter().map(|r| r.report.max_deviation).fold(0.0, f64::max),
+            dropped_zero_length: result
+                .runs
+                .iter()
+                .map(|r| r.smoothed.dropped_zero_length)
+                .sum(),
+            merged_collinear: result
+                .runs
+                .iter()
+                .map(|r| r.smoothed.merged_collinear)
+                .sum(),
+            max_deviation_curves: result
+                .runs
+                .iter()
+                .map(|r| r.report.max_deviation)
+                .fold(0.0, f64::max),
             max_deviation_written: written.max_deviation,
             joints,
             length_before: result.runs.iter().map(|r| r.original.length(acc)).sum(),
@@ -92,7 +114,11 @@ impl Summary {
                 .flat_map(|r| &r.smoothed.pieces)
                 .map(|p| p.curve.length(acc))
                 .sum(),
-            peak_curvature: result.runs.iter().map(|r| r.report.peak_curvature).fold(0.0, f64::max),
+            peak_curvature: result
+                .runs
+                .iter()
+                .map(|r| r.report.peak_curvature)
+                .fold(0.0, f64::max),
             elapsed,
         }
     }
@@ -129,7 +155,10 @@ impl Summary {
             self.max_deviation_curves, self.max_deviation_written
         );
         let [gap, g0, g1, g2] = self.joints;
-        let _ = writeln!(s, "  joints:          {g2} G2, {g1} G1, {g0} G0 (corner), {gap} gaps");
+        let _ = writeln!(
+            s,
+            "  joints:          {g2} G2, {g1} G1, {g0} G0 (corner), {gap} gaps"
+        );
         let kept: Vec<String> = self
             .kept_corners
             .iter()
@@ -140,7 +169,11 @@ impl Summary {
             s,
             "  kept corners:    {}{}",
             self.kept_total(),
-            if kept.is_empty() { String::new() } else { format!(" ({})", kept.join(", ")) }
+            if kept.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", kept.join(", "))
+            }
         );
         let _ = writeln!(
             s,

@@ -12,12 +12,18 @@ pub fn shared_paths() -> Option<PathBuf> {
 }
 
 fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
             programs(&p, out);
-        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("ngc" | "gcode" | "nc" | "tap")) {
+        } else if matches!(
+            p.extension().and_then(|e| e.to_str()),
+            Some("ngc" | "gcode" | "nc" | "tap")
+        ) {
             out.push(p);
         }
     }
@@ -31,7 +37,11 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
     };
     let mut files = Vec::new();
     programs(&root, &mut files);
-    assert!(files.len() > 100, "expected the shared corpus, found {} files", files.len());
+    assert!(
+        files.len() > 100,
+        "expected the shared corpus, found {} files",
+        files.len()
+    );
     let mut smoothed_files = 0;
     let mut rejected = Vec::new();
     for f in &files {
@@ -67,7 +77,9 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
                 for j in &rep.joints {
                     if j.class != Continuity::G2 {
                         assert!(
-                            out.kept_corners.iter().any(|k| k.at.dist(j.at) <= tol * 1e-6),
+                            out.kept_corners
+                                .iter()
+                                .any(|k| k.at.dist(j.at) <= tol * 1e-6),
                             "{} at {tol}: {:?} joint at {:?} is not a kept corner",
                             f.display(),
                             j.class,
@@ -78,7 +90,10 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
             }
         }
     }
-    eprintln!("smoothed {smoothed_files} programs; rejected {}:", rejected.len());
+    eprintln!(
+        "smoothed {smoothed_files} programs; rejected {}:",
+        rejected.len()
+    );
     for r in &rejected {
         eprintln!("  {r}");
     }

@@ -105,11 +105,26 @@ mod fmt_tests {
 
     #[test]
     fn fast_formatting_matches_std_within_half_a_unit() {
-        for &v in &[0.0, -0.0, 1.5, -1.25, 0.00004, -0.00004, 12.34565, 99999.0, -3.0e-5, 1.0e9, 0.1 + 0.2] {
+        for &v in &[
+            0.0,
+            -0.0,
+            1.5,
+            -1.25,
+            0.00004,
+            -0.00004,
+            12.34565,
+            99999.0,
+            -3.0e-5,
+            1.0e9,
+            0.1 + 0.2,
+        ] {
             for d in [3usize, 4, 5] {
                 let a: f64 = fmt_fixed(v, d).parse().unwrap();
                 let b: f64 = fmt_fixed_slow(v, d).parse().unwrap();
-                assert!((a - b).abs() <= 10f64.powi(-(d as i32)) * 1.0001, "{v} {d}: {a} {b}");
+                assert!(
+                    (a - b).abs() <= 10f64.powi(-(d as i32)) * 1.0001,
+                    "{v} {d}: {a} {b}"
+                );
                 assert!((a - v).abs() <= 0.5 * 10f64.powi(-(d as i32)) * 1.0001);
             }
         }

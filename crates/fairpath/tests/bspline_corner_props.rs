@@ -13,13 +13,27 @@ fn check(pts: &[Vec3], tol: f64, smoother: &BsplineCorner) -> Result<(), TestCas
     let run = polyline_run(pts);
     let out = smoother.smooth_run(&run, tol).unwrap();
     let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
-    prop_assert!(rep.deviation_bound <= tol, "deviation {} > {} at {:?}", rep.deviation_bound, tol, rep.worst_at);
+    prop_assert!(
+        rep.deviation_bound <= tol,
+        "deviation {} > {} at {:?}",
+        rep.deviation_bound,
+        tol,
+        rep.worst_at
+    );
     prop_assert_eq!(rep.start_gap, 0.0);
     prop_assert_eq!(rep.end_gap, 0.0);
     for j in &rep.joints {
         if j.class != Continuity::G2 {
-            let kept = out.kept_corners.iter().any(|k| k.at.dist(j.at) <= tol * 1e-6);
-            prop_assert!(kept, "joint {:?} is {:?} but not a kept corner", j.at, j.class);
+            let kept = out
+                .kept_corners
+                .iter()
+                .any(|k| k.at.dist(j.at) <= tol * 1e-6);
+            prop_assert!(
+                kept,
+                "joint {:?} is {:?} but not a kept corner",
+                j.at,
+                j.class
+            );
         }
     }
     Ok(())
@@ -91,13 +105,20 @@ proptest! {
 
 #[test]
 fn full_band_has_lower_peak_curvature_than_half_band() {
-    let pts: Vec<Vec3> = (0..40).map(|i| {
-        let t = i as f64 * 0.3;
-        v(10.0 * t.cos(), 10.0 * t.sin(), 0.0) * (1.0 + 0.1 * (i % 3) as f64)
-    }).collect();
+    let pts: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let t = i as f64 * 0.3;
+            v(10.0 * t.cos(), 10.0 * t.sin(), 0.0) * (1.0 + 0.1 * (i % 3) as f64)
+        })
+        .collect();
     let run = polyline_run(&pts);
     let peak = |target| {
-        let s = BsplineCorner { options: BsplineCornerOptions { target, ..Default::default() } };
+        let s = BsplineCorner {
+            options: BsplineCornerOptions {
+                target,
+                ..Default::default()
+            },
+        };
         let out = s.smooth_run(&run, 0.05).unwrap();
         verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.05)).peak_curvature
     };
@@ -108,7 +129,12 @@ fn full_band_has_lower_peak_curvature_than_half_band() {
 
 #[test]
 fn reversal_is_kept_and_reported() {
-    let pts = [v(0.0, 0.0, 0.0), v(10.0, 0.0, 0.0), v(5.0, 0.0, 0.0), v(5.0, 5.0, 0.0)];
+    let pts = [
+        v(0.0, 0.0, 0.0),
+        v(10.0, 0.0, 0.0),
+        v(5.0, 0.0, 0.0),
+        v(5.0, 5.0, 0.0),
+    ];
     let run = polyline_run(&pts);
     let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
     assert_eq!(out.kept_corners.len(), 1);
@@ -118,7 +144,10 @@ fn reversal_is_kept_and_reported() {
 
 #[test]
 fn collinear_vertices_pass_straight_through() {
-    let pts: Vec<Vec3> = (0..=10).map(|i| v(i as f64, 0.0, 0.0)).chain([v(10.0, 5.0, 0.0)]).collect();
+    let pts: Vec<Vec3> = (0..=10)
+        .map(|i| v(i as f64, 0.0, 0.0))
+        .chain([v(10.0, 5.0, 0.0)])
+        .collect();
     let run = polyline_run(&pts);
     let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
     assert_eq!(out.merged_collinear, 9);
@@ -129,6 +158,9 @@ fn collinear_vertices_pass_straight_through() {
 fn bad_tolerances_are_rejected() {
     let run = polyline_run(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0)]);
     for t in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e-12, 1e9] {
-        assert!(BsplineCorner::default().smooth_run(&run, t).is_err(), "tolerance {t}");
+        assert!(
+            BsplineCorner::default().smooth_run(&run, t).is_err(),
+            "tolerance {t}"
+        );
     }
 }

@@ -4,7 +4,9 @@
 mod common;
 use common::v;
 use fairpath::geom::{point_segment_distance, ParamCurve, Vec3};
-use fairpath::smooth::{corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve};
+use fairpath::smooth::{
+    corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
+};
 
 /// Transition at the origin between directions at half-angle theta.
 fn corner(theta: f64, l: f64) -> (fairpath::geom::Nurbs, Vec3, Vec3) {
@@ -23,7 +25,10 @@ fn error_deviation_and_peak_curvature_match_evaluation() {
             let (c, a, b) = corner(theta, l);
             let mid = c.eval(0.5);
             // e = |P2 C(0.5)|
-            assert!((mid.norm() - corner_error(l, theta)).abs() < 1e-12 * l.max(1.0), "e at theta {theta}");
+            assert!(
+                (mid.norm() - corner_error(l, theta)).abs() < 1e-12 * l.max(1.0),
+                "e at theta {theta}"
+            );
             // deviation: the largest distance to the two segments, sampled densely
             let far = 10.0 * l;
             let mut dev: f64 = 0.0;
@@ -32,14 +37,24 @@ fn error_deviation_and_peak_curvature_match_evaluation() {
             for k in 0..=n {
                 let t = k as f64 / n as f64;
                 let p = c.eval(t);
-                let d = point_segment_distance(p, Vec3::ZERO, a * far).min(point_segment_distance(p, Vec3::ZERO, b * far));
+                let d = point_segment_distance(p, Vec3::ZERO, a * far).min(point_segment_distance(
+                    p,
+                    Vec3::ZERO,
+                    b * far,
+                ));
                 dev = dev.max(d);
                 kmax = kmax.max(c.curvature(t));
             }
             let want = corner_deviation(l, theta);
-            assert!((dev - want).abs() <= 1e-9 * l.max(1.0), "dev {dev} vs {want} at theta {theta}");
+            assert!(
+                (dev - want).abs() <= 1e-9 * l.max(1.0),
+                "dev {dev} vs {want} at theta {theta}"
+            );
             let kw = corner_peak_curvature(l, theta);
-            assert!((kmax - kw).abs() <= 1e-9 * kw, "kappa {kmax} vs {kw} at theta {theta}");
+            assert!(
+                (kmax - kw).abs() <= 1e-9 * kw,
+                "kappa {kmax} vs {kw} at theta {theta}"
+            );
             assert!((c.curvature(0.5) - kw).abs() <= 1e-9 * kw);
             // curvature is zero at both ends: G2 with the segments
             assert!(c.curvature(0.0) * l < 1e-12 && c.curvature(1.0) * l < 1e-12);

@@ -13,8 +13,18 @@ fn check_fd<C: ParamCurve>(c: &C, scale: f64) {
         let t = a + (b - a) * (k as f64 - 0.5 + 0.0137) / 20.0;
         let d1 = (c.eval(t + h) - c.eval(t - h)) / (2.0 * h);
         let d2 = (c.deriv1(t + h) - c.deriv1(t - h)) / (2.0 * h);
-        assert!((d1 - c.deriv1(t)).norm() <= 1e-5 * scale, "d1 at {t}: {:?} vs {:?}", d1, c.deriv1(t));
-        assert!((d2 - c.deriv2(t)).norm() <= 1e-4 * scale, "d2 at {t}: {:?} vs {:?}", d2, c.deriv2(t));
+        assert!(
+            (d1 - c.deriv1(t)).norm() <= 1e-5 * scale,
+            "d1 at {t}: {:?} vs {:?}",
+            d1,
+            c.deriv1(t)
+        );
+        assert!(
+            (d2 - c.deriv2(t)).norm() <= 1e-4 * scale,
+            "d2 at {t}: {:?} vs {:?}",
+            d2,
+            c.deriv2(t)
+        );
     }
 }
 
@@ -73,7 +83,8 @@ fn g2_arc_full_circle_and_turns() {
     assert!((two.sweep - 4.0 * std::f64::consts::PI).abs() < 1e-12);
     // G2 (clockwise in G17) goes to negative y first.
     assert!(two.eval(0.05).y < 0.0);
-    let quarter = Arc::from_center(s, v(0.0, 5.0, 1.0), c, v(0.0, 0.0, 1.0), false, 1, 1e-7).unwrap();
+    let quarter =
+        Arc::from_center(s, v(0.0, 5.0, 1.0), c, v(0.0, 0.0, 1.0), false, 1, 1e-7).unwrap();
     assert!((quarter.sweep - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
     assert!(quarter.eval(1.0).dist(v(0.0, 5.0, 1.0)) < 1e-12);
     let rev = quarter.reversed();

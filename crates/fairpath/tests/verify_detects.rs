@@ -15,13 +15,27 @@ fn bulge_between_samples_is_found() {
     let bump = Nurbs::new(
         3,
         vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
-        vec![v(0.0, 0.0, 0.0), v(49.0, 0.08, 0.0), v(51.0, 0.08, 0.0), v(100.0, 0.0, 0.0)],
+        vec![
+            v(0.0, 0.0, 0.0),
+            v(49.0, 0.08, 0.0),
+            v(51.0, 0.08, 0.0),
+            v(100.0, 0.0, 0.0),
+        ],
         None,
     )
     .unwrap();
-    let smoothed = vec![Piece { curve: Curve::Nurbs(bump), rapid: false, source_lines: (1, 1), feed: None }];
+    let smoothed = vec![Piece {
+        curve: Curve::Nurbs(bump),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
     let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05));
-    assert!((rep.max_deviation - 0.06).abs() < 1e-5, "{}", rep.max_deviation);
+    assert!(
+        (rep.max_deviation - 0.06).abs() < 1e-5,
+        "{}",
+        rep.max_deviation
+    );
     assert!(!rep.within(0.05));
     assert!(rep.within(0.07));
 }
@@ -31,10 +45,19 @@ fn straight_piece_off_the_path_is_found() {
     let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(10.0, 0.0, 0.0), v(10.0, 10.0, 0.0)]);
     // A chord that cuts the corner: 5/sqrt(2) mm from the corner... the
     // farthest point of the chord from the path is its middle.
-    let smoothed = polyline_run(&[v(0.0, 0.0, 0.0), v(5.0, 0.0, 0.0), v(10.0, 5.0, 0.0), v(10.0, 10.0, 0.0)]);
+    let smoothed = polyline_run(&[
+        v(0.0, 0.0, 0.0),
+        v(5.0, 0.0, 0.0),
+        v(10.0, 5.0, 0.0),
+        v(10.0, 10.0, 0.0),
+    ]);
     let rep = verify_run(&orig.pieces, &smoothed.pieces, &VerifyOptions::new(0.05));
     let want = 2.5;
-    assert!((rep.max_deviation - want).abs() < 1e-4, "{}", rep.max_deviation);
+    assert!(
+        (rep.max_deviation - want).abs() < 1e-4,
+        "{}",
+        rep.max_deviation
+    );
     assert_eq!(rep.joint_counts(), [0, 2, 0, 0]);
 }
 

@@ -107,24 +107,17 @@ pub fn arc_length<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
     arc_length_between(c, a, b, accuracy)
 }
 
-/// Parameters at which chords of `c` stay within `chord` mm of the curve:
-/// the chord error of a short span is about `kappa * l^2 / 8`, so a span of
-/// length `l <= sqrt(8 chord / kappa)` is accepted when its chord error
-/// measured at the span's quarter, half and three-quarter points is within
-/// `chord`; longer spans are bisected. Returns increasing parameters from
-/// start to end, both included.
+/// Parameters at which chords of `c` stay within `chord` mm of the curve.
+/// A span is accepted when its chord error measured at seven interior
+/// points, and the estimate `max|C''_n| dt^2 / 8` from the part of `C''`
+/// normal to the tangent (exact for a parabola), are both within `chord`;
+/// otherwise it is halved. Returns
+/// increasing parameters from start to end, both included.
 pub fn flatten_params<C: ParamCurve + ?Sized>(c: &C, chord: f64) -> Vec<f64> {
     let (a, b) = c.domain();
     let mut out = Vec::new();
     out.push(a);
-    // Start from a few spans so that an S-shaped span cannot hide its bulge
-    // between the test points.
-    let n0 = 4;
-    for i in 0..n0 {
-        let t0 = a + (b - a) * (i as f64) / (n0 as f64);
-        let t1 = a + (b - a) * ((i + 1) as f64) / (n0 as f64);
-        flatten_rec(c, t0, t1, chord, 40, &mut out);
-    }
+    flatten_rec(c, a, b, chord, 40, &mut out);
     out
 }
 
@@ -132,8 +125,8 @@ fn chord_error<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> f64 {
     let p0 = c.eval(t0);
     let p1 = c.eval(t1);
     let mut e: f64 = 0.0;
-    for f in [0.25, 0.5, 0.75] {
-        let q = c.eval(t0 + (t1 - t0) * f);
+    for k in 1..8 {
+        let q = c.eval(t0 + (t1 - t0) * (k as f64 / 8.0));
         e = e.max(super::polyline::point_segment_distance(q, p0, p1));
     }
     e
@@ -147,15 +140,19 @@ fn flatten_rec<C: ParamCurve + ?Sized>(
     depth: u32,
     out: &mut Vec<f64>,
 ) {
-    // Second-derivative bound: |C''| (dt)^2 / 8 is the chord error of a span
-    // for a curve with nearly constant C''. Use it plus the sampled error.
     let dt = t1 - t0;
     let tm = 0.5 * (t0 + t1);
-    let d2 = c
-        .deriv2(t0)
-        .norm()
-        .max(c.deriv2(tm).norm())
-        .max(c.deriv2(t1).norm());
+    let normal_d2 = |t: f64| {
+        let d1 = c.deriv1(t);
+        let d2 = c.deriv2(t);
+        let s = d1.norm();
+        if s > 0.0 {
+            d1.cross(d2).norm() / s
+        } else {
+            d2.norm()
+        }
+    };
+    let d2 = normal_d2(t0).max(normal_d2(tm)).max(normal_d2(t1));
     let est = d2 * dt * dt / 8.0;
     if depth == 0 || (est <= chord && chord_error(c, t0, t1) <= chord) {
         out.push(t1);

@@ -76,7 +76,11 @@ impl SegmentGrid {
             lo = Vec3::ZERO;
             hi = Vec3::ZERO;
         }
-        let mean = if segs.is_empty() { 1.0 } else { total / segs.len() as f64 };
+        let mean = if segs.is_empty() {
+            1.0
+        } else {
+            total / segs.len() as f64
+        };
         let ext = hi - lo;
         let span = ext.x.max(ext.y).max(ext.z) + 2.0 * radius;
         let mut cell = radius.max(mean).max(span / (KEY_MAX as f64 - 2.0));
@@ -109,8 +113,16 @@ impl SegmentGrid {
 
     fn for_cells_of(&self, i: usize, grow: f64, mut f: impl FnMut(u64)) {
         let (a, b) = self.segs[i];
-        let lo = [a.x.min(b.x) - grow, a.y.min(b.y) - grow, a.z.min(b.z) - grow];
-        let hi = [a.x.max(b.x) + grow, a.y.max(b.y) + grow, a.z.max(b.z) + grow];
+        let lo = [
+            a.x.min(b.x) - grow,
+            a.y.min(b.y) - grow,
+            a.z.min(b.z) - grow,
+        ];
+        let hi = [
+            a.x.max(b.x) + grow,
+            a.y.max(b.y) + grow,
+            a.z.max(b.z) + grow,
+        ];
         let o = [self.origin.x, self.origin.y, self.origin.z];
         let c0: [i64; 3] = core::array::from_fn(|k| self.coord(lo[k], o[k]));
         let c1: [i64; 3] = core::array::from_fn(|k| self.coord(hi[k], o[k]));
@@ -121,7 +133,8 @@ impl SegmentGrid {
                 for z in c0[2]..=c1[2] {
                     // Skip cells far from a long diagonal segment.
                     if long {
-                        let centre = self.origin + Vec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * self.cell;
+                        let centre = self.origin
+                            + Vec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * self.cell;
                         if point_segment_distance(centre, a, b) > half_diag + grow {
                             continue;
                         }

@@ -49,7 +49,9 @@
 //!   blended (see the README: blending it needs a lead-in and lead-out that
 //!   the paper does not define).
 
-use super::chains::{min_feed, split_run, CleanTolerances, CornerReason, Element, KeptCorner, LineChain};
+use super::chains::{
+    min_feed, split_run, CleanTolerances, CornerReason, Element, KeptCorner, LineChain,
+};
 use super::verify::{classify_joint, Continuity, JointTolerances};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Curve, Line, Nurbs, Vec3};
@@ -153,7 +155,9 @@ impl Smoother for BsplineCorner {
             return Err(SmoothError::BadOption("lambda must be in [0, 1)"));
         }
         if !(o.min_half_angle >= 0.0 && o.min_half_angle < 0.5) {
-            return Err(SmoothError::BadOption("min_half_angle must be in [0, 0.5) rad"));
+            return Err(SmoothError::BadOption(
+                "min_half_angle must be in [0, 0.5) rad",
+            ));
         }
         let clean = CleanTolerances::from_tolerance(tolerance);
         let (elements, dropped, merged) = split_run(run, clean)?;
@@ -166,7 +170,9 @@ impl Smoother for BsplineCorner {
         for (i, el) in elements.iter().enumerate() {
             let first_of_element = out.pieces.len();
             match el {
-                Element::Chain(chain) => self.smooth_chain(chain, delta, clean.min_segment, &mut out),
+                Element::Chain(chain) => {
+                    self.smooth_chain(chain, delta, clean.min_segment, &mut out)
+                }
                 Element::Other(p) => {
                     let mut p = p.clone();
                     p.rapid = false;
@@ -176,7 +182,10 @@ impl Smoother for BsplineCorner {
             // A joint between an arc and anything else stays as it was;
             // report it when that is not G2.
             if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
-                let (a, b) = (&out.pieces[first_of_element - 1], &out.pieces[first_of_element]);
+                let (a, b) = (
+                    &out.pieces[first_of_element - 1],
+                    &out.pieces[first_of_element],
+                );
                 if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
                     out.kept_corners.push(KeptCorner {
                         at: b.start(),
@@ -260,13 +269,21 @@ impl BsplineCorner {
             } else {
                 qk + a * (2.0 * l)
             };
-            let p0 = if p0.dist(cursor) <= min_seg { cursor } else { p0 };
+            let p0 = if p0.dist(cursor) <= min_seg {
+                cursor
+            } else {
+                p0
+            };
             let p4 = if 2.0 * l >= len_out {
                 q[k + 1]
             } else {
                 qk + out_vec * (2.0 * l / len_out)
             };
-            let p4 = if last && p4.dist(q[n]) <= min_seg { q[n] } else { p4 };
+            let p4 = if last && p4.dist(q[n]) <= min_seg {
+                q[n]
+            } else {
+                p4
+            };
             let p1 = p0.lerp(qk, 0.5);
             let p3 = qk.lerp(p4, 0.5);
             push_line(out, cursor, p0, k - 1);

@@ -89,34 +89,42 @@ impl CleanTolerances {
 
 /// Splits `run` into elements. Returns the elements, the number of dropped
 /// zero-length moves and the number of merged straight-on vertices.
-pub(crate) fn split_run(run: &Run, clean: CleanTolerances) -> Result<(Vec<Element>, usize, usize), SmoothError> {
+pub(crate) fn split_run(
+    run: &Run,
+    clean: CleanTolerances,
+) -> Result<(Vec<Element>, usize, usize), SmoothError> {
     let mut out: Vec<Element> = Vec::new();
     let mut dropped = 0;
     let mut merged = 0;
     let mut prev_end: Option<Vec3> = None;
     let mut chain = LineChain::default();
-    let finish = |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
-        if chain.segments() > 0 {
-            // A dropped tail leaves the chain short of the true end: move
-            // the last vertex there (by at most `min_segment`).
-            if let Some(e) = end {
-                *chain.pts.last_mut().unwrap() = e;
+    let finish =
+        |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
+            if chain.segments() > 0 {
+                // A dropped tail leaves the chain short of the true end: move
+                // the last vertex there (by at most `min_segment`).
+                if let Some(e) = end {
+                    *chain.pts.last_mut().unwrap() = e;
+                }
+                *merged += merge_collinear(chain, clean.collinear);
+                out.push(Element::Chain(core::mem::take(chain)));
+            } else {
+                *chain = LineChain::default();
             }
-            *merged += merge_collinear(chain, clean.collinear);
-            out.push(Element::Chain(core::mem::take(chain)));
-        } else {
-            *chain = LineChain::default();
-        }
-    };
+        };
     for piece in &run.pieces {
         let s = piece.start();
         let e = piece.end();
         if !s.is_finite() || !e.is_finite() {
-            return Err(SmoothError::NotFinite { line: piece.source_lines.0 });
+            return Err(SmoothError::NotFinite {
+                line: piece.source_lines.0,
+            });
         }
         if let Some(pe) = prev_end {
             if pe.dist(s) > clean.min_segment {
-                return Err(SmoothError::Discontinuous { line: piece.source_lines.0 });
+                return Err(SmoothError::Discontinuous {
+                    line: piece.source_lines.0,
+                });
             }
         }
         match &piece.curve {
@@ -149,7 +157,9 @@ pub(crate) fn split_run(run: &Run, clean: CleanTolerances) -> Result<(Vec<Elemen
         if let (Some(first), Some(last)) = (run.pieces.first(), run.pieces.last()) {
             if first.start() != last.end() {
                 chain.pts.push(last.end());
-                chain.lines.push((first.source_lines.0, last.source_lines.1));
+                chain
+                    .lines
+                    .push((first.source_lines.0, last.source_lines.1));
                 chain.feed.push(last.feed);
             }
         }

@@ -10,8 +10,8 @@ mod chains;
 pub mod verify;
 
 pub use bspline_corner::{
-    corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve, BsplineCorner,
-    BsplineCornerOptions, ErrorTarget, TRANSITION_KNOTS,
+    corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
+    BsplineCorner, BsplineCornerOptions, ErrorTarget, TRANSITION_KNOTS,
 };
 pub use chains::{CornerReason, KeptCorner};
 

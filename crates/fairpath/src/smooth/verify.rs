@@ -212,7 +212,9 @@ impl Reference {
         }
     }
     fn dist(&self, q: Vec3) -> (f64, usize) {
-        self.grid.nearest(q, self.radius).unwrap_or((f64::INFINITY, 0))
+        self.grid
+            .nearest(q, self.radius)
+            .unwrap_or((f64::INFINITY, 0))
     }
     fn dist_to(&self, q: Vec3, seg: usize) -> f64 {
         let (a, b) = self.grid.segments()[seg];
@@ -238,9 +240,27 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
     if let (Some(o1), Some(s1)) = (original.last(), smoothed.last()) {
         report.end_gap = o1.end().dist(s1.end());
     }
-    if original.is_empty() && smoothed.is_empty() {
-        report.start_gap = 0.0;
-        report.end_gap = 0.0;
+    if smoothed.is_empty() {
+        // Allowed only for a run that does not move: its extent is then the
+        // deviation and the endpoint gap.
+        let p0 = original.first().map(|p| p.start()).unwrap_or(Vec3::ZERO);
+        let extent = original
+            .iter()
+            .flat_map(|p| {
+                [
+                    p.start(),
+                    p.curve
+                        .eval(0.5 * (p.curve.domain().0 + p.curve.domain().1)),
+                    p.end(),
+                ]
+            })
+            .map(|q| q.dist(p0))
+            .fold(0.0, f64::max);
+        report.start_gap = extent;
+        report.end_gap = extent;
+        report.max_deviation = extent;
+        report.deviation_bound = extent;
+        return report;
     }
     for (i, w) in smoothed.windows(2).enumerate() {
         report.joints.push(Joint {
@@ -249,11 +269,9 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
             class: classify_joint(&w[0].curve, &w[1].curve, &jt),
         });
     }
-    if original.is_empty() || smoothed.is_empty() {
-        if original.len() != smoothed.len() {
-            report.max_deviation = f64::INFINITY;
-            report.deviation_bound = f64::INFINITY;
-        }
+    if original.is_empty() {
+        report.max_deviation = f64::INFINITY;
+        report.deviation_bound = f64::INFINITY;
         return report;
     }
     let reference = Reference::new(original, opts);
@@ -297,7 +315,14 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
     // Second pass: refine each span.
     for &(pi, ta, tb, fa, fb) in &spans {
         let c = &smoothed[pi].curve;
-        ctx.refine(c, matches!(c, Curve::Line(_)), (ta, tb), (fa, fb), &mut best, 0);
+        ctx.refine(
+            c,
+            matches!(c, Curve::Line(_)),
+            (ta, tb),
+            (fa, fb),
+            &mut best,
+            0,
+        );
     }
     report.max_deviation = best.0;
     report.deviation_bound = (best.0 + opts.accuracy).max(ctx.pruned_max);
@@ -321,7 +346,15 @@ struct Refine<'a> {
 }
 
 impl Refine<'_> {
-    fn refine(&mut self, c: &Curve, straight: bool, t: (f64, f64), f: (f64, f64), best: &mut (f64, Vec3), depth: u32) {
+    fn refine(
+        &mut self,
+        c: &Curve,
+        straight: bool,
+        t: (f64, f64),
+        f: (f64, f64),
+        best: &mut (f64, Vec3),
+        depth: u32,
+    ) {
         let ((ta, tb), (fa, fb)) = (t, f);
         let r = self.r;
         let (qa, qb) = (c.eval(ta), c.eval(tb));
@@ -344,7 +377,10 @@ impl Refine<'_> {
             note(best, bound, qa);
             return;
         }
-        if bound <= best.0.max(self.floor) + self.acc || depth >= 48 || (straight && bound <= fa.max(fb) + self.acc) {
+        if bound <= best.0.max(self.floor) + self.acc
+            || depth >= 48
+            || (straight && bound <= fa.max(fb) + self.acc)
+        {
             self.pruned_max = self.pruned_max.max(bound);
             return;
         }

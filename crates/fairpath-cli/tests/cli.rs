@@ -1,0 +1,247 @@
+//! The `fairpath` binary end to end: outputs verify, formats agree, bad
+//! input is an error with no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fairpath"))
+}
+
+fn shared(rel: &str) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths")
+        .join(rel);
+    p.exists().then_some(p)
+}
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().unwrap()
+}
+
+fn smooth(input: &Path, out: &Path, tol: &str, extra: &[&str]) -> Output {
+    let mut a = vec![
+        "smooth",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--tolerance",
+        tol,
+    ];
+    a.extend_from_slice(extra);
+    run(&a)
+}
+
+#[test]
+fn smooths_the_bundled_example_and_checks_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("pocket-corners.ngc");
+    for (fmt, name) in [("gcode", "out.ngc"), ("json", "out.json")] {
+        let out = dir.path().join(name);
+        let o = smooth(&input, &out, "0.05", &["--format", fmt]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let summary = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            summary.contains("max deviation:") && summary.contains("joints:"),
+            "{summary}"
+        );
+        let c = run(&[
+            "check",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+        ]);
+        assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stdout));
+        assert!(String::from_utf8_lossy(&c.stdout).contains("PASS"));
+    }
+}
+
+#[test]
+fn check_fails_on_a_program_that_leaves_the_band() {
+    let dir = tempfile::tempdir().unwrap();
+    let orig = dir.path().join("a.ngc");
+    let moved = dir.path().join("b.ngc");
+    std::fs::write(&orig, "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nM2\n").unwrap();
+    std::fs::write(
+        &moved,
+        "G21 G90\nG0 X0 Y0 Z0\nG1 X5 F100\nG1 X10 Y0.2\nG1 Y10\nM2\n",
+    )
+    .unwrap();
+    let c = run(&[
+        "check",
+        orig.to_str().unwrap(),
+        moved.to_str().unwrap(),
+        "--tolerance",
+        "0.05",
+    ]);
+    assert_eq!(
+        c.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&c.stdout)
+    );
+    assert!(String::from_utf8_lossy(&c.stdout).contains("FAIL"));
+}
+
+#[test]
+fn bad_input_is_an_error_and_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        (
+            "garbage",
+            vec![0xff, 0xfe, 0x00, 0x13, 0x37, b'\n', 0x80],
+            "0.05",
+        ),
+        ("triple-dot", b"G21\nG1 X1.2.3 Y0 F100\n".to_vec(), "0.05"),
+        ("nan", b"G21\nG1 Xnan Y0 F100\n".to_vec(), "0.05"),
+        ("empty", Vec::new(), "0.05"),
+        ("blank", b"\n  \n".to_vec(), "0.05"),
+        ("parameters", b"G21\n#1=5\nG1 X#1 F100\n".to_vec(), "0.05"),
+        (
+            "o-word",
+            b"G21\no100 sub\nG1 X1 F100\no100 endsub\n".to_vec(),
+            "0.05",
+        ),
+        (
+            "zero-tolerance",
+            b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
+            "0",
+        ),
+        (
+            "negative-tolerance",
+            b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
+            "-0.05",
+        ),
+        (
+            "nan-tolerance",
+            b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
+            "NaN",
+        ),
+        (
+            "absurd-tolerance",
+            b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
+            "1e9",
+        ),
+    ];
+    for (name, bytes, tol) in cases {
+        let input = dir.path().join(format!("{name}.ngc"));
+        std::fs::write(&input, &bytes).unwrap();
+        let out = dir.path().join(format!("{name}.out.ngc"));
+        let o = smooth(&input, &out, tol, &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{name}: expected failure");
+        assert!(!out.exists(), "{name}: output file left behind");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(err.contains("error"), "{name}: {err}");
+        // Reader errors name file, line and column.
+        if ["triple-dot", "nan", "parameters", "o-word"].contains(&name) {
+            let want = format!("{}:2:", input.display());
+            assert!(err.contains(&want), "{name}: {err}");
+        }
+    }
+    // No temporary files either.
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(
+        left.iter()
+            .all(|n| !n.to_string_lossy().starts_with(".fairpath-")),
+        "{left:?}"
+    );
+}
+
+#[test]
+fn gcode_output_reread_matches_json_geometry_within_chord() {
+    let Some(input) = shared("synthetic/butterfly-80.ngc") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let g = dir.path().join("b.ngc");
+    let j = dir.path().join("b.json");
+    assert!(smooth(&input, &g, "0.05", &["--format", "gcode"])
+        .status
+        .success());
+    assert!(smooth(&input, &j, "0.05", &["--format", "json"])
+        .status
+        .success());
+    let json = std::fs::read_to_string(&j).unwrap();
+    let pieces = fairpath_gcode::read_json(&json).unwrap();
+    let feed: Vec<_> = pieces.iter().filter(|p| !p.rapid).cloned().collect();
+    let reread = fairpath_gcode::parse(&std::fs::read(&g).unwrap()).unwrap();
+    let runs = reread.runs();
+    assert_eq!(runs.len(), 1);
+    // Every written G1 point lies within the chord tolerance (plus the
+    // 4-decimal rounding) of the JSON curves, and vice versa.
+    let rep = fairpath::smooth::verify::verify_run(
+        &feed,
+        &runs[0].pieces,
+        &fairpath::smooth::verify::VerifyOptions::new(0.005),
+    );
+    assert!(
+        rep.deviation_bound <= 0.005 + 1e-4,
+        "{}",
+        rep.deviation_bound
+    );
+    let back = fairpath::smooth::verify::verify_run(
+        &runs[0].pieces,
+        &feed,
+        &fairpath::smooth::verify::VerifyOptions::new(0.005),
+    );
+    assert!(
+        back.deviation_bound <= 0.005 + 1e-4,
+        "{}",
+        back.deviation_bound
+    );
+}
+
+#[test]
+fn passthrough_is_lossless_on_real_linuxcnc_programs() {
+    for rel in [
+        "performance/LHchips4.ngc",
+        "wz-tests/130207L.ngc",
+        "quick-tests/spindle-wait.ngc",
+        "performance/Cereal.ngc",
+    ] {
+        let Some(input) = shared(&format!("linuxcnc/{rel}")) else {
+            return;
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o.ngc");
+        let o = smooth(&input, &out, "0.01", &[]);
+        assert!(
+            o.status.success(),
+            "{rel}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let program = fairpath_gcode::parse(&std::fs::read(&input).unwrap()).unwrap();
+        // Every line that is not a feed move of a run appears in the output,
+        // in order.
+        let run_lines: std::collections::HashSet<usize> = program
+            .runs()
+            .iter()
+            .flat_map(|r| r.pieces.iter().map(|p| p.source_lines.0))
+            .collect();
+        let written = std::fs::read_to_string(&out).unwrap();
+        let mut it = written.lines();
+        for line in program.lines() {
+            if run_lines.contains(&line.number) {
+                continue;
+            }
+            let want = line.text.trim_end();
+            assert!(
+                it.any(|l| l.trim_end() == want || l.trim_end().ends_with(want)),
+                "{rel}: line {} {:?} missing or out of order",
+                line.number,
+                line.text
+            );
+        }
+    }
+}
