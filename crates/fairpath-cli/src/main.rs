@@ -1,12 +1,8 @@
 //! `fairpath`: smooth CNC tool paths within a tolerance, and check the result.
 
-mod check;
-mod output;
-mod pipeline;
-mod summary;
-
 use anyhow::Result;
-use clap::{Parser, Subcommand, ValueEnum};
+use fairpath_cli::{check, output, pipeline, summary, Format};
+use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -19,12 +15,6 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    Gcode,
-    Json,
 }
 
 #[derive(Subcommand)]

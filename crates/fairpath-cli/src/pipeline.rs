@@ -71,6 +71,12 @@ pub struct Phases {
     done: Vec<(&'static str, std::time::Duration)>,
 }
 
+impl Default for Phases {
+    fn default() -> Self {
+        Phases::new()
+    }
+}
+
 impl Phases {
     pub fn new() -> Phases {
         Phases {

@@ -99,42 +99,6 @@ fn fmt_fixed_slow(v: f64, decimals: usize) -> String {
     s
 }
 
-#[cfg(test)]
-mod fmt_tests {
-    use super::{fmt_fixed, fmt_fixed_slow};
-
-    #[test]
-    fn fast_formatting_matches_std_within_half_a_unit() {
-        for &v in &[
-            0.0,
-            -0.0,
-            1.5,
-            -1.25,
-            0.00004,
-            -0.00004,
-            12.34565,
-            99999.0,
-            -3.0e-5,
-            1.0e9,
-            0.1 + 0.2,
-        ] {
-            for d in [3usize, 4, 5] {
-                let a: f64 = fmt_fixed(v, d).parse().unwrap();
-                let b: f64 = fmt_fixed_slow(v, d).parse().unwrap();
-                assert!(
-                    (a - b).abs() <= 10f64.powi(-(d as i32)) * 1.0001,
-                    "{v} {d}: {a} {b}"
-                );
-                assert!((a - v).abs() <= 0.5 * 10f64.powi(-(d as i32)) * 1.0001);
-            }
-        }
-        assert_eq!(fmt_fixed(-0.00001, 4), "0");
-        assert_eq!(fmt_fixed(2.5, 4), "2.5");
-        assert_eq!(fmt_fixed(-12.0, 4), "-12");
-        assert_eq!(fmt_fixed(0.05, 4), "0.05");
-    }
-}
-
 fn axis(p: Vec3, a: usize) -> f64 {
     match a {
         0 => p.x,
@@ -412,5 +376,41 @@ fn piece_points(c: &Curve, chord: f64) -> Vec<Vec3> {
                 .map(|(i, t)| if i + 1 == n { c.end() } else { c.eval(t) })
                 .collect()
         }
+    }
+}
+
+#[cfg(test)]
+mod fmt_tests {
+    use super::{fmt_fixed, fmt_fixed_slow};
+
+    #[test]
+    fn fast_formatting_matches_std_within_half_a_unit() {
+        for &v in &[
+            0.0,
+            -0.0,
+            1.5,
+            -1.25,
+            0.00004,
+            -0.00004,
+            12.34565,
+            99999.0,
+            -3.0e-5,
+            1.0e9,
+            0.1 + 0.2,
+        ] {
+            for d in [3usize, 4, 5] {
+                let a: f64 = fmt_fixed(v, d).parse().unwrap();
+                let b: f64 = fmt_fixed_slow(v, d).parse().unwrap();
+                assert!(
+                    (a - b).abs() <= 10f64.powi(-(d as i32)) * 1.0001,
+                    "{v} {d}: {a} {b}"
+                );
+                assert!((a - v).abs() <= 0.5 * 10f64.powi(-(d as i32)) * 1.0001);
+            }
+        }
+        assert_eq!(fmt_fixed(-0.00001, 4), "0");
+        assert_eq!(fmt_fixed(2.5, 4), "2.5");
+        assert_eq!(fmt_fixed(-12.0, 4), "-12");
+        assert_eq!(fmt_fixed(0.05, 4), "0.05");
     }
 }

@@ -180,9 +180,9 @@ impl Nurbs {
             }
         }
         let mut f = p as f64;
-        for k in 1..=nd {
-            for j in 0..=p {
-                ders[k][j] *= f;
+        for (k, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
+            for v in row.iter_mut().take(p + 1) {
+                *v *= f;
             }
             f *= (p - k) as f64;
         }
@@ -204,9 +204,9 @@ impl Nurbs {
         match &self.weights {
             None => {
                 let mut out = [Vec3::ZERO; 3];
-                for (k, o) in out.iter_mut().enumerate() {
-                    for j in 0..=p {
-                        *o += self.points[span - p + j] * ders[k][j];
+                for (o, row) in out.iter_mut().zip(ders.iter()) {
+                    for (pt, &n) in self.points[span - p..=span].iter().zip(row.iter()) {
+                        *o += *pt * n;
                     }
                 }
                 out
