@@ -17,6 +17,12 @@ struct Cli {
     command: Command,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Band {
+    Full,
+    Half,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Replace the feed moves of a program with a G2 path within the tolerance.
@@ -39,6 +45,14 @@ enum Command {
         /// budget. Default: a tenth of the tolerance.
         #[arg(long)]
         chord: Option<f64>,
+        /// bspline-corner: error target when a transition must shrink:
+        /// `full` uses the whole band (e = epsilon, the default: lower peak
+        /// curvature), `half` is the paper's e* = delta / 2.
+        #[arg(long, value_enum, default_value_t = Band::Full)]
+        band: Band,
+        /// bspline-corner: overlap-avoidance ratio lambda in [0, 1) (paper eq. 8).
+        #[arg(long, default_value_t = 0.0)]
+        lambda: f64,
         /// Print the summary as JSON.
         #[arg(long)]
         json_summary: bool,
@@ -73,9 +87,23 @@ fn run(cli: Cli) -> Result<ExitCode> {
             method,
             format,
             chord,
+            band,
+            lambda,
             json_summary,
         } => {
-            let opts = pipeline::SmoothOptions::new(tolerance, chord, &method, format)?;
+            let mut opts = pipeline::SmoothOptions::new(tolerance, chord, &method, format)?;
+            if method == "bspline-corner" {
+                opts.method = Box::new(fairpath::smooth::BsplineCorner {
+                    options: fairpath::smooth::BsplineCornerOptions {
+                        target: match band {
+                            Band::Full => fairpath::smooth::ErrorTarget::FullBand,
+                            Band::Half => fairpath::smooth::ErrorTarget::HalfBand,
+                        },
+                        lambda,
+                        ..Default::default()
+                    },
+                });
+            }
             let started = std::time::Instant::now();
             let mut phases = pipeline::Phases::new();
             let program = pipeline::read_program(&input)?;
