@@ -9,7 +9,8 @@ use fairpath_cli::Format;
 use std::path::Path;
 
 fn bench(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths/synthetic/surface-raster-large.ngc");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths/synthetic/surface-raster-large.ngc");
     let Ok(bytes) = std::fs::read(&path) else {
         eprintln!("{} not found: benchmark skipped", path.display());
         return;
@@ -34,7 +35,11 @@ fn bench(c: &mut Criterion) {
     g.bench_function("smooth only (no verification, no output)", |b| {
         let runs = program.runs();
         let m = fairpath::smooth::by_name("bspline-corner").unwrap();
-        b.iter(|| runs.iter().map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len()).sum::<usize>())
+        b.iter(|| {
+            runs.iter()
+                .map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len())
+                .sum::<usize>()
+        })
     });
     g.finish();
 }

@@ -1,8 +1,8 @@
 //! `fairpath`: smooth CNC tool paths within a tolerance, and check the result.
 
 use anyhow::Result;
-use fairpath_cli::{check, output, pipeline, summary, Format};
 use clap::{Parser, Subcommand};
+use fairpath_cli::{check, output, pipeline, summary, Format};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

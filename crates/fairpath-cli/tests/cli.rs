@@ -245,3 +245,63 @@ fn passthrough_is_lossless_on_real_linuxcnc_programs() {
         }
     }
 }
+
+#[test]
+fn json_lists_every_move_in_order_as_one_continuous_path() {
+    for rel in [
+        "synthetic/surface-raster.ngc",
+        "linuxcnc/quick-tests/arc-arc-planeswitch.ngc",
+        "linuxcnc/performance/Cereal.ngc",
+    ] {
+        let Some(input) = shared(rel) else { return };
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o.json");
+        let o = smooth(&input, &out, "0.05", &["--format", "json"]);
+        assert!(
+            o.status.success(),
+            "{rel}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let text = std::fs::read_to_string(&out).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["units"], "mm");
+        let pieces = fairpath_gcode::read_json(&text).unwrap();
+        let program = fairpath_gcode::parse(&std::fs::read(&input).unwrap()).unwrap();
+        let orig = program.pieces();
+        // Rapids untouched and in order.
+        let r0: Vec<_> = orig
+            .iter()
+            .filter(|p| p.rapid)
+            .map(|p| (p.start(), p.end()))
+            .collect();
+        let r1: Vec<_> = pieces
+            .iter()
+            .filter(|p| p.rapid)
+            .map(|p| (p.start(), p.end()))
+            .collect();
+        assert_eq!(r0, r1, "{rel}: rapids differ");
+        // One continuous path from the first move to the last.
+        for w in pieces.windows(2) {
+            assert!(
+                w[0].end().dist(w[1].start()) <= 1e-9,
+                "{rel}: gap after lines {:?}",
+                w[0].source_lines
+            );
+        }
+        assert_eq!(
+            pieces.first().unwrap().start(),
+            orig.first().unwrap().start()
+        );
+        assert_eq!(pieces.last().unwrap().end(), orig.last().unwrap().end());
+        // Every feed line of the input is named by some piece.
+        for p in orig.iter().filter(|p| !p.rapid) {
+            let l = p.source_lines.0;
+            assert!(
+                pieces
+                    .iter()
+                    .any(|q| q.source_lines.0 <= l && l <= q.source_lines.1),
+                "{rel}: line {l} not covered"
+            );
+        }
+    }
+}

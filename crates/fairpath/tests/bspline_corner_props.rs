@@ -164,3 +164,63 @@ fn bad_tolerances_are_rejected() {
         );
     }
 }
+
+/// Regression: gcode-rs/_viaconstructor_simple.ngc plunges to Y14.828427124746183
+/// and then moves to Y14.828427, a 1.2e-7 mm reversal that made a transition
+/// too small to classify. Such moves are zero-length and dropped.
+#[test]
+fn regression_viaconstructor_rounding_reversal() {
+    let pts = [
+        v(22.0, 14.828427124746183, 5.0),
+        v(22.0, 14.828427124746183, -9.0),
+        v(22.0, 14.828427, -9.0),
+        v(22.0, 68.0, -9.0),
+        v(75.171573, 68.0, -9.0),
+        v(22.0, 14.828427, -9.0),
+    ];
+    let run = polyline_run(&pts);
+    let out = BsplineCorner::default().smooth_run(&run, 0.01).unwrap();
+    assert_eq!(out.dropped_zero_length, 1);
+    assert!(out.kept_corners.is_empty());
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.01));
+    assert!(rep.within(0.01));
+    assert!(rep.joints.iter().all(|j| j.class == Continuity::G2));
+}
+
+/// Regression: linuxcnc/diagnostic/test-active-states.ngc has a run made of
+/// zero-length moves only; the smoothed run is empty and verifies.
+#[test]
+fn regression_run_of_zero_length_moves() {
+    let p = v(1.0, 2.0, 3.0);
+    let run = polyline_run(&[p, p, p]);
+    let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert!(out.pieces.is_empty());
+    assert!(verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.05)).within(0.05));
+}
+
+#[test]
+fn closed_loop_keeps_its_seam_and_blends_it_when_the_run_goes_on() {
+    let hex: Vec<Vec3> = (0..=6)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::PI / 3.0;
+            v(
+                10.0 * a.cos(),
+                10.0 * a.sin(),
+                if i % 2 == 0 { 0.0 } else { 3.0 },
+            )
+        })
+        .collect();
+    let run = polyline_run(&hex);
+    let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert_eq!(out.transitions, 5);
+    assert_eq!(out.pieces.first().unwrap().start(), hex[0]);
+    assert_eq!(out.pieces.last().unwrap().end(), hex[6]);
+    // Twice around: the closing vertex is now inside the run and blended.
+    let twice: Vec<Vec3> = hex.iter().chain(hex[1..].iter()).copied().collect();
+    let run = polyline_run(&twice);
+    let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert_eq!(out.transitions, 11);
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.05));
+    assert!(rep.within(0.05));
+    assert!(rep.joints.iter().all(|j| j.class == Continuity::G2));
+}

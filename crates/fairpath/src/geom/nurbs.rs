@@ -99,6 +99,62 @@ impl Nurbs {
         lo
     }
 
+    /// Piegl-Tiller A2.2: the non-zero basis functions at `t` in `span`.
+    fn basis(&self, span: usize, t: f64) -> [f64; 8] {
+        let p = self.degree;
+        let u = &self.knots;
+        let mut n = [0.0f64; 8];
+        let mut left = [0.0f64; 8];
+        let mut right = [0.0f64; 8];
+        n[0] = 1.0;
+        for j in 1..=p {
+            left[j] = t - u[span + 1 - j];
+            right[j] = u[span + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                let den = right[r + 1] + left[j - r];
+                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+                n[r] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            n[j] = saved;
+        }
+        n
+    }
+
+    /// Position at `t` (clamped to the domain), by A2.2 and A4.1.
+    fn point_at(&self, t: f64) -> Vec3 {
+        let (a, b) = self.domain();
+        let t = t.clamp(a, b);
+        let p = self.degree;
+        let span = self.find_span(t);
+        let n = self.basis(span, t);
+        let pts = &self.points[span - p..=span];
+        match &self.weights {
+            None => {
+                let mut o = Vec3::ZERO;
+                for (pt, &v) in pts.iter().zip(n.iter()) {
+                    o += *pt * v;
+                }
+                o
+            }
+            Some(w) => {
+                let mut o = Vec3::ZERO;
+                let mut ws = 0.0;
+                for ((pt, &v), &wi) in pts.iter().zip(n.iter()).zip(w[span - p..=span].iter()) {
+                    o += *pt * (v * wi);
+                    ws += v * wi;
+                }
+                o / ws
+            }
+        }
+    }
+
+    /// Upper bound of the length: the length of the control polygon.
+    pub fn polygon_length(&self) -> f64 {
+        self.points.windows(2).map(|w| w[0].dist(w[1])).sum()
+    }
+
     /// Piegl-Tiller A2.3: non-zero basis functions and their derivatives up
     /// to order `nd` at `t` in span `span`; `ders[k][j]` is the k-th
     /// derivative of `N_{span-p+j, p}`.
@@ -373,7 +429,7 @@ impl ParamCurve for Nurbs {
         if t >= b && self.knots[n..].iter().all(|&k| k == b) {
             return self.points[n - 1];
         }
-        self.derivs_upto(t, 0)[0]
+        self.point_at(t)
     }
     fn deriv1(&self, t: f64) -> Vec3 {
         self.derivs_upto(t, 1)[1]

@@ -98,6 +98,9 @@ pub(crate) fn split_run(
     let mut merged = 0;
     let mut prev_end: Option<Vec3> = None;
     let mut chain = LineChain::default();
+    // First input line of zero-length moves at the start of the run, not yet
+    // named by any piece.
+    let mut pending_first: Option<usize> = None;
     let finish =
         |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
             if chain.segments() > 0 {
@@ -135,18 +138,31 @@ pub(crate) fn split_run(
                 let last = *chain.pts.last().unwrap();
                 if last.dist(l.p1) <= clean.min_segment {
                     dropped += 1;
+                    // The dropped move's line is named by a neighbour.
                     if let Some(lines) = chain.lines.last_mut() {
                         lines.1 = piece.source_lines.1;
+                    } else if let Some(Element::Other(p)) = out.last_mut() {
+                        p.source_lines.1 = p.source_lines.1.max(piece.source_lines.1);
+                    } else {
+                        pending_first = Some(pending_first.unwrap_or(piece.source_lines.0));
                     }
                 } else {
+                    let mut lines = piece.source_lines;
+                    if let Some(first) = pending_first.take() {
+                        lines.0 = lines.0.min(first);
+                    }
                     chain.pts.push(l.p1);
-                    chain.lines.push(piece.source_lines);
+                    chain.lines.push(lines);
                     chain.feed.push(piece.feed);
                 }
             }
             _ => {
                 finish(&mut chain, &mut out, &mut merged, prev_end);
-                out.push(Element::Other(piece.clone()));
+                let mut p = piece.clone();
+                if let Some(first) = pending_first.take() {
+                    p.source_lines.0 = p.source_lines.0.min(first);
+                }
+                out.push(Element::Other(p));
             }
         }
         prev_end = Some(e);

@@ -286,12 +286,16 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
     let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
     for (pi, p) in smoothed.iter().enumerate() {
         let (t0, t1) = p.curve.domain();
+        // Samples about a tolerance apart, from a cheap upper bound of the
+        // length (the refinement below does not depend on it).
+        let len = match &p.curve {
+            Curve::Line(_) => 0.0,
+            Curve::Arc(a) => a.approx_length() + math::abs(a.r1 - a.r0) * a.sweep,
+            Curve::Nurbs(n) => n.polygon_length(),
+        };
         let n = match &p.curve {
             Curve::Line(_) => 1,
-            c => {
-                let len = c.length(opts.accuracy);
-                (math::ceil(len / opts.tolerance) as usize).clamp(8, 1 << 16)
-            }
+            _ => (math::ceil(len / opts.tolerance) as usize).clamp(8, 1 << 16),
         };
         let mut prev_t = t0;
         let mut prev_f = reference.dist(p.curve.eval(t0)).0;
