@@ -5,6 +5,7 @@
 
 pub mod check;
 pub mod output;
+pub mod parallel;
 pub mod pipeline;
 pub mod summary;
 

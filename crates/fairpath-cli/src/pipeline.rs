@@ -1,10 +1,11 @@
 //! The main job, step by step: read, smooth each run, verify the curves,
 //! render, and verify what was rendered by reading it back.
 
+use crate::parallel::verify_runs;
 use crate::Format;
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::{verify_run, RunReport, VerifyOptions};
+use fairpath::smooth::verify::{RunReport, VerifyOptions};
 use fairpath::smooth::{self, SmoothedRun, Smoother};
 use fairpath_gcode::Program;
 use std::path::Path;
@@ -127,15 +128,22 @@ pub fn smooth_program(
         smoothed_runs.push(smoothed);
     }
     phases.mark("smooth");
-    let mut out = Vec::new();
-    for (run, smoothed) in runs.into_iter().zip(smoothed_runs) {
-        let report = verify_run(&run.pieces, &smoothed.pieces, &VerifyOptions::new(budget));
-        out.push(RunResult {
-            original: run,
+    let pairs: Vec<(&[Piece], &[Piece])> = runs
+        .iter()
+        .zip(&smoothed_runs)
+        .map(|(r, s)| (r.pieces.as_slice(), s.pieces.as_slice()))
+        .collect();
+    let reports = verify_runs(&pairs, &VerifyOptions::new(budget));
+    let out = runs
+        .into_iter()
+        .zip(smoothed_runs)
+        .zip(reports)
+        .map(|((original, smoothed), report)| RunResult {
+            original,
             smoothed,
             report,
-        });
-    }
+        })
+        .collect();
     phases.mark("verify curves");
     Ok(SmoothResult { runs: out })
 }
@@ -233,8 +241,12 @@ pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Resu
         endpoint_failures: 0,
         runs_checked: 0,
     };
-    for (a, b) in o.iter().zip(&c) {
-        let rep = verify_run(&a.pieces, &b.pieces, &VerifyOptions::new(tolerance));
+    let pairs: Vec<(&[Piece], &[Piece])> = o
+        .iter()
+        .zip(&c)
+        .map(|(a, b)| (a.pieces.as_slice(), b.pieces.as_slice()))
+        .collect();
+    for rep in verify_runs(&pairs, &VerifyOptions::new(tolerance)) {
         out.max_deviation = out.max_deviation.max(rep.deviation_bound);
         if rep.start_gap != 0.0 || rep.end_gap != 0.0 {
             out.endpoint_failures += 1;

@@ -59,8 +59,10 @@ const KEY_MAX: i64 = (1 << KEY_BITS) - 1;
 impl SegmentGrid {
     /// Builds the index. `radius` (mm) is the largest query distance that
     /// will be answered exactly by [`SegmentGrid::nearest_within`]. The cell
-    /// size is the radius, or the mean segment length if that is larger,
-    /// grown if needed so that the grid spans at most 2^21 cells per axis.
+    /// size is twice the radius, or the mean segment length if that is
+    /// larger (so a short segment, grown by the radius, touches about 8
+    /// cells), grown if needed so that the grid spans at most 2^21 cells per
+    /// axis.
     pub fn new(segs: Vec<(Vec3, Vec3)>, radius: f64) -> SegmentGrid {
         let mut lo = Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let mut hi = -lo;
@@ -83,7 +85,7 @@ impl SegmentGrid {
         };
         let ext = hi - lo;
         let span = ext.x.max(ext.y).max(ext.z) + 2.0 * radius;
-        let mut cell = radius.max(mean).max(span / (KEY_MAX as f64 - 2.0));
+        let mut cell = (2.0 * radius).max(mean).max(span / (KEY_MAX as f64 - 2.0));
         if !(cell > 0.0 && cell.is_finite()) {
             cell = 1.0;
         }

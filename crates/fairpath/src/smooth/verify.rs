@@ -31,6 +31,7 @@
 use crate::geom::{flatten_params, Curve, ParamCurve, SegmentGrid, Vec3};
 use crate::math;
 use crate::path::Piece;
+use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
 /// Continuity class of a joint between two pieces.
@@ -185,19 +186,31 @@ impl VerifyOptions {
     }
 }
 
-/// The original run as segments in a grid.
+/// The original run as segments in a grid, and its arcs and curves by
+/// start point (a smoothed piece identical to an original one lies on the
+/// original by definition).
 struct Reference {
     grid: SegmentGrid,
     radius: f64,
+    curves: BTreeMap<[u64; 3], Vec<Curve>>,
+}
+
+fn point_key(p: Vec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }
 
 impl Reference {
     fn new(original: &[Piece], opts: &VerifyOptions) -> Reference {
         let mut segs = Vec::new();
+        let mut curves: BTreeMap<[u64; 3], Vec<Curve>> = BTreeMap::new();
         for p in original {
             match &p.curve {
                 Curve::Line(l) => segs.push((l.p0, l.p1)),
                 c => {
+                    curves
+                        .entry(point_key(c.start()))
+                        .or_default()
+                        .push(c.clone());
                     let ts = flatten_params(c, opts.accuracy);
                     for w in ts.windows(2) {
                         segs.push((c.eval(w[0]), c.eval(w[1])));
@@ -209,7 +222,16 @@ impl Reference {
         Reference {
             grid: SegmentGrid::new(segs, radius),
             radius,
+            curves,
         }
+    }
+    /// True when `c` is one of the original's arcs or curves, exactly.
+    fn contains(&self, c: &Curve) -> bool {
+        !matches!(c, Curve::Line(_))
+            && self
+                .curves
+                .get(&point_key(c.start()))
+                .is_some_and(|v| v.iter().any(|o| o == c))
     }
     fn dist(&self, q: Vec3) -> (f64, usize) {
         self.grid
@@ -222,8 +244,159 @@ impl Reference {
     }
 }
 
-/// Verifies `smoothed` against `original` (both continuous runs).
-pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) -> RunReport {
+/// The largest distance found from some pieces to the original run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deviation {
+    /// Largest distance found (mm).
+    pub found: f64,
+    /// A bound the true largest distance never exceeds (mm).
+    pub bound: f64,
+    /// Where `found` was found.
+    pub at: Vec3,
+}
+
+impl Deviation {
+    /// The deviation of two sets of pieces together.
+    pub fn merge(self, o: Deviation) -> Deviation {
+        let (found, at) = if o.found > self.found || !o.found.is_finite() {
+            (o.found, o.at)
+        } else {
+            (self.found, self.at)
+        };
+        Deviation {
+            found,
+            at,
+            bound: self.bound.max(o.bound),
+        }
+    }
+}
+
+/// An original run prepared for deviation queries: its segments in a grid.
+/// It is `Sync`, so callers with threads can measure chunks of a smoothed
+/// run in parallel and [`Deviation::merge`] the results.
+pub struct Verifier {
+    reference: Reference,
+    opts: VerifyOptions,
+}
+
+impl Verifier {
+    pub fn new(original: &[Piece], opts: &VerifyOptions) -> Verifier {
+        Verifier {
+            reference: Reference::new(original, opts),
+            opts: *opts,
+        }
+    }
+
+    /// Largest distance from `pieces` to the original run (see the module
+    /// documentation for the method and its accuracy).
+    pub fn deviation(&self, pieces: &[Piece]) -> Deviation {
+        let opts = &self.opts;
+        let reference = &self.reference;
+        let start = pieces.first().map(|p| p.start()).unwrap_or(Vec3::ZERO);
+        let mut best = (0.0f64, start);
+        let mut ctx = Refine {
+            r: reference,
+            acc: opts.accuracy,
+            floor: opts.tolerance * 5e-2,
+            pruned_max: 0.0,
+        };
+        // First pass: a coarse sample of every piece, to start the bound high.
+        let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
+        for (pi, p) in pieces.iter().enumerate() {
+            if reference.contains(&p.curve) {
+                continue;
+            }
+            let (t0, t1) = p.curve.domain();
+            let n = sample_count(&p.curve, opts.tolerance);
+            let mut prev_t = t0;
+            let mut prev_f = reference.dist(p.curve.eval(t0)).0;
+            note(&mut best, prev_f, p.curve.eval(t0));
+            for k in 1..=n {
+                let t = t0 + (t1 - t0) * k as f64 / n as f64;
+                let q = p.curve.eval(t);
+                let f = reference.dist(q).0;
+                note(&mut best, f, q);
+                spans.push((pi, prev_t, t, prev_f, f));
+                prev_t = t;
+                prev_f = f;
+            }
+        }
+        // Second pass: refine each span.
+        let mut d2: Option<(usize, Option<f64>)> = None;
+        for &(pi, ta, tb, fa, fb) in &spans {
+            let c = &pieces[pi].curve;
+            let d2max = match d2 {
+                Some((i, v)) if i == pi => v,
+                _ => {
+                    let v = second_derivative_bound(c);
+                    d2 = Some((pi, v));
+                    v
+                }
+            };
+            ctx.refine(
+                c,
+                matches!(c, Curve::Line(_)),
+                d2max,
+                (ta, tb),
+                (fa, fb),
+                &mut best,
+                0,
+            );
+        }
+        Deviation {
+            found: best.0,
+            bound: (best.0 + opts.accuracy).max(ctx.pruned_max),
+            at: best.1,
+        }
+    }
+}
+
+/// An upper bound of `|C''|` over the whole curve, where one is cheap and
+/// sure: arcs (`r phi^2 + 2 |r1 - r0| phi`), and polynomial B-splines of
+/// degree at most 3, whose `C''` is linear between knots (so its largest
+/// norm is at a breakpoint).
+fn second_derivative_bound(c: &Curve) -> Option<f64> {
+    match c {
+        Curve::Line(_) => Some(0.0),
+        Curve::Arc(a) => {
+            let r = a.r0.max(a.r1);
+            Some(r * a.sweep * a.sweep + 2.0 * math::abs(a.r1 - a.r0) * a.sweep)
+        }
+        Curve::Nurbs(n) if n.weights.is_none() && n.degree <= 3 => {
+            let bps = n.breakpoints();
+            let mut m: f64 = 0.0;
+            for w in bps.windows(2) {
+                // Both one-sided values at each break: C'' may jump there.
+                let h = (w[1] - w[0]) * 1e-9;
+                m = m.max(n.deriv2(w[0]).norm()).max(n.deriv2(w[1] - h).norm());
+            }
+            // Rounding margin.
+            Some(m * (1.0 + 1e-6))
+        }
+        Curve::Nurbs(_) => None,
+    }
+}
+
+/// Initial samples on curves, about eight tolerances apart (at least 8),
+/// from a cheap upper bound of the length; one span on lines. Only a start:
+/// the branch and bound refines wherever the bound requires it.
+fn sample_count(c: &Curve, tolerance: f64) -> usize {
+    let len = match c {
+        Curve::Line(_) => return 1,
+        Curve::Arc(a) => a.approx_length() + math::abs(a.r1 - a.r0) * a.sweep,
+        Curve::Nurbs(n) => n.polygon_length(),
+    };
+    (math::ceil(len / (8.0 * tolerance)) as usize).clamp(8, 1 << 16)
+}
+
+/// Everything [`verify_run`] reports but the deviation: endpoints, joint
+/// classes, peak curvature. Returns the report and whether a deviation
+/// still has to be measured (false when the answer is already known).
+pub fn report_without_deviation(
+    original: &[Piece],
+    smoothed: &[Piece],
+    opts: &VerifyOptions,
+) -> (RunReport, bool) {
     let jt = JointTolerances::from_tolerance(opts.tolerance);
     let mut report = RunReport {
         max_deviation: 0.0,
@@ -247,12 +420,8 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
         let extent = original
             .iter()
             .flat_map(|p| {
-                [
-                    p.start(),
-                    p.curve
-                        .eval(0.5 * (p.curve.domain().0 + p.curve.domain().1)),
-                    p.end(),
-                ]
+                let (a, b) = p.curve.domain();
+                [p.start(), p.curve.eval(0.5 * (a + b)), p.end()]
             })
             .map(|q| q.dist(p0))
             .fold(0.0, f64::max);
@@ -260,7 +429,7 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
         report.end_gap = extent;
         report.max_deviation = extent;
         report.deviation_bound = extent;
-        return report;
+        return (report, false);
     }
     for (i, w) in smoothed.windows(2).enumerate() {
         report.joints.push(Joint {
@@ -269,68 +438,39 @@ pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) 
             class: classify_joint(&w[0].curve, &w[1].curve, &jt),
         });
     }
-    if original.is_empty() {
-        report.max_deviation = f64::INFINITY;
-        report.deviation_bound = f64::INFINITY;
-        return report;
-    }
-    let reference = Reference::new(original, opts);
-    let mut best = (0.0f64, smoothed[0].start());
-    let mut ctx = Refine {
-        r: &reference,
-        acc: opts.accuracy,
-        floor: opts.tolerance * 5e-2,
-        pruned_max: 0.0,
-    };
-    // First pass: a coarse sample of every piece, to start the bound high.
-    let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
-    for (pi, p) in smoothed.iter().enumerate() {
-        let (t0, t1) = p.curve.domain();
-        // Samples about a tolerance apart, from a cheap upper bound of the
-        // length (the refinement below does not depend on it).
-        let len = match &p.curve {
-            Curve::Line(_) => 0.0,
-            Curve::Arc(a) => a.approx_length() + math::abs(a.r1 - a.r0) * a.sweep,
-            Curve::Nurbs(n) => n.polygon_length(),
-        };
-        let n = match &p.curve {
-            Curve::Line(_) => 1,
-            _ => (math::ceil(len / opts.tolerance) as usize).clamp(8, 1 << 16),
-        };
-        let mut prev_t = t0;
-        let mut prev_f = reference.dist(p.curve.eval(t0)).0;
-        note(&mut best, prev_f, p.curve.eval(t0));
-        for k in 1..=n {
-            let t = t0 + (t1 - t0) * k as f64 / n as f64;
-            let q = p.curve.eval(t);
-            let f = reference.dist(q).0;
-            note(&mut best, f, q);
-            spans.push((pi, prev_t, t, prev_f, f));
-            prev_t = t;
-            prev_f = f;
-        }
+    for p in smoothed {
         if !matches!(p.curve, Curve::Line(_)) {
+            let (t0, t1) = p.curve.domain();
+            let n = sample_count(&p.curve, opts.tolerance);
             for k in 0..=n {
                 let t = t0 + (t1 - t0) * k as f64 / n as f64;
                 report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
             }
         }
     }
-    // Second pass: refine each span.
-    for &(pi, ta, tb, fa, fb) in &spans {
-        let c = &smoothed[pi].curve;
-        ctx.refine(
-            c,
-            matches!(c, Curve::Line(_)),
-            (ta, tb),
-            (fa, fb),
-            &mut best,
-            0,
-        );
+    if original.is_empty() {
+        report.max_deviation = f64::INFINITY;
+        report.deviation_bound = f64::INFINITY;
+        return (report, false);
     }
-    report.max_deviation = best.0;
-    report.deviation_bound = (best.0 + opts.accuracy).max(ctx.pruned_max);
-    report.worst_at = best.1;
+    (report, true)
+}
+
+impl RunReport {
+    /// Sets the deviation fields from a measured [`Deviation`].
+    pub fn set_deviation(&mut self, d: Deviation) {
+        self.max_deviation = d.found;
+        self.deviation_bound = d.bound;
+        self.worst_at = d.at;
+    }
+}
+
+/// Verifies `smoothed` against `original` (both continuous runs).
+pub fn verify_run(original: &[Piece], smoothed: &[Piece], opts: &VerifyOptions) -> RunReport {
+    let (mut report, measure) = report_without_deviation(original, smoothed, opts);
+    if measure {
+        report.set_deviation(Verifier::new(original, opts).deviation(smoothed));
+    }
     report
 }
 
@@ -350,10 +490,12 @@ struct Refine<'a> {
 }
 
 impl Refine<'_> {
+    #[allow(clippy::too_many_arguments)]
     fn refine(
         &mut self,
         c: &Curve,
         straight: bool,
+        d2max: Option<f64>,
         t: (f64, f64),
         f: (f64, f64),
         best: &mut (f64, Vec3),
@@ -375,7 +517,21 @@ impl Refine<'_> {
             // Arc length over the span: chord times a margin that covers the
             // arc/chord ratio of spans short enough to be refined
             // (1 + k^2 s^2 / 24).
-            0.5 * (fa + fb + chord * 1.05)
+            let lipschitz = 0.5 * (fa + fb + chord * 1.05);
+            // Second order: the curve is within h = max|C''| dt^2 / 8 of its
+            // chord, and the distance to one segment is convex along the
+            // chord, so it is at most max(g(qa), g(qb)) + h.
+            match d2max {
+                Some(d2) => {
+                    let h = d2 * (tb - ta) * (tb - ta) / 8.0;
+                    let (_, ia) = r.dist(qa);
+                    let (_, ib) = r.dist(qb);
+                    let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
+                    let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
+                    lipschitz.min(ba.min(bb) + h)
+                }
+                None => lipschitz,
+            }
         };
         if !bound.is_finite() {
             note(best, bound, qa);
@@ -392,7 +548,7 @@ impl Refine<'_> {
         let qm = c.eval(tm);
         let fm = r.dist(qm).0;
         note(best, fm, qm);
-        self.refine(c, straight, (ta, tm), (fa, fm), best, depth + 1);
-        self.refine(c, straight, (tm, tb), (fm, fb), best, depth + 1);
+        self.refine(c, straight, d2max, (ta, tm), (fa, fm), best, depth + 1);
+        self.refine(c, straight, d2max, (tm, tb), (fm, fb), best, depth + 1);
     }
 }
