@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use fairpath_cli::{check, output, pipeline, summary, Format};
+use fairpath_cli::{check, pipeline, Format};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -104,31 +104,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     },
                 });
             }
-            let started = std::time::Instant::now();
-            let mut phases = pipeline::Phases::new();
-            let program = pipeline::read_program(&input)?;
-            phases.mark("read");
-            let result = pipeline::smooth_program(&program, &opts, &mut phases)?;
-            let text = pipeline::render(&program, &result, &opts)?;
-            phases.mark("render");
-            let written = pipeline::check_written(&program, &text, &opts)?;
-            phases.mark("check written output");
-            let elapsed = started.elapsed();
-            if std::env::var_os("FAIRPATH_TIMING").is_some() {
-                eprint!("{}", phases.report());
-            }
-            let summary =
-                summary::Summary::new(&input, &output, &opts, &program, &result, &written, elapsed);
-            if !written.within {
-                eprint!("{}", summary.text());
-                anyhow::bail!(
-                    "refusing to write {}: the output leaves the tolerance ({:.6} mm > {} mm) or moves a run endpoint",
-                    output.display(),
-                    written.max_deviation,
-                    tolerance
-                );
-            }
-            output::write_atomically(&output, text.as_bytes())?;
+            let summary = pipeline::smooth_file(&input, &output, &opts)?;
             if json_summary {
                 println!("{}", summary.json());
             } else {

@@ -256,3 +256,47 @@ pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Resu
     }
     Ok(out)
 }
+
+/// The whole `fairpath smooth` job: read `input`, smooth, verify, render,
+/// verify the rendered text, and write `output` only if it passes (through
+/// a temporary file renamed over `output`). Returns the summary; on a
+/// verification failure prints it to stderr and returns an error, leaving
+/// no output file.
+pub fn smooth_file(
+    input: &Path,
+    output: &Path,
+    opts: &SmoothOptions,
+) -> Result<crate::summary::Summary> {
+    let started = std::time::Instant::now();
+    let mut phases = Phases::new();
+    let program = read_program(input)?;
+    phases.mark("read");
+    let result = smooth_program(&program, opts, &mut phases)?;
+    let text = render(&program, &result, opts)?;
+    phases.mark("render");
+    let written = check_written(&program, &text, opts)?;
+    phases.mark("check written output");
+    if std::env::var_os("FAIRPATH_TIMING").is_some() {
+        eprint!("{}", phases.report());
+    }
+    let summary = crate::summary::Summary::new(
+        input,
+        output,
+        opts,
+        &program,
+        &result,
+        &written,
+        started.elapsed(),
+    );
+    if !written.within {
+        eprint!("{}", summary.text());
+        bail!(
+            "refusing to write {}: the output leaves the tolerance ({:.6} mm > {} mm) or moves a run endpoint",
+            output.display(),
+            written.max_deviation,
+            opts.tolerance
+        );
+    }
+    crate::output::write_atomically(output, text.as_bytes())?;
+    Ok(summary)
+}

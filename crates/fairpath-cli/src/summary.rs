@@ -10,6 +10,7 @@ use std::path::Path;
 use std::time::Duration;
 
 /// Figures for one smoothing job.
+#[derive(Debug)]
 pub struct Summary {
     pub input: String,
     pub output: String,

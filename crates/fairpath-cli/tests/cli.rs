@@ -305,3 +305,50 @@ fn json_lists_every_move_in_order_as_one_continuous_path() {
         }
     }
 }
+
+/// A smoother that cuts every run straight from start to end: far outside
+/// any tolerance on a corner. The pipeline must refuse to write its output.
+struct Shortcut;
+
+impl fairpath::smooth::Smoother for Shortcut {
+    fn name(&self) -> &'static str {
+        "shortcut"
+    }
+    fn smooth_run(
+        &self,
+        run: &fairpath::Run,
+        _tolerance: f64,
+    ) -> Result<fairpath::smooth::SmoothedRun, fairpath::smooth::SmoothError> {
+        let (a, b) = (run.start().unwrap(), run.end().unwrap());
+        let first = run.pieces.first().unwrap();
+        Ok(fairpath::smooth::SmoothedRun {
+            pieces: vec![fairpath::Piece {
+                curve: fairpath::Curve::Line(fairpath::geom::Line::new(a, b)),
+                rapid: false,
+                source_lines: (
+                    first.source_lines.0,
+                    run.pieces.last().unwrap().source_lines.1,
+                ),
+                feed: first.feed,
+            }],
+            ..Default::default()
+        })
+    }
+}
+
+#[test]
+fn a_violating_smoother_is_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("pocket-corners.ngc");
+    for format in [fairpath_cli::Format::Gcode, fairpath_cli::Format::Json] {
+        let out = dir.path().join("refused.out");
+        let mut opts =
+            fairpath_cli::pipeline::SmoothOptions::new(0.05, None, "bspline-corner", format)
+                .unwrap();
+        opts.method = Box::new(Shortcut);
+        let err = fairpath_cli::pipeline::smooth_file(&input, &out, &opts).unwrap_err();
+        assert!(err.to_string().contains("refusing to write"), "{err}");
+        assert!(!out.exists());
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
