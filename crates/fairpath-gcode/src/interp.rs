@@ -415,6 +415,14 @@ fn interpret_line(
         .words
         .iter()
         .any(|w| AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter));
+    // `G2 J-1` (centre words, no axis words): a full circle back to the
+    // current point, as LinuxCNC runs it (quick-tests/tangent_arcs.ngc).
+    let center_only_arc = !has_axes
+        && matches!(motion_g, Some((MotionMode::ArcCw | MotionMode::ArcCcw, _)))
+        && ['I', 'J', 'K'].iter().any(|&l| lx.word(l).is_some())
+        && lx.word('R').is_none()
+        && axis_user_nonmodal.is_none();
+    let has_axes = has_axes || center_only_arc;
     if let (Some((_, w)), Some((m, _))) = (axis_user_nonmodal, motion_g) {
         if m != MotionMode::None && has_axes {
             return Err(err(ln, w.column, ErrorKind::ConflictingAxisUsers));
@@ -761,7 +769,8 @@ fn build_arc(
         Units::Mm => ARC_RADIUS_TOLERANCE_MM,
     };
     let has_axis = lx.words.iter().any(|w| AXIS_LETTERS.contains(&w.letter));
-    if !has_axis {
+    let has_center = ['I', 'J', 'K'].iter().any(|&l| lx.word(l).is_some());
+    if !has_axis && (!has_center || lx.word('R').is_some()) {
         return Err(err(ln, first_axis_col, ErrorKind::ArcWithoutAxes));
     }
     let r_word = lx.word('R');

@@ -191,3 +191,20 @@ fn lexical_variants() {
     assert_eq!(p.lines()[0].ending, "\r\n");
     assert_eq!(p.lines()[0].text, "G0 X1");
 }
+
+/// Regression: linuxcnc/quick-tests/tangent_arcs.ngc programs `G2 J-1`,
+/// centre words without axis words: a full circle back to the current point.
+#[test]
+fn regression_tangent_arcs_centre_only_full_circle() {
+    let p = parse(b"G21 G90 G17\nG0 X0 Y0 Z0\nG1 X10 F100\nG2 J-5\nG1 Y10\n").unwrap();
+    let pcs = p.pieces();
+    let Curve::Arc(a) = &pcs[2].curve else {
+        panic!("not an arc")
+    };
+    assert!((a.sweep - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+    assert_eq!(pcs[2].start(), v(10., 0., 0.));
+    assert_eq!(pcs[2].end(), v(10., 0., 0.));
+    assert!(close(a.eval(0.25), v(15., -5., 0.))); // clockwise: 12 to 3 o'clock
+                                                   // R form still needs an end point.
+    assert!(parse(b"G21\nG0 X0 Y0\nG2 R5\n").is_err());
+}

@@ -107,7 +107,13 @@ pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity 
         return Continuity::G0;
     };
     let scale = 1.0 + at.x.abs().max(at.y.abs()).max(at.z.abs());
-    let l = a.start().dist(at).min(b.end().dist(at)).max(jt.position);
+    // Length scale of each piece: speed at the joint times parameter range
+    // (a chord would be 0 for a full circle).
+    let (a0, _) = a.domain();
+    let (_, b1) = b.domain();
+    let l = (da1.norm() * (ta - a0))
+        .min(db1.norm() * (b1 - tb))
+        .max(jt.position);
     let round = 1e3 * f64::EPSILON * scale;
     if ua.angle_to(ub) > jt.angle + round / l {
         return Continuity::G0;
