@@ -135,11 +135,18 @@ impl Arc {
 }
 
 impl Arc {
-    /// `C(t)` from the formula, without snapping the ends.
-    pub fn eval_formula(&self, t: f64) -> Vec3 {
+    /// Unit radial and tangential directions at `t`.
+    fn frame(&self, t: f64) -> (Vec3, Vec3) {
         let a = t * self.sweep;
         let (s, c) = (math::sin(a), math::cos(a));
-        self.center + (self.u * c + self.v() * s) * self.radius(t) + self.normal * (t * self.rise)
+        let v = self.v();
+        (self.u * c + v * s, v * c - self.u * s)
+    }
+
+    /// `C(t)` from the formula, without snapping the ends.
+    pub fn eval_formula(&self, t: f64) -> Vec3 {
+        let (radial, _) = self.frame(t);
+        self.center + radial * self.radius(t) + self.normal * (t * self.rise)
     }
 }
 
@@ -154,26 +161,16 @@ impl ParamCurve for Arc {
         if t >= 1.0 {
             return self.p1;
         }
-        let a = t * self.sweep;
-        let (s, c) = (math::sin(a), math::cos(a));
-        self.center + (self.u * c + self.v() * s) * self.radius(t) + self.normal * (t * self.rise)
+        self.eval_formula(t)
     }
     fn deriv1(&self, t: f64) -> Vec3 {
-        let a = t * self.sweep;
-        let (s, c) = (math::sin(a), math::cos(a));
-        let v = self.v();
-        let radial = self.u * c + v * s;
-        let tang = v * c - self.u * s;
+        let (radial, tang) = self.frame(t);
         radial * (self.r1 - self.r0)
             + tang * (self.radius(t) * self.sweep)
             + self.normal * self.rise
     }
     fn deriv2(&self, t: f64) -> Vec3 {
-        let a = t * self.sweep;
-        let (s, c) = (math::sin(a), math::cos(a));
-        let v = self.v();
-        let radial = self.u * c + v * s;
-        let tang = v * c - self.u * s;
+        let (radial, tang) = self.frame(t);
         tang * (2.0 * (self.r1 - self.r0) * self.sweep)
             - radial * (self.radius(t) * self.sweep * self.sweep)
     }
