@@ -16,6 +16,7 @@
 //! * [`path`]: pieces of geometry tied to the input lines they replace,
 //!   grouped in runs.
 //! * [`smooth`]: smoothing methods behind one trait, and [`smooth::verify`].
+//! * [`feed`]: jerk-limited (double-S) velocity profiles and reachability.
 //!
 //! The crate has no I/O and builds without `std` (`default-features = false`)
 //! for `core + alloc` targets such as a controller's firmware. Coordinates are
@@ -24,6 +25,7 @@
 
 extern crate alloc;
 
+pub mod feed;
 pub mod geom;
 mod math;
 pub mod path;

@@ -29,3 +29,7 @@ pub fn floor(x: f64) -> f64 {
 pub fn abs(x: f64) -> f64 {
     libm::fabs(x)
 }
+#[inline]
+pub fn cbrt(x: f64) -> f64 {
+    libm::cbrt(x)
+}

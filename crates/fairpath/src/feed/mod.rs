@@ -16,12 +16,13 @@
 //!   the shortest distance of a velocity change. These are the building
 //!   blocks of the look-ahead.
 //!
+//! * [`limits`]: machine limits (feed, acceleration, jerk, per-axis limits,
+//!   interpolation period, chord error) and the speed caps they put on a
+//!   point of the path (curvature, curvature change, chord error, axes) and
+//!   on joints that are not G2, each with its source.
+//!
 //! Planned (not built yet):
 //!
-//! * velocity limits along the path: the programmed feed, the curvature
-//!   (centripetal acceleration and jerk, chord error of the interpolation
-//!   period), and joints the smoother kept as corners (velocity to zero or to
-//!   a corner tolerance);
 //! * bidirectional look-ahead: a backward pass (deceleration reach from the
 //!   end of the run) and a forward pass (acceleration reach from the start),
 //!   so every segment's entry and exit velocities are feasible for
@@ -35,12 +36,11 @@
 //! error naming the offending quantity, never a panic.
 
 pub mod double_s;
+pub mod limits;
 pub mod reach;
 
 pub use double_s::{DoubleS, Method, Phases, State};
-pub use reach::{
-    max_entry_velocity, max_reachable_velocity, velocity_change, VelocityChange,
-};
+pub use reach::{max_entry_velocity, max_reachable_velocity, velocity_change, VelocityChange};
 
 /// Kinematic limits along the path: velocity (mm/s), acceleration (mm/s²)
 /// and jerk (mm/s³), each a positive finite number.
@@ -101,7 +101,9 @@ pub enum FeedError {
     },
     /// `v1` cannot be reached from `v0` within `h` under the acceleration and
     /// jerk limits: the shortest velocity change needs `needed` mm.
-    #[error("v1 = {v1} mm/s cannot be reached from v0 = {v0} mm/s within {h} mm (needs {needed} mm)")]
+    #[error(
+        "v1 = {v1} mm/s cannot be reached from v0 = {v0} mm/s within {h} mm (needs {needed} mm)"
+    )]
     Infeasible {
         /// Segment length, mm.
         h: f64,

@@ -1,0 +1,211 @@
+//! Machine limits and the speed caps they put on a point of a path.
+//!
+//! Units: mm, s (feeds in mm/s here; G-code feeds in mm/min are divided by
+//! 60 by the caller). Each cap is the largest tangential speed `v` that
+//! keeps one quantity within its limit, with its source:
+//!
+//! | cap | constraint | source |
+//! |---|---|---|
+//! | feed | `v <= F` | programmed feed, machine maximum |
+//! | centripetal acceleration | `kappa v^2 <= A_n` | normal acceleration of a point moving on a curve |
+//! | centripetal jerk | `kappa^2 v^3 <= J` | `d/dt (kappa v^2 N) = kappa^2 v^3 (-T) + ...`: the tangential part of the jerk at constant speed |
+//! | curvature change | `abs(dkappa/ds) v^3 <= J` | the normal jerk `d(kappa v^2)/dt = (dkappa/ds) v^3` at constant speed |
+//! | interpolation chord error | `v <= (2/Ts) sqrt(2 rho e - e^2)` | a chord of length `v Ts` on a circle of radius `rho = 1/kappa` deviates by `e` (the usual CNC interpolation limit, e.g. seed 001) |
+//! | axis velocity | `v abs(T_i) <= V_i` | per-axis drive limits |
+//! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
+//!
+//! At a joint that is not G2 the speed must also let the direction or the
+//! curvature change within one interpolation period `Ts` ([`junction_cap`]).
+
+use crate::geom::Vec3;
+use crate::math;
+
+/// The limits of a machine. Every value must be positive and finite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MachineLimits {
+    /// Largest feed, mm/s.
+    pub max_feed: f64,
+    /// Largest tangential acceleration, mm/s^2.
+    pub acc: f64,
+    /// Largest normal (centripetal) acceleration, mm/s^2.
+    pub normal_acc: f64,
+    /// Largest jerk, mm/s^3.
+    pub jerk: f64,
+    /// Per-axis velocity limits (X, Y, Z), mm/s.
+    pub axis_vel: [f64; 3],
+    /// Per-axis acceleration limits (X, Y, Z), mm/s^2.
+    pub axis_acc: [f64; 3],
+    /// Interpolation period, s.
+    pub period: f64,
+    /// Largest chord error of the interpolator, mm.
+    pub chord_error: f64,
+}
+
+/// A limit that is not a positive finite number.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error("machine limit {name} must be a positive number, got {value}")]
+pub struct LimitError {
+    pub name: &'static str,
+    pub value: f64,
+}
+
+impl MachineLimits {
+    /// The machine of the thesis' simulations (seed 003): V 400 mm/s,
+    /// A 4000 mm/s^2, J 20000 mm/s^3, Ts 1 ms; axes as fast as the path;
+    /// chord error 1 um.
+    pub fn thesis() -> MachineLimits {
+        MachineLimits {
+            max_feed: 400.0,
+            acc: 4000.0,
+            normal_acc: 4000.0,
+            jerk: 20000.0,
+            axis_vel: [400.0; 3],
+            axis_acc: [4000.0; 3],
+            period: 0.001,
+            chord_error: 0.001,
+        }
+    }
+
+    /// Checks every limit, naming the first bad one.
+    pub fn validate(&self) -> Result<(), LimitError> {
+        let named = [
+            ("max feed", self.max_feed),
+            ("acceleration", self.acc),
+            ("normal acceleration", self.normal_acc),
+            ("jerk", self.jerk),
+            ("X velocity", self.axis_vel[0]),
+            ("Y velocity", self.axis_vel[1]),
+            ("Z velocity", self.axis_vel[2]),
+            ("X acceleration", self.axis_acc[0]),
+            ("Y acceleration", self.axis_acc[1]),
+            ("Z acceleration", self.axis_acc[2]),
+            ("interpolation period", self.period),
+            ("chord error", self.chord_error),
+        ];
+        for (name, value) in named {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(LimitError { name, value });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Which constraint sets a speed cap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Constraint {
+    Feed,
+    NormalAcceleration,
+    NormalJerk,
+    CurvatureChange,
+    ChordError,
+    AxisVelocity,
+    AxisAcceleration,
+    Junction,
+}
+
+impl Constraint {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Constraint::Feed => "feed",
+            Constraint::NormalAcceleration => "normal acceleration",
+            Constraint::NormalJerk => "normal jerk",
+            Constraint::CurvatureChange => "curvature change",
+            Constraint::ChordError => "chord error",
+            Constraint::AxisVelocity => "axis velocity",
+            Constraint::AxisAcceleration => "axis acceleration",
+            Constraint::Junction => "junction",
+        }
+    }
+}
+
+/// The local geometry of a path point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathPoint {
+    /// Unit tangent.
+    pub tangent: Vec3,
+    /// Curvature vector `kappa N` (1/mm).
+    pub curvature: Vec3,
+    /// `dkappa/ds` (1/mm^2).
+    pub dkappa_ds: f64,
+}
+
+/// The largest speed (mm/s) at `p` under `m` and the programmed `feed`
+/// (mm/s), with the constraint that sets it (the first in
+/// [`Constraint`] order on ties).
+pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constraint) {
+    let mut best = (feed.min(m.max_feed), Constraint::Feed);
+    let mut take = |v: f64, c: Constraint| {
+        if v < best.0 {
+            best = (v, c);
+        }
+    };
+    let k = p.curvature.norm();
+    if k > 0.0 {
+        take(math::sqrt(m.normal_acc / k), Constraint::NormalAcceleration);
+        take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+        let rho = 1.0 / k;
+        let e = m.chord_error.min(rho);
+        take(
+            2.0 / m.period * math::sqrt((2.0 * rho * e - e * e).max(0.0)),
+            Constraint::ChordError,
+        );
+        let n = p.curvature / k;
+        let na = [n.x, n.y, n.z];
+        for (i, &ni) in na.iter().enumerate() {
+            let a = k * math::abs(ni);
+            if a > 0.0 {
+                take(math::sqrt(m.axis_acc[i] / a), Constraint::AxisAcceleration);
+            }
+        }
+    }
+    if p.dkappa_ds != 0.0 {
+        take(
+            math::cbrt(m.jerk / math::abs(p.dkappa_ds)),
+            Constraint::CurvatureChange,
+        );
+    }
+    let t = [p.tangent.x, p.tangent.y, p.tangent.z];
+    for (i, &ti) in t.iter().enumerate() {
+        if ti != 0.0 {
+            take(m.axis_vel[i] / math::abs(ti), Constraint::AxisVelocity);
+        }
+    }
+    best
+}
+
+/// The largest speed (mm/s) through a joint that is not G2, from the same
+/// limits: the machine must turn the velocity or the acceleration within
+/// one interpolation period `Ts`.
+///
+/// * A corner turning the tangent by `phi` changes the velocity by
+///   `2 v sin(phi/2)` in one period: that needs `2 v sin(phi/2) <= A Ts`,
+///   and the acceleration step `2 v sin(phi/2) / Ts` must itself be built
+///   within a period at jerk `J`: `2 v sin(phi/2) <= J Ts^2`.
+/// * A tangent joint (G1) whose curvature vector jumps by `dk` steps the
+///   normal acceleration by `v^2 dk`, which must be built within a period:
+///   `v^2 dk <= J Ts`.
+///
+/// `tangent_in`/`tangent_out` are unit tangents, `k_in`/`k_out` curvature
+/// vectors (1/mm).
+pub fn junction_cap(
+    m: &MachineLimits,
+    tangent_in: Vec3,
+    tangent_out: Vec3,
+    k_in: Vec3,
+    k_out: Vec3,
+) -> f64 {
+    let phi = tangent_in.angle_to(tangent_out);
+    let mut v = f64::INFINITY;
+    let s = 2.0 * math::sin(0.5 * phi);
+    if s > 0.0 {
+        v = v
+            .min(m.acc * m.period / s)
+            .min(m.jerk * m.period * m.period / s);
+    }
+    let dk = (k_out - k_in).norm();
+    if dk > 0.0 {
+        v = v.min(math::sqrt(m.jerk * m.period / dk));
+    }
+    v
+}

@@ -1,0 +1,112 @@
+//! Speed caps from machine limits: each cap makes its own constraint hold
+//! with equality, and bad limits are rejected by name.
+
+use fairpath::feed::limits::{junction_cap, speed_cap, Constraint, MachineLimits, PathPoint};
+use fairpath::geom::Vec3;
+
+fn circle_point(r: f64) -> PathPoint {
+    PathPoint {
+        tangent: Vec3::new(0.0, 1.0, 0.0),
+        curvature: Vec3::new(-1.0 / r, 0.0, 0.0),
+        dkappa_ds: 0.0,
+    }
+}
+
+#[test]
+fn bad_limits_are_named() {
+    let mut m = MachineLimits::thesis();
+    assert!(m.validate().is_ok());
+    m.jerk = f64::NAN;
+    assert_eq!(m.validate().unwrap_err().name, "jerk");
+    m.jerk = 1.0;
+    m.period = 0.0;
+    assert_eq!(m.validate().unwrap_err().name, "interpolation period");
+    m.period = 0.001;
+    m.axis_acc[2] = -5.0;
+    let e = m.validate().unwrap_err();
+    assert_eq!(e.name, "Z acceleration");
+    assert!(e.to_string().contains("Z acceleration"));
+}
+
+#[test]
+fn straight_line_is_capped_by_feed_and_axes() {
+    let mut m = MachineLimits::thesis();
+    m.axis_vel = [100.0, 400.0, 400.0];
+    let t = Vec3::new(1.0, 1.0, 0.0) / 2f64.sqrt();
+    let p = PathPoint {
+        tangent: t,
+        curvature: Vec3::ZERO,
+        dkappa_ds: 0.0,
+    };
+    let (v, c) = speed_cap(&m, 1000.0, &p);
+    assert_eq!(c, Constraint::AxisVelocity);
+    assert!((v - 100.0 * 2f64.sqrt()).abs() < 1e-9);
+    let (v, c) = speed_cap(&m, 50.0, &p);
+    assert_eq!((v, c), (50.0, Constraint::Feed));
+}
+
+#[test]
+fn circle_caps_hold_with_equality_for_the_binding_constraint() {
+    let m = MachineLimits::thesis();
+    for r in [0.01, 0.1, 1.0, 10.0, 100.0, 1000.0] {
+        let p = circle_point(r);
+        let (v, c) = speed_cap(&m, 1e9, &p);
+        let k = 1.0 / r;
+        // Every constraint holds at the cap.
+        assert!(k * v * v <= m.normal_acc * (1.0 + 1e-12), "r {r}");
+        assert!(k * k * v * v * v <= m.jerk * (1.0 + 1e-12), "r {r}");
+        let chord = v * m.period;
+        let sag = r - (r * r - chord * chord / 4.0).max(0.0).sqrt();
+        assert!(
+            sag <= m.chord_error * (1.0 + 1e-9) || chord >= 2.0 * r,
+            "r {r}: sag {sag}"
+        );
+        assert!(v <= m.max_feed);
+        // And the binding one with equality.
+        let tight = match c {
+            Constraint::NormalAcceleration => k * v * v / m.normal_acc,
+            Constraint::NormalJerk => k * k * v * v * v / m.jerk,
+            Constraint::ChordError => sag / m.chord_error,
+            Constraint::Feed => v / m.max_feed,
+            Constraint::AxisAcceleration => k * v * v / m.axis_acc[0],
+            Constraint::AxisVelocity => v / m.axis_vel[1],
+            other => panic!("unexpected {other:?}"),
+        };
+        assert!((tight - 1.0).abs() < 1e-9, "r {r}: {c:?} at {tight}");
+    }
+    // Thesis machine: a 1 mm radius is jerk-bound: (J r^2)^(1/3) = 27.1 mm/s.
+    let (v, c) = speed_cap(&m, 1e9, &circle_point(1.0));
+    assert_eq!(c, Constraint::NormalJerk);
+    assert!((v - 20000f64.cbrt()).abs() < 1e-9);
+}
+
+#[test]
+fn curvature_change_caps_clothoids() {
+    let m = MachineLimits::thesis();
+    let p = PathPoint {
+        tangent: Vec3::X,
+        curvature: Vec3::ZERO,
+        dkappa_ds: 2.0,
+    };
+    let (v, c) = speed_cap(&m, 1e9, &p);
+    assert_eq!(c, Constraint::CurvatureChange);
+    assert!((2.0 * v * v * v - m.jerk).abs() < 1e-6);
+}
+
+#[test]
+fn junction_caps() {
+    let m = MachineLimits::thesis();
+    let a = Vec3::X;
+    let b = Vec3::new(0.0, 1.0, 0.0);
+    // 90 degrees: the jerk bound J Ts^2 / (2 sin 45) is the smaller.
+    let v = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO);
+    assert!((v - m.jerk * m.period * m.period / 2f64.sqrt()).abs() < 1e-12);
+    // Straight on: no cap.
+    assert_eq!(
+        junction_cap(&m, a, a, Vec3::ZERO, Vec3::ZERO),
+        f64::INFINITY
+    );
+    // Tangent line into a 10 mm arc: v^2 / 10 = J Ts.
+    let v = junction_cap(&m, a, a, Vec3::ZERO, Vec3::new(0.0, 0.1, 0.0));
+    assert!((v * v * 0.1 - m.jerk * m.period).abs() < 1e-9);
+}
