@@ -7,6 +7,7 @@ pub mod check;
 pub mod output;
 pub mod parallel;
 pub mod pipeline;
+pub mod simulate;
 pub mod summary;
 
 /// Output format of `fairpath smooth`.

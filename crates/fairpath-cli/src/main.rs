@@ -23,6 +23,12 @@ enum Band {
     Half,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum TextOrJson {
+    Text,
+    Json,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Replace the feed moves of a program with a G2 path within the tolerance.
@@ -56,6 +62,35 @@ enum Command {
         /// Print the summary as JSON.
         #[arg(long)]
         json_summary: bool,
+    },
+    /// Plan a jerk-limited feed along a program (G-code or JSON) and report
+    /// the machining time.
+    Simulate {
+        program: PathBuf,
+        /// Machine file (TOML: max_feed [mm/min], acc, normal_acc, jerk,
+        /// period, chord_error, axis_feed, axis_acc).
+        #[arg(long)]
+        machine: Option<PathBuf>,
+        /// Maximum feed, mm/min (default 24000).
+        #[arg(long)]
+        max_feed: Option<f64>,
+        /// Acceleration, mm/s^2 (default 4000).
+        #[arg(long)]
+        acc: Option<f64>,
+        /// Jerk, mm/s^3 (default 20000).
+        #[arg(long)]
+        jerk: Option<f64>,
+        /// Interpolation period, s (default 0.001).
+        #[arg(long)]
+        period: Option<f64>,
+        /// Run every feed move at the machine's maximum feed.
+        #[arg(long)]
+        override_feed: bool,
+        /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z).
+        #[arg(long)]
+        profile: Option<PathBuf>,
+        #[arg(long, value_enum, default_value_t = TextOrJson::Text)]
+        format: TextOrJson,
     },
     /// Verify a smoothed program (G-code or JSON) against its original.
     Check {
@@ -110,6 +145,33 @@ fn run(cli: Cli) -> Result<ExitCode> {
             } else {
                 print!("{}", summary.text());
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Simulate {
+            program,
+            machine,
+            max_feed,
+            acc,
+            jerk,
+            period,
+            override_feed,
+            profile,
+            format,
+        } => {
+            let flags = fairpath_cli::simulate::MachineFlags {
+                max_feed,
+                acc,
+                jerk,
+                period,
+            };
+            let m = fairpath_cli::simulate::machine(machine.as_deref(), flags)?;
+            fairpath_cli::simulate::run(
+                &program,
+                &m,
+                override_feed,
+                profile.as_deref(),
+                format == TextOrJson::Json,
+            )?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Check {

@@ -276,10 +276,7 @@ pub fn smooth_file(
     phases.mark("render");
     let written = check_written(&program, &text, opts)?;
     phases.mark("check written output");
-    if std::env::var_os("FAIRPATH_TIMING").is_some() {
-        eprint!("{}", phases.report());
-    }
-    let summary = crate::summary::Summary::new(
+    let mut summary = crate::summary::Summary::new(
         input,
         output,
         opts,
@@ -288,6 +285,15 @@ pub fn smooth_file(
         &written,
         started.elapsed(),
     );
+    summary.feed_time = Some((
+        crate::simulate::feed_time(result.runs.iter().map(|r| r.original.pieces.as_slice()))?,
+        crate::simulate::feed_time(result.runs.iter().map(|r| r.smoothed.pieces.as_slice()))?,
+    ));
+    phases.mark("plan feed (before/after)");
+    summary.elapsed = started.elapsed();
+    if std::env::var_os("FAIRPATH_TIMING").is_some() {
+        eprint!("{}", phases.report());
+    }
     if !written.within {
         eprint!("{}", summary.text());
         bail!(

@@ -33,6 +33,9 @@ pub struct Summary {
     pub length_after: f64,
     pub peak_curvature: f64,
     pub elapsed: Duration,
+    /// Planned feed time (s) before and after, on the default machine
+    /// (`fairpath simulate` defaults) with the programmed feeds.
+    pub feed_time: Option<(f64, f64)>,
 }
 
 impl Summary {
@@ -121,6 +124,7 @@ impl Summary {
                 .map(|r| r.report.peak_curvature)
                 .fold(0.0, f64::max),
             elapsed,
+            feed_time: None,
         }
     }
 
@@ -191,6 +195,12 @@ impl Summary {
         } else {
             let _ = writeln!(s, "  peak curvature:  0 (no curves)");
         }
+        if let Some((a, b)) = self.feed_time {
+            let _ = writeln!(
+                s,
+                "  feed time:       {a:.3} s -> {b:.3} s (planned: V 400 mm/s, A 4000, J 20000, programmed feeds)"
+            );
+        }
         let _ = writeln!(s, "  time taken:      {:.3} s", self.elapsed.as_secs_f64());
         s
     }
@@ -214,6 +224,8 @@ impl Summary {
             "length_before_mm": self.length_before, "length_after_mm": self.length_after,
             "peak_curvature_per_mm": self.peak_curvature,
             "time_s": self.elapsed.as_secs_f64(),
+            "feed_time_before_s": self.feed_time.map(|t| t.0),
+            "feed_time_after_s": self.feed_time.map(|t| t.1),
         })
         .to_string()
     }

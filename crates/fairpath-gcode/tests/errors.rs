@@ -87,7 +87,9 @@ fn semantic_errors() {
     assert_eq!(e.kind, ErrorKind::ArcRadiusFullCircle);
     let e = err(b"G0 X0 Y0\nG2 X1 Y1");
     assert_eq!(e.kind, ErrorKind::ArcWithoutCenter);
-    let e = err(b"G0 X0 Y0\nG2 I1");
+    // `G2 I1` is a full circle in LinuxCNC (checked with rs274); the R form
+    // without an end point is an error.
+    let e = err(b"G0 X0 Y0\nG2 R1");
     assert_eq!(e.kind, ErrorKind::ArcWithoutAxes);
     let e = err(b"G0 X0 Y0\nG2 X2 I1 P0");
     assert_eq!(e.kind, ErrorKind::BadTurns(0.0));

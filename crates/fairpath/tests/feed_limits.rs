@@ -98,9 +98,17 @@ fn junction_caps() {
     let m = MachineLimits::thesis();
     let a = Vec3::X;
     let b = Vec3::new(0.0, 1.0, 0.0);
-    // 90 degrees: the jerk bound J Ts^2 / (2 sin 45) is the smaller.
+    // 90 degrees: a circle of radius e sin45 / (1 - sin45) tangent to both
+    // moves; its middle is e from the corner.
     let v = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO);
-    assert!((v - m.jerk * m.period * m.period / 2f64.sqrt()).abs() < 1e-12);
+    let s45 = 0.5f64.sqrt();
+    let r = m.chord_error * s45 / (1.0 - s45);
+    assert!((r / s45 - r - m.chord_error).abs() < 1e-15);
+    let want = (m.normal_acc * r).sqrt().min((m.jerk * r * r).cbrt());
+    assert!((v - want).abs() < 1e-12);
+    // Gentler corners are faster.
+    let c = Vec3::new(1.0, 0.1, 0.0) / 1.01f64.sqrt();
+    assert!(junction_cap(&m, a, c, Vec3::ZERO, Vec3::ZERO) > v);
     // Straight on: no cap.
     assert_eq!(
         junction_cap(&m, a, a, Vec3::ZERO, Vec3::ZERO),

@@ -14,8 +14,9 @@
 //! | axis velocity | `v abs(T_i) <= V_i` | per-axis drive limits |
 //! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
 //!
-//! At a joint that is not G2 the speed must also let the direction or the
-//! curvature change within one interpolation period `Ts` ([`junction_cap`]).
+//! At a joint that is not G2 the speed is capped by [`junction_cap`]: a
+//! corner is passed on the circle that deviates by the chord error, a
+//! curvature jump within one interpolation period.
 
 use crate::geom::Vec3;
 use crate::math;
@@ -175,16 +176,17 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
 }
 
 /// The largest speed (mm/s) through a joint that is not G2, from the same
-/// limits: the machine must turn the velocity or the acceleration within
-/// one interpolation period `Ts`.
+/// limits:
 ///
-/// * A corner turning the tangent by `phi` changes the velocity by
-///   `2 v sin(phi/2)` in one period: that needs `2 v sin(phi/2) <= A Ts`,
-///   and the acceleration step `2 v sin(phi/2) / Ts` must itself be built
-///   within a period at jerk `J`: `2 v sin(phi/2) <= J Ts^2`.
-/// * A tangent joint (G1) whose curvature vector jumps by `dk` steps the
-///   normal acceleration by `v^2 dk`, which must be built within a period:
-///   `v^2 dk <= J Ts`.
+/// * a corner (the tangent turns by `phi`) is passed as the interpolator
+///   passes it: on the circle tangent to both moves that stays within the
+///   machine's chord error `e` of the corner (the junction-deviation model of
+///   grbl and its successors), of radius `R = e sin(a) / (1 - sin(a))` with
+///   `a = (pi - phi) / 2`; on it the centripetal acceleration and jerk caps
+///   apply: `v <= sqrt(A_n R)` and `v <= (J R^2)^(1/3)`;
+/// * a tangent joint (G1) whose curvature vector jumps by `dk` steps the
+///   normal acceleration by `v^2 dk` within one period `Ts`, a jerk that
+///   must stay within `J`: `v <= sqrt(J Ts / dk)`.
 ///
 /// `tangent_in`/`tangent_out` are unit tangents, `k_in`/`k_out` curvature
 /// vectors (1/mm).
@@ -196,16 +198,18 @@ pub fn junction_cap(
     k_out: Vec3,
 ) -> f64 {
     let phi = tangent_in.angle_to(tangent_out);
-    let mut v = f64::INFINITY;
-    let s = 2.0 * math::sin(0.5 * phi);
-    if s > 0.0 {
-        v = v
-            .min(m.acc * m.period / s)
-            .min(m.jerk * m.period * m.period / s);
+    if phi > 0.0 {
+        let sa = math::cos(0.5 * phi); // sin((pi - phi) / 2)
+        if sa >= 1.0 {
+            return f64::INFINITY;
+        }
+        let r = m.chord_error * sa / (1.0 - sa);
+        return math::sqrt(m.normal_acc * r).min(math::cbrt(m.jerk * r * r));
     }
     let dk = (k_out - k_in).norm();
     if dk > 0.0 {
-        v = v.min(math::sqrt(m.jerk * m.period / dk));
+        math::sqrt(m.jerk * m.period / dk)
+    } else {
+        f64::INFINITY
     }
-    v
 }

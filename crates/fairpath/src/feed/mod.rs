@@ -37,6 +37,7 @@
 
 pub mod double_s;
 pub mod limits;
+pub mod plan;
 pub mod reach;
 
 pub use double_s::{DoubleS, Method, Phases, State};

@@ -1,0 +1,364 @@
+//! `fairpath simulate`: plan a jerk-limited feed along every move of a
+//! program (G-code or fairpath JSON) and report the machining time, the
+//! largest acceleration and jerk used, and the constraint that limits each
+//! segment; optionally the sampled profile as CSV.
+
+use anyhow::{anyhow, bail, Context, Result};
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
+use fairpath::geom::ParamCurve;
+use fairpath::path::{Piece, Run};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A machine file (TOML). Feeds in mm/min as G-code writes them, the rest
+/// in mm and s. Missing keys keep the defaults (the thesis machine).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineFile {
+    pub max_feed: Option<f64>,
+    pub acc: Option<f64>,
+    pub normal_acc: Option<f64>,
+    pub jerk: Option<f64>,
+    pub period: Option<f64>,
+    pub chord_error: Option<f64>,
+    /// Per-axis velocity limits, mm/min.
+    pub axis_feed: Option<[f64; 3]>,
+    /// Per-axis acceleration limits, mm/s^2.
+    pub axis_acc: Option<[f64; 3]>,
+}
+
+/// Flags that override the machine file.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct MachineFlags {
+    pub max_feed: Option<f64>,
+    pub acc: Option<f64>,
+    pub jerk: Option<f64>,
+    pub period: Option<f64>,
+}
+
+/// The machine: defaults (the thesis' V 400 mm/s, A 4000 mm/s^2, J 20000
+/// mm/s^3, Ts 1 ms), then the file, then the flags. Every limit is checked.
+pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits> {
+    let mut m = MachineLimits::thesis();
+    if let Some(f) = file {
+        let text =
+            std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
+        let mf: MachineFile = toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
+        if let Some(v) = mf.max_feed {
+            m.max_feed = v / 60.0;
+            m.axis_vel = [m.max_feed; 3];
+        }
+        if let Some(v) = mf.acc {
+            m.acc = v;
+            m.normal_acc = v;
+            m.axis_acc = [v; 3];
+        }
+        if let Some(v) = mf.normal_acc {
+            m.normal_acc = v;
+        }
+        if let Some(v) = mf.jerk {
+            m.jerk = v;
+        }
+        if let Some(v) = mf.period {
+            m.period = v;
+        }
+        if let Some(v) = mf.chord_error {
+            m.chord_error = v;
+        }
+        if let Some(v) = mf.axis_feed {
+            m.axis_vel = v.map(|x| x / 60.0);
+        }
+        if let Some(v) = mf.axis_acc {
+            m.axis_acc = v;
+        }
+    }
+    if let Some(v) = flags.max_feed {
+        m.max_feed = v / 60.0;
+        m.axis_vel = m.axis_vel.map(|a| a.max(m.max_feed));
+    }
+    if let Some(v) = flags.acc {
+        m.acc = v;
+        m.normal_acc = v;
+        m.axis_acc = m.axis_acc.map(|a| a.max(v));
+    }
+    if let Some(v) = flags.jerk {
+        m.jerk = v;
+    }
+    if let Some(v) = flags.period {
+        m.period = v;
+    }
+    m.validate().map_err(|e| anyhow!("{e}"))?;
+    Ok(m)
+}
+
+/// What a program needs to be simulated: its feed runs and rapids in order.
+pub enum Motion {
+    Feed(Run),
+    Rapid(Piece),
+}
+
+/// The motions of a program: G-code runs (and each pinned move on its
+/// own), or, for JSON, consecutive continuous feed pieces.
+pub fn motions(path: &Path) -> Result<Vec<Motion>> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+    let mut out = Vec::new();
+    if is_json {
+        let text =
+            std::str::from_utf8(&bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
+        let pieces =
+            fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let mut cur: Vec<Piece> = Vec::new();
+        for p in pieces {
+            let breaks = p.rapid || cur.last().is_some_and(|q| q.end().dist(p.start()) > 1e-9);
+            if breaks && !cur.is_empty() {
+                out.push(Motion::Feed(Run::new(std::mem::take(&mut cur))));
+            }
+            if p.rapid {
+                out.push(Motion::Rapid(p));
+            } else {
+                cur.push(p);
+            }
+        }
+        if !cur.is_empty() {
+            out.push(Motion::Feed(Run::new(cur)));
+        }
+    } else {
+        let program = crate::pipeline::parse_program(path, &bytes)?;
+        let runs = program.runs();
+        let spans = program.run_spans();
+        let mut next_run = 0;
+        let mut mi = 0;
+        let moves = program.moves();
+        while mi < moves.len() {
+            if next_run < spans.len() && spans[next_run].moves.start == mi {
+                out.push(Motion::Feed(runs[next_run].clone()));
+                mi = spans[next_run].moves.end;
+                next_run += 1;
+                continue;
+            }
+            let m = &moves[mi];
+            if m.piece.rapid {
+                out.push(Motion::Rapid(m.piece.clone()));
+            } else {
+                out.push(Motion::Feed(Run::new(vec![m.piece.clone()])));
+            }
+            mi += 1;
+        }
+    }
+    Ok(out)
+}
+
+/// One planned motion: a feed run and its plan, or a rapid and its profile.
+pub type PlannedMotion = (
+    Option<Run>,
+    RunPlan,
+    Option<(Piece, fairpath::feed::DoubleS)>,
+);
+
+/// A profile and the map from arc length along it to a point.
+type Located<'a> = (
+    &'a fairpath::feed::DoubleS,
+    Box<dyn Fn(f64) -> fairpath::Vec3 + 'a>,
+);
+
+/// The result of a simulation.
+pub struct Simulation {
+    pub feed_time: f64,
+    pub rapid_time: f64,
+    pub max_acc: f64,
+    pub max_jerk: f64,
+    pub segments: usize,
+    pub limiting: BTreeMap<&'static str, usize>,
+    pub plans: Vec<PlannedMotion>,
+}
+
+/// Plans every motion.
+pub fn simulate(motions: &[Motion], m: &MachineLimits, override_feed: bool) -> Result<Simulation> {
+    let opts = PlanOptions {
+        limits: *m,
+        override_feed,
+    };
+    let mut sim = Simulation {
+        feed_time: 0.0,
+        rapid_time: 0.0,
+        max_acc: 0.0,
+        max_jerk: 0.0,
+        segments: 0,
+        limiting: BTreeMap::new(),
+        plans: Vec::new(),
+    };
+    for mo in motions {
+        match mo {
+            Motion::Feed(run) => {
+                let line = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+                let plan = plan_run(&run.pieces, &opts)
+                    .map_err(|e| anyhow!("planning the run at line {line}: {e}"))?;
+                sim.feed_time += plan.time;
+                sim.max_acc = sim.max_acc.max(plan.max_acc);
+                sim.max_jerk = sim.max_jerk.max(plan.max_jerk);
+                sim.segments += plan.segments.len();
+                for s in &plan.segments {
+                    *sim.limiting.entry(s.constraint.as_str()).or_default() += 1;
+                }
+                sim.plans.push((Some(run.clone()), plan, None));
+            }
+            Motion::Rapid(p) => {
+                let len = p.curve.length(1e-6);
+                if len > 0.0 {
+                    let prof = plan_rapid(len, m).map_err(|e| anyhow!("planning a rapid: {e}"))?;
+                    sim.rapid_time += prof.duration();
+                    sim.max_acc = sim.max_acc.max(prof.alim_a()).max(prof.alim_d());
+                    if prof.phases().tj1 > 0.0 {
+                        sim.max_jerk = sim.max_jerk.max(m.jerk);
+                    }
+                    sim.plans
+                        .push((None, RunPlan::default(), Some((p.clone(), prof))));
+                }
+            }
+        }
+    }
+    Ok(sim)
+}
+
+impl Simulation {
+    pub fn time(&self) -> f64 {
+        self.feed_time + self.rapid_time
+    }
+
+    pub fn text(&self, m: &MachineLimits) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "machine: max feed {} mm/min, acc {} mm/s^2, jerk {} mm/s^3, period {} s",
+            m.max_feed * 60.0,
+            m.acc,
+            m.jerk,
+            m.period
+        );
+        let _ = writeln!(
+            s,
+            "  time:            {:.4} s ({:.4} s feed, {:.4} s rapid)",
+            self.time(),
+            self.feed_time,
+            self.rapid_time
+        );
+        let _ = writeln!(s, "  max |a|:         {:.3} mm/s^2", self.max_acc);
+        let _ = writeln!(s, "  max |j|:         {:.3} mm/s^3", self.max_jerk);
+        let lim: Vec<String> = self
+            .limiting
+            .iter()
+            .map(|(k, v)| format!("{v} {k}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  segments:        {} (limited by: {})",
+            self.segments,
+            lim.join(", ")
+        );
+        s
+    }
+
+    pub fn json(&self) -> String {
+        serde_json::json!({
+            "time_s": self.time(),
+            "feed_time_s": self.feed_time,
+            "rapid_time_s": self.rapid_time,
+            "max_acc": self.max_acc,
+            "max_jerk": self.max_jerk,
+            "segments": self.segments,
+            "limiting": self.limiting,
+        })
+        .to_string()
+    }
+
+    /// The profile sampled every `period` s: `t,s,v,a,j,x,y,z`.
+    pub fn csv(&self, period: f64) -> String {
+        let mut out = String::from("t,s,v,a,j,x,y,z\n");
+        let (mut t0, mut s0) = (0.0f64, 0.0f64);
+        let mut row = |t: f64, s: f64, st: &fairpath::feed::State, p: fairpath::Vec3| {
+            let _ = writeln!(
+                out,
+                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
+                t, s, st.v, st.a, st.j, p.x, p.y, p.z
+            );
+        };
+        for (run, plan, rapid) in &self.plans {
+            let segs: Vec<Located<'_>> = match (run, rapid) {
+                (Some(run), _) => plan
+                    .segments
+                    .iter()
+                    .map(|sg| {
+                        let f: Box<dyn Fn(f64) -> fairpath::Vec3> = Box::new(move |q: f64| {
+                            let (pi, t) = sg.locate(q);
+                            run.pieces[pi].curve.eval(t)
+                        });
+                        (&sg.profile, f)
+                    })
+                    .collect(),
+                (None, Some((p, prof))) => {
+                    let len = prof.length();
+                    let f: Box<dyn Fn(f64) -> fairpath::Vec3> =
+                        Box::new(move |q: f64| p.start().lerp(p.end(), (q / len).clamp(0.0, 1.0)));
+                    vec![(prof, f)]
+                }
+                _ => Vec::new(),
+            };
+            for (prof, at) in segs {
+                let d = prof.duration();
+                let mut k = ((t0 / period).ceil() * period - t0).max(0.0);
+                while k < d {
+                    let st = prof.eval(k);
+                    row(t0 + k, s0 + st.q, &st, at(st.q));
+                    k += period;
+                }
+                t0 += d;
+                s0 += prof.length();
+            }
+        }
+        out
+    }
+}
+
+/// `fairpath simulate`.
+pub fn run(
+    path: &Path,
+    m: &MachineLimits,
+    override_feed: bool,
+    profile: Option<&Path>,
+    json: bool,
+) -> Result<()> {
+    let motions = motions(path)?;
+    if motions.is_empty() {
+        bail!("{}: the program has no moves", path.display());
+    }
+    let sim = simulate(&motions, m, override_feed)?;
+    if let Some(p) = profile {
+        crate::output::write_atomically(p, sim.csv(m.period).as_bytes())?;
+    }
+    if json {
+        println!("{}", sim.json());
+    } else {
+        print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
+    }
+    Ok(())
+}
+
+/// Feed time (s) of runs on the default machine with their programmed
+/// feeds: the before/after figure of `fairpath smooth`.
+pub fn feed_time<'a>(runs: impl Iterator<Item = &'a [Piece]>) -> Result<f64> {
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: false,
+    };
+    let mut t = 0.0;
+    for r in runs {
+        t += plan_run(r, &opts)
+            .map_err(|e| anyhow!("planning: {e}"))?
+            .time;
+    }
+    Ok(t)
+}

@@ -1,0 +1,144 @@
+//! `fairpath simulate`: the interface scripts depend on, limits in the
+//! sampled profile, and bad machine limits rejected by name.
+
+use std::path::Path;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fairpath"))
+}
+
+fn example() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/pocket-corners.ngc")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn json_summary_and_csv_profile_respect_the_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("p.csv");
+    let o = bin()
+        .args([
+            "simulate",
+            &example(),
+            "--override-feed",
+            "--format",
+            "json",
+            "--profile",
+            csv.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let time = v["time_s"].as_f64().unwrap();
+    let feed = v["feed_time_s"].as_f64().unwrap();
+    assert!(time > feed && feed > 0.0);
+    assert!(v["max_acc"].as_f64().unwrap() <= 4000.0 * (1.0 + 1e-9));
+    assert!(v["max_jerk"].as_f64().unwrap() <= 20000.0 * (1.0 + 1e-9));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,s,v,a,j,x,y,z"));
+    let mut last_t = -1.0;
+    let mut rows = 0;
+    for l in lines {
+        let f: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        assert_eq!(f.len(), 8);
+        assert!(f[0] > last_t);
+        last_t = f[0];
+        assert!(f[2] <= 400.0 + 1e-6 && f[2] >= -1e-6, "{l}");
+        assert!(f[3].abs() <= 4000.0 + 1e-6, "{l}");
+        assert!(f[4].abs() <= 20000.0 + 1e-6, "{l}");
+        rows += 1;
+    }
+    // One row per millisecond.
+    assert!(
+        (rows as f64 - time / 0.001).abs() <= 2.0,
+        "{rows} rows for {time} s"
+    );
+}
+
+#[test]
+fn smoothing_saves_time_on_the_butterfly() {
+    let Some(root) = Some(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/paths/synthetic/butterfly-80.ngc"),
+    )
+    .filter(|p| p.exists()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b.ngc");
+    assert!(bin()
+        .args([
+            "smooth",
+            root.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--tolerance",
+            "0.05"
+        ])
+        .output()
+        .unwrap()
+        .status
+        .success());
+    let t = |p: &Path| -> f64 {
+        let o = bin()
+            .args([
+                "simulate",
+                p.to_str().unwrap(),
+                "--override-feed",
+                "--format",
+                "json",
+            ])
+            .output()
+            .unwrap();
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()["time_s"]
+            .as_f64()
+            .unwrap()
+    };
+    let (before, after) = (t(&root), t(&out));
+    assert!(after < before, "before {before} s, after {after} s");
+}
+
+#[test]
+fn bad_machine_limits_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, want) in [
+        (vec!["--jerk", "0"], "jerk"),
+        (vec!["--acc=-5"], "acceleration"),
+        (vec!["--period", "NaN"], "interpolation period"),
+    ] {
+        let mut a = vec!["simulate".to_string(), example()];
+        a.extend(args.iter().map(|s| s.to_string()));
+        let o = bin().args(&a).output().unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    let m = dir.path().join("m.toml");
+    std::fs::write(&m, "max_feed = 6000\njerkk = 5\n").unwrap();
+    let o = bin()
+        .args(["simulate", &example(), "--machine", m.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("jerkk"));
+    std::fs::write(&m, "max_feed = 6000\nacc = 2000\njerk = 10000\n").unwrap();
+    let o = bin()
+        .args([
+            "simulate",
+            &example(),
+            "--machine",
+            m.to_str().unwrap(),
+            "--format",
+            "json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["max_acc"].as_f64().unwrap() <= 2000.0 * (1.0 + 1e-9));
+}

@@ -1,0 +1,173 @@
+//! The look-ahead planner: limits never exceeded on random paths (raw and
+//! smoothed), and convergence to the acceleration-limited time-optimal
+//! traversal as the jerk limit grows.
+
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_run, PlanOptions};
+use fairpath::geom::{Curve, Line, Vec3};
+use fairpath::path::{Piece, Run};
+use fairpath::smooth::{BsplineCorner, Smoother};
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        // splitmix64
+        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn run_of(pts: &[Vec3], feeds: &[f64]) -> Run {
+    Run::new(
+        pts.windows(2)
+            .enumerate()
+            .map(|(i, w)| Piece {
+                curve: Curve::Line(Line::new(w[0], w[1])),
+                rapid: false,
+                source_lines: (i + 1, i + 1),
+                feed: Some(feeds[i % feeds.len()]),
+            })
+            .collect(),
+    )
+}
+
+/// Samples every segment profile: speed within its cap, |a| <= A, |j| <= J,
+/// speeds continuous across segments, at rest at both ends.
+fn check_limits(pieces: &[Piece], m: &MachineLimits) -> f64 {
+    let plan = plan_run(
+        pieces,
+        &PlanOptions {
+            limits: *m,
+            override_feed: false,
+        },
+    )
+    .unwrap();
+    let slack = 1e-9;
+    let mut last_v = 0.0;
+    for s in &plan.segments {
+        let p = &s.profile;
+        assert!(
+            (p.v0() - last_v).abs() <= 1e-9 * (1.0 + last_v),
+            "speed jumps at a boundary"
+        );
+        let n = 50;
+        for k in 0..=n {
+            let st = p.eval(p.duration() * k as f64 / n as f64);
+            assert!(st.v.is_finite() && st.a.is_finite() && st.j.is_finite());
+            assert!(
+                st.v <= s.cap * (1.0 + slack) + 1e-12,
+                "v {} > cap {}",
+                st.v,
+                s.cap
+            );
+            assert!(st.v >= -1e-12);
+            assert!(st.a.abs() <= m.acc * (1.0 + slack));
+            assert!(st.j.abs() <= m.jerk * (1.0 + slack));
+        }
+        assert!((p.length() - s.length).abs() <= 1e-9 * s.length.max(1.0));
+        last_v = p.v1();
+    }
+    assert!(last_v.abs() <= 1e-12);
+    assert!(plan.max_acc <= m.acc * (1.0 + slack));
+    plan.time
+}
+
+#[test]
+fn seeded_random_paths_never_exceed_limits() {
+    let mut rng = Rng(42);
+    for case in 0..300 {
+        let n = 2 + (rng.next() * 30.0) as usize;
+        let scale = [0.05, 1.0, 20.0][case % 3];
+        let pts: Vec<Vec3> = (0..n)
+            .map(|_| {
+                Vec3::new(
+                    rng.next() * scale,
+                    rng.next() * scale,
+                    rng.next() * scale * 0.2,
+                )
+            })
+            .collect();
+        let feeds = [600.0 + rng.next() * 24000.0, 1000.0];
+        let m = MachineLimits {
+            max_feed: 50.0 + rng.next() * 500.0,
+            acc: 100.0 + rng.next() * 10000.0,
+            normal_acc: 100.0 + rng.next() * 10000.0,
+            jerk: 1000.0 + rng.next() * 100000.0,
+            ..MachineLimits::thesis()
+        };
+        let run = run_of(&pts, &feeds);
+        let t_raw = check_limits(&run.pieces, &m);
+        assert!(t_raw.is_finite() && t_raw > 0.0);
+        let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        let t_smooth = check_limits(&smoothed.pieces, &m);
+        assert!(t_smooth.is_finite() && t_smooth > 0.0);
+    }
+}
+
+/// Acceleration-limited (infinite jerk) time-optimal traversal of segments
+/// with speed caps, starting and ending at rest: an independent model.
+fn trapezoid_time(lengths: &[f64], caps: &[f64], acc: f64) -> f64 {
+    let n = lengths.len();
+    let mut v = vec![0.0f64; n + 1];
+    for i in 1..n {
+        v[i] = caps[i - 1].min(caps[i]);
+    }
+    for i in (0..n).rev() {
+        v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * acc * lengths[i]).sqrt());
+    }
+    for i in 0..n {
+        v[i + 1] = v[i + 1].min((v[i] * v[i] + 2.0 * acc * lengths[i]).sqrt());
+    }
+    let mut t = 0.0;
+    for i in 0..n {
+        let (a, b, c, l) = (v[i], v[i + 1], caps[i], lengths[i]);
+        // Peak speed of the triangle, limited by the cap.
+        let peak = ((2.0 * acc * l + a * a + b * b) / 2.0).sqrt().min(c);
+        let da = (peak * peak - a * a) / (2.0 * acc);
+        let db = (peak * peak - b * b) / (2.0 * acc);
+        t += (peak - a) / acc + (peak - b) / acc + (l - da - db).max(0.0) / peak;
+    }
+    t
+}
+
+#[test]
+fn converges_to_the_acceleration_limited_time_as_jerk_grows() {
+    // Collinear segments with different feeds: caps are the feeds, joints
+    // are G2 (no junction caps), so the independent model has the same caps.
+    let pts: Vec<Vec3> = [0.0, 3.0, 10.0, 11.0, 30.0, 31.5, 60.0]
+        .iter()
+        .map(|&x| Vec3::new(x, 0.0, 0.0))
+        .collect();
+    let feeds = [6000.0, 18000.0, 3000.0, 24000.0, 1200.0, 12000.0];
+    let run = run_of(&pts, &feeds);
+    let lengths: Vec<f64> = pts.windows(2).map(|w| w[1].x - w[0].x).collect();
+    let caps: Vec<f64> = feeds.iter().map(|f| (f / 60.0f64).min(400.0)).collect();
+    let want = trapezoid_time(&lengths, &caps, 4000.0);
+    let mut last_gap = f64::INFINITY;
+    for jerk in [2e4, 2e5, 2e6, 2e7, 2e8, 2e9] {
+        let m = MachineLimits {
+            jerk,
+            ..MachineLimits::thesis()
+        };
+        let plan = plan_run(
+            &run.pieces,
+            &PlanOptions {
+                limits: m,
+                override_feed: false,
+            },
+        )
+        .unwrap();
+        let gap = plan.time - want;
+        assert!(
+            gap >= -1e-9,
+            "faster than the acceleration-limited optimum: {} < {want}",
+            plan.time
+        );
+        assert!(gap <= last_gap + 1e-12);
+        last_gap = gap;
+    }
+    assert!(last_gap / want < 1e-3, "gap {last_gap} of {want}");
+}
