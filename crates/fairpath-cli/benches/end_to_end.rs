@@ -1,7 +1,8 @@
 //! End-to-end smoothing throughput: read, smooth (bspline-corner), verify
 //! the curves, write G-code, read it back and verify it, on
 //! `../shared/paths/synthetic/surface-raster-large.ngc` (138,803 segments)
-//! at 0.05 mm. Run with `cargo bench -p fairpath-cli`.
+//! at 0.05 mm; and feed planning speed on the smoothed path. Run with
+//! `cargo bench -p fairpath-cli`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use fairpath_cli::pipeline::{self, Phases, SmoothOptions};
@@ -39,6 +40,28 @@ fn bench(c: &mut Criterion) {
             runs.iter()
                 .map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len())
                 .sum::<usize>()
+        })
+    });
+    g.finish();
+
+    // Feed planning speed, in pieces per second: the smoothed raster
+    // (lines and corner transitions) on the thesis machine.
+    let m = fairpath::smooth::by_name("bspline-corner").unwrap();
+    let smoothed: Vec<_> = program.runs().iter().map(|r| m.smooth_run(r, 0.045).unwrap().pieces).collect();
+    let pieces: usize = smoothed.iter().map(|p| p.len()).sum();
+    let mut g = c.benchmark_group("feed planning");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(pieces as u64));
+    let opts = fairpath::feed::plan::PlanOptions {
+        limits: fairpath::feed::limits::MachineLimits::thesis(),
+        override_feed: true,
+    };
+    g.bench_function("plan smoothed surface-raster-large (pieces)", |b| {
+        b.iter(|| {
+            smoothed
+                .iter()
+                .map(|p| fairpath::feed::plan::plan_run(p, &opts).unwrap().time)
+                .sum::<f64>()
         })
     });
     g.finish();
