@@ -47,7 +47,11 @@ fn bench(c: &mut Criterion) {
     // Feed planning speed, in pieces per second: the smoothed raster
     // (lines and corner transitions) on the thesis machine.
     let m = fairpath::smooth::by_name("bspline-corner").unwrap();
-    let smoothed: Vec<_> = program.runs().iter().map(|r| m.smooth_run(r, 0.045).unwrap().pieces).collect();
+    let smoothed: Vec<_> = program
+        .runs()
+        .iter()
+        .map(|r| m.smooth_run(r, 0.045).unwrap().pieces)
+        .collect();
     let pieces: usize = smoothed.iter().map(|p| p.len()).sum();
     let mut g = c.benchmark_group("feed planning");
     g.sample_size(10);
@@ -55,6 +59,7 @@ fn bench(c: &mut Criterion) {
     let opts = fairpath::feed::plan::PlanOptions {
         limits: fairpath::feed::limits::MachineLimits::thesis(),
         override_feed: true,
+        window: None,
     };
     g.bench_function("plan smoothed surface-raster-large (pieces)", |b| {
         b.iter(|| {

@@ -86,6 +86,10 @@ enum Command {
         /// Run every feed move at the machine's maximum feed.
         #[arg(long)]
         override_feed: bool,
+        /// Bounded look-ahead of N segments, as a real-time controller runs
+        /// it (default: the whole run); also reports the full scan's time.
+        #[arg(long)]
+        lookahead: Option<usize>,
         /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z).
         #[arg(long)]
         profile: Option<PathBuf>,
@@ -155,6 +159,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             jerk,
             period,
             override_feed,
+            lookahead,
             profile,
             format,
         } => {
@@ -169,6 +174,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 &program,
                 &m,
                 override_feed,
+                lookahead,
                 profile.as_deref(),
                 format == TextOrJson::Json,
             )?;

@@ -174,13 +174,22 @@ pub struct Simulation {
     pub segments: usize,
     pub limiting: BTreeMap<&'static str, usize>,
     pub plans: Vec<PlannedMotion>,
+    /// With a bounded look-ahead: the time the full scan would take.
+    pub full_scan_time: Option<f64>,
 }
 
 /// Plans every motion.
-pub fn simulate(motions: &[Motion], m: &MachineLimits, override_feed: bool) -> Result<Simulation> {
+/// `window`: bounded look-ahead of that many segments (`None`: whole run).
+pub fn simulate(
+    motions: &[Motion],
+    m: &MachineLimits,
+    override_feed: bool,
+    window: Option<usize>,
+) -> Result<Simulation> {
     let opts = PlanOptions {
         limits: *m,
         override_feed,
+        window,
     };
     let mut sim = Simulation {
         feed_time: 0.0,
@@ -190,6 +199,7 @@ pub fn simulate(motions: &[Motion], m: &MachineLimits, override_feed: bool) -> R
         segments: 0,
         limiting: BTreeMap::new(),
         plans: Vec::new(),
+        full_scan_time: None,
     };
     for mo in motions {
         match mo {
@@ -248,6 +258,15 @@ impl Simulation {
         );
         let _ = writeln!(s, "  max |a|:         {:.3} mm/s^2", self.max_acc);
         let _ = writeln!(s, "  max |j|:         {:.3} mm/s^3", self.max_jerk);
+        if let Some(f) = self.full_scan_time {
+            let _ = writeln!(
+                s,
+                "  look-ahead cost: {:.4} s more than the full scan ({:.4} s, +{:.2}%)",
+                self.time() - f,
+                f,
+                100.0 * (self.time() / f - 1.0)
+            );
+        }
         let lim: Vec<String> = self
             .limiting
             .iter()
@@ -271,6 +290,7 @@ impl Simulation {
             "max_jerk": self.max_jerk,
             "segments": self.segments,
             "limiting": self.limiting,
+            "full_scan_time_s": self.full_scan_time,
         })
         .to_string()
     }
@@ -328,6 +348,7 @@ pub fn run(
     path: &Path,
     m: &MachineLimits,
     override_feed: bool,
+    window: Option<usize>,
     profile: Option<&Path>,
     json: bool,
 ) -> Result<()> {
@@ -335,7 +356,10 @@ pub fn run(
     if motions.is_empty() {
         bail!("{}: the program has no moves", path.display());
     }
-    let sim = simulate(&motions, m, override_feed)?;
+    let mut sim = simulate(&motions, m, override_feed, window)?;
+    if window.is_some() {
+        sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
+    }
     if let Some(p) = profile {
         crate::output::write_atomically(p, sim.csv(m.period).as_bytes())?;
     }
@@ -353,6 +377,7 @@ pub fn feed_time<'a>(runs: impl Iterator<Item = &'a [Piece]>) -> Result<f64> {
     let opts = PlanOptions {
         limits: MachineLimits::thesis(),
         override_feed: false,
+        window: None,
     };
     let mut t = 0.0;
     for r in runs {

@@ -142,3 +142,26 @@ fn bad_machine_limits_are_named() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(v["max_acc"].as_f64().unwrap() <= 2000.0 * (1.0 + 1e-9));
 }
+
+#[test]
+fn bounded_lookahead_reports_its_cost_against_the_full_scan() {
+    let o = bin()
+        .args([
+            "simulate",
+            &example(),
+            "--override-feed",
+            "--lookahead",
+            "4",
+            "--format",
+            "json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (t, full) = (
+        v["time_s"].as_f64().unwrap(),
+        v["full_scan_time_s"].as_f64().unwrap(),
+    );
+    assert!(t >= full * (1.0 - 1e-12), "{t} < {full}");
+}

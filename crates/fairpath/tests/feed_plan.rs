@@ -37,14 +37,19 @@ fn run_of(pts: &[Vec3], feeds: &[f64]) -> Run {
 /// Samples every segment profile: speed within its cap, |a| <= A, |j| <= J,
 /// speeds continuous across segments, at rest at both ends.
 fn check_limits(pieces: &[Piece], m: &MachineLimits) -> f64 {
+    check_limits_window(pieces, m, None)
+}
+
+fn check_limits_window(pieces: &[Piece], m: &MachineLimits, window: Option<usize>) -> f64 {
     let plan = plan_run(
         pieces,
         &PlanOptions {
             limits: *m,
             override_feed: false,
+            window,
         },
     )
-    .unwrap();
+    .unwrap_or_else(|e| panic!("window {window:?}: {e}"));
     let slack = 1e-9;
     let mut last_v = 0.0;
     for s in &plan.segments {
@@ -157,6 +162,7 @@ fn converges_to_the_acceleration_limited_time_as_jerk_grows() {
             &PlanOptions {
                 limits: m,
                 override_feed: false,
+                window: None,
             },
         )
         .unwrap();
@@ -170,4 +176,33 @@ fn converges_to_the_acceleration_limited_time_as_jerk_grows() {
         last_gap = gap;
     }
     assert!(last_gap / want < 1e-3, "gap {last_gap} of {want}");
+}
+
+#[test]
+fn bounded_lookahead_is_feasible_slower_and_converges_to_the_full_scan() {
+    let mut rng = Rng(7);
+    for _ in 0..100 {
+        let n = 3 + (rng.next() * 40.0) as usize;
+        let pts: Vec<Vec3> = (0..n)
+            .map(|i| Vec3::new(i as f64 * (0.2 + rng.next()), rng.next() * 0.5, 0.0))
+            .collect();
+        let run = run_of(&pts, &[24000.0]);
+        let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        let m = MachineLimits::thesis();
+        let full = check_limits_window(&smoothed.pieces, &m, None);
+        let mut last = f64::INFINITY;
+        for w in [1, 2, 4, 8, 16, 64, 1 << 20] {
+            let t = check_limits_window(&smoothed.pieces, &m, Some(w));
+            assert!(t >= full * (1.0 - 1e-12), "window {w}: {t} < full {full}");
+            assert!(
+                t <= last * (1.0 + 1e-12),
+                "window {w}: {t} > smaller window {last}"
+            );
+            last = t;
+        }
+        assert!(
+            (last - full).abs() <= 1e-9 * full,
+            "an unbounded window is the full scan"
+        );
+    }
 }

@@ -19,6 +19,9 @@
 //!    ([`max_entry_velocity`]), a forward pass to what can be reached from
 //!    the previous one ([`max_reachable_velocity`]); both are exact for
 //!    jerk-limited motion starting and ending at zero acceleration.
+//!    With [`PlanOptions::window`] the look-ahead is bounded as on a
+//!    real-time controller: it sees `n` segments ahead and must be able to
+//!    stop at the end of them.
 //! 4. **Profiles.** Each segment gets the fastest seven-phase double-S
 //!    profile ([`DoubleS`]) between its boundary speeds under its cap.
 //!
@@ -46,6 +49,11 @@ pub struct PlanOptions {
     /// Run every feed move at the machine's maximum feed (the seeds'
     /// simulations do), ignoring programmed feeds.
     pub override_feed: bool,
+    /// `None`: look ahead over the whole run (an offline planner).
+    /// `Some(n)`: a real-time controller's bounded look-ahead, which sees
+    /// only the next `n` segments and must always be able to stop at the
+    /// end of what it sees.
+    pub window: Option<usize>,
 }
 
 /// One planned segment of a run.
@@ -210,14 +218,50 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
     for i in 1..n {
         v[i] = segs[i - 1].4.min(segs[i].4).min(junction[i]);
     }
-    // Backward pass, then forward pass.
-    for i in (0..n).rev() {
-        let e = max_entry_velocity(v[i + 1], segs[i].3, m.acc, m.jerk)?;
-        v[i] = v[i].min(e);
-    }
-    for i in 0..n {
-        let r = max_reachable_velocity(v[i], segs[i].3, m.acc, m.jerk)?;
-        v[i + 1] = v[i + 1].min(r);
+    match opts.window {
+        None => {
+            // Backward pass, then forward pass.
+            for i in (0..n).rev() {
+                let e = max_entry_velocity(v[i + 1], segs[i].3, m.acc, m.jerk)?;
+                v[i] = v[i].min(e);
+            }
+            for i in 0..n {
+                let r = max_reachable_velocity(v[i], segs[i].3, m.acc, m.jerk)?;
+                v[i + 1] = v[i + 1].min(r);
+            }
+        }
+        Some(w) => {
+            // Sliding window: at segment i the planner sees segments
+            // i..i+w, assumes a stop at the end of them, and commits the
+            // speed at the end of segment i. With jerk limits, braking to a
+            // higher speed can take longer than braking to rest (a
+            // zero-acceleration-to-zero-acceleration change of dv at mean
+            // speed vm takes vm sqrt(dv/J)), so a new window's target is
+            // taken only when it is reachable from the committed speed;
+            // otherwise the previous window's plan, which was, goes on.
+            let caps = v.clone();
+            let w = w.max(1);
+            let mut plan_b = alloc::vec![0.0f64; n + 1];
+            for i in 0..n {
+                let end = (i + w).min(n);
+                let mut nb = alloc::vec![0.0f64; end - i + 1]; // boundaries i..=end
+                for k in (i + 1..end).rev() {
+                    nb[k - i] =
+                        caps[k].min(max_entry_velocity(nb[k + 1 - i], segs[k].3, m.acc, m.jerk)?);
+                }
+                let reach = max_reachable_velocity(v[i], segs[i].3, m.acc, m.jerk)?;
+                let candidate = nb[1].min(reach).min(caps[i + 1]);
+                let feasible = candidate >= v[i]
+                    || v[i]
+                        <= max_entry_velocity(candidate, segs[i].3, m.acc, m.jerk)? * (1.0 + 1e-12);
+                if feasible || i == 0 {
+                    plan_b[i + 1..=end].copy_from_slice(&nb[1..]);
+                    v[i + 1] = candidate;
+                } else {
+                    v[i + 1] = plan_b[i + 1].min(reach);
+                }
+            }
+        }
     }
     for (i, (s, parts)) in segs.into_iter().zip(parts).enumerate() {
         let lim = Limits::new(s.4, m.acc, m.jerk)?;
