@@ -6,7 +6,6 @@
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
-use fairpath::geom::ParamCurve;
 use fairpath::path::{Piece, Run};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -159,12 +158,6 @@ pub type PlannedMotion = (
     Option<(Piece, fairpath::feed::DoubleS)>,
 );
 
-/// A profile and the map from arc length along it to a point.
-type Located<'a> = (
-    &'a fairpath::feed::DoubleS,
-    Box<dyn Fn(f64) -> fairpath::Vec3 + 'a>,
-);
-
 /// The result of a simulation.
 pub struct Simulation {
     pub feed_time: f64,
@@ -176,6 +169,8 @@ pub struct Simulation {
     pub plans: Vec<PlannedMotion>,
     /// With a bounded look-ahead: the time the full scan would take.
     pub full_scan_time: Option<f64>,
+    /// Feed fluctuation of the interpolator: (largest, mean), as fractions.
+    pub fluctuation: Option<(f64, f64)>,
 }
 
 /// Plans every motion.
@@ -200,6 +195,7 @@ pub fn simulate(
         limiting: BTreeMap::new(),
         plans: Vec::new(),
         full_scan_time: None,
+        fluctuation: None,
     };
     for mo in motions {
         match mo {
@@ -258,6 +254,14 @@ impl Simulation {
         );
         let _ = writeln!(s, "  max |a|:         {:.3} mm/s^2", self.max_acc);
         let _ = writeln!(s, "  max |j|:         {:.3} mm/s^3", self.max_jerk);
+        if let Some((a, b)) = self.fluctuation {
+            let _ = writeln!(
+                s,
+                "  feed fluctuation: {:.4}% max, {:.4}% mean (interpolator)",
+                100.0 * a,
+                100.0 * b
+            );
+        }
         if let Some(f) = self.full_scan_time {
             let _ = writeln!(
                 s,
@@ -291,55 +295,59 @@ impl Simulation {
             "segments": self.segments,
             "limiting": self.limiting,
             "full_scan_time_s": self.full_scan_time,
+            "feed_fluctuation_max": self.fluctuation.map(|f| f.0),
+            "feed_fluctuation_mean": self.fluctuation.map(|f| f.1),
         })
         .to_string()
     }
 
-    /// The profile sampled every `period` s: `t,s,v,a,j,x,y,z`.
-    pub fn csv(&self, period: f64) -> String {
+    /// The motion sampled every `period` s (`t,s,v,a,j,x,y,z`; feed runs
+    /// through the interpolator, rapids along their line), and the feed
+    /// fluctuation of the interpolator: (largest, mean).
+    pub fn csv(&self, period: f64) -> (String, f64, f64) {
         let mut out = String::from("t,s,v,a,j,x,y,z\n");
         let (mut t0, mut s0) = (0.0f64, 0.0f64);
-        let mut row = |t: f64, s: f64, st: &fairpath::feed::State, p: fairpath::Vec3| {
+        let (mut fmax, mut fsum, mut fn_) = (0.0f64, 0.0f64, 0usize);
+        let row = |out: &mut String, t: f64, s: f64, v: f64, a: f64, j: f64, p: fairpath::Vec3| {
             let _ = writeln!(
                 out,
-                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
-                t, s, st.v, st.a, st.j, p.x, p.y, p.z
+                "{t:.6},{s:.6},{v:.6},{a:.6},{j:.6},{:.6},{:.6},{:.6}",
+                p.x, p.y, p.z
             );
         };
         for (run, plan, rapid) in &self.plans {
-            let segs: Vec<Located<'_>> = match (run, rapid) {
-                (Some(run), _) => plan
-                    .segments
-                    .iter()
-                    .map(|sg| {
-                        let f: Box<dyn Fn(f64) -> fairpath::Vec3> = Box::new(move |q: f64| {
-                            let (pi, t) = sg.locate(q);
-                            run.pieces[pi].curve.eval(t)
-                        });
-                        (&sg.profile, f)
-                    })
-                    .collect(),
+            match (run, rapid) {
+                (Some(run), _) => {
+                    let it =
+                        fairpath::feed::interpolate::interpolate(&run.pieces, plan, period, t0);
+                    for smp in &it.samples {
+                        row(&mut out, smp.t, s0 + smp.s, smp.v, smp.a, smp.j, smp.p);
+                    }
+                    fmax = fmax.max(it.max_fluctuation);
+                    if !it.samples.is_empty() {
+                        fsum += it.mean_fluctuation * it.samples.len() as f64;
+                        fn_ += it.samples.len();
+                    }
+                    t0 += plan.time;
+                    s0 += plan.segments.iter().map(|s| s.length).sum::<f64>();
+                }
                 (None, Some((p, prof))) => {
-                    let len = prof.length();
-                    let f: Box<dyn Fn(f64) -> fairpath::Vec3> =
-                        Box::new(move |q: f64| p.start().lerp(p.end(), (q / len).clamp(0.0, 1.0)));
-                    vec![(prof, f)]
+                    let (d, len) = (prof.duration(), prof.length());
+                    let mut k = 0.0;
+                    while k <= d {
+                        let st = prof.eval(k);
+                        let at = p.start().lerp(p.end(), (st.q / len).clamp(0.0, 1.0));
+                        row(&mut out, t0 + k, s0 + st.q, st.v, st.a, st.j, at);
+                        k += period;
+                    }
+                    t0 += d;
+                    s0 += len;
                 }
-                _ => Vec::new(),
-            };
-            for (prof, at) in segs {
-                let d = prof.duration();
-                let mut k = ((t0 / period).ceil() * period - t0).max(0.0);
-                while k < d {
-                    let st = prof.eval(k);
-                    row(t0 + k, s0 + st.q, &st, at(st.q));
-                    k += period;
-                }
-                t0 += d;
-                s0 += prof.length();
+                _ => {}
             }
         }
-        out
+        let mean = if fn_ > 0 { fsum / fn_ as f64 } else { 0.0 };
+        (out, fmax, mean)
     }
 }
 
@@ -360,8 +368,10 @@ pub fn run(
     if window.is_some() {
         sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
     }
+    let (csv, fmax, fmean) = sim.csv(m.period);
+    sim.fluctuation = Some((fmax, fmean));
     if let Some(p) = profile {
-        crate::output::write_atomically(p, sim.csv(m.period).as_bytes())?;
+        crate::output::write_atomically(p, csv.as_bytes())?;
     }
     if json {
         println!("{}", sim.json());

@@ -206,3 +206,73 @@ fn bounded_lookahead_is_feasible_slower_and_converges_to_the_full_scan() {
         );
     }
 }
+
+#[test]
+fn interpolation_tracks_the_path_with_small_feed_fluctuation() {
+    use fairpath::feed::interpolate::interpolate;
+    use fairpath::geom::{distance_to_polyline, Arc};
+    // A half circle of radius 20 as one G3, then a line.
+    let arc = Arc::from_center(
+        Vec3::new(20.0, 0.0, 0.0),
+        Vec3::new(-20.0, 0.0, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        1e-9,
+    )
+    .unwrap();
+    let pieces = vec![
+        Piece {
+            curve: Curve::Arc(arc),
+            rapid: false,
+            source_lines: (1, 1),
+            feed: Some(6000.0),
+        },
+        Piece {
+            curve: Curve::Line(Line::new(
+                Vec3::new(-20.0, 0.0, 0.0),
+                Vec3::new(-20.0, -30.0, 0.0),
+            )),
+            rapid: false,
+            source_lines: (2, 2),
+            feed: Some(6000.0),
+        },
+    ];
+    let m = MachineLimits::thesis();
+    let plan = plan_run(
+        &pieces,
+        &PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+        },
+    )
+    .unwrap();
+    let it = interpolate(&pieces, &plan, m.period, 0.0);
+    assert!((it.samples.len() as f64 - plan.time / m.period).abs() <= 2.0);
+    for s in &it.samples {
+        // On the circle while s is within the arc, on the line after.
+        let on_arc = (s.p.norm() - 20.0).abs();
+        let on_line = distance_to_polyline(
+            s.p,
+            &[Vec3::new(-20.0, 0.0, 0.0), Vec3::new(-20.0, -30.0, 0.0)],
+        )
+        .unwrap()
+        .0;
+        assert!(on_arc.min(on_line) < 1e-6, "{:?}", s.p);
+        // Arc length agrees with the position on the arc.
+        if s.s < 20.0 * std::f64::consts::PI - 1e-3 {
+            let angle = s.p.y.atan2(s.p.x);
+            assert!(
+                (angle * 20.0 - s.s).abs() < 1e-3,
+                "s {} angle {}",
+                s.s,
+                angle
+            );
+        }
+    }
+    let last = it.samples.last().unwrap().p;
+    assert!(last.dist(Vec3::new(-20.0, -30.0, 0.0)) < 1e-3);
+    assert!(it.max_fluctuation < 0.01, "{}", it.max_fluctuation);
+}

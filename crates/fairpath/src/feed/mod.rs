@@ -21,21 +21,20 @@
 //!   point of the path (curvature, curvature change, chord error, axes) and
 //!   on joints that are not G2, each with its source.
 //!
-//! Planned (not built yet):
+//! * [`plan`]: the look-ahead planner (full scan or bounded window).
+//! * [`interpolate`]: positions every interpolation period by the
+//!   second-order Taylor parameter update, and the feed fluctuation.
 //!
-//! * bidirectional look-ahead: a backward pass (deceleration reach from the
-//!   end of the run) and a forward pass (acceleration reach from the start),
-//!   so every segment's entry and exit velocities are feasible for
-//!   [`DoubleS`];
-//! * interpolation at the controller period along the arc length;
-//! * `fairpath simulate`: machining time before and after smoothing, with the
-//!   velocity, acceleration and jerk evidence (issue 3).
+//! Planned (not built yet): acceleration carried across segment
+//! boundaries (every segment now starts and ends at zero tangential
+//! acceleration, which is safe but slow on curves cut into many segments).
 //!
 //! Units: mm, s, mm/s, mm/s², mm/s³. f64 everywhere. Bad input (NaN,
 //! infinite, zero or negative limits, negative lengths or velocities) is an
 //! error naming the offending quantity, never a panic.
 
 pub mod double_s;
+pub mod interpolate;
 pub mod limits;
 pub mod plan;
 pub mod reach;
