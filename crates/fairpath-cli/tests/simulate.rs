@@ -165,3 +165,35 @@ fn bounded_lookahead_reports_its_cost_against_the_full_scan() {
     );
     assert!(t >= full * (1.0 - 1e-12), "{t} < {full}");
 }
+
+/// Regression: linuxcnc/wz-tests/130207L.ngc with a bounded look-ahead of 3
+/// to 16 segments hit f64 rounding at the edge of jerk-limited feasibility
+/// (a window target reachable by 1e-12 relative in one model and not in
+/// the other). The window now keeps a 1e-9 margin.
+#[test]
+fn regression_130207l_bounded_lookahead_rounding() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths/linuxcnc/wz-tests/130207L.ngc");
+    if !p.exists() {
+        return;
+    }
+    for w in ["3", "4", "5", "8", "16"] {
+        let o = bin()
+            .args([
+                "simulate",
+                p.to_str().unwrap(),
+                "--override-feed",
+                "--lookahead",
+                w,
+                "--format",
+                "json",
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "window {w}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}

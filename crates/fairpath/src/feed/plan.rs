@@ -253,7 +253,7 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
                 let candidate = nb[1].min(reach).min(caps[i + 1]);
                 let feasible = candidate >= v[i]
                     || v[i]
-                        <= max_entry_velocity(candidate, segs[i].3, m.acc, m.jerk)? * (1.0 + 1e-12);
+                        <= max_entry_velocity(candidate, segs[i].3, m.acc, m.jerk)? * (1.0 - 1e-9);
                 if feasible || i == 0 {
                     plan_b[i + 1..=end].copy_from_slice(&nb[1..]);
                     v[i + 1] = candidate;
