@@ -93,6 +93,10 @@ enum Command {
         /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z).
         #[arg(long)]
         profile: Option<PathBuf>,
+        /// Write one row per planned segment as CSV, with the constraint
+        /// that limits it (s0,length,cap,constraint,v_in,v_out,time).
+        #[arg(long)]
+        segments: Option<PathBuf>,
         #[arg(long, value_enum, default_value_t = TextOrJson::Text)]
         format: TextOrJson,
     },
@@ -161,6 +165,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             override_feed,
             lookahead,
             profile,
+            segments,
             format,
         } => {
             let flags = fairpath_cli::simulate::MachineFlags {
@@ -176,6 +181,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 override_feed,
                 lookahead,
                 profile.as_deref(),
+                segments.as_deref(),
                 format == TextOrJson::Json,
             )?;
             Ok(ExitCode::SUCCESS)

@@ -351,6 +351,36 @@ impl Simulation {
     }
 }
 
+impl Simulation {
+    /// One row per planned segment of the feed runs, in order:
+    /// `s0,length,cap,constraint,v_in,v_out,time` (mm, mm, mm/s, name,
+    /// mm/s, mm/s, s), `s0` the arc length at the segment start counted over
+    /// all feed runs.
+    pub fn segments_csv(&self) -> String {
+        let mut out = String::from("s0,length,cap,constraint,v_in,v_out,time\n");
+        let mut s0 = 0.0;
+        for (run, plan, _) in &self.plans {
+            if run.is_none() {
+                continue;
+            }
+            for sg in &plan.segments {
+                let _ = writeln!(
+                    out,
+                    "{s0:.6},{:.6},{:.6},{},{:.6},{:.6},{:.6}",
+                    sg.length,
+                    sg.cap,
+                    sg.constraint.as_str(),
+                    sg.profile.v0(),
+                    sg.profile.v1(),
+                    sg.profile.duration()
+                );
+                s0 += sg.length;
+            }
+        }
+        out
+    }
+}
+
 /// `fairpath simulate`.
 pub fn run(
     path: &Path,
@@ -358,6 +388,7 @@ pub fn run(
     override_feed: bool,
     window: Option<usize>,
     profile: Option<&Path>,
+    segments: Option<&Path>,
     json: bool,
 ) -> Result<()> {
     let motions = motions(path)?;
@@ -372,6 +403,9 @@ pub fn run(
     sim.fluctuation = Some((fmax, fmean));
     if let Some(p) = profile {
         crate::output::write_atomically(p, csv.as_bytes())?;
+    }
+    if let Some(p) = segments {
+        crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;
     }
     if json {
         println!("{}", sim.json());

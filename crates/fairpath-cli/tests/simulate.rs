@@ -197,3 +197,42 @@ fn regression_130207l_bounded_lookahead_rounding() {
         );
     }
 }
+
+#[test]
+fn segments_csv_names_the_limiting_constraint_of_each_segment() {
+    let dir = tempfile::tempdir().unwrap();
+    let seg = dir.path().join("s.csv");
+    let o = bin()
+        .args([
+            "simulate",
+            &example(),
+            "--override-feed",
+            "--segments",
+            seg.to_str().unwrap(),
+            "--format",
+            "json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let text = std::fs::read_to_string(&seg).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("s0,length,cap,constraint,v_in,v_out,time")
+    );
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len() as u64, v["segments"].as_u64().unwrap());
+    let mut feed_time = 0.0;
+    for r in &rows {
+        let cap: f64 = r[2].parse().unwrap();
+        let (vin, vout): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
+        assert!(vin <= cap + 1e-6 && vout <= cap + 1e-6);
+        assert!(!r[3].is_empty());
+        feed_time += r[6].parse::<f64>().unwrap();
+    }
+    assert!((feed_time - v["feed_time_s"].as_f64().unwrap()).abs() < 1e-3);
+}
