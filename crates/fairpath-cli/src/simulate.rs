@@ -23,6 +23,8 @@ pub struct MachineFile {
     pub jerk: Option<f64>,
     pub period: Option<f64>,
     pub chord_error: Option<f64>,
+    /// Junction deviation for corners of G1 moves, mm.
+    pub junction_deviation: Option<f64>,
     /// Per-axis velocity limits, mm/min.
     pub axis_feed: Option<[f64; 3]>,
     /// Per-axis acceleration limits, mm/s^2.
@@ -66,6 +68,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
         }
         if let Some(v) = mf.chord_error {
             m.chord_error = v;
+        }
+        if let Some(v) = mf.junction_deviation {
+            m.junction_deviation = v;
         }
         if let Some(v) = mf.axis_feed {
             m.axis_vel = v.map(|x| x / 60.0);

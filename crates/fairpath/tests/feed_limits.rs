@@ -102,9 +102,12 @@ fn junction_caps() {
     // moves; its middle is e from the corner.
     let v = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO);
     let s45 = 0.5f64.sqrt();
-    let r = m.chord_error * s45 / (1.0 - s45);
-    assert!((r / s45 - r - m.chord_error).abs() < 1e-15);
-    let want = (m.normal_acc * r).sqrt().min((m.jerk * r * r).cbrt());
+    let r = m.junction_deviation * s45 / (1.0 - s45);
+    assert!((r / s45 - r - m.junction_deviation).abs() < 1e-15);
+    let want = (m.normal_acc * r)
+        .sqrt()
+        .min((m.jerk * r * r).cbrt())
+        .min((m.jerk * m.period * r).sqrt());
     assert!((v - want).abs() < 1e-12);
     // Gentler corners are faster.
     let c = Vec3::new(1.0, 0.1, 0.0) / 1.01f64.sqrt();

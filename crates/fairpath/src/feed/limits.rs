@@ -15,8 +15,8 @@
 //! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
 //!
 //! At a joint that is not G2 the speed is capped by [`junction_cap`]: a
-//! corner is passed on the circle that deviates by the chord error, a
-//! curvature jump within one interpolation period.
+//! corner is passed on the circle that deviates by the junction deviation,
+//! a curvature jump within one interpolation period.
 
 use crate::geom::Vec3;
 use crate::math;
@@ -40,6 +40,10 @@ pub struct MachineLimits {
     pub period: f64,
     /// Largest chord error of the interpolator, mm.
     pub chord_error: f64,
+    /// Junction deviation (mm): how far from a corner of G1 moves the
+    /// controller may pass it (grbl's `junction_deviation`, LinuxCNC's
+    /// `G64 P`).
+    pub junction_deviation: f64,
 }
 
 /// A limit that is not a positive finite number.
@@ -53,7 +57,7 @@ pub struct LimitError {
 impl MachineLimits {
     /// The machine of the thesis' simulations (seed 003): V 400 mm/s,
     /// A 4000 mm/s^2, J 20000 mm/s^3, Ts 1 ms; axes as fast as the path;
-    /// chord error 1 um.
+    /// chord error 1 um; junction deviation 0.01 mm (grbl's default).
     pub fn thesis() -> MachineLimits {
         MachineLimits {
             max_feed: 400.0,
@@ -64,6 +68,7 @@ impl MachineLimits {
             axis_acc: [4000.0; 3],
             period: 0.001,
             chord_error: 0.001,
+            junction_deviation: 0.01,
         }
     }
 
@@ -82,6 +87,7 @@ impl MachineLimits {
             ("Z acceleration", self.axis_acc[2]),
             ("interpolation period", self.period),
             ("chord error", self.chord_error),
+            ("junction deviation", self.junction_deviation),
         ];
         for (name, value) in named {
             if !(value.is_finite() && value > 0.0) {
@@ -178,12 +184,16 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
 /// The largest speed (mm/s) through a joint that is not G2, from the same
 /// limits:
 ///
-/// * a corner (the tangent turns by `phi`) is passed as the interpolator
-///   passes it: on the circle tangent to both moves that stays within the
-///   machine's chord error `e` of the corner (the junction-deviation model of
-///   grbl and its successors), of radius `R = e sin(a) / (1 - sin(a))` with
+/// * a corner (the tangent turns by `phi`) is passed as a look-ahead
+///   controller passes it: on the circle tangent to both moves that stays
+///   within the junction deviation `e` of the corner (the model of grbl and
+///   its successors), of radius `R = e sin(a) / (1 - sin(a))` with
 ///   `a = (pi - phi) / 2`; on it the centripetal acceleration and jerk caps
-///   apply: `v <= sqrt(A_n R)` and `v <= (J R^2)^(1/3)`;
+///   apply, `v <= sqrt(A_n R)` and `v <= (J R^2)^(1/3)`, and, since the
+///   curvature jumps from 0 to `1/R` where the circle meets the moves, the
+///   curvature-jump cap below: `v <= sqrt(J Ts R)`. (grbl stops at the
+///   first two; without the third a polyline corner would escape the jerk
+///   limit that every curve is held to.)
 /// * a tangent joint (G1) whose curvature vector jumps by `dk` steps the
 ///   normal acceleration by `v^2 dk` within one period `Ts`, a jerk that
 ///   must stay within `J`: `v <= sqrt(J Ts / dk)`.
@@ -203,8 +213,10 @@ pub fn junction_cap(
         if sa >= 1.0 {
             return f64::INFINITY;
         }
-        let r = m.chord_error * sa / (1.0 - sa);
-        return math::sqrt(m.normal_acc * r).min(math::cbrt(m.jerk * r * r));
+        let r = m.junction_deviation * sa / (1.0 - sa);
+        return math::sqrt(m.normal_acc * r)
+            .min(math::cbrt(m.jerk * r * r))
+            .min(math::sqrt(m.jerk * m.period * r));
     }
     let dk = (k_out - k_in).norm();
     if dk > 0.0 {
