@@ -224,3 +224,24 @@ fn closed_loop_keeps_its_seam_and_blends_it_when_the_run_goes_on() {
     assert!(rep.within(0.05));
     assert!(rep.joints.iter().all(|j| j.class == Continuity::G2));
 }
+
+/// Regression: the verifier's peak curvature on synthetic/butterfly-80.ngc
+/// depended on whether the sample count happened to include the knot
+/// where every transition peaks; it now samples the knots. A square corner
+/// must report exactly the closed form.
+#[test]
+fn regression_peak_curvature_is_sampled_at_the_knot() {
+    use fairpath::smooth::{corner_peak_curvature, edge_for_deviation, BAND_USE};
+    for len in [3.0, 7.0, 10.0, 13.0] {
+        let run = polyline_run(&[v(0.0, 0.0, 0.0), v(len, 0.0, 0.0), v(len, len, 0.0)]);
+        let out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(0.05));
+        let theta = std::f64::consts::FRAC_PI_4;
+        let want = corner_peak_curvature(edge_for_deviation(0.05 * BAND_USE, theta), theta);
+        assert!(
+            (rep.peak_curvature - want).abs() <= 1e-9 * want,
+            "{} vs {want}",
+            rep.peak_curvature
+        );
+    }
+}

@@ -11,7 +11,7 @@ pub mod verify;
 
 pub use bspline_corner::{
     corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
-    BsplineCorner, BsplineCornerOptions, ErrorTarget, TRANSITION_KNOTS,
+    BsplineCorner, BsplineCornerOptions, ErrorTarget, BAND_USE, TRANSITION_KNOTS,
 };
 pub use chains::{CornerReason, KeptCorner};
 
