@@ -4,8 +4,15 @@
 use fairpath::geom::{Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
 
-/// A run of G1 moves through `pts`, input lines numbered from 1.
+/// A run of G1 moves through `pts` at 1000 mm/min, input lines numbered
+/// from 1.
 pub fn polyline_run(pts: &[Vec3]) -> Run {
+    polyline_run_with_feeds(pts, &[1000.0])
+}
+
+/// A run of G1 moves through `pts`, move `i` at `feeds[i % feeds.len()]`
+/// mm/min.
+pub fn polyline_run_with_feeds(pts: &[Vec3], feeds: &[f64]) -> Run {
     Run::new(
         pts.windows(2)
             .enumerate()
@@ -13,7 +20,7 @@ pub fn polyline_run(pts: &[Vec3]) -> Run {
                 curve: Curve::Line(Line::new(w[0], w[1])),
                 rapid: false,
                 source_lines: (i + 1, i + 1),
-                feed: Some(1000.0),
+                feed: Some(feeds[i % feeds.len()]),
             })
             .collect(),
     )

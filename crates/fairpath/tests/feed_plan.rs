@@ -2,6 +2,8 @@
 //! smoothed), and convergence to the acceleration-limited time-optimal
 //! traversal as the jerk limit grows.
 
+mod common;
+
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Curve, Line, Vec3};
@@ -21,17 +23,7 @@ impl Rng {
 }
 
 fn run_of(pts: &[Vec3], feeds: &[f64]) -> Run {
-    Run::new(
-        pts.windows(2)
-            .enumerate()
-            .map(|(i, w)| Piece {
-                curve: Curve::Line(Line::new(w[0], w[1])),
-                rapid: false,
-                source_lines: (i + 1, i + 1),
-                feed: Some(feeds[i % feeds.len()]),
-            })
-            .collect(),
-    )
+    common::polyline_run_with_feeds(pts, feeds)
 }
 
 /// Samples every segment profile: speed within its cap, |a| <= A, |j| <= J,
