@@ -447,7 +447,7 @@ pub fn report_without_deviation(
     for p in smoothed {
         if !matches!(p.curve, Curve::Line(_)) {
             let (t0, t1) = p.curve.domain();
-            let n = 4 * sample_count(&p.curve, opts.tolerance);
+            let n = sample_count(&p.curve, opts.tolerance);
             for k in 0..=n {
                 let t = t0 + (t1 - t0) * k as f64 / n as f64;
                 report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
