@@ -198,7 +198,7 @@ impl Summary {
         if let Some((a, b)) = self.feed_time {
             let _ = writeln!(
                 s,
-                "  feed time:       {a:.3} s -> {b:.3} s (planned: V 400 mm/s, A 4000, J 20000, programmed feeds)"
+                "  feed time:       {a:.3} s -> {b:.3} s (planned for the exact path: V 400 mm/s, A 4000, J 20000, programmed feeds)"
             );
         }
         let _ = writeln!(s, "  time taken:      {:.3} s", self.elapsed.as_secs_f64());

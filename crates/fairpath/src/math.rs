@@ -33,3 +33,27 @@ pub fn abs(x: f64) -> f64 {
 pub fn cbrt(x: f64) -> f64 {
     libm::cbrt(x)
 }
+#[inline]
+pub fn tan(x: f64) -> f64 {
+    libm::tan(x)
+}
+#[inline]
+#[allow(dead_code)] // for methods that need it
+pub fn acos(x: f64) -> f64 {
+    libm::acos(x)
+}
+#[inline]
+#[allow(dead_code)] // for methods that need it
+pub fn exp(x: f64) -> f64 {
+    libm::exp(x)
+}
+#[inline]
+#[allow(dead_code)] // for methods that need it
+pub fn ln(x: f64) -> f64 {
+    libm::log(x)
+}
+#[inline]
+#[allow(dead_code)] // for methods that need it
+pub fn powf(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}

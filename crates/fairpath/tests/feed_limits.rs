@@ -1,7 +1,8 @@
 //! Speed caps from machine limits: each cap makes its own constraint hold
 //! with equality, and bad limits are rejected by name.
 
-use fairpath::feed::limits::{junction_cap, speed_cap, Constraint, MachineLimits, PathPoint};
+use fairpath::feed::junction::{corner_blend, junction_cap};
+use fairpath::feed::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
 use fairpath::geom::Vec3;
 
 fn circle_point(r: f64) -> PathPoint {
@@ -100,7 +101,7 @@ fn junction_caps() {
     let b = Vec3::new(0.0, 1.0, 0.0);
     // 90 degrees: a circle of radius e sin45 / (1 - sin45) tangent to both
     // moves; its middle is e from the corner.
-    let v = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO);
+    let v = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO, f64::INFINITY);
     let s45 = 0.5f64.sqrt();
     let r = m.junction_deviation * s45 / (1.0 - s45);
     assert!((r / s45 - r - m.junction_deviation).abs() < 1e-15);
@@ -111,13 +112,48 @@ fn junction_caps() {
     assert!((v - want).abs() < 1e-12);
     // Gentler corners are faster.
     let c = Vec3::new(1.0, 0.1, 0.0) / 1.01f64.sqrt();
-    assert!(junction_cap(&m, a, c, Vec3::ZERO, Vec3::ZERO) > v);
+    assert!(junction_cap(&m, a, c, Vec3::ZERO, Vec3::ZERO, f64::INFINITY) > v);
     // Straight on: no cap.
     assert_eq!(
-        junction_cap(&m, a, a, Vec3::ZERO, Vec3::ZERO),
+        junction_cap(&m, a, a, Vec3::ZERO, Vec3::ZERO, f64::INFINITY),
         f64::INFINITY
     );
     // Tangent line into a 10 mm arc: v^2 / 10 = J Ts.
-    let v = junction_cap(&m, a, a, Vec3::ZERO, Vec3::new(0.0, 0.1, 0.0));
+    let v = junction_cap(
+        &m,
+        a,
+        a,
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.1, 0.0),
+        f64::INFINITY,
+    );
     assert!((v * v * 0.1 - m.jerk * m.period).abs() < 1e-9);
+}
+
+#[test]
+fn corner_circles_fit_in_half_the_moves() {
+    let m = MachineLimits::thesis();
+    // A 1 degree turn: the junction-deviation circle (R = 0.01 cos(a) /
+    // (1 - cos(a)), about 263 mm) would take 2.3 mm from each move.
+    let phi = 1f64.to_radians();
+    let a = Vec3::X;
+    let b = Vec3::new(phi.cos(), phi.sin(), 0.0);
+    let free = corner_blend(&m, a, b, f64::INFINITY).unwrap();
+    let ca = (0.5 * phi).cos();
+    assert!((free.radius - m.junction_deviation * ca / (1.0 - ca)).abs() < 1e-9 * free.radius);
+    assert!(free.tangent_length > 2.0);
+    // Between 1 mm moves it may take only 0.5 mm: R = 0.5 / tan(phi / 2).
+    let fit = corner_blend(&m, a, b, 0.5).unwrap();
+    assert!((fit.tangent_length - 0.5).abs() < 1e-12);
+    assert!((fit.radius - 0.5 / (0.5 * phi).tan()).abs() < 1e-9);
+    // Its curvature points inside the corner and is 1/R.
+    assert!((fit.curvature.norm() - 1.0 / fit.radius).abs() < 1e-12);
+    assert!(fit.curvature.y > 0.0);
+    // Short moves are slower than long ones.
+    let v_free = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO, f64::INFINITY);
+    let v_fit = junction_cap(&m, a, b, Vec3::ZERO, Vec3::ZERO, 0.5);
+    assert!(v_fit < v_free);
+    assert!((v_fit - (m.jerk * m.period * fit.radius).sqrt()).abs() < 1e-9 * v_fit);
+    // A reversal stops the machine.
+    assert_eq!(junction_cap(&m, a, -a, Vec3::ZERO, Vec3::ZERO, 1.0), 0.0);
 }

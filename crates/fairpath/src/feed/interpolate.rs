@@ -49,7 +49,7 @@ pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> In
         return out;
     }
     // Walker along the pieces: current piece and parameter.
-    let first = plan.segments[0].parts[0].0;
+    let first = plan.segments[0].parts[0].piece;
     let (mut pi, mut u) = (first, pieces[first].curve.domain().0);
     let mut p_prev = pieces[pi].curve.eval(u);
     let mut s_prev = 0.0;

@@ -14,9 +14,10 @@
 //! | axis velocity | `v abs(T_i) <= V_i` | per-axis drive limits |
 //! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
 //!
-//! At a joint that is not G2 the speed is capped by [`junction_cap`]: a
-//! corner is passed on the circle that deviates by the junction deviation,
-//! a curvature jump within one interpolation period.
+//! At a joint that is not G2 the speed is capped as in
+//! [`super::junction`]: a corner is passed on the circle that deviates by
+//! the junction deviation, a curvature jump within one interpolation
+//! period.
 
 use crate::geom::Vec3;
 use crate::math;
@@ -179,49 +180,4 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
         }
     }
     best
-}
-
-/// The largest speed (mm/s) through a joint that is not G2, from the same
-/// limits:
-///
-/// * a corner (the tangent turns by `phi`) is passed as a look-ahead
-///   controller passes it: on the circle tangent to both moves that stays
-///   within the junction deviation `e` of the corner (the model of grbl and
-///   its successors), of radius `R = e sin(a) / (1 - sin(a))` with
-///   `a = (pi - phi) / 2`; on it the centripetal acceleration and jerk caps
-///   apply, `v <= sqrt(A_n R)` and `v <= (J R^2)^(1/3)`, and, since the
-///   curvature jumps from 0 to `1/R` where the circle meets the moves, the
-///   curvature-jump cap below: `v <= sqrt(J Ts R)`. (grbl stops at the
-///   first two; without the third a polyline corner would escape the jerk
-///   limit that every curve is held to.)
-/// * a tangent joint (G1) whose curvature vector jumps by `dk` steps the
-///   normal acceleration by `v^2 dk` within one period `Ts`, a jerk that
-///   must stay within `J`: `v <= sqrt(J Ts / dk)`.
-///
-/// `tangent_in`/`tangent_out` are unit tangents, `k_in`/`k_out` curvature
-/// vectors (1/mm).
-pub fn junction_cap(
-    m: &MachineLimits,
-    tangent_in: Vec3,
-    tangent_out: Vec3,
-    k_in: Vec3,
-    k_out: Vec3,
-) -> f64 {
-    let phi = tangent_in.angle_to(tangent_out);
-    if phi > 0.0 {
-        let sa = math::cos(0.5 * phi); // sin((pi - phi) / 2)
-        if sa >= 1.0 {
-            return f64::INFINITY;
-        }
-        let r = m.junction_deviation * sa / (1.0 - sa);
-        return math::sqrt(m.normal_acc * r)
-            .min(math::cbrt(m.jerk * r * r))
-            .min(math::sqrt(m.jerk * m.period * r));
-    }
-    let dk = (k_out - k_in).norm();
-    if dk > 0.0 {
-        math::sqrt(m.jerk * m.period / dk)
-    } else {
-        f64::INFINITY
-    }
 }

@@ -1,6 +1,6 @@
 //! Feed planning: jerk-limited velocity profiles along the smoothed path.
 //!
-//! This is the first piece of issue 3 (seeds 001 and 003). What is here:
+//! Seeds 001 and 003. What is here:
 //!
 //! * [`double_s`]: the seven-phase double-S (jerk-limited) profile of
 //!   Biagiotti and Melchiorri, *Trajectory Planning for Automatic Machines
@@ -21,13 +21,16 @@
 //!   point of the path (curvature, curvature change, chord error, axes) and
 //!   on joints that are not G2, each with its source.
 //!
+//! * [`junction`]: how joints that are not G2 are passed (blend circles
+//!   within the junction deviation and half the adjacent moves).
 //! * [`plan`]: the look-ahead planner (full scan or bounded window).
 //! * [`interpolate`]: positions every interpolation period by the
 //!   second-order Taylor parameter update, and the feed fluctuation.
 //!
-//! Planned (not built yet): acceleration carried across segment
-//! boundaries (every segment now starts and ends at zero tangential
-//! acceleration, which is safe but slow on curves cut into many segments).
+//! Not built: acceleration carried across segment boundaries. Segments
+//! run from one local minimum of the speed cap to the next and start and
+//! end at zero tangential acceleration, which is safe and close to optimal
+//! where the speed touches the cap.
 //!
 //! Units: mm, s, mm/s, mm/s², mm/s³. f64 everywhere. Bad input (NaN,
 //! infinite, zero or negative limits, negative lengths or velocities) is an
@@ -35,6 +38,7 @@
 
 pub mod double_s;
 pub mod interpolate;
+pub mod junction;
 pub mod limits;
 pub mod plan;
 pub mod reach;

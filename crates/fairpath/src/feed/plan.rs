@@ -1,19 +1,24 @@
-//! Planning the feed along a run: segments with speed caps, a
-//! bidirectional jerk-limited look-ahead over the whole run, and a double-S
-//! profile per segment.
+//! Planning the feed along a run: a cap on the speed at every point, a
+//! bidirectional jerk-limited look-ahead over the whole run, and one
+//! double-S profile from each speed minimum to the next.
 //!
-//! 1. **Segments.** A line is one segment. Arcs and curves are cut where
+//! 1. **Caps.** A line is one stretch. Arcs and curves are cut where
 //!    their chords deviate by the machine's chord error (the interpolator's
-//!    own resolution); each interval is a segment whose cap is the smallest
+//!    own resolution); each interval is a stretch whose cap is the smallest
 //!    [`speed_cap`] at its ends and middle, with `dkappa/ds` from the change
-//!    of curvature across it.
-//! 2. **Boundaries.** The speed at a boundary is at most the caps of both
-//!    neighbours and, at a joint between pieces that is not G2, the
-//!    [`junction_cap`]. The run starts and ends at rest. Consecutive
-//!    segments with caps within [`MERGE_RATIO`] and a boundary that does not
-//!    constrain (a G2 joint, or a junction cap at least the caps) are merged
-//!    at the lower cap, so that the machine can accelerate across many
-//!    short moves.
+//!    of curvature across it. At a joint between pieces that is not G2 the
+//!    speed is also capped as in [`super::junction`]. The run starts and
+//!    ends at rest.
+//! 2. **Segments.** The profile of a segment starts and ends at zero
+//!    acceleration, so segment boundaries cost time where the machine
+//!    would rather keep accelerating. Boundaries are therefore put only
+//!    where the cap has a local minimum (the "critical points" of feed
+//!    scheduling, where the optimal speed touches the cap with zero
+//!    acceleration), and each segment gets one profile under the highest
+//!    cap inside it. Where that profile would pass a lower cap inside the
+//!    segment (the cap rises more slowly than the machine accelerates),
+//!    the segment is split at the worst stretch boundary and the run is
+//!    planned again, until every profile stays under every cap.
 //! 3. **Look-ahead.** A backward pass lowers every boundary speed to what
 //!    can still be braked to the next one within the segment
 //!    ([`max_entry_velocity`]), a forward pass to what can be reached from
@@ -23,24 +28,24 @@
 //!    real-time controller: it sees `n` segments ahead and must be able to
 //!    stop at the end of them.
 //! 4. **Profiles.** Each segment gets the fastest seven-phase double-S
-//!    profile ([`DoubleS`]) between its boundary speeds under its cap.
+//!    profile ([`DoubleS`]) between its boundary speeds.
 //!
-//! Every segment starts and ends at zero tangential acceleration, which is
-//! conservative (a little slower than a planner that lets acceleration run
-//! across boundaries) but keeps every limit exactly.
+//! Zero acceleration at the (few) boundaries is conservative: a little
+//! slower than a planner that lets acceleration run across them, but every
+//! limit holds exactly.
 
-use super::limits::{junction_cap, speed_cap, Constraint, MachineLimits, PathPoint};
+use super::junction::{blend_cap, corner_blend, jump_cap, Blend, MEET_REL};
+use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
 use super::{max_entry_velocity, max_reachable_velocity, DoubleS, FeedError, Limits};
-use crate::geom::{flatten_params, Curve, ParamCurve};
+use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
 use crate::path::Piece;
 use crate::smooth::verify::{classify_joint, Continuity, JointTolerances};
 use alloc::vec::Vec;
 
-/// Consecutive segments whose caps are within this ratio (and whose
-/// boundary does not constrain) are merged at the lower cap: a little speed
-/// is given up inside the merged segment to avoid bringing the acceleration
-/// back to zero at every boundary.
-pub const MERGE_RATIO: f64 = 0.9;
+/// Relative slack of the check of a profile against the caps inside its
+/// segment: rounding of the profile's closed forms, far below any speed
+/// that matters.
+pub const CAP_SLACK: f64 = 1e-9;
 
 /// How to plan.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,16 +61,35 @@ pub struct PlanOptions {
     pub window: Option<usize>,
 }
 
-/// One planned segment of a run.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlannedSegment {
-    /// The stretches of path it covers, in order: (piece index in the run,
-    /// parameter interval on its curve, arc length in mm).
-    pub parts: Vec<(usize, f64, f64, f64)>,
+/// A stretch of path inside a segment, with its own speed cap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Part {
+    /// Index of the piece in the run.
+    pub piece: usize,
+    /// Parameter interval on the piece's curve.
+    pub t0: f64,
+    pub t1: f64,
     /// Arc length, mm.
     pub length: f64,
-    /// Speed cap, mm/s, and what sets it.
+    /// Speed cap on this stretch, mm/s.
     pub cap: f64,
+    /// Speed cap at its start from the joint before it (mm/s; INFINITY
+    /// inside pieces and at G2 joints).
+    pub entry_cap: f64,
+}
+
+/// One planned segment of a run: from one speed minimum to the next.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedSegment {
+    /// The stretches of path it covers, in order.
+    pub parts: Vec<Part>,
+    /// Arc length, mm.
+    pub length: f64,
+    /// Highest cap inside the segment (the profile's speed limit), mm/s;
+    /// the profile stays under every part's own cap.
+    pub cap: f64,
+    /// The tightest constraint in the segment: what sets the lowest cap at
+    /// its ends or inside it.
     pub constraint: Constraint,
     pub profile: DoubleS,
 }
@@ -76,15 +100,40 @@ impl PlannedSegment {
     /// chord-error short).
     pub fn locate(&self, q: f64) -> (usize, f64) {
         let mut rest = q.max(0.0);
-        for &(piece, t0, t1, len) in &self.parts {
-            if rest <= len {
-                let f = if len > 0.0 { rest / len } else { 0.0 };
-                return (piece, t0 + (t1 - t0) * f);
+        for p in &self.parts {
+            if rest <= p.length {
+                let f = if p.length > 0.0 { rest / p.length } else { 0.0 };
+                return (p.piece, p.t0 + (p.t1 - p.t0) * f);
             }
-            rest -= len;
+            rest -= p.length;
         }
-        let &(piece, _, t1, _) = self.parts.last().expect("a segment has parts");
-        (piece, t1)
+        let p = self.parts.last().expect("a segment has parts");
+        (p.piece, p.t1)
+    }
+
+    /// The speed cap (mm/s) at arc length `q` into the segment: the
+    /// lower cap where two parts meet, and the joint's cap there.
+    pub fn cap_at(&self, q: f64) -> f64 {
+        let mut s0 = 0.0;
+        let mut cap = f64::INFINITY;
+        for p in &self.parts {
+            let s1 = s0 + p.length;
+            if q >= s0 && q <= s1 {
+                cap = cap.min(p.cap);
+            }
+            if q == s0 {
+                cap = cap.min(p.entry_cap);
+            }
+            if s0 > q {
+                break;
+            }
+            s0 = s1;
+        }
+        if cap.is_finite() {
+            cap
+        } else {
+            self.parts.last().map_or(0.0, |p| p.cap)
+        }
     }
 }
 
@@ -114,20 +163,97 @@ fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
     )
 }
 
-/// Plans a run of feed moves (continuous pieces).
-pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedError> {
-    let m = &opts.limits;
-    m.validate().map_err(|e| FeedError::BadLimit {
-        name: e.name,
-        value: e.value,
-    })?;
+/// A stretch with a constant cap, before segmentation.
+#[derive(Clone, Copy, Debug)]
+struct Stretch {
+    part: Part,
+    constraint: Constraint,
+}
+
+/// The speed cap at each joint between consecutive pieces of `valid`
+/// (indices of pieces with positive length, and their lengths): INFINITY
+/// at G2 joints; corners passed on blend circles that may meet each other
+/// on short moves (see [`super::junction`]).
+fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Vec<f64> {
     let jt = JointTolerances::from_tolerance(m.chord_error);
-    // Segments: (piece, t0, t1, length, cap, constraint).
-    let mut segs: Vec<(usize, f64, f64, f64, f64, Constraint)> = Vec::new();
-    // Junction cap at the start of each segment (INFINITY inside pieces).
-    let mut junction: Vec<f64> = Vec::new();
-    let mut prev: Option<usize> = None;
+    enum Joint {
+        Smooth,
+        Tangent(f64),
+        Corner(Blend, Vec3, Vec3),
+    }
+    let joints: Vec<Joint> = valid
+        .windows(2)
+        .map(|w| {
+            let ((qa, la), (qb, lb)) = (w[0], w[1]);
+            let (a, c) = (&pieces[qa].curve, &pieces[qb].curve);
+            if classify_joint(a, c, &jt) == Continuity::G2 {
+                return Joint::Smooth;
+            }
+            let (pa, _) = point(a, a.domain().1);
+            let (pb, _) = point(c, c.domain().0);
+            if pa.tangent.angle_to(pb.tangent) > 0.0 {
+                let room = 0.5 * la.min(lb);
+                match corner_blend(m, pa.tangent, pb.tangent, room) {
+                    Some(bl) => Joint::Corner(bl, pa.curvature, pb.curvature),
+                    None if pa.tangent.dot(pb.tangent) > 0.0 => Joint::Smooth,
+                    None => Joint::Tangent(0.0),
+                }
+            } else {
+                Joint::Tangent(jump_cap(m, (pb.curvature - pa.curvature).norm()))
+            }
+        })
+        .collect();
+    let blend_of = |j: usize| match joints.get(j) {
+        Some(Joint::Corner(b, _, _)) => Some(*b),
+        _ => None,
+    };
+    (0..joints.len())
+        .map(|j| match &joints[j] {
+            Joint::Smooth => f64::INFINITY,
+            Joint::Tangent(cap) => *cap,
+            Joint::Corner(bl, k_in, k_out) => {
+                // What the circle meets: the neighbouring circle when both
+                // fill the line between them, else the piece itself.
+                let meets = |other: Option<Blend>, piece: usize| -> Option<Vec3> {
+                    let (q, len) = valid[piece];
+                    let o = other?;
+                    let line = matches!(pieces[q].curve, Curve::Line(_));
+                    let rest = len - o.tangent_length - bl.tangent_length;
+                    (line && rest <= m.chord_error.max(len * MEET_REL)).then_some(o.curvature)
+                };
+                let before = if j > 0 {
+                    meets(blend_of(j - 1), j)
+                } else {
+                    None
+                };
+                let after = meets(blend_of(j + 1), j + 1);
+                let k_before = before.unwrap_or(*k_in);
+                let k_after = after.unwrap_or(*k_out);
+                let jump = (bl.curvature - k_before)
+                    .norm()
+                    .max((k_after - bl.curvature).norm());
+                blend_cap(m, bl, jump)
+            }
+        })
+        .collect()
+}
+
+/// Cuts the run into stretches with caps; `junction[k]` caps the speed at
+/// the start of stretch `k` (INFINITY inside pieces and at G2 joints).
+fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<f64>), FeedError> {
+    let m = &opts.limits;
+    let mut valid: Vec<(usize, f64)> = Vec::with_capacity(pieces.len());
     for (pi, p) in pieces.iter().enumerate() {
+        let len = p.curve.length(m.chord_error * 1e-3);
+        if !len.is_nan() && len > 0.0 {
+            valid.push((pi, len));
+        }
+    }
+    let jcaps = joint_caps(pieces, &valid, m);
+    let mut out: Vec<Stretch> = Vec::new();
+    let mut junction: Vec<f64> = Vec::new();
+    for (vi, &(pi, len_total)) in valid.iter().enumerate() {
+        let p = &pieces[pi];
         let feed = if opts.override_feed {
             m.max_feed
         } else {
@@ -140,27 +266,13 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
             });
         }
         let c = &p.curve;
-        let len_total = c.length(m.chord_error * 1e-3);
-        if len_total.is_nan() || len_total <= 0.0 {
-            continue;
-        }
-        let jcap = match prev {
-            Some(q) if classify_joint(&pieces[q].curve, c, &jt) != Continuity::G2 => {
-                let a = &pieces[q].curve;
-                let (_, ta) = a.domain();
-                let (tb, _) = c.domain();
-                let (pa, _) = point(a, ta);
-                let (pb, _) = point(c, tb);
-                junction_cap(m, pa.tangent, pb.tangent, pa.curvature, pb.curvature)
-            }
-            _ => f64::INFINITY,
-        };
-        prev = Some(pi);
+        // The joint's cap goes to the first stretch of the piece.
+        let mut jcap = if vi > 0 { jcaps[vi - 1] } else { f64::INFINITY };
         let ts = match c {
             Curve::Line(_) => alloc::vec![0.0, 1.0],
             _ => flatten_params(c, m.chord_error),
         };
-        for (k, w) in ts.windows(2).enumerate() {
+        for w in ts.windows(2) {
             let (t0, t1) = (w[0], w[1]);
             let len = match c {
                 Curve::Line(_) => len_total,
@@ -182,51 +294,52 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
                     cap = c;
                 }
             }
-            segs.push((pi, t0, t1, len, cap.0, cap.1));
-            junction.push(if k == 0 { jcap } else { f64::INFINITY });
-        }
-    }
-    // Merge segments whose boundary does not constrain the speed.
-    let mut merged: Vec<(usize, f64, f64, f64, f64, Constraint)> = Vec::with_capacity(segs.len());
-    let mut mjunction: Vec<f64> = Vec::with_capacity(segs.len());
-    let mut parts: Vec<Vec<(usize, f64, f64, f64)>> = Vec::with_capacity(segs.len());
-    for (s, j) in segs.into_iter().zip(junction) {
-        if let Some(last) = merged.last_mut() {
-            let (lo, hi) = (last.4.min(s.4), last.4.max(s.4));
-            if lo >= MERGE_RATIO * hi && j >= hi {
-                if s.4 < last.4 {
-                    last.4 = s.4;
-                    last.5 = s.5;
+            let j = core::mem::replace(&mut jcap, f64::INFINITY);
+            // Neighbouring stretches with the same cap and nothing between
+            // them are one stretch.
+            if let Some(last) = out.last_mut() {
+                if last.part.cap == cap.0 && j >= cap.0 && last.part.piece == pi {
+                    last.part.t1 = t1;
+                    last.part.length += len;
+                    continue;
                 }
-                last.3 += s.3;
-                parts.last_mut().unwrap().push((s.0, s.1, s.2, s.3));
-                continue;
             }
+            out.push(Stretch {
+                part: Part {
+                    piece: pi,
+                    t0,
+                    t1,
+                    length: len,
+                    cap: cap.0,
+                    entry_cap: j,
+                },
+                constraint: cap.1,
+            });
+            junction.push(j);
         }
-        parts.push(alloc::vec![(s.0, s.1, s.2, s.3)]);
-        merged.push(s);
-        mjunction.push(j);
     }
-    let (segs, junction) = (merged, mjunction);
-    let n = segs.len();
-    let mut plan = RunPlan::default();
-    if n == 0 {
-        return Ok(plan);
-    }
-    // Boundary caps: rest at both ends.
-    let mut v = alloc::vec![0.0f64; n + 1];
-    for i in 1..n {
-        v[i] = segs[i - 1].4.min(segs[i].4).min(junction[i]);
-    }
-    match opts.window {
+    Ok((out, junction))
+}
+
+/// Boundary speeds of segments of `lengths` with boundary caps `caps`
+/// (`caps.len() == lengths.len() + 1`, both ends at rest): the full
+/// bidirectional scan, or the bounded look-ahead of `window` segments.
+fn boundary_speeds(
+    lengths: &[f64],
+    caps: &[f64],
+    window: Option<usize>,
+    m: &MachineLimits,
+) -> Result<Vec<f64>, FeedError> {
+    let n = lengths.len();
+    let mut v = caps.to_vec();
+    match window {
         None => {
-            // Backward pass, then forward pass.
             for i in (0..n).rev() {
-                let e = max_entry_velocity(v[i + 1], segs[i].3, m.acc, m.jerk)?;
+                let e = max_entry_velocity(v[i + 1], lengths[i], m.acc, m.jerk)?;
                 v[i] = v[i].min(e);
             }
             for i in 0..n {
-                let r = max_reachable_velocity(v[i], segs[i].3, m.acc, m.jerk)?;
+                let r = max_reachable_velocity(v[i], lengths[i], m.acc, m.jerk)?;
                 v[i + 1] = v[i + 1].min(r);
             }
         }
@@ -239,21 +352,24 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
             // speed vm takes vm sqrt(dv/J)), so a new window's target is
             // taken only when it is reachable from the committed speed;
             // otherwise the previous window's plan, which was, goes on.
-            let caps = v.clone();
             let w = w.max(1);
             let mut plan_b = alloc::vec![0.0f64; n + 1];
             for i in 0..n {
                 let end = (i + w).min(n);
                 let mut nb = alloc::vec![0.0f64; end - i + 1]; // boundaries i..=end
                 for k in (i + 1..end).rev() {
-                    nb[k - i] =
-                        caps[k].min(max_entry_velocity(nb[k + 1 - i], segs[k].3, m.acc, m.jerk)?);
+                    nb[k - i] = caps[k].min(max_entry_velocity(
+                        nb[k + 1 - i],
+                        lengths[k],
+                        m.acc,
+                        m.jerk,
+                    )?);
                 }
-                let reach = max_reachable_velocity(v[i], segs[i].3, m.acc, m.jerk)?;
+                let reach = max_reachable_velocity(v[i], lengths[i], m.acc, m.jerk)?;
                 let candidate = nb[1].min(reach).min(caps[i + 1]);
                 let feasible = candidate >= v[i]
                     || v[i]
-                        <= max_entry_velocity(candidate, segs[i].3, m.acc, m.jerk)? * (1.0 - 1e-9);
+                        <= max_entry_velocity(candidate, lengths[i], m.acc, m.jerk)? * (1.0 - 1e-9);
                 if feasible || i == 0 {
                     plan_b[i + 1..=end].copy_from_slice(&nb[1..]);
                     v[i + 1] = candidate;
@@ -263,20 +379,226 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
             }
         }
     }
-    for (i, (s, parts)) in segs.into_iter().zip(parts).enumerate() {
-        let lim = Limits::new(s.4, m.acc, m.jerk)?;
-        let profile = DoubleS::plan(s.3, v[i].min(s.4), v[i + 1].min(s.4), &lim)?;
+    Ok(v)
+}
+
+/// The speed of `profile` at arc length `q`, on its rising side (`rising`)
+/// or its falling side.
+fn speed_at(profile: &DoubleS, q: f64, rising: bool) -> f64 {
+    let ph = profile.phases();
+    let (mut lo, mut hi) = if rising {
+        (0.0, ph.ta)
+    } else {
+        (ph.ta + ph.tv, profile.duration())
+    };
+    // Bisection on time: q(t) is increasing; 64 halvings reach f64
+    // resolution of any duration.
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if profile.eval(mid).q < q {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    profile.eval(hi).v
+}
+
+/// Checks `profile` against the caps of `parts`. Returns the stretch
+/// boundary (index into `parts`, 0..=len) at which to split where the
+/// profile passes a cap, the worst first, or `None`.
+fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Option<usize> {
+    let ph = profile.phases();
+    let peak_lo = profile.eval(ph.ta).q;
+    let peak_hi = profile.eval(ph.ta + ph.tv).q;
+    let vpeak = profile.vlim().max(profile.v0()).max(profile.v1());
+    let mut worst: Option<(f64, usize)> = None;
+    let mut s0 = 0.0;
+    for (k, st) in parts.iter().enumerate() {
+        let s1 = s0 + st.part.length;
+        let cap = st.part.cap * (1.0 + CAP_SLACK);
+        // v(q) rises to the peak plateau, then falls: the largest speed on
+        // [s0, s1] is at the end nearer the plateau.
+        let (vmax, at) = if s1 < peak_lo {
+            (
+                if vpeak <= cap {
+                    vpeak
+                } else {
+                    speed_at(profile, s1, true)
+                },
+                k + 1,
+            )
+        } else if s0 > peak_hi {
+            (
+                if vpeak <= cap {
+                    vpeak
+                } else {
+                    speed_at(profile, s0, false)
+                },
+                k,
+            )
+        } else {
+            // The plateau is inside: split at the inner end with the
+            // lower cap.
+            let inner = |i: usize| i != 0 && i != parts.len();
+            let at = match (inner(k), inner(k + 1)) {
+                (true, true) if lower_boundary[k + 1] < lower_boundary[k] => k + 1,
+                (true, _) => k,
+                (false, _) => k + 1,
+            };
+            (vpeak, at)
+        };
+        // A split at the segment's own ends is no split: the speed there is
+        // already within the cap, and only rounding can exceed it.
+        if vmax > cap && at != 0 && at != parts.len() {
+            let ratio = vmax / st.part.cap;
+            if worst.is_none_or(|(r, _)| ratio > r) {
+                worst = Some((ratio, at));
+            }
+        }
+        // The junction cap at the inner boundary at the end of this
+        // stretch.
+        let jb = lower_boundary[k + 1] * (1.0 + CAP_SLACK);
+        if k + 1 < parts.len() && vpeak > jb {
+            let v = if s1 < peak_lo {
+                speed_at(profile, s1, true)
+            } else if s1 > peak_hi {
+                speed_at(profile, s1, false)
+            } else {
+                vpeak
+            };
+            if v > jb {
+                let ratio = v / lower_boundary[k + 1];
+                if worst.is_none_or(|(r, _)| ratio > r) {
+                    worst = Some((ratio, k + 1));
+                }
+            }
+        }
+        s0 = s1;
+    }
+    worst.map(|(_, at)| at)
+}
+
+/// Plans a run of feed moves (continuous pieces).
+pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedError> {
+    let m = &opts.limits;
+    m.validate().map_err(|e| FeedError::BadLimit {
+        name: e.name,
+        value: e.value,
+    })?;
+    let (st, junction) = stretches(pieces, opts)?;
+    let n = st.len();
+    let mut plan = RunPlan::default();
+    if n == 0 {
+        return Ok(plan);
+    }
+    // Cap at each stretch boundary (rest at both ends) and what sets it.
+    let mut bcap = alloc::vec![0.0f64; n + 1];
+    for i in 1..n {
+        bcap[i] = st[i - 1].part.cap.min(st[i].part.cap).min(junction[i]);
+    }
+    // Initial segment boundaries: the ends and the local minima of the cap.
+    let mut key = alloc::vec![false; n + 1];
+    key[0] = true;
+    key[n] = true;
+    for i in 1..n {
+        let (l, c, r) = (bcap[i - 1], bcap[i], bcap[i + 1]);
+        if (c <= l && c < r) || (c < l && c <= r) {
+            key[i] = true;
+        }
+    }
+    // Prefix lengths of the stretches.
+    let mut pre = alloc::vec![0.0f64; n + 1];
+    for i in 0..n {
+        pre[i + 1] = pre[i] + st[i].part.length;
+    }
+    // Split each segment until its fastest profile (boundary speeds at
+    // their caps, as far as the segment allows) stays under every cap
+    // inside. A profile between lower boundary speeds is slower everywhere,
+    // so this segmentation holds for whatever the look-ahead chooses, and
+    // is the same for the full scan and a bounded window.
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    let mut a = 0;
+    for b in 1..=n {
+        if key[b] {
+            stack.push((a, b));
+            a = b;
+        }
+    }
+    while let Some((a, b)) = stack.pop() {
+        let len = pre[b] - pre[a];
+        let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
+        let v1 = bcap[b].min(vmax);
+        let v0 = bcap[a]
+            .min(vmax)
+            .min(max_entry_velocity(v1, len, m.acc, m.jerk)?);
+        let v1 = v1.min(max_reachable_velocity(v0, len, m.acc, m.jerk)?);
+        let profile = DoubleS::plan(len, v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
+        if let Some(k) = violation(&profile, &st[a..b], &bcap[a..=b]) {
+            key[a + k] = true;
+            stack.push((a, a + k));
+            stack.push((a + k, b));
+        }
+    }
+    // Then the look-ahead, with a check of every profile against the caps
+    // inside its segment (a safety net: a split here is not expected).
+    // Segments verified against their inner caps: (end, v0, v1) by start.
+    let mut verified: Vec<Option<(usize, f64, f64)>> = alloc::vec![None; n + 1];
+    let (bounds, profiles) = loop {
+        let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
+        let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
+        let caps: Vec<f64> = bounds.iter().map(|&i| bcap[i]).collect();
+        let v = boundary_speeds(&lengths, &caps, opts.window, m)?;
+        let mut profiles = Vec::with_capacity(lengths.len());
+        let mut split = false;
+        for (j, w) in bounds.windows(2).enumerate() {
+            let (a, b) = (w[0], w[1]);
+            let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
+            let (v0, v1) = (v[j].min(vmax), v[j + 1].min(vmax));
+            let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
+            if verified[a] != Some((b, v0, v1)) {
+                match violation(&profile, &st[a..b], &bcap[a..=b]) {
+                    Some(k) => {
+                        key[a + k] = true;
+                        split = true;
+                    }
+                    None => verified[a] = Some((b, v0, v1)),
+                }
+            }
+            profiles.push(profile);
+        }
+        if !split {
+            break (bounds, profiles);
+        }
+    };
+    for (w, profile) in bounds.windows(2).zip(profiles) {
+        let (a, b) = (w[0], w[1]);
         plan.time += profile.duration();
-        plan.max_acc = plan.max_acc.max(profile.alim_a()).max(profile.alim_d());
+        plan.max_acc = plan.max_acc.max(profile.alim_a()).max(-profile.alim_d());
         let ph = profile.phases();
         if ph.tj1 > 0.0 || ph.tj2 > 0.0 {
             plan.max_jerk = m.jerk;
         }
+        // The tightest constraint: the lowest cap among the stretches.
+        let tight = st[a..b]
+            .iter()
+            .min_by(|x, y| x.part.cap.total_cmp(&y.part.cap))
+            .expect("a segment has stretches");
+        let (mut constraint, mut low) = (tight.constraint, tight.part.cap);
+        for i in [a, b] {
+            if i != 0 && i != n && junction[i] < low {
+                low = junction[i];
+                constraint = Constraint::Junction;
+            }
+        }
         plan.segments.push(PlannedSegment {
-            parts,
-            length: s.3,
-            cap: s.4,
-            constraint: s.5,
+            parts: st[a..b].iter().map(|s| s.part).collect(),
+            length: pre[b] - pre[a],
+            cap: st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max),
+            constraint,
             profile,
         });
     }

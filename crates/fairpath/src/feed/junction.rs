@@ -1,0 +1,122 @@
+//! How a controller passes a joint between pieces that is not G2, from the
+//! same limits as every curve.
+//!
+//! * A **corner** (the tangent turns by `phi`) is passed on the circle
+//!   tangent to both moves that stays within the junction deviation `e` of
+//!   the corner (the model of grbl and its successors): radius
+//!   `R = e sin(a) / (1 - sin(a))` with `a = (pi - phi) / 2`. The circle must
+//!   also fit in the moves: its tangent length `R tan(phi / 2)` is at most
+//!   `room`, half the shorter adjacent move (LinuxCNC's blends are limited
+//!   to half a segment the same way), so `R <= room / tan(phi / 2)`.
+//!   Without this a chain of short moves with small turns would be passed
+//!   on circles far longer than the moves, faster than any path through
+//!   them. On the circle the caps of any curve apply ([`speed_cap`]:
+//!   `kappa v^2 <= A_n`, `kappa^2 v^3 <= J`, chord error, axes).
+//! * Where the circle meets what comes before and after it the curvature
+//!   vector jumps by `dk`, and the normal acceleration steps by `v^2 dk`
+//!   within one interpolation period `Ts`: `v <= sqrt(J Ts / dk)`. On an
+//!   isolated corner `dk = 1/R` (grbl stops at the caps above, so without
+//!   this a polyline corner would escape the jerk limit that every curve is
+//!   held to). On a dense chain of short moves the circles fill the moves
+//!   and meet each other, and `dk` is the difference of their curvature
+//!   vectors: a finely sampled smooth curve is passed as the curve it
+//!   samples, as a blending controller passes it.
+//! * A **tangent joint** (G1) whose curvature vector jumps by `dk` has the
+//!   same cap `sqrt(J Ts / dk)`.
+
+use super::limits::{speed_cap, MachineLimits, PathPoint};
+use crate::geom::Vec3;
+use crate::math;
+
+/// Relative length below which two blends on one move count as meeting
+/// (rounding of `room`, which makes them meet exactly).
+pub const MEET_REL: f64 = 1e-9;
+
+/// The circle on which a corner is passed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blend {
+    /// Radius, mm.
+    pub radius: f64,
+    /// Length taken from each move, mm.
+    pub tangent_length: f64,
+    /// Curvature vector (1/mm), towards the inside of the corner.
+    pub curvature: Vec3,
+    /// Unit tangent in the middle of the circle.
+    pub tangent: Vec3,
+}
+
+/// The blend circle of a corner between unit tangents `tangent_in` and
+/// `tangent_out`, taking at most `room` mm from each move
+/// (`f64::INFINITY`: unlimited); `None` when the path runs straight on or
+/// reverses.
+pub fn corner_blend(
+    m: &MachineLimits,
+    tangent_in: Vec3,
+    tangent_out: Vec3,
+    room: f64,
+) -> Option<Blend> {
+    let phi = tangent_in.angle_to(tangent_out);
+    let sa = math::cos(0.5 * phi); // sin((pi - phi) / 2)
+    if !(phi > 0.0 && sa < 1.0 && sa > 0.0) {
+        return None;
+    }
+    let half_tan = math::tan(0.5 * phi);
+    let radius = (m.junction_deviation * sa / (1.0 - sa)).min(room / half_tan);
+    let normal = (tangent_out - tangent_in).normalized(0.0)?;
+    let tangent = (tangent_in + tangent_out).normalized(0.0)?;
+    Some(Blend {
+        radius,
+        tangent_length: radius * half_tan,
+        curvature: normal / radius,
+        tangent,
+    })
+}
+
+/// The largest speed (mm/s) on `blend`, whose curvature vector jumps by
+/// `jump` (1/mm) where it meets its neighbours.
+pub fn blend_cap(m: &MachineLimits, blend: &Blend, jump: f64) -> f64 {
+    let p = PathPoint {
+        tangent: blend.tangent,
+        curvature: blend.curvature,
+        dkappa_ds: 0.0,
+    };
+    speed_cap(m, m.max_feed, &p).0.min(jump_cap(m, jump))
+}
+
+/// The largest speed (mm/s) across a jump `dk` (1/mm) of the curvature
+/// vector: `sqrt(J Ts / dk)`.
+pub fn jump_cap(m: &MachineLimits, dk: f64) -> f64 {
+    if dk > 0.0 {
+        math::sqrt(m.jerk * m.period / dk)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The largest speed (mm/s) through an isolated joint: a corner passed on
+/// its blend (neighbours with curvature vectors `k_in`, `k_out`), or a
+/// tangent joint whose curvature vector jumps from `k_in` to `k_out`.
+/// `room` as in [`corner_blend`].
+pub fn junction_cap(
+    m: &MachineLimits,
+    tangent_in: Vec3,
+    tangent_out: Vec3,
+    k_in: Vec3,
+    k_out: Vec3,
+    room: f64,
+) -> f64 {
+    if tangent_in.angle_to(tangent_out) > 0.0 {
+        return match corner_blend(m, tangent_in, tangent_out, room) {
+            Some(b) => {
+                let jump = (b.curvature - k_in)
+                    .norm()
+                    .max((k_out - b.curvature).norm());
+                blend_cap(m, &b, jump)
+            }
+            // Straight on within rounding: no cap; a reversal: stop.
+            None if tangent_in.dot(tangent_out) > 0.0 => f64::INFINITY,
+            None => 0.0,
+        };
+    }
+    jump_cap(m, (k_out - k_in).norm())
+}
