@@ -4,6 +4,7 @@
 //! arguments; benchmarks drive the same pipeline through this library.
 
 pub mod check;
+pub mod compare;
 pub mod output;
 pub mod parallel;
 pub mod pipeline;

@@ -29,6 +29,13 @@ enum TextOrJson {
     Json,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum TableFormat {
+    Text,
+    Json,
+    Csv,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Replace the feed moves of a program with a G2 path within the tolerance.
@@ -99,6 +106,27 @@ enum Command {
         segments: Option<PathBuf>,
         #[arg(long, value_enum, default_value_t = TextOrJson::Text)]
         format: TextOrJson,
+    },
+    /// Run every smoothing method (and the untouched program) on one program
+    /// and print one table: deviation, joints, length, peak curvature,
+    /// curvature variation energy, planned time and its ratio to the
+    /// original, smoothing time. Exit status 3 if a method fails to verify.
+    Compare {
+        program: PathBuf,
+        /// Largest distance (mm) of each method's path from the original.
+        #[arg(short, long)]
+        tolerance: f64,
+        /// Machine file (TOML, as for `simulate`); default: the thesis machine.
+        #[arg(long)]
+        machine: Option<PathBuf>,
+        /// Methods to run, comma-separated (default: all).
+        #[arg(long, value_delimiter = ',')]
+        methods: Option<Vec<String>>,
+        /// Run every feed move at the machine's maximum feed.
+        #[arg(long)]
+        override_feed: bool,
+        #[arg(long, value_enum, default_value_t = TableFormat::Text)]
+        format: TableFormat,
     },
     /// Verify a smoothed program (G-code or JSON) against its original.
     Check {
@@ -185,6 +213,48 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 format == TextOrJson::Json,
             )?;
             Ok(ExitCode::SUCCESS)
+        }
+        Command::Compare {
+            program,
+            tolerance,
+            machine,
+            methods,
+            override_feed,
+            format,
+        } => {
+            use fairpath_cli::compare;
+            let m = fairpath_cli::simulate::machine(
+                machine.as_deref(),
+                fairpath_cli::simulate::MachineFlags::default(),
+            )?;
+            let methods = methods.unwrap_or_else(|| {
+                fairpath::smooth::METHODS
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect()
+            });
+            let rows = compare::compare(
+                &program,
+                &compare::CompareOptions {
+                    tolerance,
+                    machine: m,
+                    methods,
+                    override_feed,
+                },
+            )?;
+            print!(
+                "{}",
+                match format {
+                    TableFormat::Text => compare::text(&rows),
+                    TableFormat::Json => compare::json(&rows) + "\n",
+                    TableFormat::Csv => compare::csv(&rows),
+                }
+            );
+            Ok(if rows.iter().all(|r| r.verified) {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(3)
+            })
         }
         Command::Check {
             original,

@@ -132,28 +132,36 @@ pub fn motions(path: &Path) -> Result<Vec<Motion>> {
         }
     } else {
         let program = crate::pipeline::parse_program(path, &bytes)?;
-        let runs = program.runs();
-        let spans = program.run_spans();
-        let mut next_run = 0;
-        let mut mi = 0;
-        let moves = program.moves();
-        while mi < moves.len() {
-            if next_run < spans.len() && spans[next_run].moves.start == mi {
-                out.push(Motion::Feed(runs[next_run].clone()));
-                mi = spans[next_run].moves.end;
-                next_run += 1;
-                continue;
-            }
-            let m = &moves[mi];
-            if m.piece.rapid {
-                out.push(Motion::Rapid(m.piece.clone()));
-            } else {
-                out.push(Motion::Feed(Run::new(vec![m.piece.clone()])));
-            }
-            mi += 1;
-        }
+        out = gcode_motions(&program, &program.runs());
     }
     Ok(out)
+}
+
+/// The motions of a G-code program with its runs replaced by `runs` (the
+/// program's own, or smoothed ones, in the order of `Program::runs`);
+/// pinned feed moves are motions of their own.
+pub fn gcode_motions(program: &fairpath_gcode::Program, runs: &[Run]) -> Vec<Motion> {
+    let mut out = Vec::new();
+    let spans = program.run_spans();
+    let mut next_run = 0;
+    let mut mi = 0;
+    let moves = program.moves();
+    while mi < moves.len() {
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            out.push(Motion::Feed(runs[next_run].clone()));
+            mi = spans[next_run].moves.end;
+            next_run += 1;
+            continue;
+        }
+        let m = &moves[mi];
+        if m.piece.rapid {
+            out.push(Motion::Rapid(m.piece.clone()));
+        } else {
+            out.push(Motion::Feed(Run::new(vec![m.piece.clone()])));
+        }
+        mi += 1;
+    }
+    out
 }
 
 /// One planned motion: a feed run and its plan, or a rapid and its profile.

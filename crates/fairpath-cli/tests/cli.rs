@@ -352,3 +352,77 @@ fn a_violating_smoother_is_refused_and_nothing_is_written() {
     }
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
+
+#[test]
+fn compare_prints_every_method_and_the_baseline() {
+    let program = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/pocket-corners.ngc");
+    let o = bin()
+        .args([
+            "compare",
+            program.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+            "--format",
+            "json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+    let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
+    let mut want = vec!["original"];
+    want.extend(fairpath::smooth::METHODS);
+    assert_eq!(names, want);
+    let base = &rows[0];
+    assert_eq!(base["time_ratio"].as_f64(), Some(1.0));
+    assert_eq!(base["max_deviation_mm"].as_f64(), Some(0.0));
+    for r in &rows[1..] {
+        assert_eq!(r["verified"].as_bool(), Some(true), "{r}");
+        let dev = r["max_deviation_mm"].as_f64().unwrap();
+        assert!(dev > 0.0 && dev <= 0.05, "{r}");
+        // Every corner of the pocket is blended: G2 joints only, apart
+        // from what the method reports as kept.
+        assert!(r["g2"].as_u64().unwrap() > 0, "{r}");
+        assert_eq!(r["gaps"].as_u64(), Some(0), "{r}");
+        let ratio = r["time_ratio"].as_f64().unwrap();
+        let time = r["time_s"].as_f64().unwrap();
+        let base_time = base["time_s"].as_f64().unwrap();
+        assert!((ratio - time / base_time).abs() < 1e-12);
+        assert!(r["peak_curvature_per_mm"].as_f64().unwrap() > 0.0);
+        assert!(r["curvature_variation_energy"].as_f64().unwrap() > 0.0);
+    }
+    // CSV: a header and a row per method.
+    let o = bin()
+        .args([
+            "compare",
+            program.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+            "--methods",
+            "bspline-corner",
+            "--format",
+            "csv",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3);
+    assert!(lines[0].starts_with("method,max_deviation_mm,verified,"));
+    assert!(lines[2].starts_with("bspline-corner,"));
+    // An unknown method is an error naming the known ones.
+    let o = bin()
+        .args([
+            "compare",
+            program.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+            "--methods",
+            "nope",
+        ])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bspline-corner"));
+}

@@ -84,3 +84,46 @@ fn paper_example_section_3_3() {
     let alpha = 0.005 / e0;
     assert!((alpha * 0.0479 - 0.0123).abs() < 2e-4);
 }
+
+#[test]
+fn curvature_variation_energy_of_a_parabola_matches_the_integral() {
+    use fairpath::geom::{curvature_variation_energy, Curve, Nurbs};
+    // y = x^2 on [0, 1] as a quadratic Bezier: kappa(x) = 2 / (1 + 4x^2)^1.5,
+    // dkappa/dx = -24 x / (1 + 4x^2)^2.5, ds = sqrt(1 + 4x^2) dx, so
+    // E = int 576 x^2 / (1 + 4x^2)^5.5 dx, here by Simpson's rule.
+    let c = Curve::Nurbs(
+        Nurbs::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(0.5, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+            ],
+            None,
+        )
+        .unwrap(),
+    );
+    let f = |x: f64| 576.0 * x * x / (1.0 + 4.0 * x * x).powf(5.5);
+    let n = 20_000;
+    let h = 1.0 / n as f64;
+    let want = (0..=n)
+        .map(|i| {
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * f(i as f64 * h)
+        })
+        .sum::<f64>()
+        * h
+        / 3.0;
+    let got = curvature_variation_energy(&c, 1e-6);
+    assert!((got - want).abs() <= 1e-4 * want, "{got} vs {want}");
+    // Lines and circles do not vary their curvature.
+    let line = Curve::Line(fairpath::geom::Line::new(Vec3::ZERO, Vec3::X));
+    assert_eq!(curvature_variation_energy(&line, 1e-6), 0.0);
+}

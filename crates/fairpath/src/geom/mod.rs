@@ -3,12 +3,14 @@
 
 mod arc;
 mod curve;
+mod fairness;
 mod line;
 mod nurbs;
 mod polyline;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
+pub use fairness::curvature_variation_energy;
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
     ParamCurve,
