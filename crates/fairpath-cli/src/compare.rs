@@ -128,7 +128,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         let time = plan_time(&smoothed).with_context(|| format!("{name}: planning"))?;
         rows.push(row(name, &runs, &smoothed, budget, time, smoothing_time));
     }
-    if !(base_time > 0.0) {
+    if base_time.is_nan() || base_time <= 0.0 {
         return Err(anyhow!("the program takes no time to run"));
     }
     for r in &mut rows {

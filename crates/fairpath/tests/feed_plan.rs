@@ -103,7 +103,7 @@ fn check_limits_window(pieces: &[Piece], m: &MachineLimits, window: Option<usize
 #[test]
 fn seeded_random_paths_never_exceed_limits() {
     let mut rng = Rng(42);
-    for case in 0..300 {
+    for case in 0..1200 {
         let n = 2 + (rng.next() * 30.0) as usize;
         let scale = [0.05, 1.0, 20.0][case % 3];
         let pts: Vec<Vec3> = (0..n)
@@ -323,10 +323,9 @@ fn phase_plane_time(c: &Curve, m: &MachineLimits, feed: f64, samples: usize) -> 
         kappa.push(k.norm());
         geo.push((d1.normalized(0.0).unwrap(), k));
     }
-    for i in 0..=samples {
+    for (i, &(tangent, curvature)) in geo.iter().enumerate() {
         let (a, b) = (i.saturating_sub(1), (i + 1).min(samples));
         let dk = (kappa[b] - kappa[a]) / (s[b] - s[a]);
-        let (tangent, curvature) = geo[i];
         let p = PathPoint {
             tangent,
             curvature,

@@ -522,11 +522,9 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
     // is the same for the full scan and a bounded window.
     let mut stack: Vec<(usize, usize)> = Vec::new();
     let mut a = 0;
-    for b in 1..=n {
-        if key[b] {
-            stack.push((a, b));
-            a = b;
-        }
+    for (b, _) in key.iter().enumerate().skip(1).filter(|(_, &k)| k) {
+        stack.push((a, b));
+        a = b;
     }
     while let Some((a, b)) = stack.pop() {
         let len = pre[b] - pre[a];

@@ -4,17 +4,19 @@
 mod arc;
 mod curve;
 mod fairness;
+pub mod fit;
+pub mod least_squares;
 mod line;
 mod nurbs;
 mod polyline;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
-pub use fairness::curvature_variation_energy;
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
     ParamCurve,
 };
+pub use fairness::curvature_variation_energy;
 pub use line::Line;
 pub use nurbs::{Nurbs, NurbsError};
 pub use polyline::{

@@ -200,7 +200,16 @@ impl Smoother for BsplineCorner {
 }
 
 impl BsplineCorner {
-    fn smooth_chain(&self, chain: &LineChain, delta: f64, min_seg: f64, out: &mut SmoothedRun) {
+    /// Smooths one chain of segments (its end vertices kept exactly), with
+    /// `delta` the deviation the transitions may use; `bspline-fit` calls it
+    /// for the sparse parts between fitted sections.
+    pub(crate) fn smooth_chain(
+        &self,
+        chain: &LineChain,
+        delta: f64,
+        min_seg: f64,
+        out: &mut SmoothedRun,
+    ) {
         let o = &self.options;
         let q = &chain.pts;
         let n = chain.segments();

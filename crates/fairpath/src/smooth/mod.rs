@@ -6,14 +6,18 @@
 //! reported. [`verify`] checks all of that without trusting the smoother.
 
 mod bspline_corner;
+mod bspline_fit;
 mod chains;
+mod fit_sections;
 pub mod verify;
 
 pub use bspline_corner::{
     corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
     BsplineCorner, BsplineCornerOptions, ErrorTarget, BAND_USE, TRANSITION_KNOTS,
 };
+pub use bspline_fit::{fit_polyline, BsplineFit, BsplineFitOptions, SectionFit};
 pub use chains::{CornerReason, KeptCorner};
+pub use fit_sections::{dense_sections, SectionOptions};
 
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
@@ -72,12 +76,13 @@ pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
 }
 
 /// Names of the methods [`by_name`] knows.
-pub const METHODS: &[&str] = &["bspline-corner"];
+pub const METHODS: &[&str] = &["bspline-corner", "bspline-fit"];
 
 /// The method called `name` on the command line, with default options.
 pub fn by_name(name: &str) -> Option<alloc::boxed::Box<dyn Smoother>> {
     match name {
         "bspline-corner" => Some(alloc::boxed::Box::new(BsplineCorner::default())),
+        "bspline-fit" => Some(alloc::boxed::Box::new(BsplineFit::default())),
         _ => None,
     }
 }

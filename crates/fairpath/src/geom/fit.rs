@@ -1,0 +1,447 @@
+//! Least-squares cubic B-spline fitting of a polyline's vertices with a
+//! fairness term, and a proven bound of the fit's distance from the
+//! polyline (Piegl and Tiller, The NURBS Book, 2nd ed., section 9.4.1; seed
+//! 002, Zhong et al., section 3).
+//!
+//! * Parameters: chord length (P&T eq. 9.5, seed eqs. 4-5), in mm, so that
+//!   the fit runs at about unit speed and `|C''|` is about its curvature.
+//! * Knots ([`averaged_knots`]): the averaging technique for approximation
+//!   (P&T eqs. 9.68-9.69): interior knot `j` of `h` control points sits at
+//!   the parameter interpolated at fractional data index `j n / (h - 3)`,
+//!   so every span holds about the same number of data points (the seed's
+//!   eq. 6 is the interpolation form, meant for `h = n + 1`).
+//! * Control points ([`fit_cubic`]): minimise
+//!   `sum_i |C(t_i) - Q_i|^2 + lambda * integral |C''(u)|^2 du`
+//!   with the end control points fixed. Both terms are banded with half
+//!   bandwidth 3 (a cubic has four non-zero basis functions per span), so
+//!   the normal equations are solved by banded Cholesky in linear time
+//!   ([`super::least_squares`]). The integral is exact: `C''` is linear on a
+//!   span, so 2-point Gauss-Legendre integrates the products exactly.
+//! * Bound ([`span_errors`]): see its documentation.
+
+use super::least_squares::BandedSpd;
+use super::{point_segment_distance, Nurbs, Vec3};
+use alloc::vec;
+use alloc::vec::Vec;
+
+/// Degree of the fitted B-splines.
+pub const FIT_DEGREE: usize = 3;
+
+/// How a fitted curve ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EndCondition {
+    /// At the end data point, with whatever tangent the fit finds.
+    Free,
+    /// At the end data point, tangent to the given unit direction of travel
+    /// and with zero curvature: the end control point and its two
+    /// neighbours lie on the line through the end point along the
+    /// direction, at the Greville abscissae (`P_1 = Q_0 + d xi_1`,
+    /// `P_2 = Q_0 + d xi_2`, `xi_i = (u_{i+1} + u_{i+2} + u_{i+3}) / 3`), so a
+    /// straight line along `d` is reproduced exactly (linear precision,
+    /// P&T section 9.2.1). Joins a line along `d` with G2 continuity.
+    Tangent(Vec3),
+}
+
+impl EndCondition {
+    /// Control points fixed at this end besides the end point itself.
+    fn extra_fixed(self) -> usize {
+        match self {
+            EndCondition::Free => 0,
+            EndCondition::Tangent(_) => 2,
+        }
+    }
+}
+
+/// Why a fit could not be made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FitError {
+    /// Fewer than two data points, parameters not increasing, or a knot
+    /// vector that does not fit the data.
+    BadInput,
+    /// No control point is left free by the end conditions.
+    TooFewControlPoints,
+    /// The normal equations are singular (more control points than the data
+    /// and the fairness term determine).
+    Singular,
+}
+
+/// Chord-length parameters: `t_0 = 0`, `t_i = t_{i-1} + |Q_i - Q_{i-1}|` (mm).
+pub fn chord_params(pts: &[Vec3]) -> Vec<f64> {
+    let mut t = Vec::with_capacity(pts.len());
+    let mut s = 0.0;
+    t.push(0.0);
+    for w in pts.windows(2) {
+        s += w[0].dist(w[1]);
+        t.push(s);
+    }
+    t
+}
+
+/// Clamped knot vector of `count` control points for data at `params`
+/// (P&T eqs. 9.68-9.69, in the form given in the module documentation).
+/// `count >= 4`; more control points than data points is allowed (the
+/// fairness term then determines the fit).
+pub fn averaged_knots(params: &[f64], count: usize) -> Vec<f64> {
+    let n = params.len() - 1;
+    let (a, b) = (params[0], params[n]);
+    let spans = count - FIT_DEGREE;
+    let mut u = Vec::with_capacity(count + FIT_DEGREE + 1);
+    u.extend_from_slice(&[a; FIT_DEGREE + 1]);
+    for j in 1..spans {
+        let f = (j * n) as f64 / spans as f64;
+        let i = (f as usize).min(n - 1);
+        let alpha = f - i as f64;
+        let k = params[i] + alpha * (params[i + 1] - params[i]);
+        // Strictly inside the domain and increasing.
+        if k > *u.last().unwrap() && k < b {
+            u.push(k);
+        } else {
+            return uniform_knots(a, b, count);
+        }
+    }
+    u.extend_from_slice(&[b; FIT_DEGREE + 1]);
+    u
+}
+
+/// Clamped uniform knots on `[a, b]` (a fallback when the data parameters
+/// leave no room for distinct averaged knots).
+fn uniform_knots(a: f64, b: f64, count: usize) -> Vec<f64> {
+    let spans = count - FIT_DEGREE;
+    let mut u = vec![a; FIT_DEGREE + 1];
+    for j in 1..spans {
+        u.push(a + (b - a) * j as f64 / spans as f64);
+    }
+    u.extend_from_slice(&[b; FIT_DEGREE + 1]);
+    u
+}
+
+/// Index `s` of the knot span `u[s] <= t < u[s+1]` of a clamped cubic knot
+/// vector for `count` control points (the last non-empty span at the end).
+pub fn span_of(knots: &[f64], count: usize, t: f64) -> usize {
+    if t >= knots[count] {
+        let mut s = count - 1;
+        while s > FIT_DEGREE && knots[s] >= knots[count] {
+            s -= 1;
+        }
+        return s;
+    }
+    // First index in FIT_DEGREE+1..=count with knots[i] > t, minus one.
+    let i = knots[FIT_DEGREE + 1..=count].partition_point(|&k| k <= t);
+    FIT_DEGREE + i
+}
+
+/// Values, first and second derivatives of the four cubic basis functions
+/// `N_{s-3..=s}` at `t` in span `s` (Cox-de Boor, P&T eq. 2.5, and the
+/// derivative formula P&T eq. 2.7 applied twice), with `0/0 = 0`.
+pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
+    let u = knots;
+    let div = |a: f64, b: f64| if b != 0.0 { a / b } else { 0.0 };
+    // n1[k] = N_{s-1+k,1}, n2[k] = N_{s-2+k,2}, n3[k] = N_{s-3+k,3}.
+    let n0 = 1.0;
+    let n1 = [
+        div(u[s + 1] - t, u[s + 1] - u[s]) * n0,
+        div(t - u[s], u[s + 1] - u[s]) * n0,
+    ];
+    let mut n2 = [0.0; 3];
+    for (k, v) in n2.iter_mut().enumerate() {
+        let i = s + k - 2; // N_{i,2}
+        let left = if k >= 1 { n1[k - 1] } else { 0.0 }; // N_{i,1}
+        let right = if k < 2 { n1[k] } else { 0.0 }; // N_{i+1,1}
+        *v = div(t - u[i], u[i + 2] - u[i]) * left + div(u[i + 3] - t, u[i + 3] - u[i + 1]) * right;
+    }
+    let mut n3 = [0.0; 4];
+    let mut d1 = [0.0; 4];
+    let mut d2 = [0.0; 4];
+    // N'_{i,2} for i = s-2..=s (index k), from degree-1 values.
+    let mut dn2 = [0.0; 3];
+    for (k, v) in dn2.iter_mut().enumerate() {
+        let i = s + k - 2;
+        let left = if k >= 1 { n1[k - 1] } else { 0.0 };
+        let right = if k < 2 { n1[k] } else { 0.0 };
+        *v = 2.0 * (div(left, u[i + 2] - u[i]) - div(right, u[i + 3] - u[i + 1]));
+    }
+    for k in 0..4 {
+        let i = s + k - 3; // N_{i,3}
+        let (l2, r2) = (
+            if k >= 1 { n2[k - 1] } else { 0.0 },
+            if k < 3 { n2[k] } else { 0.0 },
+        );
+        let (dl2, dr2) = (
+            if k >= 1 { dn2[k - 1] } else { 0.0 },
+            if k < 3 { dn2[k] } else { 0.0 },
+        );
+        let (a, b) = (u[i + 3] - u[i], u[i + 4] - u[i + 1]);
+        n3[k] = div(t - u[i], a) * l2 + div(u[i + 4] - t, b) * r2;
+        d1[k] = 3.0 * (div(l2, a) - div(r2, b));
+        d2[k] = 3.0 * (div(dl2, a) - div(dr2, b));
+    }
+    [n3, d1, d2]
+}
+
+/// Position and second derivative of the cubic B-spline (`knots`, `pts`)
+/// at `t`, using the polynomial of span `s` (so at a knot the one-sided
+/// value of that span).
+pub fn eval_in_span(knots: &[f64], pts: &[Vec3], s: usize, t: f64) -> (Vec3, Vec3) {
+    let b = cubic_basis(knots, s, t);
+    let mut c = Vec3::ZERO;
+    let mut c2 = Vec3::ZERO;
+    for k in 0..4 {
+        let p = pts[s - 3 + k];
+        c += p * b[0][k];
+        c2 += p * b[2][k];
+    }
+    (c, c2)
+}
+
+/// Fits a clamped cubic B-spline with knot vector `knots` to the points
+/// `pts` at parameters `params` (both ends exact, see [`EndCondition`]),
+/// minimising the squared distances at the data plus `lambda` (mm^3) times
+/// `integral |C''|^2`. Time linear in `pts.len() + control points`.
+pub fn fit_cubic(
+    pts: &[Vec3],
+    params: &[f64],
+    knots: &[f64],
+    start: EndCondition,
+    end: EndCondition,
+    lambda: f64,
+) -> Result<Nurbs, FitError> {
+    let n = pts.len();
+    if n < 2 || params.len() != n || knots.len() < 2 * (FIT_DEGREE + 1) {
+        return Err(FitError::BadInput);
+    }
+    let h = knots.len() - FIT_DEGREE - 1;
+    let (ua, ub) = (knots[FIT_DEGREE], knots[h]);
+    if params[0] != ua || params[n - 1] != ub || ub <= ua {
+        return Err(FitError::BadInput);
+    }
+    let lo = 1 + start.extra_fixed();
+    let hi_excl = h - 1 - end.extra_fixed();
+    if lo >= hi_excl {
+        return Err(FitError::TooFewControlPoints);
+    }
+    // Fixed control points.
+    let mut ctrl = vec![Vec3::ZERO; h];
+    ctrl[0] = pts[0];
+    ctrl[h - 1] = pts[n - 1];
+    let greville = |i: usize| (knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3.0;
+    if let EndCondition::Tangent(d) = start {
+        for (i, c) in ctrl.iter_mut().enumerate().take(3).skip(1) {
+            *c = pts[0] + d * (greville(i) - ua);
+        }
+    }
+    if let EndCondition::Tangent(d) = end {
+        for (i, c) in ctrl.iter_mut().enumerate().skip(h - 3).take(2) {
+            *c = pts[n - 1] - d * (ub - greville(i));
+        }
+    }
+    let free = |i: usize| i >= lo && i < hi_excl;
+    let m = hi_excl - lo;
+    let mut a = BandedSpd::zeros(m);
+    let mut rhs = vec![Vec3::ZERO; m];
+    let mut add_term = |s: usize, b: &[f64; 4], w: f64, target: Option<Vec3>| {
+        for j in 0..4 {
+            let gj = s - 3 + j;
+            if !free(gj) || b[j] == 0.0 {
+                continue;
+            }
+            if let Some(q) = target {
+                rhs[gj - lo] += q * (w * b[j]);
+            }
+            for k in 0..4 {
+                let gk = s - 3 + k;
+                let v = w * b[j] * b[k];
+                if free(gk) {
+                    if gk <= gj {
+                        a.add(gj - lo, gk - lo, v);
+                    }
+                } else {
+                    rhs[gj - lo] -= ctrl[gk] * v;
+                }
+            }
+        }
+    };
+    // Data term.
+    let mut s = FIT_DEGREE;
+    for (q, &t) in pts.iter().zip(params) {
+        while s + 1 < h && knots[s + 1] <= t {
+            s += 1;
+        }
+        let b = cubic_basis(knots, s, t);
+        add_term(s, &b[0], 1.0, Some(*q));
+    }
+    // Fairness term, exact by 2-point Gauss-Legendre per span.
+    if lambda > 0.0 {
+        let g = 0.5 / crate::math::sqrt(3.0);
+        for s in FIT_DEGREE..h {
+            let (k0, k1) = (knots[s], knots[s + 1]);
+            if k1 <= k0 {
+                continue;
+            }
+            let len = k1 - k0;
+            for x in [0.5 - g, 0.5 + g] {
+                let b = cubic_basis(knots, s, k0 + len * x);
+                add_term(s, &b[2], lambda * 0.5 * len, None);
+            }
+        }
+    }
+    let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;
+    chol.solve(&mut rhs);
+    ctrl[lo..hi_excl].copy_from_slice(&rhs);
+    if ctrl.iter().any(|p| !p.is_finite()) {
+        return Err(FitError::Singular);
+    }
+    Ok(Nurbs {
+        degree: FIT_DEGREE,
+        knots: knots.to_vec(),
+        points: ctrl,
+        weights: None,
+    })
+}
+
+/// A Cholesky pivot below this share of its diagonal entry means the normal
+/// equations are singular to working precision (about `1e4` times the f64
+/// epsilon: the fit would amplify rounding by more than that).
+const PIVOT_REL: f64 = 1e-12;
+
+/// For every knot span of `c` (a clamped cubic B-spline whose domain starts
+/// at `params[0]` and ends at the last parameter), an upper bound of
+///
+/// * the distance from every point of the span to the polyline `pts`, and
+/// * `|C(t_i) - Q_i|` for the data points with parameter in the span (each
+///   data point within that of the fit: the fit follows all of the data).
+///
+/// The bound is proved as follows. Cut the domain at the data parameters and
+/// the knots; on a piece `[a, b]` inside data interval `i`, `C` is one cubic
+/// and `C''` is linear, so `M = max(|C''(a)|, |C''(b)|)` bounds `|C''|` and
+/// `C(t)` lies within `M (b - a)^2 / 8` of the chord `C(a) C(b)` (the
+/// interpolation error of a linear interpolant). The distance to a fixed
+/// segment is a convex function of the point, so along the chord it is at
+/// most its larger end value. Hence for segment `g` of the polyline
+/// (`g` in `i - 1, i, i + 1`),
+/// `dist(C(t), polyline) <= max(d_g(C(a)), d_g(C(b))) + M (b - a)^2 / 8`,
+/// and the smallest of the three is kept. Time linear in the data and spans.
+pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
+    let h = c.points.len();
+    let knots = &c.knots;
+    let mut err = vec![0.0f64; h - FIT_DEGREE];
+    let n = pts.len();
+    let seg_dist = |g: usize, p: Vec3| point_segment_distance(p, pts[g], pts[g + 1]);
+    let mut s = FIT_DEGREE;
+    // Value and second derivative at the start of the current piece: the
+    // end of the previous one, since both are continuous across a simple
+    // knot (re-evaluated after a multiple knot, where `C''` may jump).
+    let mut at_a = eval_in_span(knots, &c.points, s, params[0]);
+    let multiple = |s: usize| knots[s] == knots[s - 1];
+    for i in 0..n - 1 {
+        let (t0, t1) = (params[i], params[i + 1]);
+        while s + 1 < h && knots[s + 1] <= t0 {
+            s += 1;
+            if multiple(s) {
+                at_a = eval_in_span(knots, &c.points, s, t0);
+            }
+        }
+        // Data residual at t0.
+        err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[i]));
+        let mut a = t0;
+        loop {
+            let b = if s + 1 < h { knots[s + 1].min(t1) } else { t1 };
+            let (ca, c2a) = at_a;
+            let (cb, c2b) = eval_in_span(knots, &c.points, s, b);
+            let sag = c2a.norm().max(c2b.norm()) * (b - a) * (b - a) / 8.0;
+            let lo_g = i.saturating_sub(1);
+            let hi_g = (i + 1).min(n - 2);
+            let mut best = f64::INFINITY;
+            for g in lo_g..=hi_g {
+                best = best.min(seg_dist(g, ca).max(seg_dist(g, cb)));
+            }
+            let e = &mut err[s - FIT_DEGREE];
+            *e = e.max(best + sag);
+            at_a = (cb, c2b);
+            if b >= t1 || s + 1 >= h {
+                break;
+            }
+            a = b;
+            s += 1;
+            if multiple(s) {
+                at_a = eval_in_span(knots, &c.points, s, a);
+            }
+        }
+        if i == n - 2 {
+            err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[n - 1]));
+        }
+    }
+    err
+}
+
+/// Inserts `t` once into the cubic B-spline (`knots`, `pts`), in span `s`
+/// (`knots[s] <= t < knots[s + 1]`), by Boehm's algorithm (P&T A5.1 with
+/// `r = 1`): the curve is unchanged.
+fn insert_knot(knots: &mut Vec<f64>, pts: &mut Vec<Vec3>, s: usize, t: f64) {
+    let p = FIT_DEGREE;
+    let mut q = [Vec3::ZERO; FIT_DEGREE];
+    for (k, qk) in q.iter_mut().enumerate() {
+        let i = s - p + 1 + k;
+        let alpha = (t - knots[i]) / (knots[i + p] - knots[i]);
+        *qk = pts[i - 1] * (1.0 - alpha) + pts[i] * alpha;
+    }
+    // New points: pts[..s-p+1], q[0..p], pts[s..] (pts[s-p+1..s] replaced).
+    pts.splice(s - p + 1..s, q);
+    knots.insert(s + 1, t);
+}
+
+/// Cuts the clamped cubic B-spline `c` at every `max_spans`-th knot into
+/// clamped pieces, each the same curve over its part of the domain (so they
+/// join with C2 continuity), by knot insertion on a local window (time
+/// linear in the size of `c`). Consecutive pieces share their joint point
+/// bit for bit; the first starts and the last ends at `c`'s end points.
+pub fn split_at_knots(c: &Nurbs, max_spans: usize) -> Vec<Nurbs> {
+    let h = c.points.len();
+    let spans = h - FIT_DEGREE;
+    let max_spans = max_spans.max(1);
+    if spans <= max_spans {
+        return vec![c.clone()];
+    }
+    let u = &c.knots;
+    let mut out: Vec<Nurbs> = Vec::new();
+    let mut a = FIT_DEGREE;
+    while a < h {
+        let b = (a + max_spans).min(h);
+        // Window: points a-3..=b (or ..h-1), knots a-3..=b+4 (or ..=h+3).
+        let p_hi = if b < h { b } else { h - 1 };
+        let mut pts: Vec<Vec3> = c.points[a - 3..=p_hi].to_vec();
+        let mut knots: Vec<f64> = u[a - 3..=p_hi + 4].to_vec();
+        let (ua, ub) = (u[a], u[b]);
+        if a > FIT_DEGREE {
+            // Local index of u[a] is 3; insert twice (multiplicity 3).
+            insert_knot(&mut knots, &mut pts, 3, ua);
+            insert_knot(&mut knots, &mut pts, 4, ua);
+            // C(ua) is now local point 2: drop the two before it.
+            pts.drain(..2);
+            knots.drain(..2);
+            knots[0] = ua;
+        }
+        if b < h {
+            let sb = knots.iter().rposition(|&k| k == ub).unwrap();
+            insert_knot(&mut knots, &mut pts, sb, ub);
+            insert_knot(&mut knots, &mut pts, sb + 1, ub);
+            // C(ub) is the point before the first of the three copies.
+            let first = sb;
+            pts.truncate(first);
+            knots.truncate(first + 4);
+            *knots.last_mut().unwrap() = ub;
+        }
+        if let Some(prev) = out.last() {
+            // Identical arithmetic on identical data gives the same joint;
+            // make it so regardless.
+            pts[0] = *prev.points.last().unwrap();
+        }
+        out.push(Nurbs {
+            degree: FIT_DEGREE,
+            knots,
+            points: pts,
+            weights: None,
+        });
+        a = b;
+    }
+    out
+}

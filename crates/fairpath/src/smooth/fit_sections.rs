@@ -1,0 +1,121 @@
+//! Run detection for `bspline-fit`: which parts of a chain of segments are
+//! dense samples of a smooth curve (to be fitted) and which are sparse
+//! (long lines and real corners, to be kept and blended).
+//!
+//! **Rule.** Vertex `i` between segments of lengths `s_in`, `s_out` with
+//! turning angle `phi` (angle between the two directions) is *dense* when
+//!
+//! 1. `s_in <= max_segment` and `s_out <= max_segment`: longer moves are
+//!    programmed lines, not samples. Default 5 mm: CAM output sampled at
+//!    chord error `c` has segments `s = sqrt(8 R c)`, under 5 mm for radii up
+//!    to 300 mm at `c = 0.01 mm` (Siemens' compressor, `COMPCAD`, likewise
+//!    only takes blocks below a length limit);
+//! 2. `phi <= max_turn` (default 0.5 rad, about 29 degrees): sharper turns
+//!    are corners, whatever the segment lengths;
+//! 3. `phi (s_in + s_out) / 16 <= chord_error_per_tol * tolerance`: a circle
+//!    through a vertex turning by `phi` between chords of mean length `s`
+//!    has sagitta `c = s^2 / (8 R) = phi s / 8` over each chord, so this says
+//!    the vertex looks like the sample of a curve taken at a chord error no
+//!    larger than the tolerance (default factor 1). It scales the rule with
+//!    the tolerance: a 3 mm move turning by 5 degrees is a sample at 0.05 mm
+//!    but a corner at 0.005 mm.
+//!
+//! The end vertices of a chain (run ends, or next to an arc) have one
+//! segment; they are dense when it satisfies rule 1. A *dense section* is a
+//! maximal range of consecutive dense vertices; it is fitted when it has at
+//! least `min_points` vertices (default 8: a fit of fewer points gains
+//! little over corner blends, and the seed's fit starts from 4 control
+//! points).
+
+use crate::geom::Vec3;
+use crate::smooth::SmoothError;
+use alloc::vec::Vec;
+
+/// Thresholds of the run detection (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionOptions {
+    /// Longest segment (mm) next to a dense vertex.
+    pub max_segment: f64,
+    /// Largest turning angle (rad) at a dense vertex.
+    pub max_turn: f64,
+    /// Largest implied chord error at a dense vertex, as a multiple of the
+    /// tolerance.
+    pub chord_error_per_tol: f64,
+    /// Fewest vertices of a fitted section.
+    pub min_points: usize,
+}
+
+impl Default for SectionOptions {
+    fn default() -> Self {
+        SectionOptions {
+            max_segment: 5.0,
+            max_turn: 0.5,
+            chord_error_per_tol: 1.0,
+            min_points: 8,
+        }
+    }
+}
+
+impl SectionOptions {
+    /// Checks the ranges of the options.
+    pub fn check(&self) -> Result<(), SmoothError> {
+        if !(self.max_segment > 0.0 && self.max_segment.is_finite()) {
+            return Err(SmoothError::BadOption("max_segment must be positive mm"));
+        }
+        if !(self.max_turn >= 0.0 && self.max_turn < core::f64::consts::PI) {
+            return Err(SmoothError::BadOption("max_turn must be in [0, pi) rad"));
+        }
+        if !(self.chord_error_per_tol >= 0.0 && self.chord_error_per_tol.is_finite()) {
+            return Err(SmoothError::BadOption(
+                "chord_error_per_tol must be non-negative",
+            ));
+        }
+        if self.min_points < 3 {
+            return Err(SmoothError::BadOption("min_points must be at least 3"));
+        }
+        Ok(())
+    }
+
+    /// Whether vertex `i` of the chain `pts` is dense at `tolerance` mm.
+    pub fn is_dense(&self, pts: &[Vec3], i: usize, tolerance: f64) -> bool {
+        let n = pts.len();
+        if n < 2 {
+            return false;
+        }
+        let seg = |k: usize| pts[k + 1] - pts[k];
+        if i == 0 {
+            return seg(0).norm() <= self.max_segment;
+        }
+        if i == n - 1 {
+            return seg(n - 2).norm() <= self.max_segment;
+        }
+        let (a, b) = (seg(i - 1), seg(i));
+        let (sa, sb) = (a.norm(), b.norm());
+        if sa > self.max_segment || sb > self.max_segment || sa == 0.0 || sb == 0.0 {
+            return false;
+        }
+        let phi = a.angle_to(b);
+        phi <= self.max_turn && phi * (sa + sb) / 16.0 <= self.chord_error_per_tol * tolerance
+    }
+}
+
+/// The dense sections of the chain `pts`: inclusive vertex ranges `(k, m)`,
+/// in order, not overlapping, each with at least `min_points` vertices.
+pub fn dense_sections(pts: &[Vec3], tolerance: f64, o: &SectionOptions) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start: Option<usize> = None;
+    for i in 0..=pts.len() {
+        let dense = i < pts.len() && o.is_dense(pts, i, tolerance);
+        match (dense, start) {
+            (true, None) => start = Some(i),
+            (false, Some(k)) => {
+                if i - k >= o.min_points {
+                    out.push((k, i - 1));
+                }
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    out
+}
