@@ -90,6 +90,9 @@ enum Command {
         /// Interpolation period, s (default 0.001).
         #[arg(long)]
         period: Option<f64>,
+        /// Junction deviation for corners of G1 moves, mm (default 0.01).
+        #[arg(long)]
+        junction_deviation: Option<f64>,
         /// Run every feed move at the machine's maximum feed.
         #[arg(long)]
         override_feed: bool,
@@ -119,6 +122,9 @@ enum Command {
         /// Machine file (TOML, as for `simulate`); default: the thesis machine.
         #[arg(long)]
         machine: Option<PathBuf>,
+        /// Junction deviation for corners of G1 moves, mm (default 0.01).
+        #[arg(long)]
+        junction_deviation: Option<f64>,
         /// Methods to run, comma-separated (default: all).
         #[arg(long, value_delimiter = ',')]
         methods: Option<Vec<String>>,
@@ -190,6 +196,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             acc,
             jerk,
             period,
+            junction_deviation,
             override_feed,
             lookahead,
             profile,
@@ -201,6 +208,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 acc,
                 jerk,
                 period,
+                junction_deviation,
             };
             let m = fairpath_cli::simulate::machine(machine.as_deref(), flags)?;
             fairpath_cli::simulate::run(
@@ -218,6 +226,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             program,
             tolerance,
             machine,
+            junction_deviation,
             methods,
             override_feed,
             format,
@@ -225,7 +234,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
             use fairpath_cli::compare;
             let m = fairpath_cli::simulate::machine(
                 machine.as_deref(),
-                fairpath_cli::simulate::MachineFlags::default(),
+                fairpath_cli::simulate::MachineFlags {
+                    junction_deviation,
+                    ..Default::default()
+                },
             )?;
             let methods = methods.unwrap_or_else(|| {
                 fairpath::smooth::METHODS

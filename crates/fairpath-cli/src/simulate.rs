@@ -38,6 +38,7 @@ pub struct MachineFlags {
     pub acc: Option<f64>,
     pub jerk: Option<f64>,
     pub period: Option<f64>,
+    pub junction_deviation: Option<f64>,
 }
 
 /// The machine: defaults (the thesis' V 400 mm/s, A 4000 mm/s^2, J 20000
@@ -93,6 +94,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
     }
     if let Some(v) = flags.period {
         m.period = v;
+    }
+    if let Some(v) = flags.junction_deviation {
+        m.junction_deviation = v;
     }
     m.validate().map_err(|e| anyhow!("{e}"))?;
     Ok(m)
