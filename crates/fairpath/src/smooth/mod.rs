@@ -5,12 +5,21 @@
 //! with G2 continuity wherever it can; corners it cannot blend are kept and
 //! reported. [`verify`] checks all of that without trusting the smoother.
 
+mod auto;
+mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
 mod chains;
 mod fit_sections;
+mod lotm;
 pub mod verify;
 
+pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
+pub use bezier_corner::{
+    bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
+    bezier_corner_peak_curvature, bezier_corner_points, bezier_length_for_deviation, Ctm,
+    CtmOptions, MIN_COEFFICIENT,
+};
 pub use bspline_corner::{
     corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
     BsplineCorner, BsplineCornerOptions, ErrorTarget, BAND_USE, TRANSITION_KNOTS,
@@ -18,6 +27,10 @@ pub use bspline_corner::{
 pub use bspline_fit::{fit_polyline, BsplineFit, BsplineFitOptions, SectionFit};
 pub use chains::{CornerReason, KeptCorner};
 pub use fit_sections::{dense_sections, SectionOptions};
+pub use lotm::{
+    curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
+    split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
+};
 
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
@@ -76,13 +89,16 @@ pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
 }
 
 /// Names of the methods [`by_name`] knows.
-pub const METHODS: &[&str] = &["bspline-corner", "bspline-fit"];
+pub const METHODS: &[&str] = &["auto", "bspline-corner", "bspline-fit", "ctm", "lotm"];
 
 /// The method called `name` on the command line, with default options.
 pub fn by_name(name: &str) -> Option<alloc::boxed::Box<dyn Smoother>> {
     match name {
+        "auto" => Some(alloc::boxed::Box::new(Auto::default())),
         "bspline-corner" => Some(alloc::boxed::Box::new(BsplineCorner::default())),
         "bspline-fit" => Some(alloc::boxed::Box::new(BsplineFit::default())),
+        "ctm" => Some(alloc::boxed::Box::new(Ctm::default())),
+        "lotm" => Some(alloc::boxed::Box::new(Lotm::default())),
         _ => None,
     }
 }

@@ -1,0 +1,177 @@
+//! Method `auto` (the default): for each run, the smoothing that the feed
+//! planner runs fastest, always within the tolerance and G2.
+//!
+//! Candidates for a run:
+//!
+//! * **fit**: `bspline-fit` (dense sections fitted, sparse corners blended;
+//!   seeds 002 and 000) on the run with its arcs and curves sampled as
+//!   chords within `arc_share * tolerance` of them, with the rest of the
+//!   tolerance. Sampled arcs are dense sections like any CAM sampling, so
+//!   they are fitted together with their neighbours and the joints between
+//!   lines and arcs, and between arcs, become G2 as well (a tangent joint
+//!   of a line and an arc, or of two arcs, still jumps in curvature, which
+//!   slows the machine as much as a corner of small angle). The chords lie
+//!   within `arc_share * tolerance` of the arc and the fit within the rest
+//!   of the chords, so the fit is within the tolerance of the arc.
+//! * when the run has only lines, each corner method registered in
+//!   [`super::METHODS`] that is not a fit (`bspline-corner`, `ctm`,
+//!   `lotm`) on the run as it is. With arcs these would keep the arc joints
+//!   as they are (not G2), so they are not candidates.
+//!
+//! Each candidate is planned by [`plan_run`] on [`AutoOptions::machine`]
+//! (the thesis machine of seed 003 by default) with programmed feeds
+//! overridden to the machine's maximum (so that the choice depends on the
+//! geometry, not on a feed the program may set low), and the fastest is
+//! kept; a tie goes to the earlier candidate. A candidate the planner
+//! rejects is skipped.
+
+use super::bspline_corner::BsplineCorner;
+use super::bspline_fit::BsplineFit;
+use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
+use crate::feed::limits::MachineLimits;
+use crate::feed::plan::{plan_run, PlanOptions};
+use crate::geom::{flatten_params, Curve, Line, ParamCurve};
+use crate::path::{Piece, Run};
+use alloc::boxed::Box;
+use alloc::vec::Vec;
+
+/// Share of the tolerance that the chords of sampled arcs may take.
+pub const ARC_SHARE: f64 = 0.05;
+
+/// Options of [`Auto`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AutoOptions {
+    /// The machine the candidates are planned on.
+    pub machine: MachineLimits,
+    /// Plan at the machine's maximum feed instead of the programmed feeds.
+    pub override_feed: bool,
+    /// Share of the tolerance for the chords of sampled arcs, in `(0, 0.5]`.
+    pub arc_share: f64,
+}
+
+impl Default for AutoOptions {
+    fn default() -> Self {
+        AutoOptions {
+            machine: MachineLimits::thesis(),
+            override_feed: true,
+            arc_share: ARC_SHARE,
+        }
+    }
+}
+
+/// The `auto` method (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Auto {
+    pub options: AutoOptions,
+}
+
+/// `run` with every piece that is not a line replaced by chords within
+/// `chord` mm of it (exact end points; each chord keeps the piece's input
+/// lines and feed).
+pub fn sample_curves(run: &Run, chord: f64) -> Run {
+    let mut out = Vec::with_capacity(run.pieces.len());
+    for p in &run.pieces {
+        if matches!(p.curve, Curve::Line(_)) {
+            out.push(p.clone());
+            continue;
+        }
+        let c = &p.curve;
+        let ts = flatten_params(c, chord);
+        let n = ts.len();
+        let mut prev = c.start();
+        for (i, &t) in ts.iter().enumerate().skip(1) {
+            let q = if i + 1 == n { c.end() } else { c.eval(t) };
+            out.push(Piece {
+                curve: Curve::Line(Line::new(prev, q)),
+                rapid: p.rapid,
+                source_lines: p.source_lines,
+                feed: p.feed,
+            });
+            prev = q;
+        }
+    }
+    Run::new(out)
+}
+
+impl Auto {
+    /// The candidates for `run` (see the module documentation), each with
+    /// its method's name.
+    pub fn candidates(
+        &self,
+        run: &Run,
+        tolerance: f64,
+    ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
+        let share = self.options.arc_share;
+        if !(share > 0.0 && share <= 0.5) {
+            return Err(SmoothError::BadOption(
+                "auto: arc share must be in (0, 0.5]",
+            ));
+        }
+        let has_curves = run
+            .pieces
+            .iter()
+            .any(|p| !matches!(p.curve, Curve::Line(_)));
+        let mut out = Vec::new();
+        if has_curves {
+            let chord = share * tolerance;
+            let sampled = sample_curves(run, chord);
+            out.push((
+                "bspline-fit",
+                BsplineFit::default().smooth_run(&sampled, tolerance - chord)?,
+            ));
+        } else {
+            out.push((
+                "bspline-fit",
+                BsplineFit::default().smooth_run(run, tolerance)?,
+            ));
+            out.push((
+                "bspline-corner",
+                BsplineCorner::default().smooth_run(run, tolerance)?,
+            ));
+            for name in super::METHODS {
+                if matches!(*name, "auto" | "bspline-fit" | "bspline-corner") {
+                    continue;
+                }
+                let m: Box<dyn Smoother> = match by_name(name) {
+                    Some(m) => m,
+                    None => continue,
+                };
+                out.push((m.name(), m.smooth_run(run, tolerance)?));
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl Smoother for Auto {
+    fn name(&self) -> &'static str {
+        "auto"
+    }
+
+    fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        check_tolerance(tolerance)?;
+        let opts = PlanOptions {
+            limits: self.options.machine,
+            override_feed: self.options.override_feed,
+            window: None,
+        };
+        let mut best: Option<(f64, SmoothedRun)> = None;
+        let mut fallback = None;
+        for (_, cand) in self.candidates(run, tolerance)? {
+            match plan_run(&cand.pieces, &opts) {
+                Ok(plan) if best.as_ref().is_none_or(|(t, _)| plan.time < *t) => {
+                    best = Some((plan.time, cand));
+                }
+                Ok(_) => {}
+                Err(_) => {
+                    if fallback.is_none() {
+                        fallback = Some(cand);
+                    }
+                }
+            }
+        }
+        best.map(|(_, c)| c)
+            .or(fallback)
+            .ok_or(SmoothError::BadOption("auto: no candidate"))
+    }
+}
