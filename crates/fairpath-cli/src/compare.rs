@@ -21,7 +21,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// Relative accuracy of the curvature variation energy in the table.
-const ENERGY_ACCURACY: f64 = 1e-4;
+const ENERGY_ACCURACY: f64 = 1e-3;
 
 /// One line of the table.
 #[derive(Clone, Debug)]

@@ -49,7 +49,7 @@ enum Command {
         #[arg(short, long)]
         tolerance: f64,
         /// Smoothing method.
-        #[arg(short, long, default_value = "bspline-corner")]
+        #[arg(short, long, default_value = "auto")]
         method: String,
         /// Output format: G-code (dense G1) or JSON (exact curves, mm).
         #[arg(short, long, value_enum, default_value_t = Format::Gcode)]

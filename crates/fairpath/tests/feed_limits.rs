@@ -157,3 +157,29 @@ fn corner_circles_fit_in_half_the_moves() {
     // A reversal stops the machine.
     assert_eq!(junction_cap(&m, a, -a, Vec3::ZERO, Vec3::ZERO, 1.0), 0.0);
 }
+
+#[test]
+fn a_circle_inside_the_chord_error_has_no_chord_error_cap() {
+    // Regression (line-contouring-xz.ngc): a near-reversal transition of
+    // radius 0.45 um was crawled at 2 um/s, capped by the chord error of a
+    // circle smaller than the chord error itself.
+    let m = MachineLimits::thesis();
+    let tiny = circle_point(0.4 * m.chord_error);
+    let (_, c) = speed_cap(&m, 1e9, &tiny);
+    assert_ne!(c, Constraint::ChordError);
+    // Just above half the chord error the cap applies, and is continuous
+    // with the formula.
+    let r = 0.6 * m.chord_error;
+    let (v, _) = speed_cap(
+        &MachineLimits {
+            normal_acc: 1e30,
+            jerk: 1e30,
+            axis_acc: [1e30; 3],
+            ..m
+        },
+        1e9,
+        &circle_point(r),
+    );
+    let e = m.chord_error;
+    assert!((v - 2.0 / m.period * (2.0 * r * e - e * e).sqrt()).abs() < 1e-9);
+}

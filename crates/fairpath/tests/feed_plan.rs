@@ -394,3 +394,24 @@ fn on_a_curve_of_varying_curvature_the_plan_converges_to_the_phase_plane_optimum
         println!("J {jerk}: plan {got:.4} s, phase-plane optimum {want:.4} s");
     }
 }
+
+#[test]
+fn regression_line_contouring_xz_near_reversal_is_not_crawled() {
+    // Down and back up almost the same line: the transition's radius is
+    // below a micrometre. Its stretches are cut until the cap is uniform
+    // within each (or the stretch is shorter than a period of travel), so
+    // it costs about what the corner of the raw program costs, not the
+    // seconds a stretch capped at its peak curvature took.
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(10.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.004),
+    ];
+    let run = run_of(&pts, &[24000.0]);
+    let m = MachineLimits::thesis();
+    let raw = check_limits(&run.pieces, &m);
+    let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+    assert!(smoothed.transitions == 1, "{smoothed:?}");
+    let t = check_limits(&smoothed.pieces, &m);
+    assert!(t < raw * 1.2, "smoothed {t} s, raw {raw} s");
+}

@@ -10,7 +10,7 @@
 //! | centripetal acceleration | `kappa v^2 <= A_n` | normal acceleration of a point moving on a curve |
 //! | centripetal jerk | `kappa^2 v^3 <= J` | `d/dt (kappa v^2 N) = kappa^2 v^3 (-T) + ...`: the tangential part of the jerk at constant speed |
 //! | curvature change | `abs(dkappa/ds) v^3 <= J` | the normal jerk `d(kappa v^2)/dt = (dkappa/ds) v^3` at constant speed |
-//! | interpolation chord error | `v <= (2/Ts) sqrt(2 rho e - e^2)` | a chord of length `v Ts` on a circle of radius `rho = 1/kappa` deviates by `e` (the usual CNC interpolation limit, e.g. seed 001) |
+//! | interpolation chord error | `v <= (2/Ts) sqrt(2 rho e - e^2)` | a chord of length `v Ts` on a circle of radius `rho = 1/kappa` deviates by `e` (the usual CNC interpolation limit, e.g. seed 001); none when `2 rho <= e` |
 //! | axis velocity | `v abs(T_i) <= V_i` | per-axis drive limits |
 //! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
 //!
@@ -152,12 +152,16 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
     if k > 0.0 {
         take(math::sqrt(m.normal_acc / k), Constraint::NormalAcceleration);
         take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+        // A circle of diameter within the chord error lies within the
+        // chord error of any chord across it: no cap.
         let rho = 1.0 / k;
-        let e = m.chord_error.min(rho);
-        take(
-            2.0 / m.period * math::sqrt((2.0 * rho * e - e * e).max(0.0)),
-            Constraint::ChordError,
-        );
+        let e = m.chord_error;
+        if e < 2.0 * rho {
+            take(
+                2.0 / m.period * math::sqrt(2.0 * rho * e - e * e),
+                Constraint::ChordError,
+            );
+        }
         let n = p.curvature / k;
         let na = [n.x, n.y, n.z];
         for (i, &ni) in na.iter().enumerate() {

@@ -47,6 +47,15 @@ use alloc::vec::Vec;
 /// that matters.
 pub const CAP_SLACK: f64 = 1e-9;
 
+/// A stretch of curve is cut in two while the speed caps at its ends and
+/// middle differ by more than this ratio (and it is longer than one period
+/// of travel): its cap, the lowest of the three, is then close to the cap
+/// everywhere in it.
+pub const CAP_SPLIT_RATIO: f64 = 1.25;
+
+/// Most halvings of a stretch for [`CAP_SPLIT_RATIO`].
+const MAX_CAP_SPLITS: u32 = 24;
+
 /// How to plan.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlanOptions {
@@ -272,8 +281,11 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
             Curve::Line(_) => alloc::vec![0.0, 1.0],
             _ => flatten_params(c, m.chord_error),
         };
-        for w in ts.windows(2) {
-            let (t0, t1) = (w[0], w[1]);
+        // Intervals to do, last first; each is cut in two while the caps
+        // at its ends and middle differ by more than CAP_SPLIT_RATIO and it
+        // is longer than one period of travel at its cap.
+        let mut todo: Vec<(f64, f64, u32)> = ts.windows(2).rev().map(|w| (w[0], w[1], 0)).collect();
+        while let Some((t0, t1, depth)) = todo.pop() {
             let len = match c {
                 Curve::Line(_) => len_total,
                 _ => crate::geom::arc_length_between(c, t0, t1, m.chord_error * 1e-4),
@@ -287,12 +299,24 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
             let dk = (k1 - k0) / len;
             let dk_mid = crate::math::abs(k1 - km).max(crate::math::abs(km - k0)) * 2.0 / len;
             let mut cap = (f64::INFINITY, Constraint::Feed);
+            let mut high = 0.0f64;
             for mut pp in [p0, pm, p1] {
                 pp.dkappa_ds = crate::math::abs(dk).max(dk_mid);
                 let c = speed_cap(m, feed, &pp);
+                high = high.max(c.0);
                 if c.0 < cap.0 {
                     cap = c;
                 }
+            }
+            if high > CAP_SPLIT_RATIO * cap.0
+                && len > cap.0 * m.period
+                && depth < MAX_CAP_SPLITS
+                && !matches!(c, Curve::Line(_))
+            {
+                let tm = 0.5 * (t0 + t1);
+                todo.push((tm, t1, depth + 1));
+                todo.push((t0, tm, depth + 1));
+                continue;
             }
             let j = core::mem::replace(&mut jcap, f64::INFINITY);
             // Neighbouring stretches with the same cap and nothing between

@@ -107,10 +107,11 @@ pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity 
         return Continuity::G0;
     };
     let scale = 1.0 + at.x.abs().max(at.y.abs()).max(at.z.abs());
-    // Length scale of each piece: speed at the joint times parameter range
-    // (a chord would be 0 for a full circle).
-    let (a0, _) = a.domain();
-    let (_, b1) = b.domain();
+    // Length scale at the joint: speed times the parameter range of the
+    // knot span that ends or starts there (the whole domain for lines and
+    // arcs; a chord would be 0 for a full circle). Rounding of control
+    // points at spacing `l` bends the curve by about `X eps / l^2`.
+    let (a0, b1) = (end_span_start(a), start_span_end(b));
     let l = (da1.norm() * (ta - a0))
         .min(db1.norm() * (b1 - tb))
         .max(jt.position);
@@ -125,6 +126,29 @@ pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity 
         Continuity::G2
     } else {
         Continuity::G1
+    }
+}
+
+/// Start of the last knot span of `c` (its domain's start if it has one span).
+fn end_span_start(c: &Curve) -> f64 {
+    let (t0, t1) = c.domain();
+    match c {
+        Curve::Nurbs(n) => n
+            .knots
+            .iter()
+            .rev()
+            .find(|&&k| k < t1)
+            .map_or(t0, |&k| k.max(t0)),
+        _ => t0,
+    }
+}
+
+/// End of the first knot span of `c`.
+fn start_span_end(c: &Curve) -> f64 {
+    let (t0, t1) = c.domain();
+    match c {
+        Curve::Nurbs(n) => n.knots.iter().find(|&&k| k > t0).map_or(t1, |&k| k.min(t1)),
+        _ => t1,
     }
 }
 
