@@ -415,3 +415,64 @@ fn regression_line_contouring_xz_near_reversal_is_not_crawled() {
     let t = check_limits(&smoothed.pieces, &m);
     assert!(t < raw * 1.2, "smoothed {t} s, raw {raw} s");
 }
+
+#[test]
+fn regression_arc_to_line_tangent_joint_is_a_curvature_jump_not_a_corner() {
+    // A filleted corner: line, 2 mm arc, line, all tangent. The tangents at
+    // the arc's end and the next line's start differ by rounding only; the
+    // joint was taken for a corner of a microradian (no cap) instead of a
+    // curvature jump of 1/2 mm (cap sqrt(J Ts / 0.5)).
+    use fairpath::geom::Arc;
+    let r = 2.0;
+    let arc = Arc::from_center(
+        Vec3::new(38.0, 0.0, 0.0),
+        Vec3::new(40.0, 2.0, 0.0),
+        Vec3::new(38.0, 2.0, 0.0),
+        Vec3::Z,
+        false,
+        0,
+        1e-9,
+    )
+    .unwrap();
+    let pieces: Vec<Piece> = [
+        Curve::Line(Line::new(Vec3::ZERO, Vec3::new(38.0, 0.0, 0.0))),
+        Curve::Arc(arc),
+        Curve::Line(Line::new(
+            Vec3::new(40.0, 2.0, 0.0),
+            Vec3::new(40.0, 30.0, 0.0),
+        )),
+    ]
+    .into_iter()
+    .enumerate()
+    .map(|(i, curve)| Piece {
+        curve,
+        rapid: false,
+        source_lines: (i + 1, i + 1),
+        feed: Some(24000.0),
+    })
+    .collect();
+    let m = MachineLimits::thesis();
+    let plan = plan_run(
+        &pieces,
+        &PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+        },
+    )
+    .unwrap();
+    let cap = (m.jerk * m.period * r).sqrt();
+    let mut s = 0.0;
+    for seg in &plan.segments {
+        s += seg.length;
+        // Both ends of the arc are joints with the same curvature jump.
+        if (s - 38.0).abs() < 1e-6 || (s - (38.0 + r * std::f64::consts::FRAC_PI_2)).abs() < 1e-6 {
+            assert!(
+                seg.profile.v1() <= cap * (1.0 + 1e-9),
+                "{} > {cap} at s = {s}",
+                seg.profile.v1()
+            );
+        }
+    }
+    check_limits(&pieces, &m);
+}

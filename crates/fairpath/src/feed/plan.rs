@@ -195,12 +195,15 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
         .map(|w| {
             let ((qa, la), (qb, lb)) = (w[0], w[1]);
             let (a, c) = (&pieces[qa].curve, &pieces[qb].curve);
-            if classify_joint(a, c, &jt) == Continuity::G2 {
+            let class = classify_joint(a, c, &jt);
+            if class == Continuity::G2 {
                 return Joint::Smooth;
             }
             let (pa, _) = point(a, a.domain().1);
             let (pb, _) = point(c, c.domain().0);
-            if pa.tangent.angle_to(pb.tangent) > 0.0 {
+            // Tangent within the joint tolerances (and rounding): a
+            // curvature jump, not a corner of a microradian.
+            if class != Continuity::G1 && pa.tangent.angle_to(pb.tangent) > 0.0 {
                 let room = 0.5 * la.min(lb);
                 match corner_blend(m, pa.tangent, pb.tangent, room) {
                     Some(bl) => Joint::Corner(bl, pa.curvature, pb.curvature),

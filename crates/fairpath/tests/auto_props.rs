@@ -1,0 +1,187 @@
+//! Invariants of `auto`: within tolerance (independent verifier), endpoints
+//! exact, G2 at every joint but kept reversals, joints next to arcs made
+//! G2 too; and on runs of lines never slower (planned) than the corner
+//! methods it chooses from.
+
+mod common;
+use common::polyline_run;
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_run, PlanOptions};
+use fairpath::geom::{Arc, Curve, Line, Vec3};
+use fairpath::path::{Piece, Run};
+use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
+use fairpath::smooth::{
+    sample_curves, Auto, BsplineCorner, CornerReason, Lotm, SmoothedRun, Smoother,
+};
+use proptest::prelude::*;
+
+fn piece(curve: Curve, line: usize) -> Piece {
+    Piece {
+        curve,
+        rapid: false,
+        source_lines: (line, line),
+        feed: Some(3000.0),
+    }
+}
+
+/// A pocket-like run: lines joined by tangent fillet arcs of radius `r`
+/// at every corner of the polygon `pts` (corners of at most 150 degrees
+/// of turn), then a plunge-free finish. Lines and arcs meet G1 (the
+/// curvature jumps from 0 to 1/r).
+fn filleted(pts: &[Vec3], r: f64) -> Run {
+    let mut pieces = Vec::new();
+    let mut cur = pts[0];
+    for i in 1..pts.len() - 1 {
+        let (a, b, c) = (pts[i - 1], pts[i], pts[i + 1]);
+        let u = (a - b).normalized(0.0).unwrap();
+        let w = (c - b).normalized(0.0).unwrap();
+        let half = 0.5 * u.angle_to(w);
+        let t = r / half.tan(); // tangent length of the fillet
+        let p0 = b + u * t;
+        let p1 = b + w * t;
+        let bis = (u + w).normalized(0.0).unwrap();
+        let centre = b + bis * (r / half.sin());
+        let axis = (b - a).cross(c - b).normalized(0.0).unwrap();
+        pieces.push(piece(Curve::Line(Line::new(cur, p0)), i));
+        let arc = Arc::from_center(p0, p1, centre, axis, false, 0, 1e-9).unwrap();
+        pieces.push(piece(Curve::Arc(arc), i));
+        cur = p1;
+    }
+    pieces.push(piece(
+        Curve::Line(Line::new(cur, *pts.last().unwrap())),
+        pts.len(),
+    ));
+    Run::new(pieces)
+}
+
+fn check(run: &Run, out: &SmoothedRun, tol: f64) {
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    assert!(
+        rep.within(tol),
+        "deviation {} at {:?}, gaps {} {}",
+        rep.deviation_bound,
+        rep.worst_at,
+        rep.start_gap,
+        rep.end_gap
+    );
+    for j in &rep.joints {
+        if j.class != Continuity::G2 {
+            assert!(
+                out.kept_corners
+                    .iter()
+                    .any(|k| k.at.dist(j.at) <= tol * 1e-6 && k.reason != CornerReason::ArcJoint),
+                "{:?} joint at {:?} is not a kept reversal: {:?}",
+                j.class,
+                j.at,
+                out.kept_corners
+            );
+        }
+    }
+}
+
+fn planned(pieces: &[Piece]) -> f64 {
+    plan_run(
+        pieces,
+        &PlanOptions {
+            limits: MachineLimits::thesis(),
+            override_feed: true,
+            window: None,
+        },
+    )
+    .unwrap()
+    .time
+}
+
+#[test]
+fn a_filleted_pocket_becomes_g2_everywhere() {
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(40.0, 0.0, 0.0),
+        Vec3::new(40.0, 25.0, 0.0),
+        Vec3::new(0.0, 25.0, 0.0),
+        Vec3::new(0.0, 5.0, 0.0),
+        Vec3::new(30.0, 5.0, -1.0),
+    ];
+    let run = filleted(&pts, 2.0);
+    let tol = 0.05;
+    // The corner methods keep the line-arc joints as they are: G1.
+    let corner = BsplineCorner::default().smooth_run(&run, tol).unwrap();
+    assert!(corner
+        .kept_corners
+        .iter()
+        .any(|k| k.reason == CornerReason::ArcJoint));
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert!(out.kept_corners.is_empty(), "{:?}", out.kept_corners);
+    // And the machine is faster on it than on the G1 joints.
+    assert!(planned(&out.pieces) < planned(&run.pieces));
+}
+
+#[test]
+fn sampled_curves_stay_within_their_chord_and_keep_the_endpoints() {
+    let run = filleted(
+        &[
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(10.0, 10.0, 2.0),
+        ],
+        3.0,
+    );
+    let chord = 0.001;
+    let s = sample_curves(&run, chord);
+    assert!(s.pieces.len() > run.pieces.len());
+    assert_eq!(s.start(), run.start());
+    assert_eq!(s.end(), run.end());
+    assert!(s.pieces.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+    let rep = verify_run(&run.pieces, &s.pieces, &VerifyOptions::new(chord));
+    assert!(rep.deviation_bound <= chord, "{}", rep.deviation_bound);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random filleted polylines in 3D: within tolerance, G2 but reversals.
+    #[test]
+    fn filleted_random_polylines(
+        raw in prop::collection::vec((0.0f64..60.0, 0.0f64..60.0, -3.0f64..3.0), 3..9),
+        r in 0.2f64..3.0,
+        tol in 0.005f64..0.2,
+    ) {
+        let mut pts: Vec<Vec3> = vec![];
+        for (x, y, z) in raw {
+            let p = Vec3::new(x, y, z);
+            if pts.last().is_none_or(|q: &Vec3| q.dist(p) > 8.0) {
+                pts.push(p);
+            }
+        }
+        prop_assume!(pts.len() >= 3);
+        // Fillets need room and turns below 150 degrees.
+        for w in pts.windows(3) {
+            let (u, v) = (w[1] - w[0], w[2] - w[1]);
+            prop_assume!(u.angle_to(v) < 150f64.to_radians() && u.angle_to(v) > 1e-3);
+        }
+        let run = filleted(&pts, r);
+        let out = Auto::default().smooth_run(&run, tol).unwrap();
+        check(&run, &out, tol);
+    }
+
+    /// Random polylines (lines only): within tolerance, G2 but reversals,
+    /// and never slower than the corner methods auto chooses from.
+    #[test]
+    fn random_polylines_are_no_slower_than_the_corner_methods(
+        raw in prop::collection::vec((0.0f64..20.0, 0.0f64..20.0, -1.0f64..1.0), 2..30),
+        tol in 0.005f64..0.5,
+    ) {
+        let pts: Vec<Vec3> = raw.into_iter().map(|(x, y, z)| Vec3::new(x, y, z)).collect();
+        let run = polyline_run(&pts);
+        let out = Auto::default().smooth_run(&run, tol).unwrap();
+        check(&run, &out, tol);
+        let t = planned(&out.pieces);
+        for other in [
+            BsplineCorner::default().smooth_run(&run, tol).unwrap(),
+            Lotm::default().smooth_run(&run, tol).unwrap(),
+        ] {
+            prop_assert!(t <= planned(&other.pieces) * (1.0 + 1e-12));
+        }
+    }
+}
