@@ -319,13 +319,17 @@ impl Simulation {
     }
 
     /// The motion sampled every `period` s (`t,s,v,a,j,x,y,z`; feed runs
-    /// through the interpolator, rapids along their line), and the feed
-    /// fluctuation of the interpolator: (largest, mean).
-    pub fn csv(&self, period: f64) -> (String, f64, f64) {
+    /// through the interpolator, rapids along their line; empty unless
+    /// `rows`), and the feed fluctuation of the interpolator: (largest,
+    /// mean).
+    pub fn csv(&self, period: f64, rows: bool) -> (String, f64, f64) {
         let mut out = String::from("t,s,v,a,j,x,y,z\n");
         let (mut t0, mut s0) = (0.0f64, 0.0f64);
         let (mut fmax, mut fsum, mut fn_) = (0.0f64, 0.0f64, 0usize);
         let row = |out: &mut String, t: f64, s: f64, v: f64, a: f64, j: f64, p: fairpath::Vec3| {
+            if !rows {
+                return;
+            }
             let _ = writeln!(
                 out,
                 "{t:.6},{s:.6},{v:.6},{a:.6},{j:.6},{:.6},{:.6},{:.6}",
@@ -398,6 +402,10 @@ impl Simulation {
     }
 }
 
+/// Most interpolation periods `simulate` samples (for the profile and the
+/// feed fluctuation): 1e8 periods of 1 ms is more than a day of machining.
+pub const MAX_SAMPLES: f64 = 1e8;
+
 /// `fairpath simulate`.
 pub fn run(
     path: &Path,
@@ -416,10 +424,19 @@ pub fn run(
     if window.is_some() {
         sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
     }
-    let (csv, fmax, fmean) = sim.csv(m.period);
-    sim.fluctuation = Some((fmax, fmean));
-    if let Some(p) = profile {
-        crate::output::write_atomically(p, csv.as_bytes())?;
+    // One sample per period: refuse absurd counts rather than run out of
+    // memory (a program of hours at 1 ms).
+    let samples = sim.time() / m.period;
+    if samples <= MAX_SAMPLES {
+        let (csv, fmax, fmean) = sim.csv(m.period, profile.is_some());
+        sim.fluctuation = Some((fmax, fmean));
+        if let Some(p) = profile {
+            crate::output::write_atomically(p, csv.as_bytes())?;
+        }
+    } else if profile.is_some() {
+        bail!(
+            "the profile would have {samples:.0} rows (more than {MAX_SAMPLES:.0}); use a longer --period"
+        );
     }
     if let Some(p) = segments {
         crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;

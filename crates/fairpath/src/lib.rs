@@ -6,9 +6,11 @@
 //!
 //! ```text
 //! G-code text --(fairpath-gcode reader)--> Program --> Runs of feed moves (path::Run)
-//!     --> smoother (smooth::Smoother, e.g. smooth::BsplineCorner) --> smoothed pieces
+//!     --> smoother (smooth::Smoother: smooth::Auto, BsplineCorner, BsplineFit, Ctm, Lotm)
+//!     --> smoothed pieces
 //!     --> smooth::verify (independent: deviation, joint continuity, endpoints)
-//!     --> (feed planning: not yet) --> writers (fairpath-gcode: G-code, JSON)
+//!     --> feed::plan (jerk-limited look-ahead: machining time, profiles)
+//!     --> writers (fairpath-gcode: G-code, JSON)
 //! ```
 //!
 //! * [`geom`]: vectors, lines, arcs, B-spline/NURBS curves; derivatives,
@@ -16,7 +18,8 @@
 //! * [`path`]: pieces of geometry tied to the input lines they replace,
 //!   grouped in runs.
 //! * [`smooth`]: smoothing methods behind one trait, and [`smooth::verify`].
-//! * [`feed`]: jerk-limited (double-S) velocity profiles and reachability.
+//! * [`feed`]: machine limits, speed caps, jerk-limited (double-S)
+//!   profiles, the look-ahead planner and the interpolator.
 //!
 //! The crate has no I/O and builds without `std` (`default-features = false`)
 //! for `core + alloc` targets such as a controller's firmware. Coordinates are

@@ -476,3 +476,68 @@ fn regression_arc_to_line_tangent_joint_is_a_curvature_jump_not_a_corner() {
     }
     check_limits(&pieces, &m);
 }
+
+#[test]
+fn a_corner_is_passed_on_its_circle_at_the_circle_cap() {
+    // Two 20 mm lines at 90 degrees: the planner replaces the last and
+    // first T = R tan(45 deg) of them by the junction circle of radius
+    // R = e sin45 / (1 - sin45), traversed over its arc length R pi / 2 at
+    // its own cap (centripetal jerk (J R^2)^(1/3)), with the curvature
+    // jump sqrt(J Ts R) where it leaves the first line and joins the second.
+    use fairpath::feed::junction::{blend_cap, corner_blend};
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(20.0, 0.0, 0.0),
+        Vec3::new(20.0, 20.0, 0.0),
+    ];
+    let run = run_of(&pts, &[24000.0]);
+    let m = MachineLimits::thesis();
+    let bl = corner_blend(&m, Vec3::X, Vec3::new(0.0, 1.0, 0.0), 10.0).unwrap();
+    let plan = plan_run(
+        &run.pieces,
+        &PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+        },
+    )
+    .unwrap();
+    let total: f64 = plan.segments.iter().map(|s| s.length).sum();
+    let want = 40.0 - 2.0 * bl.tangent_length + bl.arc_length;
+    assert!((total - want).abs() < 1e-9, "{total} vs {want}");
+    let on_circle = blend_cap(&m, &bl, 0.0);
+    assert!((on_circle - (m.jerk * bl.radius * bl.radius).cbrt()).abs() < 1e-9);
+    let jump = (m.jerk * m.period * bl.radius).sqrt();
+    let parts: Vec<_> = plan.segments.iter().flat_map(|s| s.parts.iter()).collect();
+    let blended: Vec<usize> = (0..parts.len())
+        .filter(|&i| (parts[i].length - 0.5 * bl.arc_length).abs() < 1e-12)
+        .collect();
+    assert_eq!(blended.len(), 2);
+    for &i in &blended {
+        assert!((parts[i].cap - on_circle).abs() <= 1e-9 * on_circle);
+    }
+    // Entering the circle, and leaving it onto the second line.
+    assert!((parts[blended[0]].entry_cap - jump).abs() <= 1e-9 * jump);
+    assert!((parts[blended[1] + 1].entry_cap - jump).abs() <= 1e-9 * jump);
+    check_limits(&run.pieces, &m);
+}
+
+#[test]
+fn regression_130207l_reversal_next_to_a_gentle_corner() {
+    // linuxcnc/wz-tests/130207L.ngc, lines 914-917: a gentle corner whose
+    // circle meets the circle of a near-reversal. The reversal's curvature
+    // jump capped the whole gentle circle at ~1e-7 mm/s (688,408 s of
+    // planned time, and an interpolation that ran out of memory); the jump
+    // belongs where the circles meet, the circles keep their own caps.
+    let pts = [
+        Vec3::new(10.2937, 3.7729, -0.035),
+        Vec3::new(10.2673, 3.7992, -0.0122),
+        Vec3::new(10.2551, 3.8114, 0.0),
+        Vec3::new(10.2669, 3.7996, -0.0118),
+        Vec3::new(10.30, 3.70, -0.0118),
+    ];
+    let run = run_of(&pts, &[80.0]);
+    let m = MachineLimits::thesis();
+    let t = check_limits(&run.pieces, &m);
+    assert!(t < 1.0, "{t} s");
+}

@@ -11,10 +11,16 @@
 //!   Without this a chain of short moves with small turns would be passed
 //!   on circles far longer than the moves, faster than any path through
 //!   them. On the circle the caps of any curve apply ([`speed_cap`]:
-//!   `kappa v^2 <= A_n`, `kappa^2 v^3 <= J`, chord error, axes).
+//!   `kappa v^2 <= A_n`, `kappa^2 v^3 <= J`, chord error, axes), all along
+//!   it: the planner (`plan.rs`) replaces the `tangent_length` of each line
+//!   next to a corner by half the circle's arc, at the circle's cap, so a
+//!   corner costs the time of its circle (a sharp corner's circle is tiny
+//!   and cheap; grbl-style planners cap the speed at the corner point
+//!   only).
 //! * Where the circle meets what comes before and after it the curvature
 //!   vector jumps by `dk`, and the normal acceleration steps by `v^2 dk`
-//!   within one interpolation period `Ts`: `v <= sqrt(J Ts / dk)`. On an
+//!   within one interpolation period `Ts`: `v <= sqrt(J Ts / dk)`, at
+//!   those two points. On an
 //!   isolated corner `dk = 1/R` (grbl stops at the caps above, so without
 //!   this a polyline corner would escape the jerk limit that every curve is
 //!   held to). On a dense chain of short moves the circles fill the moves
@@ -39,6 +45,9 @@ pub struct Blend {
     pub radius: f64,
     /// Length taken from each move, mm.
     pub tangent_length: f64,
+    /// Length of the circle's arc, mm (`R phi`: shorter than the
+    /// `2 tangent_length` of the moves it replaces).
+    pub arc_length: f64,
     /// Curvature vector (1/mm), towards the inside of the corner.
     pub curvature: Vec3,
     /// Unit tangent in the middle of the circle.
@@ -67,6 +76,7 @@ pub fn corner_blend(
     Some(Blend {
         radius,
         tangent_length: radius * half_tan,
+        arc_length: radius * phi,
         curvature: normal / radius,
         tangent,
     })

@@ -179,17 +179,48 @@ struct Stretch {
     constraint: Constraint,
 }
 
-/// The speed cap at each joint between consecutive pieces of `valid`
-/// (indices of pieces with positive length, and their lengths): INFINITY
-/// at G2 joints; corners passed on blend circles that may meet each other
-/// on short moves (see [`super::junction`]).
-fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Vec<f64> {
+/// How the machine passes the joint between two consecutive pieces.
+#[derive(Clone, Copy, Debug)]
+struct JointCap {
+    /// Cap at the joint itself: the corner's circle, or the curvature jump
+    /// of a tangent joint (INFINITY at a G2 joint).
+    point: f64,
+    /// A corner's circle: length it takes from each move (0: no circle),
+    /// half its arc length, the cap along it, and the caps where it starts
+    /// and ends (curvature jumps).
+    tangent_length: f64,
+    half_arc: f64,
+    arc: f64,
+    entry: f64,
+    exit: f64,
+    /// The circle meets the next joint's circle (they fill the line
+    /// between).
+    meets_next: bool,
+}
+
+const SMOOTH_JOINT: JointCap = JointCap {
+    point: f64::INFINITY,
+    tangent_length: 0.0,
+    half_arc: 0.0,
+    arc: f64::INFINITY,
+    entry: f64::INFINITY,
+    exit: f64::INFINITY,
+    meets_next: false,
+};
+
+/// How each joint between consecutive pieces of `valid` (indices of
+/// pieces with positive length, and their lengths) is passed: G2 joints
+/// freely, tangent joints at the cap of their curvature jump, corners on
+/// blend circles that may meet each other on short moves (see
+/// [`super::junction`]).
+fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Vec<JointCap> {
     let jt = JointTolerances::from_tolerance(m.chord_error);
     enum Joint {
         Smooth,
         Tangent(f64),
         Corner(Blend, Vec3, Vec3),
     }
+    let is_line = |k: usize| matches!(pieces[valid[k].0].curve, Curve::Line(_));
     let joints: Vec<Joint> = valid
         .windows(2)
         .map(|w| {
@@ -219,32 +250,51 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
         Some(Joint::Corner(b, _, _)) => Some(*b),
         _ => None,
     };
+    // Whether the circles of joints j and j + 1 fill the line between.
+    let meet = |j: usize| -> bool {
+        let (Some(a), Some(b)) = (blend_of(j), blend_of(j + 1)) else {
+            return false;
+        };
+        let len = valid[j + 1].1;
+        let rest = len - a.tangent_length - b.tangent_length;
+        is_line(j + 1) && rest <= m.chord_error.max(len * MEET_REL)
+    };
     (0..joints.len())
         .map(|j| match &joints[j] {
-            Joint::Smooth => f64::INFINITY,
-            Joint::Tangent(cap) => *cap,
+            Joint::Smooth => SMOOTH_JOINT,
+            Joint::Tangent(cap) => JointCap {
+                point: *cap,
+                ..SMOOTH_JOINT
+            },
             Joint::Corner(bl, k_in, k_out) => {
                 // What the circle meets: the neighbouring circle when both
                 // fill the line between them, else the piece itself.
-                let meets = |other: Option<Blend>, piece: usize| -> Option<Vec3> {
-                    let (q, len) = valid[piece];
-                    let o = other?;
-                    let line = matches!(pieces[q].curve, Curve::Line(_));
-                    let rest = len - o.tangent_length - bl.tangent_length;
-                    (line && rest <= m.chord_error.max(len * MEET_REL)).then_some(o.curvature)
-                };
-                let before = if j > 0 {
-                    meets(blend_of(j - 1), j)
+                let k_before = if j > 0 && meet(j - 1) {
+                    blend_of(j - 1).map_or(*k_in, |b| b.curvature)
                 } else {
-                    None
+                    *k_in
                 };
-                let after = meets(blend_of(j + 1), j + 1);
-                let k_before = before.unwrap_or(*k_in);
-                let k_after = after.unwrap_or(*k_out);
-                let jump = (bl.curvature - k_before)
-                    .norm()
-                    .max((k_after - bl.curvature).norm());
-                blend_cap(m, bl, jump)
+                let meets_next = meet(j);
+                let k_after = if meets_next {
+                    blend_of(j + 1).map_or(*k_out, |b| b.curvature)
+                } else {
+                    *k_out
+                };
+                let arc = blend_cap(m, bl, 0.0);
+                let entry = jump_cap(m, (bl.curvature - k_before).norm());
+                let exit = jump_cap(m, (k_after - bl.curvature).norm());
+                // Next to an arc or curve the circle's ends are not
+                // modelled as stretches: all of its caps at the joint.
+                let lines = is_line(j) && is_line(j + 1);
+                JointCap {
+                    point: if lines { arc } else { arc.min(entry).min(exit) },
+                    tangent_length: if lines { bl.tangent_length } else { 0.0 },
+                    half_arc: 0.5 * bl.arc_length,
+                    arc,
+                    entry,
+                    exit,
+                    meets_next: meets_next && lines,
+                }
             }
         })
         .collect()
@@ -279,18 +329,63 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
         }
         let c = &p.curve;
         // The joint's cap goes to the first stretch of the piece.
-        let mut jcap = if vi > 0 { jcaps[vi - 1] } else { f64::INFINITY };
-        let ts = match c {
-            Curve::Line(_) => alloc::vec![0.0, 1.0],
-            _ => flatten_params(c, m.chord_error),
+        let jin = if vi > 0 { jcaps[vi - 1] } else { SMOOTH_JOINT };
+        let jout = jcaps.get(vi).copied().unwrap_or(SMOOTH_JOINT);
+        // The cap at the start of the piece.
+        let mut jcap = jin.point;
+        // A line with a corner at an end: the end stretch of the line that
+        // the blend circle replaces is passed at the circle's cap, over
+        // half the circle's arc length (the machine follows the circle
+        // there, not just its middle), with the curvature jumps where the
+        // circle starts and ends. Arcs and curves next to a corner take
+        // the caps at the joint only.
+        // Each stretch: (cap, length or 0 for the line's own, entry cap).
+        let (ts, blend_caps) = match c {
+            Curve::Line(_) => {
+                let (tin, tout) = (jin.tangent_length, jout.tangent_length);
+                let mut ts = alloc::vec![0.0];
+                let mut caps = Vec::new();
+                if tin > 0.0 && tout > 0.0 && jin.meets_next {
+                    // The two circles fill the line and meet inside it.
+                    ts.push(tin / (tin + tout));
+                    caps.push((jin.arc, jin.half_arc, jin.point));
+                    caps.push((jout.arc, jout.half_arc, jin.exit.min(jout.entry)));
+                } else {
+                    let (a, b) = (tin / len_total, 1.0 - tout / len_total);
+                    if tin > 0.0 {
+                        ts.push(a);
+                        caps.push((jin.arc, jin.half_arc, jin.point));
+                    }
+                    if tout > 0.0 {
+                        ts.push(b);
+                    }
+                    let entry = if tin > 0.0 { jin.exit } else { jin.point };
+                    caps.push((f64::INFINITY, 0.0, entry));
+                    if tout > 0.0 {
+                        caps.push((jout.arc, jout.half_arc, jout.entry));
+                    }
+                }
+                ts.push(1.0);
+                (ts, caps)
+            }
+            _ => (flatten_params(c, m.chord_error), Vec::new()),
         };
+        let mut blend_caps = blend_caps.into_iter();
         // Intervals to do, last first; each is cut in two while the caps
         // at its ends and middle differ by more than CAP_SPLIT_RATIO and it
         // is longer than one period of travel at its cap.
         let mut todo: Vec<(f64, f64, u32)> = ts.windows(2).rev().map(|w| (w[0], w[1], 0)).collect();
         while let Some((t0, t1, depth)) = todo.pop() {
+            let (blend_cap, blend_len, entry) =
+                blend_caps
+                    .next()
+                    .unwrap_or((f64::INFINITY, 0.0, f64::INFINITY));
+            if matches!(c, Curve::Line(_)) {
+                jcap = jcap.min(entry);
+            }
             let len = match c {
-                Curve::Line(_) => len_total,
+                Curve::Line(_) if blend_len > 0.0 => blend_len,
+                Curve::Line(_) => len_total * (t1 - t0),
                 _ => crate::geom::arc_length_between(c, t0, t1, m.chord_error * 1e-4),
             };
             if len.is_nan() || len <= 0.0 {
@@ -310,6 +405,9 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
                 if c.0 < cap.0 {
                     cap = c;
                 }
+            }
+            if blend_cap < cap.0 {
+                cap = (blend_cap, Constraint::Junction);
             }
             if high > CAP_SPLIT_RATIO * cap.0
                 && len > cap.0 * m.period

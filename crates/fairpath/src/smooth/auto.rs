@@ -124,6 +124,17 @@ impl Auto {
                 "bspline-fit",
                 BsplineFit::default().smooth_run(&sampled, tolerance - chord)?,
             ));
+            out.push((
+                "bspline-corner",
+                BsplineCorner::default().smooth_run(&sampled, tolerance - chord)?,
+            ));
+            for name in CORNER_CANDIDATES {
+                let m: Box<dyn Smoother> = match by_name(name) {
+                    Some(m) => m,
+                    None => continue,
+                };
+                out.push((m.name(), m.smooth_run(&sampled, tolerance - chord)?));
+            }
         } else {
             out.push((
                 "bspline-fit",
