@@ -13,9 +13,10 @@
 //!   slows the machine as much as a corner of small angle). The chords lie
 //!   within `arc_share * tolerance` of the arc and the fit within the rest
 //!   of the chords, so the fit is within the tolerance of the arc.
-//! * when the run has only lines, `bspline-corner` and the corner methods
-//!   of [`CORNER_CANDIDATES`] (`lotm`) on the run as it is. With arcs these would keep the arc joints
-//!   as they are (not G2), so they are not candidates.
+//! * `bspline-corner` and the corner methods of [`CORNER_CANDIDATES`]
+//!   (`lotm`): on the run as it is when it has only lines; on the same
+//!   sampled run (with the same share of the tolerance) when it has arcs,
+//!   so that they too leave no joint next to an arc that is not G2.
 //!
 //! Each candidate is planned by [`plan_run`] on [`AutoOptions::machine`]
 //! (the thesis machine of seed 003 by default) with programmed feeds
@@ -116,41 +117,29 @@ impl Auto {
             .pieces
             .iter()
             .any(|p| !matches!(p.curve, Curve::Line(_)));
-        let mut out = Vec::new();
-        if has_curves {
+        // With arcs or curves, every candidate works on the run sampled as
+        // chords, with what the chords leave of the tolerance.
+        let sampled;
+        let (input, tol) = if has_curves {
             let chord = share * tolerance;
-            let sampled = sample_curves(run, chord);
-            out.push((
-                "bspline-fit",
-                BsplineFit::default().smooth_run(&sampled, tolerance - chord)?,
-            ));
-            out.push((
-                "bspline-corner",
-                BsplineCorner::default().smooth_run(&sampled, tolerance - chord)?,
-            ));
-            for name in CORNER_CANDIDATES {
-                let m: Box<dyn Smoother> = match by_name(name) {
-                    Some(m) => m,
-                    None => continue,
-                };
-                out.push((m.name(), m.smooth_run(&sampled, tolerance - chord)?));
-            }
+            sampled = sample_curves(run, chord);
+            (&sampled, tolerance - chord)
         } else {
-            out.push((
-                "bspline-fit",
-                BsplineFit::default().smooth_run(run, tolerance)?,
-            ));
-            out.push((
+            (run, tolerance)
+        };
+        let mut out = alloc::vec![
+            ("bspline-fit", BsplineFit::default().smooth_run(input, tol)?),
+            (
                 "bspline-corner",
-                BsplineCorner::default().smooth_run(run, tolerance)?,
-            ));
-            for name in CORNER_CANDIDATES {
-                let m: Box<dyn Smoother> = match by_name(name) {
-                    Some(m) => m,
-                    None => continue,
-                };
-                out.push((m.name(), m.smooth_run(run, tolerance)?));
-            }
+                BsplineCorner::default().smooth_run(input, tol)?,
+            ),
+        ];
+        for name in CORNER_CANDIDATES {
+            let m: Box<dyn Smoother> = match by_name(name) {
+                Some(m) => m,
+                None => continue,
+            };
+            out.push((m.name(), m.smooth_run(input, tol)?));
         }
         Ok(out)
     }
