@@ -1,5 +1,5 @@
-//! End-to-end smoothing throughput: read, smooth (bspline-corner), verify
-//! the curves, write G-code, read it back and verify it, on
+//! End-to-end smoothing throughput: read, smooth (`auto`, the default),
+//! verify the curves, write G-code, read it back and verify it, on
 //! `../shared/paths/synthetic/surface-raster-large.ngc` (138,803 segments)
 //! at 0.05 mm; and feed planning speed on the smoothed path. Run with
 //! `cargo bench -p fairpath-cli`.
@@ -23,7 +23,7 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(segments as u64));
     g.bench_function("end-to-end smooth 0.05 mm (gcode)", |b| {
         b.iter(|| {
-            let opts = SmoothOptions::new(0.05, None, "bspline-corner", Format::Gcode).unwrap();
+            let opts = SmoothOptions::new(0.05, None, "auto", Format::Gcode).unwrap();
             let program = fairpath_gcode::parse(&bytes).unwrap();
             let mut phases = Phases::new();
             let result = pipeline::smooth_program(&program, &opts, &mut phases).unwrap();
@@ -33,15 +33,20 @@ fn bench(c: &mut Criterion) {
             text.len()
         })
     });
-    g.bench_function("smooth only (no verification, no output)", |b| {
-        let runs = program.runs();
-        let m = fairpath::smooth::by_name("bspline-corner").unwrap();
-        b.iter(|| {
-            runs.iter()
-                .map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len())
-                .sum::<usize>()
-        })
-    });
+    for method in ["bspline-corner", "bspline-fit", "auto"] {
+        g.bench_function(
+            format!("smooth only, {method} (no verification, no output)"),
+            |b| {
+                let runs = program.runs();
+                let m = fairpath::smooth::by_name(method).unwrap();
+                b.iter(|| {
+                    runs.iter()
+                        .map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len())
+                        .sum::<usize>()
+                })
+            },
+        );
+    }
     g.finish();
 
     // Feed planning speed, in pieces per second: the smoothed raster

@@ -631,3 +631,41 @@ fn shared_surface_raster_and_helix() {
         }
     }
 }
+
+#[test]
+fn a_zigzag_finer_than_the_tolerance_is_fitted_not_blended() {
+    // Like LinuxCNC's performance/zigzag_0.002_0.0005.ngc: 90-degree turns
+    // every 0.0508 mm, +-0.0127 mm about a line, at 0.05 mm: every vertex
+    // turns sharply but lies within the band around its neighbours' chord,
+    // so the run is one dense section and the fit runs straight through.
+    let pts: Vec<Vec3> = (0..=400)
+        .map(|i| {
+            let y = if i == 0 || i == 400 {
+                0.0
+            } else if i % 2 == 1 {
+                -0.0127
+            } else {
+                0.0127
+            };
+            v(i as f64 * 0.0508, y, 0.0)
+        })
+        .collect();
+    let tol = 0.05;
+    assert_eq!(
+        dense_sections(&pts, tol, &SectionOptions::default()),
+        vec![(0, 400)]
+    );
+    // With the wiggle rule off, the sharp turns are corners.
+    let strict = SectionOptions {
+        wiggle_per_tol: 0.0,
+        ..Default::default()
+    };
+    assert!(dense_sections(&pts, tol, &strict).is_empty());
+    let run = polyline_run(&pts);
+    let fit = BsplineFit::default().smooth_run(&run, tol).unwrap();
+    let rep = verify_run(&run.pieces, &fit.pieces, &VerifyOptions::new(tol));
+    assert!(rep.within(tol), "{}", rep.deviation_bound);
+    let corner = BsplineCorner::default().smooth_run(&run, tol).unwrap();
+    assert!(fit.pieces.len() < 10, "{}", fit.pieces.len());
+    assert!(corner.pieces.len() > 300, "{}", corner.pieces.len());
+}

@@ -11,7 +11,13 @@
 //!    to 300 mm at `c = 0.01 mm` (Siemens' compressor, `COMPCAD`, likewise
 //!    only takes blocks below a length limit);
 //! 2. `phi <= max_turn` (default 0.5 rad, about 29 degrees): sharper turns
-//!    are corners, whatever the segment lengths;
+//!    are corners, whatever the segment lengths, unless the vertex is a
+//!    wiggle inside the band: its height over the chord of its two
+//!    neighbours is at most `wiggle_per_tol * tolerance` (default 1), so
+//!    that chord is within the tolerance of the two segments and a fit may
+//!    cut the vertex (noise, or a zigzag finer than the tolerance such as
+//!    LinuxCNC's `zigzag_0.002_0.0005.ngc`; added here, the seed has no
+//!    angle rule);
 //! 3. `phi (s_in + s_out) / 16 <= chord_error_per_tol * tolerance`: a circle
 //!    through a vertex turning by `phi` between chords of mean length `s`
 //!    has sagitta `c = s^2 / (8 R) = phi s / 8` over each chord, so this says
@@ -41,6 +47,9 @@ pub struct SectionOptions {
     /// Largest implied chord error at a dense vertex, as a multiple of the
     /// tolerance.
     pub chord_error_per_tol: f64,
+    /// Largest height of a vertex over the chord of its neighbours, as a
+    /// multiple of the tolerance, for it to be dense whatever its turn.
+    pub wiggle_per_tol: f64,
     /// Fewest vertices of a fitted section.
     pub min_points: usize,
 }
@@ -51,6 +60,7 @@ impl Default for SectionOptions {
             max_segment: 5.0,
             max_turn: 0.5,
             chord_error_per_tol: 1.0,
+            wiggle_per_tol: 1.0,
             min_points: 8,
         }
     }
@@ -68,6 +78,11 @@ impl SectionOptions {
         if !(self.chord_error_per_tol >= 0.0 && self.chord_error_per_tol.is_finite()) {
             return Err(SmoothError::BadOption(
                 "chord_error_per_tol must be non-negative",
+            ));
+        }
+        if !(self.wiggle_per_tol >= 0.0 && self.wiggle_per_tol.is_finite()) {
+            return Err(SmoothError::BadOption(
+                "wiggle_per_tol must be non-negative",
             ));
         }
         if self.min_points < 3 {
@@ -95,7 +110,19 @@ impl SectionOptions {
             return false;
         }
         let phi = a.angle_to(b);
-        phi <= self.max_turn && phi * (sa + sb) / 16.0 <= self.chord_error_per_tol * tolerance
+        let sample = phi * (sa + sb) / 16.0 <= self.chord_error_per_tol * tolerance;
+        if phi <= self.max_turn {
+            return sample;
+        }
+        // Height of the vertex over the chord of its neighbours.
+        let chord = a + b;
+        let c = chord.norm();
+        let height = if c > 0.0 {
+            chord.cross(a).norm() / c
+        } else {
+            sa
+        };
+        height <= self.wiggle_per_tol * tolerance
     }
 }
 
