@@ -146,7 +146,7 @@ impl Summary {
         );
         let _ = writeln!(
             s,
-            "  pieces out:      {} ({} curves: {} corner transitions)",
+            "  pieces out:      {} ({} curves; {} corners replaced by transitions or fits)",
             self.pieces_out, self.curves_out, self.transitions
         );
         let _ = writeln!(
