@@ -316,7 +316,14 @@ impl BsplineFit {
         let q = &chain.pts;
         let nseg = chain.segments();
         let mut cursor = 0;
-        for (k, m) in dense_sections(q, tolerance, &o.sections) {
+        // Sections to fit, last first. A section whose fit fails is split
+        // around its sharpest vertex (the segment after it kept as a line
+        // between the two fits) and the halves are tried on their own, so
+        // one corner inside a section does not send all of it to the corner
+        // method.
+        let mut todo: Vec<(usize, usize)> = dense_sections(q, tolerance, &o.sections);
+        todo.reverse();
+        while let Some((k, m)) = todo.pop() {
             let dir = |a: usize, b: usize| (q[b] - q[a]).normalized(0.0);
             let start = if k == 0 {
                 EndCondition::Free
@@ -336,6 +343,16 @@ impl BsplineFit {
             };
             let Some(fit) = fit_polyline(&q[k..=m], start, end, tolerance * o.band_use, o.fairness)
             else {
+                let min = o.sections.min_points;
+                let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
+                let sharpest =
+                    (k + 1..m.saturating_sub(1)).max_by(|&a, &b| turn(a).total_cmp(&turn(b)));
+                if let Some(j) = sharpest {
+                    if j + 1 - k >= min && m - j >= min {
+                        todo.push((j + 1, m));
+                        todo.push((k, j));
+                    }
+                }
                 continue;
             };
             if k > cursor {
