@@ -3,76 +3,11 @@
 //! independent verifier), G2 at every joint but kept corners, endpoints exact.
 
 mod common;
-use common::{polyline_run, v};
+use common::{check_smoothed as check, degenerate, polyline_run, pt2, pt3, tolerances as tol, v};
 use fairpath::geom::Vec3;
 use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
 use fairpath::smooth::{BsplineCorner, BsplineCornerOptions, ErrorTarget, Smoother};
 use proptest::prelude::*;
-
-fn check(pts: &[Vec3], tol: f64, smoother: &BsplineCorner) -> Result<(), TestCaseError> {
-    let run = polyline_run(pts);
-    let out = smoother.smooth_run(&run, tol).unwrap();
-    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
-    prop_assert!(
-        rep.deviation_bound <= tol,
-        "deviation {} > {} at {:?}",
-        rep.deviation_bound,
-        tol,
-        rep.worst_at
-    );
-    prop_assert_eq!(rep.start_gap, 0.0);
-    prop_assert_eq!(rep.end_gap, 0.0);
-    for j in &rep.joints {
-        if j.class != Continuity::G2 {
-            let kept = out
-                .kept_corners
-                .iter()
-                .any(|k| k.at.dist(j.at) <= tol * 1e-6);
-            prop_assert!(
-                kept,
-                "joint {:?} is {:?} but not a kept corner",
-                j.at,
-                j.class
-            );
-        }
-    }
-    Ok(())
-}
-
-fn pt2(scale: f64) -> impl Strategy<Value = Vec3> {
-    (-scale..scale, -scale..scale).prop_map(|(x, y)| v(x, y, 0.0))
-}
-fn pt3(scale: f64) -> impl Strategy<Value = Vec3> {
-    (-scale..scale, -scale..scale, -scale..scale).prop_map(|(x, y, z)| v(x, y, z))
-}
-
-/// Polylines with duplicates, exact reversals and collinear points mixed in.
-fn degenerate(base: Vec<Vec3>, ops: Vec<u8>) -> Vec<Vec3> {
-    let mut out: Vec<Vec3> = Vec::new();
-    for (i, p) in base.into_iter().enumerate() {
-        out.push(p);
-        match ops.get(i).copied().unwrap_or(0) % 6 {
-            1 => out.push(p),
-            2 if out.len() >= 2 => {
-                let q = out[out.len() - 2];
-                out.push(q); // exact reversal
-                out.push(p);
-            }
-            3 if out.len() >= 2 => {
-                let q = out[out.len() - 2];
-                out.pop();
-                out.push(q.lerp(p, 0.5)); // collinear point
-                out.push(p);
-            }
-            _ => {}
-        }
-    }
-    out
-}
-
-fn tol() -> impl Strategy<Value = f64> {
-    prop_oneof![Just(0.001), Just(0.01), Just(0.05), Just(0.5)]
-}
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]

@@ -7,7 +7,7 @@
 //! true curve and against `bspline-corner`.
 
 mod common;
-use common::{polyline_run, v};
+use common::{check_guarantees, polyline_run, v};
 use fairpath::geom::fit::{chord_params, span_errors, EndCondition};
 use fairpath::geom::{Curve, ParamCurve, Vec3};
 use fairpath::path::Run;
@@ -146,32 +146,6 @@ fn smooth_and_verify(run: &Run, tol: f64, s: &dyn Smoother) -> (SmoothedRun, Run
     let out = s.smooth_run(run, tol).unwrap();
     let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
     (out, rep)
-}
-
-/// The guarantees: within tolerance, endpoints exact, G2 but kept corners.
-fn check_guarantees(out: &SmoothedRun, rep: &RunReport, tol: f64) -> Result<(), TestCaseError> {
-    prop_assert!(
-        rep.deviation_bound <= tol,
-        "deviation {} > {} at {:?}",
-        rep.deviation_bound,
-        tol,
-        rep.worst_at
-    );
-    prop_assert_eq!(rep.start_gap, 0.0);
-    prop_assert_eq!(rep.end_gap, 0.0);
-    for j in &rep.joints {
-        if j.class != Continuity::G2 {
-            let kept = out
-                .kept_corners
-                .iter()
-                .any(|k| k.at.dist(j.at) <= tol * 1e-6);
-            prop_assert!(kept, "joint {:?} is {:?} but not kept", j.at, j.class);
-        }
-    }
-    for w in out.pieces.windows(2) {
-        prop_assert_eq!(w[0].end(), w[1].start(), "pieces must join bit for bit");
-    }
-    Ok(())
 }
 
 /// Fitted pieces: cubic B-splines other than corner transitions.

@@ -29,3 +29,86 @@ pub fn polyline_run_with_feeds(pts: &[Vec3], feeds: &[f64]) -> Run {
 pub fn v(x: f64, y: f64, z: f64) -> Vec3 {
     Vec3::new(x, y, z)
 }
+
+use fairpath::smooth::verify::{verify_run, Continuity, RunReport, VerifyOptions};
+use fairpath::smooth::{SmoothedRun, Smoother};
+use proptest::prelude::*;
+
+/// The guarantees of every method: within tolerance, endpoints exact, a
+/// finite peak curvature, every joint G2 but kept corners, pieces joined
+/// bit for bit.
+pub fn check_guarantees(out: &SmoothedRun, rep: &RunReport, tol: f64) -> Result<(), TestCaseError> {
+    prop_assert!(
+        rep.deviation_bound <= tol,
+        "deviation {} > {} at {:?}",
+        rep.deviation_bound,
+        tol,
+        rep.worst_at
+    );
+    prop_assert_eq!(rep.start_gap, 0.0);
+    prop_assert_eq!(rep.end_gap, 0.0);
+    prop_assert!(rep.peak_curvature.is_finite());
+    for j in &rep.joints {
+        if j.class != Continuity::G2 {
+            let kept = out
+                .kept_corners
+                .iter()
+                .any(|k| k.at.dist(j.at) <= tol * 1e-6);
+            prop_assert!(kept, "joint {:?} is {:?} but not kept", j.at, j.class);
+        }
+    }
+    for w in out.pieces.windows(2) {
+        prop_assert_eq!(w[0].end(), w[1].start(), "pieces must join bit for bit");
+    }
+    Ok(())
+}
+
+/// Smooths the polyline `pts` with `smoother` and checks the guarantees
+/// with the independent verifier.
+pub fn check_smoothed(
+    pts: &[Vec3],
+    tol: f64,
+    smoother: &dyn Smoother,
+) -> Result<(), TestCaseError> {
+    let run = polyline_run(pts);
+    let out = smoother.smooth_run(&run, tol).unwrap();
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    check_guarantees(&out, &rep, tol)
+}
+
+pub fn pt2(scale: f64) -> impl Strategy<Value = Vec3> {
+    (-scale..scale, -scale..scale).prop_map(|(x, y)| v(x, y, 0.0))
+}
+
+pub fn pt3(scale: f64) -> impl Strategy<Value = Vec3> {
+    (-scale..scale, -scale..scale, -scale..scale).prop_map(|(x, y, z)| v(x, y, z))
+}
+
+/// Polylines with duplicates, exact reversals and collinear points mixed in.
+pub fn degenerate(base: Vec<Vec3>, ops: Vec<u8>) -> Vec<Vec3> {
+    let mut out: Vec<Vec3> = Vec::new();
+    for (i, p) in base.into_iter().enumerate() {
+        out.push(p);
+        match ops.get(i).copied().unwrap_or(0) % 6 {
+            1 => out.push(p),
+            2 if out.len() >= 2 => {
+                let q = out[out.len() - 2];
+                out.push(q); // exact reversal
+                out.push(p);
+            }
+            3 if out.len() >= 2 => {
+                let q = out[out.len() - 2];
+                out.pop();
+                out.push(q.lerp(p, 0.5)); // collinear point
+                out.push(p);
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Tolerances from a micrometre to half a millimetre.
+pub fn tolerances() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(0.001), Just(0.01), Just(0.05), Just(0.5)]
+}

@@ -77,9 +77,8 @@
 
 use super::bspline_corner::{transition_curve, BAND_USE};
 use super::chains::{
-    min_feed, split_run, CleanTolerances, CornerReason, Element, KeptCorner, LineChain,
+    min_feed, smooth_by_chains, CleanTolerances, CornerReason, KeptCorner, LineChain,
 };
-use super::verify::{classify_joint, Continuity, JointTolerances};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Curve, Line, Nurbs, Vec3};
 use crate::math;
@@ -252,8 +251,7 @@ pub(crate) fn ctm_plan(cc: &ChainCorners, c: f64) -> Vec<Planned> {
 }
 
 /// The driver shared by `ctm` and `lotm`: cleans the run, plans every chain
-/// of lines with `plan`, and emits lines and transitions (the structure of
-/// `bspline-corner`'s driver, whose arc-joint reporting it repeats).
+/// of lines with `plan`, and emits lines and transitions.
 pub(crate) fn smooth_run_by_corners(
     run: &Run,
     tolerance: f64,
@@ -262,46 +260,10 @@ pub(crate) fn smooth_run_by_corners(
 ) -> Result<SmoothedRun, SmoothError> {
     check_tolerance(tolerance)?;
     let delta = tolerance * BAND_USE;
-    let clean = CleanTolerances::from_tolerance(tolerance);
-    let (elements, dropped, merged) = split_run(run, clean)?;
-    let mut out = SmoothedRun {
-        dropped_zero_length: dropped,
-        merged_collinear: merged,
-        ..SmoothedRun::default()
-    };
-    let joints = JointTolerances::from_tolerance(tolerance);
-    for (i, el) in elements.iter().enumerate() {
-        let first_of_element = out.pieces.len();
-        match el {
-            Element::Chain(chain) => smooth_chain(
-                chain,
-                delta,
-                clean.min_segment,
-                min_half_angle,
-                plan,
-                &mut out,
-            ),
-            Element::Other(p) => {
-                let mut p = p.clone();
-                p.rapid = false;
-                out.pieces.push(p);
-            }
-        }
-        if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
-            let (a, b) = (
-                &out.pieces[first_of_element - 1],
-                &out.pieces[first_of_element],
-            );
-            if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
-                out.kept_corners.push(KeptCorner {
-                    at: b.start(),
-                    source_line: a.source_lines.1,
-                    reason: CornerReason::ArcJoint,
-                });
-            }
-        }
-    }
-    Ok(out)
+    let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+    smooth_by_chains(run, tolerance, |chain, out| {
+        smooth_chain(chain, delta, min_seg, min_half_angle, plan, out)
+    })
 }
 
 fn smooth_chain(

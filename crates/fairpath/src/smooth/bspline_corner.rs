@@ -50,9 +50,8 @@
 //!   the paper does not define).
 
 use super::chains::{
-    min_feed, split_run, CleanTolerances, CornerReason, Element, KeptCorner, LineChain,
+    min_feed, smooth_by_chains, CleanTolerances, CornerReason, KeptCorner, LineChain,
 };
-use super::verify::{classify_joint, Continuity, JointTolerances};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Curve, Line, Nurbs, Vec3};
 use crate::math;
@@ -159,43 +158,10 @@ impl Smoother for BsplineCorner {
                 "min_half_angle must be in [0, 0.5) rad",
             ));
         }
-        let clean = CleanTolerances::from_tolerance(tolerance);
-        let (elements, dropped, merged) = split_run(run, clean)?;
-        let mut out = SmoothedRun {
-            dropped_zero_length: dropped,
-            merged_collinear: merged,
-            ..SmoothedRun::default()
-        };
-        let joints = JointTolerances::from_tolerance(tolerance);
-        for (i, el) in elements.iter().enumerate() {
-            let first_of_element = out.pieces.len();
-            match el {
-                Element::Chain(chain) => {
-                    self.smooth_chain(chain, delta, clean.min_segment, &mut out)
-                }
-                Element::Other(p) => {
-                    let mut p = p.clone();
-                    p.rapid = false;
-                    out.pieces.push(p);
-                }
-            }
-            // A joint between an arc and anything else stays as it was;
-            // report it when that is not G2.
-            if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
-                let (a, b) = (
-                    &out.pieces[first_of_element - 1],
-                    &out.pieces[first_of_element],
-                );
-                if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
-                    out.kept_corners.push(KeptCorner {
-                        at: b.start(),
-                        source_line: a.source_lines.1,
-                        reason: CornerReason::ArcJoint,
-                    });
-                }
-            }
-        }
-        Ok(out)
+        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        smooth_by_chains(run, tolerance, |chain, out| {
+            self.smooth_chain(chain, delta, min_seg, out)
+        })
     }
 }
 

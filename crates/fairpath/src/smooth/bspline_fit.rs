@@ -58,10 +58,9 @@
 //! curves or by fits (the interior vertices of fitted sections).
 
 use super::bspline_corner::{BsplineCorner, BsplineCornerOptions, BAND_USE};
-use super::chains::{min_feed, split_run, CleanTolerances, Element, KeptCorner, LineChain};
+use super::chains::{min_feed, smooth_by_chains, CleanTolerances, LineChain};
 use super::fit_sections::{dense_sections, SectionOptions};
-use super::verify::{classify_joint, Continuity, JointTolerances};
-use super::{check_tolerance, CornerReason, SmoothError, SmoothedRun, Smoother};
+use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::fit::{
     averaged_knots, chord_params, fit_cubic, span_errors, split_at_knots, EndCondition,
 };
@@ -425,40 +424,8 @@ impl Smoother for BsplineFit {
             options: self.options.corner,
         }
         .smooth_run(&Run::default(), tolerance)?;
-        let clean = CleanTolerances::from_tolerance(tolerance);
-        let (elements, dropped, merged) = split_run(run, clean)?;
-        let mut out = SmoothedRun {
-            dropped_zero_length: dropped,
-            merged_collinear: merged,
-            ..SmoothedRun::default()
-        };
-        let joints = JointTolerances::from_tolerance(tolerance);
-        for (i, el) in elements.iter().enumerate() {
-            let first_of_element = out.pieces.len();
-            match el {
-                Element::Chain(chain) => self.smooth_chain(chain, tolerance, &mut out),
-                Element::Other(p) => {
-                    let mut p = p.clone();
-                    p.rapid = false;
-                    out.pieces.push(p);
-                }
-            }
-            // As in `bspline-corner`: a joint next to an arc or curve keeps
-            // the continuity it had; report it when that is not G2.
-            if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
-                let (a, b) = (
-                    &out.pieces[first_of_element - 1],
-                    &out.pieces[first_of_element],
-                );
-                if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
-                    out.kept_corners.push(KeptCorner {
-                        at: b.start(),
-                        source_line: a.source_lines.1,
-                        reason: CornerReason::ArcJoint,
-                    });
-                }
-            }
-        }
-        Ok(out)
+        smooth_by_chains(run, tolerance, |chain, out| {
+            self.smooth_chain(chain, tolerance, out)
+        })
     }
 }

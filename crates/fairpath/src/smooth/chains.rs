@@ -4,7 +4,8 @@
 
 use crate::geom::{point_segment_distance, Curve, Vec3};
 use crate::path::{Piece, Run};
-use crate::smooth::SmoothError;
+use crate::smooth::verify::{classify_joint, Continuity, JointTolerances};
+use crate::smooth::{SmoothError, SmoothedRun};
 use alloc::vec::Vec;
 
 /// A corner left as a corner.
@@ -237,4 +238,50 @@ pub(crate) fn min_feed(a: Option<f64>, b: Option<f64>) -> Option<f64> {
         (x, None) => x,
         (None, y) => y,
     }
+}
+
+/// The driver every chain-based method shares: cleans `run` (see
+/// [`split_run`]), smooths each chain of lines with `smooth_chain`, keeps
+/// arcs and curves as they are, and reports each joint next to them that
+/// is not G2 as a kept corner ([`CornerReason::ArcJoint`]).
+pub(crate) fn smooth_by_chains(
+    run: &Run,
+    tolerance: f64,
+    mut smooth_chain: impl FnMut(&LineChain, &mut SmoothedRun),
+) -> Result<SmoothedRun, SmoothError> {
+    let clean = CleanTolerances::from_tolerance(tolerance);
+    let (elements, dropped, merged) = split_run(run, clean)?;
+    let mut out = SmoothedRun {
+        dropped_zero_length: dropped,
+        merged_collinear: merged,
+        ..SmoothedRun::default()
+    };
+    let joints = JointTolerances::from_tolerance(tolerance);
+    for (i, el) in elements.iter().enumerate() {
+        let first_of_element = out.pieces.len();
+        match el {
+            Element::Chain(chain) => smooth_chain(chain, &mut out),
+            Element::Other(p) => {
+                let mut p = p.clone();
+                p.rapid = false;
+                out.pieces.push(p);
+            }
+        }
+        // A joint between an arc and anything else stays as it was;
+        // report it when that is not G2.
+        if i > 0 && first_of_element > 0 && first_of_element < out.pieces.len() {
+            let (a, b) = (
+                &out.pieces[first_of_element - 1],
+                &out.pieces[first_of_element],
+            );
+            if classify_joint(&a.curve, &b.curve, &joints) != Continuity::G2 {
+                out.kept_corners.push(KeptCorner {
+                    at: b.start(),
+                    source_line: a.source_lines.1,
+                    reason: CornerReason::ArcJoint,
+                });
+            }
+        }
+    }
+    Ok(out)
 }
