@@ -643,3 +643,47 @@ fn a_zigzag_finer_than_the_tolerance_is_fitted_not_blended() {
     assert!(fit.pieces.len() < 10, "{}", fit.pieces.len());
     assert!(corner.pieces.len() > 300, "{}", corner.pieces.len());
 }
+
+/// Regression, LinuxCNC `performance/LHchips4.ngc` lines 92-100 (XZ): a
+/// 3.8 mm move between moves of 0.1-1.3 mm. Least squares saw the long
+/// move only at its ends, the fit bulged off it, and knot insertion put
+/// about 4,000 spans of 0.3 um into it (64 output pieces along one move)
+/// without reducing the error. The fit must pass with spans no shorter
+/// than a micrometre and no more control points than the search allows.
+#[test]
+fn long_move_between_short_ones_fits_without_micro_spans() {
+    let xz = [
+        (62.365, -17.009),
+        (62.237, -16.907),
+        (62.11, -16.817),
+        (61.343, -16.32),
+        (61.279, -16.276),
+        (60.32, -15.428),
+        (60.256, -15.36),
+        (57.89, -12.541),
+        (57.763, -12.363),
+    ];
+    let pts: Vec<Vec3> = xz.iter().map(|&(x, z)| v(x, 0.0, z)).collect();
+    let fit = fit_polyline(
+        &pts,
+        EndCondition::Free,
+        EndCondition::Free,
+        0.05 * BAND_USE,
+        1.0,
+    )
+    .expect("fit passes");
+    let k = &fit.curve.knots;
+    let shortest = k
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|&d| d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "{} control points, shortest span {shortest:.3e} mm, bound {:.4}",
+        fit.curve.points.len(),
+        fit.bound
+    );
+    assert!(shortest >= 1e-3, "span of {shortest:e} mm");
+    assert!(fit.curve.points.len() <= 64);
+    assert!(fit.bound <= 0.05 * BAND_USE);
+}

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Issue-5 survey: auto vs the original (junction-deviation planner) and vs
+# bspline-corner, at the thesis machine with feeds overridden.
+# Usage: scripts/survey.sh [TOLERANCE] [PROGRAM...]   (default: the dense set)
+set -u
+cd "$(dirname "$0")/.."
+tol=${1:-0.05}; shift || true
+P=../shared/paths
+progs=("$@")
+if [ ${#progs[@]} -eq 0 ]; then
+  progs=($P/synthetic/surface-raster.ngc $P/synthetic/helix.ngc $P/synthetic/butterfly-80.ngc
+    $P/synthetic/hexagon-3d.ngc
+    $P/linuxcnc/performance/contour.ngc $P/linuxcnc/performance/LHchips4.ngc
+    $P/linuxcnc/performance/Cereal.ngc)
+  while IFS= read -r f; do progs+=("$f"); done < <(ls $P/linuxcnc/*/{spiral_lines,makerblock*,zigzag_0.002*,test_12mmflat,51MeanderAve,blur_torus,tort,arc_parabolic,line-contouring-xz,random_lines*}.ngc 2>/dev/null)
+fi
+bin=target/release/fairpath
+printf '%-28s %9s %9s %9s %6s %6s %s\n' program original corner auto a/orig a/corn ok
+for f in "${progs[@]}"; do
+  out=$($bin compare "$f" --tolerance "$tol" --override-feed --junction-deviation "$tol" \
+        --methods bspline-corner,auto --format json 2>/dev/null) || { echo "$(basename $f): failed"; continue; }
+  python3 - "$f" "$out" <<'PY'
+import json, sys, os
+rows = {r["method"]: r for r in json.loads(sys.argv[2])}
+o, c, a = rows["original"]["time_s"], rows["bspline-corner"]["time_s"], rows["auto"]["time_s"]
+ok = "ok" if a <= 0.7*o and a <= 0.7*c else "-"
+print(f'{os.path.basename(sys.argv[1])[:28]:28} {o:9.2f} {c:9.2f} {a:9.2f} {a/o:6.2f} {a/c:6.2f} {ok} {rows["auto"]["smoothing_s"]:.2f}s')
+PY
+done
