@@ -13,6 +13,9 @@
 //!   slows the machine as much as a corner of small angle). The chords lie
 //!   within `arc_share * tolerance` of the arc and the fit within the rest
 //!   of the chords, so the fit is within the tolerance of the arc.
+//! * **fit, wide wiggles**: the same with [`WIDE_WIGGLE_PER_TOL`], when it
+//!   makes some vertex dense that the default rule does not (a zigzag whose
+//!   midline lies within the tolerance).
 //! * `bspline-corner` and the corner methods of [`CORNER_CANDIDATES`]
 //!   (`lotm`): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
@@ -26,7 +29,8 @@
 //! rejects is skipped.
 
 use super::bspline_corner::BsplineCorner;
-use super::bspline_fit::BsplineFit;
+use super::bspline_fit::{BsplineFit, BsplineFitOptions};
+use super::fit_sections::SectionOptions;
 use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, PlanOptions};
@@ -40,6 +44,30 @@ use alloc::vec::Vec;
 /// same uniform cubic B-splines as `bspline-corner`'s, at a quarter more
 /// smoothing and planning time for the same result.
 pub const CORNER_CANDIDATES: &[&str] = &["lotm"];
+
+/// Wiggle factor ([`SectionOptions::wiggle_per_tol`]) of the second fit
+/// candidate: a vertex up to twice the tolerance above the chord of its
+/// neighbours is dense, so a zigzag whose midline lies within the
+/// tolerance of every vertex may be fitted by that midline (LinuxCNC's
+/// `zigzag_0.002_0.001.ngc`: 0.0254 mm each side of the line at 0.05 mm).
+/// Not the default of `bspline-fit`: on paths whose sharp vertices are real
+/// (raster step-overs, V-carving) a fit across them is slower than corner
+/// transitions, so `auto` plans both and keeps the faster.
+pub const WIDE_WIGGLE_PER_TOL: f64 = 2.0;
+
+/// Whether `wide` makes some vertex of the lines of `run` dense that the
+/// default rule does not (the wide candidate would differ).
+fn widens_sections(run: &Run, tol: f64, wide: &SectionOptions) -> bool {
+    let Some(first) = run.pieces.first() else {
+        return false;
+    };
+    let mut pts = Vec::with_capacity(run.pieces.len() + 1);
+    pts.push(first.curve.start());
+    pts.extend(run.pieces.iter().map(|p| p.curve.end()));
+    let narrow = SectionOptions::default();
+    (1..pts.len().saturating_sub(1))
+        .any(|i| wide.is_dense(&pts, i, tol) && !narrow.is_dense(&pts, i, tol))
+}
 
 /// Share of the tolerance that the chords of sampled arcs may take.
 pub const ARC_SHARE: f64 = 0.05;
@@ -134,6 +162,18 @@ impl Auto {
                 BsplineCorner::default().smooth_run(input, tol)?,
             ),
         ];
+        let wide = BsplineFit {
+            options: BsplineFitOptions {
+                sections: SectionOptions {
+                    wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
+                    ..SectionOptions::default()
+                },
+                ..BsplineFitOptions::default()
+            },
+        };
+        if widens_sections(input, tol, &wide.options.sections) {
+            out.push(("bspline-fit, wide wiggles", wide.smooth_run(input, tol)?));
+        }
         for name in CORNER_CANDIDATES {
             let m: Box<dyn Smoother> = match by_name(name) {
                 Some(m) => m,

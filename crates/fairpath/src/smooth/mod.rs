@@ -14,7 +14,9 @@ mod fit_sections;
 mod lotm;
 pub mod verify;
 
-pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES};
+pub use auto::{
+    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, WIDE_WIGGLE_PER_TOL,
+};
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
     bezier_corner_peak_curvature, bezier_corner_points, bezier_length_for_deviation, Ctm,
