@@ -15,7 +15,8 @@ mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, WIDE_WIGGLE_PER_TOL,
+    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, THROUGH_MAX_PIECES,
+    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
