@@ -32,7 +32,6 @@
 //! kept; a tie goes to the earlier candidate. A candidate the planner
 //! rejects is skipped.
 
-use super::bspline_corner::BsplineCorner;
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fit_sections::SectionOptions;
 use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
@@ -40,7 +39,6 @@ use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, PlanOptions};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
-use alloc::boxed::Box;
 use alloc::vec::Vec;
 
 /// Corner methods tried besides `bspline-corner` on runs of lines. `ctm`
@@ -152,14 +150,53 @@ pub fn sample_curves(run: &Run, chord: f64) -> Run {
     Run::new(out)
 }
 
+/// One candidate smoothing of a run.
+#[derive(Clone, Copy, Debug)]
+enum Candidate {
+    Fit(BsplineFitOptions),
+    /// A method by name, with its default options.
+    Named(&'static str),
+}
+
+impl Candidate {
+    fn smooth(&self, input: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+        match self {
+            Candidate::Fit(o) => BsplineFit { options: *o }.smooth_run(input, tol),
+            Candidate::Named(name) => match by_name(name) {
+                Some(m) => m.smooth_run(input, tol),
+                None => Err(SmoothError::BadOption("auto: unknown candidate")),
+            },
+        }
+    }
+}
+
+/// The run the candidates work on: `run` itself, or `run` with its arcs
+/// and curves sampled; and the tolerance left to them.
+enum Input<'a> {
+    Lines(&'a Run),
+    Sampled(Run),
+}
+
+impl Input<'_> {
+    fn run(&self) -> &Run {
+        match self {
+            Input::Lines(r) => r,
+            Input::Sampled(r) => r,
+        }
+    }
+}
+
+/// The run the candidates smooth, its tolerance, and the named candidates.
+type CandidateList<'a> = (Input<'a>, f64, Vec<(&'static str, Candidate)>);
+
 impl Auto {
-    /// The candidates for `run` (see the module documentation), each with
-    /// its method's name.
-    pub fn candidates(
+    /// The candidates for `run` with the run they smooth and its tolerance
+    /// (see the module documentation).
+    fn plan_candidates<'a>(
         &self,
-        run: &Run,
+        run: &'a Run,
         tolerance: f64,
-    ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
+    ) -> Result<CandidateList<'a>, SmoothError> {
         let share = self.options.arc_share;
         if !(share > 0.0 && share <= 0.5) {
             return Err(SmoothError::BadOption(
@@ -172,59 +209,76 @@ impl Auto {
             .any(|p| !matches!(p.curve, Curve::Line(_)));
         // With arcs or curves, every candidate works on the run sampled as
         // chords, with what the chords leave of the tolerance.
-        let sampled;
         let (input, tol) = if has_curves {
             let chord = share * tolerance;
-            sampled = sample_curves(run, chord);
-            (&sampled, tolerance - chord)
+            (Input::Sampled(sample_curves(run, chord)), tolerance - chord)
         } else {
-            (run, tolerance)
+            (Input::Lines(run), tolerance)
         };
         let mut out = alloc::vec![
-            ("bspline-fit", BsplineFit::default().smooth_run(input, tol)?),
-            (
-                "bspline-corner",
-                BsplineCorner::default().smooth_run(input, tol)?,
-            ),
+            ("bspline-fit", Candidate::Fit(BsplineFitOptions::default())),
+            ("bspline-corner", Candidate::Named("bspline-corner")),
         ];
-        let wide = BsplineFit {
-            options: BsplineFitOptions {
+        let wide = BsplineFitOptions {
+            sections: SectionOptions {
+                wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
+                ..SectionOptions::default()
+            },
+            ..BsplineFitOptions::default()
+        };
+        if widens_sections(input.run(), tol, &wide.sections) {
+            out.push(("bspline-fit, wide wiggles", Candidate::Fit(wide)));
+        }
+        if has_curves && input.run().pieces.len() <= THROUGH_MAX_PIECES {
+            let through = BsplineFitOptions {
                 sections: SectionOptions {
-                    wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
+                    max_segment: 1e6,
+                    max_turn: THROUGH_MAX_TURN,
+                    chord_error_per_tol: 1e6,
                     ..SectionOptions::default()
                 },
                 ..BsplineFitOptions::default()
-            },
-        };
-        if widens_sections(input, tol, &wide.options.sections) {
-            out.push(("bspline-fit, wide wiggles", wide.smooth_run(input, tol)?));
-        }
-        if has_curves && input.pieces.len() <= THROUGH_MAX_PIECES {
-            let through = BsplineFit {
-                options: BsplineFitOptions {
-                    sections: SectionOptions {
-                        max_segment: 1e6,
-                        max_turn: THROUGH_MAX_TURN,
-                        chord_error_per_tol: 1e6,
-                        ..SectionOptions::default()
-                    },
-                    ..BsplineFitOptions::default()
-                },
             };
-            out.push((
-                "bspline-fit, through corners",
-                through.smooth_run(input, tol)?,
-            ));
+            out.push(("bspline-fit, through corners", Candidate::Fit(through)));
         }
         for name in CORNER_CANDIDATES {
-            let m: Box<dyn Smoother> = match by_name(name) {
-                Some(m) => m,
-                None => continue,
-            };
-            out.push((m.name(), m.smooth_run(input, tol)?));
+            out.push((name, Candidate::Named(name)));
         }
-        Ok(out)
+        Ok((input, tol, out))
     }
+
+    /// The candidates for `run` (see the module documentation), each with
+    /// its name, smoothed one after the other.
+    pub fn candidates(
+        &self,
+        run: &Run,
+        tolerance: f64,
+    ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
+        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        list.iter()
+            .map(|(name, c)| Ok((*name, c.smooth(input.run(), tol)?)))
+            .collect()
+    }
+}
+
+/// `f(i)` for `i in 0..n`, in order: on scoped threads with `std` (the
+/// candidates are independent, and a workstation has the cores), one
+/// after the other without.
+fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    #[cfg(feature = "std")]
+    {
+        if n > 1 {
+            let f = &f;
+            return std::thread::scope(|s| {
+                let handles: Vec<_> = (0..n).map(|i| s.spawn(move || f(i))).collect();
+                handles
+                    .into_iter()
+                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .collect()
+            });
+        }
+    }
+    (0..n).map(f).collect()
 }
 
 impl Smoother for Auto {
@@ -239,15 +293,23 @@ impl Smoother for Auto {
             override_feed: self.options.override_feed,
             window: None,
         };
+        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        // Each candidate smoothed and planned (time, or None when the
+        // planner rejects it).
+        let results = map_candidates(list.len(), |i| {
+            let cand = list[i].1.smooth(input.run(), tol)?;
+            let time = plan_run(&cand.pieces, &opts).ok().map(|p| p.time);
+            Ok::<_, SmoothError>((time, cand))
+        });
         let mut best: Option<(f64, SmoothedRun)> = None;
         let mut fallback = None;
-        for (_, cand) in self.candidates(run, tolerance)? {
-            match plan_run(&cand.pieces, &opts) {
-                Ok(plan) if best.as_ref().is_none_or(|(t, _)| plan.time < *t) => {
-                    best = Some((plan.time, cand));
+        for r in results {
+            match r? {
+                (Some(t), cand) if best.as_ref().is_none_or(|(b, _)| t < *b) => {
+                    best = Some((t, cand));
                 }
-                Ok(_) => {}
-                Err(_) => {
+                (Some(_), _) => {}
+                (None, cand) => {
                     if fallback.is_none() {
                         fallback = Some(cand);
                     }
