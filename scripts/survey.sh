@@ -8,11 +8,12 @@ tol=${1:-0.05}; shift || true
 P=../shared/paths
 progs=("$@")
 if [ ${#progs[@]} -eq 0 ]; then
-  progs=($P/synthetic/surface-raster.ngc $P/synthetic/helix.ngc $P/synthetic/butterfly-80.ngc
-    $P/synthetic/hexagon-3d.ngc
-    $P/linuxcnc/performance/contour.ngc $P/linuxcnc/performance/LHchips4.ngc
-    $P/linuxcnc/performance/Cereal.ngc)
-  while IFS= read -r f; do progs+=("$f"); done < <(ls $P/linuxcnc/*/{spiral_lines,makerblock*,zigzag_0.002*,test_12mmflat,51MeanderAve,blur_torus,tort,arc_parabolic,line-contouring-xz,random_lines*}.ngc 2>/dev/null)
+  progs=($P/synthetic/{surface-raster,helix,butterfly-80,noisy-line,hexagon-3d,square-wave}.ngc
+    $P/linuxcnc/performance/{contour,spiral_lines,line-contouring-xz,zigzag_0.002_0.0005,zigzag_0.002_0.001}.ngc
+    $P/linuxcnc/performance/{random_lines_0.001in,LHchips4,test_12mmflat,Cereal,blur_torus}.ngc
+    $P/linuxcnc/wz-tests/130207L.ngc $P/linuxcnc/XYtests/51MeanderAve.ngc
+    $P/gcode-rs/makerblock_tinycnc.gcode
+    $P/linuxcnc/performance/{tort,arc_parabolic}.ngc $P/linuxcnc/arc-intersections/arc-arc-sawtooth.ngc)
 fi
 bin=target/release/fairpath
 printf '%-28s %9s %9s %9s %6s %6s %s\n' program original corner auto a/orig a/corn ok

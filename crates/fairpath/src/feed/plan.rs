@@ -550,6 +550,37 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
     let peak_lo = profile.eval(ph.ta).q;
     let peak_hi = profile.eval(ph.ta + ph.tv).q;
     let vpeak = profile.vlim().max(profile.v0()).max(profile.v1());
+    // Cheap upper bounds of the speed at arc length q (dv^2/dq = 2a and
+    // |a| is at most the profile's peak): the exact speed is looked up
+    // only where a bound passes the cap.
+    let total: f64 = parts.iter().map(|st| st.part.length).sum();
+    let (a_up, a_down) = (
+        crate::math::abs(profile.alim_a()),
+        crate::math::abs(profile.alim_d()),
+    );
+    let rising_bound =
+        |q: f64| crate::math::sqrt(profile.v0() * profile.v0() + 2.0 * a_up * q.max(0.0));
+    let falling_bound = |q: f64| {
+        crate::math::sqrt(profile.v1() * profile.v1() + 2.0 * a_down * (total - q).max(0.0))
+    };
+    // The speed at q on the rising (falling) side, or a bound of it when
+    // the bound is within `cap` (no violation either way).
+    let rising_at = |q: f64, cap: f64| {
+        let b = rising_bound(q);
+        if b <= cap {
+            b
+        } else {
+            speed_at(profile, q, true)
+        }
+    };
+    let falling_at = |q: f64, cap: f64| {
+        let b = falling_bound(q);
+        if b <= cap {
+            b
+        } else {
+            speed_at(profile, q, false)
+        }
+    };
     let mut worst: Option<(f64, usize)> = None;
     let mut s0 = 0.0;
     for (k, st) in parts.iter().enumerate() {
@@ -562,7 +593,7 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
                 if vpeak <= cap {
                     vpeak
                 } else {
-                    speed_at(profile, s1, true)
+                    rising_at(s1, cap)
                 },
                 k + 1,
             )
@@ -571,7 +602,7 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
                 if vpeak <= cap {
                     vpeak
                 } else {
-                    speed_at(profile, s0, false)
+                    falling_at(s0, cap)
                 },
                 k,
             )
@@ -599,9 +630,9 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
         let jb = lower_boundary[k + 1] * (1.0 + CAP_SLACK);
         if k + 1 < parts.len() && vpeak > jb {
             let v = if s1 < peak_lo {
-                speed_at(profile, s1, true)
+                rising_at(s1, jb)
             } else if s1 > peak_hi {
-                speed_at(profile, s1, false)
+                falling_at(s1, jb)
             } else {
                 vpeak
             };
@@ -695,8 +726,10 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
     }
     // Then the look-ahead, with a check of every profile against the caps
     // inside its segment, split where a profile passes one.
-    // Segments verified against their inner caps: (end, v0, v1) by start.
-    let mut verified: Vec<Option<(usize, f64, f64)>> = alloc::vec![None; n + 1];
+    // Profiles verified against their segment's inner caps, by start:
+    // (end, v0, v1, profile). Between rounds most boundary speeds stay the
+    // same, and their segments are neither planned nor checked again.
+    let mut verified: Vec<Option<(usize, f64, f64, DoubleS)>> = alloc::vec![None; n + 1];
     let (bounds, profiles) = loop {
         let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
         let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
@@ -708,15 +741,19 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
             let (a, b) = (w[0], w[1]);
             let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
             let (v0, v1) = (v[j].min(vmax), v[j + 1].min(vmax));
-            let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
-            if verified[a] != Some((b, v0, v1)) {
-                match violation(&profile, &st[a..b], &bcap[a..=b]) {
-                    Some(k) => {
-                        key[a + k] = true;
-                        split = true;
-                    }
-                    None => verified[a] = Some((b, v0, v1)),
+            if let Some((end, w0, w1, p)) = &verified[a] {
+                if (*end, *w0, *w1) == (b, v0, v1) {
+                    profiles.push(*p);
+                    continue;
                 }
+            }
+            let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
+            match violation(&profile, &st[a..b], &bcap[a..=b]) {
+                Some(k) => {
+                    key[a + k] = true;
+                    split = true;
+                }
+                None => verified[a] = Some((b, v0, v1, profile)),
             }
             profiles.push(profile);
         }
