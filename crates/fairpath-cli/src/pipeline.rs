@@ -29,6 +29,16 @@ impl SmoothOptions {
         if !(chord.is_finite() && chord > 0.0 && chord <= 0.5 * tolerance) {
             bail!("--chord must be a positive number of mm, at most half the tolerance ({} mm); got {chord}", 0.5 * tolerance);
         }
+        // The smoother gets what the chord tolerance leaves, and `auto`
+        // gives a share of that to the chords of sampled arcs.
+        let budget = (tolerance - chord) * (1.0 - smooth::ARC_SHARE);
+        smooth::check_tolerance(budget).map_err(|_| {
+            anyhow!(
+                "--tolerance {tolerance} mm leaves {budget:e} mm for smoothing after the chord \
+                 tolerance ({chord} mm) and arc sampling; at least 1e-6 mm is needed: raise \
+                 --tolerance or lower --chord"
+            )
+        })?;
         let m = smooth::by_name(method).ok_or_else(|| {
             anyhow!(
                 "unknown method {method:?}; known: {}",

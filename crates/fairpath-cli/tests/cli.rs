@@ -129,6 +129,14 @@ fn bad_input_is_an_error_and_leaves_no_output() {
             b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
             "1e9",
         ),
+        // Within the allowed range, but what the chord tolerance leaves is
+        // not: before, the smoother's own message named a tolerance the
+        // user never gave.
+        (
+            "tiny-tolerance",
+            b"G21\nG0 X0 Y0\nG1 X1 F100\nG1 Y1\n".to_vec(),
+            "1e-6",
+        ),
     ];
     for (name, bytes, tol) in cases {
         let input = dir.path().join(format!("{name}.ngc"));
@@ -140,6 +148,12 @@ fn bad_input_is_an_error_and_leaves_no_output() {
         assert!(!out.exists(), "{name}: output file left behind");
         assert!(!err.contains("panicked"), "{name}: {err}");
         assert!(err.contains("error"), "{name}: {err}");
+        if name == "tiny-tolerance" {
+            assert!(
+                err.contains("--tolerance") && err.contains("--chord"),
+                "{err}"
+            );
+        }
         // Reader errors name file, line and column.
         if ["triple-dot", "nan", "parameters", "o-word"].contains(&name) {
             let want = format!("{}:2:", input.display());

@@ -203,6 +203,8 @@ impl Auto {
                 "auto: arc share must be in (0, 0.5]",
             ));
         }
+        // The candidates of a run with arcs get the rest of the tolerance.
+        check_tolerance(tolerance * (1.0 - share))?;
         let has_curves = run
             .pieces
             .iter()
