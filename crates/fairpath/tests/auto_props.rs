@@ -181,6 +181,62 @@ fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
     assert!(t_auto <= t_raw, "auto {t_auto} s > as programmed {t_raw} s");
 }
 
+/// LinuxCNC `arc-intersections/arc-arc-sawtooth.ngc`: arcs of radius
+/// 5.08 mm over chords of (2.54, +-5.08) mm, alternately clockwise and
+/// counter-clockwise, meeting at corners of 127 degrees. Each sampled arc's
+/// fit must ramp its curvature from zero (the corner transitions) to 1/R
+/// and back: with the jerk term the ramps are longer and the machine
+/// faster, within the same tolerance.
+#[test]
+fn the_jerk_term_speeds_up_arcs_between_sharp_corners() {
+    use fairpath::smooth::{BsplineFit, BsplineFitOptions, JERK_FAIRNESS};
+    let r: f64 = 5.08;
+    let mut pieces = Vec::new();
+    let mut p0 = Vec3::new(0.0, 0.0, 0.0);
+    for i in 0..12 {
+        let up = i % 2 == 0;
+        let p1 = p0 + Vec3::new(2.54, if up { 5.08 } else { -5.08 }, 0.0);
+        let mid = (p0 + p1) * 0.5;
+        let half = 0.5 * p0.dist(p1);
+        let chord = (p1 - p0).normalized(0.0).unwrap();
+        let left = Vec3::Z.cross(chord);
+        let off = (r * r - half * half).sqrt();
+        // Short arcs, clockwise going up (centre to the right), counter-
+        // clockwise going down (centre to the left).
+        let centre = if up {
+            mid - left * off
+        } else {
+            mid + left * off
+        };
+        let arc = Arc::from_center(p0, p1, centre, Vec3::Z, up, 0, 1e-9).unwrap();
+        assert!(arc.sweep < std::f64::consts::PI);
+        pieces.push(piece(Curve::Arc(arc), i));
+        p0 = p1;
+    }
+    let run = Run::new(pieces);
+    let tol = 0.05;
+    let chord = 0.05 * tol;
+    let sampled = sample_curves(&run, chord);
+    let fit = |jerk: f64| {
+        BsplineFit {
+            options: BsplineFitOptions {
+                jerk_fairness: jerk,
+                ..BsplineFitOptions::default()
+            },
+        }
+        .smooth_run(&sampled, tol - chord)
+        .unwrap()
+    };
+    let (plain, faired) = (fit(0.0), fit(JERK_FAIRNESS));
+    check(&run, &faired, tol);
+    let (tp, tf) = (planned(&plain.pieces), planned(&faired.pieces));
+    println!("sawtooth: plain fit {tp:.3} s, jerk-faired {tf:.3} s");
+    assert!(tf < 0.95 * tp, "{tf} s against {tp} s");
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert!(planned(&out.pieces) <= tf * (1.0 + 1e-12));
+}
+
 #[test]
 fn a_filleted_pocket_becomes_g2_everywhere() {
     let pts = [

@@ -180,6 +180,30 @@ proptest! {
         prop_assert!(rep.peak_curvature.is_finite());
         prop_assert!(fitted_pieces(&out) >= 1, "nothing fitted on {:?}", shape);
     }
+
+    /// The same with the jerk term (`auto`'s jerk-faired candidate) at
+    /// weights up to three times `auto`'s: the guarantees do not depend on
+    /// the weights.
+    #[test]
+    fn jerk_faired_fits_stay_within_tolerance(
+        shape in shape(),
+        chord_rel in 0.02..0.5f64,
+        tol in tol(),
+        jerk in 0.0..1e5f64,
+        seed in any::<u64>(),
+    ) {
+        let pts = cam_sample(&|t| shape.eval(t), chord_rel * tol, 4.0, 0.05 * tol, seed);
+        let run = polyline_run(&pts);
+        let s = BsplineFit {
+            options: BsplineFitOptions {
+                jerk_fairness: jerk,
+                ..Default::default()
+            },
+        };
+        let (out, rep) = smooth_and_verify(&run, tol, &s);
+        check_guarantees(&out, &rep, tol)?;
+        prop_assert!(rep.peak_curvature.is_finite());
+    }
 }
 
 fn pt2(scale: f64) -> impl Strategy<Value = Vec3> {
@@ -686,4 +710,46 @@ fn long_move_between_short_ones_fits_without_micro_spans() {
     assert!(shortest >= 1e-3, "span of {shortest:e} mm");
     assert!(fit.curve.points.len() <= 64);
     assert!(fit.bound <= 0.05 * BAND_USE);
+}
+
+/// The jerk term does what it says: with a larger weight, on the same data
+/// and knots, the fit's `integral |C'''|^2` (exact: `C'''` is constant on a
+/// span) is smaller, and with weight 0 the fit is `fit_cubic`'s.
+#[test]
+fn the_jerk_term_lowers_the_integral_of_the_third_derivative() {
+    use fairpath::geom::fit::{averaged_knots, cubic_basis, fit_cubic, fit_cubic_weighted};
+    let shape = Shape::Sine {
+        amp: 2.0,
+        wave: 15.0,
+        len: 45.0,
+    };
+    let pts = cam_sample(&|t| shape.eval(t), 0.005, 4.0, 0.002, 5);
+    let params = chord_params(&pts);
+    let knots = averaged_knots(&params, pts.len() / 3);
+    let free = (EndCondition::Free, EndCondition::Free);
+    let jerk_integral = |c: &fairpath::geom::Nurbs| -> f64 {
+        let k = &c.knots;
+        (3..c.points.len())
+            .filter(|&s| k[s + 1] > k[s])
+            .map(|s| {
+                let len = k[s + 1] - k[s];
+                let (b0, b1) = (cubic_basis(k, s, k[s]), cubic_basis(k, s, k[s + 1]));
+                let d3 = (0..4).fold(Vec3::ZERO, |acc, j| {
+                    acc + c.points[s - 3 + j] * ((b1[2][j] - b0[2][j]) / len)
+                });
+                d3.norm_sq() * len
+            })
+            .sum()
+    };
+    let base = fit_cubic(&pts, &params, &knots, free.0, free.1, 1e-4).unwrap();
+    let same = fit_cubic_weighted(&pts, &params, &knots, free.0, free.1, 1e-4, 0.0).unwrap();
+    assert_eq!(base, same);
+    let mut last = jerk_integral(&base);
+    for mu in [1e-4, 1e-2, 1.0] {
+        let c = fit_cubic_weighted(&pts, &params, &knots, free.0, free.1, 1e-4, mu).unwrap();
+        let j = jerk_integral(&c);
+        println!("mu {mu:e}: integral |C'''|^2 = {j:.4e}");
+        assert!(j < last, "mu {mu}: {j} >= {last}");
+        last = j;
+    }
 }

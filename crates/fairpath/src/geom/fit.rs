@@ -17,6 +17,9 @@
 //!   the normal equations are solved by banded Cholesky in linear time
 //!   ([`super::least_squares`]). The integral is exact: `C''` is linear on a
 //!   span, so 2-point Gauss-Legendre integrates the products exactly.
+//!   [`fit_cubic_weighted`] adds `mu * integral |C'''|^2` (constant on a
+//!   span, also exact and banded): a weight on the change of curvature,
+//!   which is what a jerk limit charges (not in the seed).
 //! * Bound ([`span_errors`]): see its documentation.
 
 use super::least_squares::BandedSpd;
@@ -205,6 +208,23 @@ pub fn fit_cubic(
     end: EndCondition,
     lambda: f64,
 ) -> Result<Nurbs, FitError> {
+    fit_cubic_weighted(pts, params, knots, start, end, lambda, 0.0)
+}
+
+/// [`fit_cubic`] plus `mu` (mm^5) times `integral |C'''|^2`: a term on the
+/// rate of change of curvature, which a jerk-limited machine pays for
+/// (`|dkappa/ds| v^3 <= J`), where `lambda` acts on the curvature itself.
+/// `C'''` is constant on a span (the difference of `C''` at its ends over
+/// its length), so the integral is exact. Still banded, still linear time.
+pub fn fit_cubic_weighted(
+    pts: &[Vec3],
+    params: &[f64],
+    knots: &[f64],
+    start: EndCondition,
+    end: EndCondition,
+    lambda: f64,
+    mu: f64,
+) -> Result<Nurbs, FitError> {
     let n = pts.len();
     if n < 2 || params.len() != n || knots.len() < 2 * (FIT_DEGREE + 1) {
         return Err(FitError::BadInput);
@@ -282,6 +302,19 @@ pub fn fit_cubic(
                 let b = cubic_basis(knots, s, k0 + len * x);
                 add_term(s, &b[2], lambda * 0.5 * len, None);
             }
+        }
+    }
+    // Jerk term, exact: C''' is constant on each span.
+    if mu > 0.0 {
+        for s in FIT_DEGREE..h {
+            let (k0, k1) = (knots[s], knots[s + 1]);
+            if k1 <= k0 {
+                continue;
+            }
+            let len = k1 - k0;
+            let (b0, b1) = (cubic_basis(knots, s, k0), cubic_basis(knots, s, k1));
+            let d3: [f64; 4] = core::array::from_fn(|k| (b1[2][k] - b0[2][k]) / len);
+            add_term(s, &d3, mu * len, None);
         }
     }
     let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;

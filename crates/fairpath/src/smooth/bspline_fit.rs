@@ -25,7 +25,10 @@
 //!    rounding, while its bias on a circle of radius `R`,
 //!    `(lambda / rho) / R^3 = (s / pi)^4 / R^3`, stays below 2% of the
 //!    tolerance for every vertex the detection accepts. When no fit passes,
-//!    `lambda / 16` and then 0 are tried. The normal equations are banded
+//!    `lambda / 16` and then 0 are tried. Optionally
+//!    ([`BsplineFitOptions::jerk_fairness`], off by default; `auto` tries
+//!    it as a candidate) a jerk term `mu * integral |C'''|^2` spreads
+//!    changes of curvature. The normal equations are banded
 //!    (half bandwidth 3) and solved by banded Cholesky: linear time.
 //! 5. **Check**: the seed checks the deviation at the data points only.
 //!    Here [`span_errors`] bounds the distance from *every* point of the
@@ -62,7 +65,7 @@ use super::chains::{min_feed, smooth_by_chains, CleanTolerances, LineChain};
 use super::fit_sections::{dense_sections, SectionOptions};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::fit::{
-    averaged_knots, chord_params, fit_cubic, span_errors, split_at_knots, EndCondition,
+    averaged_knots, chord_params, fit_cubic_weighted, span_errors, split_at_knots, EndCondition,
 };
 use crate::geom::{Curve, Nurbs, Vec3};
 use crate::path::{Piece, Run};
@@ -79,6 +82,13 @@ pub struct BsplineFitOptions {
     /// Multiplier of the default fairness weight (module docs, step 4);
     /// 0 turns the smoothing term off.
     pub fairness: f64,
+    /// Weight of the jerk term `mu * integral |C'''|^2`,
+    /// `mu = jerk_fairness * s^5 / pi^4` for mean segment length `s`
+    /// (default 0: the seed's fit with its bending term only). Not in the
+    /// seed: it spreads changes of curvature (the curvature ramps next to
+    /// corner transitions, above all) over more length, which a jerk-limited
+    /// machine runs faster, at the price of a fit further from the data.
+    pub jerk_fairness: f64,
     /// Share of the tolerance the fits may use, in `(0, BAND_USE]`.
     pub band_use: f64,
     /// Most knot spans in one output piece.
@@ -91,6 +101,7 @@ impl Default for BsplineFitOptions {
             sections: SectionOptions::default(),
             corner: BsplineCornerOptions::default(),
             fairness: 1.0,
+            jerk_fairness: 0.0,
             band_use: BAND_USE,
             max_piece_spans: 64,
         }
@@ -133,6 +144,19 @@ pub fn fit_polyline(
     target: f64,
     fairness: f64,
 ) -> Option<SectionFit> {
+    fit_polyline_weighted(pts, start, end, target, fairness, 0.0)
+}
+
+/// [`fit_polyline`] with the jerk term of
+/// [`BsplineFitOptions::jerk_fairness`] as well.
+pub fn fit_polyline_weighted(
+    pts: &[Vec3],
+    start: EndCondition,
+    end: EndCondition,
+    target: f64,
+    fairness: f64,
+    jerk_fairness: f64,
+) -> Option<SectionFit> {
     let n = pts.len().checked_sub(1)?;
     if n == 0 || target.is_nan() || target <= 0.0 {
         return None;
@@ -144,17 +168,20 @@ pub fn fit_polyline(
     // The smoothing weight follows the input's sampling, not the points
     // added on long segments.
     let lambda0 = fairness * mean * mean * mean / (PI * PI * PI * PI);
+    let mu0 = jerk_fairness * mean * mean * mean * mean * mean / (PI * PI * PI * PI);
     let dense = fill_long_segments(pts);
     let pts = &dense[..];
     let params = chord_params(pts);
     let mut fits = 0;
-    let ladder: &[f64] = if lambda0 > 0.0 {
-        &[lambda0, lambda0 / 16.0, 0.0]
+    let ladder: &[(f64, f64)] = if lambda0 > 0.0 || mu0 > 0.0 {
+        &[(lambda0, mu0), (lambda0 / 16.0, mu0 / 16.0), (0.0, 0.0)]
     } else {
-        &[0.0]
+        &[(0.0, 0.0)]
     };
-    for &lambda in ladder {
-        if let Some((curve, bound)) = search(pts, &params, start, end, target, lambda, &mut fits) {
+    for &(lambda, mu) in ladder {
+        if let Some((curve, bound)) =
+            search(pts, &params, start, end, target, (lambda, mu), &mut fits)
+        {
             return Some(SectionFit {
                 curve,
                 bound,
@@ -224,11 +251,11 @@ fn attempt(
     params: &[f64],
     knots: &[f64],
     ends: (EndCondition, EndCondition),
-    lambda: f64,
+    (lambda, mu): (f64, f64),
     fits: &mut usize,
 ) -> Option<Attempt> {
     *fits += 1;
-    let curve = fit_cubic(pts, params, knots, ends.0, ends.1, lambda).ok()?;
+    let curve = fit_cubic_weighted(pts, params, knots, ends.0, ends.1, lambda, mu).ok()?;
     let errs = span_errors(&curve, pts, params);
     let max = errs.iter().copied().fold(0.0, f64::max);
     max.is_finite().then_some(Attempt { curve, errs, max })
@@ -242,9 +269,10 @@ fn search(
     start: EndCondition,
     end: EndCondition,
     target: f64,
-    lambda: f64,
+    weights: (f64, f64),
     fits: &mut usize,
 ) -> Option<(Nurbs, f64)> {
+    let smoothed = weights.0 > 0.0 || weights.1 > 0.0;
     let n = pts.len() - 1;
     let fixed = |e: EndCondition| match e {
         EndCondition::Free => 1,
@@ -253,11 +281,11 @@ fn search(
     let h_min = (fixed(start) + fixed(end) + 1).max(4);
     // Without the smoothing term, at most one control point per data point
     // (Schoenberg-Whitney); with it, up to two per segment.
-    let h_max = if lambda > 0.0 { 2 * n + 8 } else { n + 1 }.max(h_min);
+    let h_max = if smoothed { 2 * n + 8 } else { n + 1 }.max(h_min);
     let ends = (start, end);
     let try_count = |h: usize, fits: &mut usize| {
         let knots = averaged_knots(params, h);
-        attempt(pts, params, &knots, ends, lambda, fits)
+        attempt(pts, params, &knots, ends, weights, fits)
     };
     let mut lo: Option<(usize, Attempt)> = None;
     let mut hi: Option<(usize, Attempt)> = None;
@@ -309,7 +337,7 @@ fn search(
             if knots.len() - 4 >= limit || knots.len() == a.curve.knots.len() {
                 break;
             }
-            match attempt(pts, params, &knots, ends, lambda, fits) {
+            match attempt(pts, params, &knots, ends, weights, fits) {
                 Some(b) if b.max <= target => {
                     refined = Some(b);
                     break;
@@ -358,6 +386,9 @@ impl BsplineFit {
         if !(o.fairness >= 0.0 && o.fairness.is_finite()) {
             return Err(SmoothError::BadOption("fairness must be non-negative"));
         }
+        if !(o.jerk_fairness >= 0.0 && o.jerk_fairness.is_finite()) {
+            return Err(SmoothError::BadOption("jerk_fairness must be non-negative"));
+        }
         if !(o.band_use > 0.0 && o.band_use <= BAND_USE) {
             return Err(SmoothError::BadOption("band_use must be in (0, BAND_USE]"));
         }
@@ -402,8 +433,14 @@ impl BsplineFit {
                     None => continue,
                 }
             };
-            let Some(fit) = fit_polyline(&q[k..=m], start, end, tolerance * o.band_use, o.fairness)
-            else {
+            let Some(fit) = fit_polyline_weighted(
+                &q[k..=m],
+                start,
+                end,
+                tolerance * o.band_use,
+                o.fairness,
+                o.jerk_fairness,
+            ) else {
                 let min = o.sections.min_points;
                 let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
                 let sharpest =

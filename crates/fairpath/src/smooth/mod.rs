@@ -15,8 +15,8 @@ mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, THROUGH_MAX_PIECES,
-    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
+    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS,
+    THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
@@ -27,7 +27,9 @@ pub use bspline_corner::{
     corner_deviation, corner_error, corner_peak_curvature, edge_for_deviation, transition_curve,
     BsplineCorner, BsplineCornerOptions, ErrorTarget, BAND_USE, TRANSITION_KNOTS,
 };
-pub use bspline_fit::{fit_polyline, BsplineFit, BsplineFitOptions, SectionFit};
+pub use bspline_fit::{
+    fit_polyline, fit_polyline_weighted, BsplineFit, BsplineFitOptions, SectionFit,
+};
 pub use chains::{CornerReason, KeptCorner};
 pub use fit_sections::{dense_sections, SectionOptions};
 pub use lotm::{
