@@ -24,6 +24,8 @@ pub struct Summary {
     pub curves_out: usize,
     pub transitions: usize,
     pub kept_corners: Vec<(CornerReason, usize)>,
+    /// `auto`'s choices: candidate and number of runs, most runs first.
+    pub chosen: Vec<(&'static str, usize)>,
     pub dropped_zero_length: usize,
     pub merged_collinear: usize,
     pub max_deviation_curves: f64,
@@ -69,6 +71,14 @@ impl Summary {
                 .sum();
             kept.push((reason, n));
         }
+        let mut chosen: Vec<(&'static str, usize)> = Vec::new();
+        for name in result.runs.iter().filter_map(|r| r.smoothed.chosen) {
+            match chosen.iter_mut().find(|c| c.0 == name) {
+                Some(c) => c.1 += 1,
+                None => chosen.push((name, 1)),
+            }
+        }
+        chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
         let mut joints = [0; 4];
         for r in &result.runs {
             let c = r.report.joint_counts();
@@ -94,6 +104,7 @@ impl Summary {
                 .count(),
             transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
             kept_corners: kept,
+            chosen,
             dropped_zero_length: result
                 .runs
                 .iter()
@@ -149,6 +160,14 @@ impl Summary {
             "  pieces out:      {} ({} curves; {} corners replaced by transitions or fits)",
             self.pieces_out, self.curves_out, self.transitions
         );
+        if !self.chosen.is_empty() {
+            let list: Vec<String> = self
+                .chosen
+                .iter()
+                .map(|(name, n)| format!("{n} x {name}"))
+                .collect();
+            let _ = writeln!(s, "  auto chose:      {} (runs)", list.join("; "));
+        }
         let _ = writeln!(
             s,
             "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged",
@@ -217,6 +236,7 @@ impl Summary {
             "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
             "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
             "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
+            "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "runs": c})).collect::<Vec<_>>(),
             "merged_collinear": self.merged_collinear,
             "max_deviation_curves_mm": self.max_deviation_curves,
             "max_deviation_written_mm": self.max_deviation_written,

@@ -51,6 +51,27 @@ fn smooths_the_bundled_example_and_checks_it() {
             summary.contains("max deviation:") && summary.contains("joints:"),
             "{summary}"
         );
+        // auto (the default) says what it kept, per run: 2 runs here.
+        let chose = summary
+            .lines()
+            .find(|l| l.contains("auto chose:"))
+            .unwrap_or_else(|| panic!("{summary}"));
+        let runs: usize = chose
+            .split("auto chose:")
+            .nth(1)
+            .unwrap()
+            .trim_end_matches(" (runs)")
+            .split("; ")
+            .map(|part| {
+                part.trim()
+                    .split(" x ")
+                    .next()
+                    .unwrap()
+                    .parse::<usize>()
+                    .unwrap()
+            })
+            .sum();
+        assert_eq!(runs, 2, "{chose}");
         let c = run(&[
             "check",
             input.to_str().unwrap(),

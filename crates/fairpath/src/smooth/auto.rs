@@ -319,7 +319,8 @@ impl Smoother for Auto {
         // Each candidate smoothed and planned (time, or None when the
         // planner rejects it).
         let results = map_candidates(list.len(), |i| {
-            let cand = list[i].1.smooth(input.run(), tol)?;
+            let mut cand = list[i].1.smooth(input.run(), tol)?;
+            cand.chosen = Some(list[i].0);
             let time = plan_run(&cand.pieces, &opts).ok().map(|p| p.time);
             Ok::<_, SmoothError>((time, cand))
         });

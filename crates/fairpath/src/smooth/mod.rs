@@ -53,6 +53,10 @@ pub struct SmoothedRun {
     pub merged_collinear: usize,
     /// Corners replaced by a transition curve.
     pub transitions: usize,
+    /// The candidate `auto` kept for this run (`None` from the other
+    /// methods): e.g. `"bspline-fit"`, `"bspline-fit, through corners"`,
+    /// `"lotm"`.
+    pub chosen: Option<&'static str>,
 }
 
 /// Why smoothing could not be done.
