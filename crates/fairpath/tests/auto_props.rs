@@ -80,10 +80,14 @@ fn check(run: &Run, out: &SmoothedRun, tol: f64) {
 }
 
 fn planned(pieces: &[Piece]) -> f64 {
+    planned_on(pieces, MachineLimits::thesis())
+}
+
+fn planned_on(pieces: &[Piece], limits: MachineLimits) -> f64 {
     plan_run(
         pieces,
         &PlanOptions {
-            limits: MachineLimits::thesis(),
+            limits,
             override_feed: true,
             window: None,
         },
@@ -164,19 +168,7 @@ fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
         junction_deviation: tol,
         ..MachineLimits::thesis()
     };
-    let plan = |p: &[Piece]| {
-        plan_run(
-            p,
-            &PlanOptions {
-                limits: m,
-                override_feed: true,
-                window: None,
-            },
-        )
-        .unwrap()
-        .time
-    };
-    let (t_auto, t_raw) = (plan(&out.pieces), plan(&run.pieces));
+    let (t_auto, t_raw) = (planned_on(&out.pieces, m), planned_on(&run.pieces, m));
     println!("line-arc burn-in: auto {t_auto:.3} s, as programmed {t_raw:.3} s");
     assert!(t_auto <= t_raw, "auto {t_auto} s > as programmed {t_raw} s");
 }

@@ -558,27 +558,19 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
         crate::math::abs(profile.alim_a()),
         crate::math::abs(profile.alim_d()),
     );
-    let rising_bound =
-        |q: f64| crate::math::sqrt(profile.v0() * profile.v0() + 2.0 * a_up * q.max(0.0));
-    let falling_bound = |q: f64| {
-        crate::math::sqrt(profile.v1() * profile.v1() + 2.0 * a_down * (total - q).max(0.0))
-    };
-    // The speed at q on the rising (falling) side, or a bound of it when
+    // The speed at q on the rising (or falling) side, or a bound of it when
     // the bound is within `cap` (no violation either way).
-    let rising_at = |q: f64, cap: f64| {
-        let b = rising_bound(q);
-        if b <= cap {
-            b
+    let speed_within = |q: f64, cap: f64, rising: bool| {
+        let (v_end, a_max, dist) = if rising {
+            (profile.v0(), a_up, q)
         } else {
-            speed_at(profile, q, true)
-        }
-    };
-    let falling_at = |q: f64, cap: f64| {
-        let b = falling_bound(q);
-        if b <= cap {
-            b
+            (profile.v1(), a_down, total - q)
+        };
+        let bound = crate::math::sqrt(v_end * v_end + 2.0 * a_max * dist.max(0.0));
+        if bound <= cap {
+            bound
         } else {
-            speed_at(profile, q, false)
+            speed_at(profile, q, rising)
         }
     };
     let mut worst: Option<(f64, usize)> = None;
@@ -593,7 +585,7 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
                 if vpeak <= cap {
                     vpeak
                 } else {
-                    rising_at(s1, cap)
+                    speed_within(s1, cap, true)
                 },
                 k + 1,
             )
@@ -602,7 +594,7 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
                 if vpeak <= cap {
                     vpeak
                 } else {
-                    falling_at(s0, cap)
+                    speed_within(s0, cap, false)
                 },
                 k,
             )
@@ -630,9 +622,9 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
         let jb = lower_boundary[k + 1] * (1.0 + CAP_SLACK);
         if k + 1 < parts.len() && vpeak > jb {
             let v = if s1 < peak_lo {
-                rising_at(s1, jb)
+                speed_within(s1, jb, true)
             } else if s1 > peak_hi {
-                falling_at(s1, jb)
+                speed_within(s1, jb, false)
             } else {
                 vpeak
             };
