@@ -712,6 +712,44 @@ fn long_move_between_short_ones_fits_without_micro_spans() {
     assert!(fit.bound <= 0.05 * BAND_USE);
 }
 
+/// Regression, LinuxCNC `performance/test_12mmflat.ngc` lines 16-24: a
+/// raster step-over of 1 mm moves turning by 22 to 63 degrees, between
+/// long moves. The cubic through the vertices overshot the moves between
+/// them, no control-point count passed at 0.045 mm, and the step-over went
+/// to corner transitions. With points added next to the turning vertices
+/// (`fill_segments`) the fit passes; sampled densely, the curve stays
+/// within the target of the polyline.
+#[test]
+fn raster_step_over_of_sharp_short_moves_fits_within_tolerance() {
+    let pts = [
+        v(180.73483, 19.86847, 0.49686),
+        v(193.40333, 19.86847, 0.49686),
+        v(194.30136, 19.86847, 0.86884),
+        v(194.67333, 19.86847, 1.76686),
+        v(195.13791, 20.4863, 2.88769),
+        v(195.18549, 22.04913, 3.00167),
+        v(194.67401, 22.86847, 1.76686),
+        v(194.3018, 22.86847, 0.86859),
+        v(193.40333, 22.86847, 0.49686),
+        v(180.04786, 22.86847, 0.50403),
+    ];
+    let target = 0.05 * 0.9 * BAND_USE;
+    let fit = fit_polyline(&pts, EndCondition::Free, EndCondition::Free, target, 1.0)
+        .expect("fit passes");
+    assert!(fit.bound <= target, "{}", fit.bound);
+    let (a, b) = fit.curve.domain();
+    let n = 20_000;
+    let worst = (0..=n)
+        .map(|i| {
+            let q = fit.curve.eval(a + (b - a) * i as f64 / n as f64);
+            fairpath::geom::distance_to_polyline(q, &pts).unwrap().0
+        })
+        .fold(0.0, f64::max);
+    assert!(worst <= target, "{worst}");
+    assert_eq!(fit.curve.eval(a), pts[0]);
+    assert_eq!(fit.curve.eval(b), pts[pts.len() - 1]);
+}
+
 /// The jerk term does what it says: with a larger weight, on the same data
 /// and knots, the fit's `integral |C'''|^2` (exact: `C'''` is constant on a
 /// span) is smaller, and with weight 0 the fit is `fit_cubic`'s.
