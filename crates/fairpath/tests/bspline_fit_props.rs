@@ -445,6 +445,63 @@ fn span_bound_holds_on_dense_samples() {
     println!("span bound {bound:.5} mm, sampled {worst:.5} mm");
 }
 
+/// Raising the smoothing weights inside the band (seed 003's aim,
+/// `fit_polyline_faired`): on a CAM-sampled sine with noise the raised fit
+/// uses a larger weight, stays within the target (sampled densely, not
+/// only by its own bound), keeps the end points, and bends less: its
+/// `integral |C''|^2` and its peak curvature are both lower than those of
+/// the fit at the default weight.
+#[test]
+fn raising_the_fairness_inside_the_band_lowers_the_bending() {
+    use fairpath::smooth::{fit_polyline_faired, FAIRNESS_RAISES};
+    let shape = Shape::Sine {
+        amp: 3.0,
+        wave: 20.0,
+        len: 60.0,
+    };
+    let pts = cam_sample(&|t| shape.eval(t), 0.005, 4.0, 0.003, 17);
+    let target = 0.05 * BAND_USE;
+    let free = (EndCondition::Free, EndCondition::Free);
+    let base = fit_polyline_faired(&pts, free.0, free.1, target, (1.0, 0.0), 0).unwrap();
+    let raised =
+        fit_polyline_faired(&pts, free.0, free.1, target, (1.0, 0.0), FAIRNESS_RAISES).unwrap();
+    assert!(
+        raised.lambda >= 16.0 * base.lambda,
+        "{} {}",
+        raised.lambda,
+        base.lambda
+    );
+    // integral |C''|^2 and peak curvature by dense sampling.
+    let bending = |c: &fairpath::geom::Nurbs| -> (f64, f64) {
+        let (a, b) = c.domain();
+        let n = 20_000;
+        let h = (b - a) / n as f64;
+        let mut sum = 0.0;
+        let mut peak: f64 = 0.0;
+        for i in 0..n {
+            let t = a + h * (i as f64 + 0.5);
+            sum += c.deriv2(t).norm_sq() * h;
+            peak = peak.max(c.curvature(t));
+        }
+        (sum, peak)
+    };
+    let (e0, k0) = bending(&base.curve);
+    let (e1, k1) = bending(&raised.curve);
+    println!("bending {e0:.5} -> {e1:.5}, peak curvature {k0:.4} -> {k1:.4}");
+    assert!(e1 < e0, "{e1} vs {e0}");
+    assert!(k1 < 0.97 * k0, "{k1} vs {k0}");
+    let (a, b) = raised.curve.domain();
+    let worst = (0..=20_000)
+        .map(|i| {
+            let q = raised.curve.eval(a + (b - a) * i as f64 / 20_000.0);
+            fairpath::geom::distance_to_polyline(q, &pts).unwrap().0
+        })
+        .fold(0.0, f64::max);
+    assert!(worst <= target, "{worst}");
+    assert_eq!(raised.curve.eval(a), pts[0]);
+    assert_eq!(raised.curve.eval(b), pts[pts.len() - 1]);
+}
+
 /// Approximation theory: a cubic spline with `N` well-placed knots
 /// approximates a smooth curve with error `O(N^-4)` (de Boor, A Practical
 /// Guide to Splines, ch. XII), so the control-point count grows like

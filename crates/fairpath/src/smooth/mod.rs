@@ -28,7 +28,8 @@ pub use bspline_corner::{
     BsplineCorner, BsplineCornerOptions, ErrorTarget, BAND_USE, TRANSITION_KNOTS,
 };
 pub use bspline_fit::{
-    fit_polyline, fit_polyline_weighted, BsplineFit, BsplineFitOptions, SectionFit,
+    fit_polyline, fit_polyline_faired, fit_polyline_weighted, BsplineFit, BsplineFitOptions,
+    SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
 pub use fit_sections::{dense_sections, SectionOptions};

@@ -1,0 +1,138 @@
+//! The planned-time targets of issue 5 where `auto` meets them today, as a
+//! guard against regressions (`scripts/survey.sh` prints the whole survey,
+//! including the programs that miss them; see the README).
+//!
+//! Setting of the issue: `fairpath compare P --tolerance 0.05
+//! --override-feed --junction-deviation 0.05` on the thesis machine (V 400
+//! mm/s, A 4000 mm/s^2, J 20000 mm/s^3, Ts 1 ms), one traversal-time model
+//! for every method; the original program is planned by the
+//! junction-deviation model with the deviation equal to the tolerance.
+//!
+//! * Dense programs: `auto` within tolerance and at most 0.7 of the
+//!   original and of `bspline-corner`.
+//! * Sparse programs: `auto` no slower than the best corner method.
+
+use fairpath::feed::limits::MachineLimits;
+use fairpath_cli::compare::{compare, CompareOptions, Row};
+use std::path::{Path, PathBuf};
+
+const TOL: f64 = 0.05;
+
+fn shared(rel: &str) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths")
+        .join(rel);
+    p.is_file().then_some(p)
+}
+
+fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
+    let opts = CompareOptions {
+        tolerance: TOL,
+        machine: MachineLimits {
+            junction_deviation: TOL,
+            ..MachineLimits::thesis()
+        },
+        methods: methods.iter().map(|m| m.to_string()).collect(),
+        override_feed: true,
+    };
+    let rows = compare(path, &opts).unwrap();
+    for r in &rows[1..] {
+        assert!(r.verified, "{}: {} not verified", path.display(), r.method);
+        assert!(r.max_deviation <= TOL, "{}: {}", path.display(), r.method);
+        assert_eq!(r.joints[0], 0, "{}: {} has gaps", path.display(), r.method);
+    }
+    rows
+}
+
+/// Corners `auto` keeps on the program at `path`, all of which must be
+/// reversals; their number.
+fn reversals(path: &Path) -> usize {
+    use fairpath::smooth::{Auto, CornerReason, Smoother};
+    let program = fairpath_cli::pipeline::read_program(path).unwrap();
+    let mut n = 0;
+    for run in program.runs() {
+        let out = Auto::default().smooth_run(&run, TOL * 0.9).unwrap();
+        for k in &out.kept_corners {
+            assert_eq!(
+                k.reason,
+                CornerReason::Reversal,
+                "{}: {k:?}",
+                path.display()
+            );
+            n += 1;
+        }
+    }
+    n
+}
+
+fn time(rows: &[Row], method: &str) -> f64 {
+    rows.iter().find(|r| r.method == method).unwrap().time
+}
+
+#[test]
+fn auto_meets_the_dense_targets() {
+    let programs = [
+        "synthetic/surface-raster.ngc",
+        "synthetic/helix.ngc",
+        "linuxcnc/performance/contour.ngc",
+        "linuxcnc/performance/line-contouring-xz.ngc",
+        "linuxcnc/performance/zigzag_0.002_0.001.ngc",
+        "linuxcnc/performance/random_lines_0.001in.ngc",
+        "linuxcnc/wz-tests/130207L.ngc",
+    ];
+    let mut seen = 0;
+    for rel in programs {
+        let Some(path) = shared(rel) else {
+            eprintln!("{rel} not found: skipped");
+            continue;
+        };
+        seen += 1;
+        let rows = rows(&path, &["bspline-corner", "auto"]);
+        let (orig, corner, auto) = (
+            time(&rows, "original"),
+            time(&rows, "bspline-corner"),
+            time(&rows, "auto"),
+        );
+        println!(
+            "{rel}: original {orig:.2} s, bspline-corner {corner:.2} s, auto {auto:.2} s ({:.3}, {:.3})",
+            auto / orig,
+            auto / corner
+        );
+        // G2: no G1 joint, and the only corners are reversals (a plunge
+        // straight back up: no curve turns there inside the band).
+        let a = rows.iter().find(|r| r.method == "auto").unwrap();
+        assert_eq!(a.joints[2], 0, "{rel}: {:?}", a.joints);
+        assert_eq!(a.joints[1], reversals(&path), "{rel}: {:?}", a.joints);
+        assert!(auto <= 0.7 * orig, "{rel}: {auto} vs original {orig}");
+        assert!(
+            auto <= 0.7 * corner,
+            "{rel}: {auto} vs bspline-corner {corner}"
+        );
+    }
+    println!("{seen} of {} programs found", programs.len());
+}
+
+#[test]
+fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
+    let corner_methods = ["bspline-corner", "ctm", "lotm"];
+    for rel in [
+        "synthetic/butterfly-80.ngc",
+        "synthetic/hexagon-3d.ngc",
+        "synthetic/square-wave.ngc",
+    ] {
+        let Some(path) = shared(rel) else {
+            eprintln!("{rel} not found: skipped");
+            continue;
+        };
+        let mut methods = corner_methods.to_vec();
+        methods.push("auto");
+        let rows = rows(&path, &methods);
+        let best = corner_methods
+            .iter()
+            .map(|m| time(&rows, m))
+            .fold(f64::INFINITY, f64::min);
+        let auto = time(&rows, "auto");
+        println!("{rel}: best corner method {best:.3} s, auto {auto:.3} s");
+        assert!(auto <= best * (1.0 + 1e-9), "{rel}: {auto} vs {best}");
+    }
+}
