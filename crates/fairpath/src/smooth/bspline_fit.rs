@@ -183,7 +183,9 @@ pub const FAIRNESS_RAISES: usize = 6;
 /// [`fit_polyline_weighted`] (weights `(fairness, jerk_fairness)`), then,
 /// up to `raises` times, the same fit with both weights multiplied by
 /// [`FAIRNESS_RAISE`], as long as it still passes: the fairest fit within
-/// `target` that this ladder finds.
+/// `target` that this ladder finds. Each raise first solves on the knots
+/// of the fit before it (one linear solve), and runs the whole
+/// control-point search only when those no longer pass.
 ///
 /// Seed 003 (Naseath 2007, chapter 3) lowers the curvature of a B-spline
 /// tool path by moving its control points inside the tolerance tube,
@@ -236,7 +238,14 @@ pub fn fit_polyline_faired(
             let mut mu = mu;
             for _ in 0..raises {
                 let w = (lambda * FAIRNESS_RAISE, mu * FAIRNESS_RAISE);
-                let Some((c, b)) = search(pts, &params, start, end, target, w, &mut fits) else {
+                // The same knots first (one solve), the whole search when
+                // they no longer pass.
+                let same = attempt(pts, &params, &curve.knots, (start, end), w, &mut fits)
+                    .filter(|a| a.max <= target)
+                    .map(|a| (a.curve, a.max));
+                let Some((c, b)) =
+                    same.or_else(|| search(pts, &params, start, end, target, w, &mut fits))
+                else {
                     break;
                 };
                 (curve, bound, lambda, mu) = (c, b, w.0, w.1);
