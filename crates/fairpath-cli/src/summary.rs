@@ -72,7 +72,7 @@ impl Summary {
             kept.push((reason, n));
         }
         let mut chosen: Vec<(&'static str, usize)> = Vec::new();
-        for name in result.runs.iter().filter_map(|r| r.smoothed.chosen) {
+        for &name in result.runs.iter().flat_map(|r| &r.smoothed.chosen) {
             match chosen.iter_mut().find(|c| c.0 == name) {
                 Some(c) => c.1 += 1,
                 None => chosen.push((name, 1)),
@@ -166,7 +166,7 @@ impl Summary {
                 .iter()
                 .map(|(name, n)| format!("{n} x {name}"))
                 .collect();
-            let _ = writeln!(s, "  auto chose:      {} (runs)", list.join("; "));
+            let _ = writeln!(s, "  auto chose:      {} (sections)", list.join("; "));
         }
         let _ = writeln!(
             s,
@@ -236,7 +236,7 @@ impl Summary {
             "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
             "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
             "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
-            "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "runs": c})).collect::<Vec<_>>(),
+            "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "sections": c})).collect::<Vec<_>>(),
             "merged_collinear": self.merged_collinear,
             "max_deviation_curves_mm": self.max_deviation_curves,
             "max_deviation_written_mm": self.max_deviation_written,

@@ -322,3 +322,71 @@ proptest! {
         }
     }
 }
+
+/// Sections: a run cut at the middle of its long lines gets one choice
+/// per section. Here a zigzag of sharp corners, a long line, and the
+/// line-arc burn-in of LinuxCNC (short arcs between lines): the sections
+/// cover the run exactly, the joints at the cut are G2 like every other,
+/// and the planned time is shorter than with one choice for the whole run.
+#[test]
+fn each_section_between_long_lines_gets_its_own_choice() {
+    use fairpath::smooth::{split_at_long_lines, AutoOptions, SECTION_LINE};
+    let mut pts = vec![Vec3::ZERO];
+    for i in 1..=12 {
+        let last = *pts.last().unwrap();
+        let dy = if i % 2 == 1 { 3.0 } else { -3.0 };
+        pts.push(last + Vec3::new(3.0, dy, 0.0));
+    }
+    let corner = *pts.last().unwrap();
+    let cut = corner + Vec3::new(15.0, 0.0, 0.0);
+    pts.push(corner + Vec3::new(30.0, 0.0, 0.0));
+    let mut pieces = polyline_run(&pts).pieces;
+    let (c, r): (f64, f64) = (2.54, 2.54);
+    let h = (r * r - 0.25 * c * c).sqrt();
+    let mut x = 0.0;
+    let o = *pts.last().unwrap();
+    let p = |x: f64| o + Vec3::new(x, 0.0, 0.0);
+    for i in 0..8 {
+        pieces.push(piece(Curve::Line(Line::new(p(x), p(x + c))), 100 + 2 * i));
+        x += c;
+        let cw = i % 2 == 0;
+        let centre = o + Vec3::new(x + 0.5 * c, if cw { -h } else { h }, 0.0);
+        let arc = Arc::from_center(p(x), p(x + c), centre, Vec3::Z, cw, 0, 1e-9).unwrap();
+        pieces.push(piece(Curve::Arc(arc), 101 + 2 * i));
+        x += c;
+    }
+    let run = Run::new(pieces);
+    let tol = 0.05;
+    let sections = split_at_long_lines(&run, SECTION_LINE);
+    assert_eq!(sections.len(), 2);
+    // The sections cover the run: the cut is the middle of the long line.
+    assert_eq!(sections[0].0.end(), Some(cut));
+    assert_eq!(sections[1].0.start(), Some(cut));
+    assert_eq!(sections[0].2, Some(Vec3::new(15.0, 0.0, 0.0)));
+    assert_eq!(sections[1].1, sections[0].2);
+    let n: usize = sections.iter().map(|s| s.0.pieces.len()).sum();
+    assert_eq!(n, run.pieces.len() + 1);
+
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert_eq!(out.chosen.len(), 2, "{:?}", out.chosen);
+    let whole = Auto {
+        options: AutoOptions {
+            section_line: f64::INFINITY,
+            ..AutoOptions::default()
+        },
+    }
+    .smooth_run(&run, tol)
+    .unwrap();
+    check(&run, &whole, tol);
+    assert_eq!(whole.chosen.len(), 1);
+    let (t, tw) = (planned(&out.pieces), planned(&whole.pieces));
+    println!(
+        "sections {:?}: {t:.4} s; whole run {:?}: {tw:.4} s",
+        out.chosen, whole.chosen
+    );
+    // The zigzag runs faster on corner transitions, the burn-in through
+    // its corners: a choice for each beats one for both.
+    assert_ne!(out.chosen[0], out.chosen[1]);
+    assert!(t < tw, "{t} vs {tw}");
+}

@@ -34,13 +34,27 @@
 //! geometry, not on a feed the program may set low), and the fastest is
 //! kept; a tie goes to the earlier candidate. A candidate the planner
 //! rejects is skipped.
+//!
+//! **Sections.** A run of up to [`SECTION_MAX_PIECES`] pieces is also cut
+//! at the middle of every line longer than [`AutoOptions::section_line`]
+//! ([`split_at_long_lines`]) and each section gets its own fastest
+//! candidate (planned from rest to rest). At a cut every candidate must
+//! meet the line G2 (tangent along it, zero curvature): fits keep the cut
+//! halves as lines ([`BsplineFitOptions::line_at_start`]), and a candidate
+//! that does not is not eligible there. A raster whose passes want fits
+//! and whose step-overs want corner transitions, or a program of lines
+//! and of arcs between corners, then gets the best of both. The mix is
+//! planned as one run and kept only when it is faster than the best
+//! candidate for the whole run, so `auto` stays no slower than any
+//! candidate.
 
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fit_sections::SectionOptions;
+use super::verify::{classify_joint, Continuity, JointTolerances};
 use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, PlanOptions};
-use crate::geom::{flatten_params, Curve, Line, ParamCurve};
+use crate::geom::{flatten_params, Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -108,6 +122,17 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// Share of the tolerance that the chords of sampled arcs may take.
 pub const ARC_SHARE: f64 = 0.05;
 
+/// Default [`AutoOptions::section_line`] (mm), the default
+/// [`SectionOptions::max_segment`]. On the issue-5 survey 5 mm planned
+/// faster than 7.5 and 10 mm (`LHchips4.ngc` 0.60 of the original against
+/// 0.61, `Cereal.ngc` 0.68 against 0.69).
+pub const SECTION_LINE: f64 = 5.0;
+
+/// Largest run (pieces) that is also smoothed section by section: the
+/// sections are smoothed and planned besides the whole run (the mix is kept
+/// only when the whole run plans faster with it), which doubles the work.
+pub const SECTION_MAX_PIECES: usize = 20_000;
+
 /// Options of [`Auto`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AutoOptions {
@@ -117,6 +142,10 @@ pub struct AutoOptions {
     pub override_feed: bool,
     /// Share of the tolerance for the chords of sampled arcs, in `(0, 0.5]`.
     pub arc_share: f64,
+    /// Lines longer than this (mm) cut a run into sections, each smoothed
+    /// by its own fastest candidate ([`SECTION_LINE`]; infinite: one
+    /// choice per run).
+    pub section_line: f64,
 }
 
 impl Default for AutoOptions {
@@ -125,6 +154,7 @@ impl Default for AutoOptions {
             machine: MachineLimits::thesis(),
             override_feed: true,
             arc_share: ARC_SHARE,
+            section_line: SECTION_LINE,
         }
     }
 }
@@ -172,9 +202,23 @@ enum Candidate {
 }
 
 impl Candidate {
-    fn smooth(&self, input: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+    /// `cut_ends`: whether the run starts (ends) in the middle of a line
+    /// where `auto` cut it into sections, so fits must keep that line.
+    fn smooth(
+        &self,
+        input: &Run,
+        tol: f64,
+        cut_ends: (bool, bool),
+    ) -> Result<SmoothedRun, SmoothError> {
         match self {
-            Candidate::Fit(o) => BsplineFit { options: *o }.smooth_run(input, tol),
+            Candidate::Fit(o) => BsplineFit {
+                options: BsplineFitOptions {
+                    line_at_start: cut_ends.0,
+                    line_at_end: cut_ends.1,
+                    ..*o
+                },
+            }
+            .smooth_run(input, tol),
             Candidate::Named(name) => match by_name(name) {
                 Some(m) => m.smooth_run(input, tol),
                 None => Err(SmoothError::BadOption("auto: unknown candidate")),
@@ -278,7 +322,7 @@ impl Auto {
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         list.iter()
-            .map(|(name, c)| Ok((*name, c.smooth(input.run(), tol)?)))
+            .map(|(name, c)| Ok((*name, c.smooth(input.run(), tol, (false, false))?)))
             .collect()
     }
 }
@@ -303,6 +347,137 @@ fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     (0..n).map(f).collect()
 }
 
+/// A candidate smoothed and its planned time (`None`: the planner
+/// rejected it).
+type Planned = (Option<f64>, SmoothedRun);
+
+impl Auto {
+    /// Every candidate for `run`, smoothed and planned.
+    fn planned_candidates(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        cut_ends: (bool, bool),
+    ) -> Result<Vec<Planned>, SmoothError> {
+        let opts = PlanOptions {
+            limits: self.options.machine,
+            override_feed: self.options.override_feed,
+            window: None,
+        };
+        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        map_candidates(list.len(), |i| {
+            let mut cand = list[i].1.smooth(input.run(), tol, cut_ends)?;
+            cand.chosen = alloc::vec![list[i].0];
+            let time = plan_run(&cand.pieces, &opts).ok().map(|p| p.time);
+            Ok((time, cand))
+        })
+        .into_iter()
+        .collect()
+    }
+
+    /// The fastest of `cands` that `eligible` accepts, with its planned
+    /// time (a tie goes to the earlier); failing any that planned, the
+    /// first accepted that the planner rejected (time `None`).
+    fn fastest(cands: Vec<Planned>, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<Planned> {
+        let mut best: Option<(f64, SmoothedRun)> = None;
+        let mut fallback = None;
+        for (time, cand) in cands {
+            if !eligible(&cand) {
+                continue;
+            }
+            match time {
+                Some(t) if best.as_ref().is_none_or(|(b, _)| t < *b) => best = Some((t, cand)),
+                Some(_) => {}
+                None => {
+                    if fallback.is_none() {
+                        fallback = Some(cand);
+                    }
+                }
+            }
+        }
+        best.map(|(t, c)| (Some(t), c))
+            .or(fallback.map(|c| (None, c)))
+    }
+
+    /// `run` smoothed section by section (see [`split_at_long_lines`]), the
+    /// fastest candidate kept in each section among those that meet the
+    /// cut lines G2; `None` when some section has no such candidate or a
+    /// cut joint is not G2 (the caller then chooses for the whole run).
+    fn smooth_sections(
+        &self,
+        sections: &[(Run, Option<Vec3>, Option<Vec3>)],
+        tolerance: f64,
+    ) -> Result<Option<SmoothedRun>, SmoothError> {
+        let jt = JointTolerances::from_tolerance(tolerance);
+        let mut out = SmoothedRun::default();
+        for (run, before, after) in sections {
+            let cands =
+                self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
+            let eligible = |c: &SmoothedRun| {
+                let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
+                    return false;
+                };
+                let starts_straight = before.is_none_or(|d| {
+                    let p = first.curve.start();
+                    let line = Curve::Line(Line::new(p - d, p));
+                    classify_joint(&line, &first.curve, &jt) == Continuity::G2
+                });
+                let ends_straight = after.is_none_or(|d| {
+                    let p = last.curve.end();
+                    let line = Curve::Line(Line::new(p, p + d));
+                    classify_joint(&last.curve, &line, &jt) == Continuity::G2
+                });
+                starts_straight && ends_straight
+            };
+            let Some((_, best)) = Self::fastest(cands, eligible) else {
+                return Ok(None);
+            };
+            if let (Some(prev), Some(next)) = (out.pieces.last(), best.pieces.first()) {
+                if classify_joint(&prev.curve, &next.curve, &jt) != Continuity::G2 {
+                    return Ok(None);
+                }
+            }
+            out.pieces.extend(best.pieces);
+            out.kept_corners.extend(best.kept_corners);
+            out.dropped_zero_length += best.dropped_zero_length;
+            out.merged_collinear += best.merged_collinear;
+            out.transitions += best.transitions;
+            out.chosen.extend(best.chosen);
+        }
+        Ok(Some(out))
+    }
+}
+
+/// `run` cut at the middle of every line longer than `min_line` into
+/// sections, each with the direction (scaled to half the cut line) of the
+/// line it starts on (`None` for the first) and ends on (`None` for the
+/// last).
+pub fn split_at_long_lines(run: &Run, min_line: f64) -> Vec<(Run, Option<Vec3>, Option<Vec3>)> {
+    let mut out = Vec::new();
+    let mut current: Vec<Piece> = Vec::new();
+    let mut before = None;
+    for p in &run.pieces {
+        if let Curve::Line(l) = &p.curve {
+            if l.p0.dist(l.p1) > min_line {
+                let mid = l.p0.lerp(l.p1, 0.5);
+                let half = mid - l.p0;
+                let mut a = p.clone();
+                a.curve = Curve::Line(Line::new(l.p0, mid));
+                current.push(a);
+                out.push((Run::new(core::mem::take(&mut current)), before, Some(half)));
+                before = Some(half);
+                let mut b = p.clone();
+                b.curve = Curve::Line(Line::new(mid, l.p1));
+                current.push(b);
+                continue;
+            }
+        }
+        current.push(p.clone());
+    }
+    out.push((Run::new(current), before, None));
+    out
+}
+
 impl Smoother for Auto {
     fn name(&self) -> &'static str {
         "auto"
@@ -310,37 +485,25 @@ impl Smoother for Auto {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
-        let opts = PlanOptions {
-            limits: self.options.machine,
-            override_feed: self.options.override_feed,
-            window: None,
-        };
-        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
-        // Each candidate smoothed and planned (time, or None when the
-        // planner rejects it).
-        let results = map_candidates(list.len(), |i| {
-            let mut cand = list[i].1.smooth(input.run(), tol)?;
-            cand.chosen = Some(list[i].0);
-            let time = plan_run(&cand.pieces, &opts).ok().map(|p| p.time);
-            Ok::<_, SmoothError>((time, cand))
-        });
-        let mut best: Option<(f64, SmoothedRun)> = None;
-        let mut fallback = None;
-        for r in results {
-            match r? {
-                (Some(t), cand) if best.as_ref().is_none_or(|(b, _)| t < *b) => {
-                    best = Some((t, cand));
-                }
-                (Some(_), _) => {}
-                (None, cand) => {
-                    if fallback.is_none() {
-                        fallback = Some(cand);
+        let cands = self.planned_candidates(run, tolerance, (false, false))?;
+        let (time, whole) =
+            Self::fastest(cands, |_| true).ok_or(SmoothError::BadOption("auto: no candidate"))?;
+        let sections = split_at_long_lines(run, self.options.section_line);
+        if sections.len() > 1 && run.pieces.len() <= SECTION_MAX_PIECES {
+            if let Some(mixed) = self.smooth_sections(&sections, tolerance)? {
+                let opts = PlanOptions {
+                    limits: self.options.machine,
+                    override_feed: self.options.override_feed,
+                    window: None,
+                };
+                let t = plan_run(&mixed.pieces, &opts).ok().map(|p| p.time);
+                if let (Some(t), Some(tw)) = (t, time) {
+                    if t < tw {
+                        return Ok(mixed);
                     }
                 }
             }
         }
-        best.map(|(_, c)| c)
-            .or(fallback)
-            .ok_or(SmoothError::BadOption("auto: no candidate"))
+        Ok(whole)
     }
 }

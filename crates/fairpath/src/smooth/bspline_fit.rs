@@ -104,6 +104,12 @@ pub struct BsplineFitOptions {
     pub band_use: f64,
     /// Most knot spans in one output piece.
     pub max_piece_spans: usize,
+    /// Keep the run's first segment out of the fits, so that the run
+    /// starts straight along it (G2 with a line before it; `auto` cuts
+    /// runs into sections at the middle of long lines).
+    pub line_at_start: bool,
+    /// The same for the run's last segment.
+    pub line_at_end: bool,
 }
 
 impl Default for BsplineFitOptions {
@@ -116,6 +122,8 @@ impl Default for BsplineFitOptions {
             fairness_raises: FAIRNESS_RAISES,
             band_use: BAND_USE,
             max_piece_spans: 64,
+            line_at_start: false,
+            line_at_end: false,
         }
     }
 }
@@ -531,8 +539,16 @@ impl BsplineFit {
     }
 
     /// Smooths one chain: fits its dense sections, blends the corners
-    /// between them.
-    fn smooth_chain(&self, chain: &LineChain, tolerance: f64, out: &mut SmoothedRun) {
+    /// between them. `keep_ends`: whether the chain's first (last) segment
+    /// must stay out of the fits (a run end that [`BsplineFitOptions::line_at_start`]
+    /// or `line_at_end` asks to keep straight).
+    fn smooth_chain(
+        &self,
+        chain: &LineChain,
+        tolerance: f64,
+        keep_ends: (bool, bool),
+        out: &mut SmoothedRun,
+    ) {
         let o = &self.options;
         let corner = BsplineCorner { options: o.corner };
         let delta = tolerance * BAND_USE;
@@ -545,7 +561,20 @@ impl BsplineFit {
         // between the two fits) and the halves are tried on their own, so
         // one corner inside a section does not send all of it to the corner
         // method.
-        let mut todo: Vec<(usize, usize)> = dense_sections(q, tolerance, &o.sections);
+        // Sections that would take a run end's line it must keep lose it.
+        let mut todo: Vec<(usize, usize)> = dense_sections(q, tolerance, &o.sections)
+            .into_iter()
+            .map(|(k, m)| {
+                let k = if keep_ends.0 && k == 0 { 1 } else { k };
+                let m = if keep_ends.1 && m == nseg {
+                    nseg - 1
+                } else {
+                    m
+                };
+                (k, m)
+            })
+            .filter(|&(k, m)| m > k + 1)
+            .collect();
         todo.reverse();
         while let Some((k, m)) = todo.pop() {
             let dir = |a: usize, b: usize| (q[b] - q[a]).normalized(0.0);
@@ -655,8 +684,14 @@ impl Smoother for BsplineFit {
             options: self.options.corner,
         }
         .smooth_run(&Run::default(), tolerance)?;
+        let (start, end) = (run.start(), run.end());
         smooth_by_chains(run, tolerance, |chain, out| {
-            self.smooth_chain(chain, tolerance, out)
+            let at = |p: Option<Vec3>, q: Option<&Vec3>| p.is_some() && p.as_ref() == q;
+            let keep = (
+                self.options.line_at_start && at(start, chain.pts.first()),
+                self.options.line_at_end && at(end, chain.pts.last()),
+            );
+            self.smooth_chain(chain, tolerance, keep, out)
         })
     }
 }

@@ -15,8 +15,9 @@ mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS,
-    THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
+    sample_curves, split_at_long_lines, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
+    JERK_FAIRNESS, SECTION_LINE, SECTION_MAX_PIECES, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
+    WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
@@ -54,10 +55,10 @@ pub struct SmoothedRun {
     pub merged_collinear: usize,
     /// Corners replaced by a transition curve.
     pub transitions: usize,
-    /// The candidate `auto` kept for this run (`None` from the other
-    /// methods): e.g. `"bspline-fit"`, `"bspline-fit, through corners"`,
-    /// `"lotm"`.
-    pub chosen: Option<&'static str>,
+    /// The candidate `auto` kept for each section of this run, in order
+    /// (empty from the other methods): e.g. `"bspline-fit"`,
+    /// `"bspline-fit, through corners"`, `"lotm"`.
+    pub chosen: Vec<&'static str>,
 }
 
 /// Why smoothing could not be done.
