@@ -43,6 +43,9 @@ pub struct Row {
     pub energy: f64,
     /// Planned machining time (s), feed moves and rapids.
     pub time: f64,
+    /// The part of `time` spent on feed moves (s): rapids are the same for
+    /// every method.
+    pub feed_time: f64,
     /// `time` over the baseline's.
     pub time_ratio: f64,
     /// Wall time of the smoothing alone (s).
@@ -62,7 +65,7 @@ fn row(
     original: &[Run],
     smoothed: &[Run],
     budget: f64,
-    time: f64,
+    (time, feed_time): (f64, f64),
     smoothing_time: f64,
 ) -> Row {
     let pairs: Vec<(&[Piece], &[Piece])> = original
@@ -93,6 +96,7 @@ fn row(
             .map(|p| curvature_variation_energy(&p.curve, ENERGY_ACCURACY))
             .fold(0.0, |a, b| a + b),
         time,
+        feed_time,
         time_ratio: 1.0,
         smoothing_time,
     }
@@ -102,9 +106,11 @@ fn row(
 pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     let program = read_program(path)?;
     let runs = program.runs();
-    let plan_time = |runs: &[Run]| -> Result<f64> {
+    // (total, feed moves only)
+    let plan_time = |runs: &[Run]| -> Result<(f64, f64)> {
         let motions = gcode_motions(&program, runs);
-        Ok(simulate(&motions, &opts.machine, opts.override_feed, None)?.time())
+        let sim = simulate(&motions, &opts.machine, opts.override_feed, None)?;
+        Ok((sim.time(), sim.feed_time))
     };
     let mut rows = Vec::new();
     let base_time = plan_time(&runs)?;
@@ -128,6 +134,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         let time = plan_time(&smoothed).with_context(|| format!("{name}: planning"))?;
         rows.push(row(name, &runs, &smoothed, budget, time, smoothing_time));
     }
+    let base_time = base_time.0;
     if base_time.is_nan() || base_time <= 0.0 {
         return Err(anyhow!("the program takes no time to run"));
     }
@@ -137,7 +144,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-const HEADER: [&str; 13] = [
+const HEADER: [&str; 14] = [
     "method",
     "max_deviation_mm",
     "verified",
@@ -149,6 +156,7 @@ const HEADER: [&str; 13] = [
     "peak_curvature_per_mm",
     "curvature_variation_energy",
     "time_s",
+    "feed_time_s",
     "time_ratio",
     "smoothing_s",
 ];
@@ -158,7 +166,7 @@ pub fn text(rows: &[Row]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>7} {:>10}",
+        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>10}",
         "method",
         "max dev mm",
         "ok",
@@ -167,6 +175,7 @@ pub fn text(rows: &[Row]) -> String {
         "peak k 1/mm",
         "energy",
         "time s",
+        "feed s",
         "ratio",
         "smooth s"
     );
@@ -177,7 +186,7 @@ pub fn text(rows: &[Row]) -> String {
         );
         let _ = writeln!(
             out,
-            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>7.3} {:>10.4}",
+            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>10.4}",
             r.method,
             r.max_deviation,
             if r.verified { "yes" } else { "NO" },
@@ -186,6 +195,7 @@ pub fn text(rows: &[Row]) -> String {
             r.peak_curvature,
             r.energy,
             r.time,
+            r.feed_time,
             r.time_ratio,
             r.smoothing_time
         );
@@ -200,7 +210,7 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.method,
             r.max_deviation,
             r.verified,
@@ -212,6 +222,7 @@ pub fn csv(rows: &[Row]) -> String {
             r.peak_curvature,
             r.energy,
             r.time,
+            r.feed_time,
             r.time_ratio,
             r.smoothing_time
         );
@@ -236,6 +247,7 @@ pub fn json(rows: &[Row]) -> String {
                 "peak_curvature_per_mm": r.peak_curvature,
                 "curvature_variation_energy": r.energy,
                 "time_s": r.time,
+                "feed_time_s": r.feed_time,
                 "time_ratio": r.time_ratio,
                 "smoothing_s": r.smoothing_time,
             })

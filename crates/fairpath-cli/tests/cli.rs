@@ -423,6 +423,11 @@ fn compare_prints_every_method_and_the_baseline() {
         let time = r["time_s"].as_f64().unwrap();
         let base_time = base["time_s"].as_f64().unwrap();
         assert!((ratio - time / base_time).abs() < 1e-12);
+        // Feed moves alone: part of the time, the rapids the same for all.
+        let feed = r["feed_time_s"].as_f64().unwrap();
+        let base_feed = base["feed_time_s"].as_f64().unwrap();
+        assert!(feed > 0.0 && feed <= time, "{r}");
+        assert!((time - feed - (base_time - base_feed)).abs() < 1e-9, "{r}");
         assert!(r["peak_curvature_per_mm"].as_f64().unwrap() > 0.0);
         assert!(r["curvature_variation_energy"].as_f64().unwrap() > 0.0);
     }
