@@ -6,18 +6,19 @@
 //! reported. [`verify`] checks all of that without trusting the smoother.
 
 mod auto;
+mod auto_sections;
 mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
 mod chains;
+mod fit_fill;
 mod fit_sections;
 mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, split_at_long_lines, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
-    JERK_FAIRNESS, SECTION_LINE, SECTION_MAX_PIECES, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
-    WIDE_WIGGLE_PER_TOL,
+    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS, SECTION_LINE,
+    SECTION_MAX_PIECES, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
@@ -41,6 +42,7 @@ pub use lotm::{
 
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
+pub use auto_sections::split_at_long_lines;
 
 /// What a smoother produced for one run.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -1,0 +1,89 @@
+//! The sections of `auto` (see [`super::auto`]): a run cut at the middle
+//! of its long lines, each section smoothed by its own fastest candidate.
+
+use super::auto::Auto;
+use super::verify::{classify_joint, Continuity, JointTolerances};
+use super::{SmoothError, SmoothedRun};
+use crate::geom::{Curve, Line, ParamCurve, Vec3};
+use crate::path::{Piece, Run};
+use alloc::vec::Vec;
+
+impl Auto {
+    /// `run` smoothed section by section (see [`split_at_long_lines`]), the
+    /// fastest candidate kept in each section among those that meet the
+    /// cut lines G2; `None` when some section has no such candidate or a
+    /// cut joint is not G2 (the caller then chooses for the whole run).
+    pub(super) fn smooth_sections(
+        &self,
+        sections: &[(Run, Option<Vec3>, Option<Vec3>)],
+        tolerance: f64,
+    ) -> Result<Option<SmoothedRun>, SmoothError> {
+        let jt = JointTolerances::from_tolerance(tolerance);
+        let mut out = SmoothedRun::default();
+        for (run, before, after) in sections {
+            let cands =
+                self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
+            let eligible = |c: &SmoothedRun| {
+                let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
+                    return false;
+                };
+                let starts_straight = before.is_none_or(|d| {
+                    let p = first.curve.start();
+                    let line = Curve::Line(Line::new(p - d, p));
+                    classify_joint(&line, &first.curve, &jt) == Continuity::G2
+                });
+                let ends_straight = after.is_none_or(|d| {
+                    let p = last.curve.end();
+                    let line = Curve::Line(Line::new(p, p + d));
+                    classify_joint(&last.curve, &line, &jt) == Continuity::G2
+                });
+                starts_straight && ends_straight
+            };
+            let Some((_, best)) = Self::fastest(cands, eligible) else {
+                return Ok(None);
+            };
+            if let (Some(prev), Some(next)) = (out.pieces.last(), best.pieces.first()) {
+                if classify_joint(&prev.curve, &next.curve, &jt) != Continuity::G2 {
+                    return Ok(None);
+                }
+            }
+            out.pieces.extend(best.pieces);
+            out.kept_corners.extend(best.kept_corners);
+            out.dropped_zero_length += best.dropped_zero_length;
+            out.merged_collinear += best.merged_collinear;
+            out.transitions += best.transitions;
+            out.chosen.extend(best.chosen);
+        }
+        Ok(Some(out))
+    }
+}
+
+/// `run` cut at the middle of every line longer than `min_line` into
+/// sections, each with the direction (scaled to half the cut line) of the
+/// line it starts on (`None` for the first) and ends on (`None` for the
+/// last).
+pub fn split_at_long_lines(run: &Run, min_line: f64) -> Vec<(Run, Option<Vec3>, Option<Vec3>)> {
+    let mut out = Vec::new();
+    let mut current: Vec<Piece> = Vec::new();
+    let mut before = None;
+    for p in &run.pieces {
+        if let Curve::Line(l) = &p.curve {
+            if l.p0.dist(l.p1) > min_line {
+                let mid = l.p0.lerp(l.p1, 0.5);
+                let half = mid - l.p0;
+                let mut a = p.clone();
+                a.curve = Curve::Line(Line::new(l.p0, mid));
+                current.push(a);
+                out.push((Run::new(core::mem::take(&mut current)), before, Some(half)));
+                before = Some(half);
+                let mut b = p.clone();
+                b.curve = Curve::Line(Line::new(mid, l.p1));
+                current.push(b);
+                continue;
+            }
+        }
+        current.push(p.clone());
+    }
+    out.push((Run::new(current), before, None));
+    out
+}
