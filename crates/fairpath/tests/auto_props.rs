@@ -382,6 +382,15 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     .unwrap();
     check(&run, &whole, tol);
     assert_eq!(whole.chosen.len(), 1);
+    for bad in [0.0, -1.0, f64::NAN] {
+        let auto = Auto {
+            options: AutoOptions {
+                section_line: bad,
+                ..AutoOptions::default()
+            },
+        };
+        assert!(auto.smooth_run(&run, tol).is_err(), "{bad}");
+    }
     let (t, tw) = (planned(&out.pieces), planned(&whole.pieces));
     println!(
         "sections {:?}: {t:.4} s; whole run {:?}: {tw:.4} s",

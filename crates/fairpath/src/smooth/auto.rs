@@ -410,6 +410,12 @@ impl Smoother for Auto {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
+        let line = self.options.section_line;
+        if line.is_nan() || line <= 0.0 {
+            return Err(SmoothError::BadOption(
+                "auto: section line must be a positive length (mm) or infinite",
+            ));
+        }
         let cands = self.planned_candidates(run, tolerance, (false, false))?;
         let (time, whole) =
             Self::fastest(cands, |_| true).ok_or(SmoothError::BadOption("auto: no candidate"))?;
