@@ -411,6 +411,18 @@ fn run_of_zero_length_moves_and_single_segment() {
     assert_eq!(out.pieces.len(), 1);
 }
 
+/// Largest distance from `curve`, sampled at `n + 1` even parameters, to
+/// the polyline `pts`: an independent check of a fit's bound.
+fn sampled_distance(curve: &fairpath::geom::Nurbs, pts: &[Vec3], n: usize) -> f64 {
+    let (a, b) = curve.domain();
+    (0..=n)
+        .map(|i| {
+            let q = curve.eval(a + (b - a) * i as f64 / n as f64);
+            fairpath::geom::distance_to_polyline(q, pts).unwrap().0
+        })
+        .fold(0.0, f64::max)
+}
+
 /// The span bound is an upper bound of the true distance: checked against
 /// dense sampling of the fit.
 #[test]
@@ -433,13 +445,7 @@ fn span_bound_holds_on_dense_samples() {
     let errs = span_errors(&fit.curve, &pts, &params);
     let bound = errs.iter().copied().fold(0.0, f64::max);
     assert!((bound - fit.bound).abs() <= 1e-12);
-    let (a, b) = fit.curve.domain();
-    let mut worst: f64 = 0.0;
-    for i in 0..=20000 {
-        let q = fit.curve.eval(a + (b - a) * i as f64 / 20000.0);
-        let (d, _) = fairpath::geom::distance_to_polyline(q, &pts).unwrap();
-        worst = worst.max(d);
-    }
+    let worst = sampled_distance(&fit.curve, &pts, 20_000);
     assert!(worst <= bound, "sampled {worst} > bound {bound}");
     assert!(bound <= 0.05 * BAND_USE);
     println!("span bound {bound:.5} mm, sampled {worst:.5} mm");
@@ -490,14 +496,9 @@ fn raising_the_fairness_inside_the_band_lowers_the_bending() {
     println!("bending {e0:.5} -> {e1:.5}, peak curvature {k0:.4} -> {k1:.4}");
     assert!(e1 < e0, "{e1} vs {e0}");
     assert!(k1 < 0.97 * k0, "{k1} vs {k0}");
-    let (a, b) = raised.curve.domain();
-    let worst = (0..=20_000)
-        .map(|i| {
-            let q = raised.curve.eval(a + (b - a) * i as f64 / 20_000.0);
-            fairpath::geom::distance_to_polyline(q, &pts).unwrap().0
-        })
-        .fold(0.0, f64::max);
+    let worst = sampled_distance(&raised.curve, &pts, 20_000);
     assert!(worst <= target, "{worst}");
+    let (a, b) = raised.curve.domain();
     assert_eq!(raised.curve.eval(a), pts[0]);
     assert_eq!(raised.curve.eval(b), pts[pts.len() - 1]);
 }
@@ -794,15 +795,9 @@ fn raster_step_over_of_sharp_short_moves_fits_within_tolerance() {
     let fit = fit_polyline(&pts, EndCondition::Free, EndCondition::Free, target, 1.0)
         .expect("fit passes");
     assert!(fit.bound <= target, "{}", fit.bound);
-    let (a, b) = fit.curve.domain();
-    let n = 20_000;
-    let worst = (0..=n)
-        .map(|i| {
-            let q = fit.curve.eval(a + (b - a) * i as f64 / n as f64);
-            fairpath::geom::distance_to_polyline(q, &pts).unwrap().0
-        })
-        .fold(0.0, f64::max);
+    let worst = sampled_distance(&fit.curve, &pts, 20_000);
     assert!(worst <= target, "{worst}");
+    let (a, b) = fit.curve.domain();
     assert_eq!(fit.curve.eval(a), pts[0]);
     assert_eq!(fit.curve.eval(b), pts[pts.len() - 1]);
 }
