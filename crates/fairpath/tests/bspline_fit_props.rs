@@ -423,6 +423,16 @@ fn sampled_distance(curve: &fairpath::geom::Nurbs, pts: &[Vec3], n: usize) -> f6
         .fold(0.0, f64::max)
 }
 
+/// `curve` lies within `target` of the polyline `pts` (sampled at 20,001
+/// parameters) and starts and ends exactly at its end points.
+fn assert_within_with_exact_ends(curve: &fairpath::geom::Nurbs, pts: &[Vec3], target: f64) {
+    let worst = sampled_distance(curve, pts, 20_000);
+    assert!(worst <= target, "{worst}");
+    let (a, b) = curve.domain();
+    assert_eq!(curve.eval(a), pts[0]);
+    assert_eq!(curve.eval(b), pts[pts.len() - 1]);
+}
+
 /// The span bound is an upper bound of the true distance: checked against
 /// dense sampling of the fit.
 #[test]
@@ -496,11 +506,7 @@ fn raising_the_fairness_inside_the_band_lowers_the_bending() {
     println!("bending {e0:.5} -> {e1:.5}, peak curvature {k0:.4} -> {k1:.4}");
     assert!(e1 < e0, "{e1} vs {e0}");
     assert!(k1 < 0.97 * k0, "{k1} vs {k0}");
-    let worst = sampled_distance(&raised.curve, &pts, 20_000);
-    assert!(worst <= target, "{worst}");
-    let (a, b) = raised.curve.domain();
-    assert_eq!(raised.curve.eval(a), pts[0]);
-    assert_eq!(raised.curve.eval(b), pts[pts.len() - 1]);
+    assert_within_with_exact_ends(&raised.curve, &pts, target);
 }
 
 /// Approximation theory: a cubic spline with `N` well-placed knots
@@ -795,11 +801,7 @@ fn raster_step_over_of_sharp_short_moves_fits_within_tolerance() {
     let fit = fit_polyline(&pts, EndCondition::Free, EndCondition::Free, target, 1.0)
         .expect("fit passes");
     assert!(fit.bound <= target, "{}", fit.bound);
-    let worst = sampled_distance(&fit.curve, &pts, 20_000);
-    assert!(worst <= target, "{worst}");
-    let (a, b) = fit.curve.domain();
-    assert_eq!(fit.curve.eval(a), pts[0]);
-    assert_eq!(fit.curve.eval(b), pts[pts.len() - 1]);
+    assert_within_with_exact_ends(&fit.curve, &pts, target);
 }
 
 /// The jerk term does what it says: with a larger weight, on the same data
