@@ -313,6 +313,66 @@ fn tangent_entry_into_a_sampled_arc_is_g2_everywhere() {
     assert!(fitted_pieces(&out) >= 1);
 }
 
+/// The pass ends of LinuxCNC `performance/test_12mmflat.ngc`: a long line
+/// meets a sampled arc (radius 4.3 mm, chords of about 0.29 mm) at a corner
+/// of 15 degrees. Regression: the fit started at that vertex along the
+/// line, so it had to make the whole turn there on the arc's first chords;
+/// it now leads in along the last 4 mm of the line (at 0.05 mm) and rounds
+/// the corner inside the band, which the machine runs faster.
+#[test]
+fn a_fit_leads_in_along_the_line_before_a_corner() {
+    let tol = 0.05;
+    let r = 4.3;
+    let turn = 15f64.to_radians();
+    // The arc leaves the origin at 15 degrees to the line, turning left.
+    let centre = v(-r * turn.sin(), r * turn.cos(), 0.0);
+    let n = 40; // 0.29 mm chords over 155 degrees
+    let sweep = 155f64.to_radians();
+    let mut pts = vec![v(-20.0, 0.0, 0.0)];
+    for i in 0..=n {
+        let a = -PI / 2.0 + turn + sweep * i as f64 / n as f64;
+        pts.push(centre + v(r * a.cos(), r * a.sin(), 0.0));
+    }
+    let run = polyline_run(&pts);
+    let (out, rep) = smooth_and_verify(&run, tol, &BsplineFit::default());
+    assert!(rep.within(tol), "{rep:?}");
+    assert!(out.kept_corners.is_empty());
+    assert!(rep.joints.iter().all(|j| j.class == Continuity::G2));
+    // The fit starts on the line, 4 mm (80 tolerances) before the vertex,
+    // and the path no longer passes through the vertex.
+    let fit = out
+        .pieces
+        .iter()
+        .find(|p| matches!(&p.curve, Curve::Nurbs(n) if n.knots != TRANSITION_KNOTS))
+        .expect("a fitted piece");
+    assert!(
+        fit.curve.start().dist(v(-4.0, 0.0, 0.0)) < 1e-9,
+        "{:?}",
+        fit.curve.start()
+    );
+    let vertex_gap = out
+        .pieces
+        .iter()
+        .flat_map(|p| {
+            let (a, b) = p.curve.domain();
+            (0..=200).map(move |i| p.curve.eval(a + (b - a) * i as f64 / 200.0))
+        })
+        .map(|q| q.dist(Vec3::ZERO))
+        .fold(f64::INFINITY, f64::min);
+    assert!(vertex_gap > 0.1 * tol, "{vertex_gap}");
+    // The corner is taken on a radius the band allows, not on a chord:
+    // a 15-degree turn within 0.05 mm needs no curvature above 1/0.5 mm.
+    let peak = out
+        .pieces
+        .iter()
+        .flat_map(|p| {
+            let (a, b) = p.curve.domain();
+            (0..=400).map(move |i| p.curve.curvature(a + (b - a) * i as f64 / 400.0))
+        })
+        .fold(0.0, f64::max);
+    assert!(peak < 2.0, "peak curvature {peak} 1/mm");
+}
+
 #[test]
 fn long_fits_are_cut_into_pieces_that_join_g2() {
     let tol = 0.01;

@@ -51,14 +51,18 @@
 //!    control points is kept. About `2 log2(h)` fits of linear cost.
 //! 7. **Joins** (left open by the seed, section 4: "the connections between
 //!    the approximated curves and long line segments should be solved in
-//!    future work"): a section starts and ends exactly at its end vertices
-//!    (the end control points are those vertices). Where it meets a kept
-//!    segment, its end tangent is that segment's direction and its end
-//!    curvature zero (the three end control points on the segment's line,
-//!    [`EndCondition::Tangent`]), so the joint is G2; the segment and the
-//!    corners beyond it are smoothed by `bspline-corner`, whose transitions
-//!    also end tangent to their segments with zero curvature. At run ends
-//!    (and next to arcs) the fit ends free, like `bspline-corner`'s lines.
+//!    future work"): where a section meets a kept segment, the fit also
+//!    takes a piece of that segment (a lead-in or lead-out of at most
+//!    0.4 of it and 80 tolerances; [`super::fit_chain`]), so that
+//!    it rounds the corner at the section's end vertex within the band
+//!    instead of leaving that vertex along the segment. The fit starts
+//!    exactly at the lead point (the end control point), tangent to the
+//!    segment with zero curvature (the three end control points on the
+//!    segment's line, [`EndCondition::Tangent`]), so the joint is G2; the
+//!    rest of the segment and the corners beyond it are smoothed by
+//!    `bspline-corner`, whose transitions also end tangent to their
+//!    segments with zero curvature. At run ends (and next to arcs) the fit
+//!    ends free at the vertex, like `bspline-corner`'s lines.
 //! 8. **Output**: long fits are cut at every [`BsplineFitOptions::max_piece_spans`]-th
 //!    knot into pieces that are the same curve (C2 joints), so each piece
 //!    carries the input lines and the lowest feed of the moves it replaces.
@@ -68,15 +72,18 @@
 //! curves or by fits (the interior vertices of fitted sections).
 
 use super::bspline_corner::{BsplineCorner, BsplineCornerOptions, BAND_USE};
-use super::chains::{min_feed, smooth_by_chains, CleanTolerances, LineChain};
+use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
+use super::fit_chain::{
+    extend_sections, extended_chain, lead_point, push_fit, sub_chain, EXTEND_MAX_TURN,
+};
 use super::fit_fill::fill_segments;
 use super::fit_sections::{dense_sections, SectionOptions};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::fit::{
-    averaged_knots, chord_params, fit_cubic_weighted, span_errors, split_at_knots, EndCondition,
+    averaged_knots, chord_params, fit_cubic_weighted, span_errors, EndCondition,
 };
-use crate::geom::{Curve, Nurbs, Vec3};
-use crate::path::{Piece, Run};
+use crate::geom::{Nurbs, Vec3};
+use crate::path::Run;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
@@ -468,14 +475,15 @@ impl BsplineFit {
         let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
         let q = &chain.pts;
         let nseg = chain.segments();
-        let mut cursor = 0;
         // Sections to fit, last first. A section whose fit fails is split
         // around its sharpest vertex (the segment after it kept as a line
         // between the two fits) and the halves are tried on their own, so
         // one corner inside a section does not send all of it to the corner
         // method.
         // Sections that would take a run end's line it must keep lose it.
-        let mut todo: Vec<(usize, usize)> = dense_sections(q, tolerance, &o.sections)
+        let mut sections = dense_sections(q, tolerance, &o.sections);
+        extend_sections(&mut sections, q, EXTEND_MAX_TURN);
+        let mut todo: Vec<(usize, usize)> = sections
             .into_iter()
             .map(|(k, m)| {
                 let k = if keep_ends.0 && k == 0 { 1 } else { k };
@@ -489,6 +497,9 @@ impl BsplineFit {
             .filter(|&(k, m)| m > k + 1)
             .collect();
         todo.reverse();
+        // Where the last fit (or the chain start) left off: a vertex, and
+        // the point on the segment after it where the fit ended (its lead-out).
+        let mut cursor = (0, q[0]);
         while let Some((k, m)) = todo.pop() {
             let dir = |a: usize, b: usize| (q[b] - q[a]).normalized(0.0);
             let start = if k == 0 {
@@ -507,8 +518,19 @@ impl BsplineFit {
                     None => continue,
                 }
             };
+            // Lead-in and lead-out: the fit also takes a piece of the kept
+            // segment before (after) it, so it can round the corner at its
+            // end vertex instead of starting tangent to the segment there.
+            let lead = |a: usize, b: usize| lead_point(q[a], q[b], tolerance, min_seg);
+            let lead_in = if k > 0 && k > cursor.0 {
+                lead(k, k - 1)
+            } else {
+                None
+            };
+            let lead_out = if m < nseg { lead(m, m + 1) } else { None };
+            let section = extended_chain(chain, k, m, lead_in, lead_out);
             let Some(fit) = fit_polyline_faired(
-                &q[k..=m],
+                &section.pts,
                 start,
                 end,
                 tolerance * o.band_use,
@@ -527,60 +549,25 @@ impl BsplineFit {
                 }
                 continue;
             };
-            if k > cursor {
-                corner.smooth_chain(&sub_chain(chain, cursor, k), delta, min_seg, out);
+            let (fit_start, first) = match lead_in {
+                Some(p) => (p, k - 1),
+                None => (q[k], k),
+            };
+            if first > cursor.0 || (first == cursor.0 && fit_start != cursor.1) {
+                let sub = sub_chain(chain, cursor, (first, fit_start));
+                corner.smooth_chain(&sub, delta, min_seg, out);
             }
-            push_fit(chain, k, m, &fit.curve, o.max_piece_spans, out);
+            push_fit(&section, &fit.curve, o.max_piece_spans, out);
             out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
-            cursor = m;
+            cursor = match lead_out {
+                Some(p) => (m, p),
+                None => (m, q[m]),
+            };
         }
-        if cursor < nseg {
-            corner.smooth_chain(&sub_chain(chain, cursor, nseg), delta, min_seg, out);
+        if cursor.0 < nseg || cursor.1 != q[nseg] {
+            let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
+            corner.smooth_chain(&sub, delta, min_seg, out);
         }
-    }
-}
-
-/// The part of `chain` from vertex `a` to vertex `b`.
-fn sub_chain(chain: &LineChain, a: usize, b: usize) -> LineChain {
-    LineChain {
-        pts: chain.pts[a..=b].to_vec(),
-        lines: chain.lines[a..b].to_vec(),
-        feed: chain.feed[a..b].to_vec(),
-    }
-}
-
-/// Pushes the fit of vertices `k..=m` of `chain` as pieces of at most
-/// `max_spans` knot spans, each with the input lines and lowest feed of
-/// the segments its parameter range covers.
-fn push_fit(
-    chain: &LineChain,
-    k: usize,
-    m: usize,
-    curve: &Nurbs,
-    max_spans: usize,
-    out: &mut SmoothedRun,
-) {
-    let params = chord_params(&chain.pts[k..=m]);
-    let mut seg = 0; // local segment index
-    for piece in split_at_knots(curve, max_spans) {
-        let (ua, ub) = (piece.knots[0], *piece.knots.last().unwrap());
-        while seg + 1 < m - k && params[seg + 1] <= ua {
-            seg += 1;
-        }
-        let first = seg;
-        let mut last = seg;
-        while last + 1 < m - k && params[last + 1] < ub {
-            last += 1;
-        }
-        let lines = (chain.lines[k + first].0, chain.lines[k + last].1);
-        let feed = (k + first..=k + last).fold(None, |f, i| min_feed(f, chain.feed[i]));
-        out.pieces.push(Piece {
-            curve: Curve::Nurbs(piece),
-            rapid: false,
-            source_lines: lines,
-            feed,
-        });
-        seg = last;
     }
 }
 

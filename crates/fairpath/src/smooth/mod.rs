@@ -11,6 +11,7 @@ mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
 mod chains;
+mod fit_chain;
 mod fit_fill;
 mod fit_sections;
 mod lotm;
