@@ -82,6 +82,7 @@ fn auto_meets_the_dense_targets() {
         "linuxcnc/performance/random_lines_0.001in.ngc",
         "linuxcnc/wz-tests/130207L.ngc",
         "linuxcnc/performance/LHchips4.ngc",
+        "linuxcnc/performance/spiral_lines.ngc",
     ];
     let mut seen = 0;
     for rel in programs {
@@ -121,7 +122,6 @@ fn auto_meets_the_dense_targets() {
 #[test]
 fn auto_meets_the_original_target_on_finishing_programs() {
     let programs = [
-        "linuxcnc/performance/spiral_lines.ngc",
         "linuxcnc/performance/test_12mmflat.ngc",
         "linuxcnc/performance/Cereal.ngc",
         "linuxcnc/performance/blur_torus.ngc",

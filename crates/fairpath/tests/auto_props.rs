@@ -143,7 +143,7 @@ fn a_zigzag_within_the_tolerance_of_its_midline_is_fitted_straight() {
 /// the next piece's without the ramps.
 #[test]
 fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
-    let (c, r): (f64, f64) = (2.54, 2.54);
+    let (c, r): (f64, f64) = (2.54, 2.54 * std::f64::consts::FRAC_1_SQRT_2);
     let h = (r * r - 0.25 * c * c).sqrt();
     let mut pieces = Vec::new();
     let mut x = 0.0;
@@ -327,10 +327,14 @@ proptest! {
 }
 
 /// Sections: a run cut at the middle of its long lines gets one choice
-/// per section. Here a zigzag of sharp corners, a long line, and the
-/// line-arc burn-in of LinuxCNC (short arcs between lines): the sections
-/// cover the run exactly, the joints at the cut are G2 like every other,
-/// and the planned time is shorter than with one choice for the whole run.
+/// per section. Here a zigzag of sharp corners, a long line, and after
+/// the line-arc burn-in of LinuxCNC (short arcs between lines), with arcs
+/// of 90 degrees meeting the lines at corners of 45: the sections cover
+/// the run exactly, the joints at the cut are G2 like every other, and the
+/// planned time is shorter than with one choice for the whole run.
+/// (Regression: with the burn-in's own arcs of 60 degrees, the corners of
+/// 30 degrees are now taken into the plain fit, which then wins both
+/// sections.)
 #[test]
 fn each_section_between_long_lines_gets_its_own_choice() {
     use fairpath::smooth::{split_at_long_lines, AutoOptions, SECTION_LINE};
@@ -344,7 +348,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     let cut = corner + Vec3::new(15.0, 0.0, 0.0);
     pts.push(corner + Vec3::new(30.0, 0.0, 0.0));
     let mut pieces = polyline_run(&pts).pieces;
-    let (c, r): (f64, f64) = (2.54, 2.54);
+    let (c, r): (f64, f64) = (2.54, 2.54 * std::f64::consts::FRAC_1_SQRT_2);
     let h = (r * r - 0.25 * c * c).sqrt();
     let mut x = 0.0;
     let o = *pts.last().unwrap();

@@ -425,6 +425,29 @@ fn detection_rule_on_a_raster_row_and_its_corners() {
     assert!(dense_sections(&zig, 0.005, &o).is_empty());
     // Too few points.
     assert!(dense_sections(&zig[..6], 0.05, &o).is_empty());
+    // LinuxCNC `performance/spiral_lines.ngc`, outer turns: 4.9 mm moves
+    // turning by 5.7 degrees, a circle sampled at a chord error of 0.061 mm.
+    // Regression: with a factor of 1 on the implied chord error these were
+    // corners at 0.05 mm; the circle moved inwards by half the sagitta is
+    // within 0.031 mm of vertices and chords, so they are dense and the fit
+    // passes within the band.
+    let a = 5.7f64.to_radians();
+    let mut spiral = vec![v(0.0, 0.0, 0.0)];
+    for i in 1..40 {
+        let h = a * i as f64;
+        let p = *spiral.last().unwrap() + v(h.cos(), h.sin(), 0.0) * 4.9;
+        spiral.push(round_v(p));
+    }
+    assert_eq!(dense_sections(&spiral, 0.05, &o), vec![(0, 39)]);
+    let strict = SectionOptions {
+        chord_error_per_tol: 1.0,
+        ..o
+    };
+    assert!(dense_sections(&spiral, 0.05, &strict).is_empty());
+    let band = 0.05 * BAND_USE;
+    let fit = fit_polyline(&spiral, EndCondition::Free, EndCondition::Free, band, 1.0)
+        .expect("the spiral fits within the band");
+    assert_within_with_exact_ends(&fit.curve, &spiral, band);
 }
 
 #[test]
