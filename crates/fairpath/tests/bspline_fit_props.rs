@@ -424,7 +424,8 @@ fn detection_rule_on_a_raster_row_and_its_corners() {
     assert_eq!(dense_sections(&zig, 0.05, &o), vec![(0, 11)]);
     assert!(dense_sections(&zig, 0.005, &o).is_empty());
     // Too few points.
-    assert!(dense_sections(&zig[..6], 0.05, &o).is_empty());
+    assert!(dense_sections(&zig[..3], 0.05, &o).is_empty());
+    assert_eq!(dense_sections(&zig[..4], 0.05, &o), vec![(0, 3)]);
     // LinuxCNC `performance/spiral_lines.ngc`, outer turns: 4.9 mm moves
     // turning by 5.7 degrees, a circle sampled at a chord error of 0.061 mm.
     // Regression: with a factor of 1 on the implied chord error these were

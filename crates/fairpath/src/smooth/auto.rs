@@ -22,7 +22,9 @@
 //!   meeting zero-curvature corner transitions there.
 //! * **fit, jerk-faired**, on the same runs: `bspline-fit` with the jerk
 //!   term [`JERK_FAIRNESS`], which spreads the curvature ramps of sampled
-//!   arcs between corners over more length.
+//!   arcs between corners over more length; and through corners with the
+//!   jerk term as well (on the issue-5 survey it took `51MeanderAve.ngc`
+//!   from 0.701 to 0.698 of the original).
 //! * `bspline-corner` and the corner methods of [`CORNER_CANDIDATES`]
 //!   (`lotm`): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
@@ -122,7 +124,7 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// Share of the tolerance that the chords of sampled arcs may take.
 pub const ARC_SHARE: f64 = 0.05;
 
-/// Default [`AutoOptions::section_line`] (mm), the default
+/// Default [`AutoOptions::section_line`] (mm), half the default
 /// [`SectionOptions::max_segment`]. On the issue-5 survey 5 mm planned
 /// faster than 7.5 and 10 mm (`LHchips4.ngc` 0.60 of the original against
 /// 0.61, `Cereal.ngc` 0.68 against 0.69).
@@ -299,6 +301,13 @@ impl Auto {
                 ..BsplineFitOptions::default()
             };
             out.push(("bspline-fit, through corners", Candidate::Fit(through)));
+            out.push((
+                "bspline-fit, through corners, jerk-faired",
+                Candidate::Fit(BsplineFitOptions {
+                    jerk_fairness: JERK_FAIRNESS,
+                    ..through
+                }),
+            ));
             out.push((
                 "bspline-fit, jerk-faired",
                 Candidate::Fit(BsplineFitOptions {
