@@ -71,6 +71,22 @@ fn time(rows: &[Row], method: &str) -> f64 {
     rows.iter().find(|r| r.method == method).unwrap().time
 }
 
+/// Compares `methods` on each of `programs` that is found under
+/// `../shared/paths` and hands its rows to `check`; prints how many were
+/// found.
+fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Path, &[Row])) {
+    let mut seen = 0;
+    for &rel in programs {
+        let Some(path) = shared(rel) else {
+            eprintln!("{rel} not found: skipped");
+            continue;
+        };
+        seen += 1;
+        check(rel, &path, &rows(&path, methods));
+    }
+    println!("{seen} of {} programs found", programs.len());
+}
+
 #[test]
 fn auto_meets_the_dense_targets() {
     let programs = [
@@ -84,18 +100,11 @@ fn auto_meets_the_dense_targets() {
         "linuxcnc/performance/LHchips4.ngc",
         "linuxcnc/performance/spiral_lines.ngc",
     ];
-    let mut seen = 0;
-    for rel in programs {
-        let Some(path) = shared(rel) else {
-            eprintln!("{rel} not found: skipped");
-            continue;
-        };
-        seen += 1;
-        let rows = rows(&path, &["bspline-corner", "auto"]);
+    for_each_found(&programs, &["bspline-corner", "auto"], |rel, path, rows| {
         let (orig, corner, auto) = (
-            time(&rows, "original"),
-            time(&rows, "bspline-corner"),
-            time(&rows, "auto"),
+            time(rows, "original"),
+            time(rows, "bspline-corner"),
+            time(rows, "auto"),
         );
         println!(
             "{rel}: original {orig:.2} s, bspline-corner {corner:.2} s, auto {auto:.2} s ({:.3}, {:.3})",
@@ -106,14 +115,13 @@ fn auto_meets_the_dense_targets() {
         // straight back up: no curve turns there inside the band).
         let a = rows.iter().find(|r| r.method == "auto").unwrap();
         assert_eq!(a.joints[2], 0, "{rel}: {:?}", a.joints);
-        assert_eq!(a.joints[1], reversals(&path), "{rel}: {:?}", a.joints);
+        assert_eq!(a.joints[1], reversals(path), "{rel}: {:?}", a.joints);
         assert!(auto <= 0.7 * orig, "{rel}: {auto} vs original {orig}");
         assert!(
             auto <= 0.7 * corner,
             "{rel}: {auto} vs bspline-corner {corner}"
         );
-    }
-    println!("{seen} of {} programs found", programs.len());
+    });
 }
 
 /// CAM finishing programs whose step-overs and sharp corners cost every
@@ -127,15 +135,8 @@ fn auto_meets_the_original_target_on_finishing_programs() {
         "linuxcnc/performance/blur_torus.ngc",
         "linuxcnc/XYtests/51MeanderAve.ngc",
     ];
-    let mut seen = 0;
-    for rel in programs {
-        let Some(path) = shared(rel) else {
-            eprintln!("{rel} not found: skipped");
-            continue;
-        };
-        seen += 1;
-        let rows = rows(&path, &["auto"]);
-        let (orig, auto) = (time(&rows, "original"), time(&rows, "auto"));
+    for_each_found(&programs, &["auto"], |rel, _, rows| {
+        let (orig, auto) = (time(rows, "original"), time(rows, "auto"));
         println!(
             "{rel}: original {orig:.2} s, auto {auto:.2} s ({:.3})",
             auto / orig
@@ -143,8 +144,7 @@ fn auto_meets_the_original_target_on_finishing_programs() {
         let a = rows.iter().find(|r| r.method == "auto").unwrap();
         assert_eq!(a.joints[2], 0, "{rel}: {:?}", a.joints);
         assert!(auto <= 0.7 * orig, "{rel}: {auto} vs original {orig}");
-    }
-    println!("{seen} of {} programs found", programs.len());
+    });
 }
 
 #[test]

@@ -350,25 +350,25 @@ fn a_fit_leads_in_along_the_line_before_a_corner() {
         "{:?}",
         fit.curve.start()
     );
-    let vertex_gap = out
-        .pieces
-        .iter()
-        .flat_map(|p| {
-            let (a, b) = p.curve.domain();
-            (0..=200).map(move |i| p.curve.eval(a + (b - a) * i as f64 / 200.0))
-        })
-        .map(|q| q.dist(Vec3::ZERO))
+    // `f` at 401 parameters of every piece.
+    let sampled = |f: &dyn Fn(&Curve, f64) -> f64| -> Vec<f64> {
+        out.pieces
+            .iter()
+            .flat_map(|p| {
+                let (a, b) = p.curve.domain();
+                (0..=400).map(move |i| (p, a + (b - a) * i as f64 / 400.0))
+            })
+            .map(|(p, t)| f(&p.curve, t))
+            .collect()
+    };
+    let vertex_gap = sampled(&|c, t| c.eval(t).dist(Vec3::ZERO))
+        .into_iter()
         .fold(f64::INFINITY, f64::min);
     assert!(vertex_gap > 0.1 * tol, "{vertex_gap}");
     // The corner is taken on a radius the band allows, not on a chord:
     // a 15-degree turn within 0.05 mm needs no curvature above 1/0.5 mm.
-    let peak = out
-        .pieces
-        .iter()
-        .flat_map(|p| {
-            let (a, b) = p.curve.domain();
-            (0..=400).map(move |i| p.curve.curvature(a + (b - a) * i as f64 / 400.0))
-        })
+    let peak = sampled(&|c, t| c.curvature(t))
+        .into_iter()
         .fold(0.0, f64::max);
     assert!(peak < 2.0, "peak curvature {peak} 1/mm");
 }
