@@ -73,9 +73,7 @@
 
 use super::bspline_corner::{BsplineCorner, BsplineCornerOptions, BAND_USE};
 use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
-use super::fit_chain::{
-    extend_sections, extended_chain, lead_point, push_fit, sub_chain, EXTEND_MAX_TURN,
-};
+use super::fit_chain::{extend_sections, lead_point, push_fit, sub_chain, EXTEND_MAX_TURN};
 use super::fit_fill::fill_segments;
 use super::fit_sections::{dense_sections, SectionOptions};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
@@ -528,7 +526,10 @@ impl BsplineFit {
                 None
             };
             let lead_out = if m < nseg { lead(m, m + 1) } else { None };
-            let section = extended_chain(chain, k, m, lead_in, lead_out);
+            // The fit's ends as (vertex, point on the segment after it).
+            let from = lead_in.map_or((k, q[k]), |p| (k - 1, p));
+            let to = lead_out.map_or((m, q[m]), |p| (m, p));
+            let section = sub_chain(chain, from, to);
             let Some(fit) = fit_polyline_faired(
                 &section.pts,
                 start,
@@ -549,20 +550,12 @@ impl BsplineFit {
                 }
                 continue;
             };
-            let (fit_start, first) = match lead_in {
-                Some(p) => (p, k - 1),
-                None => (q[k], k),
-            };
-            if first > cursor.0 || (first == cursor.0 && fit_start != cursor.1) {
-                let sub = sub_chain(chain, cursor, (first, fit_start));
-                corner.smooth_chain(&sub, delta, min_seg, out);
+            if from.0 > cursor.0 || (from.0 == cursor.0 && from.1 != cursor.1) {
+                corner.smooth_chain(&sub_chain(chain, cursor, from), delta, min_seg, out);
             }
             push_fit(&section, &fit.curve, o.max_piece_spans, out);
             out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
-            cursor = match lead_out {
-                Some(p) => (m, p),
-                None => (m, q[m]),
-            };
+            cursor = to;
         }
         if cursor.0 < nseg || cursor.1 != q[nseg] {
             let sub = sub_chain(chain, cursor, (nseg, q[nseg]));

@@ -79,7 +79,9 @@ pub(super) fn lead_point(at: Vec3, to: Vec3, tolerance: f64, min_segment: f64) -
 }
 
 /// The part of `chain` from `from.1` to `to.1`, where each is given as
-/// `(i, p)`: vertex `i` itself or a point `p` on the segment after it.
+/// `(i, p)`: vertex `i` itself or a point `p` on the segment after it (a
+/// fit's lead point). Both a fitted section with its leads and the corner
+/// part between two fits are such parts.
 pub(super) fn sub_chain(chain: &LineChain, from: (usize, Vec3), to: (usize, Vec3)) -> LineChain {
     let (a, b) = (from.0, to.0);
     let mut pts = Vec::with_capacity(b + 2 - a);
@@ -92,35 +94,6 @@ pub(super) fn sub_chain(chain: &LineChain, from: (usize, Vec3), to: (usize, Vec3
         pts.push(to.1);
         lines.push(chain.lines[b]);
         feed.push(chain.feed[b]);
-    }
-    LineChain { pts, lines, feed }
-}
-
-/// The section of vertices `k..=m` of `chain`, starting at `lead_in` on the
-/// segment before `k` and ending at `lead_out` on the segment after `m`
-/// when given.
-pub(super) fn extended_chain(
-    chain: &LineChain,
-    k: usize,
-    m: usize,
-    lead_in: Option<Vec3>,
-    lead_out: Option<Vec3>,
-) -> LineChain {
-    let mut pts = Vec::with_capacity(m - k + 3);
-    let mut lines = Vec::with_capacity(m - k + 2);
-    let mut feed = Vec::with_capacity(m - k + 2);
-    if let Some(p) = lead_in {
-        pts.push(p);
-        lines.push(chain.lines[k - 1]);
-        feed.push(chain.feed[k - 1]);
-    }
-    pts.extend_from_slice(&chain.pts[k..=m]);
-    lines.extend_from_slice(&chain.lines[k..m]);
-    feed.extend_from_slice(&chain.feed[k..m]);
-    if let Some(p) = lead_out {
-        pts.push(p);
-        lines.push(chain.lines[m]);
-        feed.push(chain.feed[m]);
     }
     LineChain { pts, lines, feed }
 }
