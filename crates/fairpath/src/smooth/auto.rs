@@ -16,15 +16,22 @@
 //! * **fit, wide wiggles**: the same with [`WIDE_WIGGLE_PER_TOL`], when it
 //!   makes some vertex dense that the default rule does not (a zigzag whose
 //!   midline lies within the tolerance).
-//! * **fit, through corners**, on runs with arcs or curves of at most
-//!   [`THROUGH_MAX_PIECES`] pieces: every vertex up to [`THROUGH_MAX_TURN`]
-//!   is dense, so the fit runs through the corners next to arcs instead of
-//!   meeting zero-curvature corner transitions there.
+//! * **fit, through corners**, on runs of at most [`THROUGH_MAX_PIECES`]
+//!   pieces (after sampling): every vertex up to [`THROUGH_MAX_TURN`] is
+//!   dense, so the fit runs through the corners (next to arcs, or between
+//!   lines) instead of meeting zero-curvature corner transitions there.
 //! * **fit, jerk-faired**, on the same runs: `bspline-fit` with the jerk
 //!   term [`JERK_FAIRNESS`], which spreads the curvature ramps of sampled
 //!   arcs between corners over more length; and through corners with the
 //!   jerk term as well (on the issue-5 survey it took `51MeanderAve.ngc`
 //!   from 0.701 to 0.698 of the original).
+//!
+//!   These three were first tried only on runs with arcs. On runs of
+//!   lines they planned the issue-5 survey faster too, each of them
+//!   chosen somewhere: `noisy-line.ngc` 1.09 -> 0.93 s, `Cereal.ngc`
+//!   102.07 -> 100.80 s, `line-contouring-xz.ngc` 16.28 -> 15.38 s,
+//!   `130207L.ngc` 45.94 -> 45.75 s, nothing slower; smoothing `Cereal.ngc`
+//!   took 2.4 s instead of 0.85 s.
 //! * `bspline-corner` and the corner methods of [`CORNER_CANDIDATES`]
 //!   (`lotm`): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
@@ -112,7 +119,7 @@ pub const THROUGH_MAX_TURN: f64 = 2.5;
 pub const THROUGH_MAX_PIECES: usize = 2000;
 
 /// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired candidate, tried
-/// with the through-corners one (runs with arcs, up to
+/// with the through-corners one (runs of up to
 /// [`THROUGH_MAX_PIECES`]). Chosen on LinuxCNC's `arc-arc-sawtooth.ngc`
 /// (arcs of 5 mm radius between corners of 127 degrees, where the fits of
 /// the sampled arcs must ramp their curvature from and to zero): 0 gives
@@ -290,7 +297,7 @@ impl Auto {
         if widens_sections(input.run(), tol, &wide.sections) {
             out.push(("bspline-fit, wide wiggles", Candidate::Fit(wide)));
         }
-        if has_curves && input.run().pieces.len() <= THROUGH_MAX_PIECES {
+        if input.run().pieces.len() <= THROUGH_MAX_PIECES {
             let through = BsplineFitOptions {
                 sections: SectionOptions {
                     max_segment: 1e6,
