@@ -24,6 +24,18 @@ enum Band {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum TimeModel {
+    Full,
+    Thesis,
+}
+
+impl TimeModel {
+    fn jerk_on_curves(self) -> bool {
+        self == TimeModel::Full
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum TextOrJson {
     Text,
     Json,
@@ -96,6 +108,12 @@ enum Command {
         /// Run every feed move at the machine's maximum feed.
         #[arg(long)]
         override_feed: bool,
+        /// Time model: `full` caps the speed on curves by the centripetal
+        /// acceleration and the jerk (centripetal jerk, curvature change;
+        /// the default), `thesis` by the centripetal acceleration only, as
+        /// the thesis' simulation (seed 003, eq. 4-1).
+        #[arg(long, value_enum)]
+        time_model: Option<TimeModel>,
         /// Bounded look-ahead of N segments, as a real-time controller runs
         /// it (default: the whole run); also reports the full scan's time.
         #[arg(long)]
@@ -131,6 +149,12 @@ enum Command {
         /// Run every feed move at the machine's maximum feed.
         #[arg(long)]
         override_feed: bool,
+        /// Time model: `full` caps the speed on curves by the centripetal
+        /// acceleration and the jerk (centripetal jerk, curvature change;
+        /// the default), `thesis` by the centripetal acceleration only, as
+        /// the thesis' simulation (seed 003, eq. 4-1).
+        #[arg(long, value_enum)]
+        time_model: Option<TimeModel>,
         #[arg(long, value_enum, default_value_t = TableFormat::Text)]
         format: TableFormat,
     },
@@ -198,6 +222,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             period,
             junction_deviation,
             override_feed,
+            time_model,
             lookahead,
             profile,
             segments,
@@ -209,6 +234,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 jerk,
                 period,
                 junction_deviation,
+                jerk_on_curves: time_model.map(TimeModel::jerk_on_curves),
             };
             let m = fairpath_cli::simulate::machine(machine.as_deref(), flags)?;
             fairpath_cli::simulate::run(
@@ -229,6 +255,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             junction_deviation,
             methods,
             override_feed,
+            time_model,
             format,
         } => {
             use fairpath_cli::compare;
@@ -236,6 +263,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 machine.as_deref(),
                 fairpath_cli::simulate::MachineFlags {
                     junction_deviation,
+                    jerk_on_curves: time_model.map(TimeModel::jerk_on_curves),
                     ..Default::default()
                 },
             )?;

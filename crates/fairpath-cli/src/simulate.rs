@@ -29,6 +29,9 @@ pub struct MachineFile {
     pub axis_feed: Option<[f64; 3]>,
     /// Per-axis acceleration limits, mm/s^2.
     pub axis_acc: Option<[f64; 3]>,
+    /// Whether the jerk limit caps the speed on curves (default true;
+    /// false: the thesis' time model, see `MachineLimits::jerk_on_curves`).
+    pub jerk_on_curves: Option<bool>,
 }
 
 /// Flags that override the machine file.
@@ -39,6 +42,8 @@ pub struct MachineFlags {
     pub jerk: Option<f64>,
     pub period: Option<f64>,
     pub junction_deviation: Option<f64>,
+    /// `Some(false)`: the thesis' time model (no jerk caps on curves).
+    pub jerk_on_curves: Option<bool>,
 }
 
 /// The machine: defaults (the thesis' V 400 mm/s, A 4000 mm/s^2, J 20000
@@ -79,6 +84,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
         if let Some(v) = mf.axis_acc {
             m.axis_acc = v;
         }
+        if let Some(v) = mf.jerk_on_curves {
+            m.jerk_on_curves = v;
+        }
     }
     if let Some(v) = flags.max_feed {
         m.max_feed = v / 60.0;
@@ -97,6 +105,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
     }
     if let Some(v) = flags.junction_deviation {
         m.junction_deviation = v;
+    }
+    if let Some(v) = flags.jerk_on_curves {
+        m.jerk_on_curves = v;
     }
     m.validate().map_err(|e| anyhow!("{e}"))?;
     Ok(m)

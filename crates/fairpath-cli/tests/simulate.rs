@@ -252,3 +252,54 @@ fn segments_csv_names_the_limiting_constraint_of_each_segment() {
     }
     assert!((feed_time - v["feed_time_s"].as_f64().unwrap()).abs() < 1e-3);
 }
+
+/// `--time-model thesis` (or `jerk_on_curves = false` in the machine file):
+/// the thesis' own simulation (seed 003, eq. 4-1), where only the
+/// centripetal acceleration caps the speed on curves. On the smoothed
+/// example (exact curves) no segment is limited by a jerk cap on curves,
+/// and the time is shorter than under the default model.
+#[test]
+fn the_thesis_time_model_drops_the_jerk_caps_on_curves() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    let o = bin()
+        .args(["smooth", &example(), "-o", json.to_str().unwrap()])
+        .args(["-t", "0.05", "-f", "json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let machine = dir.path().join("m.toml");
+    std::fs::write(&machine, "jerk_on_curves = false\n").unwrap();
+    let run = |extra: &[&str]| {
+        let seg = dir.path().join("seg.csv");
+        let o = bin()
+            .args(["simulate", json.to_str().unwrap(), "--override-feed"])
+            .args(["--format", "json", "--segments", seg.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let csv = std::fs::read_to_string(&seg).unwrap();
+        let jerk_limited = csv
+            .lines()
+            .filter(|l| l.contains("normal jerk") || l.contains("curvature change"))
+            .count();
+        (v["time_s"].as_f64().unwrap(), jerk_limited)
+    };
+    let (full, full_jerk) = run(&[]);
+    let (thesis, thesis_jerk) = run(&["--time-model", "thesis"]);
+    let (file, file_jerk) = run(&["--machine", machine.to_str().unwrap()]);
+    let (back, _) = run(&[
+        "--machine",
+        machine.to_str().unwrap(),
+        "--time-model",
+        "full",
+    ]);
+    println!("full {full} s ({full_jerk} jerk-limited segments), thesis {thesis} s");
+    assert!(full_jerk > 0);
+    assert_eq!((thesis_jerk, file_jerk), (0, 0));
+    assert_eq!(thesis, file);
+    assert_eq!(back, full);
+    assert!(thesis < full, "{thesis} vs {full}");
+}

@@ -183,3 +183,34 @@ fn a_circle_inside_the_chord_error_has_no_chord_error_cap() {
     let e = m.chord_error;
     assert!((v - 2.0 / m.period * (2.0 * r * e - e * e).sqrt()).abs() < 1e-9);
 }
+
+/// The thesis' time model (seed 003, eq. 4-1): without the jerk caps on
+/// curves, a circle of 2 mm (centripetal jerk cap 43.1 mm/s, below the
+/// centripetal acceleration's 89.4 mm/s) and a clothoid point (curvature
+/// change) are capped by `sqrt(A / kappa)` alone.
+#[test]
+fn the_thesis_model_caps_curves_by_centripetal_acceleration_only() {
+    let full = MachineLimits::thesis();
+    let thesis = MachineLimits {
+        jerk_on_curves: false,
+        ..full
+    };
+    let circle = circle_point(2.0);
+    let (v, c) = speed_cap(&full, 400.0, &circle);
+    assert_eq!(c, Constraint::NormalJerk);
+    assert!((v - (20000.0f64 * 4.0).cbrt()).abs() < 1e-9, "{v}");
+    let (v, c) = speed_cap(&thesis, 400.0, &circle);
+    assert_eq!(c, Constraint::NormalAcceleration);
+    assert!((v - (4000.0f64 * 2.0).sqrt()).abs() < 1e-9, "{v}");
+    let clothoid = PathPoint {
+        dkappa_ds: 100.0,
+        ..circle_point(20.0)
+    };
+    assert_eq!(
+        speed_cap(&full, 1e9, &clothoid).1,
+        Constraint::CurvatureChange
+    );
+    let (v, c) = speed_cap(&thesis, 1e9, &clothoid);
+    assert_eq!(c, Constraint::NormalAcceleration);
+    assert!((v - (4000.0f64 * 20.0).sqrt()).abs() < 1e-9, "{v}");
+}

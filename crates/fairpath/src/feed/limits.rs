@@ -14,6 +14,9 @@
 //! | axis velocity | `v abs(T_i) <= V_i` | per-axis drive limits |
 //! | axis acceleration | `v^2 kappa abs(N_i) <= A_i` | normal acceleration projected on each axis |
 //!
+//! The two jerk caps on curves can be switched off
+//! ([`MachineLimits::jerk_on_curves`]) for the thesis' own time model.
+//!
 //! At a joint that is not G2 the speed is capped as in
 //! [`super::junction`]: a corner is passed on the circle that deviates by
 //! the junction deviation, a curvature jump within one interpolation
@@ -45,6 +48,14 @@ pub struct MachineLimits {
     /// controller may pass it (grbl's `junction_deviation`, LinuxCNC's
     /// `G64 P`).
     pub junction_deviation: f64,
+    /// Whether the jerk limit also caps the speed on curves: centripetal
+    /// jerk `kappa^2 v^3 <= J` and curvature change
+    /// `abs(dkappa/ds) v^3 <= J` (the default). `false` is the time model
+    /// of the thesis (seed 003, section 4.5, eq. 4-1): on curves only the
+    /// centripetal acceleration caps the speed, `v = sqrt(A / kappa)`, and
+    /// the jerk limit shapes the S-curves between the caps. Corners of G1
+    /// moves are capped as in [`super::junction`] either way.
+    pub jerk_on_curves: bool,
 }
 
 /// A limit that is not a positive finite number.
@@ -70,6 +81,7 @@ impl MachineLimits {
             period: 0.001,
             chord_error: 0.001,
             junction_deviation: 0.01,
+            jerk_on_curves: true,
         }
     }
 
@@ -151,7 +163,9 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
     let k = p.curvature.norm();
     if k > 0.0 {
         take(math::sqrt(m.normal_acc / k), Constraint::NormalAcceleration);
-        take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+        if m.jerk_on_curves {
+            take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+        }
         // A circle of diameter within the chord error lies within the
         // chord error of any chord across it: no cap.
         let rho = 1.0 / k;
@@ -171,7 +185,7 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
             }
         }
     }
-    if p.dkappa_ds != 0.0 {
+    if p.dkappa_ds != 0.0 && m.jerk_on_curves {
         take(
             math::cbrt(m.jerk / math::abs(p.dkappa_ds)),
             Constraint::CurvatureChange,
