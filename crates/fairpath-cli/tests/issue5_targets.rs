@@ -99,6 +99,10 @@ fn auto_meets_the_dense_targets() {
         "linuxcnc/wz-tests/130207L.ngc",
         "linuxcnc/performance/LHchips4.ngc",
         "linuxcnc/performance/spiral_lines.ngc",
+        // Against bspline-corner 0.706 and 0.704 with sections cut at 5 mm
+        // lines only; 0.686 and 0.699 with the cuts at 3 and 1 mm as well.
+        "linuxcnc/performance/Cereal.ngc",
+        "linuxcnc/performance/blur_torus.ngc",
     ];
     for_each_found(&programs, &["bspline-corner", "auto"], |rel, path, rows| {
         let (orig, corner, auto) = (
@@ -126,13 +130,13 @@ fn auto_meets_the_dense_targets() {
 
 /// CAM finishing programs whose step-overs and sharp corners cost every
 /// method the same braking: against the original only (the README's
-/// survey has their ratios to `bspline-corner`, 0.70-0.81).
+/// survey has their ratios to `bspline-corner`: `51MeanderAve` 0.71,
+/// `test_12mmflat` 0.81). `Cereal` and `blur_torus`, once here, now meet
+/// both targets and are guarded above.
 #[test]
 fn auto_meets_the_original_target_on_finishing_programs() {
     let programs = [
         "linuxcnc/performance/test_12mmflat.ngc",
-        "linuxcnc/performance/Cereal.ngc",
-        "linuxcnc/performance/blur_torus.ngc",
         "linuxcnc/XYtests/51MeanderAve.ngc",
     ];
     for_each_found(&programs, &["auto"], |rel, _, rows| {

@@ -337,7 +337,7 @@ proptest! {
 /// sections.)
 #[test]
 fn each_section_between_long_lines_gets_its_own_choice() {
-    use fairpath::smooth::{split_at_long_lines, AutoOptions, SECTION_LINE};
+    use fairpath::smooth::{split_at_long_lines, AutoOptions, SECTION_LINES};
     let mut pts = vec![Vec3::ZERO];
     for i in 1..=12 {
         let last = *pts.last().unwrap();
@@ -364,7 +364,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     }
     let run = Run::new(pieces);
     let tol = 0.05;
-    let sections = split_at_long_lines(&run, SECTION_LINE);
+    let sections = split_at_long_lines(&run, SECTION_LINES[0]);
     assert_eq!(sections.len(), 2);
     // The sections cover the run: the cut is the middle of the long line.
     assert_eq!(sections[0].0.end(), Some(cut));
@@ -379,7 +379,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     assert_eq!(out.chosen.len(), 2, "{:?}", out.chosen);
     let whole = Auto {
         options: AutoOptions {
-            section_line: f64::INFINITY,
+            section_lines: [f64::INFINITY; 3],
             ..AutoOptions::default()
         },
     }
@@ -388,13 +388,17 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     check(&run, &whole, tol);
     assert_eq!(whole.chosen.len(), 1);
     for bad in [0.0, -1.0, f64::NAN] {
-        let auto = Auto {
-            options: AutoOptions {
-                section_line: bad,
-                ..AutoOptions::default()
-            },
-        };
-        assert!(auto.smooth_run(&run, tol).is_err(), "{bad}");
+        for k in 0..3 {
+            let mut section_lines = SECTION_LINES;
+            section_lines[k] = bad;
+            let auto = Auto {
+                options: AutoOptions {
+                    section_lines,
+                    ..AutoOptions::default()
+                },
+            };
+            assert!(auto.smooth_run(&run, tol).is_err(), "{bad} at {k}");
+        }
     }
     let (t, tw) = (planned(&out.pieces), planned(&whole.pieces));
     println!(
@@ -405,4 +409,18 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     // its corners: a choice for each beats one for both.
     assert_ne!(out.chosen[0], out.chosen[1]);
     assert!(t < tw, "{t} vs {tw}");
+    // Cutting at the shorter lengths too (the zigzag's 4.2 mm moves at 3
+    // and 1 mm) never plans slower than the longest length alone.
+    let longest = Auto {
+        options: AutoOptions {
+            section_lines: [SECTION_LINES[0], f64::INFINITY, f64::INFINITY],
+            ..AutoOptions::default()
+        },
+    }
+    .smooth_run(&run, tol)
+    .unwrap();
+    check(&run, &longest, tol);
+    let tl = planned(&longest.pieces);
+    println!("cut at {} mm only: {tl:.4} s", SECTION_LINES[0]);
+    assert!(t <= tl, "{t} vs {tl}");
 }

@@ -45,8 +45,9 @@
 //! rejects is skipped.
 //!
 //! **Sections.** A run of up to [`SECTION_MAX_PIECES`] pieces is also cut
-//! at the middle of every line longer than [`AutoOptions::section_line`]
-//! ([`split_at_long_lines`]) and each section gets its own fastest
+//! at the middle of every line longer than a length
+//! ([`split_at_long_lines`]; each of [`AutoOptions::section_lines`], 5, 3
+//! and 1 mm by default, gives one mix) and each section gets its own fastest
 //! candidate (planned from rest to rest). At a cut every candidate must
 //! meet the line G2 (tangent along it, zero curvature): fits keep the cut
 //! halves as lines ([`BsplineFitOptions::line_at_start`]), and a candidate
@@ -54,10 +55,10 @@
 //! and whose step-overs want corner transitions, or a program of lines
 //! and of arcs between corners, then gets the best of both. The mix is
 //! planned as one run and kept only when it is faster than the best
-//! candidate for the whole run, so `auto` stays no slower than any
-//! candidate.
+//! candidate for the whole run (and than the mixes of the other lengths),
+//! so `auto` stays no slower than any candidate.
 
-use super::auto_sections::split_at_long_lines;
+use super::auto_sections::{split_at_long_lines, SectionCache};
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fit_sections::SectionOptions;
 use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
@@ -131,11 +132,21 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// Share of the tolerance that the chords of sampled arcs may take.
 pub const ARC_SHARE: f64 = 0.05;
 
-/// Default [`AutoOptions::section_line`] (mm), half the default
-/// [`SectionOptions::max_segment`]. On the issue-5 survey 5 mm planned
-/// faster than 7.5 and 10 mm (`LHchips4.ngc` 0.60 of the original against
-/// 0.61, `Cereal.ngc` 0.68 against 0.69).
-pub const SECTION_LINE: f64 = 5.0;
+/// Default [`AutoOptions::section_lines`] (mm): a run is cut at the lines
+/// longer than 5 mm, then at those longer than 3 mm, then 1 mm, and the
+/// fastest of the three mixes (or the whole run) is kept. 5 mm, half the
+/// default [`SectionOptions::max_segment`], planned faster than 7.5 and
+/// 10 mm alone (`LHchips4.ngc` 0.60 of the original against 0.61,
+/// `Cereal.ngc` 0.68 against 0.69). Shorter cuts give the V-carved letters
+/// of `Cereal.ngc` their own choices between short lines, but alone cost
+/// `51MeanderAve.ngc` (3 mm: 69.44 s against 69.07 s); with all three
+/// lengths (the sections they share are smoothed once) the issue-5 survey
+/// planned `Cereal.ngc` 100.80 -> 98.01 s, `blur_torus.ngc` 151.55 ->
+/// 150.40 s, `LHchips4.ngc` 278.09 -> 275.07 s and the makerblock plot
+/// 420.17 -> 399.50 s, nothing slower; smoothing `LHchips4.ngc` took 12.3 s
+/// instead of 4.1 s. (5, 3 alone: `Cereal.ngc` 100.12 s; 5, 3, 1.5: 99.40
+/// s; adding 0.5 changed nothing more.)
+pub const SECTION_LINES: [f64; 3] = [5.0, 3.0, 1.0];
 
 /// Largest run (pieces) that is also smoothed section by section: the
 /// sections are smoothed and planned besides the whole run (the mix is kept
@@ -151,10 +162,12 @@ pub struct AutoOptions {
     pub override_feed: bool,
     /// Share of the tolerance for the chords of sampled arcs, in `(0, 0.5]`.
     pub arc_share: f64,
-    /// Lines longer than this (mm) cut a run into sections, each smoothed
-    /// by its own fastest candidate ([`SECTION_LINE`]; infinite: one
-    /// choice per run).
-    pub section_line: f64,
+    /// For each of these lengths (mm), the lines longer than it cut the
+    /// run into sections, each smoothed by its own fastest candidate; the
+    /// fastest of these mixes and the best candidate for the whole run is
+    /// kept ([`SECTION_LINES`]; an infinite length cuts nothing, all
+    /// infinite: one choice per run).
+    pub section_lines: [f64; 3],
 }
 
 impl Default for AutoOptions {
@@ -163,7 +176,7 @@ impl Default for AutoOptions {
             machine: MachineLimits::thesis(),
             override_feed: true,
             arc_share: ARC_SHARE,
-            section_line: SECTION_LINE,
+            section_lines: SECTION_LINES,
         }
     }
 }
@@ -426,31 +439,42 @@ impl Smoother for Auto {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
-        let line = self.options.section_line;
-        if line.is_nan() || line <= 0.0 {
+        let lines = self.options.section_lines;
+        if lines.iter().any(|&l| l.is_nan() || l <= 0.0) {
             return Err(SmoothError::BadOption(
-                "auto: section line must be a positive length (mm) or infinite",
+                "auto: section lines must be positive lengths (mm) or infinite",
             ));
         }
         let cands = self.planned_candidates(run, tolerance, (false, false))?;
-        let (time, whole) =
+        let (mut time, mut best) =
             Self::fastest(cands, |_| true).ok_or(SmoothError::BadOption("auto: no candidate"))?;
-        let sections = split_at_long_lines(run, self.options.section_line);
-        if sections.len() > 1 && run.pieces.len() <= SECTION_MAX_PIECES {
-            if let Some(mixed) = self.smooth_sections(&sections, tolerance)? {
-                let opts = PlanOptions {
-                    limits: self.options.machine,
-                    override_feed: self.options.override_feed,
-                    window: None,
-                };
-                let t = plan_run(&mixed.pieces, &opts).ok().map(|p| p.time);
-                if let (Some(t), Some(tw)) = (t, time) {
-                    if t < tw {
-                        return Ok(mixed);
-                    }
+        if run.pieces.len() > SECTION_MAX_PIECES {
+            return Ok(best);
+        }
+        let opts = PlanOptions {
+            limits: self.options.machine,
+            override_feed: self.options.override_feed,
+            window: None,
+        };
+        let mut cache = SectionCache::default();
+        let mut tried: Vec<usize> = Vec::new();
+        for line in lines {
+            let sections = split_at_long_lines(run, line);
+            // A length that cuts where a longer one did gives the same mix.
+            if sections.len() < 2 || tried.contains(&sections.len()) {
+                continue;
+            }
+            tried.push(sections.len());
+            let Some(mixed) = self.smooth_sections(&sections, tolerance, &mut cache)? else {
+                continue;
+            };
+            let t = plan_run(&mixed.pieces, &opts).ok().map(|p| p.time);
+            if let (Some(t), Some(tw)) = (t, time) {
+                if t < tw {
+                    (time, best) = (Some(t), mixed);
                 }
             }
         }
-        Ok(whole)
+        Ok(best)
     }
 }

@@ -6,40 +6,76 @@ use super::verify::{classify_joint, Continuity, JointTolerances};
 use super::{SmoothError, SmoothedRun};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
+use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
+
+/// The section a [`SectionCache`] entry was smoothed for: its pieces and
+/// whether each end is a cut line.
+type Section = (Run, bool, bool);
+
+/// Sections already smoothed, with the candidate kept for each (`None`:
+/// no candidate met its cut lines G2). `auto` cuts a run at several line
+/// lengths ([`super::auto::SECTION_LINES`]); a section between two long
+/// lines is the same at every length and is smoothed once.
+#[derive(Default)]
+pub(super) struct SectionCache {
+    /// By first point, last point and piece count (f64 bits), then the
+    /// sections themselves, compared in full.
+    entries: BTreeMap<([u64; 3], [u64; 3], usize), Vec<(Section, Option<SmoothedRun>)>>,
+}
+
+fn point_bits(p: Vec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+impl SectionCache {
+    fn key(run: &Run) -> ([u64; 3], [u64; 3], usize) {
+        let first = run.pieces.first().map_or(Vec3::ZERO, |p| p.curve.start());
+        let last = run.pieces.last().map_or(Vec3::ZERO, |p| p.curve.end());
+        (point_bits(first), point_bits(last), run.pieces.len())
+    }
+
+    fn get(&self, section: &Section) -> Option<&Option<SmoothedRun>> {
+        self.entries
+            .get(&Self::key(&section.0))?
+            .iter()
+            .find(|(s, _)| s == section)
+            .map(|(_, best)| best)
+    }
+
+    fn insert(&mut self, section: Section, best: Option<SmoothedRun>) {
+        self.entries
+            .entry(Self::key(&section.0))
+            .or_default()
+            .push((section, best));
+    }
+}
 
 impl Auto {
     /// `run` smoothed section by section (see [`split_at_long_lines`]), the
     /// fastest candidate kept in each section among those that meet the
     /// cut lines G2; `None` when some section has no such candidate or a
     /// cut joint is not G2 (the caller then chooses for the whole run).
+    /// Sections found in `cache` are not smoothed again.
     pub(super) fn smooth_sections(
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
         tolerance: f64,
+        cache: &mut SectionCache,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let jt = JointTolerances::from_tolerance(tolerance);
         let mut out = SmoothedRun::default();
         for (run, before, after) in sections {
-            let cands =
-                self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
-            let eligible = |c: &SmoothedRun| {
-                let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
-                    return false;
-                };
-                let starts_straight = before.is_none_or(|d| {
-                    let p = first.curve.start();
-                    let line = Curve::Line(Line::new(p - d, p));
-                    classify_joint(&line, &first.curve, &jt) == Continuity::G2
-                });
-                let ends_straight = after.is_none_or(|d| {
-                    let p = last.curve.end();
-                    let line = Curve::Line(Line::new(p, p + d));
-                    classify_joint(&last.curve, &line, &jt) == Continuity::G2
-                });
-                starts_straight && ends_straight
+            let section = (run.clone(), before.is_some(), after.is_some());
+            let best = match cache.get(&section) {
+                Some(best) => best.clone(),
+                None => {
+                    let best = self.best_for_section(run, *before, *after, tolerance, &jt)?;
+                    cache.insert(section, best.clone());
+                    best
+                }
             };
-            let Some((_, best)) = Self::fastest(cands, eligible) else {
+            let Some(best) = best else {
                 return Ok(None);
             };
             if let (Some(prev), Some(next)) = (out.pieces.last(), best.pieces.first()) {
@@ -55,6 +91,37 @@ impl Auto {
             out.chosen.extend(best.chosen);
         }
         Ok(Some(out))
+    }
+
+    /// The fastest candidate for one section that meets its cut lines
+    /// (directions `before`, `after`) G2.
+    fn best_for_section(
+        &self,
+        run: &Run,
+        before: Option<Vec3>,
+        after: Option<Vec3>,
+        tolerance: f64,
+        jt: &JointTolerances,
+    ) -> Result<Option<SmoothedRun>, SmoothError> {
+        let jt = *jt;
+        let cands = self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
+        let eligible = |c: &SmoothedRun| {
+            let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
+                return false;
+            };
+            let starts_straight = before.is_none_or(|d| {
+                let p = first.curve.start();
+                let line = Curve::Line(Line::new(p - d, p));
+                classify_joint(&line, &first.curve, &jt) == Continuity::G2
+            });
+            let ends_straight = after.is_none_or(|d| {
+                let p = last.curve.end();
+                let line = Curve::Line(Line::new(p, p + d));
+                classify_joint(&last.curve, &line, &jt) == Continuity::G2
+            });
+            starts_straight && ends_straight
+        };
+        Ok(Self::fastest(cands, eligible).map(|(_, best)| best))
     }
 }
 

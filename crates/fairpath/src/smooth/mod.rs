@@ -18,7 +18,7 @@ mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS, SECTION_LINE,
+    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS, SECTION_LINES,
     SECTION_MAX_PIECES, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
