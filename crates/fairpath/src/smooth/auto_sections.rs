@@ -13,15 +13,18 @@ use alloc::vec::Vec;
 /// whether each end is a cut line.
 type Section = (Run, bool, bool);
 
+/// Where a section is looked up first: its first and last points (f64
+/// bits) and its piece count.
+type SectionKey = ([u64; 3], [u64; 3], usize);
+
 /// Sections already smoothed, with the candidate kept for each (`None`:
 /// no candidate met its cut lines G2). `auto` cuts a run at several line
 /// lengths ([`super::auto::SECTION_LINES`]); a section between two long
 /// lines is the same at every length and is smoothed once.
 #[derive(Default)]
 pub(super) struct SectionCache {
-    /// By first point, last point and piece count (f64 bits), then the
-    /// sections themselves, compared in full.
-    entries: BTreeMap<([u64; 3], [u64; 3], usize), Vec<(Section, Option<SmoothedRun>)>>,
+    /// By [`SectionKey`], then the sections themselves, compared in full.
+    entries: BTreeMap<SectionKey, Vec<(Section, Option<SmoothedRun>)>>,
 }
 
 fn point_bits(p: Vec3) -> [u64; 3] {
@@ -29,7 +32,7 @@ fn point_bits(p: Vec3) -> [u64; 3] {
 }
 
 impl SectionCache {
-    fn key(run: &Run) -> ([u64; 3], [u64; 3], usize) {
+    fn key(run: &Run) -> SectionKey {
         let first = run.pieces.first().map_or(Vec3::ZERO, |p| p.curve.start());
         let last = run.pieces.last().map_or(Vec3::ZERO, |p| p.curve.end());
         (point_bits(first), point_bits(last), run.pieces.len())
