@@ -424,3 +424,53 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     println!("cut at {} mm only: {tl:.4} s", SECTION_LINES[0]);
     assert!(t <= tl, "{t} vs {tl}");
 }
+
+/// Regression: a run that is one arc (`51MeanderAve.ngc`, line 18: a hole
+/// of 2 mm radius cut between two `S` words, 275 degrees, from rest to
+/// rest). Every smoothing samples and refits the arc, whose curvature then
+/// ripples: `auto` planned 0.325 s against 0.316 s for the arc as written.
+/// A run whose joints are all G2 (here it has none) is now also offered as
+/// it is, and kept when nothing is faster.
+#[test]
+fn a_run_that_is_already_g2_is_kept_when_nothing_beats_it() {
+    let (p0, p1) = (
+        Vec3::new(18.919, 18.317, 0.0),
+        Vec3::new(18.245, 20.959, 0.0),
+    );
+    let centre = p0 + Vec3::new(1.081, 1.683, 0.0);
+    let arc = Arc::from_center(p0, p1, centre, Vec3::Z, false, 0, 1e-3).unwrap();
+    let run = Run::new(vec![piece(Curve::Arc(arc), 18)]);
+    let tol = 0.05;
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert_eq!(out.chosen, ["as is"]);
+    assert_eq!(out.pieces, run.pieces);
+    // A line and an arc meeting at a corner are not G2: not offered.
+    let corner = Run::new(vec![
+        piece(
+            Curve::Line(Line::new(
+                Vec3::new(21.0, 20.0, 0.0),
+                Vec3::new(18.0, 20.0, 0.0),
+            )),
+            17,
+        ),
+        piece(
+            Curve::Arc(
+                Arc::from_center(
+                    Vec3::new(18.0, 20.0, 0.0),
+                    p0,
+                    Vec3::new(20.0, 20.0, 0.0),
+                    Vec3::Z,
+                    false,
+                    0,
+                    1e-3,
+                )
+                .unwrap(),
+            ),
+            18,
+        ),
+    ]);
+    let out = Auto::default().smooth_run(&corner, tol).unwrap();
+    check(&corner, &out, tol);
+    assert!(!out.chosen.contains(&"as is"), "{:?}", out.chosen);
+}
