@@ -150,7 +150,7 @@ pub const ARC_SHARE: f64 = 0.05;
 /// lengths (the sections they share are smoothed once) the issue-5 survey
 /// planned `Cereal.ngc` 100.80 -> 98.01 s, `blur_torus.ngc` 151.55 ->
 /// 150.40 s, `LHchips4.ngc` 278.09 -> 275.07 s and the makerblock plot
-/// 420.17 -> 399.50 s, nothing slower; smoothing `LHchips4.ngc` took 12.3 s
+/// 420.17 -> 399.50 s, nothing slower; smoothing `LHchips4.ngc` took 11.9 s
 /// instead of 4.1 s. (5, 3 alone: `Cereal.ngc` 100.12 s; 5, 3, 1.5: 99.40
 /// s; adding 0.5 changed nothing more.)
 pub const SECTION_LINES: [f64; 3] = [5.0, 3.0, 1.0];
