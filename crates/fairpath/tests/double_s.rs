@@ -375,7 +375,7 @@ fn random_case(rng: &mut Rng) -> (f64, f64, f64, Limits) {
     };
     let v0 = pick_v(rng);
     let v1 = pick_v(rng);
-    let h = if rng.next_u64().is_multiple_of(50) {
+    let h = if rng.next_u64() % 50 == 0 {
         0.0
     } else {
         rng.log_uniform(1e-4, 1e3)
