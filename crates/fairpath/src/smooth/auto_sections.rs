@@ -73,7 +73,7 @@ impl Auto {
             let best = match cache.get(&section) {
                 Some(best) => best.clone(),
                 None => {
-                    let best = self.best_for_section(run, *before, *after, tolerance, &jt)?;
+                    let best = self.best_for_section(run, *before, *after, tolerance, jt)?;
                     cache.insert(section, best.clone());
                     best
                 }
@@ -104,9 +104,8 @@ impl Auto {
         before: Option<Vec3>,
         after: Option<Vec3>,
         tolerance: f64,
-        jt: &JointTolerances,
+        jt: JointTolerances,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
-        let jt = *jt;
         let cands = self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
         let eligible = |c: &SmoothedRun| {
             let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
