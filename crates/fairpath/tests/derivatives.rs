@@ -46,6 +46,59 @@ proptest! {
         prop_assert_eq!(c.eval(1.0), *c.points.last().unwrap());
     }
 
+    /// The fit's fast evaluations (basis values by P&T A2.2, `C''` from the
+    /// second-difference control points) against `cubic_basis` and the
+    /// general NURBS evaluation, on clamped cubic knots with random spans
+    /// and double knots, at the ends of spans and inside them (and the basis
+    /// functions' second derivatives at the span ends).
+    #[test]
+    fn fit_span_evaluation_matches_the_general_bspline(pts in prop::collection::vec(pt(), 4..12), gaps in prop::collection::vec(prop_oneof![Just(0.0), 0.01..3.0f64], 8), fr in 0.0..=1.0f64) {
+        use fairpath::geom::fit::{cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, eval_in_span};
+        let n = pts.len();
+        let mut knots = vec![0.0; 4];
+        let mut u = 0.0;
+        // Simple and double interior knots (a cubic is C1 across a double
+        // knot), none at the clamped start.
+        let mut prev = 1.0;
+        for &g in &gaps[..n - 4] {
+            let g = if prev == 0.0 || u == 0.0 { g.max(0.5) } else { g };
+            u += g;
+            knots.push(u);
+            prev = g;
+        }
+        let end = u + 1.0;
+        knots.extend([end; 4]);
+        let c = Nurbs::new(3, knots.clone(), pts.clone(), None).unwrap();
+        for s in 3..n {
+            let (k0, k1) = (knots[s], knots[s + 1]);
+            if k1 <= k0 {
+                continue;
+            }
+            let ends = cubic_basis_d2_at_ends(&knots, s);
+            let (full0, full1) = (cubic_basis(&knots, s, k0)[2], cubic_basis(&knots, s, k1)[2]);
+            for j in 0..4 {
+                let scale = 1.0 + full0[j].abs() + full1[j].abs();
+                prop_assert!((ends.0[j] - full0[j]).abs() <= 1e-9 * scale, "s {} j {}: {:?} vs {:?}", s, j, ends.0, full0);
+                prop_assert!((ends.1[j] - full1[j]).abs() <= 1e-9 * scale, "s {} j {}: {:?} vs {:?}", s, j, ends.1, full1);
+            }
+            for t in [k0, k0 + fr * (k1 - k0), k1] {
+                let full = cubic_basis(&knots, s, t);
+                let fast = cubic_basis_values(&knots, s, t);
+                for j in 0..4 {
+                    prop_assert!((full[0][j] - fast[j]).abs() <= 1e-12, "s {} t {} j {}: {} vs {}", s, t, j, full[0][j], fast[j]);
+                }
+                let (p, d2) = eval_in_span(&knots, &pts, s, t);
+                let d2_full = (0..4).fold(Vec3::ZERO, |a, j| a + pts[s - 3 + j] * full[2][j]);
+                let scale = 1.0 + d2_full.norm();
+                prop_assert!((d2 - d2_full).norm() <= 1e-9 * scale, "s {} t {}: {:?} vs {:?}", s, t, d2, d2_full);
+                if t < k1 {
+                    prop_assert!(p.dist(c.eval(t)) <= 1e-9, "s {} t {}", s, t);
+                    prop_assert!((d2 - c.deriv2(t)).norm() <= 1e-7 * scale, "s {} t {}", s, t);
+                }
+            }
+        }
+    }
+
     #[test]
     fn arc_derivatives_match_finite_differences(r0 in 0.5..20.0f64, dr in -0.1..0.1f64, rise in -5.0..5.0f64, sweep in 0.1..12.0f64) {
         let mut a = Arc { center: v(1.0, 2.0, 3.0), normal: v(0.0, 0.0, 1.0), u: v(1.0, 0.0, 0.0), r0, r1: r0 + dr, sweep, rise, p0: Vec3::ZERO, p1: Vec3::ZERO };
