@@ -189,7 +189,8 @@ pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
 /// `0/0 = 0`.
 pub fn cubic_basis_values(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
     let u = knots;
-    if !(u[s + 1] > u[s]) {
+    let h = u[s + 1] - u[s];
+    if h.is_nan() || h <= 0.0 {
         return cubic_basis(knots, s, t)[0];
     }
     // left[j] = t - u[s+1-j], right[j] = u[s+j] - t (j = 1..=3).
@@ -249,7 +250,7 @@ pub fn cubic_basis_d2_at_ends(knots: &[f64], s: usize) -> ([f64; 4], [f64; 4]) {
 pub fn eval_in_span(knots: &[f64], pts: &[Vec3], s: usize, t: f64) -> (Vec3, Vec3) {
     let u = knots;
     let h = u[s + 1] - u[s];
-    if !(h > 0.0) {
+    if h.is_nan() || h <= 0.0 {
         let b = cubic_basis(knots, s, t);
         let mut c = Vec3::ZERO;
         let mut c2 = Vec3::ZERO;
