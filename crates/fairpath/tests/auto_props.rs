@@ -376,7 +376,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
 
     let out = Auto::default().smooth_run(&run, tol).unwrap();
     check(&run, &out, tol);
-    assert_eq!(out.chosen.len(), 2, "{:?}", out.chosen);
+    assert!(out.chosen.len() >= 2, "{:?}", out.chosen);
     let whole = Auto {
         options: AutoOptions {
             section_lines: [f64::INFINITY; 3],
@@ -405,12 +405,16 @@ fn each_section_between_long_lines_gets_its_own_choice() {
         "sections {:?}: {t:.4} s; whole run {:?}: {tw:.4} s",
         out.chosen, whole.chosen
     );
-    // The zigzag runs faster on corner transitions, the burn-in through
-    // its corners: a choice for each beats one for both.
-    assert_ne!(out.chosen[0], out.chosen[1]);
     assert!(t < tw, "{t} vs {tw}");
-    // Cutting at the shorter lengths too (the zigzag's 4.2 mm moves at 3
-    // and 1 mm) never plans slower than the longest length alone.
+    // Cut at 5 mm only (the long line): the zigzag runs faster on corner
+    // transitions (`bspline-fit` blends its sparse corners as
+    // `bspline-corner` does, so the two tie and either name may be kept),
+    // the burn-in through its corners, and a choice for each beats one
+    // for both. Cutting at the shorter lengths too (the zigzag's 4.2 mm
+    // moves at 3 and 1 mm) never plans slower than that. (Which of these
+    // mixes `auto` keeps is a matter of round-off: they plan the same to
+    // 0.1 ms, and an experiment with another, equally exact evaluation of
+    // NURBS derivatives flipped it to the cut at 1 mm.)
     let longest = Auto {
         options: AutoOptions {
             section_lines: [SECTION_LINES[0], f64::INFINITY, f64::INFINITY],
@@ -421,7 +425,13 @@ fn each_section_between_long_lines_gets_its_own_choice() {
     .unwrap();
     check(&run, &longest, tol);
     let tl = planned(&longest.pieces);
-    println!("cut at {} mm only: {tl:.4} s", SECTION_LINES[0]);
+    println!(
+        "cut at {} mm only {:?}: {tl:.4} s",
+        SECTION_LINES[0], longest.chosen
+    );
+    assert_eq!(longest.chosen.len(), 2, "{:?}", longest.chosen);
+    assert_ne!(longest.chosen[0], longest.chosen[1]);
+    assert!(tl < tw, "{tl} vs {tw}");
     assert!(t <= tl, "{t} vs {tl}");
 }
 

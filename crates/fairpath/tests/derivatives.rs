@@ -46,29 +46,33 @@ proptest! {
         prop_assert_eq!(c.eval(1.0), *c.points.last().unwrap());
     }
 
-    /// The fit's fast evaluations (basis values by P&T A2.2, `C''` from the
-    /// second-difference control points) against `cubic_basis` and the
-    /// general NURBS evaluation, on clamped cubic knots with random spans
-    /// and double knots, at the ends of spans and inside them (and the basis
-    /// functions' second derivatives at the span ends).
+    /// The fit's fast evaluations of polynomial cubics (basis values by P&T
+    /// A2.2, `C'` and `C''` from the difference control points) against
+    /// `cubic_basis` and the general rational evaluation (unit weights), on
+    /// clamped cubic knots with random spans and double and triple knots,
+    /// at the ends of spans and inside them (and the basis functions'
+    /// second derivatives at the span ends).
     #[test]
     fn fit_span_evaluation_matches_the_general_bspline(pts in prop::collection::vec(pt(), 4..12), gaps in prop::collection::vec(prop_oneof![Just(0.0), 0.01..3.0f64], 8), fr in 0.0..=1.0f64) {
-        use fairpath::geom::fit::{cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, eval_in_span};
+        use fairpath::geom::fit::{cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, cubic_derivs_in_span, eval_in_span};
         let n = pts.len();
         let mut knots = vec![0.0; 4];
         let mut u = 0.0;
         // Simple and double interior knots (a cubic is C1 across a double
         // knot), none at the clamped start.
-        let mut prev = 1.0;
+        let mut zeros = 0;
         for &g in &gaps[..n - 4] {
-            let g = if prev == 0.0 || u == 0.0 { g.max(0.5) } else { g };
+            let g = if zeros == 2 || u == 0.0 { g.max(0.5) } else { g };
+            zeros = if g == 0.0 { zeros + 1 } else { 0 };
             u += g;
             knots.push(u);
-            prev = g;
         }
         let end = u + 1.0;
         knots.extend([end; 4]);
         let c = Nurbs::new(3, knots.clone(), pts.clone(), None).unwrap();
+        // Unit weights: the same curve through the general rational
+        // algorithm (P&T A2.3 and eq. 4.8), not the polynomial fast path.
+        let general = Nurbs::new(3, knots.clone(), pts.clone(), Some(vec![1.0; n])).unwrap();
         for s in 3..n {
             let (k0, k1) = (knots[s], knots[s + 1]);
             if k1 <= k0 {
@@ -92,8 +96,15 @@ proptest! {
                 let scale = 1.0 + d2_full.norm();
                 prop_assert!((d2 - d2_full).norm() <= 1e-9 * scale, "s {} t {}: {:?} vs {:?}", s, t, d2, d2_full);
                 if t < k1 {
-                    prop_assert!(p.dist(c.eval(t)) <= 1e-9, "s {} t {}", s, t);
-                    prop_assert!((d2 - c.deriv2(t)).norm() <= 1e-7 * scale, "s {} t {}", s, t);
+                    let g = general.derivs(t);
+                    let f = cubic_derivs_in_span(&knots, &pts, s, t);
+                    prop_assert!(p.dist(g[0]) <= 1e-9, "s {} t {}", s, t);
+                    prop_assert!((d2 - g[2]).norm() <= 1e-7 * scale, "s {} t {}", s, t);
+                    for k in 0..3 {
+                        let sc = 1.0 + g[k].norm();
+                        prop_assert!((f[k] - g[k]).norm() <= 1e-9 * sc, "derivative {} at s {} t {}: {:?} vs {:?}", k, s, t, f[k], g[k]);
+                    }
+                    prop_assert!(c.eval(t).dist(g[0]) <= 1e-9);
                 }
             }
         }
