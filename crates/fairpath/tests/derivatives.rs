@@ -47,14 +47,14 @@ proptest! {
     }
 
     /// The fit's fast evaluations of polynomial cubics (basis values by P&T
-    /// A2.2, `C'` and `C''` from the difference control points) against
+    /// A2.2, `C''` from the second-difference control points) against
     /// `cubic_basis` and the general rational evaluation (unit weights), on
     /// clamped cubic knots with random spans and double and triple knots,
     /// at the ends of spans and inside them (and the basis functions'
     /// second derivatives at the span ends).
     #[test]
     fn fit_span_evaluation_matches_the_general_bspline(pts in prop::collection::vec(pt(), 4..12), gaps in prop::collection::vec(prop_oneof![Just(0.0), 0.01..3.0f64], 8), fr in 0.0..=1.0f64) {
-        use fairpath::geom::fit::{cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, cubic_derivs_in_span, eval_in_span};
+        use fairpath::geom::fit::{cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, eval_in_span};
         let n = pts.len();
         let mut knots = vec![0.0; 4];
         let mut u = 0.0;
@@ -97,14 +97,13 @@ proptest! {
                 prop_assert!((d2 - d2_full).norm() <= 1e-9 * scale, "s {} t {}: {:?} vs {:?}", s, t, d2, d2_full);
                 if t < k1 {
                     let g = general.derivs(t);
-                    let f = cubic_derivs_in_span(&knots, &pts, s, t);
                     prop_assert!(p.dist(g[0]) <= 1e-9, "s {} t {}", s, t);
-                    prop_assert!((d2 - g[2]).norm() <= 1e-7 * scale, "s {} t {}", s, t);
+                    prop_assert!((d2 - g[2]).norm() <= 1e-9 * (1.0 + g[2].norm()), "s {} t {}: {:?} vs {:?}", s, t, d2, g[2]);
+                    let f = c.derivs(t);
                     for k in 0..3 {
                         let sc = 1.0 + g[k].norm();
-                        prop_assert!((f[k] - g[k]).norm() <= 1e-9 * sc, "derivative {} at s {} t {}: {:?} vs {:?}", k, s, t, f[k], g[k]);
+                        prop_assert!((f[k] - g[k]).norm() <= 1e-9 * sc, "derivative {} at s {} t {}", k, s, t);
                     }
-                    prop_assert!(c.eval(t).dist(g[0]) <= 1e-9);
                 }
             }
         }

@@ -188,61 +188,32 @@ pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
 /// (`knots[s] == knots[s + 1]`) falls back to [`cubic_basis`] and its
 /// `0/0 = 0`.
 pub fn cubic_basis_values(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
-    let h = knots[s + 1] - knots[s];
+    let u = knots;
+    let h = u[s + 1] - u[s];
     if h.is_nan() || h <= 0.0 {
         return cubic_basis(knots, s, t)[0];
     }
-    basis_triangle(knots, s, t).2
-}
-
-/// The non-zero basis functions of degrees 1, 2 and 3 at `t` in the
-/// non-empty span `s` (`N_{s-1..=s,1}`, `N_{s-2..=s,2}`, `N_{s-3..=s,3}`):
-/// the rows of P&T algorithm A2.2.
-#[inline]
-fn basis_triangle(u: &[f64], s: usize, t: f64) -> ([f64; 2], [f64; 3], [f64; 4]) {
-    // l_j = t - u[s+1-j], r_j = u[s+j] - t; every denominator r_a + l_b
-    // below is a knot interval that contains span s, so it is positive.
-    let (l1, l2, l3) = (t - u[s], t - u[s - 1], t - u[s - 2]);
-    let (r1, r2, r3) = (u[s + 1] - t, u[s + 2] - t, u[s + 3] - t);
-    let inv = 1.0 / (r1 + l1);
-    let n1 = [r1 * inv, l1 * inv];
-    let a = n1[0] / (r1 + l2);
-    let b = n1[1] / (r2 + l1);
-    let n2 = [r1 * a, l2 * a + r2 * b, l1 * b];
-    let a = n2[0] / (r1 + l3);
-    let b = n2[1] / (r2 + l2);
-    let c = n2[2] / (r3 + l1);
-    let n3 = [r1 * a, l3 * a + r2 * b, l2 * b + r3 * c, l1 * c];
-    (n1, n2, n3)
-}
-
-/// Position, first and second derivative of the cubic B-spline (`knots`,
-/// `pts`, any knot vector) at `t` in the non-empty span `s`
-/// (`knots[s] < knots[s + 1]`, `3 <= s < pts.len()`): the derivative of a
-/// B-spline is the B-spline of one degree less on the difference control
-/// points (P&T eq. 3.8), applied twice:
-/// `P1_j = 3 (P_{j+1} - P_j) / (u_{j+4} - u_{j+1})`,
-/// `P2_j = 2 (P1_{j+1} - P1_j) / (u_{j+4} - u_{j+2})`,
-/// `C' = sum N_{j+1,2} P1_j`, `C'' = sum N_{j+2,1} P2_j`, with the basis
-/// values of every degree from one pass of A2.2.
-pub fn cubic_derivs_in_span(knots: &[f64], pts: &[Vec3], s: usize, t: f64) -> [Vec3; 3] {
-    let u = knots;
-    let (n1, n2, n3) = basis_triangle(u, s, t);
-    let q = [pts[s - 3], pts[s - 2], pts[s - 1], pts[s]];
-    let c = q[0] * n3[0] + q[1] * n3[1] + q[2] * n3[2] + q[3] * n3[3];
-    // Every denominator spans the non-empty span s.
-    let p1 = |j: usize| (q[j + 1] - q[j]) * (3.0 / (u[s + j + 1] - u[s + j - 2]));
-    let (d0, d1, d2) = (p1(0), p1(1), p1(2));
-    let c1 = d0 * n2[0] + d1 * n2[1] + d2 * n2[2];
-    let a0 = (d1 - d0) * (2.0 / (u[s + 1] - u[s - 1]));
-    let a1 = (d2 - d1) * (2.0 / (u[s + 2] - u[s]));
-    [c, c1, a0 * n1[0] + a1 * n1[1]]
+    // left[j] = t - u[s+1-j], right[j] = u[s+j] - t (j = 1..=3).
+    let left = [0.0, t - u[s], t - u[s - 1], t - u[s - 2]];
+    let right = [0.0, u[s + 1] - t, u[s + 2] - t, u[s + 3] - t];
+    let mut n = [1.0, 0.0, 0.0, 0.0];
+    for j in 1..=FIT_DEGREE {
+        let mut saved = 0.0;
+        for r in 0..j {
+            // right[r+1] + left[j-r] = u[s+r+1] - u[s+1-j+r] >= u[s+1] - u[s].
+            let temp = n[r] / (right[r + 1] + left[j - r]);
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    n
 }
 
 /// Second derivatives of the four cubic basis functions `N_{s-3..=s}` at
 /// both ends of the non-empty span `s` (`knots[s] < knots[s + 1]`):
 /// [`cubic_basis`]`(knots, s, knots[s])[2]` and at `knots[s + 1]`, from the
-/// second-difference control points of [`cubic_derivs_in_span`]. With
+/// second-difference control points of [`eval_in_span`]. With
 /// `D_m = u_{s+m+1} - u_{s+m-2}`, `E_0 = u_{s+1} - u_{s-1}`,
 /// `E_1 = u_{s+2} - u_s`: at the start `6 / (E_0 D_0)`,
 /// `-6 / E_0 (1 / D_0 + 1 / D_1)`, `6 / (E_0 D_1)`, 0; at the end 0,
@@ -270,10 +241,15 @@ pub fn cubic_basis_d2_at_ends(knots: &[f64], s: usize) -> ([f64; 4], [f64; 4]) {
 
 /// Position and second derivative of the cubic B-spline (`knots`, `pts`)
 /// at `t`, using the polynomial of span `s` (so at a knot the one-sided
-/// value of that span): [`cubic_derivs_in_span`], or [`cubic_basis`] on an
-/// empty span.
+/// value of that span). The second derivative is linear on the span: the
+/// degree-1 B-spline of the second-difference control points (P&T eq.
+/// 3.8 applied twice), `P1_j = 3 (P_{j+1} - P_j) / (u_{j+4} - u_{j+1})`,
+/// `P2_j = 2 (P1_{j+1} - P1_j) / (u_{j+4} - u_{j+2})`,
+/// `C'' = P2_{s-3} (u_{s+1} - t) / h + P2_{s-2} (t - u_s) / h`,
+/// `h = u_{s+1} - u_s`. An empty span falls back to [`cubic_basis`].
 pub fn eval_in_span(knots: &[f64], pts: &[Vec3], s: usize, t: f64) -> (Vec3, Vec3) {
-    let h = knots[s + 1] - knots[s];
+    let u = knots;
+    let h = u[s + 1] - u[s];
     if h.is_nan() || h <= 0.0 {
         let b = cubic_basis(knots, s, t);
         let mut c = Vec3::ZERO;
@@ -285,8 +261,16 @@ pub fn eval_in_span(knots: &[f64], pts: &[Vec3], s: usize, t: f64) -> (Vec3, Vec
         }
         return (c, c2);
     }
-    let [c, _, c2] = cubic_derivs_in_span(knots, pts, s, t);
-    (c, c2)
+    let b = cubic_basis_values(knots, s, t);
+    let q = [pts[s - 3], pts[s - 2], pts[s - 1], pts[s]];
+    let c = q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3];
+    // Every denominator spans the non-empty span s.
+    let p1 = |j: usize| (q[j + 1] - q[j]) * (3.0 / (u[s + j + 1] - u[s + j - 2]));
+    let (d0, d1, d2) = (p1(0), p1(1), p1(2));
+    let a0 = (d1 - d0) * (2.0 / (u[s + 1] - u[s - 1]));
+    let a1 = (d2 - d1) * (2.0 / (u[s + 2] - u[s]));
+    let w = (t - u[s]) / h;
+    (c, a0 * (1.0 - w) + a1 * w)
 }
 
 /// Fits a clamped cubic B-spline with knot vector `knots` to the points
