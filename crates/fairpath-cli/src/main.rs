@@ -66,7 +66,8 @@ enum Command {
         /// Output format: G-code (dense G1) or JSON (exact curves, mm).
         #[arg(short, long, value_enum, default_value_t = Format::Gcode)]
         format: Format,
-        /// Chord tolerance (mm) of the G1 output; taken from the tolerance
+        /// Chord tolerance (mm) of the G1 output, coordinate rounding
+        /// included (more decimals when needed); taken from the tolerance
         /// budget. Default: a tenth of the tolerance.
         #[arg(long)]
         chord: Option<f64>,

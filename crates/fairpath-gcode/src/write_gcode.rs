@@ -13,11 +13,14 @@ use fairpath::path::Piece;
 #[derive(Clone, Debug, PartialEq)]
 pub struct GcodeWriteOptions {
     /// Largest distance (mm) between a smoothed curve and the G1 polyline
-    /// written for it.
+    /// written for it, as the written text reads back: the chords and the
+    /// rounding of their coordinates together (see [`write_decimals`]).
     pub chord_mm: f64,
-    /// Decimals of coordinates written in mm programs (4: 0.05 um rounding).
+    /// Fewest decimals of coordinates written in mm programs (4: 0.05 um
+    /// rounding); more when `chord_mm` needs them ([`write_decimals`]).
     pub decimals_mm: usize,
-    /// Decimals of coordinates written in inch programs (5: 0.127 um).
+    /// Fewest decimals of coordinates written in inch programs (5: 0.127
+    /// um); more when `chord_mm` needs them.
     pub decimals_inch: usize,
     /// Write a `(smoothed by fairpath)` comment as the first line (after a
     /// leading `%` line).
@@ -33,6 +36,35 @@ impl Default for GcodeWriteOptions {
             header: true,
         }
     }
+}
+
+/// Most decimals [`write_decimals`] asks for (the fast formatting handles
+/// up to 15).
+const MAX_DECIMALS: usize = 12;
+
+/// Share of the chord tolerance that coordinate rounding may take before
+/// more decimals are written.
+const ROUNDING_SHARE: f64 = 0.1;
+
+/// Decimals to write coordinates with in units of `mm_per_unit` mm, at
+/// least `min`, and the largest distance (mm) rounding then moves a point:
+/// each axis by at most half a unit of the last decimal, so
+/// `sqrt(3) / 2 * 10^-decimals * mm_per_unit`. Decimals are added until that
+/// is at most [`ROUNDING_SHARE`] of `chord_mm` (or [`MAX_DECIMALS`] are
+/// reached); the curves are then sampled within `chord_mm` less the
+/// rounding, so that the polyline as it reads back stays within
+/// `chord_mm` of them (a segment between two moved points lies within the
+/// larger move of the segment between the exact ones). Without this, 4
+/// decimals (up to 0.087 um of rounding) on top of a chord error of 0.1 um
+/// took LinuxCNC's `Cereal.ngc` smoothed at 0.001 mm to 0.001012 mm, and
+/// `smooth` refused to write it.
+pub fn write_decimals(chord_mm: f64, mm_per_unit: f64, min: usize) -> (usize, f64) {
+    let rounding = |d: usize| 0.5 * 3f64.sqrt() * 10f64.powi(-(d as i32)) * mm_per_unit;
+    let mut d = min;
+    while d < MAX_DECIMALS && rounding(d) > ROUNDING_SHARE * chord_mm {
+        d += 1;
+    }
+    (d, rounding(d))
 }
 
 /// Distance (mm) within which a smoothed run end counts as the original
@@ -115,8 +147,10 @@ fn axis(p: Vec3, a: usize) -> f64 {
 ///   restating the state) are emitted before the first output piece whose
 ///   `source_lines.1` is greater than their line number.
 /// * Each piece is written as `G1` lines: a line as one G1, arcs and NURBS as
-///   polylines within `chord_mm` of the curve (`flatten_params`). Every output
-///   line carries an explicit `G1`.
+///   polylines within `chord_mm` of the curve as they read back (sampled by
+///   `flatten_params` within what coordinate rounding leaves of it, with
+///   more decimals when the chord is small: [`write_decimals`]). Every
+///   output line carries an explicit `G1`.
 /// * Coordinates are in the run's units; in G91 (incremental) runs they are
 ///   written as increments (the program stays position-independent), each
 ///   increment computed from the position the written text re-reads to, so
@@ -227,10 +261,16 @@ fn write_run(
     let lines = program.lines();
     let moves = program.moves();
     let scale = run.units.mm_per_unit();
-    let decimals = match run.units {
+    let min_decimals = match run.units {
         Units::Mm => opts.decimals_mm,
         Units::Inch => opts.decimals_inch,
     };
+    let (decimals, rounding) = write_decimals(opts.chord_mm, scale, min_decimals);
+    // The chords get what the rounding leaves.
+    let chord = opts.chord_mm - rounding;
+    if chord.is_nan() || chord <= 0.0 {
+        return Err(WriteError::BadChord(opts.chord_mm));
+    }
     let letters = ['X', 'Y', 'Z'];
     // Original feeds and their text, to write F as the program did.
     let mut feed_texts: Vec<Feed> = Vec::new();
@@ -270,7 +310,7 @@ fn write_run(
             }
             next_interior += 1;
         }
-        let pts = piece_points(&piece.curve, opts.chord_mm);
+        let pts = piece_points(&piece.curve, chord);
         let n_pts = pts.len();
         for (k, p) in pts.into_iter().enumerate() {
             if !p.is_finite() {
