@@ -25,6 +25,27 @@ fn run(args: &[&str]) -> Output {
     bin().args(args).output().unwrap()
 }
 
+/// Asserts that the command succeeded, showing what it printed if not.
+fn assert_ok(o: &Output, what: &str) {
+    assert!(
+        o.status.success(),
+        "{what}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// `fairpath check ORIGINAL SMOOTHED --tolerance TOL`.
+fn check(original: &Path, smoothed: &Path, tol: &str) -> Output {
+    run(&[
+        "check",
+        original.to_str().unwrap(),
+        smoothed.to_str().unwrap(),
+        "--tolerance",
+        tol,
+    ])
+}
+
 fn smooth(input: &Path, out: &Path, tol: &str, extra: &[&str]) -> Output {
     let mut a = vec![
         "smooth",
@@ -74,13 +95,7 @@ fn smooths_the_bundled_example_and_checks_it() {
             .sum();
         assert!(chose.ends_with(" (sections)"), "{chose}");
         assert!(sections >= 2, "{chose}");
-        let c = run(&[
-            "check",
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--tolerance",
-            "0.05",
-        ]);
+        let c = check(&input, &out, "0.05");
         assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stdout));
         assert!(String::from_utf8_lossy(&c.stdout).contains("PASS"));
     }
@@ -97,13 +112,7 @@ fn check_fails_on_a_program_that_leaves_the_band() {
         "G21 G90\nG0 X0 Y0 Z0\nG1 X5 F100\nG1 X10 Y0.2\nG1 Y10\nM2\n",
     )
     .unwrap();
-    let c = run(&[
-        "check",
-        orig.to_str().unwrap(),
-        moved.to_str().unwrap(),
-        "--tolerance",
-        "0.05",
-    ]);
+    let c = check(&orig, &moved, "0.05");
     assert_eq!(
         c.status.code(),
         Some(3),
@@ -253,11 +262,7 @@ fn passthrough_is_lossless_on_real_linuxcnc_programs() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("o.ngc");
         let o = smooth(&input, &out, "0.01", &[]);
-        assert!(
-            o.status.success(),
-            "{rel}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        assert_ok(&o, rel);
         let program = fairpath_gcode::parse(&std::fs::read(&input).unwrap()).unwrap();
         // Every line that is not a feed move of a run appears in the output,
         // in order.
@@ -488,24 +493,8 @@ fn a_tolerance_of_one_micrometre_is_written_within_it() {
             continue;
         };
         let out = dir.path().join("out.ngc");
-        let s = smooth(&input, &out, "0.001", &[]);
-        assert!(
-            s.status.success(),
-            "{rel}: {}",
-            String::from_utf8_lossy(&s.stderr)
-        );
-        let c = run(&[
-            "check",
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--tolerance",
-            "0.001",
-        ]);
-        assert!(
-            c.status.success(),
-            "{rel}: {}",
-            String::from_utf8_lossy(&c.stdout)
-        );
+        assert_ok(&smooth(&input, &out, "0.001", &[]), rel);
+        assert_ok(&check(&input, &out, "0.001"), rel);
         n += 1;
     }
     eprintln!("{n} programs written within 0.001 mm");
