@@ -104,6 +104,16 @@ pub enum WriteError {
     RunCount { expected: usize, got: usize },
     #[error("chord tolerance must be positive and finite, got {0}")]
     BadChord(f64),
+    /// The chord tolerance is smaller than the rounding of coordinates
+    /// written with the most decimals the writer uses.
+    #[error(
+        "chord tolerance {chord_mm} mm is below the rounding of coordinates written with          {decimals} decimals ({rounding_mm:e} mm)"
+    )]
+    ChordBelowRounding {
+        chord_mm: f64,
+        decimals: usize,
+        rounding_mm: f64,
+    },
     #[error("a smoothed piece has a non-finite coordinate")]
     NotFinite,
 }

@@ -269,7 +269,11 @@ fn write_run(
     // The chords get what the rounding leaves.
     let chord = opts.chord_mm - rounding;
     if chord.is_nan() || chord <= 0.0 {
-        return Err(WriteError::BadChord(opts.chord_mm));
+        return Err(WriteError::ChordBelowRounding {
+            chord_mm: opts.chord_mm,
+            decimals,
+            rounding_mm: rounding,
+        });
     }
     let letters = ['X', 'Y', 'Z'];
     // Original feeds and their text, to write F as the program did.

@@ -111,3 +111,21 @@ fn written_polylines_stay_within_the_chord_tolerance_with_rounding() {
         }
     }
 }
+
+/// A chord tolerance below what the most decimals can represent is an
+/// error that says so, not a polyline that breaks it.
+#[test]
+fn a_chord_below_the_finest_rounding_is_an_error() {
+    let p = parse(b"G21 G90\nG0 X1 Y0\nG2 X-1 Y0 I-1 J0 F100\n").unwrap();
+    let runs: Vec<_> = p.runs().into_iter().map(|r| r.pieces).collect();
+    let opts = GcodeWriteOptions {
+        chord_mm: 1e-20,
+        ..Default::default()
+    };
+    let e = write_gcode(&p, &runs, &opts).unwrap_err();
+    assert!(
+        matches!(e, fairpath_gcode::WriteError::ChordBelowRounding { .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("below the rounding"), "{e}");
+}
