@@ -107,7 +107,7 @@ pub enum WriteError {
     /// The chord tolerance is smaller than the rounding of coordinates
     /// written with the most decimals the writer uses.
     #[error(
-        "chord tolerance {chord_mm} mm is below the rounding of coordinates written with          {decimals} decimals ({rounding_mm:e} mm)"
+        "chord tolerance {chord_mm} mm is below the rounding of {decimals} decimals ({rounding_mm:e} mm)"
     )]
     ChordBelowRounding {
         chord_mm: f64,
