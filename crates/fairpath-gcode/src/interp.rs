@@ -453,12 +453,19 @@ fn interpret_line(
             units: st.units,
         });
     }
+    // A plane change alone does not end a run: the plane shapes only arcs
+    // (resolved to 3D here) and canned cycles (not supported), so a `G18`
+    // line between two feed moves is written back in place and the joint
+    // across it is smoothed like any other (CAM posts emit one before every
+    // XZ arc: LinuxCNC's test_12mmflat.ngc kept a 3-degree corner there on
+    // every pass). On a move line it pins the move, whose text must stay.
+    let mut plane_changed = false;
     let mut sets_motion = false;
     let mut restated_motion = false;
     for (g, w) in &gs {
         match *g {
             G::Plane(p) => {
-                changes |= p != st.plane;
+                plane_changed |= p != st.plane;
                 st.plane = p;
             }
             G::Units(u) => {
@@ -647,7 +654,7 @@ fn interpret_line(
             Some(PinReason::ExtraAxes)
         } else if extra_words {
             Some(PinReason::ExtraWords)
-        } else if changes {
+        } else if changes || plane_changed {
             Some(PinReason::StateChange)
         } else if st.comp {
             Some(PinReason::CutterComp)

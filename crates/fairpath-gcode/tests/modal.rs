@@ -101,6 +101,29 @@ fn planes_g18_g19() {
     assert!(parse(b"G0 X10\nG3 X0 Y10 I-10 K0").is_ok());
 }
 
+/// Regression: LinuxCNC's `test_12mmflat.ngc` has a `G18` line between a
+/// G1 and the XZ arcs of every pass; it ended the run there, so the 3
+/// degree corner between line and arc was never smoothed.
+#[test]
+fn a_plane_change_alone_does_not_end_a_run() {
+    let p = parse(b"G0 X0 Y0 Z0\nG1 X10 F100\nG18\nG2 X20 Z1 R50\nG17\nG1 X30 Y1\nM2\n").unwrap();
+    assert_eq!(p.runs().len(), 1);
+    assert_eq!(p.runs()[0].pieces.len(), 3);
+    assert!(p.moves().iter().all(|m| m.pinned.is_none()));
+    // The arc was read in the XZ plane.
+    let Curve::Arc(a) = &p.moves()[2].piece.curve else {
+        panic!()
+    };
+    assert!(close(a.normal, v(0., -1., 0.)));
+    // On a move line the plane word is part of the line's text: pinned.
+    let p = parse(b"G0 X0 Y0 Z0\nG1 X10 F100\nG18 G2 X20 Z1 R50\nG1 X30\nM2\n").unwrap();
+    assert_eq!(p.moves()[2].pinned, Some(PinReason::StateChange));
+    assert_eq!(p.runs().len(), 2);
+    // Restating the plane changes nothing either way.
+    let p = parse(b"G0 X0 Y0\nG1 X10 F100\nG17 G1 X20 Y1\nG17\nX30\nM2\n").unwrap();
+    assert_eq!(p.runs().len(), 1);
+}
+
 #[test]
 fn helix_full_circles_and_turns() {
     let p = parse(b"G0 X10 Y0 Z0\nG3 X10 Y0 Z-3 I-10 J0 P3 F100\n").unwrap();

@@ -29,6 +29,22 @@ fn comments_feed_and_modal_motion() {
 }
 
 #[test]
+fn a_plane_change_inside_a_run_is_written_in_place() {
+    let text = "G0 X0 Y0 Z0\nG1 X10 F100\nG18\nG2 X20 Z1 R50\nG17\nG1 X30 Y1\nM2\n";
+    let out = write_unchanged(text);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[..3], ["G0 X0 Y0 Z0", "G1 X10 F100", "G18"]);
+    let g17 = lines.iter().position(|l| *l == "G17").unwrap();
+    // The arc as G1 chords between the two plane lines, then the last line.
+    assert!(g17 > 4 && lines[3..g17].iter().all(|l| l.starts_with("G1 X")));
+    assert_eq!(lines[g17 + 1..], ["G1 X30 Y1", "M2"]);
+    // It re-reads to the same moves' end points.
+    let q = parse(out.as_bytes()).unwrap();
+    let end = q.pieces().last().unwrap().end();
+    assert_eq!(end, fairpath::geom::Vec3::new(30.0, 1.0, 1.0));
+}
+
+#[test]
 fn incremental_runs_are_written_incrementally() {
     let text = "G91\nG1 X1.5 F100\nX1.5\nY-2\nM2\n";
     let out = write_unchanged(text);
