@@ -471,6 +471,20 @@ fn bad_options_and_tolerances_are_rejected() {
             ..Default::default()
         },
         BsplineFitOptions {
+            relax: Some(fairpath::geom::band_fit::RelaxOptions {
+                radius_share: 1.5,
+                ..Default::default()
+            }),
+            ..Default::default()
+        },
+        BsplineFitOptions {
+            relax: Some(fairpath::geom::band_fit::RelaxOptions {
+                spacing_per_target: f64::NAN,
+                ..Default::default()
+            }),
+            ..Default::default()
+        },
+        BsplineFitOptions {
             sections: SectionOptions {
                 min_points: 1,
                 ..Default::default()
@@ -562,9 +576,17 @@ fn raising_the_fairness_inside_the_band_lowers_the_bending() {
     let pts = cam_sample(&|t| shape.eval(t), 0.005, 4.0, 0.003, 17);
     let target = 0.05 * BAND_USE;
     let free = (EndCondition::Free, EndCondition::Free);
-    let base = fit_polyline_faired(&pts, free.0, free.1, target, (1.0, 0.0), 0).unwrap();
-    let raised =
-        fit_polyline_faired(&pts, free.0, free.1, target, (1.0, 0.0), FAIRNESS_RAISES).unwrap();
+    let base = fit_polyline_faired(&pts, free.0, free.1, target, (1.0, 0.0), 0, None).unwrap();
+    let raised = fit_polyline_faired(
+        &pts,
+        free.0,
+        free.1,
+        target,
+        (1.0, 0.0),
+        FAIRNESS_RAISES,
+        None,
+    )
+    .unwrap();
     assert!(
         raised.lambda >= 16.0 * base.lambda,
         "{} {}",

@@ -22,7 +22,7 @@
 //!   which is what a jerk limit charges (not in the seed).
 //! * Bound ([`span_errors`]): see its documentation.
 
-use super::least_squares::BandedSpd;
+use super::least_squares::{BandedSpd, CholeskyBand};
 use super::{point_segment_distance, Nurbs, Vec3};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -302,112 +302,178 @@ pub fn fit_cubic_weighted(
     lambda: f64,
     mu: f64,
 ) -> Result<Nurbs, FitError> {
-    let n = pts.len();
-    if n < 2 || params.len() != n || knots.len() < 2 * (FIT_DEGREE + 1) {
+    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
         return Err(FitError::BadInput);
-    }
-    let h = knots.len() - FIT_DEGREE - 1;
-    let (ua, ub) = (knots[FIT_DEGREE], knots[h]);
-    if params[0] != ua || params[n - 1] != ub || ub <= ua {
-        return Err(FitError::BadInput);
-    }
-    let lo = 1 + start.extra_fixed();
-    let hi_excl = h - 1 - end.extra_fixed();
-    if lo >= hi_excl {
-        return Err(FitError::TooFewControlPoints);
-    }
-    // Fixed control points.
-    let mut ctrl = vec![Vec3::ZERO; h];
-    ctrl[0] = pts[0];
-    ctrl[h - 1] = pts[n - 1];
-    let greville = |i: usize| (knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3.0;
-    if let EndCondition::Tangent(d) = start {
-        for (i, c) in ctrl.iter_mut().enumerate().take(3).skip(1) {
-            *c = pts[0] + d * (greville(i) - ua);
+    };
+    let system = FitSystem::new(params, knots, (start, end), (first, last), (lambda, mu))?;
+    system.solve(pts)
+}
+
+/// The normal equations of a fit at fixed parameters, knots, end points,
+/// end conditions and weights, factored once: [`FitSystem::solve`] then
+/// fits any data at those parameters in linear time (one banded
+/// back-substitution). The data term of every point has weight 1.
+#[derive(Clone, Debug)]
+pub struct FitSystem {
+    knots: Vec<f64>,
+    /// The control points, fixed ones set (end points and the tangent
+    /// conditions), free ones zero.
+    ctrl: Vec<Vec3>,
+    /// Free control points: `lo..hi`.
+    lo: usize,
+    hi: usize,
+    chol: CholeskyBand,
+    /// The right-hand side's part from the fixed control points.
+    fixed_rhs: Vec<Vec3>,
+    /// Knot span and basis values at each data parameter.
+    basis: Vec<(usize, [f64; 4])>,
+}
+
+impl FitSystem {
+    /// The system of a clamped cubic fit with knot vector `knots` to data
+    /// at `params`, from `ends.0` to `ends.1` exactly (with the end
+    /// conditions `conds`), with weights `lambda` on `integral |C''|^2` and
+    /// `mu` on `integral |C'''|^2` (see [`fit_cubic_weighted`]).
+    pub fn new(
+        params: &[f64],
+        knots: &[f64],
+        (start, end): (EndCondition, EndCondition),
+        ends: (Vec3, Vec3),
+        (lambda, mu): (f64, f64),
+    ) -> Result<FitSystem, FitError> {
+        let n = params.len();
+        if n < 2 || knots.len() < 2 * (FIT_DEGREE + 1) {
+            return Err(FitError::BadInput);
         }
-    }
-    if let EndCondition::Tangent(d) = end {
-        for (i, c) in ctrl.iter_mut().enumerate().skip(h - 3).take(2) {
-            *c = pts[n - 1] - d * (ub - greville(i));
+        let h = knots.len() - FIT_DEGREE - 1;
+        let (ua, ub) = (knots[FIT_DEGREE], knots[h]);
+        if params[0] != ua || params[n - 1] != ub || ub <= ua {
+            return Err(FitError::BadInput);
         }
-    }
-    let free = |i: usize| i >= lo && i < hi_excl;
-    let m = hi_excl - lo;
-    let mut a = BandedSpd::zeros(m);
-    let mut rhs = vec![Vec3::ZERO; m];
-    let mut add_term = |s: usize, b: &[f64; 4], w: f64, target: Option<Vec3>| {
-        for j in 0..4 {
-            let gj = s - 3 + j;
-            if !free(gj) || b[j] == 0.0 {
-                continue;
+        let lo = 1 + start.extra_fixed();
+        let hi = h - 1 - end.extra_fixed();
+        if lo >= hi {
+            return Err(FitError::TooFewControlPoints);
+        }
+        // Fixed control points.
+        let mut ctrl = vec![Vec3::ZERO; h];
+        ctrl[0] = ends.0;
+        ctrl[h - 1] = ends.1;
+        let greville = |i: usize| (knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3.0;
+        if let EndCondition::Tangent(d) = start {
+            for (i, c) in ctrl.iter_mut().enumerate().take(3).skip(1) {
+                *c = ends.0 + d * (greville(i) - ua);
             }
-            if let Some(q) = target {
-                rhs[gj - lo] += q * (w * b[j]);
+        }
+        if let EndCondition::Tangent(d) = end {
+            for (i, c) in ctrl.iter_mut().enumerate().skip(h - 3).take(2) {
+                *c = ends.1 - d * (ub - greville(i));
             }
-            for k in 0..4 {
-                let gk = s - 3 + k;
-                let v = w * b[j] * b[k];
-                if free(gk) {
-                    if gk <= gj {
-                        a.add(gj - lo, gk - lo, v);
+        }
+        let free = |i: usize| i >= lo && i < hi;
+        let mut a = BandedSpd::zeros(hi - lo);
+        let mut fixed_rhs = vec![Vec3::ZERO; hi - lo];
+        let mut add_term = |s: usize, b: &[f64; 4], w: f64| {
+            for j in 0..4 {
+                let gj = s - 3 + j;
+                if !free(gj) || b[j] == 0.0 {
+                    continue;
+                }
+                for k in 0..4 {
+                    let gk = s - 3 + k;
+                    let v = w * b[j] * b[k];
+                    if free(gk) {
+                        if gk <= gj {
+                            a.add(gj - lo, gk - lo, v);
+                        }
+                    } else {
+                        fixed_rhs[gj - lo] -= ctrl[gk] * v;
                     }
-                } else {
-                    rhs[gj - lo] -= ctrl[gk] * v;
+                }
+            }
+        };
+        // Data term.
+        let mut basis = Vec::with_capacity(n);
+        let mut s = FIT_DEGREE;
+        for &t in params {
+            while s + 1 < h && knots[s + 1] <= t {
+                s += 1;
+            }
+            let b = cubic_basis_values(knots, s, t);
+            add_term(s, &b, 1.0);
+            basis.push((s, b));
+        }
+        // Fairness term, exact by 2-point Gauss-Legendre per span.
+        if lambda > 0.0 {
+            let g = 0.5 / crate::math::sqrt(3.0);
+            for s in FIT_DEGREE..h {
+                let (k0, k1) = (knots[s], knots[s + 1]);
+                if k1 <= k0 {
+                    continue;
+                }
+                let len = k1 - k0;
+                // N'' is linear on the span: the Gauss points from its ends.
+                let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
+                for x in [0.5 - g, 0.5 + g] {
+                    let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
+                    add_term(s, &b, lambda * 0.5 * len);
                 }
             }
         }
-    };
-    // Data term.
-    let mut s = FIT_DEGREE;
-    for (q, &t) in pts.iter().zip(params) {
-        while s + 1 < h && knots[s + 1] <= t {
-            s += 1;
-        }
-        let b = cubic_basis_values(knots, s, t);
-        add_term(s, &b, 1.0, Some(*q));
-    }
-    // Fairness term, exact by 2-point Gauss-Legendre per span.
-    if lambda > 0.0 {
-        let g = 0.5 / crate::math::sqrt(3.0);
-        for s in FIT_DEGREE..h {
-            let (k0, k1) = (knots[s], knots[s + 1]);
-            if k1 <= k0 {
-                continue;
-            }
-            let len = k1 - k0;
-            // N'' is linear on the span: the Gauss points from its ends.
-            let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
-            for x in [0.5 - g, 0.5 + g] {
-                let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
-                add_term(s, &b, lambda * 0.5 * len, None);
+        // Jerk term, exact: C''' is constant on each span.
+        if mu > 0.0 {
+            for s in FIT_DEGREE..h {
+                let (k0, k1) = (knots[s], knots[s + 1]);
+                if k1 <= k0 {
+                    continue;
+                }
+                let len = k1 - k0;
+                let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
+                let d3: [f64; 4] = core::array::from_fn(|k| (e1[k] - e0[k]) / len);
+                add_term(s, &d3, mu * len);
             }
         }
+        let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;
+        Ok(FitSystem {
+            knots: knots.to_vec(),
+            ctrl,
+            lo,
+            hi,
+            chol,
+            fixed_rhs,
+            basis,
+        })
     }
-    // Jerk term, exact: C''' is constant on each span.
-    if mu > 0.0 {
-        for s in FIT_DEGREE..h {
-            let (k0, k1) = (knots[s], knots[s + 1]);
-            if k1 <= k0 {
-                continue;
-            }
-            let len = k1 - k0;
-            let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
-            let d3: [f64; 4] = core::array::from_fn(|k| (e1[k] - e0[k]) / len);
-            add_term(s, &d3, mu * len, None);
+
+    /// The fit to `pts` (one per parameter of the system; the end points
+    /// and end conditions are the system's, whatever `pts` holds there).
+    pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
+        if pts.len() != self.basis.len() {
+            return Err(FitError::BadInput);
         }
+        let (lo, hi) = (self.lo, self.hi);
+        let mut rhs = self.fixed_rhs.clone();
+        for (q, (s, b)) in pts.iter().zip(&self.basis) {
+            for (j, &bj) in b.iter().enumerate() {
+                let gj = s - 3 + j;
+                if gj >= lo && gj < hi && bj != 0.0 {
+                    rhs[gj - lo] += *q * bj;
+                }
+            }
+        }
+        self.chol.solve(&mut rhs);
+        let mut ctrl = self.ctrl.clone();
+        ctrl[lo..hi].copy_from_slice(&rhs);
+        if ctrl.iter().any(|p| !p.is_finite()) {
+            return Err(FitError::Singular);
+        }
+        Ok(Nurbs {
+            degree: FIT_DEGREE,
+            knots: self.knots.clone(),
+            points: ctrl,
+            weights: None,
+        })
     }
-    let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;
-    chol.solve(&mut rhs);
-    ctrl[lo..hi_excl].copy_from_slice(&rhs);
-    if ctrl.iter().any(|p| !p.is_finite()) {
-        return Err(FitError::Singular);
-    }
-    Ok(Nurbs {
-        degree: FIT_DEGREE,
-        knots: knots.to_vec(),
-        points: ctrl,
-        weights: None,
-    })
 }
 
 /// A Cholesky pivot below this share of its diagonal entry means the normal
@@ -483,6 +549,36 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
         }
     }
     err
+}
+
+/// `c` (a clamped cubic B-spline) with knots inserted (Boehm) so that no
+/// knot span is longer than `max_span`: the same curve, with control
+/// points every `max_span` or closer.
+pub fn with_spans_at_most(c: &Nurbs, max_span: f64) -> Nurbs {
+    let mut knots = c.knots.clone();
+    let mut pts = c.points.clone();
+    let mut s = FIT_DEGREE;
+    while s + 1 < knots.len() - FIT_DEGREE {
+        let (a, b) = (knots[s], knots[s + 1]);
+        let len = b - a;
+        if len > max_span {
+            let k = crate::math::ceil(len / max_span) as usize;
+            // Insert from the right so that span s keeps its start.
+            for j in (1..k).rev() {
+                let t = a + len * j as f64 / k as f64;
+                insert_knot(&mut knots, &mut pts, s, t);
+            }
+            s += k;
+        } else {
+            s += 1;
+        }
+    }
+    Nurbs {
+        degree: FIT_DEGREE,
+        knots,
+        points: pts,
+        weights: None,
+    }
 }
 
 /// Inserts `t` once into the cubic B-spline (`knots`, `pts`), in span `s`

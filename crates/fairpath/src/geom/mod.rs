@@ -2,6 +2,7 @@
 //! arc length, distances to polylines.
 
 mod arc;
+pub mod band_fit;
 mod curve;
 mod fairness;
 pub mod fit;

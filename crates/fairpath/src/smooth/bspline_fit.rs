@@ -77,6 +77,7 @@ use super::fit_chain::{extend_sections, lead_point, push_fit, sub_chain, EXTEND_
 use super::fit_fill::fill_segments;
 use super::fit_sections::{dense_sections, SectionOptions};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
+use crate::geom::band_fit::{relax_in_band, RelaxOptions};
 use crate::geom::fit::{
     averaged_knots, chord_params, fit_cubic_weighted, span_errors, EndCondition,
 };
@@ -106,6 +107,10 @@ pub struct BsplineFitOptions {
     /// the fit stays within the tolerance ([`fit_polyline_faired`]; 0: the
     /// weights as given).
     pub fairness_raises: usize,
+    /// Relax every fit towards the fairest curve within the band
+    /// ([`relax_in_band`], seed 003's aim; `None`: the least-squares fit as
+    /// it is).
+    pub relax: Option<RelaxOptions>,
     /// Share of the tolerance the fits may use, in `(0, BAND_USE]`.
     pub band_use: f64,
     /// Most knot spans in one output piece.
@@ -126,6 +131,7 @@ impl Default for BsplineFitOptions {
             fairness: 1.0,
             jerk_fairness: 0.0,
             fairness_raises: FAIRNESS_RAISES,
+            relax: Some(RelaxOptions::default()),
             band_use: BAND_USE,
             max_piece_spans: 64,
             line_at_start: false,
@@ -183,7 +189,7 @@ pub fn fit_polyline_weighted(
     fairness: f64,
     jerk_fairness: f64,
 ) -> Option<SectionFit> {
-    fit_polyline_faired(pts, start, end, target, (fairness, jerk_fairness), 0)
+    fit_polyline_faired(pts, start, end, target, (fairness, jerk_fairness), 0, None)
 }
 
 /// Factor by which [`fit_polyline_faired`] raises the smoothing weights
@@ -222,6 +228,7 @@ pub fn fit_polyline_faired(
     target: f64,
     (fairness, jerk_fairness): (f64, f64),
     raises: usize,
+    relax: Option<&RelaxOptions>,
 ) -> Option<SectionFit> {
     let n = pts.len().checked_sub(1)?;
     if n == 0 || target.is_nan() || target <= 0.0 {
@@ -279,6 +286,22 @@ pub fn fit_polyline_faired(
                     break;
                 };
                 (curve, bound, lambda, mu) = (c, b, w.0, w.1);
+            }
+        }
+        // Relax towards the fairest curve the band allows, from the
+        // default weights (the raised ones are what a least-squares fit
+        // needed to flatten; the relaxation needs none of that).
+        if let Some(opts) = relax {
+            if let Ok(Some(r)) = relax_in_band(
+                &curve,
+                pts,
+                &params,
+                (start, end),
+                target,
+                (lambda0, mu0),
+                opts,
+            ) {
+                (curve, bound) = (r.curve, r.bound);
             }
         }
         return Some(SectionFit {
@@ -453,6 +476,9 @@ impl BsplineFit {
         if o.max_piece_spans == 0 {
             return Err(SmoothError::BadOption("max_piece_spans must be positive"));
         }
+        if let Some(r) = &o.relax {
+            r.check().map_err(SmoothError::BadOption)?;
+        }
         Ok(())
     }
 
@@ -537,6 +563,7 @@ impl BsplineFit {
                 tolerance * o.band_use,
                 (o.fairness, o.jerk_fairness),
                 o.fairness_raises,
+                o.relax.as_ref(),
             ) else {
                 let min = o.sections.min_points;
                 let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
