@@ -103,6 +103,10 @@ fn auto_meets_the_dense_targets() {
         // lines only; 0.686 and 0.699 with the cuts at 3 and 1 mm as well.
         "linuxcnc/performance/Cereal.ngc",
         "linuxcnc/performance/blur_torus.ngc",
+        // 0.712 and 0.820 of bspline-corner before every fit was relaxed
+        // inside the band (geom::band_fit); 0.665 and 0.684 after.
+        "linuxcnc/XYtests/51MeanderAve.ngc",
+        "gcode-rs/makerblock_tinycnc.gcode",
     ];
     for_each_found(&programs, &["bspline-corner", "auto"], |rel, path, rows| {
         let (orig, corner, auto) = (
@@ -128,17 +132,13 @@ fn auto_meets_the_dense_targets() {
     });
 }
 
-/// CAM finishing programs whose step-overs and sharp corners cost every
-/// method the same braking: against the original only (the README's
-/// survey has their ratios to `bspline-corner`: `51MeanderAve` 0.71,
-/// `test_12mmflat` 0.81). `Cereal` and `blur_torus`, once here, now meet
-/// both targets and are guarded above.
+/// A CAM finishing program whose step-overs and sharp corners cost every
+/// method braking: against the original only (the README's survey has its
+/// ratio to `bspline-corner`, 0.72). `Cereal`, `blur_torus` and
+/// `51MeanderAve`, once here, now meet both targets and are guarded above.
 #[test]
 fn auto_meets_the_original_target_on_finishing_programs() {
-    let programs = [
-        "linuxcnc/performance/test_12mmflat.ngc",
-        "linuxcnc/XYtests/51MeanderAve.ngc",
-    ];
+    let programs = ["linuxcnc/performance/test_12mmflat.ngc"];
     for_each_found(&programs, &["auto"], |rel, _, rows| {
         let (orig, auto) = (time(rows, "original"), time(rows, "auto"));
         println!(
