@@ -178,3 +178,27 @@ fn a_factored_system_fits_new_data_like_a_fresh_fit() {
     // Data of the wrong length is an error, not a panic.
     assert!(sys.solve(&pts[..10]).is_err());
 }
+
+/// At the smallest tolerance the library accepts (1 nm), the refinement of
+/// knots (spans of 4 tolerances) and data (2 tolerances) would make
+/// millions of spans on a 40 mm fit (of a gentle arc, which a fit follows
+/// within 1 nm; 619 control points with the budget of 8 spans and points
+/// per data point, and no result in two minutes without it).
+#[test]
+fn a_tiny_tolerance_keeps_the_relaxed_curve_small() {
+    let pts: Vec<Vec3> = (0..=20)
+        .map(|i| {
+            let x = 2.0 * i as f64;
+            // On a circle of 1 km radius: chords sag 0.5 nm.
+            v(x, 1e6 - (1e12 - (x - 20.0) * (x - 20.0)).sqrt(), 0.0)
+        })
+        .collect();
+    let free = EndCondition::Free;
+    let tol = 1e-6;
+    let relax = RelaxOptions::default();
+    let f = fit_polyline_faired(&pts, free, free, tol, (1.0, 0.0), 6, Some(&relax)).unwrap();
+    println!("{} control points", f.curve.points.len());
+    assert!(f.curve.points.len() < 20_000, "{}", f.curve.points.len());
+    let (d, _) = sampled(&f.curve, &pts, 20_000);
+    assert!(d <= tol, "{d}");
+}
