@@ -75,6 +75,18 @@ pub struct RelaxOptions {
     /// for the same planned time (1321.70 s against 1321.74 s); 1e-2 took
     /// 0.79 s but planned `test_12mmflat.ngc` 16.38 s against 16.23 s.
     pub converged_share: f64,
+    /// Factor on the energy weights passed to [`relax_in_band`] at the
+    /// first step. The optimum does not depend on a common factor of the
+    /// weights, but the steps do: with the fit's own weights (1) a step
+    /// moved the curve so little that the early stop took it for converged
+    /// after one step on the surface raster; stiffer weights move it
+    /// further per step and are lowered by the stall rule where the balls
+    /// need it. On the issue-5 survey 1, 10, 100 and 1000 planned
+    /// `LHchips4.ngc` 246.19, 243.51, 238.63 and 236.29 s, the surface raster
+    /// 29.80, 29.75, 29.21 and 28.95 s, `51MeanderAve.ngc` 64.55, 63.98,
+    /// 63.77 and 63.61 s (`test_12mmflat.ngc` 16.23, 16.30, 16.39, 16.34 s),
+    /// in about the same smoothing time.
+    pub weight_factor: f64,
 }
 
 impl Default for RelaxOptions {
@@ -86,6 +98,7 @@ impl Default for RelaxOptions {
             max_span_per_target: 4.0,
             spacing_per_target: 2.0,
             converged_share: 1e-3,
+            weight_factor: 1000.0,
         }
     }
 }
@@ -100,6 +113,9 @@ impl RelaxOptions {
         }
         if !(self.converged_share >= 0.0 && self.converged_share < 1.0) {
             return Err("relax: converged_share must be in [0, 1)");
+        }
+        if !positive(self.weight_factor) {
+            return Err("relax: weight_factor must be positive and finite");
         }
         if !(positive(self.max_span_per_target) && positive(self.spacing_per_target)) {
             return Err("relax: span and spacing must be positive lengths");
@@ -133,7 +149,8 @@ pub struct Relaxed {
 /// `params` with end conditions `ends`, towards the fairest curve whose
 /// point at every data parameter lies within `radius_share * target` mm
 /// of its data point (module documentation), with the energy weights
-/// `(lambda, mu)` against unit data weights. Returns the last checked
+/// `(lambda, mu)` (times [`RelaxOptions::weight_factor`] at the start)
+/// against unit data weights. Returns the last checked
 /// curve whose [`span_errors`] bound is within `target` mm, or `None` when
 /// none passed (or the weights are both zero: nothing to relax towards).
 pub fn relax_in_band(
@@ -162,7 +179,7 @@ pub fn relax_in_band(
     let (pts, params) = densify(pts, params, spacing, &fit.knots);
     let n = pts.len();
     let (first, last) = (pts[0], pts[n - 1]);
-    let mut weights = (lambda, mu);
+    let mut weights = (lambda * opts.weight_factor, mu * opts.weight_factor);
     let mut system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
     // z starts on the fit, u at zero.
     let mut z = eval_at_params(&fit, &params);
