@@ -89,8 +89,9 @@ fn relaxing_a_step_over_lowers_its_peak_curvature() {
         d_plain <= target && d_relaxed <= target,
         "{d_plain} {d_relaxed}"
     );
-    assert!(k_relaxed < 0.6 * k_plain, "peak {k_relaxed} vs {k_plain}");
     let (t_plain, t_relaxed) = (planned(&plain), planned(&relaxed));
+    println!("peak {k_relaxed} vs {k_plain} 1/mm, planned {t_relaxed} vs {t_plain} s");
+    assert!(k_relaxed < 0.6 * k_plain, "peak {k_relaxed} vs {k_plain}");
     assert!(t_relaxed < 0.9 * t_plain, "{t_relaxed} s vs {t_plain} s");
     // Ends exact, tangent along the leads with zero curvature.
     let (a, b) = relaxed.domain();
