@@ -45,37 +45,21 @@ fn planned(c: &Nurbs) -> f64 {
     plan_run(&[piece], &opts).unwrap().time
 }
 
-/// A raster step-over like those of LinuxCNC's `test_12mmflat.ngc`: 1 mm
-/// moves up a quarter circle (turns of 22.5 degrees), across at the top
-/// (two turns of about 60 degrees) and down again, between 3 mm leads.
-fn step_over() -> Vec<Vec3> {
-    vec![
-        v(-3.0, 0.0, 0.0),
-        v(0.0, 0.0, 0.0),
-        v(0.9, 0.0, 0.372),
-        v(1.27, 0.0, 1.27),
-        v(1.735, 0.618, 2.391),
-        v(1.782, 2.181, 2.505),
-        v(1.271, 3.0, 1.27),
-        v(0.898, 3.0, 0.372),
-        v(0.0, 3.0, 0.0),
-        v(-3.0, 3.0, 0.0),
-    ]
-}
-
 /// Regression (the step-overs of `test_12mmflat.ngc`, where every
 /// method crawled at 9 to 20 mm/s): relaxed, the fit through the step-over
 /// stays within the band, keeps its ends and their tangents, peaks below
-/// 0.6 of the curvature of the least-squares fit (2.8 against 5.4 1/mm)
-/// and plans faster.
+/// 0.3 of the curvature of the least-squares fit (2.7 against 21.5 1/mm)
+/// and plans faster (0.96 against 1.46 s from rest to rest).
 #[test]
 fn relaxing_a_step_over_lowers_its_peak_curvature() {
-    let pts = step_over();
+    let pts = common::test_12mmflat_step_over();
+    let n = pts.len();
     let target = 0.045;
-    let ends = (
-        EndCondition::Tangent(v(1.0, 0.0, 0.0)),
-        EndCondition::Tangent(v(-1.0, 0.0, 0.0)),
+    let (d_in, d_out) = (
+        (pts[1] - pts[0]).normalized(0.0).unwrap(),
+        (pts[n - 1] - pts[n - 2]).normalized(0.0).unwrap(),
     );
+    let ends = (EndCondition::Tangent(d_in), EndCondition::Tangent(d_out));
     let fit = |relax: Option<&RelaxOptions>| {
         fit_polyline_faired(&pts, ends.0, ends.1, target, (1.0, 0.0), 6, relax)
             .unwrap()
@@ -91,15 +75,15 @@ fn relaxing_a_step_over_lowers_its_peak_curvature() {
     );
     let (t_plain, t_relaxed) = (planned(&plain), planned(&relaxed));
     println!("peak {k_relaxed} vs {k_plain} 1/mm, planned {t_relaxed} vs {t_plain} s");
-    assert!(k_relaxed < 0.6 * k_plain, "peak {k_relaxed} vs {k_plain}");
-    assert!(t_relaxed < 0.9 * t_plain, "{t_relaxed} s vs {t_plain} s");
+    assert!(k_relaxed < 0.3 * k_plain, "peak {k_relaxed} vs {k_plain}");
+    assert!(t_relaxed < 0.8 * t_plain, "{t_relaxed} s vs {t_plain} s");
     // Ends exact, tangent along the leads with zero curvature.
     let (a, b) = relaxed.domain();
     assert_eq!(relaxed.eval(a), pts[0]);
     assert_eq!(relaxed.eval(b), pts[pts.len() - 1]);
     let d0 = relaxed.deriv1(a).normalized(0.0).unwrap();
     let d1 = relaxed.deriv1(b).normalized(0.0).unwrap();
-    assert!(d0.dist(v(1.0, 0.0, 0.0)) < 1e-12 && d1.dist(v(-1.0, 0.0, 0.0)) < 1e-12);
+    assert!(d0.dist(d_in) < 1e-12 && d1.dist(d_out) < 1e-12);
     assert!(curvature_from(relaxed.deriv1(a), relaxed.deriv2(a)) < 1e-9);
     assert!(curvature_from(relaxed.deriv1(b), relaxed.deriv2(b)) < 1e-9);
 }

@@ -891,18 +891,7 @@ fn long_move_between_short_ones_fits_without_micro_spans() {
 /// within the target of the polyline.
 #[test]
 fn raster_step_over_of_sharp_short_moves_fits_within_tolerance() {
-    let pts = [
-        v(180.73483, 19.86847, 0.49686),
-        v(193.40333, 19.86847, 0.49686),
-        v(194.30136, 19.86847, 0.86884),
-        v(194.67333, 19.86847, 1.76686),
-        v(195.13791, 20.4863, 2.88769),
-        v(195.18549, 22.04913, 3.00167),
-        v(194.67401, 22.86847, 1.76686),
-        v(194.3018, 22.86847, 0.86859),
-        v(193.40333, 22.86847, 0.49686),
-        v(180.04786, 22.86847, 0.50403),
-    ];
+    let pts = common::test_12mmflat_step_over();
     let target = 0.05 * 0.9 * BAND_USE;
     let fit = fit_polyline(&pts, EndCondition::Free, EndCondition::Free, target, 1.0)
         .expect("fit passes");

@@ -112,3 +112,21 @@ pub fn degenerate(base: Vec<Vec3>, ops: Vec<u8>) -> Vec<Vec3> {
 pub fn tolerances() -> impl Strategy<Value = f64> {
     prop_oneof![Just(0.001), Just(0.01), Just(0.05), Just(0.5)]
 }
+
+/// A raster step-over of LinuxCNC's `performance/test_12mmflat.ngc` (lines
+/// 16-24): 1 mm moves up a quarter circle, across the top (turns of 58 and
+/// 63 degrees) and down again, between the long moves of two passes.
+pub fn test_12mmflat_step_over() -> Vec<Vec3> {
+    vec![
+        v(180.73483, 19.86847, 0.49686),
+        v(193.40333, 19.86847, 0.49686),
+        v(194.30136, 19.86847, 0.86884),
+        v(194.67333, 19.86847, 1.76686),
+        v(195.13791, 20.4863, 2.88769),
+        v(195.18549, 22.04913, 3.00167),
+        v(194.67401, 22.86847, 1.76686),
+        v(194.3018, 22.86847, 0.86859),
+        v(193.40333, 22.86847, 0.49686),
+        v(180.04786, 22.86847, 0.50403),
+    ]
+}

@@ -403,17 +403,18 @@ impl FitSystem {
             add_term(s, &b, 1.0);
             basis.push((s, b));
         }
+        // Non-empty spans with their length and `N''` at their ends.
+        let spans = || {
+            (FIT_DEGREE..h).filter_map(|s| {
+                let len = knots[s + 1] - knots[s];
+                (len > 0.0).then(|| (s, len, cubic_basis_d2_at_ends(knots, s)))
+            })
+        };
         // Fairness term, exact by 2-point Gauss-Legendre per span.
         if lambda > 0.0 {
             let g = 0.5 / crate::math::sqrt(3.0);
-            for s in FIT_DEGREE..h {
-                let (k0, k1) = (knots[s], knots[s + 1]);
-                if k1 <= k0 {
-                    continue;
-                }
-                let len = k1 - k0;
+            for (s, len, (e0, e1)) in spans() {
                 // N'' is linear on the span: the Gauss points from its ends.
-                let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
                 for x in [0.5 - g, 0.5 + g] {
                     let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
                     add_term(s, &b, lambda * 0.5 * len);
@@ -422,13 +423,7 @@ impl FitSystem {
         }
         // Jerk term, exact: C''' is constant on each span.
         if mu > 0.0 {
-            for s in FIT_DEGREE..h {
-                let (k0, k1) = (knots[s], knots[s + 1]);
-                if k1 <= k0 {
-                    continue;
-                }
-                let len = k1 - k0;
-                let (e0, e1) = cubic_basis_d2_at_ends(knots, s);
+            for (s, len, (e0, e1)) in spans() {
                 let d3: [f64; 4] = core::array::from_fn(|k| (e1[k] - e0[k]) / len);
                 add_term(s, &d3, mu * len);
             }
