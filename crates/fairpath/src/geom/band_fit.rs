@@ -49,7 +49,9 @@ use super::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
 /// Settings of [`relax_in_band`]. Chosen on the issue-5 survey
-/// (`scripts/survey.sh` at 0.05 mm; see the field docs).
+/// (`scripts/survey.sh` at 0.05 mm; see the field docs). The radius, the
+/// steps and the span were chosen first, with the fit's own weights and
+/// 100 steps always; the early stop and the weight factor after them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RelaxOptions {
     /// Radius of the balls around the data, as a share of the target:
