@@ -181,7 +181,9 @@ fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
 /// and the machine faster, within the same tolerance. Regression: since
 /// fits lead into the kept chords at the corners, the program's own radius
 /// at 0.05 mm plans 3.21 s plain and 3.46 s jerk-faired (at 0.02 mm and
-/// radius 3 mm, 4.16 s and 3.57 s), which is why `auto` plans both.
+/// radius 3 mm, 4.16 s and 3.57 s), which is why `auto` plans both. Since
+/// every fit is relaxed inside the band, the plain fit plans as fast as the
+/// jerk-faired one here (3.53 s both).
 #[test]
 fn the_jerk_term_speeds_up_tight_arcs_between_sharp_corners() {
     use fairpath::smooth::{BsplineFit, BsplineFitOptions, JERK_FAIRNESS};
@@ -212,24 +214,36 @@ fn the_jerk_term_speeds_up_tight_arcs_between_sharp_corners() {
     let tol = 0.02;
     let chord = 0.05 * tol;
     let sampled = sample_curves(&run, chord);
-    let fit = |jerk: f64| {
+    let fit = |jerk: f64, relax: bool| {
+        let d = BsplineFitOptions::default();
         BsplineFit {
             options: BsplineFitOptions {
                 jerk_fairness: jerk,
-                ..BsplineFitOptions::default()
+                relax: if relax { d.relax } else { None },
+                ..d
             },
         }
         .smooth_run(&sampled, tol - chord)
         .unwrap()
     };
-    let (plain, faired) = (fit(0.0), fit(JERK_FAIRNESS));
+    let (plain, faired) = (fit(0.0, false), fit(JERK_FAIRNESS, false));
     check(&run, &faired, tol);
     let (tp, tf) = (planned(&plain.pieces), planned(&faired.pieces));
-    println!("sawtooth: plain fit {tp:.3} s, jerk-faired {tf:.3} s");
+    println!("sawtooth, least squares: plain fit {tp:.3} s, jerk-faired {tf:.3} s");
     assert!(tf < 0.95 * tp, "{tf} s against {tp} s");
+    // Relaxed inside the band (the default), the plain fit gets there too:
+    // the relaxation spreads the ramps by itself.
+    let (rp, rf) = (fit(0.0, true), fit(JERK_FAIRNESS, true));
+    check(&run, &rp, tol);
+    let (trp, trf) = (planned(&rp.pieces), planned(&rf.pieces));
+    println!("sawtooth, relaxed: plain fit {trp:.3} s, jerk-faired {trf:.3} s");
+    assert!(
+        trp < 0.95 * tp && trp <= tf,
+        "{trp} s against {tp} s, {tf} s"
+    );
     let out = Auto::default().smooth_run(&run, tol).unwrap();
     check(&run, &out, tol);
-    assert!(planned(&out.pieces) <= tf * (1.0 + 1e-12));
+    assert!(planned(&out.pieces) <= trp.min(trf) * (1.0 + 1e-12));
 }
 
 #[test]
@@ -442,7 +456,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
 /// A run whose joints are all G2 (here it has none) is now also offered as
 /// it is, and kept when nothing is faster.
 #[test]
-fn a_run_that_is_already_g2_is_kept_when_nothing_beats_it() {
+fn a_run_that_is_already_g2_is_offered_as_it_is() {
     let (p0, p1) = (
         Vec3::new(18.919, 18.317, 0.0),
         Vec3::new(18.245, 20.959, 0.0),
@@ -453,8 +467,22 @@ fn a_run_that_is_already_g2_is_kept_when_nothing_beats_it() {
     let tol = 0.05;
     let out = Auto::default().smooth_run(&run, tol).unwrap();
     check(&run, &out, tol);
-    assert_eq!(out.chosen, ["as is"]);
-    assert_eq!(out.pieces, run.pieces);
+    // Offered as it is, and nothing chosen plans slower than it. (Since
+    // every fit is relaxed inside the band, a fit of the sampled arc plans
+    // faster: 0.3135 s against 0.3162 s; before, the arc was kept.)
+    let names: Vec<&str> = Auto::default()
+        .candidates(&run, tol)
+        .unwrap()
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
+    assert!(names.contains(&"as is"), "{names:?}");
+    let (t_out, t_arc) = (planned(&out.pieces), planned(&run.pieces));
+    println!(
+        "one arc: auto {t_out:.4} s ({:?}), as written {t_arc:.4} s",
+        out.chosen
+    );
+    assert!(t_out <= t_arc, "{t_out} s against {t_arc} s");
     // A line and an arc meeting at a corner are not G2: not offered.
     let corner = Run::new(vec![
         piece(
