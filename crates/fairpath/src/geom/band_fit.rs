@@ -51,7 +51,8 @@ use alloc::vec::Vec;
 /// Settings of [`relax_in_band`]. Chosen on the issue-5 survey
 /// (`scripts/survey.sh` at 0.05 mm; see the field docs). The radius, the
 /// steps and the span were chosen first, with the fit's own weights and
-/// 100 steps always; the early stop and the weight factor after them.
+/// 100 steps always; the early stop and the weight factor after them, and
+/// the early stop's threshold again with the weight factor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RelaxOptions {
     /// Radius of the balls around the data, as a share of the target:
@@ -71,11 +72,14 @@ pub struct RelaxOptions {
     pub spacing_per_target: f64,
     /// The steps stop early when no point of the curve or of its
     /// projection moved by more than this share of the target in a step
-    /// (both ADMM residuals below it, Boyd et al. section 3.3.1). On the
-    /// 138,803-segment surface raster, `bspline-fit` smoothed in 1.27 s
-    /// (`FAIRPATH_TIMING=1`) where 100 steps always took 7.5 s (criterion),
-    /// for the same planned time (1321.70 s against 1321.74 s); 1e-2 took
-    /// 0.79 s but planned `test_12mmflat.ngc` 16.38 s against 16.23 s.
+    /// (both ADMM residuals below it, Boyd et al. section 3.3.1). With the
+    /// fit's own weights, 1e-3 smoothed the 138,803-segment surface raster
+    /// (`bspline-fit`) in 1.27 s (`FAIRPATH_TIMING=1`) where 100 steps
+    /// always took 7.5 s (criterion), planning the same. With
+    /// [`RelaxOptions::weight_factor`] 1000: 1e-3 5.0 s, 3e-3 2.9 s, 1e-2
+    /// 1.5 s; on the issue-5 survey 3e-3 planned within 0.1% of 1e-3
+    /// (makerblock 331.56 against 331.38 s, `Cereal.ngc` 92.90 against
+    /// 92.92 s), 1e-2 the surface raster 29.05 against 28.95 s.
     pub converged_share: f64,
     /// Factor on the energy weights passed to [`relax_in_band`] at the
     /// first step. The optimum does not depend on a common factor of the
@@ -99,7 +103,7 @@ impl Default for RelaxOptions {
             check_every: 5,
             max_span_per_target: 4.0,
             spacing_per_target: 2.0,
-            converged_share: 1e-3,
+            converged_share: 3e-3,
             weight_factor: 1000.0,
         }
     }
