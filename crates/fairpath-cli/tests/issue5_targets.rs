@@ -104,7 +104,7 @@ fn auto_meets_the_dense_targets() {
         "linuxcnc/performance/Cereal.ngc",
         "linuxcnc/performance/blur_torus.ngc",
         // 0.712 and 0.820 of bspline-corner before every fit was relaxed
-        // inside the band (geom::band_fit); 0.665 and 0.684 after.
+        // inside the band (geom::band_fit); 0.658 and 0.681 after.
         "linuxcnc/XYtests/51MeanderAve.ngc",
         "gcode-rs/makerblock_tinycnc.gcode",
     ];
