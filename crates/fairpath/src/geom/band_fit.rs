@@ -42,9 +42,7 @@
 //! (then the steps stop), the curve is checked by [`span_errors`] and the
 //! last one that passes is kept.
 
-use super::fit::{
-    eval_in_span, span_errors, with_spans_at_most, EndCondition, FitError, FitSystem,
-};
+use super::fit::{span_errors, with_spans_at_most, EndCondition, FitError, FitSystem};
 use super::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
@@ -188,7 +186,7 @@ pub fn relax_in_band(
     let mut weights = (lambda * opts.weight_factor, mu * opts.weight_factor);
     let mut system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
     // z starts on the fit, u at zero.
-    let mut z = eval_at_params(&fit, &params);
+    let mut z = system.points_at_data(&fit);
     let mut u = alloc::vec![Vec3::ZERO; n];
     let mut targets = pts.clone();
     let mut history: Vec<f64> = Vec::new();
@@ -198,7 +196,7 @@ pub fn relax_in_band(
             targets[i] = z[i] - u[i];
         }
         let c = system.solve(&targets)?;
-        let at = eval_at_params(&c, &params);
+        let at = system.points_at_data(&c);
         let mut worst: f64 = 0.0;
         // Largest primal (C - z) and dual (change of z) residuals.
         let mut moved: f64 = 0.0;
@@ -217,7 +215,7 @@ pub fn relax_in_band(
             worst = worst.max(at[i].dist(pts[i]) - radius);
         }
         let converged = moved <= opts.converged_share * target;
-        if step % opts.check_every.max(1) == 0 || step == opts.iterations || converged {
+        if step % opts.check_every == 0 || step == opts.iterations || converged {
             let bound = span_errors(&c, &pts, &params)
                 .into_iter()
                 .fold(0.0, f64::max);
@@ -244,22 +242,6 @@ pub fn relax_in_band(
     Ok(best)
 }
 
-/// Points of the clamped cubic B-spline `c` at the increasing parameters
-/// `params` (one pass over its spans).
-fn eval_at_params(c: &Nurbs, params: &[f64]) -> Vec<Vec3> {
-    let h = c.points.len();
-    let mut s = 3;
-    params
-        .iter()
-        .map(|&t| {
-            while s + 1 < h && c.knots[s + 1] <= t {
-                s += 1;
-            }
-            eval_in_span(&c.knots, &c.points, s, t).0
-        })
-        .collect()
-}
-
 /// Most knot spans and constrained points per data point, on average, that
 /// the refinement of [`RelaxOptions::max_span_per_target`] and
 /// [`RelaxOptions::spacing_per_target`] may make: at 0.05 mm it never
@@ -272,10 +254,11 @@ const MAX_GROWTH: f64 = 8.0;
 const MAX_SPLIT: f64 = 256.0;
 
 /// `pts` and `params` with points added on the segments so that none is
-/// longer than `spacing` (or cut into [`MAX_SPLIT`] pieces), and one in the middle of every non-empty knot
-/// span of `knots` (so that every span holds data: the Schoenberg-Whitney
-/// condition, without which the curve step is singular where the energy
-/// weights are small), chord-length parameters interpolated.
+/// longer than `spacing` (or cut into [`MAX_SPLIT`] pieces), and one in
+/// the middle of every non-empty knot span of `knots` (so that every span
+/// holds data: the Schoenberg-Whitney condition, without which the curve
+/// step is singular where the energy weights are small), chord-length
+/// parameters interpolated.
 fn densify(pts: &[Vec3], params: &[f64], spacing: f64, knots: &[f64]) -> (Vec<Vec3>, Vec<f64>) {
     let mids: Vec<f64> = knots
         .windows(2)

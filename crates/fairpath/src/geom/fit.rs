@@ -440,6 +440,19 @@ impl FitSystem {
         })
     }
 
+    /// Points at the system's data parameters of `c`, a clamped cubic
+    /// B-spline on the system's knots (from the basis values the system
+    /// keeps: a dot product per point).
+    pub fn points_at_data(&self, c: &Nurbs) -> Vec<Vec3> {
+        self.basis
+            .iter()
+            .map(|(s, b)| {
+                let q = &c.points[s - 3..=*s];
+                q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]
+            })
+            .collect()
+    }
+
     /// The fit to `pts` (one per parameter of the system; the end points
     /// and end conditions are the system's, whatever `pts` holds there).
     pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
