@@ -192,3 +192,55 @@ fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
         assert!(auto <= best * (1.0 + 1e-9), "{rel}: {auto} vs {best}");
     }
 }
+
+/// Regression: `test_12mmflat.ngc` (one run) at the budget `smooth` and
+/// `compare` give the smoother at 0.05 mm (0.05 - 0.005, which is
+/// 0.045000000000000005 in f64). `auto`'s through-corners fit of the whole
+/// run failed; its sharpest vertex, the plunge, is next to the run's start,
+/// too near an end to split at, so the whole run went to `bspline-corner`
+/// (23.66 s, the same as that method). Now the short half goes to the
+/// corner method and the rest is split and fitted again (15.02 s).
+#[test]
+fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
+    use fairpath::feed::plan::{plan_run, PlanOptions};
+    use fairpath::smooth::{
+        sample_curves, BsplineCorner, BsplineFit, BsplineFitOptions, SectionOptions, Smoother,
+        ARC_SHARE, THROUGH_MAX_TURN,
+    };
+    let rel = "linuxcnc/performance/test_12mmflat.ngc";
+    let Some(path) = shared(rel) else {
+        eprintln!("{rel} not found: skipped");
+        return;
+    };
+    let program = fairpath_cli::pipeline::read_program(&path).unwrap();
+    let runs = program.runs();
+    assert_eq!(runs.len(), 1);
+    // As `auto` does: the arcs sampled within a share of the budget, the
+    // rest left to the fit.
+    let budget = TOL - TOL / 10.0;
+    let chord = ARC_SHARE * budget;
+    let sampled = sample_curves(&runs[0], chord);
+    let through = BsplineFit {
+        options: BsplineFitOptions {
+            sections: SectionOptions {
+                max_segment: 1e6,
+                max_turn: THROUGH_MAX_TURN,
+                chord_error_per_tol: 1e6,
+                ..SectionOptions::default()
+            },
+            ..BsplineFitOptions::default()
+        },
+    };
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: true,
+        window: None,
+    };
+    let plan = |s: &dyn Smoother| {
+        let out = s.smooth_run(&sampled, budget - chord).unwrap();
+        plan_run(&out.pieces, &opts).unwrap().time
+    };
+    let (fit, corner) = (plan(&through), plan(&BsplineCorner::default()));
+    println!("{rel}: through corners {fit:.3} s, bspline-corner {corner:.3} s");
+    assert!(fit < 0.7 * corner, "{fit} vs {corner}");
+}

@@ -569,9 +569,14 @@ impl BsplineFit {
                 let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
                 let sharpest =
                     (k + 1..m.saturating_sub(1)).max_by(|&a, &b| turn(a).total_cmp(&turn(b)));
+                // A half too short to fit goes to the corner method; the
+                // other is still tried (a sharp corner next to a section
+                // end, such as a plunge, no longer sends all of it there).
                 if let Some(j) = sharpest {
-                    if j + 1 - k >= min && m - j >= min {
+                    if m - j >= min {
                         todo.push((j + 1, m));
+                    }
+                    if j + 1 - k >= min {
                         todo.push((k, j));
                     }
                 }
