@@ -10,8 +10,6 @@
 //!
 //! * Dense programs: `auto` within tolerance and at most 0.7 of the
 //!   original and of `bspline-corner`.
-//! * Dense programs where the time goes in step-overs and corners that
-//!   every method must brake for: `auto` at most 0.7 of the original.
 //! * Sparse programs: `auto` no slower than the best corner method.
 
 use fairpath::feed::limits::MachineLimits;
@@ -107,6 +105,10 @@ fn auto_meets_the_dense_targets() {
         // inside the band (geom::band_fit); 0.658 and 0.681 after.
         "linuxcnc/XYtests/51MeanderAve.ngc",
         "gcode-rs/makerblock_tinycnc.gcode",
+        // 0.730 of bspline-corner until a failing fit with its sharpest
+        // vertex next to an end was still split (0.707) and the jerk term
+        // through corners was lightened (THROUGH_JERK_FAIRNESS: 0.691).
+        "linuxcnc/performance/test_12mmflat.ngc",
     ];
     for_each_found(&programs, &["bspline-corner", "auto"], |rel, path, rows| {
         let (orig, corner, auto) = (
@@ -129,25 +131,6 @@ fn auto_meets_the_dense_targets() {
             auto <= 0.7 * corner,
             "{rel}: {auto} vs bspline-corner {corner}"
         );
-    });
-}
-
-/// A CAM finishing program whose step-overs and sharp corners cost every
-/// method braking: against the original only (the README's survey has its
-/// ratio to `bspline-corner`, 0.72). `Cereal`, `blur_torus` and
-/// `51MeanderAve`, once here, now meet both targets and are guarded above.
-#[test]
-fn auto_meets_the_original_target_on_finishing_programs() {
-    let programs = ["linuxcnc/performance/test_12mmflat.ngc"];
-    for_each_found(&programs, &["auto"], |rel, _, rows| {
-        let (orig, auto) = (time(rows, "original"), time(rows, "auto"));
-        println!(
-            "{rel}: original {orig:.2} s, auto {auto:.2} s ({:.3})",
-            auto / orig
-        );
-        let a = rows.iter().find(|r| r.method == "auto").unwrap();
-        assert_eq!(a.joints[2], 0, "{rel}: {:?}", a.joints);
-        assert!(auto <= 0.7 * orig, "{rel}: {auto} vs original {orig}");
     });
 }
 

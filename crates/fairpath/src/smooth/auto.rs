@@ -22,9 +22,10 @@
 //!   lines) instead of meeting zero-curvature corner transitions there.
 //! * **fit, jerk-faired**, on the same runs: `bspline-fit` with the jerk
 //!   term [`JERK_FAIRNESS`], which spreads the curvature ramps of sampled
-//!   arcs between corners over more length; and through corners with the
-//!   jerk term as well (on the issue-5 survey it took `51MeanderAve.ngc`
-//!   from 0.701 to 0.698 of the original).
+//!   arcs between corners over more length; and through corners with a
+//!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`] (on the issue-5 survey
+//!   the jerk term through corners took `51MeanderAve.ngc` from 0.701 to
+//!   0.698 of the original).
 //!
 //!   These three were first tried only on runs with arcs. On runs of
 //!   lines they planned the issue-5 survey faster too, each of them
@@ -136,6 +137,25 @@ pub const THROUGH_MAX_PIECES: usize = 2000;
 /// every fit it cost time on `Cereal.ngc` and `blur_torus.ngc`, so `auto`
 /// plans it beside the others.
 pub const JERK_FAIRNESS: f64 = 3e4;
+
+/// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired through-corners
+/// candidate. The jerk term's weight against the bending term's is
+/// `mu / lambda = jerk_fairness * s^2` (mean segment `s`); it balances the
+/// two where the curvature `kappa` changes over a length `sqrt(mu /
+/// lambda)`. At a corner the machine brakes for, `kappa^2 v^3 <= J` and
+/// `|dkappa/ds| v^3 <= J` bind together when the curvature ramps over
+/// about the corner's radius `1 / kappa`, a few segments at most, so a
+/// jerk fairness of order 1 suits fits through corners. Since every fit
+/// is relaxed inside the band ([`BsplineFitOptions::relax`]), 3e4 there
+/// spread the curvature of the corners too far: on the issue-5 survey
+/// (`scripts/survey.sh 0.05`) 3 planned `test_12mmflat.ngc` 15.84 ->
+/// 15.49 s, `LHchips4.ngc` 234.73 -> 233.75 s, `blur_torus.ngc` 140.98 ->
+/// 140.33 s, the makerblock plot 331.56 -> 330.23 s and butterfly 6.81 ->
+/// 6.74 s, nothing slower (1: 15.71 s on `test_12mmflat.ngc`, 10: 15.55
+/// s, 30: 15.56 s, 300: 15.53 s, 3e3: 15.51 s). The other jerk-faired
+/// candidate keeps [`JERK_FAIRNESS`] (3 there cost `51MeanderAve.ngc`
+/// 63.60 -> 64.59 s).
+pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
 /// Share of the tolerance that the chords of sampled arcs may take.
 pub const ARC_SHARE: f64 = 0.05;
@@ -352,7 +372,7 @@ impl Auto {
             out.push((
                 "bspline-fit, through corners, jerk-faired",
                 Candidate::Fit(BsplineFitOptions {
-                    jerk_fairness: JERK_FAIRNESS,
+                    jerk_fairness: THROUGH_JERK_FAIRNESS,
                     ..through
                 }),
             ));
