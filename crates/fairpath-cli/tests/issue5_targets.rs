@@ -187,8 +187,8 @@ fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
 fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
     use fairpath::feed::plan::{plan_run, PlanOptions};
     use fairpath::smooth::{
-        sample_curves, BsplineCorner, BsplineFit, BsplineFitOptions, SectionOptions, Smoother,
-        ARC_SHARE, THROUGH_MAX_TURN,
+        sample_curves, through_corners_sections, BsplineCorner, BsplineFit, BsplineFitOptions,
+        Smoother, ARC_SHARE,
     };
     let rel = "linuxcnc/performance/test_12mmflat.ngc";
     let Some(path) = shared(rel) else {
@@ -205,12 +205,7 @@ fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
     let sampled = sample_curves(&runs[0], chord);
     let through = BsplineFit {
         options: BsplineFitOptions {
-            sections: SectionOptions {
-                max_segment: 1e6,
-                max_turn: THROUGH_MAX_TURN,
-                chord_error_per_tol: 1e6,
-                ..SectionOptions::default()
-            },
+            sections: through_corners_sections(),
             ..BsplineFitOptions::default()
         },
     };

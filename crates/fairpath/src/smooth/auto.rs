@@ -122,6 +122,17 @@ fn widens_sections(run: &Run, tol: f64, wide: &SectionOptions) -> bool {
 /// section is split around its sharpest vertex as usual.
 pub const THROUGH_MAX_TURN: f64 = 2.5;
 
+/// The run detection of the through-corners candidates: every vertex up
+/// to [`THROUGH_MAX_TURN`] is dense, whatever its segment lengths.
+pub fn through_corners_sections() -> SectionOptions {
+    SectionOptions {
+        max_segment: 1e6,
+        max_turn: THROUGH_MAX_TURN,
+        chord_error_per_tol: 1e6,
+        ..SectionOptions::default()
+    }
+}
+
 /// Largest run (pieces after sampling) for which the through-corners
 /// candidate is tried: its fits across many sharp corners fail and are
 /// split again and again, which on LinuxCNC's `LHchips4.ngc` (5,438 moves
@@ -360,12 +371,7 @@ impl Auto {
         }
         if input.run().pieces.len() <= THROUGH_MAX_PIECES {
             let through = BsplineFitOptions {
-                sections: SectionOptions {
-                    max_segment: 1e6,
-                    max_turn: THROUGH_MAX_TURN,
-                    chord_error_per_tol: 1e6,
-                    ..SectionOptions::default()
-                },
+                sections: through_corners_sections(),
                 ..BsplineFitOptions::default()
             };
             out.push(("bspline-fit, through corners", Candidate::Fit(through)));

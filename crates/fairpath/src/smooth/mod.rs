@@ -18,9 +18,9 @@ mod lotm;
 pub mod verify;
 
 pub use auto::{
-    sample_curves, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES, JERK_FAIRNESS, SECTION_LINES,
-    SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
-    WIDE_WIGGLE_PER_TOL,
+    sample_curves, through_corners_sections, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
+    JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES,
+    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
