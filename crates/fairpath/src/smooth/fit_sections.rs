@@ -20,7 +20,15 @@
 //!    that chord is within the tolerance of the two segments and a fit may
 //!    cut the vertex (noise, or a zigzag finer than the tolerance such as
 //!    LinuxCNC's `zigzag_0.002_0.0005.ngc`; added here, the seed has no
-//!    angle rule);
+//!    angle rule). The height is measured from the chord's line: a
+//!    near-reversal with one short leg (an arc's last chord, then a line
+//!    straight back) lies on that line beyond the chord and counts as
+//!    dense too. The fit then turns through it within the band (it is
+//!    verified like any fit), as a near-cusp where the machine nearly
+//!    stops, as it must at a reversal. Measured from the chord segment
+//!    instead, such vertices went to corner transitions, which planned
+//!    the issue-5 survey slower (`line-contouring-xz.ngc` 12.64 -> 12.91 s,
+//!    `Cereal.ngc` 92.88 -> 93.24 s, nothing faster);
 //! 3. `phi (s_in + s_out) / 16 <= chord_error_per_tol * tolerance`: a circle
 //!    through a vertex turning by `phi` between chords of mean length `s`
 //!    has sagitta `c = s^2 / (8 R) = phi s / 8` over each chord, so this says
