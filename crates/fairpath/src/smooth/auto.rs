@@ -139,9 +139,10 @@ pub fn through_corners_sections() -> SectionOptions {
 /// in one run) quadrupled the smoothing time for a saving of 0.2%.
 pub const THROUGH_MAX_PIECES: usize = 2000;
 
-/// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired candidate, tried
-/// with the through-corners one (runs of up to
-/// [`THROUGH_MAX_PIECES`]). Chosen on LinuxCNC's `arc-arc-sawtooth.ngc`
+/// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired candidate (the
+/// one that keeps the default run detection), tried on the same runs as
+/// the through-corners candidates (up to [`THROUGH_MAX_PIECES`] pieces;
+/// those use [`THROUGH_JERK_FAIRNESS`]). Chosen on LinuxCNC's `arc-arc-sawtooth.ngc`
 /// (arcs of 5 mm radius between corners of 127 degrees, where the fits of
 /// the sampled arcs must ramp their curvature from and to zero): 0 gives
 /// 1.50 times the program as written, 1e3 1.48, 3e4 1.30. As the default of
