@@ -16,7 +16,12 @@
 //!   next to a corner by half the circle's arc, at the circle's cap, so a
 //!   corner costs the time of its circle (a sharp corner's circle is tiny
 //!   and cheap; grbl-style planners cap the speed at the corner point
-//!   only).
+//!   only). Next to arcs and curves the blend also keeps the mean of their
+//!   curvature vectors ([`follow_neighbours`]), and the joint is capped as
+//!   one jump of their difference plus the circle's own curvature
+//!   ([`corner_jump`]): a kink of rounding size between two arcs costs
+//!   about what their own curvature jump costs, not the jump from their
+//!   curvature to a nearly straight circle.
 //! * Where the circle meets what comes before and after it the curvature
 //!   vector jumps by `dk`, and the normal acceleration steps by `v^2 dk`
 //!   within one interpolation period `Ts`: `v <= sqrt(J Ts / dk)`, at
@@ -82,6 +87,32 @@ pub fn corner_blend(
     })
 }
 
+/// The blend of a corner between pieces whose curvature vectors at the
+/// joint are `k_in` and `k_out`: the circle's own turn added to the mean of
+/// the neighbours' curvature. Between lines this is the circle itself. Next
+/// to arcs and curves the blend keeps bending with them: a kink of a few
+/// microradians between two arcs of radius 100 mm (what rounding of written
+/// coordinates leaves) is passed at the curvature the arcs already have,
+/// not on a nearly straight circle whose curvature would jump by the arcs'
+/// own `1/100` at both ends (a cap of 45 mm/s for nothing).
+pub fn follow_neighbours(b: Blend, k_in: Vec3, k_out: Vec3) -> Blend {
+    Blend {
+        curvature: b.curvature + (k_in + k_out) * 0.5,
+        ..b
+    }
+}
+
+/// The curvature jump (1/mm) of passing a corner whose circle alone has
+/// curvature vector `circle`, between neighbours with curvature vectors
+/// `k_in` and `k_out`: `|k_out - k_in| + |circle|`. A blend between arcs
+/// is as short as the kink is small, far shorter than a period of travel,
+/// so the curvature changes from `k_in` to `k_out` and the circle's turn
+/// comes on top, within one period (between lines: the circle's own
+/// curvature, as before).
+pub fn corner_jump(circle: Vec3, k_in: Vec3, k_out: Vec3) -> f64 {
+    (k_out - k_in).norm() + circle.norm()
+}
+
 /// The largest speed (mm/s) on `blend`, whose curvature vector jumps by
 /// `jump` (1/mm) where it meets its neighbours.
 pub fn blend_cap(m: &MachineLimits, blend: &Blend, jump: f64) -> f64 {
@@ -118,13 +149,12 @@ pub fn junction_cap(
     if tangent_in.angle_to(tangent_out) > 0.0 {
         return match corner_blend(m, tangent_in, tangent_out, room) {
             Some(b) => {
-                let jump = (b.curvature - k_in)
-                    .norm()
-                    .max((k_out - b.curvature).norm());
-                blend_cap(m, &b, jump)
+                let jump = corner_jump(b.curvature, k_in, k_out);
+                blend_cap(m, &follow_neighbours(b, k_in, k_out), jump)
             }
-            // Straight on within rounding: no cap; a reversal: stop.
-            None if tangent_in.dot(tangent_out) > 0.0 => f64::INFINITY,
+            // Straight on within rounding: the curvature jump alone; a
+            // reversal: stop.
+            None if tangent_in.dot(tangent_out) > 0.0 => jump_cap(m, (k_out - k_in).norm()),
             None => 0.0,
         };
     }

@@ -40,7 +40,9 @@
 //! slower than a planner that lets acceleration run across them, but every
 //! limit holds exactly.
 
-use super::junction::{blend_cap, corner_blend, jump_cap, Blend, MEET_REL};
+use super::junction::{
+    blend_cap, corner_blend, corner_jump, follow_neighbours, jump_cap, Blend, MEET_REL,
+};
 use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
 use super::{max_entry_velocity, max_reachable_velocity, DoubleS, FeedError, Limits};
 use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
@@ -247,7 +249,11 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
             if class != Continuity::G1 && pa.tangent.angle_to(pb.tangent) > 0.0 {
                 let room = 0.5 * la.min(lb);
                 match corner_blend(m, pa.tangent, pb.tangent, room) {
-                    Some(bl) => Joint::Corner(bl, pa.curvature, pb.curvature),
+                    Some(bl) => Joint::Corner(
+                        follow_neighbours(bl, pa.curvature, pb.curvature),
+                        pa.curvature,
+                        pb.curvature,
+                    ),
                     None if pa.tangent.dot(pb.tangent) > 0.0 => Joint::Smooth,
                     None => Joint::Tangent(0.0),
                 }
@@ -294,10 +300,13 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
                 let entry = jump_cap(m, (bl.curvature - k_before).norm());
                 let exit = jump_cap(m, (k_after - bl.curvature).norm());
                 // Next to an arc or curve the circle's ends are not
-                // modelled as stretches: all of its caps at the joint.
+                // modelled as stretches: all of its caps at the joint, the
+                // curvature change across it as one jump.
                 let lines = is_line(j) && is_line(j + 1);
+                let circle = bl.curvature - (*k_in + *k_out) * 0.5;
+                let across = jump_cap(m, corner_jump(circle, *k_in, *k_out));
                 JointCap {
-                    point: if lines { arc } else { arc.min(entry).min(exit) },
+                    point: if lines { arc } else { arc.min(across) },
                     tangent_length: if lines { bl.tangent_length } else { 0.0 },
                     half_arc: 0.5 * bl.arc_length,
                     arc,
