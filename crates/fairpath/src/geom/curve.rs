@@ -115,6 +115,17 @@ pub fn arc_length<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
 /// increasing parameters from start to end, both included.
 pub fn flatten_params<C: ParamCurve + ?Sized>(c: &C, chord: f64) -> Vec<f64> {
     let (a, b) = c.domain();
+    flatten_params_between(c, a, b, chord)
+}
+
+/// [`flatten_params`] over the parameter interval `[a, b]` of `c`: chords
+/// within `chord` mm of the curve there, `a` and `b` included.
+pub fn flatten_params_between<C: ParamCurve + ?Sized>(
+    c: &C,
+    a: f64,
+    b: f64,
+    chord: f64,
+) -> Vec<f64> {
     let mut out = Vec::new();
     out.push(a);
     flatten_rec(c, a, b, chord, 40, &mut out);

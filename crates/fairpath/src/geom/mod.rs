@@ -1,25 +1,28 @@
 //! Geometry kernel: points, lines, arcs, B-spline/NURBS curves, curvature,
-//! arc length, distances to polylines.
+//! arc length, distances to polylines, principal planes and biarcs.
 
 mod arc;
 pub mod band_fit;
+pub mod biarc;
 mod curve;
 mod fairness;
 pub mod fit;
 pub mod least_squares;
 mod line;
 mod nurbs;
+mod plane;
 mod polyline;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
-    ParamCurve,
+    flatten_params_between, ParamCurve,
 };
 pub use fairness::curvature_variation_energy;
 pub use line::Line;
 pub use nurbs::{Nurbs, NurbsError};
+pub use plane::Plane;
 pub use polyline::{
     distance_to_polyline, point_segment_distance, point_segment_distance_t, SegmentGrid,
 };
