@@ -28,10 +28,12 @@
 
 extern crate alloc;
 
+pub mod budget;
 pub mod feed;
 pub mod geom;
 mod math;
 pub mod path;
+pub mod render;
 pub mod smooth;
 
 pub use geom::{Curve, ParamCurve, Vec3};

@@ -1,0 +1,199 @@
+//! A curve as G1 lines a controller can follow at speed.
+//!
+//! A blending controller passes a chain of short moves on the blend
+//! circles at its vertices; where the moves are short the circles fill
+//! them and meet, and the machine follows the piecewise-constant curvature
+//! of those circles (`crate::feed::junction`). A vertex between moves of
+//! lengths `l1 <= l2` turning by `phi ~ kappa (l1 + l2) / 2` gets a circle
+//! of curvature `phi / l1 = kappa (1 + l2 / l1) / 2`: uneven moves misstate
+//! the curvature, and the step between neighbouring circles slows the
+//! machine as any curvature step does (`v <= sqrt(J Ts / dk)`). So the
+//! points are spread with a spacing `h(s)` that changes slowly along the
+//! curve (by at most [`SPACING_SLOPE`] per unit of length), chosen as
+//!
+//! * at most `sqrt(8 e / kappa)`: the chord error `kappa h^2 / 8` within
+//!   the share `e` (a hard limit);
+//! * at most `J Ts / (v^2 |dkappa/ds|)`, so that neighbouring circles
+//!   differ by no more than the planned speed `v` can pass, but
+//! * never below the length covered in `min_block_periods` interpolation
+//!   periods at the planned speed (LinuxCNC spends at least 1.02 periods on
+//!   a block, and caps the speed of shorter ones), unless the chord error
+//!   asks for it.
+
+use super::speed::PlannedSpeed;
+use super::{RenderOptions, RenderStats};
+use crate::geom::{flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Vec3};
+use alloc::vec::Vec;
+
+/// Largest ratio of the spacings needed within one stretch of equal moves.
+pub const SPACING_RATIO: f64 = 2.0;
+
+/// Share of the chord tolerance the spacing rule aims at (the chord error
+/// is checked at each move's middle afterwards).
+pub const CHORD_USE: f64 = 0.9;
+
+/// Sampling of the curve that the spacing is computed on, as a share of
+/// the chord tolerance.
+const FINE_CHORD: f64 = 0.1;
+
+/// Lines for curve `c` (piece `piece` of the run) appended to `out`, from
+/// `c.start()` to `c.end()` exactly.
+pub(crate) fn lines_for_curve(
+    c: &Curve,
+    piece: usize,
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+    out: &mut Vec<Curve>,
+    stats: &mut RenderStats,
+) {
+    let (t0, t1) = c.domain();
+    lines_between(
+        c,
+        piece,
+        (t0, t1),
+        (c.start(), c.end()),
+        speed,
+        opts,
+        out,
+        stats,
+    );
+}
+
+/// Lines for the stretch `t = (ta, tb)` of curve `c` (piece `piece`),
+/// from `p.0` to `p.1` exactly (the curve's points there, as the caller
+/// computed them).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn lines_between(
+    c: &Curve,
+    piece: usize,
+    t: (f64, f64),
+    p: (Vec3, Vec3),
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+    out: &mut Vec<Curve>,
+    stats: &mut RenderStats,
+) {
+    let m = &opts.limits;
+    let e = CHORD_USE * opts.chord;
+    let ts = flatten_params_between(c, t.0, t.1, FINE_CHORD * opts.chord);
+    let n = ts.len();
+    if n < 2 {
+        return;
+    }
+    let pts: Vec<Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
+    let ks: Vec<Vec3> = ts.iter().map(|&t| c.curvature_vector(t)).collect();
+    let mut s = alloc::vec![0.0f64; n];
+    for i in 1..n {
+        s[i] = s[i - 1] + pts[i - 1].dist(pts[i]);
+    }
+    let total = s[n - 1];
+    if !(total > 0.0) {
+        return;
+    }
+    let mut h = alloc::vec![total; n];
+    for i in 0..n {
+        let kappa = ks[i].norm();
+        let chord_h = if kappa > 0.0 {
+            crate::math::sqrt(8.0 * e / kappa)
+        } else {
+            total
+        };
+        let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+        let ds = s[b] - s[a];
+        let dk = if ds > 0.0 {
+            (ks[b] - ks[a]).norm() / ds
+        } else {
+            0.0
+        };
+        let v = speed.at(piece, ts[i]);
+        let step_h = if v > 0.0 && dk > 0.0 {
+            2.0 * opts.step_share * m.jerk * m.period / (v * v * dk)
+        } else {
+            total
+        };
+        let block_h = opts.min_block_periods * m.period * v;
+        h[i] = chord_h
+            .min(step_h.max(block_h))
+            .min(total)
+            .max(opts.min_arc_length);
+    }
+    // Stretches over which the needed spacing varies by at most a factor
+    // SPACING_RATIO, each cut into moves of equal length at its smallest
+    // spacing (see the module docs).
+    let mut params = Vec::new();
+    params.push(ts[0]);
+    let mut a = 0;
+    while a + 1 < n {
+        let mut lo = h[a];
+        let mut hi = h[a];
+        let mut b = a + 1;
+        while b + 1 < n {
+            let (l2, h2) = (lo.min(h[b]), hi.max(h[b]));
+            if h2 > SPACING_RATIO * l2 {
+                break;
+            }
+            lo = l2;
+            hi = h2;
+            b += 1;
+        }
+        let lo = lo.min(h[b]);
+        let len = s[b] - s[a];
+        let moves = crate::math::ceil(len / lo).max(1.0) as usize;
+        let mut j = a;
+        for k in 1..moves {
+            let target = s[a] + len * k as f64 / moves as f64;
+            while j + 1 < b && s[j + 1] < target {
+                j += 1;
+            }
+            let (s0, s1) = (s[j], s[j + 1]);
+            let f = if s1 > s0 {
+                (target - s0) / (s1 - s0)
+            } else {
+                0.0
+            };
+            params.push(ts[j] + (ts[j + 1] - ts[j]) * f);
+        }
+        params.push(ts[b]);
+        a = b;
+    }
+    // Emit, halving any move whose middle is off by more than the share.
+    let mut prev_t = params[0];
+    let mut prev = p.0;
+    let last = params.len() - 1;
+    for (i, &t) in params.iter().enumerate().skip(1) {
+        let q = if i == last { p.1 } else { c.eval(t) };
+        emit(c, prev_t, t, prev, q, e / CHORD_USE, out, stats, 0);
+        prev_t = t;
+        prev = q;
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn emit(
+    c: &Curve,
+    ta: f64,
+    tb: f64,
+    pa: Vec3,
+    pb: Vec3,
+    chord: f64,
+    out: &mut Vec<Curve>,
+    stats: &mut RenderStats,
+    depth: u32,
+) {
+    if pa == pb {
+        return;
+    }
+    let tm = 0.5 * (ta + tb);
+    let pm = c.eval(tm);
+    let off = [0.25, 0.5, 0.75]
+        .iter()
+        .map(|f| point_segment_distance(c.eval(ta + (tb - ta) * f), pa, pb))
+        .fold(0.0, f64::max);
+    if off > chord && depth < 24 {
+        emit(c, ta, tm, pa, pm, chord, out, stats, depth + 1);
+        emit(c, tm, tb, pm, pb, chord, out, stats, depth + 1);
+        return;
+    }
+    out.push(Curve::Line(Line::new(pa, pb)));
+    stats.lines += 1;
+}

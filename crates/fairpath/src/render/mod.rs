@@ -1,0 +1,181 @@
+//! What a controller will run: the smoothed curves of a run turned into
+//! the pieces an output format can say (G1 lines, G2/G3 arcs, NURBS),
+//! within a chord share of the tolerance, shaped so that the machine keeps
+//! the speed planned for the exact curves.
+//!
+//! A written program only keeps the gain of smoothing if the controller
+//! can run it as fast as the curves. Two things take it away: short
+//! blocks (a controller spends at least one interpolation period on each,
+//! LinuxCNC 1.02: [`RenderOptions::min_block_periods`]), and curvature
+//! steps where written pieces meet (a jerk-limited controller passes a
+//! step `dk` at most at `sqrt(J Ts / dk)`). The renderer therefore reads
+//! the plan of the exact curves ([`PlannedSpeed`]) and puts pieces as long
+//! as that speed allows and as short as the curvature change asks:
+//! [`arcs`] for arcs (biarcs), [`lines`] for G1.
+//!
+//! Lines of the run stay lines; arcs of the input stay arcs (except in
+//! [`CurveForm::Lines`]); NURBS stay NURBS in [`CurveForm::Nurbs`].
+
+pub mod arcs;
+pub mod lines;
+pub mod speed;
+
+pub use speed::PlannedSpeed;
+
+use crate::feed::limits::MachineLimits;
+use crate::geom::Curve;
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// What the output format can say for a curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveForm {
+    /// G1 lines only.
+    Lines,
+    /// G2/G3 arcs (helical where a curve is not in a principal plane) and
+    /// G1 lines.
+    Arcs,
+    /// NURBS as they are (G6.2), arcs as arcs, lines as lines.
+    Nurbs,
+}
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    pub form: CurveForm,
+    /// Largest distance (mm) of the rendered pieces from the curves they
+    /// replace (the rounding of written coordinates is not in it: the
+    /// caller takes it out first).
+    pub chord: f64,
+    /// The machine the speed was planned for.
+    pub limits: MachineLimits,
+    /// Shortest block, in interpolation periods of travel at the planned
+    /// speed (LinuxCNC: 1.02; 0 for none).
+    pub min_block_periods: f64,
+    /// Smallest arc radius the controller accepts (mm): LinuxCNC refuses
+    /// radii below 0.00127 mm (`RADIUS_TOLERANCE_MM`, interp_internal.hh).
+    pub min_radius: f64,
+    /// Share of the speed-safe curvature step `J Ts / v^2` that each end
+    /// of a written piece may differ from the curve by (so neighbours
+    /// differ by at most twice it): [`arcs::STEP_SHARE`] keeps every joint
+    /// at or above the planned speed; larger values write fewer, longer
+    /// pieces that slow the machine at their joints; `f64::INFINITY`
+    /// leaves only the chord tolerance.
+    pub step_share: f64,
+    /// Shortest arc or line (mm) worth a block: a few units of the last
+    /// written decimal, so that rounded ends of an arc never coincide (an
+    /// IJK arc back to its start is a full circle).
+    pub min_arc_length: f64,
+}
+
+/// Why rendering cannot be done.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    #[error("render option {name} must be a positive number, got {value}")]
+    BadOption { name: &'static str, value: f64 },
+}
+
+impl RenderOptions {
+    /// Checks every option, naming the first bad one.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let positive = [("chord", self.chord)];
+        for (name, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(RenderError::BadOption { name, value });
+            }
+        }
+        let non_negative = [
+            ("step_share", self.step_share),
+            ("min_block_periods", self.min_block_periods),
+            ("min_radius", self.min_radius),
+            ("min_arc_length", self.min_arc_length),
+        ];
+        for (name, value) in non_negative {
+            if !(value >= 0.0) || (value.is_infinite() && name != "step_share") {
+                return Err(RenderError::BadOption { name, value });
+            }
+        }
+        self.limits.validate().map_err(|e| RenderError::BadOption {
+            name: e.name,
+            value: e.value,
+        })
+    }
+}
+
+/// Counts of what was rendered.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// Arcs written (helical ones included).
+    pub arcs: usize,
+    /// Helical arcs among them.
+    pub helical: usize,
+    /// Lines written (the run's own and those of curves).
+    pub lines: usize,
+    /// Lines written for stretches of curves that arcs could not follow
+    /// (too steep to every plane, or too sharp for the smallest arc).
+    pub fallback_lines: usize,
+    /// NURBS pieces written as they are.
+    pub nurbs: usize,
+}
+
+impl RenderStats {
+    /// Both counts together.
+    pub fn add(&mut self, o: &RenderStats) {
+        self.arcs += o.arcs;
+        self.helical += o.helical;
+        self.lines += o.lines;
+        self.fallback_lines += o.fallback_lines;
+        self.nurbs += o.nurbs;
+    }
+}
+
+/// A rendered run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Rendered {
+    /// Continuous pieces from the run's start to its end; each keeps the
+    /// source lines and feed of the piece it renders.
+    pub pieces: Vec<Piece>,
+    pub stats: RenderStats,
+}
+
+/// Renders the pieces of one smoothed run, whose planned speed is `speed`
+/// (from the plan of exactly these pieces), as `opts.form` can say them.
+pub fn render_run(
+    pieces: &[Piece],
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+) -> Result<Rendered, RenderError> {
+    opts.validate()?;
+    let mut out = Rendered::default();
+    let mut curves: Vec<Curve> = Vec::new();
+    for (i, p) in pieces.iter().enumerate() {
+        curves.clear();
+        match (&p.curve, opts.form) {
+            (Curve::Line(_), _) => {
+                curves.push(p.curve.clone());
+                out.stats.lines += 1;
+            }
+            (Curve::Arc(_), CurveForm::Arcs | CurveForm::Nurbs) => {
+                curves.push(p.curve.clone());
+                out.stats.arcs += 1;
+            }
+            (Curve::Nurbs(_), CurveForm::Nurbs) => {
+                curves.push(p.curve.clone());
+                out.stats.nurbs += 1;
+            }
+            (c, CurveForm::Arcs) => {
+                arcs::arcs_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
+            }
+            (c, CurveForm::Lines) => {
+                lines::lines_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
+            }
+        }
+        out.pieces.extend(curves.drain(..).map(|curve| Piece {
+            curve,
+            rapid: false,
+            source_lines: p.source_lines,
+            feed: p.feed,
+        }));
+    }
+    Ok(out)
+}
