@@ -52,10 +52,13 @@ impl Plane {
         }
     }
     fn normal(self) -> Vec3 {
+        self.geom().normal()
+    }
+    fn geom(self) -> fairpath::geom::Plane {
         match self {
-            Plane::XY => Vec3::Z,
-            Plane::ZX => Vec3::Y,
-            Plane::YZ => Vec3::X,
+            Plane::XY => fairpath::geom::Plane::XY,
+            Plane::ZX => fairpath::geom::Plane::ZX,
+            Plane::YZ => fairpath::geom::Plane::YZ,
         }
     }
 }
@@ -221,6 +224,9 @@ struct State {
     tlo: bool,
     coord: u16,
     path: u16,
+    /// The words of the path-control command in force (`G64 P0.01 Q0`),
+    /// if the program set one.
+    path_words: Option<String>,
     spindle_mode: u16,
     ended: bool,
     percent_lines: usize,
@@ -243,6 +249,7 @@ impl State {
             tlo: false,
             coord: 540,
             path: 640,
+            path_words: None,
             spindle_mode: 970,
             ended: false,
             percent_lines: 0,
@@ -287,6 +294,9 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
                 uses_modal_motion: false,
                 feed_after: st.feed.clone(),
                 insert_column: 1,
+                plane_after: st.plane.geom(),
+                arc_incremental_after: st.arc_incremental,
+                path_control_after: st.path_words.clone(),
             });
             continue;
         }
@@ -317,6 +327,9 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
             uses_modal_motion: info.uses_modal_motion,
             feed_after: st.feed.clone(),
             insert_column,
+            plane_after: st.plane.geom(),
+            arc_incremental_after: st.arc_incremental,
+            path_control_after: st.path_words.clone(),
         });
     }
     let runs = group_runs(&lines, &moves);
@@ -505,6 +518,15 @@ fn interpret_line(
             G::PathControl(c) => {
                 changes |= c != st.path || word('P').is_some() || word('Q').is_some();
                 st.path = c;
+                let mut text = format!("G{}", w.text);
+                if c == 640 {
+                    for l in ['P', 'Q'] {
+                        if let Some(v) = word(l) {
+                            text.push_str(&format!(" {l}{}", v.text));
+                        }
+                    }
+                }
+                st.path_words = Some(text);
             }
             G::ReturnMode | G::LatheRadius => {}
             G::SpindleMode(c) => {

@@ -86,5 +86,8 @@ pub use interp::parse;
 pub use program::{
     Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
-pub use write_gcode::{write_decimals, write_gcode, GcodeWriteOptions};
+pub use write_gcode::{
+    output_decimals, write_decimals, write_gcode, write_gcode_with, ArcWords, GcodeWriteOptions,
+    RunOutput, ARC_ROUNDING_FACTOR, ROUNDING_SHARE,
+};
 pub use write_json::{read_json, write_json, ARC_APPROX_MM};

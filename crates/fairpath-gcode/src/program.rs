@@ -128,6 +128,14 @@ pub struct ProgramLine {
     /// Column (1-based) before which a motion word can be inserted: the
     /// first word that is not N, or the end of the words.
     pub insert_column: usize,
+    /// Arc plane (G17/G18/G19) in force after this line.
+    pub plane_after: fairpath::geom::Plane,
+    /// Incremental arc centres (G91.1, the default) in force after this
+    /// line; false after G90.1.
+    pub arc_incremental_after: bool,
+    /// The path-control command in force after this line as the program
+    /// wrote it (`G64 P0.01 Q0`, `G61`), or `None` if it never set one.
+    pub path_control_after: Option<String>,
 }
 
 /// What kind of move.

@@ -1,20 +1,36 @@
 //! Writes a program back as G-code with each run replaced by its smoothed
-//! pieces as G1 polylines; everything else is copied byte for byte.
+//! pieces; everything else is copied byte for byte.
+//!
+//! Lines are written as G1; arcs as G2/G3 in their principal plane (IJK or
+//! R form) or as G1 chords; NURBS as G1 chords (the spline blocks are
+//! written by [`crate::write_spline`]).
 
 // Axis loops index several parallel arrays by axis number.
 #![allow(clippy::needless_range_loop)]
 
 use crate::error::WriteError;
 use crate::program::{Feed, MotionMode, Program, RunSpan, Units};
-use fairpath::geom::{flatten_params, Curve, ParamCurve, Vec3};
+use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
+
+/// How arcs are written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArcWords {
+    /// Centre offsets I, J, K (absolute centre after G90.1).
+    Ijk,
+    /// Radius R (negative for more than half a circle); IJK for arcs of
+    /// nearly half a circle, whose centre R leaves ill-defined, and for
+    /// full circles.
+    R,
+}
 
 /// Options of [`write_gcode`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct GcodeWriteOptions {
-    /// Largest distance (mm) between a smoothed curve and the G1 polyline
-    /// written for it, as the written text reads back: the chords and the
-    /// rounding of their coordinates together (see [`write_decimals`]).
+    /// Largest distance (mm) between a smoothed curve and what is written
+    /// for it, as the written text reads back: G1 chords of curves written
+    /// as lines, and the rounding of written coordinates (see
+    /// [`write_decimals`]; at most [`ROUNDING_SHARE`] of it for any piece).
     pub chord_mm: f64,
     /// Fewest decimals of coordinates written in mm programs (4: 0.05 um
     /// rounding); more when `chord_mm` needs them ([`write_decimals`]).
@@ -25,6 +41,29 @@ pub struct GcodeWriteOptions {
     /// Write a `(smoothed by fairpath)` comment as the first line (after a
     /// leading `%` line).
     pub header: bool,
+    /// Write arcs as G2/G3 in this form; `None`: as G1 chords.
+    pub arcs: Option<ArcWords>,
+    /// Always write a decimal point in numbers (`X5.`): Fanuc-family
+    /// controls without decimal-point input read `X5` as 5 um.
+    pub decimal_point: bool,
+    /// LinuxCNC's blending tolerance (mm): `G64 P<blend> Q0` (in the run's
+    /// units) is written before each run that does not already run under
+    /// it, and after the run the program's own path-control command in
+    /// force is written back (if the program set one: otherwise this one
+    /// stays in force). `Q0` turns off LinuxCNC's merging of short blocks
+    /// (`G64 P` alone sets Q = P, and arcs and lines within Q of a line are
+    /// replaced by it).
+    pub g64_blend_mm: Option<f64>,
+    /// Largest distance (mm) rounding may move a written point, whatever
+    /// the chord tolerance: the direction and curvature of a short piece
+    /// come from its written coordinates, and a rounding error `rho` on a
+    /// piece of length `L` tilts it by about `rho / L`. A jerk-limited
+    /// controller passing pieces one interpolation period `Ts` long at
+    /// jerk `J` needs `rho` of about `J Ts^3 / 4` (5 nm for 20000 mm/s^3 and
+    /// 1 ms: 6 decimals in mm; with 4, arcs of a few um written for a tight
+    /// corner of butterfly-80 re-read with kinks of 0.05 rad and planned
+    /// 2.6 times slower than the curves). `None`: the chord alone decides.
+    pub resolution_mm: Option<f64>,
 }
 
 impl Default for GcodeWriteOptions {
@@ -34,6 +73,10 @@ impl Default for GcodeWriteOptions {
             decimals_mm: 4,
             decimals_inch: 5,
             header: true,
+            arcs: None,
+            decimal_point: false,
+            g64_blend_mm: None,
+            resolution_mm: None,
         }
     }
 }
@@ -42,9 +85,16 @@ impl Default for GcodeWriteOptions {
 /// up to 15).
 const MAX_DECIMALS: usize = 12;
 
-/// Share of the chord tolerance that coordinate rounding may take before
-/// more decimals are written.
-const ROUNDING_SHARE: f64 = 0.1;
+/// Share of the chord tolerance that the rounding of written coordinates
+/// may take (more decimals are written until it fits): what it leaves is
+/// for the chords, arcs or spline blocks themselves.
+pub const ROUNDING_SHARE: f64 = 0.1;
+
+/// How far rounding can move a written arc, in units of the rounding `rho`
+/// of one point: start and end by `rho` each, the centre by `rho`, so the
+/// radius by up to `2 rho` at either end and the angle by `2 rho / r` (a
+/// chord of `2 rho` seen from the centre), so `rho + 2 rho + 2 rho`.
+pub const ARC_ROUNDING_FACTOR: f64 = 5.0;
 
 /// Decimals to write coordinates with in units of `mm_per_unit` mm, at
 /// least `min`, and the largest distance (mm) rounding then moves a point:
@@ -57,12 +107,35 @@ const ROUNDING_SHARE: f64 = 0.1;
 /// larger move of the segment between the exact ones). Without this, 4
 /// decimals (up to 0.087 um of rounding) on top of a chord error of 0.1 um
 /// took LinuxCNC's `Cereal.ngc` smoothed at 0.001 mm to 0.001012 mm, and
-/// `smooth` refused to write it.
+/// `smooth` refused to write it. Writers of arcs pass `chord_mm /`
+/// [`ARC_ROUNDING_FACTOR`].
 pub fn write_decimals(chord_mm: f64, mm_per_unit: f64, min: usize) -> (usize, f64) {
     let rounding = |d: usize| 0.5 * 3f64.sqrt() * 10f64.powi(-(d as i32)) * mm_per_unit;
     let mut d = min;
     while d < MAX_DECIMALS && rounding(d) > ROUNDING_SHARE * chord_mm {
         d += 1;
+    }
+    (d, rounding(d))
+}
+
+/// Decimals of coordinates written in units of `mm_per_unit` mm (at least
+/// `min`) under `opts`, and the distance (mm) rounding then moves a point:
+/// [`write_decimals`] of the chord (divided by [`ARC_ROUNDING_FACTOR`]
+/// when arcs are written), more when [`GcodeWriteOptions::resolution_mm`]
+/// asks for them.
+pub fn output_decimals(opts: &GcodeWriteOptions, mm_per_unit: f64, min: usize) -> (usize, f64) {
+    let factor = if opts.arcs.is_some() {
+        ARC_ROUNDING_FACTOR
+    } else {
+        1.0
+    };
+    let (d, _) = write_decimals(opts.chord_mm / factor, mm_per_unit, min);
+    let rounding = |d: usize| 0.5 * 3f64.sqrt() * 10f64.powi(-(d as i32)) * mm_per_unit;
+    let mut d = d;
+    if let Some(r) = opts.resolution_mm {
+        while d < MAX_DECIMALS && rounding(d) > r {
+            d += 1;
+        }
     }
     (d, rounding(d))
 }
@@ -144,28 +217,54 @@ fn axis(p: Vec3, a: usize) -> f64 {
 ///
 /// * Lines outside runs are copied unchanged, in place. Lines inside a run's
 ///   span that hold no move (comments, blank lines, F-only lines, modal words
-///   restating the state) are emitted before the first output piece whose
-///   `source_lines.1` is greater than their line number.
-/// * Each piece is written as `G1` lines: a line as one G1, arcs and NURBS as
-///   polylines within `chord_mm` of the curve as they read back (sampled by
-///   `flatten_params` within what coordinate rounding leaves of it, with
-///   more decimals when the chord is small: [`write_decimals`]). Every
-///   output line carries an explicit `G1`.
-/// * Coordinates are in the run's units; in G91 (incremental) runs they are
-///   written as increments (the program stays position-independent), each
-///   increment computed from the position the written text re-reads to, so
-///   rounding does not accumulate. Axes whose value does not change are
-///   omitted. The run's end point is written with the original text of each
-///   coordinate (absolute runs) so that it re-reads exactly.
-/// * F is written on the first G1 of a run and whenever the feed changes; if
-///   the modal feed after the run would differ from the original's, an
-///   `F` line restores it.
+///   restating the state, a plane change) are emitted before the first
+///   output piece whose `source_lines.1` is greater than their line number.
+/// * A line is one `G1`; an arc is one `G2`/`G3` in its principal plane
+///   when [`GcodeWriteOptions::arcs`] is set (with the plane word where the
+///   written plane differs, `P` for several turns), otherwise G1 chords
+///   within `chord_mm` as they read back; NURBS are G1 chords. An arc whose
+///   rounded ends coincide in its plane (which G-code reads as a full
+///   circle) is written as a G1. Every output line carries its motion word.
+/// * Coordinates are in the run's units, with more decimals when the chord
+///   tolerance needs them ([`write_decimals`]); in G91 (incremental) runs
+///   they are written as increments (the program stays
+///   position-independent), each computed from the position the written
+///   text re-reads to, so rounding does not accumulate; arc centres are
+///   offsets from that position (absolute after G90.1). Axes whose value
+///   does not change are omitted. The run's end point is written with the
+///   original text of each coordinate (absolute runs) so that it re-reads
+///   exactly.
+/// * F is written on the first move of a run and whenever the feed changes;
+///   if the modal feed after the run would differ from the original's, an
+///   `F` line restores it. A plane the written arcs changed is restored
+///   after the run, and so is the program's path-control command when
+///   [`GcodeWriteOptions::g64_blend_mm`] replaced it.
 /// * A line after a run that relies on the modal motion mode (axis words
 ///   without G0/G1/G2/G3) gets the motion word it relied on inserted when the
-///   written G1 lines changed that mode.
+///   written lines changed that mode.
 pub fn write_gcode(
     program: &Program,
     smoothed: &[Vec<Piece>],
+    opts: &GcodeWriteOptions,
+) -> Result<String, WriteError> {
+    let outputs: Vec<RunOutput> = smoothed.iter().map(|p| RunOutput::Pieces(p)).collect();
+    write_gcode_with(program, &outputs, opts)
+}
+
+/// What [`write_gcode_with`] writes for one run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RunOutput<'a> {
+    /// These pieces, as [`write_gcode`] writes them.
+    Pieces(&'a [Piece]),
+    /// The run's own lines, as they are (a motion word inserted where a
+    /// line relies on a modal motion that the written program changed).
+    Original,
+}
+
+/// [`write_gcode`], with some runs kept as the program wrote them.
+pub fn write_gcode_with(
+    program: &Program,
+    smoothed: &[RunOutput],
     opts: &GcodeWriteOptions,
 ) -> Result<String, WriteError> {
     let runs = program.run_spans();
@@ -191,18 +290,31 @@ pub fn write_gcode(
         out.push_str(eol);
         header_pending = false;
     }
-    // Motion mode as the written program leaves it.
+    // Modal state as the written program leaves it.
     let mut written_motion = MotionMode::None;
+    let mut written_path: Option<String> = None;
     let mut i = 0;
     let mut run_idx = 0;
     while i < lines.len() {
         let line = &lines[i];
-        if run_idx < runs.len() && runs[run_idx].first_line == line.number {
-            let run = &runs[run_idx];
-            let wrote_g1 = write_run(program, run, &smoothed[run_idx], opts, eol, &mut out)?;
-            if wrote_g1 {
-                written_motion = MotionMode::Linear;
+        let smoothed_run = match smoothed.get(run_idx) {
+            Some(RunOutput::Pieces(p)) if runs[run_idx].first_line == line.number => Some(*p),
+            Some(RunOutput::Original) if runs[run_idx].first_line == line.number => {
+                // Copied line by line below.
+                run_idx += 1;
+                None
             }
+            _ => None,
+        };
+        if let Some(pieces) = smoothed_run {
+            let run = &runs[run_idx];
+            let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
+            w.path = written_path.take();
+            w.write(pieces)?;
+            if let Some(m) = w.motion {
+                written_motion = m;
+            }
+            written_path = w.path;
             // The last line of the span may be the last line of the file.
             let last = &lines[run.last_line - 1];
             if last.ending.is_empty() && run.last_line == lines.len() && out.ends_with(eol) {
@@ -237,6 +349,9 @@ pub fn write_gcode(
                 .get(i + 1)
                 .map_or(written_motion, |n| n.motion_before);
         }
+        if line.interpreted && sets_path_control(line) {
+            written_path = line.path_control_after.clone();
+        }
         out.push_str(&line.text);
         out.push_str(line.ending);
         if header_pending {
@@ -249,162 +364,372 @@ pub fn write_gcode(
     Ok(out)
 }
 
-/// Writes one run; returns whether any G1 line was written.
-fn write_run(
-    program: &Program,
-    run: &RunSpan,
-    pieces: &[Piece],
-    opts: &GcodeWriteOptions,
-    eol: &str,
-    out: &mut String,
-) -> Result<bool, WriteError> {
-    let lines = program.lines();
-    let moves = program.moves();
-    let scale = run.units.mm_per_unit();
-    let min_decimals = match run.units {
-        Units::Mm => opts.decimals_mm,
-        Units::Inch => opts.decimals_inch,
-    };
-    let (decimals, rounding) = write_decimals(opts.chord_mm, scale, min_decimals);
-    // The chords get what the rounding leaves.
-    let chord = opts.chord_mm - rounding;
-    if chord.is_nan() || chord <= 0.0 {
-        return Err(WriteError::ChordBelowRounding {
-            chord_mm: opts.chord_mm,
-            decimals,
-            rounding_mm: rounding,
-        });
-    }
-    let letters = ['X', 'Y', 'Z'];
-    // Original feeds and their text, to write F as the program did.
-    let mut feed_texts: Vec<Feed> = Vec::new();
-    feed_texts.extend(run.feed_before.iter().cloned());
-    for l in &lines[run.first_line - 1..run.last_line] {
-        feed_texts.extend(l.feed_after.iter().cloned());
-    }
-    let feed_text = |mm_per_min: f64| -> String {
-        feed_texts
-            .iter()
-            .find(|f| f.mm_per_min == mm_per_min && f.units == run.units)
-            .map_or_else(|| fmt_fixed(mm_per_min / scale, 4), |f| f.text.clone())
-    };
-    // Interior lines without moves, emitted in place.
-    let interior: Vec<usize> = (run.first_line..=run.last_line)
-        .filter(|&n| lines[n - 1].moves.is_empty())
-        .collect();
-    let mut next_interior = 0;
-    let first_move = &moves[run.moves.start];
-    let last_move = &moves[run.moves.end - 1];
-    let orig_end = last_move.piece.end();
-    // Position as the written program re-reads it (mm).
-    let mut cur = first_move.piece.start();
-    // Modal feed of the written program (equal to the original's before
-    // the run).
-    let mut cur_feed: Option<f64> = run.feed_before.as_ref().map(|f| f.mm_per_min);
-    let mut first_g1 = true;
-    let mut wrote = false;
-    let n_pieces = pieces.len();
-    for (pi, piece) in pieces.iter().enumerate() {
-        while next_interior < interior.len() && piece.source_lines.1 > interior[next_interior] {
-            let l = &lines[interior[next_interior] - 1];
-            out.push_str(&l.text);
-            out.push_str(l.ending);
-            if l.words.iter().any(|w| w.letter == 'F') {
-                cur_feed = l.feed_after.as_ref().map(|f| f.mm_per_min);
-            }
-            next_interior += 1;
-        }
-        let pts = piece_points(&piece.curve, chord);
-        let n_pts = pts.len();
-        for (k, p) in pts.into_iter().enumerate() {
-            if !p.is_finite() {
-                return Err(WriteError::NotFinite);
-            }
-            let is_run_end = pi + 1 == n_pieces && k + 1 == n_pts;
-            let mut words = String::new();
-            let mut next = cur;
-            for a in 0..3 {
-                let target = axis(p, a);
-                let now = axis(cur, a);
-                let text = if run.incremental {
-                    let t = fmt_fixed((target - now) / scale, decimals);
-                    if t == "0" {
-                        continue;
-                    }
-                    t
-                } else {
-                    let orig = if is_run_end && p.dist(orig_end) <= SAME_POINT_MM {
-                        last_move.end_text[a].clone()
-                    } else {
-                        None
-                    };
-                    match orig {
-                        Some(t) => {
-                            let v: f64 = t.parse().unwrap_or(f64::NAN) * scale;
-                            if v == now {
-                                continue;
-                            }
-                            t
-                        }
-                        None => {
-                            let t = fmt_fixed(target / scale, decimals);
-                            if t == fmt_fixed(now / scale, decimals) {
-                                continue;
-                            }
-                            t
-                        }
-                    }
-                };
-                let v: f64 = text.parse().unwrap_or(f64::NAN) * scale;
-                let new = if run.incremental { now + v } else { v };
-                match a {
-                    0 => next.x = new,
-                    1 => next.y = new,
-                    _ => next.z = new,
-                }
-                words.push(' ');
-                words.push(letters[a]);
-                words.push_str(&text);
-            }
-            if words.is_empty() {
-                continue;
-            }
-            cur = next;
-            out.push_str("G1");
-            out.push_str(&words);
-            if let Some(f) = piece.feed {
-                if first_g1 || cur_feed != Some(f) {
-                    out.push_str(" F");
-                    out.push_str(&feed_text(f));
-                    cur_feed = Some(f);
-                }
-            }
-            first_g1 = false;
-            wrote = true;
-            out.push_str(eol);
-        }
-    }
-    for &n in &interior[next_interior..] {
-        let l = &lines[n - 1];
-        out.push_str(&l.text);
-        out.push_str(l.ending);
-        if l.words.iter().any(|w| w.letter == 'F') {
-            cur_feed = l.feed_after.as_ref().map(|f| f.mm_per_min);
-        }
-    }
-    // Restore the modal feed the original leaves after the run.
-    if let Some(f) = &run.feed_after {
-        if cur_feed != Some(f.mm_per_min) {
-            out.push('F');
-            out.push_str(&if f.units == run.units {
-                f.text.clone()
-            } else {
-                fmt_fixed(f.mm_per_min / scale, 4)
+/// Whether the line holds a path-control command (G61, G61.1, G64).
+fn sets_path_control(line: &crate::program::ProgramLine) -> bool {
+    line.words
+        .iter()
+        .any(|w| w.letter == 'G' && matches!((w.value * 10.0).round() as i64, 610 | 611 | 640))
+}
+
+/// The state of writing one run.
+struct RunWriter<'a> {
+    program: &'a Program,
+    run: &'a RunSpan,
+    opts: &'a GcodeWriteOptions,
+    eol: &'a str,
+    out: &'a mut String,
+    /// Units of the run: mm per unit, decimals, and the chord the G1
+    /// chords of curves get (what rounding leaves of `chord_mm`).
+    scale: f64,
+    decimals: usize,
+    chord: f64,
+    /// Original feeds and their text, to write F as the program did.
+    feed_texts: Vec<Feed>,
+    /// Position as the written program re-reads it (mm).
+    cur: Vec3,
+    /// Modal feed of the written program (mm/min).
+    cur_feed: Option<f64>,
+    /// Plane as the written program leaves it.
+    plane: Plane,
+    /// Motion mode of the last move written, if any.
+    motion: Option<MotionMode>,
+    /// Path-control command in force in the written program.
+    path: Option<String>,
+    first_move: bool,
+    /// Arc centres relative to the start (G91.1) in this run.
+    arc_incremental: bool,
+}
+
+impl<'a> RunWriter<'a> {
+    fn new(
+        program: &'a Program,
+        run: &'a RunSpan,
+        opts: &'a GcodeWriteOptions,
+        eol: &'a str,
+        out: &'a mut String,
+    ) -> Result<RunWriter<'a>, WriteError> {
+        let lines = program.lines();
+        let scale = run.units.mm_per_unit();
+        let min_decimals = match run.units {
+            Units::Mm => opts.decimals_mm,
+            Units::Inch => opts.decimals_inch,
+        };
+        let (decimals, rounding) = output_decimals(opts, scale, min_decimals);
+        // The chords get what the rounding leaves.
+        let chord = opts.chord_mm - rounding;
+        if chord.is_nan() || chord <= 0.0 {
+            return Err(WriteError::ChordBelowRounding {
+                chord_mm: opts.chord_mm,
+                decimals,
+                rounding_mm: rounding,
             });
-            out.push_str(eol);
+        }
+        let mut feed_texts: Vec<Feed> = Vec::new();
+        feed_texts.extend(run.feed_before.iter().cloned());
+        for l in &lines[run.first_line - 1..run.last_line] {
+            feed_texts.extend(l.feed_after.iter().cloned());
+        }
+        let before = run.first_line.checked_sub(2).map(|k| &lines[k]);
+        let first_move = &program.moves()[run.moves.start];
+        Ok(RunWriter {
+            program,
+            run,
+            opts,
+            eol,
+            out,
+            scale,
+            decimals,
+            chord,
+            feed_texts,
+            cur: first_move.piece.start(),
+            cur_feed: run.feed_before.as_ref().map(|f| f.mm_per_min),
+            plane: before.map_or(Plane::XY, |l| l.plane_after),
+            motion: None,
+            path: None,
+            first_move: true,
+            arc_incremental: before.is_none_or(|l| l.arc_incremental_after),
+        })
+    }
+
+    /// The blending command of [`GcodeWriteOptions::g64_blend_mm`] in the
+    /// run's units: P with enough decimals to be within 1% of the asked
+    /// blend (rounded down).
+    fn g64(&self) -> Option<String> {
+        let b = self.opts.g64_blend_mm? / self.scale;
+        let mut d = 4;
+        while d < MAX_DECIMALS && 10f64.powi(-(d as i32)) > 0.01 * b {
+            d += 1;
+        }
+        let p = (b * 10f64.powi(d as i32)).floor() / 10f64.powi(d as i32);
+        Some(format!("G64 P{} Q0", self.dialect(fmt_fixed(p, d))))
+    }
+
+    /// A number in the run's units.
+    fn num(&self, v_mm: f64) -> String {
+        self.dialect(fmt_fixed(v_mm / self.scale, self.decimals))
+    }
+
+    /// `t` with a decimal point when the dialect needs one.
+    fn dialect(&self, mut t: String) -> String {
+        if self.opts.decimal_point && !t.contains('.') {
+            t.push('.');
+        }
+        t
+    }
+
+    fn feed_text(&self, mm_per_min: f64) -> String {
+        self.feed_texts
+            .iter()
+            .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
+            .map_or_else(
+                || self.dialect(fmt_fixed(mm_per_min / self.scale, 4)),
+                |f| f.text.clone(),
+            )
+    }
+
+    fn push_line(&mut self, text: &str) {
+        self.out.push_str(text);
+        self.out.push_str(self.eol);
+    }
+
+    /// Writes the run's pieces with the span's lines without moves in
+    /// place.
+    fn write(&mut self, pieces: &[Piece]) -> Result<(), WriteError> {
+        let lines = self.program.lines();
+        let run = self.run;
+        if let Some(pc) = self.g64() {
+            if self.path.as_ref() != Some(&pc) {
+                self.push_line(&pc);
+                self.path = Some(pc);
+            }
+        }
+        let interior: Vec<usize> = (run.first_line..=run.last_line)
+            .filter(|&n| lines[n - 1].moves.is_empty())
+            .collect();
+        let mut next_interior = 0;
+        let n_pieces = pieces.len();
+        for (pi, piece) in pieces.iter().enumerate() {
+            while next_interior < interior.len() && piece.source_lines.1 > interior[next_interior] {
+                self.copy_interior(interior[next_interior]);
+                next_interior += 1;
+            }
+            let last = pi + 1 == n_pieces;
+            match &piece.curve {
+                Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
+                Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed)?,
+                c => {
+                    let pts = piece_points(c, self.chord);
+                    let n = pts.len();
+                    for (k, p) in pts.into_iter().enumerate() {
+                        self.write_g1(p, last && k + 1 == n, piece.feed)?;
+                    }
+                }
+            }
+        }
+        for k in next_interior..interior.len() {
+            self.copy_interior(interior[k]);
+        }
+        self.restore_state();
+        Ok(())
+    }
+
+    fn copy_interior(&mut self, n: usize) {
+        let l = &self.program.lines()[n - 1];
+        self.out.push_str(&l.text);
+        self.out.push_str(l.ending);
+        if l.words.iter().any(|w| w.letter == 'F') {
+            self.cur_feed = l.feed_after.as_ref().map(|f| f.mm_per_min);
+        }
+        if l.interpreted {
+            self.plane = l.plane_after;
         }
     }
-    Ok(wrote)
+
+    /// After the run: the feed, plane and path control the original has
+    /// in force there.
+    fn restore_state(&mut self) {
+        let lines = self.program.lines();
+        let last = &lines[self.run.last_line - 1];
+        if let Some(f) = &self.run.feed_after {
+            if self.cur_feed != Some(f.mm_per_min) {
+                let text = if f.units == self.run.units {
+                    f.text.clone()
+                } else {
+                    self.dialect(fmt_fixed(f.mm_per_min / self.scale, 4))
+                };
+                self.push_line(&format!("F{text}"));
+            }
+        }
+        if self.plane != last.plane_after {
+            self.push_line(last.plane_after.gcode());
+            self.plane = last.plane_after;
+        }
+        if self.opts.g64_blend_mm.is_some() {
+            if let Some(orig) = &last.path_control_after {
+                if self.path.as_ref() != Some(orig) {
+                    let orig = orig.clone();
+                    self.push_line(&orig);
+                    self.path = Some(orig);
+                }
+            }
+        }
+    }
+
+    /// The coordinate words that take the written position to `target`
+    /// (the original text of the run's end point when `run_end` and it is
+    /// that point), and the position they re-read to.
+    fn coord_words(&self, target: Vec3, run_end: bool) -> (String, Vec3) {
+        let moves = self.program.moves();
+        let last_move = &moves[self.run.moves.end - 1];
+        let orig_end = last_move.piece.end();
+        let letters = ['X', 'Y', 'Z'];
+        let mut words = String::new();
+        let mut next = self.cur;
+        for a in 0..3 {
+            let tv = axis(target, a);
+            let now = axis(self.cur, a);
+            let text = if self.run.incremental {
+                let t = fmt_fixed((tv - now) / self.scale, self.decimals);
+                if t == "0" {
+                    continue;
+                }
+                t
+            } else {
+                let orig = if run_end && target.dist(orig_end) <= SAME_POINT_MM {
+                    last_move.end_text[a].clone()
+                } else {
+                    None
+                };
+                match orig {
+                    Some(t) => {
+                        let v: f64 = t.parse().unwrap_or(f64::NAN) * self.scale;
+                        if v == now {
+                            continue;
+                        }
+                        t
+                    }
+                    None => {
+                        let t = fmt_fixed(tv / self.scale, self.decimals);
+                        if t == fmt_fixed(now / self.scale, self.decimals) {
+                            continue;
+                        }
+                        t
+                    }
+                }
+            };
+            let v: f64 = text.parse().unwrap_or(f64::NAN) * self.scale;
+            let new = if self.run.incremental { now + v } else { v };
+            match a {
+                0 => next.x = new,
+                1 => next.y = new,
+                _ => next.z = new,
+            }
+            words.push(' ');
+            words.push(letters[a]);
+            words.push_str(&self.dialect(text));
+        }
+        (words, next)
+    }
+
+    /// The F word for a move at `feed`, if one is due.
+    fn feed_word(&mut self, feed: Option<f64>) -> String {
+        match feed {
+            Some(f) if self.first_move || self.cur_feed != Some(f) => {
+                self.cur_feed = Some(f);
+                format!(" F{}", self.feed_text(f))
+            }
+            _ => String::new(),
+        }
+    }
+
+    fn write_g1(&mut self, p: Vec3, run_end: bool, feed: Option<f64>) -> Result<(), WriteError> {
+        if !p.is_finite() {
+            return Err(WriteError::NotFinite);
+        }
+        let (words, next) = self.coord_words(p, run_end);
+        if words.is_empty() {
+            return Ok(());
+        }
+        self.cur = next;
+        let f = self.feed_word(feed);
+        self.first_move = false;
+        self.motion = Some(MotionMode::Linear);
+        let line = format!("G1{words}{f}");
+        self.push_line(&line);
+        Ok(())
+    }
+
+    fn write_arc(&mut self, a: &Arc, run_end: bool, feed: Option<f64>) -> Result<(), WriteError> {
+        if !(a.p1.is_finite() && a.center.is_finite()) {
+            return Err(WriteError::NotFinite);
+        }
+        let Some(plane) = Plane::of_normal(a.normal) else {
+            // Not in a principal plane: chords.
+            let pts = piece_points(&Curve::Arc(*a), self.chord);
+            let n = pts.len();
+            for (k, p) in pts.into_iter().enumerate() {
+                self.write_g1(p, run_end && k + 1 == n, feed)?;
+            }
+            return Ok(());
+        };
+        let (words, next) = self.coord_words(a.p1, run_end);
+        let full_turn = a.sweep >= 2.0 * std::f64::consts::PI * (1.0 - 1e-12);
+        let (s, e) = (plane.local(self.cur), plane.local(next));
+        if !full_turn && s[0] == e[0] && s[1] == e[1] {
+            // The rounded ends coincide in the plane: a G2/G3 would be a
+            // full circle. The arc is shorter than the rounding: a line.
+            return self.write_g1(a.p1, run_end, feed);
+        }
+        let ccw = a.normal == plane.normal();
+        // A plane change on a line of its own: on the move's line it would
+        // make the move a state change, which readers keep out of runs.
+        if plane != self.plane {
+            self.push_line(plane.gcode());
+            self.plane = plane;
+        }
+        let mut line = String::new();
+        line.push_str(if ccw { "G3" } else { "G2" });
+        line.push_str(&words);
+        let r = 0.5 * (a.r0 + a.r1);
+        let half = std::f64::consts::PI;
+        let use_r = self.opts.arcs == Some(ArcWords::R)
+            && !full_turn
+            && ((a.sweep - half).abs() > 0.1 * half);
+        if use_r {
+            let signed = if a.sweep > half { -r } else { r };
+            line.push_str(" R");
+            line.push_str(&self.num(signed));
+        } else {
+            let letters = ['I', 'J', 'K'];
+            let [ia, ib, _] = plane.axes();
+            for ax in [ia, ib] {
+                let c = axis(a.center, ax);
+                let v = if self.arc_incremental {
+                    c - axis(self.cur, ax)
+                } else {
+                    c
+                };
+                line.push(' ');
+                line.push(letters[ax]);
+                line.push_str(&self.num(v));
+            }
+        }
+        let turns = ((a.sweep / (2.0 * half)) * (1.0 - 1e-12)).floor() as u64 + 1;
+        if turns > 1 {
+            line.push_str(&format!(" P{turns}"));
+        }
+        self.cur = next;
+        let f = self.feed_word(feed);
+        line.push_str(&f);
+        self.first_move = false;
+        self.motion = Some(if ccw {
+            MotionMode::ArcCcw
+        } else {
+            MotionMode::ArcCw
+        });
+        self.push_line(&line);
+        Ok(())
+    }
 }
 
 /// The points after the start of a curve at which G1 lines end.
