@@ -5,8 +5,8 @@
 //! `cargo bench -p fairpath-cli`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use fairpath_cli::pipeline::{self, Phases, SmoothOptions};
-use fairpath_cli::Format;
+use fairpath_cli::pipeline::{self, SmoothOptions};
+use fairpath_cli::{Controller, Format};
 use std::path::Path;
 
 fn bench(c: &mut Criterion) {
@@ -21,18 +21,22 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("surface-raster-large");
     g.sample_size(10);
     g.throughput(Throughput::Elements(segments as u64));
-    g.bench_function("end-to-end smooth 0.05 mm (gcode)", |b| {
-        b.iter(|| {
-            let opts = SmoothOptions::new(0.05, None, "auto", Format::Gcode).unwrap();
-            let program = fairpath_gcode::parse(&bytes).unwrap();
-            let mut phases = Phases::new();
-            let result = pipeline::smooth_program(&program, &opts, &mut phases).unwrap();
-            let text = pipeline::render(&program, &result, &opts).unwrap();
-            let written = pipeline::check_written(&program, &text, &opts).unwrap();
-            assert!(written.within);
-            text.len()
-        })
-    });
+    let dir = tempfile::tempdir().unwrap();
+    for format in [Format::Arcs, Format::G1] {
+        g.bench_function(
+            format!("end-to-end smooth 0.05 mm ({})", format.name()),
+            |b| {
+                b.iter(|| {
+                    let opts =
+                        SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic)
+                            .unwrap();
+                    let out = dir.path().join("out.ngc");
+                    let summary = pipeline::smooth_file(&path, &out, &opts).unwrap();
+                    summary.lines_out
+                })
+            },
+        );
+    }
     for method in ["bspline-corner", "bspline-fit", "auto"] {
         g.bench_function(
             format!("smooth only, {method} (no verification, no output)"),

@@ -1,15 +1,20 @@
 //! `fairpath compare`: every smoothing method (and the untouched program as
 //! the baseline) on one program, in one table.
 //!
-//! Each method smooths every run with the budget `smooth --format json`
-//! gives it (the tolerance less the default chord), its curves are checked
-//! by the independent verifier, and its exact path is planned on the
-//! machine (as `fairpath simulate` plans the JSON output), rapids included.
+//! Each method smooths every run with the budget `smooth` gives it (the
+//! tolerance less the output share), its curves are checked by the
+//! independent verifier, its exact path is planned on the machine (as
+//! `fairpath simulate` plans the JSON output), rapids included, and then
+//! the program `smooth` writes in each asked format is planned the same
+//! way: what a controller would run.
 
+use crate::emit::emit;
 use crate::parallel::verify_runs;
-use crate::pipeline::{read_program, SmoothOptions};
+use crate::pipeline::{
+    plan_input_and_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
+};
 use crate::simulate::{gcode_motions, simulate};
-use crate::Format;
+use crate::{Controller, Format};
 use anyhow::{anyhow, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::geom::{curvature_variation_energy, Curve};
@@ -18,7 +23,6 @@ use fairpath::smooth::verify::VerifyOptions;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
 
 /// Relative accuracy of the curvature variation energy in the table.
 const ENERGY_ACCURACY: f64 = 1e-3;
@@ -50,6 +54,23 @@ pub struct Row {
     pub time_ratio: f64,
     /// Wall time of the smoothing alone (s).
     pub smoothing_time: f64,
+    /// The program written in each asked format (none for the baseline).
+    pub written: Vec<WrittenRow>,
+}
+
+/// The program `smooth` writes in one format, planned.
+#[derive(Clone, Debug)]
+pub struct WrittenRow {
+    pub format: Format,
+    /// Planned time (s) of the written program, and on feed moves.
+    pub time: f64,
+    pub feed_time: f64,
+    /// `time` over the baseline's.
+    pub time_ratio: f64,
+    /// Lines of the written program.
+    pub lines: usize,
+    /// Whether it read back within the tolerance.
+    pub verified: bool,
 }
 
 /// What to compare.
@@ -58,6 +79,9 @@ pub struct CompareOptions {
     pub machine: MachineLimits,
     pub methods: Vec<String>,
     pub override_feed: bool,
+    /// Formats to write and plan for each method.
+    pub formats: Vec<Format>,
+    pub controller: Controller,
 }
 
 fn row(
@@ -99,6 +123,7 @@ fn row(
         feed_time,
         time_ratio: 1.0,
         smoothing_time,
+        written: Vec::new(),
     }
 }
 
@@ -114,25 +139,53 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     };
     let mut rows = Vec::new();
     let base_time = plan_time(&runs)?;
-    let budget0 =
-        SmoothOptions::new(opts.tolerance, None, "bspline-corner", Format::Json)?.budget();
+    let options = |name: &str, format: Format| -> Result<SmoothOptions> {
+        let mut so = SmoothOptions::new(opts.tolerance, None, name, Some(format), opts.controller)?;
+        so.machine = opts.machine;
+        so.override_feed = opts.override_feed;
+        Ok(so)
+    };
+    let budget0 = options("bspline-corner", Format::Json)?.budget();
     rows.push(row("original", &runs, &runs, budget0, base_time, 0.0));
     for name in &opts.methods {
-        let so = SmoothOptions::new(opts.tolerance, None, name, Format::Json)?;
+        let so = options(name, Format::Json)?;
         let budget = so.budget();
-        let t0 = Instant::now();
-        let mut smoothed = Vec::with_capacity(runs.len());
-        for run in &runs {
-            let line = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
-            let s = so
-                .method
-                .smooth_run(run, budget)
-                .with_context(|| format!("{name}: smoothing the run starting at line {line}"))?;
-            smoothed.push(Run::new(s.pieces));
+        let mut phases = Phases::new();
+        let result = smooth_program(&program, &so, &mut phases)
+            .with_context(|| format!("{name}: smoothing"))?;
+        let smoothing_time = phases.duration("smooth").as_secs_f64();
+        let smoothed: Vec<Run> = result
+            .runs
+            .iter()
+            .map(|r| Run::new(r.smoothed.pieces.clone()))
+            .collect();
+        let (_, exact, plans) = plan_input_and_curves(&program, &result, &so)
+            .with_context(|| format!("{name}: planning"))?;
+        let mut r = row(
+            name,
+            &runs,
+            &smoothed,
+            budget,
+            (exact.total, exact.feed),
+            smoothing_time,
+        );
+        let pieces: Vec<Vec<Piece>> = smoothed.iter().map(|r| r.pieces.clone()).collect();
+        for &format in &opts.formats {
+            let fo = options(name, format)?;
+            let e = emit(&program, &pieces, &plans, &fo.emit_options())
+                .with_context(|| format!("{name}: writing {}", format.name()))?;
+            let t = plan_text(path, &e.text, &fo)
+                .with_context(|| format!("{name}: planning the {} output", format.name()))?;
+            r.written.push(WrittenRow {
+                format,
+                time: t.total,
+                feed_time: t.feed,
+                time_ratio: 1.0,
+                lines: e.text.lines().count(),
+                verified: e.check.within,
+            });
         }
-        let smoothing_time = t0.elapsed().as_secs_f64();
-        let time = plan_time(&smoothed).with_context(|| format!("{name}: planning"))?;
-        rows.push(row(name, &runs, &smoothed, budget, time, smoothing_time));
+        rows.push(r);
     }
     let base_time = base_time.0;
     if base_time.is_nan() || base_time <= 0.0 {
@@ -140,6 +193,9 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     }
     for r in &mut rows {
         r.time_ratio = r.time / base_time;
+        for w in &mut r.written {
+            w.time_ratio = w.time / base_time;
+        }
     }
     Ok(rows)
 }
@@ -161,10 +217,19 @@ const HEADER: [&str; 14] = [
     "smoothing_s",
 ];
 
+/// The formats written for the methods (the first method's list).
+fn formats(rows: &[Row]) -> Vec<Format> {
+    rows.iter()
+        .find(|r| !r.written.is_empty())
+        .map(|r| r.written.iter().map(|w| w.format).collect())
+        .unwrap_or_default()
+}
+
 /// The table as aligned text.
 pub fn text(rows: &[Row]) -> String {
     let mut out = String::new();
-    let _ = writeln!(
+    let fmts = formats(rows);
+    let _ = write!(
         out,
         "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>10}",
         "method",
@@ -179,12 +244,22 @@ pub fn text(rows: &[Row]) -> String {
         "ratio",
         "smooth s"
     );
+    for f in &fmts {
+        let _ = write!(
+            out,
+            " {:>10} {:>7} {:>8}",
+            format!("{} s", f.name()),
+            "ratio",
+            "lines"
+        );
+    }
+    out.push('\n');
     for r in rows {
         let joints = format!(
             "{}/{}/{}/{}",
             r.joints[3], r.joints[2], r.joints[1], r.joints[0]
         );
-        let _ = writeln!(
+        let _ = write!(
             out,
             "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>10.4}",
             r.method,
@@ -199,16 +274,41 @@ pub fn text(rows: &[Row]) -> String {
             r.time_ratio,
             r.smoothing_time
         );
+        for w in &r.written {
+            let _ = write!(
+                out,
+                " {:>10.3} {:>7.3} {:>8}{}",
+                w.time,
+                w.time_ratio,
+                w.lines,
+                if w.verified { "" } else { " NOT VERIFIED" }
+            );
+        }
+        out.push('\n');
+    }
+    if !fmts.is_empty() {
+        let _ = writeln!(
+            out,
+            "(time s: the exact curves; <format> s: the program smooth writes in that format, as simulate plans it)"
+        );
     }
     out
 }
 
-/// The table as CSV with a header row.
+/// The table as CSV with a header row (written formats as
+/// `written_<format>_time_s`, `_feed_time_s`, `_time_ratio`, `_lines`,
+/// `_verified` columns).
 pub fn csv(rows: &[Row]) -> String {
+    let fmts = formats(rows);
     let mut out = HEADER.join(",");
+    for f in &fmts {
+        for c in ["time_s", "feed_time_s", "time_ratio", "lines", "verified"] {
+            let _ = write!(out, ",written_{}_{c}", f.name());
+        }
+    }
     out.push('\n');
     for r in rows {
-        let _ = writeln!(
+        let _ = write!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.method,
@@ -226,11 +326,25 @@ pub fn csv(rows: &[Row]) -> String {
             r.time_ratio,
             r.smoothing_time
         );
+        for f in &fmts {
+            match r.written.iter().find(|w| w.format == *f) {
+                Some(w) => {
+                    let _ = write!(
+                        out,
+                        ",{},{},{},{},{}",
+                        w.time, w.feed_time, w.time_ratio, w.lines, w.verified
+                    );
+                }
+                None => out.push_str(",,,,,"),
+            }
+        }
+        out.push('\n');
     }
     out
 }
 
-/// The table as a JSON array of objects (keys as the CSV header).
+/// The table as a JSON array of objects (keys as the CSV header; the
+/// written programs under `written`).
 pub fn json(rows: &[Row]) -> String {
     let v: Vec<_> = rows
         .iter()
@@ -250,6 +364,14 @@ pub fn json(rows: &[Row]) -> String {
                 "feed_time_s": r.feed_time,
                 "time_ratio": r.time_ratio,
                 "smoothing_s": r.smoothing_time,
+                "written": r.written.iter().map(|w| json!({
+                    "format": w.format.name(),
+                    "time_s": w.time,
+                    "feed_time_s": w.feed_time,
+                    "time_ratio": w.time_ratio,
+                    "lines": w.lines,
+                    "verified": w.verified,
+                })).collect::<Vec<_>>(),
             })
         })
         .collect();

@@ -3,6 +3,8 @@
 //! `check`, and atomic file output. The binary (`main.rs`) only parses
 //! arguments; benchmarks drive the same pipeline through this library.
 
+#![recursion_limit = "256"]
+
 pub mod check;
 pub mod compare;
 pub mod output;
@@ -11,11 +13,74 @@ pub mod pipeline;
 pub mod simulate;
 pub mod summary;
 
+pub mod emit;
+
 /// Output format of `fairpath smooth`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
-    /// Dense G1 moves at the chord tolerance, in the program's units.
-    Gcode,
-    /// Exact curves (lines, NURBS), always in mm.
+    /// G1 moves only, spaced for the controller (in the program's units).
+    #[value(name = "g1", alias = "gcode")]
+    G1,
+    /// G2/G3 arcs (helical where a curve leaves its plane) and G1 lines.
+    Arcs,
+    /// LinuxCNC G5.2/G5.3 NURBS blocks for curves in the XY plane, arcs for
+    /// the rest.
+    #[value(name = "g5.2")]
+    G5_2,
+    /// G6.2 NURBS blocks (Fanuc style: P order, K knots, R weights), 3D;
+    /// arcs and lines as they are.
+    #[value(name = "g6.2")]
+    G6_2,
+    /// The exact curves (lines, arcs, NURBS) as JSON, always in mm.
     Json,
+}
+
+impl Format {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::G1 => "g1",
+            Format::Arcs => "arcs",
+            Format::G5_2 => "g5.2",
+            Format::G6_2 => "g6.2",
+            Format::Json => "json",
+        }
+    }
+}
+
+/// The controller the written program is for: its default format and the
+/// details of its dialect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Controller {
+    /// Any RS274 control: G1, G2/G3 (IJK or R as the input), no blending
+    /// mode written.
+    Generic,
+    /// LinuxCNC: `G64 P<blend> Q0` around every smoothed run (P alone
+    /// would let it merge blocks; its blending is taken from the
+    /// tolerance), blocks no shorter than 1.02 servo periods of travel.
+    Linuxcnc,
+    /// Fanuc-family controls: a decimal point in every number (without one
+    /// `X5` reads as 5 um on controls without decimal-point input).
+    Fanuc,
+}
+
+impl Controller {
+    /// The format written when none is asked for: the one that plans
+    /// fastest on the reference programs within the targets (README,
+    /// "Output formats").
+    pub fn default_format(self) -> Format {
+        match self {
+            Controller::Generic | Controller::Linuxcnc => Format::Arcs,
+            Controller::Fanuc => Format::G6_2,
+        }
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Controller::Generic => "generic",
+            Controller::Linuxcnc => "linuxcnc",
+            Controller::Fanuc => "fanuc",
+        }
+    }
 }

@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use fairpath_cli::{check, pipeline, Format};
+use fairpath_cli::{check, pipeline, Controller, Format};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -48,6 +48,56 @@ enum TableFormat {
     Csv,
 }
 
+/// The machine times are planned for.
+#[derive(clap::Args, Clone, Debug)]
+struct MachineArgs {
+    /// Machine file (TOML: max_feed [mm/min], acc, normal_acc, jerk,
+    /// period, chord_error, junction_deviation, axis_feed, axis_acc,
+    /// jerk_on_curves).
+    #[arg(long)]
+    machine: Option<PathBuf>,
+    /// Maximum feed, mm/min (default 24000).
+    #[arg(long)]
+    max_feed: Option<f64>,
+    /// Acceleration, mm/s^2 (default 4000).
+    #[arg(long)]
+    acc: Option<f64>,
+    /// Jerk, mm/s^3 (default 20000).
+    #[arg(long)]
+    jerk: Option<f64>,
+    /// Interpolation period, s (default 0.001).
+    #[arg(long)]
+    period: Option<f64>,
+    /// Junction deviation for corners of G1 moves, mm (default 0.01).
+    #[arg(long)]
+    junction_deviation: Option<f64>,
+    /// Run every feed move at the machine's maximum feed.
+    #[arg(long)]
+    override_feed: bool,
+    /// Time model: `full` caps the speed on curves by the centripetal
+    /// acceleration and the jerk (centripetal jerk, curvature change;
+    /// the default), `thesis` by the centripetal acceleration only, as
+    /// the thesis' simulation (seed 003, eq. 4-1).
+    #[arg(long, value_enum)]
+    time_model: Option<TimeModel>,
+}
+
+impl MachineArgs {
+    fn limits(&self) -> Result<fairpath::feed::limits::MachineLimits> {
+        fairpath_cli::simulate::machine(
+            self.machine.as_deref(),
+            fairpath_cli::simulate::MachineFlags {
+                max_feed: self.max_feed,
+                acc: self.acc,
+                jerk: self.jerk,
+                period: self.period,
+                junction_deviation: self.junction_deviation,
+                jerk_on_curves: self.time_model.map(TimeModel::jerk_on_curves),
+            },
+        )
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Replace the feed moves of a program with a G2 path within the tolerance.
@@ -63,14 +113,29 @@ enum Command {
         /// Smoothing method.
         #[arg(short, long, default_value = "auto")]
         method: String,
-        /// Output format: G-code (dense G1) or JSON (exact curves, mm).
-        #[arg(short, long, value_enum, default_value_t = Format::Gcode)]
-        format: Format,
-        /// Chord tolerance (mm) of the G1 output, coordinate rounding
-        /// included (more decimals when needed); taken from the tolerance
-        /// budget. Default: a tenth of the tolerance.
+        /// The controller the program is for: picks the default format and
+        /// the dialect (LinuxCNC: G64 P<blend> Q0 around smoothed runs;
+        /// Fanuc: a decimal point in every number).
+        #[arg(long, value_enum, default_value_t = Controller::Generic)]
+        controller: Controller,
+        /// Output format (default: the controller's: arcs for generic and
+        /// linuxcnc, g6.2 for fanuc).
+        #[arg(short, long, value_enum)]
+        format: Option<Format>,
+        /// Share of the tolerance (mm) for writing the curves in the output
+        /// format (chords, arcs, rounding; LinuxCNC's blending comes out of
+        /// it too). Default: a tenth of the tolerance.
         #[arg(long)]
         chord: Option<f64>,
+        /// How much curvature step a joint of written pieces may take, as a
+        /// share of what the planned speed passes without slowing down
+        /// (`J Ts / v^2`): 0.5 (default) keeps the curves' speed; larger
+        /// writes fewer, longer arcs or lines that slow the machine at
+        /// their joints; `inf` leaves only the tolerance.
+        #[arg(long, default_value_t = fairpath::render::arcs::STEP_SHARE)]
+        step_share: f64,
+        #[command(flatten)]
+        machine: MachineArgs,
         /// bspline-corner: error target when a transition must shrink:
         /// `full` uses the whole band (e = epsilon, the default: lower peak
         /// curvature), `half` is the paper's e* = delta / 2.
@@ -87,34 +152,8 @@ enum Command {
     /// the machining time.
     Simulate {
         program: PathBuf,
-        /// Machine file (TOML: max_feed [mm/min], acc, normal_acc, jerk,
-        /// period, chord_error, axis_feed, axis_acc).
-        #[arg(long)]
-        machine: Option<PathBuf>,
-        /// Maximum feed, mm/min (default 24000).
-        #[arg(long)]
-        max_feed: Option<f64>,
-        /// Acceleration, mm/s^2 (default 4000).
-        #[arg(long)]
-        acc: Option<f64>,
-        /// Jerk, mm/s^3 (default 20000).
-        #[arg(long)]
-        jerk: Option<f64>,
-        /// Interpolation period, s (default 0.001).
-        #[arg(long)]
-        period: Option<f64>,
-        /// Junction deviation for corners of G1 moves, mm (default 0.01).
-        #[arg(long)]
-        junction_deviation: Option<f64>,
-        /// Run every feed move at the machine's maximum feed.
-        #[arg(long)]
-        override_feed: bool,
-        /// Time model: `full` caps the speed on curves by the centripetal
-        /// acceleration and the jerk (centripetal jerk, curvature change;
-        /// the default), `thesis` by the centripetal acceleration only, as
-        /// the thesis' simulation (seed 003, eq. 4-1).
-        #[arg(long, value_enum)]
-        time_model: Option<TimeModel>,
+        #[command(flatten)]
+        machine: MachineArgs,
         /// Bounded look-ahead of N segments, as a real-time controller runs
         /// it (default: the whole run); also reports the full scan's time.
         #[arg(long)]
@@ -138,24 +177,18 @@ enum Command {
         /// Largest distance (mm) of each method's path from the original.
         #[arg(short, long)]
         tolerance: f64,
-        /// Machine file (TOML, as for `simulate`); default: the thesis machine.
-        #[arg(long)]
-        machine: Option<PathBuf>,
-        /// Junction deviation for corners of G1 moves, mm (default 0.01).
-        #[arg(long)]
-        junction_deviation: Option<f64>,
+        #[command(flatten)]
+        machine: MachineArgs,
         /// Methods to run, comma-separated (default: all).
         #[arg(long, value_delimiter = ',')]
         methods: Option<Vec<String>>,
-        /// Run every feed move at the machine's maximum feed.
-        #[arg(long)]
-        override_feed: bool,
-        /// Time model: `full` caps the speed on curves by the centripetal
-        /// acceleration and the jerk (centripetal jerk, curvature change;
-        /// the default), `thesis` by the centripetal acceleration only, as
-        /// the thesis' simulation (seed 003, eq. 4-1).
-        #[arg(long, value_enum)]
-        time_model: Option<TimeModel>,
+        /// The controller whose dialect the written programs use.
+        #[arg(long, value_enum, default_value_t = Controller::Generic)]
+        controller: Controller,
+        /// Formats to write and plan for each method, comma-separated
+        /// (default: the controller's default format).
+        #[arg(long, value_enum, value_delimiter = ',')]
+        formats: Option<Vec<Format>>,
         #[arg(long, value_enum, default_value_t = TableFormat::Text)]
         format: TableFormat,
     },
@@ -187,13 +220,23 @@ fn run(cli: Cli) -> Result<ExitCode> {
             output,
             tolerance,
             method,
+            controller,
             format,
             chord,
+            step_share,
+            machine,
             band,
             lambda,
             json_summary,
         } => {
-            let mut opts = pipeline::SmoothOptions::new(tolerance, chord, &method, format)?;
+            let mut opts =
+                pipeline::SmoothOptions::new(tolerance, chord, &method, format, controller)?;
+            if !(step_share > 0.0) {
+                anyhow::bail!("--step-share must be a positive number or inf; got {step_share}");
+            }
+            opts.step_share = step_share;
+            opts.machine = machine.limits()?;
+            opts.override_feed = machine.override_feed;
             if method == "bspline-corner" {
                 opts.method = Box::new(fairpath::smooth::BsplineCorner {
                     options: fairpath::smooth::BsplineCornerOptions {
@@ -217,31 +260,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Simulate {
             program,
             machine,
-            max_feed,
-            acc,
-            jerk,
-            period,
-            junction_deviation,
-            override_feed,
-            time_model,
             lookahead,
             profile,
             segments,
             format,
         } => {
-            let flags = fairpath_cli::simulate::MachineFlags {
-                max_feed,
-                acc,
-                jerk,
-                period,
-                junction_deviation,
-                jerk_on_curves: time_model.map(TimeModel::jerk_on_curves),
-            };
-            let m = fairpath_cli::simulate::machine(machine.as_deref(), flags)?;
+            let m = machine.limits()?;
             fairpath_cli::simulate::run(
                 &program,
                 &m,
-                override_feed,
+                machine.override_feed,
                 lookahead,
                 profile.as_deref(),
                 segments.as_deref(),
@@ -253,21 +281,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
             program,
             tolerance,
             machine,
-            junction_deviation,
             methods,
-            override_feed,
-            time_model,
+            controller,
+            formats,
             format,
         } => {
             use fairpath_cli::compare;
-            let m = fairpath_cli::simulate::machine(
-                machine.as_deref(),
-                fairpath_cli::simulate::MachineFlags {
-                    junction_deviation,
-                    jerk_on_curves: time_model.map(TimeModel::jerk_on_curves),
-                    ..Default::default()
-                },
-            )?;
+            let m = machine.limits()?;
             let methods = methods.unwrap_or_else(|| {
                 fairpath::smooth::METHODS
                     .iter()
@@ -280,7 +300,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     tolerance,
                     machine: m,
                     methods,
-                    override_feed,
+                    override_feed: machine.override_feed,
+                    formats: formats.unwrap_or_else(|| vec![controller.default_format()]),
+                    controller,
                 },
             )?;
             print!(
@@ -291,11 +313,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     TableFormat::Csv => compare::csv(&rows),
                 }
             );
-            Ok(if rows.iter().all(|r| r.verified) {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::from(3)
-            })
+            Ok(
+                if rows
+                    .iter()
+                    .all(|r| r.verified && r.written.iter().all(|w| w.verified))
+                {
+                    ExitCode::SUCCESS
+                } else {
+                    ExitCode::from(3)
+                },
+            )
         }
         Command::Check {
             original,

@@ -13,7 +13,7 @@ use std::sync::Mutex;
 const CHUNK: usize = 4096;
 
 /// Runs `f(i)` for `i in 0..n` on up to `threads` threads, results in order.
-fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
+pub(crate) fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
     let threads = std::thread::available_parallelism()
         .map(|t| t.get())
         .unwrap_or(1)

@@ -1,10 +1,17 @@
 //! The main job, step by step: read, smooth each run, verify the curves,
-//! render, and verify what was rendered by reading it back.
+//! plan the input and the curves, render and write what the controller
+//! will run ([`crate::emit`]), verify what was written by reading it back,
+//! and plan it as `fairpath simulate` would.
 
+use crate::emit::{emit, EmitOptions};
 use crate::parallel::verify_runs;
-use crate::Format;
+use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate, Simulation};
+use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
+use fairpath::budget::ToleranceBudget;
+use fairpath::feed::limits::MachineLimits;
 use fairpath::path::{Piece, Run};
+use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::verify::{RunReport, VerifyOptions};
 use fairpath::smooth::{self, SmoothedRun, Smoother};
 use fairpath_gcode::Program;
@@ -12,30 +19,49 @@ use std::path::Path;
 
 /// What the user asked for.
 pub struct SmoothOptions {
-    /// Total tolerance (mm): the written output stays within it.
-    pub tolerance: f64,
-    /// Chord tolerance (mm) of the G1 output, part of the tolerance budget.
-    pub chord: f64,
+    /// How the tolerance is shared: smoothing, writing, the controller's
+    /// blending.
+    pub budget: ToleranceBudget,
     pub method_name: String,
     pub method: Box<dyn Smoother>,
     pub format: Format,
+    pub controller: Controller,
+    /// The machine the times are planned for, and the render shaped for.
+    pub machine: MachineLimits,
+    /// Plan every feed move at the machine's maximum feed.
+    pub override_feed: bool,
+    /// See [`fairpath::render::RenderOptions::step_share`].
+    pub step_share: f64,
 }
 
 impl SmoothOptions {
-    pub fn new(tolerance: f64, chord: Option<f64>, method: &str, format: Format) -> Result<Self> {
+    /// Options for `tolerance` mm with output share `output` (default a
+    /// tenth of the tolerance), `method`, `format` (default: the
+    /// controller's), on the default machine with programmed feeds.
+    pub fn new(
+        tolerance: f64,
+        output: Option<f64>,
+        method: &str,
+        format: Option<Format>,
+        controller: Controller,
+    ) -> Result<Self> {
         smooth::check_tolerance(tolerance)
             .map_err(|e| anyhow!("--tolerance: {e} (allowed: 1e-6 to 1000 mm)"))?;
-        let chord = chord.unwrap_or(tolerance / 10.0);
-        if !(chord.is_finite() && chord > 0.0 && chord <= 0.5 * tolerance) {
-            bail!("--chord must be a positive number of mm, at most half the tolerance ({} mm); got {chord}", 0.5 * tolerance);
+        let format = format.unwrap_or(controller.default_format());
+        let output = output.unwrap_or(fairpath::budget::OUTPUT_SHARE * tolerance);
+        if !(output.is_finite() && output > 0.0 && output <= 0.5 * tolerance) {
+            bail!("--chord must be a positive number of mm, at most half the tolerance ({} mm); got {output}", 0.5 * tolerance);
         }
-        // The smoother gets what the chord tolerance leaves, and `auto`
-        // gives a share of that to the chords of sampled arcs.
-        let budget = (tolerance - chord) * (1.0 - smooth::ARC_SHARE);
-        smooth::check_tolerance(budget).map_err(|_| {
+        let blend = EmitOptions::blend_share(controller, format, output);
+        let budget = ToleranceBudget::new(tolerance, Some(output - blend), blend)
+            .map_err(|e| anyhow!("--tolerance: {e}"))?;
+        // `auto` gives a share of the smoothing budget to the chords of
+        // sampled arcs.
+        let inner = budget.smoothing() * (1.0 - smooth::ARC_SHARE);
+        smooth::check_tolerance(inner).map_err(|_| {
             anyhow!(
-                "--tolerance {tolerance} mm leaves {budget:e} mm for smoothing after the chord \
-                 tolerance ({chord} mm) and arc sampling; at least 1e-6 mm is needed: raise \
+                "--tolerance {tolerance} mm leaves {inner:e} mm for smoothing after the output \
+                 ({output} mm) and arc sampling; at least 1e-6 mm is needed: raise \
                  --tolerance or lower --chord"
             )
         })?;
@@ -46,16 +72,37 @@ impl SmoothOptions {
             )
         })?;
         Ok(SmoothOptions {
-            tolerance,
-            chord,
+            budget,
             method_name: method.to_string(),
             method: m,
             format,
+            controller,
+            machine: MachineLimits::thesis(),
+            override_feed: false,
+            step_share: STEP_SHARE,
         })
     }
-    /// The tolerance the smoother gets: what the chord error leaves.
+
+    /// The user's tolerance (mm).
+    pub fn tolerance(&self) -> f64 {
+        self.budget.total
+    }
+
+    /// The tolerance the smoother gets.
     pub fn budget(&self) -> f64 {
-        self.tolerance - self.chord
+        self.budget.smoothing()
+    }
+
+    /// What the emitter needs of these options.
+    pub fn emit_options(&self) -> EmitOptions {
+        EmitOptions {
+            format: self.format,
+            controller: self.controller,
+            budget: self.budget,
+            machine: self.machine,
+            step_share: self.step_share,
+            override_feed: self.override_feed,
+        }
     }
 }
 
@@ -99,6 +146,14 @@ impl Phases {
         let now = std::time::Instant::now();
         self.done.push((name, now - self.last));
         self.last = now;
+    }
+    /// Time spent in the step called `name` (zero if there was none).
+    pub fn duration(&self, name: &str) -> std::time::Duration {
+        self.done
+            .iter()
+            .filter(|(n, _)| *n == name)
+            .map(|(_, d)| *d)
+            .sum()
     }
     pub fn report(&self) -> String {
         self.done
@@ -158,51 +213,84 @@ pub fn smooth_program(
     Ok(SmoothResult { runs: out })
 }
 
-/// The output text in the chosen format.
-pub fn render(program: &Program, result: &SmoothResult, opts: &SmoothOptions) -> Result<String> {
-    let smoothed: Vec<Vec<Piece>> = result
-        .runs
-        .iter()
-        .map(|r| r.smoothed.pieces.clone())
-        .collect();
-    match opts.format {
-        Format::Gcode => {
-            let wo = fairpath_gcode::GcodeWriteOptions {
-                chord_mm: opts.chord,
-                ..Default::default()
-            };
-            fairpath_gcode::write_gcode(program, &smoothed, &wo)
-                .map_err(|e| anyhow!("writing G-code: {e}"))
-        }
-        Format::Json => {
-            fairpath_gcode::write_json(program, &smoothed).map_err(|e| anyhow!("writing JSON: {e}"))
+/// Planned times of one program (feed moves and rapids), s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Times {
+    pub total: f64,
+    pub feed: f64,
+}
+
+impl Times {
+    fn of(sim: &Simulation) -> Times {
+        Times {
+            total: sim.time(),
+            feed: sim.feed_time,
         }
     }
 }
 
-/// The verdict on the rendered output.
-pub struct WrittenCheck {
-    pub within: bool,
-    pub max_deviation: f64,
-    pub endpoint_failures: usize,
-    pub runs_checked: usize,
+/// The three plans of a job: the input, the exact curves and the written
+/// program, on the same machine with the same feeds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JobTimes {
+    pub input: Times,
+    pub exact: Times,
+    pub written: Times,
 }
 
-/// Reads the rendered text back and verifies each of its runs against the
-/// original run, at the full tolerance.
-pub fn check_written(program: &Program, text: &str, opts: &SmoothOptions) -> Result<WrittenCheck> {
-    let original = program.runs();
-    let candidate = match opts.format {
-        Format::Gcode => fairpath_gcode::parse(text.as_bytes())
-            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?
-            .runs(),
-        Format::Json => {
-            let pieces = fairpath_gcode::read_json(text)
-                .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
-            group_by_source(&original, &pieces)
-        }
+/// The smoothed runs as runs.
+fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
+    result
+        .runs
+        .iter()
+        .map(|r| Run::new(r.smoothed.pieces.clone()))
+        .collect()
+}
+
+/// The plans of the input and of the exact curves, and the plan of each
+/// smoothed run that the renderer shapes the written pieces for: at the
+/// machine's maximum feed, so that the written program keeps the curves'
+/// speed at any feed (a feed override above 100% included), not just at
+/// the programmed one.
+pub fn plan_input_and_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+) -> Result<(Times, Times, Vec<fairpath::feed::plan::RunPlan>)> {
+    let m = &opts.machine;
+    let input = simulate(
+        &gcode_motions(program, &program.runs()),
+        m,
+        opts.override_feed,
+        None,
+    )
+    .context("planning the input")?;
+    let runs = smoothed_runs(result);
+    let (motions, index) = gcode_motions_indexed(program, &runs);
+    let exact = simulate(&motions, m, opts.override_feed, None).context("planning the curves")?;
+    let fastest = if opts.override_feed {
+        None
+    } else {
+        let feed_runs: Vec<crate::simulate::Motion> = runs
+            .iter()
+            .map(|r| crate::simulate::Motion::Feed(r.clone()))
+            .collect();
+        Some(simulate(&feed_runs, m, true, None).context("planning the curves")?)
     };
-    compare_runs(&original, &candidate, opts.tolerance)
+    let plans = match &fastest {
+        Some(f) => f.plans.iter().map(|p| p.1.clone()).collect(),
+        None => index.iter().map(|&i| exact.plans[i].1.clone()).collect(),
+    };
+    Ok((Times::of(&input), Times::of(&exact), plans))
+}
+
+/// The planned time of a written program's text, exactly as `fairpath
+/// simulate` plans the file (`path` names it in errors).
+pub fn plan_text(path: &Path, text: &str, opts: &SmoothOptions) -> Result<Times> {
+    let motions = motions_of(path, text.as_bytes())?;
+    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+        .context("planning the written program")?;
+    Ok(Times::of(&sim))
 }
 
 /// Groups feed pieces (from JSON) into the original runs by the input lines
@@ -230,13 +318,27 @@ fn is_zero_length(run: &Run) -> bool {
         .all(|p| matches!(&p.curve, fairpath::Curve::Line(l) if l.p0 == l.p1))
 }
 
-/// Pairs runs in order (runs of zero length on either side are skipped)
-/// and verifies each pair.
-pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Result<WrittenCheck> {
-    let o: Vec<&Run> = original.iter().filter(|r| !is_zero_length(r)).collect();
-    let c: Vec<&Run> = candidate
-        .iter()
-        .filter(|r| !r.pieces.is_empty() && !is_zero_length(r))
+/// The verdict on the written output.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WrittenCheck {
+    pub within: bool,
+    pub max_deviation: f64,
+    pub endpoint_failures: usize,
+    pub runs_checked: usize,
+    /// The runs (index in the original's `runs()`) that failed; `None`
+    /// when the failure is not tied to runs.
+    pub failed_runs: Vec<Option<usize>>,
+}
+
+/// The runs of `candidate` that stand for each run of `original`, in
+/// order, as `(original index, candidate index)`: runs of zero length on
+/// either side are skipped. An error when the counts differ.
+pub fn pair_runs(original: &[Run], candidate: &[Run]) -> Result<Vec<(usize, usize)>> {
+    let o: Vec<usize> = (0..original.len())
+        .filter(|&i| !is_zero_length(&original[i]))
+        .collect();
+    let c: Vec<usize> = (0..candidate.len())
+        .filter(|&i| !candidate[i].pieces.is_empty() && !is_zero_length(&candidate[i]))
         .collect();
     if o.len() != c.len() {
         bail!(
@@ -245,33 +347,50 @@ pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Resu
             o.len()
         );
     }
+    Ok(o.into_iter().zip(c).collect())
+}
+
+/// Pairs runs ([`pair_runs`]) and verifies each pair.
+pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Result<WrittenCheck> {
+    let pairs_idx = pair_runs(original, candidate)?;
     let mut out = WrittenCheck {
         within: true,
         max_deviation: 0.0,
         endpoint_failures: 0,
         runs_checked: 0,
+        failed_runs: Vec::new(),
     };
-    let pairs: Vec<(&[Piece], &[Piece])> = o
+    let pairs: Vec<(&[Piece], &[Piece])> = pairs_idx
         .iter()
-        .zip(&c)
-        .map(|(a, b)| (a.pieces.as_slice(), b.pieces.as_slice()))
+        .map(|&(a, b)| {
+            (
+                original[a].pieces.as_slice(),
+                candidate[b].pieces.as_slice(),
+            )
+        })
         .collect();
-    for rep in verify_runs(&pairs, &VerifyOptions::new(tolerance)) {
+    for (k, rep) in verify_runs(&pairs, &VerifyOptions::new(tolerance))
+        .into_iter()
+        .enumerate()
+    {
         out.max_deviation = out.max_deviation.max(rep.deviation_bound);
         if rep.start_gap != 0.0 || rep.end_gap != 0.0 {
             out.endpoint_failures += 1;
         }
-        out.within &= rep.within(tolerance);
+        if !rep.within(tolerance) {
+            out.within = false;
+            out.failed_runs.push(Some(pairs_idx[k].0));
+        }
         out.runs_checked += 1;
     }
     Ok(out)
 }
 
-/// The whole `fairpath smooth` job: read `input`, smooth, verify, render,
-/// verify the rendered text, and write `output` only if it passes (through
-/// a temporary file renamed over `output`). Returns the summary; on a
-/// verification failure prints it to stderr and returns an error, leaving
-/// no output file.
+/// The whole `fairpath smooth` job: read `input`, smooth, verify, plan,
+/// render, write, verify the written text, plan it, and write `output`
+/// only if it passes (through a temporary file renamed over `output`).
+/// Returns the summary; on a verification failure prints it to stderr and
+/// returns an error, leaving no output file.
 pub fn smooth_file(
     input: &Path,
     output: &Path,
@@ -282,37 +401,57 @@ pub fn smooth_file(
     let program = read_program(input)?;
     phases.mark("read");
     let result = smooth_program(&program, opts, &mut phases)?;
-    let text = render(&program, &result, opts)?;
-    phases.mark("render");
-    let written = check_written(&program, &text, opts)?;
-    phases.mark("check written output");
+    // Curves that leave their share are a smoother's fault: nothing
+    // written from them can be trusted.
+    if let Some(bad) = result.runs.iter().find(|r| !r.report.within(opts.budget())) {
+        let line = bad.original.pieces.first().map_or(0, |p| p.source_lines.0);
+        bail!(
+            "refusing to write {}: the smoothed curves of the run starting at line {line} leave \
+             the smoothing share of the tolerance ({:.6} mm > {} mm) or move a run endpoint",
+            output.display(),
+            bad.report.deviation_bound,
+            opts.budget()
+        );
+    }
+    let (input_times, exact_times, plans) = plan_input_and_curves(&program, &result, opts)?;
+    phases.mark("plan input and curves");
+    let smoothed: Vec<Vec<Piece>> = result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.clone())
+        .collect();
+    let emitted = emit(&program, &smoothed, &plans, &opts.emit_options())?;
+    phases.mark("render, write, check");
+    let written_times = plan_text(output, &emitted.text, opts)?;
+    phases.mark("plan written");
+    let times = JobTimes {
+        input: input_times,
+        exact: exact_times,
+        written: written_times,
+    };
     let mut summary = crate::summary::Summary::new(
         input,
         output,
         opts,
         &program,
         &result,
-        &written,
+        &emitted,
+        times,
         started.elapsed(),
     );
-    summary.feed_time = Some((
-        crate::simulate::feed_time(result.runs.iter().map(|r| r.original.pieces.as_slice()))?,
-        crate::simulate::feed_time(result.runs.iter().map(|r| r.smoothed.pieces.as_slice()))?,
-    ));
-    phases.mark("plan feed (before/after)");
     summary.elapsed = started.elapsed();
     if std::env::var_os("FAIRPATH_TIMING").is_some() {
         eprint!("{}", phases.report());
     }
-    if !written.within {
+    if !emitted.check.within {
         eprint!("{}", summary.text());
         bail!(
             "refusing to write {}: the output leaves the tolerance ({:.6} mm > {} mm) or moves a run endpoint",
             output.display(),
-            written.max_deviation,
-            opts.tolerance
+            emitted.check.max_deviation,
+            opts.budget.written()
         );
     }
-    crate::output::write_atomically(output, text.as_bytes())?;
+    crate::output::write_atomically(output, emitted.text.as_bytes())?;
     Ok(summary)
 }

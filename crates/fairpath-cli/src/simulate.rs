@@ -123,11 +123,16 @@ pub enum Motion {
 /// own), or, for JSON, consecutive continuous feed pieces.
 pub fn motions(path: &Path) -> Result<Vec<Motion>> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    motions_of(path, &bytes)
+}
+
+/// [`motions`] of a program's text (`path` names it in errors).
+pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     let mut out = Vec::new();
     if is_json {
         let text =
-            std::str::from_utf8(&bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
+            std::str::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
         let pieces =
             fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
         let mut cur: Vec<Piece> = Vec::new();
@@ -146,7 +151,7 @@ pub fn motions(path: &Path) -> Result<Vec<Motion>> {
             out.push(Motion::Feed(Run::new(cur)));
         }
     } else {
-        let program = crate::pipeline::parse_program(path, &bytes)?;
+        let program = crate::pipeline::parse_program(path, bytes)?;
         out = gcode_motions(&program, &program.runs());
     }
     Ok(out)
@@ -156,13 +161,23 @@ pub fn motions(path: &Path) -> Result<Vec<Motion>> {
 /// program's own, or smoothed ones, in the order of `Program::runs`);
 /// pinned feed moves are motions of their own.
 pub fn gcode_motions(program: &fairpath_gcode::Program, runs: &[Run]) -> Vec<Motion> {
+    gcode_motions_indexed(program, runs).0
+}
+
+/// [`gcode_motions`], and the index of each run's motion.
+pub fn gcode_motions_indexed(
+    program: &fairpath_gcode::Program,
+    runs: &[Run],
+) -> (Vec<Motion>, Vec<usize>) {
     let mut out = Vec::new();
+    let mut index = Vec::with_capacity(runs.len());
     let spans = program.run_spans();
     let mut next_run = 0;
     let mut mi = 0;
     let moves = program.moves();
     while mi < moves.len() {
         if next_run < spans.len() && spans[next_run].moves.start == mi {
+            index.push(out.len());
             out.push(Motion::Feed(runs[next_run].clone()));
             mi = spans[next_run].moves.end;
             next_run += 1;
@@ -176,7 +191,7 @@ pub fn gcode_motions(program: &fairpath_gcode::Program, runs: &[Run]) -> Vec<Mot
         }
         mi += 1;
     }
-    out
+    (out, index)
 }
 
 /// One planned motion: a feed run and its plan, or a rapid and its profile.
@@ -194,6 +209,7 @@ pub struct Simulation {
     pub max_jerk: f64,
     pub segments: usize,
     pub limiting: BTreeMap<&'static str, usize>,
+    /// One per motion, in order.
     pub plans: Vec<PlannedMotion>,
     /// With a bounded look-ahead: the time the full scan would take.
     pub full_scan_time: Option<f64>,
@@ -242,6 +258,10 @@ pub fn simulate(
             }
             Motion::Rapid(p) => {
                 let len = p.curve.length(1e-6);
+                if !(len > 0.0) {
+                    // One plan per motion, so that callers can index them.
+                    sim.plans.push((None, RunPlan::default(), None));
+                }
                 if len > 0.0 {
                     let prof = plan_rapid(len, m).map_err(|e| anyhow!("planning a rapid: {e}"))?;
                     sim.rapid_time += prof.duration();
@@ -458,21 +478,4 @@ pub fn run(
         print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
     }
     Ok(())
-}
-
-/// Feed time (s) of runs on the default machine with their programmed
-/// feeds: the before/after figure of `fairpath smooth`.
-pub fn feed_time<'a>(runs: impl Iterator<Item = &'a [Piece]>) -> Result<f64> {
-    let opts = PlanOptions {
-        limits: MachineLimits::thesis(),
-        override_feed: false,
-        window: None,
-    };
-    let mut t = 0.0;
-    for r in runs {
-        t += plan_run(r, &opts)
-            .map_err(|e| anyhow!("planning: {e}"))?
-            .time;
-    }
-    Ok(t)
 }

@@ -1,7 +1,9 @@
 //! The evidence printed after smoothing.
 
-use crate::pipeline::{SmoothOptions, SmoothResult, WrittenCheck};
+use crate::emit::Emitted;
+use crate::pipeline::{JobTimes, SmoothOptions, SmoothResult};
 use fairpath::geom::Curve;
+use fairpath::render::RenderStats;
 use fairpath::smooth::CornerReason;
 use fairpath_gcode::Program;
 use serde_json::json;
@@ -15,8 +17,12 @@ pub struct Summary {
     pub input: String,
     pub output: String,
     pub method: String,
+    pub format: &'static str,
+    pub controller: &'static str,
     pub tolerance: f64,
-    pub chord: f64,
+    /// Shares of the tolerance: smoothing, output, the controller's
+    /// blending (mm).
+    pub shares: (f64, f64, f64),
     pub feed_moves_in: usize,
     pub rapids: usize,
     pub runs: usize,
@@ -35,9 +41,20 @@ pub struct Summary {
     pub length_after: f64,
     pub peak_curvature: f64,
     pub elapsed: Duration,
-    /// Planned feed time (s) before and after, on the default machine
-    /// (`fairpath simulate` defaults) with the programmed feeds.
-    pub feed_time: Option<(f64, f64)>,
+    /// Planned times of the input, the exact curves and the written
+    /// program, on the same machine and feeds (`fairpath simulate`).
+    pub times: JobTimes,
+    /// The machine and feeds they were planned with, in words.
+    pub planned_on: String,
+    /// What the written runs hold.
+    pub rendered: RenderStats,
+    /// Lines of the input and of the written program.
+    pub lines_in: usize,
+    pub lines_out: usize,
+    /// Runs rendered again with a finer chord before they verified.
+    pub retried_runs: usize,
+    /// Runs written as the program had them (no rendering planned faster).
+    pub kept_runs: usize,
 }
 
 impl Summary {
@@ -47,11 +64,27 @@ impl Summary {
         opts: &SmoothOptions,
         program: &Program,
         result: &SmoothResult,
-        written: &WrittenCheck,
+        emitted: &Emitted,
+        times: JobTimes,
         elapsed: Duration,
     ) -> Summary {
+        let written = &emitted.check;
+        let m = &opts.machine;
+        let planned_on = format!(
+            "V {} mm/s, A {} mm/s^2, J {} mm/s^3, Ts {} ms, junction deviation {} mm, {}",
+            m.max_feed,
+            m.acc,
+            m.jerk,
+            m.period * 1e3,
+            m.junction_deviation,
+            if opts.override_feed {
+                "feeds overridden to V"
+            } else {
+                "programmed feeds"
+            }
+        );
         let pieces = program.pieces();
-        let acc = opts.tolerance * 1e-4;
+        let acc = opts.tolerance() * 1e-4;
         let mut kept = Vec::new();
         for reason in [
             CornerReason::Reversal,
@@ -90,8 +123,14 @@ impl Summary {
             input: input.display().to_string(),
             output: output.display().to_string(),
             method: opts.method_name.clone(),
-            tolerance: opts.tolerance,
-            chord: opts.chord,
+            format: opts.format.name(),
+            controller: opts.controller.name(),
+            tolerance: opts.tolerance(),
+            shares: (
+                opts.budget.smoothing(),
+                opts.budget.output,
+                opts.budget.blend,
+            ),
             feed_moves_in: result.runs.iter().map(|r| r.original.pieces.len()).sum(),
             rapids: pieces.iter().filter(|p| p.rapid).count(),
             runs: result.runs.len(),
@@ -135,8 +174,19 @@ impl Summary {
                 .map(|r| r.report.peak_curvature)
                 .fold(0.0, f64::max),
             elapsed,
-            feed_time: None,
+            times,
+            planned_on,
+            rendered: emitted.stats,
+            lines_in: program.lines().len(),
+            lines_out: emitted.text.lines().count(),
+            retried_runs: emitted.retried_runs,
+            kept_runs: emitted.kept_runs,
         }
+    }
+
+    /// True when the written program plans slower than the input.
+    pub fn slower_than_input(&self) -> bool {
+        self.times.written.total > self.times.input.total
     }
 
     pub fn kept_total(&self) -> usize {
@@ -145,10 +195,20 @@ impl Summary {
 
     pub fn text(&self) -> String {
         let mut s = String::new();
+        let (sm, out, blend) = self.shares;
         let _ = writeln!(
             s,
-            "fairpath smooth: {} -> {} ({}, tolerance {} mm, chord {} mm)",
-            self.input, self.output, self.method, self.tolerance, self.chord
+            "fairpath smooth: {} -> {} ({}, {} for {}, tolerance {} mm)",
+            self.input, self.output, self.method, self.format, self.controller, self.tolerance
+        );
+        let blend_text = if blend > 0.0 {
+            format!(", controller blending {blend} mm (G64 P)")
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            s,
+            "  tolerance:       smoothing {sm:.6} mm, writing {out:.6} mm{blend_text}"
         );
         let _ = writeln!(
             s,
@@ -157,7 +217,7 @@ impl Summary {
         );
         let _ = writeln!(
             s,
-            "  pieces out:      {} ({} curves; {} corners replaced by transitions or fits)",
+            "  curves:          {} pieces ({} curves; {} corners replaced by transitions or fits)",
             self.pieces_out, self.curves_out, self.transitions
         );
         if !self.chosen.is_empty() {
@@ -167,6 +227,50 @@ impl Summary {
                 .map(|(name, n)| format!("{n} x {name}"))
                 .collect();
             let _ = writeln!(s, "  auto chose:      {} (sections)", list.join("; "));
+        }
+        let r = &self.rendered;
+        let mut held = Vec::new();
+        if r.arcs > 0 {
+            held.push(format!("{} arcs ({} helical)", r.arcs, r.helical));
+        }
+        if r.lines > 0 {
+            held.push(if r.fallback_lines > 0 {
+                format!(
+                    "{} lines ({} where arcs could not follow a curve)",
+                    r.lines, r.fallback_lines
+                )
+            } else {
+                format!("{} lines", r.lines)
+            });
+        }
+        if r.nurbs > 0 {
+            held.push(format!("{} NURBS", r.nurbs));
+        }
+        let _ = writeln!(
+            s,
+            "  written:         {} lines (input {}){}{}",
+            self.lines_out,
+            self.lines_in,
+            if held.is_empty() {
+                String::new()
+            } else {
+                format!("; runs hold {}", held.join(", "))
+            },
+            if self.retried_runs > 0 {
+                format!(
+                    "; {} runs rendered again with a finer chord",
+                    self.retried_runs
+                )
+            } else {
+                String::new()
+            }
+        );
+        if self.kept_runs > 0 {
+            let _ = writeln!(
+                s,
+                "                   {} of {} runs kept as the program wrote them (no faster when written)",
+                self.kept_runs, self.runs
+            );
         }
         let _ = writeln!(
             s,
@@ -214,10 +318,25 @@ impl Summary {
         } else {
             let _ = writeln!(s, "  peak curvature:  0 (no curves)");
         }
-        if let Some((a, b)) = self.feed_time {
+        let t = &self.times;
+        let _ = writeln!(
+            s,
+            "  planned time:    input {:.3} s, curves {:.3} s, written {:.3} s ({:.3} of the input)",
+            t.input.total,
+            t.exact.total,
+            t.written.total,
+            t.written.total / t.input.total
+        );
+        let _ = writeln!(
+            s,
+            "                   (feed moves: {:.3} s, {:.3} s, {:.3} s; {})",
+            t.input.feed, t.exact.feed, t.written.feed, self.planned_on
+        );
+        if self.slower_than_input() {
             let _ = writeln!(
                 s,
-                "  feed time:       {a:.3} s -> {b:.3} s (planned for the exact path: V 400 mm/s, A 4000, J 20000, programmed feeds)"
+                "  warning:         the written program plans slower than the input ({:.3} s > {:.3} s)",
+                t.written.total, t.input.total
             );
         }
         let _ = writeln!(s, "  time taken:      {:.3} s", self.elapsed.as_secs_f64());
@@ -232,7 +351,9 @@ impl Summary {
             .collect();
         json!({
             "input": self.input, "output": self.output, "method": self.method,
-            "tolerance_mm": self.tolerance, "chord_mm": self.chord,
+            "format": self.format, "controller": self.controller,
+            "tolerance_mm": self.tolerance, "smoothing_share_mm": self.shares.0,
+            "output_share_mm": self.shares.1, "blend_share_mm": self.shares.2,
             "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
             "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
             "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
@@ -244,8 +365,19 @@ impl Summary {
             "length_before_mm": self.length_before, "length_after_mm": self.length_after,
             "peak_curvature_per_mm": self.peak_curvature,
             "time_s": self.elapsed.as_secs_f64(),
-            "feed_time_before_s": self.feed_time.map(|t| t.0),
-            "feed_time_after_s": self.feed_time.map(|t| t.1),
+            "input_time_s": self.times.input.total,
+            "curves_time_s": self.times.exact.total,
+            "written_time_s": self.times.written.total,
+            "input_feed_time_s": self.times.input.feed,
+            "curves_feed_time_s": self.times.exact.feed,
+            "written_feed_time_s": self.times.written.feed,
+            "written_slower_than_input": self.slower_than_input(),
+            "planned_on": self.planned_on,
+            "lines_in": self.lines_in, "lines_out": self.lines_out,
+            "written_arcs": self.rendered.arcs, "written_helical_arcs": self.rendered.helical,
+            "written_lines": self.rendered.lines, "written_fallback_lines": self.rendered.fallback_lines,
+            "written_nurbs": self.rendered.nurbs, "retried_runs": self.retried_runs,
+            "kept_runs": self.kept_runs,
         })
         .to_string()
     }

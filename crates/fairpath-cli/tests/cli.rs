@@ -382,11 +382,20 @@ impl fairpath::smooth::Smoother for Shortcut {
 fn a_violating_smoother_is_refused_and_nothing_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let input = example("pocket-corners.ngc");
-    for format in [fairpath_cli::Format::Gcode, fairpath_cli::Format::Json] {
+    for format in [
+        fairpath_cli::Format::G1,
+        fairpath_cli::Format::Arcs,
+        fairpath_cli::Format::Json,
+    ] {
         let out = dir.path().join("refused.out");
-        let mut opts =
-            fairpath_cli::pipeline::SmoothOptions::new(0.05, None, "bspline-corner", format)
-                .unwrap();
+        let mut opts = fairpath_cli::pipeline::SmoothOptions::new(
+            0.05,
+            None,
+            "bspline-corner",
+            Some(format),
+            fairpath_cli::Controller::Generic,
+        )
+        .unwrap();
         opts.method = Box::new(Shortcut);
         let err = fairpath_cli::pipeline::smooth_file(&input, &out, &opts).unwrap_err();
         assert!(err.to_string().contains("refusing to write"), "{err}");

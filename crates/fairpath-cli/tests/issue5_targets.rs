@@ -34,6 +34,9 @@ fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
         },
         methods: methods.iter().map(|m| m.to_string()).collect(),
         override_feed: true,
+        // The curves alone: this targets are on them.
+        formats: Vec::new(),
+        controller: fairpath_cli::Controller::Generic,
     };
     let rows = compare(path, &opts).unwrap();
     for r in &rows[1..] {

@@ -1,0 +1,340 @@
+//! From smoothed curves to the written program: each run rendered as the
+//! output format can say it (shaped by the plan of the exact curves, so
+//! that the controller keeps their speed), written in the controller's
+//! dialect, read back and verified against the original. Runs whose
+//! written text fails are rendered again with half the chord share, a few
+//! times, before the job gives up.
+
+use crate::parallel::par_map;
+use crate::pipeline::{compare_runs, group_by_source, pair_runs, WrittenCheck};
+use crate::{Controller, Format};
+use anyhow::{anyhow, Result};
+use fairpath::budget::ToleranceBudget;
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_run, PlanOptions, RunPlan};
+use fairpath::path::{Piece, Run};
+use fairpath::render::{render_run, CurveForm, PlannedSpeed, RenderOptions, RenderStats};
+use fairpath_gcode::{ArcWords, GcodeWriteOptions, Program, RunOutput, ROUNDING_SHARE};
+
+/// LinuxCNC spends at least this many servo periods on a block
+/// (`TP_MIN_SEGMENT_CYCLES`, tp.c): shorter blocks cap the speed.
+pub const MIN_BLOCK_PERIODS: f64 = 1.02;
+
+/// Smallest arc radius written (mm): LinuxCNC refuses radii below
+/// 0.00127 mm (`RADIUS_TOLERANCE_INCH` = 0.00005 in, interp_internal.hh);
+/// twice that leaves room for the rounding of the written centre.
+pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
+
+/// Shortest arc written, in units of the last written decimal: the rounded
+/// ends of a shorter one could coincide (a full circle in G-code).
+pub const MIN_ARC_UNITS: f64 = 4.0;
+
+/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
+/// output (every vertex is blended) and for the other G-code formats
+/// (only corners that were kept are).
+pub const G1_BLEND_SHARE: f64 = 0.5;
+pub const CURVE_BLEND_SHARE: f64 = 0.1;
+
+/// Times a failing run is rendered again with half the chord.
+pub const RETRIES: usize = 3;
+
+/// What to write, for whom.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmitOptions {
+    pub format: Format,
+    pub controller: Controller,
+    pub budget: ToleranceBudget,
+    pub machine: MachineLimits,
+    /// See [`RenderOptions::step_share`].
+    pub step_share: f64,
+    /// The feeds the user plans with: all at the machine's maximum
+    /// (`true`), or as programmed. A run is rewritten only if it plans
+    /// faster at the maximum feed and at these.
+    pub override_feed: bool,
+}
+
+impl EmitOptions {
+    /// The blending share of the tolerance for `controller` and `format`
+    /// when the output share is `output` mm (0 when no blending mode is
+    /// written).
+    pub fn blend_share(controller: Controller, format: Format, output: f64) -> f64 {
+        match (controller, format) {
+            (_, Format::Json) | (Controller::Generic | Controller::Fanuc, _) => 0.0,
+            (Controller::Linuxcnc, Format::G1) => G1_BLEND_SHARE * output,
+            (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
+        }
+    }
+}
+
+/// A run is rewritten only if its rendering plans at least this much
+/// faster than the run as the program wrote it (rounding of the written
+/// coordinates can cost a few parts in ten thousand).
+pub const KEEP_MARGIN: f64 = 1e-3;
+
+/// The written program.
+#[derive(Clone, Debug)]
+pub struct Emitted {
+    pub text: String,
+    /// What was written for each run: the rendered pieces, or `None` where
+    /// the run was kept as the program wrote it.
+    pub runs: Vec<Option<Vec<Piece>>>,
+    pub stats: RenderStats,
+    /// The verdict on the text read back.
+    pub check: WrittenCheck,
+    /// Runs rendered again with a finer chord.
+    pub retried_runs: usize,
+    /// Runs kept as the program wrote them: their rendering planned no
+    /// faster (or did not verify).
+    pub kept_runs: usize,
+}
+
+/// What is written for one run.
+#[derive(Clone, Debug)]
+struct Choice {
+    /// The form rendered, or `None`: the original lines.
+    form: Option<CurveForm>,
+    chord: f64,
+    pieces: Vec<Piece>,
+    stats: RenderStats,
+}
+
+/// Renders, writes and verifies. `smoothed` and `plans` are per run of
+/// `program` (the plan of exactly those pieces on `opts.machine` at its
+/// maximum feed). Each run is written in the form that plans fastest among
+/// those the format allows (arcs or, for curves arcs cannot follow, G1),
+/// or as the program wrote it when none is faster, both at the machine's
+/// maximum feed and at the programmed feeds.
+pub fn emit(
+    program: &Program,
+    smoothed: &[Vec<Piece>],
+    plans: &[RunPlan],
+    opts: &EmitOptions,
+) -> Result<Emitted> {
+    let original = program.runs();
+    let tolerance = opts.budget.written();
+    let forms: &[CurveForm] = match opts.format {
+        Format::Json => {
+            let text = fairpath_gcode::write_json(program, smoothed)
+                .map_err(|e| anyhow!("writing JSON: {e}"))?;
+            let pieces = fairpath_gcode::read_json(&text)
+                .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
+            let check = compare_runs(&original, &group_by_source(&original, &pieces), tolerance)?;
+            return Ok(Emitted {
+                text,
+                runs: smoothed.iter().cloned().map(Some).collect(),
+                stats: RenderStats::default(),
+                check,
+                retried_runs: 0,
+                kept_runs: 0,
+            });
+        }
+        Format::G1 => &[CurveForm::Lines],
+        Format::Arcs | Format::G5_2 => &[CurveForm::Arcs, CurveForm::Lines],
+        Format::G6_2 => &[CurveForm::Nurbs],
+    };
+    let wo = write_options(opts);
+    let render = |k: usize, form: CurveForm, chord: f64| -> Result<Choice> {
+        let units = program.run_spans()[k].units;
+        let ro = render_options(opts, form, chord, units, &wo);
+        let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
+        let r =
+            render_run(&smoothed[k], &speed, &ro).map_err(|e| anyhow!("rendering run {k}: {e}"))?;
+        Ok(Choice {
+            form: Some(form),
+            chord,
+            pieces: r.pieces,
+            stats: r.stats,
+        })
+    };
+    let feeds: Vec<bool> = if opts.override_feed {
+        vec![true]
+    } else {
+        vec![true, false]
+    };
+    let time = |pieces: &[Piece], override_feed: bool| -> Result<f64> {
+        let po = PlanOptions {
+            limits: opts.machine,
+            override_feed,
+            window: None,
+        };
+        Ok(plan_run(pieces, &po)
+            .map_err(|e| anyhow!("planning: {e}"))?
+            .time)
+    };
+    // The planned time of each of the program's own runs, at each feed.
+    let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
+        feeds
+            .iter()
+            .map(|&f| time(&original[k].pieces, f))
+            .collect::<Result<Vec<f64>>>()
+    })
+    .into_iter()
+    .collect::<Result<_>>()?;
+    let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
+        let own = &own[k];
+        let mut best: Option<(f64, Choice)> = None;
+        for &form in forms {
+            let c = render(k, form, opts.budget.output)?;
+            let ts: Vec<f64> = feeds
+                .iter()
+                .map(|&f| time(&c.pieces, f))
+                .collect::<Result<_>>()?;
+            // Faster than the program's own run at every feed.
+            if ts
+                .iter()
+                .zip(own)
+                .any(|(t, o)| *t * (1.0 + KEEP_MARGIN) > *o)
+            {
+                continue;
+            }
+            if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
+                best = Some((ts[0], c));
+            }
+        }
+        Ok(best.map_or(
+            Choice {
+                form: None,
+                chord: opts.budget.output,
+                pieces: Vec::new(),
+                stats: RenderStats::default(),
+            },
+            |b| b.1,
+        ))
+    });
+    let mut choices: Vec<Choice> = chosen.into_iter().collect::<Result<_>>()?;
+    let mut retried = vec![false; choices.len()];
+    for attempt in 0..=RETRIES {
+        let outputs: Vec<RunOutput> = choices
+            .iter()
+            .map(|c| match c.form {
+                Some(_) => RunOutput::Pieces(&c.pieces),
+                None => RunOutput::Original,
+            })
+            .collect();
+        let text = fairpath_gcode::write_gcode_with(program, &outputs, &wo)
+            .map_err(|e| anyhow!("writing G-code: {e}"))?;
+        let reread = fairpath_gcode::parse(text.as_bytes())
+            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?
+            .runs();
+        let check = compare_runs(&original, &reread, tolerance)?;
+        let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
+        // Rewritten runs that read back slower than the program's own:
+        // kept as the program wrote them.
+        let pairs = pair_runs(&original, &reread)?;
+        let slower: Vec<usize> = par_map(pairs.len(), |i| -> Result<Option<usize>> {
+            let (o, c) = pairs[i];
+            if choices[o].form.is_none() || failed.contains(&o) {
+                return Ok(None);
+            }
+            for (fi, &f) in feeds.iter().enumerate() {
+                if time(&reread[c].pieces, f)? > own[o][fi] {
+                    return Ok(Some(o));
+                }
+            }
+            Ok(None)
+        })
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
+        for &o in &slower {
+            choices[o] = Choice {
+                form: None,
+                pieces: Vec::new(),
+                stats: RenderStats::default(),
+                chord: choices[o].chord,
+            };
+        }
+        if !slower.is_empty() && attempt < RETRIES {
+            continue;
+        }
+        if check.within || failed.is_empty() || attempt == RETRIES {
+            let mut stats = RenderStats::default();
+            for c in &choices {
+                stats.add(&c.stats);
+            }
+            return Ok(Emitted {
+                text,
+                runs: choices
+                    .iter()
+                    .map(|c| c.form.map(|_| c.pieces.clone()))
+                    .collect(),
+                stats,
+                check,
+                retried_runs: retried.iter().filter(|&&r| r).count(),
+                kept_runs: choices.iter().filter(|c| c.form.is_none()).count(),
+            });
+        }
+        for k in failed {
+            retried[k] = true;
+            let c = &choices[k];
+            choices[k] = match c.form {
+                // The last try: the program's own run, which verifies.
+                Some(_) if attempt + 1 == RETRIES => Choice {
+                    form: None,
+                    pieces: Vec::new(),
+                    stats: RenderStats::default(),
+                    chord: c.chord,
+                },
+                Some(form) => render(k, form, 0.5 * c.chord)?,
+                None => c.clone(),
+            };
+        }
+    }
+    unreachable!("the last attempt returns")
+}
+
+/// The writer's options for `opts`.
+pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
+    let blend = opts.budget.blend;
+    GcodeWriteOptions {
+        chord_mm: opts.budget.output,
+        arcs: (opts.format != Format::G1).then_some(ArcWords::Ijk),
+        decimal_point: opts.controller == Controller::Fanuc,
+        g64_blend_mm: (opts.controller == Controller::Linuxcnc && blend > 0.0).then_some(blend),
+        resolution_mm: Some(resolution(&opts.machine)),
+        ..Default::default()
+    }
+}
+
+/// Largest rounding (mm) of a written point for `m`: `J Ts^3 / 40` (see
+/// [`GcodeWriteOptions::resolution_mm`]; a tenth of what keeps block-long
+/// pieces at their speed, because at the slow, tight places of a path the
+/// kinks rounding leaves cost the most time: 7 decimals in mm on the
+/// default machine, where 6 planned `surface-raster.ngc` 7% slower than
+/// its rendering).
+pub fn resolution(m: &MachineLimits) -> f64 {
+    0.025 * m.jerk * m.period * m.period * m.period
+}
+
+/// The renderer's options for a run in `units` with output share `chord`.
+fn render_options(
+    opts: &EmitOptions,
+    form: CurveForm,
+    chord: f64,
+    units: fairpath_gcode::Units,
+    wo: &GcodeWriteOptions,
+) -> RenderOptions {
+    let scale = units.mm_per_unit();
+    let min_decimals = match units {
+        fairpath_gcode::Units::Mm => wo.decimals_mm,
+        fairpath_gcode::Units::Inch => wo.decimals_inch,
+    };
+    let (decimals, _) = fairpath_gcode::output_decimals(wo, scale, min_decimals);
+    RenderOptions {
+        form,
+        // The writer's rounding takes at most ROUNDING_SHARE of it.
+        chord: chord * (1.0 - ROUNDING_SHARE),
+        limits: opts.machine,
+        min_block_periods: MIN_BLOCK_PERIODS,
+        min_radius: MIN_ARC_RADIUS_MM,
+        step_share: opts.step_share,
+        min_arc_length: MIN_ARC_UNITS * 10f64.powi(-(decimals as i32)) * scale,
+    }
+}
+
+/// The pieces of `runs` (for the summary's counts).
+pub fn pieces_of(runs: &[Run]) -> usize {
+    runs.iter().map(|r| r.pieces.len()).sum()
+}
