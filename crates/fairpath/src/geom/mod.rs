@@ -3,6 +3,7 @@
 
 mod arc;
 pub mod band_fit;
+mod bezier_spans;
 mod curve;
 mod fairness;
 pub mod fit;
