@@ -95,6 +95,45 @@ pub enum ErrorKind {
     BadTurns(f64),
     #[error("value of {0} is out of range")]
     BadValue(char),
+    #[error(transparent)]
+    Spline(#[from] SplineError),
+}
+
+/// Malformed spline blocks (G5, G5.1, G5.2/G5.3, G6.2).
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum SplineError {
+    #[error("{0} block is not closed")]
+    NotClosed(&'static str),
+    #[error("G5.3 without an open G5.2 block")]
+    EndWithoutBlock,
+    #[error("{code} needs the word {letter}")]
+    MissingWord { code: &'static str, letter: char },
+    #[error("{code}: a control point needs both {first} and {second}")]
+    AxisPair {
+        code: &'static str,
+        first: char,
+        second: char,
+    },
+    #[error("{code} does not take the word {letter} (in this plane)")]
+    WordNotAllowed { code: &'static str, letter: char },
+    #[error("weight must be positive, got {0}")]
+    BadWeight(f64),
+    #[error("order must be an integer from {min} to {max}, got {value}")]
+    BadOrder { value: f64, min: usize, max: usize },
+    #[error("{points} control points, fewer than the order {order}")]
+    TooFewPoints { points: usize, order: usize },
+    #[error("knot {knot} is below the knot before it ({previous})")]
+    KnotsDecreasing { previous: f64, knot: f64 },
+    #[error("G6.2 knot vector: {0}")]
+    KnotVector(&'static str),
+    #[error("inside a spline block: {0}")]
+    InBlock(&'static str),
+    #[error("G5 without I and J must follow another G5")]
+    NoPreviousG5,
+    #[error("Q must be 1, 2 or 3 (LinuxCNC's G6.2 method), got {0}")]
+    BadMethod(f64),
+    #[error("G5/G5.1 with cutter radius compensation (LinuxCNC refuses it)")]
+    CutterComp,
 }
 
 /// Errors of the writers and of [`crate::read_json`].
@@ -116,6 +155,19 @@ pub enum WriteError {
     },
     #[error("a smoothed piece has a non-finite coordinate")]
     NotFinite,
+    /// A spline block writer was given options it cannot honour.
+    #[error("spline writer: {0}")]
+    SplineOptions(&'static str),
+    /// The curve is not one the asked block can describe.
+    #[error("spline writer: {0}")]
+    SplineCurve(String),
+    /// A G5.2 curve (or a G6.2 curve for LinuxCNC) leaves its plane.
+    #[error("the curve leaves the {plane} plane by {deviation_mm} mm (more than the {allowed_mm} mm the written coordinates resolve)")]
+    NotPlanar {
+        plane: &'static str,
+        deviation_mm: f64,
+        allowed_mm: f64,
+    },
 }
 
 /// Errors of [`crate::read_json`].

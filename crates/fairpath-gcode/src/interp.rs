@@ -1,6 +1,7 @@
 //! The modal interpreter: turns lexed lines into moves (pieces in mm), tracks
 //! the modal state, decides which moves are pinned and which lines end runs,
-//! and groups the runs.
+//! and groups the runs. Spline lines (G5, G5.1, G5.2 ... G5.3, G6.2) go to
+//! [`crate::spline`] once the line's state changes are applied.
 
 // Axis loops index several parallel arrays by axis number.
 #![allow(clippy::needless_range_loop)]
@@ -10,6 +11,8 @@ use crate::lexer::{lex_line, split_lines, LexedLine, Word};
 use crate::program::{
     Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
+use crate::spline::{self, ParseOptions, SplineReading, SplineState};
+use fairpath::controller::Plane;
 use fairpath::geom::{Arc, ArcError, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::Piece;
 
@@ -28,38 +31,19 @@ pub const ARC_RADIUS_TOLERANCE_INCH: f64 = 0.0005;
 pub const ARC_RADIUS_TOLERANCE_MM: f64 = 0.01;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FeedMode {
+pub(crate) enum FeedMode {
     InverseTime,
     PerMinute,
     PerRev,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Plane {
-    XY,
-    ZX,
-    YZ,
-}
-
-impl Plane {
-    /// In-plane axes (first, second), normal axis, and the centre-word
-    /// letters for the in-plane axes and the off-plane one.
-    fn axes(self) -> (usize, usize, usize, char, char, char) {
-        match self {
-            Plane::XY => (0, 1, 2, 'I', 'J', 'K'),
-            Plane::ZX => (2, 0, 1, 'K', 'I', 'J'),
-            Plane::YZ => (1, 2, 0, 'J', 'K', 'I'),
-        }
-    }
-    fn normal(self) -> Vec3 {
-        self.geom().normal()
-    }
-    fn geom(self) -> fairpath::geom::Plane {
-        match self {
-            Plane::XY => fairpath::geom::Plane::XY,
-            Plane::ZX => fairpath::geom::Plane::ZX,
-            Plane::YZ => fairpath::geom::Plane::YZ,
-        }
+/// In-plane axes (first, second), normal axis, and the centre-word letters
+/// for the in-plane axes and the off-plane one.
+fn plane_axes(plane: Plane) -> (usize, usize, usize, char, char, char) {
+    match plane {
+        Plane::Xy => (0, 1, 2, 'I', 'J', 'K'),
+        Plane::Zx => (2, 0, 1, 'K', 'I', 'J'),
+        Plane::Yz => (1, 2, 0, 'J', 'K', 'I'),
     }
 }
 
@@ -107,6 +91,8 @@ enum G {
     LatheRadius,
     Cancel(u16),
     NonModal(NonModal),
+    /// G5.3: closes a G5.2 block (LinuxCNC modal group 0).
+    SplineEnd,
 }
 
 impl G {
@@ -127,7 +113,7 @@ impl G {
             G::LatheRadius => "lathe diameter mode",
             G::Cancel(10) => "polar coordinates",
             G::Cancel(_) => "rotation",
-            G::NonModal(_) => "non-modal",
+            G::NonModal(_) | G::SplineEnd => "non-modal",
         }
     }
 }
@@ -141,15 +127,20 @@ fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
         20 => G::Motion(MotionMode::ArcCw),
         30 => G::Motion(MotionMode::ArcCcw),
         40 => G::NonModal(NonModal::Dwell),
-        50 | 51 | 52 | 53 | 62 => return unsupported("splines (G5, G5.1, G5.2, G5.3, G6.2)"),
+        50 => G::Motion(MotionMode::CubicSpline),
+        51 => G::Motion(MotionMode::QuadSpline),
+        52 => G::Motion(MotionMode::Nurbs),
+        53 => G::SplineEnd,
+        62 => G::Motion(MotionMode::NurbsG6),
+        60 | 61 | 63 => return unsupported("LinuxCNC master's G6, G6.1 and G6.3"),
         70 => return unsupported("lathe diameter mode G7"),
         80 => G::LatheRadius,
         100 => G::NonModal(NonModal::G10),
         150 => G::Cancel(10),
         160 => return unsupported("polar coordinates G16"),
-        170 => G::Plane(Plane::XY),
-        180 => G::Plane(Plane::ZX),
-        190 => G::Plane(Plane::YZ),
+        170 => G::Plane(Plane::Xy),
+        180 => G::Plane(Plane::Zx),
+        190 => G::Plane(Plane::Yz),
         171 | 181 | 191 => return unsupported("UVW planes (G17.1, G18.1, G19.1)"),
         200 => G::Units(Units::Inch),
         210 => G::Units(Units::Mm),
@@ -206,21 +197,21 @@ fn m_group(code: i64) -> u8 {
 }
 
 /// The modal state of the interpreter.
-struct State {
+pub(crate) struct State {
     /// Current position, mm, program coordinates.
-    pos: Vec3,
+    pub(crate) pos: Vec3,
     /// Whether each axis of `pos` is known (see the crate docs).
-    known: [bool; 3],
+    pub(crate) known: [bool; 3],
     /// Text of the absolute coordinate last written for each axis.
-    axis_text: [Option<String>; 3],
-    units: Units,
-    incremental: bool,
+    pub(crate) axis_text: [Option<String>; 3],
+    pub(crate) units: Units,
+    pub(crate) incremental: bool,
     arc_incremental: bool,
-    plane: Plane,
-    motion: MotionMode,
-    feed: Option<Feed>,
-    feed_mode: FeedMode,
-    comp: bool,
+    pub(crate) plane: Plane,
+    pub(crate) motion: MotionMode,
+    pub(crate) feed: Option<Feed>,
+    pub(crate) feed_mode: FeedMode,
+    pub(crate) comp: bool,
     tlo: bool,
     coord: u16,
     path: u16,
@@ -230,10 +221,12 @@ struct State {
     spindle_mode: u16,
     ended: bool,
     percent_lines: usize,
+    /// Spline blocks being read, and how splines are read.
+    pub(crate) spline: SplineState,
 }
 
 impl State {
-    fn new() -> State {
+    fn new(splines: SplineReading) -> State {
         State {
             pos: Vec3::ZERO,
             known: [true; 3],
@@ -241,7 +234,7 @@ impl State {
             units: Units::Mm,
             incremental: false,
             arc_incremental: true,
-            plane: Plane::XY,
+            plane: Plane::Xy,
             motion: MotionMode::None,
             feed: None,
             feed_mode: FeedMode::PerMinute,
@@ -253,6 +246,7 @@ impl State {
             spindle_mode: 970,
             ended: false,
             percent_lines: 0,
+            spline: SplineState::new(splines),
         }
     }
     fn forget(&mut self, axes: [bool; 3]) {
@@ -268,10 +262,16 @@ impl State {
 const AXIS_LETTERS: [char; 3] = ['X', 'Y', 'Z'];
 const EXTRA_AXES: &str = "ABCUVW";
 
-/// Reads a program. See the crate documentation for what is accepted.
+/// Reads a program with the default [`ParseOptions`]. See the crate
+/// documentation for what is accepted.
 pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
+    parse_with(text, &ParseOptions::default())
+}
+
+/// Reads a program. See the crate documentation for what is accepted.
+pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeError> {
     let raw = split_lines(text)?;
-    let mut st = State::new();
+    let mut st = State::new(opts.splines);
     let mut lines = Vec::with_capacity(raw.len());
     let mut moves: Vec<Move> = Vec::new();
     let mut start_units: Option<Units> = None;
@@ -294,9 +294,10 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
                 uses_modal_motion: false,
                 feed_after: st.feed.clone(),
                 insert_column: 1,
-                plane_after: st.plane.geom(),
+                plane_after: st.plane,
                 arc_incremental_after: st.arc_incremental,
                 path_control_after: st.path_words.clone(),
+                in_block: false,
             });
             continue;
         }
@@ -327,11 +328,13 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
             uses_modal_motion: info.uses_modal_motion,
             feed_after: st.feed.clone(),
             insert_column,
-            plane_after: st.plane.geom(),
+            plane_after: st.plane,
             arc_incremental_after: st.arc_incremental,
             path_control_after: st.path_words.clone(),
+            in_block: st.spline.is_open(),
         });
     }
+    st.spline.check_closed()?;
     let runs = group_runs(&lines, &moves);
     Ok(Program {
         lines,
@@ -347,7 +350,7 @@ struct LineInfo {
     uses_modal_motion: bool,
 }
 
-fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
+pub(crate) fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
     GcodeError::new(line, column, kind)
 }
 
@@ -441,11 +444,19 @@ fn interpret_line(
             return Err(err(ln, w.column, ErrorKind::ConflictingAxisUsers));
         }
     }
+    let spline_end = gs.iter().find(|(g, _)| *g == G::SplineEnd).map(|(_, w)| *w);
+    let spline_line = spline::claims(
+        st,
+        motion_g.map(|(m, _)| m),
+        spline_end.is_some(),
+        has_axes && axis_user_nonmodal.is_none(),
+    );
 
     // ---- state changes (LinuxCNC order of execution) ----
     let mut changes = lx.block_delete || !ms.is_empty();
     for l in ['S', 'T', 'H', 'D', 'L', 'Q'] {
-        if word(l).is_some() {
+        // L and Q are spline words on spline lines.
+        if word(l).is_some() && !(spline_line && (l == 'L' || l == 'Q')) {
             changes = true;
         }
     }
@@ -535,12 +546,14 @@ fn interpret_line(
             }
             G::Cancel(_) => changes = true,
             G::NonModal(_) => changes = true,
+            G::SplineEnd => sets_motion = true,
             G::Motion(m) => {
                 sets_motion = true;
                 if m == st.motion && !has_axes {
                     restated_motion = true;
                 }
-                if !has_axes && m != st.motion {
+                // A spline G word without axes opens or continues a block.
+                if !has_axes && m != st.motion && !spline_line {
                     changes = true;
                 }
                 let _ = w;
@@ -577,6 +590,7 @@ fn interpret_line(
                 // Rapid to the intermediate point (if any), then home: the
                 // position is unknown afterwards.
                 if has_axes {
+                    st.spline.moved_otherwise();
                     let target = target_point(st, &given, ln)?;
                     let start = st.pos;
                     moves.push(Move {
@@ -601,6 +615,31 @@ fn interpret_line(
     let ended_now = ms.iter().any(|(c, _)| *c == 2 || *c == 30);
 
     // ---- motion ----
+    if spline_line {
+        let other_g = gs
+            .iter()
+            .find(|(g, _)| {
+                !matches!(g, G::Motion(m) if spline::is_spline(*m)) && *g != G::SplineEnd
+            })
+            .map(|(_, w)| *w);
+        let ctx = spline::LineCtx {
+            lx,
+            ln,
+            code: motion_g.filter(|(m, _)| spline::is_spline(*m)),
+            end: spline_end,
+            other_g,
+            state_change: changes || plane_changed,
+        };
+        let pinned_moves = spline::line(&ctx, st, moves)?;
+        if ended_now {
+            st.ended = true;
+        }
+        return Ok(LineInfo {
+            breaks_run: changes || pinned_moves,
+            sets_motion,
+            uses_modal_motion: has_axes && motion_g.is_none(),
+        });
+    }
     if !has_axes {
         if let Some((MotionMode::ArcCw | MotionMode::ArcCcw, w)) = motion_g {
             if ['I', 'J', 'K', 'R', 'P'].iter().any(|&l| word(l).is_some()) {
@@ -638,6 +677,7 @@ fn interpret_line(
         } else {
             target_point(st, &given, ln)?
         };
+        st.spline.moved_otherwise();
         let (curve, kind) = match mode {
             MotionMode::ArcCw | MotionMode::ArcCcw => {
                 let arc = build_arc(
@@ -740,7 +780,7 @@ fn interpret_line(
     })
 }
 
-fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
+pub(crate) fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -791,7 +831,7 @@ fn build_arc(
     clockwise: bool,
     first_axis_col: usize,
 ) -> Result<Arc, GcodeError> {
-    let (a1, a2, _an, l1, l2, loff) = st.plane.axes();
+    let (a1, a2, _an, l1, l2, loff) = plane_axes(st.plane);
     let mm = st.units.mm_per_unit();
     let tol = match st.units {
         Units::Inch => ARC_RADIUS_TOLERANCE_INCH,
@@ -903,7 +943,8 @@ fn build_arc(
 }
 
 /// Groups the runs: consecutive non-pinned feed moves on lines that do not
-/// break runs.
+/// break runs. A run that starts with a spline block's moves starts at the
+/// block's first line.
 fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
     let mut runs = Vec::new();
     let mut cur: Option<RunSpan> = None;
@@ -924,13 +965,23 @@ fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
                         r.feed_after = line.feed_after.clone();
                     }
                     None => {
+                        // A spline block's moves start the run at the
+                        // block's first line, with the feed before it.
+                        let first = m.piece.source_lines.0.min(line.number);
+                        let before = if first == line.number {
+                            feed_before.clone()
+                        } else {
+                            first
+                                .checked_sub(2)
+                                .and_then(|i| lines[i].feed_after.clone())
+                        };
                         cur = Some(RunSpan {
                             moves: mi..mi + 1,
-                            first_line: line.number,
+                            first_line: first,
                             last_line: line.number,
                             units: line.units,
                             incremental: line.incremental,
-                            feed_before: feed_before.clone(),
+                            feed_before: before,
                             feed_after: line.feed_after.clone(),
                         })
                     }

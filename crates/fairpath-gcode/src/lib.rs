@@ -9,6 +9,8 @@
 //!     --> write_json(&Program, &smoothed) -> String;  read_json(&str) -> Vec<Piece>
 //! ```
 //! A smoothed G-code file is read back with [`parse`] (it is plain G-code).
+//! [`parse_with`] takes [`ParseOptions`] (how splines are read);
+//! [`write_spline`] formats NURBS pieces as G6.2 or G5.2/G5.3 blocks.
 //!
 //! ## What is read
 //! Programs as LinuxCNC, Fanuc, Mach3, grbl and CAM post-processors write
@@ -19,6 +21,17 @@
 //! motion mode). LinuxCNC's execution order within a line applies: F is read
 //! before a G20/G21 on the same line (`G21 F100` in an inch program is
 //! 100 in/min), the units change before the move.
+//!
+//! Splines ([`spline`] has the details and LinuxCNC's rules): G5 (cubic),
+//! G5.1 (quadratic) and G5.2 ... G5.3 (NURBS blocks) are read by default as
+//! LinuxCNC runs them (the biarcs and straight feeds of its canon layer,
+//! [`fairpath::controller::linuxcnc`]), or as the exact curves with
+//! [`SplineReading::Exact`]; G6.2 (Fanuc NURBS: P order, K knots, R
+//! weights; also LinuxCNC master) is read as the exact NURBS. Their moves
+//! are [`MoveKind::Spline`] on the block's last line; the other lines of a
+//! multi-line block are marked [`ProgramLine::in_block`]. Spline moves take
+//! part in runs like arcs; a block is pinned when any of its lines would
+//! pin a move.
 //!
 //! * The position before any move is (0,0,0) in program coordinates.
 //! * Work offsets are not known: coordinates are program coordinates. After
@@ -55,7 +68,8 @@
 //!
 //! A move is *pinned* (written back verbatim, never smoothed) when its line
 //! starts with `/`, carries words other than N, F, X, Y, Z, G (and I, J, K,
-//! R, P for arcs) such as M8 or S1000, changes state, has A/B/C/U/V/W words,
+//! R, P for arcs; the spline words for splines) such as M8 or S1000,
+//! changes state, has A/B/C/U/V/W words,
 //! runs with cutter compensation active or in G93/G95 feed mode, starts at
 //! an unknown position, or is G33/G33.1/G38.x/G31 or G53 motion.
 //!
@@ -67,8 +81,9 @@
 //! (`Display`: `line:column: message`); [`GcodeError::is_unsupported`] tells
 //! unsupported features from malformed input. Unsupported: LinuxCNC
 //! parameters `#`, expressions `[...]`, o-words (except a Fanuc `O1234`
-//! program number alone on a line), G5/G5.1/G5.2/G5.3/G6.2 splines, canned
-//! cycles (G73, G74, G76, G81..G89), G7 diameter mode, G16 polar
+//! program number alone on a line), LinuxCNC master's G6/G6.1 (aliases
+//! of G5/G5.1) and G6.3, canned cycles (G73, G74, G76, G81..G89), G7
+//! diameter mode, G16 polar
 //! coordinates, G51 scaling, G68 rotation, G70/G71/G72, G17.1/G18.1/G19.1,
 //! the extruder word E. Unknown G codes are errors; unknown M codes are
 //! passed through (they break runs). An empty program is an empty
@@ -78,16 +93,20 @@ pub mod error;
 pub mod interp;
 pub mod lexer;
 pub mod program;
+pub mod spline;
 pub mod write_gcode;
 pub mod write_json;
+pub mod write_spline;
 
-pub use error::{ErrorKind, GcodeError, JsonError, WriteError};
-pub use interp::parse;
+pub use error::{ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use interp::{parse, parse_with};
 pub use program::{
     Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
+pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{
     output_decimals, write_decimals, write_gcode, write_gcode_with, ArcWords, GcodeWriteOptions,
     RunOutput, ARC_ROUNDING_FACTOR, ROUNDING_SHARE,
 };
 pub use write_json::{read_json, write_json, ARC_APPROX_MM};
+pub use write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};

@@ -42,6 +42,15 @@ pub enum MotionMode {
     RigidTap,
     /// G38.2 .. G38.5 probing, or G31 (Mach3, Fanuc): the code times 10.
     Probe(u16),
+    /// G5: cubic spline (LinuxCNC), modal.
+    CubicSpline,
+    /// G5.1: quadratic spline (LinuxCNC), modal.
+    QuadSpline,
+    /// G5.2: inside a LinuxCNC NURBS block (until G5.3).
+    Nurbs,
+    /// G6.2: inside a NURBS block (Fanuc, LinuxCNC master), until its
+    /// knot vector is complete.
+    NurbsG6,
 }
 
 impl MotionMode {
@@ -56,6 +65,10 @@ impl MotionMode {
             MotionMode::Thread => "G33".into(),
             MotionMode::RigidTap => "G33.1".into(),
             MotionMode::Probe(310) => "G31".into(),
+            MotionMode::CubicSpline => "G5".into(),
+            MotionMode::QuadSpline => "G5.1".into(),
+            MotionMode::Nurbs => "G5.2".into(),
+            MotionMode::NurbsG6 => "G6.2".into(),
             MotionMode::Probe(c) => format!("G{}.{}", c / 10, c % 10),
         })
     }
@@ -136,6 +149,12 @@ pub struct ProgramLine {
     /// The path-control command in force after this line as the program
     /// wrote it (`G64 P0.01 Q0`, `G61`), or `None` if it never set one.
     pub path_control_after: Option<String>,
+    /// The line belongs to a multi-line spline block (G5.2 ... G5.3, or a
+    /// G6.2 block) and is not its last line: it carries part of a move that
+    /// executes on the block's last line (which holds the block's moves).
+    /// Comment and blank lines inside the block count too. A writer that
+    /// replaces a run must not emit these lines as if they held no motion.
+    pub in_block: bool,
 }
 
 /// What kind of move.
@@ -144,6 +163,11 @@ pub enum MoveKind {
     Rapid,
     Linear,
     Arc,
+    /// One piece of a spline block (G5, G5.1, G5.2/G5.3, G6.2): a NURBS
+    /// (exact reading), or one of the arcs and lines LinuxCNC runs for it.
+    /// All pieces of a block belong to its last line and have
+    /// `source_lines` = (first line of the block, last line).
+    Spline,
 }
 
 /// One move of the program.

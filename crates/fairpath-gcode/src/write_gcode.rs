@@ -443,7 +443,7 @@ impl<'a> RunWriter<'a> {
             feed_texts,
             cur: first_move.piece.start(),
             cur_feed: run.feed_before.as_ref().map(|f| f.mm_per_min),
-            plane: before.map_or(Plane::XY, |l| l.plane_after),
+            plane: before.map_or(Plane::Xy, |l| l.plane_after),
             motion: None,
             path: None,
             first_move: true,
@@ -503,8 +503,10 @@ impl<'a> RunWriter<'a> {
                 self.path = Some(pc);
             }
         }
+        // Lines of a multi-line spline block carry part of its move: they
+        // are replaced with it.
         let interior: Vec<usize> = (run.first_line..=run.last_line)
-            .filter(|&n| lines[n - 1].moves.is_empty())
+            .filter(|&n| lines[n - 1].moves.is_empty() && !lines[n - 1].in_block)
             .collect();
         let mut next_interior = 0;
         let n_pieces = pieces.len();
@@ -561,7 +563,7 @@ impl<'a> RunWriter<'a> {
             }
         }
         if self.plane != last.plane_after {
-            self.push_line(last.plane_after.gcode());
+            self.push_line(last.plane_after.gword());
             self.plane = last.plane_after;
         }
         if self.opts.g64_blend_mm.is_some() {
@@ -684,7 +686,7 @@ impl<'a> RunWriter<'a> {
         // A plane change on a line of its own: on the move's line it would
         // make the move a state change, which readers keep out of runs.
         if plane != self.plane {
-            self.push_line(plane.gcode());
+            self.push_line(plane.gword());
             self.plane = plane;
         }
         let mut line = String::new();
@@ -701,7 +703,7 @@ impl<'a> RunWriter<'a> {
             line.push_str(&self.num(signed));
         } else {
             let letters = ['I', 'J', 'K'];
-            let [ia, ib, _] = plane.axes();
+            let (ia, ib, _) = plane.axes();
             for ax in [ia, ib] {
                 let c = axis(a.center, ax);
                 let v = if self.arc_incremental {

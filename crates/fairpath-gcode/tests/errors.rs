@@ -54,8 +54,8 @@ fn unsupported_features() {
         (b"G0 X[1+2]", 1, 4),
         (b"o100 sub\n", 1, 1),
         (b"G0 X0\nO<slot> call\n", 2, 1),
-        (b"G5.2 X1 Y2 P1 L3", 1, 1),
-        (b"G6.2 P4", 1, 1),
+        (b"G17.1", 1, 1),
+        (b"G0 X0\nG16 X1 Y1", 2, 1),
         (b"G0 X0\nG81 X1 Y1 Z-1 R1", 2, 1),
         (b"G1 X1 E0.5 F100", 1, 7),
     ] {

@@ -31,7 +31,8 @@ fn check_passthrough(name: &str, p: &Program, out: &str) {
     let mut in_run = vec![false; p.lines().len() + 1];
     for s in spans {
         for l in &p.lines()[s.first_line - 1..s.last_line] {
-            if !l.moves.is_empty() {
+            // Lines of a spline block carry part of its move.
+            if !l.moves.is_empty() || l.in_block {
                 in_run[l.number] = true;
             }
         }

@@ -18,6 +18,8 @@
 //! * [`path`]: pieces of geometry tied to the input lines they replace,
 //!   grouped in runs.
 //! * [`smooth`]: smoothing methods behind one trait, and [`smooth::verify`].
+//! * [`controller`]: what controllers do with the codes fairpath reads and
+//!   writes: LinuxCNC's G5/G5.1/G5.2 spline arithmetic, replicated.
 //! * [`feed`]: machine limits, speed caps, jerk-limited (double-S)
 //!   profiles, the look-ahead planner and the interpolator.
 //!
@@ -29,6 +31,7 @@
 extern crate alloc;
 
 pub mod budget;
+pub mod controller;
 pub mod feed;
 pub mod geom;
 mod math;

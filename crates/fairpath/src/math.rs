@@ -17,6 +17,21 @@ pub fn cos(x: f64) -> f64 {
 pub fn atan2(y: f64, x: f64) -> f64 {
     libm::atan2(y, x)
 }
+/// `sqrt(x^2 + y^2)` without overflow. With `std` this is the platform C
+/// library's `hypot` (glibc on Linux), so that code replicating a C
+/// program's arithmetic (LinuxCNC's splines) rounds as that program does on
+/// the same platform; without `std`, `libm`'s (within 1 ulp of it).
+#[inline]
+pub fn hypot(x: f64, y: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        x.hypot(y)
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::hypot(x, y)
+    }
+}
 #[inline]
 pub fn ceil(x: f64) -> f64 {
     libm::ceil(x)

@@ -217,7 +217,7 @@ mod tests {
     fn a_biarc_between_two_points_of_a_circle_is_that_circle() {
         let (p0, t0) = on_circle(5.0, 0.1);
         let (p1, t1) = on_circle(5.0, 0.9);
-        let b = biarc(Plane::XY, p0, t0, p1, t1, 0.1, 1e-12).unwrap();
+        let b = biarc(Plane::Xy, p0, t0, p1, t1, 0.1, 1e-12).unwrap();
         for c in [&b.first, &b.second] {
             let Curve::Arc(a) = c else {
                 panic!("not an arc")
@@ -238,7 +238,7 @@ mod tests {
         let p1 = Vec3::new(3.0, 1.0, 0.0);
         let t0 = Vec3::new(1.0, 0.4, 0.0).normalized(0.0).unwrap();
         let t1 = Vec3::new(1.0, 0.6, 0.0).normalized(0.0).unwrap();
-        let b = biarc(Plane::XY, p0, t0, p1, t1, 0.1, 1e-12).unwrap();
+        let b = biarc(Plane::Xy, p0, t0, p1, t1, 0.1, 1e-12).unwrap();
         let ut = |c: &Curve, t: f64| c.unit_tangent(t).unwrap();
         assert!(ut(&b.first, 0.0).angle_to(t0) < 1e-9);
         assert!(ut(&b.second, 1.0).angle_to(t1) < 1e-9);
@@ -278,7 +278,7 @@ mod tests {
     fn straight_data_gives_lines_and_bad_data_gives_none() {
         let x = Vec3::X;
         let b = biarc(
-            Plane::XY,
+            Plane::Xy,
             Vec3::ZERO,
             x,
             Vec3::new(2.0, 0.0, 0.0),
@@ -289,11 +289,11 @@ mod tests {
         .unwrap();
         assert!(matches!(b.first, Curve::Line(_)) && matches!(b.second, Curve::Line(_)));
         // Same point.
-        assert!(biarc(Plane::XY, Vec3::ZERO, x, Vec3::ZERO, x, 0.1, 1e-9).is_none());
+        assert!(biarc(Plane::Xy, Vec3::ZERO, x, Vec3::ZERO, x, 0.1, 1e-9).is_none());
         // A tangent along the plane's normal.
-        assert!(biarc(Plane::XY, Vec3::ZERO, Vec3::Z, Vec3::X, x, 0.1, 1e-9).is_none());
+        assert!(biarc(Plane::Xy, Vec3::ZERO, Vec3::Z, Vec3::X, x, 0.1, 1e-9).is_none());
         // Reversed tangents across the chord: no biarc of small turn.
-        assert!(biarc(Plane::XY, Vec3::ZERO, -x, Vec3::X, -x, 0.1, 1e-9).is_none());
+        assert!(biarc(Plane::Xy, Vec3::ZERO, -x, Vec3::X, -x, 0.1, 1e-9).is_none());
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 mod arc;
 pub mod band_fit;
+mod bezier_spans;
 pub mod biarc;
 mod curve;
 mod fairness;

@@ -23,6 +23,8 @@ pub struct Nurbs {
 /// Why a NURBS definition is invalid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NurbsError {
+    /// Degree 0 or above [`Nurbs::MAX_DEGREE`].
+    BadDegree,
     TooFewPoints,
     KnotCount,
     KnotsDecreasing,
@@ -32,6 +34,10 @@ pub enum NurbsError {
 }
 
 impl Nurbs {
+    /// Highest degree the evaluation supports (its basis arrays hold eight
+    /// values).
+    pub const MAX_DEGREE: usize = 7;
+
     /// Checks the definition and builds the curve.
     pub fn new(
         degree: usize,
@@ -39,7 +45,10 @@ impl Nurbs {
         points: Vec<Vec3>,
         weights: Option<Vec<f64>>,
     ) -> Result<Nurbs, NurbsError> {
-        if degree == 0 || points.len() < degree + 1 {
+        if degree == 0 || degree > Nurbs::MAX_DEGREE {
+            return Err(NurbsError::BadDegree);
+        }
+        if points.len() < degree + 1 {
             return Err(NurbsError::TooFewPoints);
         }
         if knots.len() != points.len() + degree + 1 {

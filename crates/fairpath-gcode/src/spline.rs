@@ -1,0 +1,920 @@
+//! Spline codes: G5, G5.1, G5.2/G5.3 (LinuxCNC) and G6.2 (Fanuc NURBS
+//! interpolation, also in LinuxCNC master), read with LinuxCNC's rules.
+//!
+//! Sources: LinuxCNC master 5c41560eb, `src/emc/rs274ngc/interp_convert.cc`
+//! (`convert_spline`, `convert_nurbs`), `interp_check.cc` (which words each
+//! code takes), `interp_internal.cc`, `src/emc/task/emccanon.cc`
+//! (`NURBS_G5_FEED`, `NURBS_G6_FEED`); LinuxCNC 2.9 (Debian's 2.9.0~pre1 and
+//! every 2.9.x: the same spline code as each other).
+//!
+//! ## The codes as LinuxCNC reads them
+//! * **G5** `X Y I J P Q` (cubic; modal): control points: the current
+//!   position, start + (I, J), end + (P, Q), the end. I and J both or
+//!   neither; neither takes (-P, -Q) of the previous G5 (an error when the
+//!   previous move was not a G5). P and Q are required.
+//! * **G5.1** `X Y I J` (quadratic; modal): the current position,
+//!   start + (I, J), the end. I and J are both required.
+//! * **G5.2** `X Y P L` ... **G5.3**: a NURBS block. The current position is
+//!   the first control point (its weight from `P` on a first line without
+//!   X Y, else 1); every other line gives a point with both in-plane axes
+//!   and a positive weight `P` (LinuxCNC reads a missing P on a first line
+//!   with X Y as weight -1, and P <= 0 on a first line without X Y as 1:
+//!   both are errors here); `L` (an integer, any line) sets the order
+//!   when above 3 (the order is 3 otherwise). G5.3 (alone) runs it; at
+//!   least `order` points are required. The knot vector is LinuxCNC's
+//!   clamped uniform one ([`fairpath::controller::linuxcnc::g5_2_knots`]).
+//!   Between G5.2 and G5.3 only control points (and comments, F, M codes)
+//!   may come.
+//! * **G6.2** `P K X Y Z R Q F` (NURBS, Fanuc syntax): the first line has
+//!   the order `P` (2 to 8 here; Fanuc takes 2 to 4) and the first control
+//!   point; every control-point line has both in-plane axes, a knot `K` and
+//!   a weight `R > 0`; then `P` lines with a knot only close the knot
+//!   vector (`number of knots = points + P`). The block ends, as LinuxCNC
+//!   decides, on the line whose knot is the `P`th equal one in a row. The
+//!   knot vector must be clamped (the first and last knot each `P` times).
+//!   LinuxCNC master requires `Q1`..`Q3` on the first line (its execution
+//!   method) and `G6.2` on knot-only lines, and integer knots; Fanuc knows
+//!   no Q and writes knot-only lines as bare `K`: both forms are read, and
+//!   real knots too. LinuxCNC's checks let `L` pass on G6.2 lines but it
+//!   means nothing there: an error here, as are `P` on a later line with
+//!   another order and a missing `R` (LinuxCNC would reuse the previous
+//!   line's R).
+//!
+//! Planes: LinuxCNC master takes all codes in G17, G18 and G19 (the
+//! control-point words are the plane's axes, in-plane pair `(Z, X)` in
+//! G18); 2.9 takes G5/G5.1 only in G17 and reads G5.2's X and Y in every
+//! plane, so programs for other planes are master programs. In G18 master
+//! maps I to X and J to Z for the first control point of G5/G5.1 but P to
+//! Z and Q to X for the second: replicated. The off-plane axis (which
+//! LinuxCNC ignores on G5/G5.1/G5.2 lines) and A B C U V W are errors here;
+//! on G6.2 lines the off-plane axis makes the curve 3D (Fanuc).
+//!
+//! Units and G91: coordinates are in the program's units; in G91 every
+//! control point of a block is relative to the position *before the block*
+//! (LinuxCNC's `find_ends` during the block), I J relative to the start and
+//! P Q relative to the end in both modes. Weights and knots have no units.
+//! The feed is the one in force when the block runs (its last line).
+//!
+//! ## What LinuxCNC runs
+//! G5, G5.1 and G5.2 become `NURBS_G5_FEED`: biarcs, 4 samples per control
+//! point ([`fairpath::controller::linuxcnc`] replicates its arithmetic bit
+//! for bit). G6.2 becomes `NURBS_G6_FEED` in master: in the plane only (it
+//! ignores the off-plane axis), by the method Q (1: biarcs at constant
+//! parameter steps, 15 per point; 2: biarcs at arc-length steps; 3:
+//! straight feeds every `feed * 0.1 s / 60` mm, a step that grows with the
+//! feed), split in pieces when it has more than `3 P` points. Its
+//! interpreter then takes as its position the in-plane coordinates of the
+//! block's last line, stored as X and Y whatever the plane: a knot-only
+//! line, so the position before the block (in G17; garbled in G18/G19). A
+//! following move that omits an axis or is incremental starts from there
+//! in LinuxCNC, a bug that fairpath does not replicate (it continues from
+//! the curve's end, as the machine is; the G6.2 writer adds a `G1` to the
+//! end point for LinuxCNC). Fanuc controls interpolate the exact NURBS.
+//!
+//! ## How fairpath reads them
+//! G6.2 is always the exact NURBS it describes (one [`Curve::Nurbs`] piece,
+//! preceded by a straight line when its first control point is not the
+//! current position, as LinuxCNC moves there first). G5, G5.1 and G5.2 are
+//! read by default as LinuxCNC runs them ([`SplineReading::AsLinuxcnc`]:
+//! its arcs and straight feeds), or as the exact cubic Bezier, quadratic
+//! Bezier and NURBS ([`SplineReading::Exact`]). All pieces of a block are
+//! moves of kind [`MoveKind::Spline`] on the block's last line, with
+//! `source_lines` (first line, last line); the other lines of a multi-line
+//! block are marked [`crate::ProgramLine::in_block`]. A block is pinned as a
+//! move line is (`/`, extra words such as M8, a state change, cutter
+//! compensation (an error for G5/G5.1, as in LinuxCNC), G93/G95, an unknown
+//! start) when any of its lines gives a reason.
+
+use crate::error::{ErrorKind, GcodeError, SplineError};
+use crate::interp::{err, finite, FeedMode, State};
+use crate::lexer::{LexedLine, Word};
+use crate::program::{MotionMode, Move, MoveKind, PinReason};
+use fairpath::controller::linuxcnc::{g5_2_curve, g5_2_motion, G5Error};
+use fairpath::controller::Plane;
+use fairpath::geom::{Curve, Line, Nurbs, NurbsError, Vec3};
+use fairpath::path::Piece;
+
+/// How G5, G5.1 and G5.2/G5.3 are read (G6.2 is always read exactly).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SplineReading {
+    /// The arcs and straight feeds LinuxCNC's canon layer makes of them.
+    #[default]
+    AsLinuxcnc,
+    /// The curves they describe: G5 a cubic Bezier, G5.1 a quadratic
+    /// Bezier, G5.2 the NURBS with LinuxCNC's knot vector (order up to 8).
+    Exact,
+}
+
+/// How the reader reads what admits more than one reading
+/// ([`crate::parse_with`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ParseOptions {
+    /// G5, G5.1 and G5.2/G5.3 as LinuxCNC runs them (the default) or as
+    /// the exact curves they describe.
+    pub splines: SplineReading,
+}
+
+/// How far (in integers) an order or method word may be from an integer:
+/// LinuxCNC's `is_near_int` and `read_integer_value` take 0.0001.
+const NEAR_INT: f64 = 1e-4;
+/// Highest `L` taken on G5.2 lines (LinuxCNC has no limit; the block
+/// needs that many points anyway).
+const MAX_L: usize = 64;
+/// Highest G6.2 order (and exact G5.2 order): degree [`Nurbs::MAX_DEGREE`].
+const MAX_ORDER: usize = Nurbs::MAX_DEGREE + 1;
+/// Units in the last place within which the end of LinuxCNC's last move is
+/// the block's end point (`(a + b) * mm` against `a * mm + b * mm`).
+const END_ULPS: f64 = 64.0;
+const AXES: [char; 3] = ['X', 'Y', 'Z'];
+
+/// Spline reading state: the open multi-line block, and the tangent a G5
+/// without I J continues.
+pub(crate) struct SplineState {
+    reading: SplineReading,
+    open: Option<Block>,
+    /// (-P, -Q) of the previous move when it was a G5 (program units).
+    g5_tangent: Option<[f64; 2]>,
+}
+
+/// An open G5.2 or G6.2 block.
+struct Block {
+    g6: bool,
+    first_line: usize,
+    column: usize,
+    start: Vec3,
+    start_known: bool,
+    order: usize,
+    pin: Option<PinReason>,
+    /// G5.2: control points in the plane, program units (the start first).
+    prog: Vec<[f64; 2]>,
+    /// Control points in mm (G5.2: the start first).
+    pts: Vec<Vec3>,
+    weights: Vec<f64>,
+    /// G6.2: the knot of every line (control point or knot-only).
+    knots: Vec<f64>,
+    /// G6.2: number of knot-only lines so far.
+    knot_only: usize,
+    /// Axis words (text) of the last control point.
+    last_words: [Option<String>; 3],
+}
+
+impl SplineState {
+    pub(crate) fn new(reading: SplineReading) -> SplineState {
+        SplineState {
+            reading,
+            open: None,
+            g5_tangent: None,
+        }
+    }
+
+    /// A multi-line block is open (the line just read is inside it).
+    pub(crate) fn is_open(&self) -> bool {
+        self.open.is_some()
+    }
+
+    /// A move other than a G5 happened: the next G5 needs I and J.
+    pub(crate) fn moved_otherwise(&mut self) {
+        self.g5_tangent = None;
+    }
+
+    /// The error for a block still open at the end of the program.
+    pub(crate) fn check_closed(&self) -> Result<(), GcodeError> {
+        match &self.open {
+            None => Ok(()),
+            Some(b) => Err(spline_err(
+                b.first_line,
+                b.column,
+                SplineError::NotClosed(if b.g6 { "G6.2" } else { "G5.2" }),
+            )),
+        }
+    }
+}
+
+pub(crate) fn is_spline(m: MotionMode) -> bool {
+    matches!(
+        m,
+        MotionMode::CubicSpline | MotionMode::QuadSpline | MotionMode::Nurbs | MotionMode::NurbsG6
+    )
+}
+
+/// Whether the spline reader takes the line: a block is open, or the line
+/// has a spline G word or G5.3, or axis words in modal G5/G5.1.
+pub(crate) fn claims(st: &State, code: Option<MotionMode>, end: bool, axes: bool) -> bool {
+    st.spline.open.is_some()
+        || code.is_some_and(is_spline)
+        || end
+        || (code.is_none()
+            && axes
+            && matches!(st.motion, MotionMode::CubicSpline | MotionMode::QuadSpline))
+}
+
+/// What the interpreter knows of a spline line.
+pub(crate) struct LineCtx<'a> {
+    pub lx: &'a LexedLine,
+    pub ln: usize,
+    /// The line's spline G word (group 1).
+    pub code: Option<(MotionMode, &'a Word)>,
+    /// The line's G5.3.
+    pub end: Option<&'a Word>,
+    /// The first G word that is neither a spline code nor G5.3.
+    pub other_g: Option<&'a Word>,
+    /// The line changes modal state (or the plane).
+    pub state_change: bool,
+}
+
+fn spline_err(line: usize, column: usize, e: SplineError) -> GcodeError {
+    err(line, column, ErrorKind::Spline(e))
+}
+
+/// Reads one spline line; returns whether it made pinned moves.
+pub(crate) fn line(
+    ctx: &LineCtx,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+) -> Result<bool, GcodeError> {
+    let ln = ctx.ln;
+    if let Some(open) = &st.spline.open {
+        if let Some(w) = ctx.other_g {
+            return Err(spline_err(
+                ln,
+                w.column,
+                SplineError::InBlock("no other G code before the block is closed"),
+            ));
+        }
+        let own = if open.g6 {
+            MotionMode::NurbsG6
+        } else {
+            MotionMode::Nurbs
+        };
+        if let Some((m, w)) = ctx.code {
+            if m != own {
+                return Err(spline_err(
+                    ln,
+                    w.column,
+                    SplineError::InBlock("another motion code before the block is closed"),
+                ));
+            }
+        }
+    }
+    if let Some(w) = ctx.end {
+        if let Some(o) = ctx.other_g.or(ctx.code.map(|c| c.1)) {
+            return Err(spline_err(
+                ln,
+                o.column,
+                SplineError::InBlock("G5.3 must be the only G code on its line"),
+            ));
+        }
+        return close_g5_2(ctx, w, st, moves);
+    }
+    let mode = ctx.code.map_or(st.motion, |c| c.0);
+    match mode {
+        MotionMode::CubicSpline => g5(ctx, st, moves, false),
+        MotionMode::QuadSpline => g5(ctx, st, moves, true),
+        MotionMode::Nurbs => g5_2_point(ctx, st).map(|_| false),
+        _ => g6_2_line(ctx, st, moves),
+    }
+}
+
+/// Checks the words of a spline line: the plane's axes (and the off-plane
+/// one when `off_plane`), `letters`, N F G; other axes and spline letters
+/// are errors; any other word pins (returns true).
+fn check_words(
+    lx: &LexedLine,
+    ln: usize,
+    code: &'static str,
+    plane: Plane,
+    letters: &str,
+    off_plane: bool,
+) -> Result<bool, GcodeError> {
+    let normal = AXES[plane.axes().2];
+    let mut extra = false;
+    for w in &lx.words {
+        let l = w.letter;
+        let ok = match l {
+            'N' | 'F' | 'G' => true,
+            'X' | 'Y' | 'Z' => l != normal || off_plane,
+            'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' | 'K' | 'P' | 'Q' | 'R' | 'L' => {
+                letters.contains(l)
+            }
+            _ => {
+                extra = true;
+                true
+            }
+        };
+        if !ok {
+            let e = SplineError::WordNotAllowed { code, letter: l };
+            return Err(spline_err(ln, w.column, e));
+        }
+    }
+    Ok(extra)
+}
+
+/// The pin reason a line gives its block.
+fn line_pin(ctx: &LineCtx, extra: bool) -> Option<PinReason> {
+    if ctx.lx.block_delete {
+        Some(PinReason::BlockDelete)
+    } else if extra {
+        Some(PinReason::ExtraWords)
+    } else if ctx.state_change {
+        Some(PinReason::StateChange)
+    } else {
+        None
+    }
+}
+
+/// The pin reasons of the state a block runs in.
+fn state_pin(st: &State, start_known: bool) -> Option<PinReason> {
+    if st.comp {
+        Some(PinReason::CutterComp)
+    } else if st.feed_mode != FeedMode::PerMinute {
+        Some(PinReason::FeedMode)
+    } else if !start_known {
+        Some(PinReason::UnknownStart)
+    } else {
+        None
+    }
+}
+
+/// An axis word's value in program units and mm (relative to `start` in
+/// G91), LinuxCNC's `find_ends`.
+fn coord(st: &State, w: &Word, a: usize, start: Vec3, ln: usize) -> Result<(f64, f64), GcodeError> {
+    let mm = st.units.mm_per_unit();
+    let s = start.to_array()[a];
+    let (prog, in_mm) = if st.incremental {
+        (s / mm + w.value, s + w.value * mm)
+    } else {
+        (w.value, w.value * mm)
+    };
+    Ok((finite(prog, ln, w)?, finite(in_mm, ln, w)?))
+}
+
+fn weight(w: &Word, ln: usize) -> Result<f64, GcodeError> {
+    if w.value > 0.0 && w.value.is_finite() {
+        Ok(w.value)
+    } else {
+        Err(spline_err(ln, w.column, SplineError::BadWeight(w.value)))
+    }
+}
+
+/// An integer word within [`NEAR_INT`] of an integer in `min..=max`.
+fn int_word(w: &Word, ln: usize, min: usize, max: usize) -> Result<usize, GcodeError> {
+    let r = w.value.round();
+    if (w.value - r).abs() > NEAR_INT || r < min as f64 || r > max as f64 {
+        return Err(spline_err(
+            ln,
+            w.column,
+            SplineError::BadOrder {
+                value: w.value,
+                min,
+                max,
+            },
+        ));
+    }
+    Ok(r as usize)
+}
+
+/// The first in-plane axis word, and an error when only one of the pair
+/// is given.
+fn plane_pair<'a>(
+    lx: &'a LexedLine,
+    ln: usize,
+    code: &'static str,
+    plane: Plane,
+) -> Result<Option<[&'a Word; 2]>, GcodeError> {
+    let (a, b, _) = plane.axes();
+    match (lx.word(AXES[a]), lx.word(AXES[b])) {
+        (Some(x), Some(y)) => Ok(Some([x, y])),
+        (None, None) => Ok(None),
+        (Some(w), None) | (None, Some(w)) => Err(spline_err(
+            ln,
+            w.column,
+            SplineError::AxisPair {
+                code,
+                first: AXES[a],
+                second: AXES[b],
+            },
+        )),
+    }
+}
+
+/// G5 (cubic, `quad` false) or G5.1 (quadratic): one line, one curve.
+fn g5(
+    ctx: &LineCtx,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+    quad: bool,
+) -> Result<bool, GcodeError> {
+    let (lx, ln) = (ctx.lx, ctx.ln);
+    let code = if quad { "G5.1" } else { "G5" };
+    let col = ctx
+        .code
+        .map_or_else(|| lx.words.first().map_or(1, |w| w.column), |c| c.1.column);
+    if st.comp {
+        return Err(spline_err(ln, col, SplineError::CutterComp));
+    }
+    let extra = check_words(
+        lx,
+        ln,
+        code,
+        st.plane,
+        if quad { "IJ" } else { "IJPQ" },
+        false,
+    )?;
+    let plane = st.plane;
+    let (a1, a2, _) = plane.axes();
+    if lx.word(AXES[a1]).is_none() && lx.word(AXES[a2]).is_none() {
+        let e = SplineError::MissingWord {
+            code,
+            letter: AXES[a1],
+        };
+        return Err(spline_err(ln, col, e));
+    }
+    let mm = st.units.mm_per_unit();
+    let start = st.pos;
+    let s = [start.x / mm, start.y / mm, start.z / mm];
+    // The end, program units and mm (find_ends: omitted axes stay).
+    let mut e_prog = s;
+    let mut end = start.to_array();
+    let mut words: [Option<String>; 3] = [None, None, None];
+    for a in [a1, a2] {
+        if let Some(w) = lx.word(AXES[a]) {
+            (e_prog[a], end[a]) = coord(st, w, a, start, ln)?;
+            words[a] = Some(w.text.clone());
+        }
+    }
+    let end = Vec3::from_array(end);
+    let missing = |letter| spline_err(ln, col, SplineError::MissingWord { code, letter });
+    let ij = match (lx.word('I'), lx.word('J')) {
+        (Some(i), Some(j)) => [i.value, j.value],
+        (None, None) if !quad => st
+            .spline
+            .g5_tangent
+            .ok_or_else(|| spline_err(ln, col, SplineError::NoPreviousG5))?,
+        (None, _) => return Err(missing('I')),
+        (Some(_), None) => return Err(missing('J')),
+    };
+    // LinuxCNC master's mapping: I, J to the plane's (X|Y, Y|Z, X Z) in
+    // G17, G19, G18; P, Q to its (first, second) in-plane axes.
+    let p1 = match plane {
+        Plane::Xy => [s[0] + ij[0], s[1] + ij[1]],
+        Plane::Yz => [s[1] + ij[0], s[2] + ij[1]],
+        Plane::Zx => [s[2] + ij[1], s[0] + ij[0]],
+    };
+    let e_in = plane.to_plane(Vec3::from_array(e_prog));
+    let mut prog = vec![plane.to_plane(Vec3::from_array(s)), p1];
+    let mut tangent = None;
+    if !quad {
+        let (p, q) = match (lx.word('P'), lx.word('Q')) {
+            (Some(p), Some(q)) => (p.value, q.value),
+            (None, _) => return Err(missing('P')),
+            (_, None) => return Err(missing('Q')),
+        };
+        prog.push([e_in[0] + p, e_in[1] + q]);
+        tangent = Some([-p, -q]);
+    }
+    prog.push(e_in);
+    if prog.iter().flatten().any(|c| !c.is_finite()) {
+        return Err(err(ln, col, ErrorKind::NumberOutOfRange('I')));
+    }
+    let off = plane.off_plane(start);
+    let pts: Vec<Vec3> = prog
+        .iter()
+        .enumerate()
+        .map(|(i, p)| match i {
+            0 => start,
+            _ if i + 1 == prog.len() => end,
+            _ => plane.from_plane([p[0] * mm, p[1] * mm], off),
+        })
+        .collect();
+    let weights = vec![1.0; prog.len()];
+    let curves = curves(st, &prog, &pts, &weights, prog.len(), ln, col)?;
+    let pin = line_pin(ctx, extra).or(state_pin(st, st.known.iter().all(|&k| k)));
+    st.spline.g5_tangent = tangent;
+    Ok(emit(st, moves, curves, ln, ln, pin, end, words))
+}
+
+/// The pieces of a G5/G5.1/G5.2 spline as the reading asks: `prog` the
+/// control points in the plane (program units), `pts` the same in mm
+/// (the first is the current position, the last the end).
+fn curves(
+    st: &State,
+    prog: &[[f64; 2]],
+    pts: &[Vec3],
+    weights: &[f64],
+    order: usize,
+    ln: usize,
+    col: usize,
+) -> Result<Vec<Curve>, GcodeError> {
+    let g5err = |e: G5Error| {
+        let kind = match e {
+            G5Error::TooFewPoints { points, order } => SplineError::TooFewPoints { points, order },
+            G5Error::BadOrder(o) | G5Error::OrderTooHigh(o) => SplineError::BadOrder {
+                value: o as f64,
+                min: 3,
+                max: MAX_ORDER,
+            },
+            G5Error::BadWeights => SplineError::BadWeight(0.0),
+            G5Error::NotFinite | G5Error::BadScale => {
+                return err(ln, col, ErrorKind::NumberOutOfRange('X'));
+            }
+        };
+        spline_err(ln, col, kind)
+    };
+    let (start, end) = (pts[0], pts[pts.len() - 1]);
+    match st.spline.reading {
+        SplineReading::Exact => Ok(vec![Curve::Nurbs(
+            g5_2_curve(pts, weights, order).map_err(g5err)?,
+        )]),
+        SplineReading::AsLinuxcnc => {
+            let mm = st.units.mm_per_unit();
+            let mut cs = g5_2_motion(start, prog, weights, order, st.plane, mm).map_err(g5err)?;
+            let scale = pts
+                .iter()
+                .flat_map(|p| p.to_array())
+                .fold(0.0f64, |m, c| m.max(c.abs()));
+            snap_end(&mut cs, start, end, END_ULPS * f64::EPSILON * scale);
+            Ok(cs)
+        }
+    }
+}
+
+/// Makes the last curve end exactly at `end` when it is within `tol` of it
+/// (else adds a line there).
+fn snap_end(cs: &mut Vec<Curve>, start: Vec3, end: Vec3, tol: f64) {
+    let last = cs.last().map_or(start, fairpath::ParamCurve::end);
+    if last == end {
+        return;
+    }
+    match cs.last_mut() {
+        Some(Curve::Line(l)) if last.dist(end) <= tol => l.p1 = end,
+        Some(Curve::Arc(a)) if last.dist(end) <= tol => a.p1 = end,
+        _ => cs.push(Curve::Line(Line::new(last, end))),
+    }
+}
+
+/// Pushes a block's curves as moves on line `ln` and moves the position to
+/// `end`; `words` the axis words of the end point. Returns whether pinned.
+#[allow(clippy::too_many_arguments)]
+fn emit(
+    st: &mut State,
+    moves: &mut Vec<Move>,
+    curves: Vec<Curve>,
+    first_line: usize,
+    ln: usize,
+    pinned: Option<PinReason>,
+    end: Vec3,
+    words: [Option<String>; 3],
+) -> bool {
+    let feed = match st.feed_mode {
+        FeedMode::PerMinute => st.feed.as_ref().map(|f| f.mm_per_min),
+        _ => None,
+    };
+    st.pos = end;
+    for (a, w) in words.iter().enumerate() {
+        if let Some(t) = w {
+            if st.incremental {
+                st.axis_text[a] = None;
+            } else {
+                st.known[a] = true;
+                st.axis_text[a] = Some(t.clone());
+            }
+        }
+    }
+    let n = curves.len();
+    for (i, curve) in curves.into_iter().enumerate() {
+        moves.push(Move {
+            piece: Piece {
+                curve,
+                rapid: false,
+                source_lines: (first_line, ln),
+                feed,
+            },
+            line: ln,
+            kind: MoveKind::Spline,
+            pinned,
+            end_text: if i + 1 == n {
+                st.axis_text.clone()
+            } else {
+                [None, None, None]
+            },
+        });
+    }
+    pinned.is_some()
+}
+
+fn new_block(st: &State, g6: bool, ln: usize, column: usize, order: usize) -> Block {
+    Block {
+        g6,
+        first_line: ln,
+        column,
+        start: st.pos,
+        start_known: st.known.iter().all(|&k| k),
+        order,
+        pin: None,
+        prog: Vec::new(),
+        pts: Vec::new(),
+        weights: Vec::new(),
+        knots: Vec::new(),
+        knot_only: 0,
+        last_words: [None, None, None],
+    }
+}
+
+/// A G5.2 line: opens the block or adds a control point.
+fn g5_2_point(ctx: &LineCtx, st: &mut State) -> Result<(), GcodeError> {
+    let (lx, ln) = (ctx.lx, ctx.ln);
+    let extra = check_words(lx, ln, "G5.2", st.plane, "PL", false)?;
+    let pair = plane_pair(lx, ln, "G5.2", st.plane)?;
+    let (p, l) = (lx.word('P'), lx.word('L'));
+    let mut block = match st.spline.open.take() {
+        Some(b) => b,
+        None => {
+            let col = ctx.code.map_or(1, |c| c.1.column);
+            let mut b = new_block(st, false, ln, col, 3);
+            let mm = st.units.mm_per_unit();
+            b.prog.push(st.plane.to_plane(st.pos / mm));
+            b.pts.push(st.pos);
+            b.weights.push(match (pair, p) {
+                (None, Some(p)) => weight(p, ln)?,
+                _ => 1.0,
+            });
+            b
+        }
+    };
+    let opening = block.first_line == ln;
+    if let Some(l) = l {
+        let order = int_word(l, ln, 0, MAX_L)?;
+        if order > 3 {
+            block.order = order;
+        }
+    }
+    match pair {
+        Some([a, b]) => {
+            let p = p.ok_or_else(|| {
+                let e = SplineError::MissingWord {
+                    code: "G5.2",
+                    letter: 'P',
+                };
+                spline_err(ln, b.column, e)
+            })?;
+            let w = weight(p, ln)?;
+            let (i1, i2, _) = st.plane.axes();
+            let (pa, ma) = coord(st, a, i1, block.start, ln)?;
+            let (pb, mb) = coord(st, b, i2, block.start, ln)?;
+            block.prog.push([pa, pb]);
+            block.pts.push(
+                st.plane
+                    .from_plane([ma, mb], st.plane.off_plane(block.start)),
+            );
+            block.weights.push(w);
+            block.last_words = [None, None, None];
+            block.last_words[i1] = Some(a.text.clone());
+            block.last_words[i2] = Some(b.text.clone());
+        }
+        None if !opening && (ctx.code.is_some() || p.is_some() || l.is_some()) => {
+            let (a, b, _) = st.plane.axes();
+            let col = ctx.code.map(|c| c.1).or(p).or(l).map_or(1, |w| w.column);
+            let e = SplineError::AxisPair {
+                code: "G5.2",
+                first: AXES[a],
+                second: AXES[b],
+            };
+            return Err(spline_err(ln, col, e));
+        }
+        None => {}
+    }
+    block.pin = block.pin.or(line_pin(ctx, extra));
+    st.spline.open = Some(block);
+    Ok(())
+}
+
+/// G5.3: runs the open G5.2 block.
+fn close_g5_2(
+    ctx: &LineCtx,
+    w: &Word,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+) -> Result<bool, GcodeError> {
+    let ln = ctx.ln;
+    let block = match st.spline.open.take() {
+        Some(b) if !b.g6 => b,
+        _ => return Err(spline_err(ln, w.column, SplineError::EndWithoutBlock)),
+    };
+    let extra = check_words(ctx.lx, ln, "G5.3", st.plane, "", false)?;
+    if let Some(a) = ctx.lx.words.iter().find(|w| AXES.contains(&w.letter)) {
+        let e = SplineError::WordNotAllowed {
+            code: "G5.3",
+            letter: a.letter,
+        };
+        return Err(spline_err(ln, a.column, e));
+    }
+    if block.pts.len() < block.order {
+        let e = SplineError::TooFewPoints {
+            points: block.pts.len(),
+            order: block.order,
+        };
+        return Err(spline_err(ln, w.column, e));
+    }
+    if st.spline.reading == SplineReading::Exact && block.order > MAX_ORDER {
+        let e = SplineError::BadOrder {
+            value: block.order as f64,
+            min: 3,
+            max: MAX_ORDER,
+        };
+        return Err(spline_err(block.first_line, block.column, e));
+    }
+    let pin = block
+        .pin
+        .or(line_pin(ctx, extra))
+        .or(state_pin(st, block.start_known));
+    let cs = curves(
+        st,
+        &block.prog,
+        &block.pts,
+        &block.weights,
+        block.order,
+        ln,
+        w.column,
+    )?;
+    let end = block.pts[block.pts.len() - 1];
+    st.motion = MotionMode::None;
+    st.spline.moved_otherwise();
+    Ok(emit(
+        st,
+        moves,
+        cs,
+        block.first_line,
+        ln,
+        pin,
+        end,
+        block.last_words,
+    ))
+}
+
+/// A G6.2 line: opens the block, adds a control point or a knot, and runs
+/// the block when its knot vector is complete.
+fn g6_2_line(ctx: &LineCtx, st: &mut State, moves: &mut Vec<Move>) -> Result<bool, GcodeError> {
+    let (lx, ln) = (ctx.lx, ctx.ln);
+    let code = "G6.2";
+    let extra = check_words(lx, ln, code, st.plane, "PQRK", true)?;
+    let pair = plane_pair(lx, ln, code, st.plane)?;
+    if pair.is_none() {
+        if let Some(w) = lx.word(AXES[st.plane.axes().2]) {
+            let (a, b, _) = st.plane.axes();
+            let e = SplineError::AxisPair {
+                code,
+                first: AXES[a],
+                second: AXES[b],
+            };
+            return Err(spline_err(ln, w.column, e));
+        }
+    }
+    let (p, q, r, k) = (lx.word('P'), lx.word('Q'), lx.word('R'), lx.word('K'));
+    let col = ctx.code.map_or(1, |c| c.1.column);
+    let missing =
+        |letter, column| spline_err(ln, column, SplineError::MissingWord { code, letter });
+    let mut block = match st.spline.open.take() {
+        Some(b) => b,
+        None => {
+            let p = p.ok_or_else(|| missing('P', col))?;
+            let order = int_word(p, ln, 2, MAX_ORDER)?;
+            if pair.is_none() {
+                let (a, b, _) = st.plane.axes();
+                let e = SplineError::AxisPair {
+                    code,
+                    first: AXES[a],
+                    second: AXES[b],
+                };
+                return Err(spline_err(ln, col, e));
+            }
+            new_block(st, true, ln, col, order)
+        }
+    };
+    if let Some(p) = p {
+        int_word(p, ln, block.order, block.order)?;
+    }
+    if let Some(q) = q {
+        let r = q.value.round();
+        if (q.value - r).abs() > NEAR_INT || !(1.0..=3.0).contains(&r) {
+            return Err(spline_err(ln, q.column, SplineError::BadMethod(q.value)));
+        }
+    }
+    let is_entry = pair.is_some()
+        || k.is_some()
+        || ctx.code.is_some()
+        || p.is_some()
+        || q.is_some()
+        || r.is_some();
+    if !is_entry {
+        // F, M, comments inside the block.
+        block.pin = block.pin.or(line_pin(ctx, extra));
+        st.spline.open = Some(block);
+        return Ok(false);
+    }
+    let k = k.ok_or_else(|| missing('K', lx.words.first().map_or(1, |w| w.column)))?;
+    let knot = finite(k.value, ln, k)?;
+    if let Some(&prev) = block.knots.last() {
+        if knot < prev {
+            let e = SplineError::KnotsDecreasing {
+                previous: prev,
+                knot,
+            };
+            return Err(spline_err(ln, k.column, e));
+        }
+    }
+    if pair.is_some() {
+        if block.knot_only > 0 {
+            return Err(spline_err(
+                ln,
+                lx.words[0].column,
+                SplineError::KnotVector("a control point after a knot-only line"),
+            ));
+        }
+        let r = r.ok_or_else(|| missing('R', k.column))?;
+        let w = weight(r, ln)?;
+        let mut c = block.start.to_array();
+        let mut words: [Option<String>; 3] = [None, None, None];
+        for a in 0..3 {
+            if let Some(wd) = lx.word(AXES[a]) {
+                c[a] = coord(st, wd, a, block.start, ln)?.1;
+                words[a] = Some(wd.text.clone());
+            }
+        }
+        block.pts.push(Vec3::from_array(c));
+        block.weights.push(w);
+        block.last_words = words;
+    } else {
+        block.knot_only += 1;
+    }
+    block.knots.push(knot);
+    block.pin = block.pin.or(line_pin(ctx, extra));
+    // LinuxCNC ends the block when the last `order` knots are equal.
+    let (n, o) = (block.knots.len(), block.order);
+    if n > o && block.knots[n - 1] == block.knots[n - o] {
+        return run_g6_2(block, ctx, k, st, moves);
+    }
+    st.spline.open = Some(block);
+    Ok(false)
+}
+
+/// Checks a complete G6.2 knot vector and makes its moves.
+fn run_g6_2(
+    block: Block,
+    ctx: &LineCtx,
+    k: &Word,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+) -> Result<bool, GcodeError> {
+    let ln = ctx.ln;
+    let o = block.order;
+    let kv = |m: &'static str| spline_err(ln, k.column, SplineError::KnotVector(m));
+    if block.knot_only != o {
+        return Err(kv(
+            "P equal knots in a row close the block: they must be the P knot-only lines at its end",
+        ));
+    }
+    if block.pts.len() < o {
+        let e = SplineError::TooFewPoints {
+            points: block.pts.len(),
+            order: o,
+        };
+        return Err(spline_err(ln, k.column, e));
+    }
+    if block.knots[..o].iter().any(|&x| x != block.knots[0]) {
+        return Err(kv("the first knot must be given P times (clamped start)"));
+    }
+    let weights = if block.weights.iter().all(|&w| w == block.weights[0]) {
+        None
+    } else {
+        Some(block.weights.clone())
+    };
+    let nurbs = Nurbs::new(o - 1, block.knots.clone(), block.pts.clone(), weights).map_err(
+        |e| match e {
+            NurbsError::EmptyDomain => kv("the knots span no parameter range"),
+            NurbsError::NotFinite => err(ln, k.column, ErrorKind::NumberOutOfRange('X')),
+            _ => kv("inconsistent"),
+        },
+    )?;
+    let mut cs = Vec::with_capacity(2);
+    if nurbs.points[0] != block.start {
+        cs.push(Curve::Line(Line::new(block.start, nurbs.points[0])));
+    }
+    let end = nurbs.points[nurbs.points.len() - 1];
+    cs.push(Curve::Nurbs(nurbs));
+    let pin = block
+        .pin
+        .or(line_pin(ctx, false))
+        .or(state_pin(st, block.start_known));
+    st.motion = MotionMode::None;
+    st.spline.moved_otherwise();
+    Ok(emit(
+        st,
+        moves,
+        cs,
+        block.first_line,
+        ln,
+        pin,
+        end,
+        block.last_words,
+    ))
+}
