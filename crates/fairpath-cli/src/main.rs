@@ -231,7 +231,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             let mut opts =
                 pipeline::SmoothOptions::new(tolerance, chord, &method, format, controller)?;
-            if !(step_share > 0.0) {
+            if step_share.is_nan() || step_share <= 0.0 {
                 anyhow::bail!("--step-share must be a positive number or inf; got {step_share}");
             }
             opts.step_share = step_share;

@@ -429,16 +429,8 @@ pub fn smooth_file(
         exact: exact_times,
         written: written_times,
     };
-    let mut summary = crate::summary::Summary::new(
-        input,
-        output,
-        opts,
-        &program,
-        &result,
-        &emitted,
-        times,
-        started.elapsed(),
-    );
+    let mut summary =
+        crate::summary::Summary::new(input, output, opts, &program, &result, &emitted, times);
     summary.elapsed = started.elapsed();
     if std::env::var_os("FAIRPATH_TIMING").is_some() {
         eprint!("{}", phases.report());

@@ -258,11 +258,10 @@ pub fn simulate(
             }
             Motion::Rapid(p) => {
                 let len = p.curve.length(1e-6);
-                if !(len > 0.0) {
+                if len.is_nan() || len <= 0.0 {
                     // One plan per motion, so that callers can index them.
                     sim.plans.push((None, RunPlan::default(), None));
-                }
-                if len > 0.0 {
+                } else {
                     let prof = plan_rapid(len, m).map_err(|e| anyhow!("planning a rapid: {e}"))?;
                     sim.rapid_time += prof.duration();
                     sim.max_acc = sim.max_acc.max(prof.alim_a()).max(prof.alim_d());

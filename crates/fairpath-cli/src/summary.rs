@@ -66,7 +66,6 @@ impl Summary {
         result: &SmoothResult,
         emitted: &Emitted,
         times: JobTimes,
-        elapsed: Duration,
     ) -> Summary {
         let written = &emitted.check;
         let m = &opts.machine;
@@ -173,7 +172,7 @@ impl Summary {
                 .iter()
                 .map(|r| r.report.peak_curvature)
                 .fold(0.0, f64::max),
-            elapsed,
+            elapsed: Duration::ZERO,
             times,
             planned_on,
             rendered: emitted.stats,

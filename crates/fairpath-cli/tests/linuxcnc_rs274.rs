@@ -1,7 +1,11 @@
 //! LinuxCNC's own interpreter as a client (`rs274 -g FILE`, from Debian's
 //! `linuxcnc-uspace`): on the reference programs, fairpath's reader sees the
 //! same moves as LinuxCNC, and LinuxCNC runs every program fairpath writes
-//! and sees the moves fairpath meant.
+//! (the default arcs at 0.01 and 0.05 mm; G1, G5.2 and LinuxCNC's dialect
+//! on the smaller programs) and sees the moves fairpath meant, arcs and
+//! their end points included. G6.2, which only LinuxCNC master reads, is
+//! run through master's interpreter where it is built
+//! (`~/lcnc-master/bin/rs274`, or `FAIRPATH_LCNC_MASTER`).
 //!
 //! Without `rs274` the test is skipped with a message, unless
 //! `FAIRPATH_REQUIRE_RS274` is set (`.ci/run` sets it after installing
@@ -14,14 +18,29 @@ use std::process::Command;
 enum Canon {
     Traverse([f64; 3]),
     Feed([f64; 3]),
-    Arc,
+    Arc([f64; 3]),
 }
 
 /// Motion calls printed by `rs274 -g`, or the error it reports.
 fn rs274(path: &Path) -> Result<Vec<Canon>, String> {
-    let out = Command::new("rs274")
-        .arg("-g")
+    rs274_of("rs274", path)
+}
+
+/// One rs274 at a time (they share `rs274ngc.var` in the working
+/// directory, and 2.9's dies when two run at once).
+static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// [`rs274`] with the interpreter `bin` run by `bash -c` (`"rs274"`, or a
+/// command that sets up master's environment first), in the file's
+/// directory.
+fn rs274_of(bin: &str, path: &Path) -> Result<Vec<Canon>, String> {
+    let _one = RS274.lock().unwrap_or_else(|e| e.into_inner());
+    let out = Command::new("bash")
+        .arg("-c")
+        .arg(format!("{bin} -g \"$1\""))
+        .arg("_")
         .arg(path)
+        .current_dir(path.parent().unwrap_or(Path::new(".")))
         .output()
         .map_err(|e| e.to_string())?;
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -34,22 +53,39 @@ fn rs274(path: &Path) -> Result<Vec<Canon>, String> {
         ));
     }
     let mut v = Vec::new();
+    // In-plane axes (first, second) and the normal axis of ARC_FEED.
+    let mut plane = (0, 1, 2);
     for line in stdout.lines() {
-        let args = |l: &str| -> [f64; 3] {
+        let args = |l: &str| -> Vec<f64> {
             let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
-            let n: Vec<f64> = inner
+            inner
                 .split(',')
-                .take(3)
-                .map(|x| x.trim().parse().unwrap())
-                .collect();
-            [n[0], n[1], n[2]]
+                .map(|x| x.trim().parse().unwrap_or(f64::NAN))
+                .collect()
         };
-        if line.contains("STRAIGHT_TRAVERSE(") {
-            v.push(Canon::Traverse(args(line)));
+        if line.contains("SELECT_PLANE(") {
+            plane = if line.contains("CANON_PLANE_XZ") {
+                (2, 0, 1)
+            } else if line.contains("CANON_PLANE_YZ") {
+                (1, 2, 0)
+            } else {
+                (0, 1, 2)
+            };
+        } else if line.contains("STRAIGHT_TRAVERSE(") {
+            let n = args(line);
+            v.push(Canon::Traverse([n[0], n[1], n[2]]));
         } else if line.contains("STRAIGHT_FEED(") {
-            v.push(Canon::Feed(args(line)));
+            let n = args(line);
+            v.push(Canon::Feed([n[0], n[1], n[2]]));
         } else if line.contains("ARC_FEED(") {
-            v.push(Canon::Arc);
+            // first_end, second_end, first_axis, second_axis, rotation,
+            // axis_end_point
+            let n = args(line);
+            let mut e = [0.0; 3];
+            e[plane.0] = n[0];
+            e[plane.1] = n[1];
+            e[plane.2] = n[5];
+            v.push(Canon::Arc(e));
         }
     }
     Ok(v)
@@ -65,7 +101,7 @@ fn ours(bytes: &[u8]) -> Vec<Canon> {
             let e = m.piece.end();
             let e = [e.x / units, e.y / units, e.z / units];
             match (&m.piece.curve, m.piece.rapid) {
-                (fairpath::Curve::Arc(_), _) => Canon::Arc,
+                (fairpath::Curve::Arc(_), _) => Canon::Arc(e),
                 (_, true) => Canon::Traverse(e),
                 _ => Canon::Feed(e),
             }
@@ -87,21 +123,20 @@ fn same(a: &[Canon], b: &[Canon]) -> Result<(), String> {
     let mut last = [0.0f64; 3];
     let end = |c: &Canon| match c {
         Canon::Traverse(p) | Canon::Feed(p) => Some(*p),
-        Canon::Arc => None,
+        Canon::Arc(_) => None,
     };
     while i < a.len() && j < b.len() {
         let (x, y) = (&a[i], &b[j]);
         let matched = match (x, y) {
-            (Canon::Traverse(p), Canon::Traverse(q)) | (Canon::Feed(p), Canon::Feed(q)) => {
-                close(p, q)
-            }
-            (Canon::Arc, Canon::Arc) => true,
+            (Canon::Traverse(p), Canon::Traverse(q))
+            | (Canon::Feed(p), Canon::Feed(q))
+            | (Canon::Arc(p), Canon::Arc(q)) => close(p, q),
             _ => false,
         };
         if matched {
-            if let Some(p) = end(y) {
-                last = p;
-            }
+            last = match y {
+                Canon::Traverse(p) | Canon::Feed(p) | Canon::Arc(p) => *p,
+            };
             i += 1;
             j += 1;
         } else if end(x).is_some_and(|p| close(&p, &last)) {
@@ -144,7 +179,7 @@ fn have_rs274() -> bool {
 fn programs() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
     let mut out = Vec::new();
-    for sub in ["linuxcnc", "synthetic"] {
+    for sub in ["linuxcnc", "synthetic", "linuxcnc-nurbs"] {
         let mut stack = vec![root.join(sub)];
         while let Some(d) = stack.pop() {
             let Ok(rd) = std::fs::read_dir(&d) else {
@@ -164,6 +199,23 @@ fn programs() -> Vec<PathBuf> {
     }
     out.sort();
     out
+}
+
+/// Tolerances and extra `smooth` arguments of the outputs run by rs274
+/// (those with extra arguments on programs under 20 kB).
+const CONFIGS: &[(&str, &[&str])] = &[
+    ("0.01", &[]),
+    ("0.05", &[]),
+    ("0.05", &["--controller", "linuxcnc"]),
+    ("0.05", &["--format", "g1"]),
+    ("0.05", &["--controller", "linuxcnc", "--format", "g5.2"]),
+];
+
+/// Spline programs (G5.x, G6.2): rs274 prints them as NURBS_FEED calls
+/// without end points, and `tests/splines_rs274.rs` of fairpath-gcode
+/// compares them; here only what we write of them is run.
+fn has_splines(text: &str) -> bool {
+    ["G5", "G6.2", "G06.2"].iter().any(|g| text.contains(g))
 }
 
 #[test]
@@ -201,37 +253,44 @@ fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
             "G76",
         ]
         .iter()
-        .any(|g| text.contains(g));
+        .any(|g| text.contains(g))
+            || has_splines(&text);
         if !offsets {
             same(&ours(&bytes), &reference)
                 .unwrap_or_else(|e| panic!("{name}: reader disagrees with rs274: {e}"));
             compared += 1;
         }
-        // What we write, LinuxCNC runs, and it sees the moves we meant.
-        let out = dir.path().join("out.ngc");
-        let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
-            .args([
-                "smooth",
-                p.to_str().unwrap(),
-                "-o",
-                out.to_str().unwrap(),
-                "--tolerance",
-                "0.01",
-            ])
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        let theirs =
-            rs274(&out).unwrap_or_else(|e| panic!("{name}: rs274 rejects our output: {e}"));
-        if !offsets {
-            same(&ours(&std::fs::read(&out).unwrap()), &theirs)
-                .unwrap_or_else(|e| panic!("{name}: rs274 reads our output differently: {e}"));
+        // What we write, LinuxCNC runs, and it sees the moves we meant: the
+        // default output at both tolerances, and the other G-code forms
+        // LinuxCNC reads on the smaller programs.
+        let small = bytes.len() < 20_000;
+        for (tol, extra) in CONFIGS {
+            if !extra.is_empty() && !small {
+                continue;
+            }
+            let out = dir.path().join("out.ngc");
+            let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
+                .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
+                .args(["--tolerance", tol])
+                .args(*extra)
+                .output()
+                .unwrap();
+            assert!(
+                o.status.success(),
+                "{name} {tol} {extra:?}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let theirs = rs274(&out).unwrap_or_else(|e| {
+                panic!("{name} {tol} {extra:?}: rs274 rejects our output: {e}")
+            });
+            // G5.2 blocks print as NURBS_FEED (no end points) in rs274.
+            if !offsets && !extra.contains(&"g5.2") {
+                same(&ours(&std::fs::read(&out).unwrap()), &theirs).unwrap_or_else(|e| {
+                    panic!("{name} {tol} {extra:?}: rs274 reads our output differently: {e}")
+                });
+            }
+            written += 1;
         }
-        written += 1;
     }
     eprintln!("compared {compared} programs with rs274, {written} outputs run by rs274; skipped:");
     for s in &skipped {
@@ -241,4 +300,79 @@ fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
         written > 50 && compared > 50,
         "compared {compared}, written {written}"
     );
+}
+
+/// LinuxCNC master's run-in-place build, if there is one.
+fn master() -> Option<String> {
+    let dir = std::env::var_os("FAIRPATH_LCNC_MASTER")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/root/lcnc-master"));
+    dir.join("bin/rs274").exists().then(|| {
+        format!(
+            "set +u; . '{}' >/dev/null 2>&1; rs274",
+            dir.join("scripts/rip-environment").display()
+        )
+    })
+}
+
+#[test]
+fn linuxcnc_master_runs_what_we_write_as_g6_2() {
+    let Some(master) = master() else {
+        eprintln!("LinuxCNC master not built (~/lcnc-master): skipped");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
+    let mut n = 0;
+    for rel in [
+        "synthetic/butterfly-80.ngc",
+        "synthetic/square-wave.ngc",
+        "linuxcnc/performance/contour.ngc",
+        "linuxcnc/XYtests/51MeanderAve.ngc",
+        "synthetic/noisy-line.ngc",
+    ] {
+        let p = root.join(rel);
+        if !p.exists() {
+            continue;
+        }
+        let out = dir.path().join("out.ngc");
+        let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
+            .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
+            .args([
+                "--tolerance",
+                "0.05",
+                "--controller",
+                "linuxcnc",
+                "--format",
+                "g6.2",
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{rel}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let text = std::fs::read_to_string(&out).unwrap();
+        let theirs = rs274_of(&master, &out)
+            .unwrap_or_else(|e| panic!("{rel}: LinuxCNC master rejects our G6.2 output: {e}"));
+        // The feed path ends where ours does (rapids after it, such as a
+        // G28 home, are not modelled by our reader).
+        let last_feed = |v: &[Canon]| {
+            v.iter().rev().find_map(|c| match c {
+                Canon::Feed(p) | Canon::Arc(p) => Some(*p),
+                Canon::Traverse(_) => None,
+            })
+        };
+        let ours_last = last_feed(&ours(text.as_bytes()));
+        let theirs_last = last_feed(&theirs);
+        assert!(
+            close(&ours_last.unwrap(), &theirs_last.unwrap()),
+            "{rel}: {ours_last:?} vs {theirs_last:?}"
+        );
+        if text.contains("G6.2") {
+            n += 1;
+        }
+    }
+    assert!(n >= 3, "{n} outputs with G6.2 blocks");
 }

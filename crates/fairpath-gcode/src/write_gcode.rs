@@ -13,6 +13,17 @@ use crate::program::{Feed, MotionMode, Program, RunSpan, Units};
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 
+/// How NURBS pieces are written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NurbsBlocks {
+    /// Fanuc-style G6.2 blocks (3D, orders 2 to 4).
+    G6_2Fanuc,
+    /// LinuxCNC master's G6.2 blocks (in the plane the curve lies in).
+    G6_2Linuxcnc,
+    /// LinuxCNC G5.2/G5.3 blocks (in the plane the curve lies in).
+    G5_2,
+}
+
 /// How arcs are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ArcWords {
@@ -43,6 +54,8 @@ pub struct GcodeWriteOptions {
     pub header: bool,
     /// Write arcs as G2/G3 in this form; `None`: as G1 chords.
     pub arcs: Option<ArcWords>,
+    /// Write NURBS pieces as these blocks; `None`: as G1 chords.
+    pub nurbs: Option<NurbsBlocks>,
     /// Always write a decimal point in numbers (`X5.`): Fanuc-family
     /// controls without decimal-point input read `X5` as 5 um.
     pub decimal_point: bool,
@@ -74,6 +87,7 @@ impl Default for GcodeWriteOptions {
             decimals_inch: 5,
             header: true,
             arcs: None,
+            nurbs: None,
             decimal_point: false,
             g64_blend_mm: None,
             resolution_mm: None,
@@ -376,7 +390,7 @@ struct RunWriter<'a> {
     program: &'a Program,
     run: &'a RunSpan,
     opts: &'a GcodeWriteOptions,
-    eol: &'a str,
+    eol: &'static str,
     out: &'a mut String,
     /// Units of the run: mm per unit, decimals, and the chord the G1
     /// chords of curves get (what rounding leaves of `chord_mm`).
@@ -405,7 +419,7 @@ impl<'a> RunWriter<'a> {
         program: &'a Program,
         run: &'a RunSpan,
         opts: &'a GcodeWriteOptions,
-        eol: &'a str,
+        eol: &'static str,
         out: &'a mut String,
     ) -> Result<RunWriter<'a>, WriteError> {
         let lines = program.lines();
@@ -519,6 +533,9 @@ impl<'a> RunWriter<'a> {
             match &piece.curve {
                 Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
                 Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed)?,
+                Curve::Nurbs(n) if self.opts.nurbs.is_some() => {
+                    self.write_nurbs(n, last, piece.feed)?
+                }
                 c => {
                     let pts = piece_points(c, self.chord);
                     let n = pts.len();
@@ -661,6 +678,87 @@ impl<'a> RunWriter<'a> {
         Ok(())
     }
 
+    /// A NURBS piece as a spline block ([`crate::write_spline`]); at the
+    /// run's end a G1 to the program's own end text follows when the block's
+    /// rounded last point is not it (run ends are kept exactly).
+    fn write_nurbs(
+        &mut self,
+        n: &fairpath::geom::Nurbs,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        use crate::write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};
+        let kind = self.opts.nurbs.expect("called with NURBS blocks on");
+        let feed_text = match feed {
+            Some(f) if self.first_move || self.cur_feed != Some(f) => {
+                self.cur_feed = Some(f);
+                Some(self.feed_text(f))
+            }
+            _ => None,
+        };
+        let so = SplineWriteOptions {
+            mm_per_unit: self.scale,
+            decimals: self.decimals,
+            decimal_point: self.opts.decimal_point,
+            line_ending: self.eol,
+            incremental: self.run.incremental,
+            feed: feed_text,
+        };
+        let plane = || {
+            planar_plane(
+                &n.points,
+                0.5 * 10f64.powi(-(self.decimals as i32)) * self.scale,
+            )
+            .ok_or_else(|| WriteError::SplineCurve("the curve is in no principal plane".into()))
+        };
+        let text = match kind {
+            NurbsBlocks::G6_2Fanuc => g6_2_block(n, G6Dialect::Fanuc, &so)?,
+            NurbsBlocks::G6_2Linuxcnc => {
+                let plane = plane()?;
+                self.select_plane(plane);
+                g6_2_block(n, G6Dialect::Linuxcnc { plane, method: 1 }, &so)?
+            }
+            NurbsBlocks::G5_2 => {
+                let plane = plane()?;
+                self.select_plane(plane);
+                g5_2_blocks(n, plane, &so)?
+            }
+        };
+        self.out.push_str(&text);
+        // Where the written text leaves the tool: the rounded last point.
+        let end = n.points[n.points.len() - 1];
+        let mut cur = end;
+        for a in 0..3 {
+            let t = fmt_fixed(axis(end, a) / self.scale, self.decimals);
+            let v = t.parse::<f64>().unwrap_or(f64::NAN) * self.scale;
+            match a {
+                0 => cur.x = v,
+                1 => cur.y = v,
+                _ => cur.z = v,
+            }
+        }
+        self.cur = cur;
+        self.first_move = false;
+        self.motion = Some(match kind {
+            NurbsBlocks::G6_2Fanuc => MotionMode::NurbsG6,
+            NurbsBlocks::G6_2Linuxcnc => MotionMode::Linear,
+            NurbsBlocks::G5_2 => MotionMode::Nurbs,
+        });
+        if run_end {
+            // Only the axes whose written text differs get a word.
+            self.write_g1(n.end(), true, None)?;
+        }
+        Ok(())
+    }
+
+    /// A plane line when `plane` is not the written one.
+    fn select_plane(&mut self, plane: Plane) {
+        if plane != self.plane {
+            self.push_line(plane.gword());
+            self.plane = plane;
+        }
+    }
+
     fn write_arc(&mut self, a: &Arc, run_end: bool, feed: Option<f64>) -> Result<(), WriteError> {
         if !(a.p1.is_finite() && a.center.is_finite()) {
             return Err(WriteError::NotFinite);
@@ -685,10 +783,7 @@ impl<'a> RunWriter<'a> {
         let ccw = a.normal == plane.normal();
         // A plane change on a line of its own: on the move's line it would
         // make the move a state change, which readers keep out of runs.
-        if plane != self.plane {
-            self.push_line(plane.gword());
-            self.plane = plane;
-        }
+        self.select_plane(plane);
         let mut line = String::new();
         line.push_str(if ccw { "G3" } else { "G2" });
         line.push_str(&words);
@@ -732,6 +827,15 @@ impl<'a> RunWriter<'a> {
         self.push_line(&line);
         Ok(())
     }
+}
+
+/// The principal plane the points lie in (their coordinate along its normal
+/// varies by at most `tol` mm), G17 first.
+pub fn planar_plane(points: &[Vec3], tol: f64) -> Option<Plane> {
+    Plane::ALL.into_iter().find(|pl| {
+        let h0 = points.first().map_or(0.0, |p| pl.off_plane(*p));
+        points.iter().all(|p| (pl.off_plane(*p) - h0).abs() <= tol)
+    })
 }
 
 /// The points after the start of a curve at which G1 lines end.

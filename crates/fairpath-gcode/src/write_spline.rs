@@ -28,7 +28,7 @@
 
 use crate::error::WriteError;
 use crate::write_gcode::fmt_fixed;
-use fairpath::controller::linuxcnc::g5_2_knots;
+use fairpath::controller::linuxcnc::g5_2_blocks_of;
 use fairpath::controller::Plane;
 use fairpath::geom::{Nurbs, Vec3};
 
@@ -364,39 +364,9 @@ pub fn g6_2_block(
 
 /// Whether `knots` are LinuxCNC's G5.2 knot vector for their point count
 /// up to an affine map (within [`KNOT_ROUNDING`] of a span).
-fn is_linuxcnc_g5_2(n: &Nurbs) -> bool {
-    let order = n.degree + 1;
-    let Ok(lc) = g5_2_knots(n.points.len(), order) else {
-        return false;
-    };
-    let (a, b) = (n.knots[0], n.knots[n.knots.len() - 1]);
-    let umax = lc[lc.len() - 1];
-    let scale = umax / (b - a);
-    scale.is_finite()
-        && n.knots
-            .iter()
-            .zip(&lc)
-            .all(|(k, l)| ((k - a) * scale - l).abs() <= KNOT_ROUNDING)
-}
-
-/// Degree 1 Bezier spans raised to degree 2 (G5.2's lowest order is 3).
-fn elevate_linear(span: &Nurbs) -> Nurbs {
-    let (p0, p1) = (span.points[0], span.points[1]);
-    let w = span.weights.clone().unwrap_or_else(|| vec![1.0, 1.0]);
-    let wm = 0.5 * (w[0] + w[1]);
-    let mid = (p0 * w[0] + p1 * w[1]) / (w[0] + w[1]);
-    let (t0, t1) = (span.knots[0], span.knots[span.knots.len() - 1]);
-    Nurbs {
-        degree: 2,
-        knots: vec![t0, t0, t0, t1, t1, t1],
-        points: vec![p0, mid, p1],
-        weights: span.weights.as_ref().map(|_| vec![w[0], wm, w[1]]),
-    }
-}
-
 /// The curve as G5.2/G5.3 blocks for LinuxCNC in `plane` (see the module
 /// docs for what is guaranteed): a single block when its knot vector is
-/// LinuxCNC's (clamped uniform, [`g5_2_knots`]) up to an affine map, else
+/// LinuxCNC's (clamped uniform, `g5_2_knots`) up to an affine map, else
 /// one block per Bezier span (LinuxCNC fixes the knots from the number of
 /// points, so only those two forms are exact). A block is `G5.2 P<w0>
 /// L<order> [F]` (the current position is the first control point, `P` its
@@ -411,16 +381,7 @@ pub fn g5_2_blocks(
     check_options(opts)?;
     check_curve(nurbs)?;
     check_planar(&nurbs.points, plane, opts)?;
-    let blocks: Vec<Nurbs> = if nurbs.degree >= 2 && is_linuxcnc_g5_2(nurbs) {
-        vec![nurbs.clone()]
-    } else {
-        let spans = nurbs.bezier_spans();
-        if nurbs.degree == 1 {
-            spans.iter().map(elevate_linear).collect()
-        } else {
-            spans
-        }
-    };
+    let blocks = g5_2_blocks_of(nurbs);
     let f = Fmt { o: opts };
     let (a1, a2, _) = plane.axes();
     let letters = ['X', 'Y', 'Z'];

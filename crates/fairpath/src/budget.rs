@@ -80,7 +80,7 @@ impl ToleranceBudget {
             blend,
         };
         let left = b.smoothing();
-        if !(left >= MIN_SHARE_MM) {
+        if left.is_nan() || left < MIN_SHARE_MM {
             return Err(BudgetError::NothingLeft {
                 total,
                 output,

@@ -545,6 +545,81 @@ pub fn plane_coords(points: &[Vec3], plane: Plane, mm_per_unit: f64) -> Vec<[f64
         .collect()
 }
 
+/// Largest distance of a normalised knot from LinuxCNC's, in units of its
+/// knot spacing, for a curve's own knot vector to count as LinuxCNC's.
+pub const G5_2_KNOT_MATCH: f64 = 1e-9;
+
+/// Whether `n`'s knot vector is LinuxCNC's G5.2 one ([`g5_2_knots`]) up to
+/// an affine map, within [`G5_2_KNOT_MATCH`].
+pub fn has_g5_2_knots(n: &Nurbs) -> bool {
+    let order = n.degree + 1;
+    let Ok(lc) = g5_2_knots(n.points.len(), order) else {
+        return false;
+    };
+    if lc.len() != n.knots.len() {
+        return false;
+    }
+    let (a, b) = (n.knots[0], n.knots[n.knots.len() - 1]);
+    let umax = lc[lc.len() - 1];
+    let scale = umax / (b - a);
+    scale.is_finite()
+        && n.knots
+            .iter()
+            .zip(&lc)
+            .all(|(k, l)| crate::math::abs((k - a) * scale - l) <= G5_2_KNOT_MATCH)
+}
+
+/// The G5.2 blocks that say `nurbs` exactly: the curve itself when its knot
+/// vector is LinuxCNC's ([`has_g5_2_knots`]), else its Bezier spans
+/// (LinuxCNC fixes the knots from the number of points, so only these two
+/// forms are exact), degree 1 raised to 2 (G5.2's lowest order is 3).
+pub fn g5_2_blocks_of(nurbs: &Nurbs) -> Vec<Nurbs> {
+    if nurbs.degree >= 2 && has_g5_2_knots(nurbs) {
+        return alloc::vec![nurbs.clone()];
+    }
+    let spans = nurbs.bezier_spans();
+    if nurbs.degree == 1 {
+        spans.iter().map(elevate_linear).collect()
+    } else {
+        spans
+    }
+}
+
+/// A degree-1 Bezier span raised to degree 2 (the same line).
+fn elevate_linear(span: &Nurbs) -> Nurbs {
+    let (p0, p1) = (span.points[0], span.points[1]);
+    let w = span
+        .weights
+        .clone()
+        .unwrap_or_else(|| alloc::vec![1.0, 1.0]);
+    let wm = 0.5 * (w[0] + w[1]);
+    let mid = (p0 * w[0] + p1 * w[1]) / (w[0] + w[1]);
+    let (t0, t1) = (span.knots[0], span.knots[span.knots.len() - 1]);
+    Nurbs {
+        degree: 2,
+        knots: alloc::vec![t0, t0, t0, t1, t1, t1],
+        points: alloc::vec![p0, mid, p1],
+        weights: span.weights.as_ref().map(|_| alloc::vec![w[0], wm, w[1]]),
+    }
+}
+
+/// What LinuxCNC runs for `nurbs` written as G5.2 blocks in `plane`
+/// ([`g5_2_blocks_of`], in mm, unrounded): each block's [`g5_2_motion`],
+/// from the curve's start to its end.
+pub fn g5_2_motion_of(nurbs: &Nurbs, plane: Plane) -> Result<Vec<Curve>, G5Error> {
+    let mut out = Vec::new();
+    for b in g5_2_blocks_of(nurbs) {
+        let pts = plane_coords(&b.points, plane, 1.0);
+        let w = b
+            .weights
+            .clone()
+            .unwrap_or_else(|| alloc::vec![1.0; b.points.len()]);
+        let start = out.last().map_or(b.points[0], |c: &Curve| c.end());
+        out.extend(g5_2_motion(start, &pts, &w, b.degree + 1, plane, 1.0)?);
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -90,7 +90,7 @@ pub fn arc_from_tangent(
     let (lp, lq) = (plane.local(p), plane.local(q));
     let c = [lq[0] - lp[0], lq[1] - lp[1]];
     let c2 = dot2(c, c);
-    if !(c2 > 0.0) {
+    if c2.is_nan() || c2 <= 0.0 {
         return None;
     }
     arc_length_2d(t, c)?;
@@ -124,7 +124,7 @@ pub fn biarc(
     let (l0, l1) = (plane.local(p0), plane.local(p1));
     let v = [l1[0] - l0[0], l1[1] - l0[1]];
     let vv = dot2(v, v);
-    if !(vv > 0.0) {
+    if vv.is_nan() || vv <= 0.0 {
         return None;
     }
     let t = [d0[0] + d1[0], d0[1] + d1[1]];

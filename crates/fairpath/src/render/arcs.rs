@@ -42,6 +42,7 @@ use crate::geom::biarc::{biarc, piece_distance_bound, Biarc};
 use crate::geom::{
     flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Plane, Vec3,
 };
+use alloc::boxed::Box;
 use alloc::vec::Vec;
 
 /// Least share of a tangent's length that must lie in the plane of the
@@ -105,7 +106,7 @@ pub fn arc_plane(pts: &[Vec3], frames: &[(Vec3, Vec3)], planar: f64) -> Option<P
 
 /// What became of one interval.
 enum Outcome {
-    Accept(Biarc),
+    Accept(Box<Biarc>),
     Split,
     /// G1 lines for this interval: it is as short as splitting goes (a
     /// cusp or a corner sharper than the smallest arc, where the machine
@@ -209,7 +210,7 @@ impl Fitter<'_> {
             return Outcome::PieceLines;
         }
         if !split_for_speed {
-            return Outcome::Accept(b);
+            return Outcome::Accept(Box::new(b));
         }
         // Curvature steps at the two ends and the joint.
         let kc_a = c.curvature_vector(ta);
@@ -225,7 +226,7 @@ impl Fitter<'_> {
         {
             return Outcome::Split;
         }
-        Outcome::Accept(b)
+        Outcome::Accept(Box::new(b))
     }
 
     /// The interval's end points and [`SAMPLES`] points between, in order.
@@ -298,14 +299,23 @@ pub(crate) fn arcs_for_curve(
     };
     let mut arcs: Vec<Curve> = Vec::new();
     let mut counts = RenderStats::default();
-    // Intervals to do, the leftmost last (popped first).
-    let mut todo: Vec<(f64, f64, Vec3, Vec3, u32)> = alloc::vec![(t0, t1, c.start(), c.end(), 0)];
+    // Intervals to do, the leftmost last (popped first). A closed curve
+    // starts as its two halves.
+    let mut todo: Vec<(f64, f64, Vec3, Vec3, u32)> = if c.start() == c.end() {
+        let tm = 0.5 * (t0 + t1);
+        let pm = c.eval(tm);
+        alloc::vec![(tm, t1, pm, c.end(), 1), (t0, tm, c.start(), pm, 1)]
+    } else {
+        alloc::vec![(t0, t1, c.start(), c.end(), 0)]
+    };
     while let Some((ta, tb, pa, pb, depth)) = todo.pop() {
-        if pa == pb {
+        // An interval that does not move (the curve stands still there).
+        if pa == pb && c.eval(0.5 * (ta + tb)) == pa {
             continue;
         }
         match f.try_interval(ta, tb, pa, pb, depth) {
             Outcome::Accept(b) => {
+                let b = *b;
                 for a in [b.first, b.second] {
                     match &a {
                         Curve::Arc(arc) => {

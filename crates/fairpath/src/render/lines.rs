@@ -87,7 +87,7 @@ pub(crate) fn lines_between(
         s[i] = s[i - 1] + pts[i - 1].dist(pts[i]);
     }
     let total = s[n - 1];
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return;
     }
     let mut h = alloc::vec![total; n];

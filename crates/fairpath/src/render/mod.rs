@@ -23,20 +23,38 @@ pub mod speed;
 pub use speed::PlannedSpeed;
 
 use crate::feed::limits::MachineLimits;
-use crate::geom::Curve;
+use crate::geom::{Curve, ParamCurve};
 use crate::path::Piece;
 use alloc::vec::Vec;
 
 /// What the output format can say for a curve.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CurveForm {
     /// G1 lines only.
     Lines,
     /// G2/G3 arcs (helical where a curve is not in a principal plane) and
     /// G1 lines.
     Arcs,
-    /// NURBS as they are (G6.2), arcs as arcs, lines as lines.
-    Nurbs,
+    /// NURBS as they are where the format can say them (G6.2, G5.2), arcs
+    /// for the others; arcs as arcs, lines as lines.
+    Nurbs(NurbsLimits),
+}
+
+/// Which NURBS a spline format can say.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NurbsLimits {
+    /// Highest degree (Fanuc G6.2: 3; LinuxCNC: 7).
+    pub max_degree: usize,
+    /// The curve must lie in a principal plane: its coordinate along the
+    /// normal may vary by at most this (mm). `None`: 3D.
+    pub planar_mm: Option<f64>,
+    /// Only the XY plane (G17): LinuxCNC 2.9 refuses G5.x in other planes.
+    pub xy_only: bool,
+    /// LinuxCNC's G5.2: what LinuxCNC runs for each block (its biarcs,
+    /// four per control point, with no tolerance of their own,
+    /// [`crate::controller::linuxcnc::g5_2_motion_of`]) must also lie
+    /// within the chord share of the curve.
+    pub linuxcnc_g5_2: bool,
 }
 
 /// How to render.
@@ -91,7 +109,7 @@ impl RenderOptions {
             ("min_arc_length", self.min_arc_length),
         ];
         for (name, value) in non_negative {
-            if !(value >= 0.0) || (value.is_infinite() && name != "step_share") {
+            if value.is_nan() || value < 0.0 || (value.is_infinite() && name != "step_share") {
                 return Err(RenderError::BadOption { name, value });
             }
         }
@@ -116,6 +134,9 @@ pub struct RenderStats {
     pub fallback_lines: usize,
     /// NURBS pieces written as they are.
     pub nurbs: usize,
+    /// NURBS pieces a spline format could not say (degree, not in a
+    /// plane, LinuxCNC's G5.2 biarcs off the curve), written as arcs.
+    pub nurbs_as_arcs: usize,
 }
 
 impl RenderStats {
@@ -126,6 +147,7 @@ impl RenderStats {
         self.lines += o.lines;
         self.fallback_lines += o.fallback_lines;
         self.nurbs += o.nurbs;
+        self.nurbs_as_arcs += o.nurbs_as_arcs;
     }
 }
 
@@ -136,6 +158,53 @@ pub struct Rendered {
     /// source lines and feed of the piece it renders.
     pub pieces: Vec<Piece>,
     pub stats: RenderStats,
+}
+
+/// The principal plane `points` lie in (their coordinate along its normal
+/// varies by at most `tol` mm), G17 first.
+pub fn planar_plane(points: &[crate::geom::Vec3], tol: f64) -> Option<crate::geom::Plane> {
+    crate::geom::Plane::ALL.into_iter().find(|pl| {
+        let h0 = points.first().map_or(0.0, |p| pl.off_plane(*p));
+        points
+            .iter()
+            .all(|p| crate::math::abs(pl.off_plane(*p) - h0) <= tol)
+    })
+}
+
+/// Whether `n` can be written as a spline block under `lim`, within
+/// `chord` of itself as the controller runs it.
+pub fn nurbs_fits(n: &crate::geom::Nurbs, lim: &NurbsLimits, chord: f64) -> bool {
+    if n.degree > lim.max_degree {
+        return false;
+    }
+    let plane = match lim.planar_mm {
+        Some(tol) => match planar_plane(&n.points, tol) {
+            Some(p) => p,
+            None => return false,
+        },
+        None => crate::geom::Plane::Xy,
+    };
+    if lim.xy_only && plane != crate::geom::Plane::Xy {
+        return false;
+    }
+    if !lim.linuxcnc_g5_2 {
+        return true;
+    }
+    let Ok(motion) = crate::controller::linuxcnc::g5_2_motion_of(n, plane) else {
+        return false;
+    };
+    // LinuxCNC's biarcs against a fine polyline of the curve.
+    let c = Curve::Nurbs(n.clone());
+    let ts = crate::geom::flatten_params(&c, 0.01 * chord);
+    let poly: Vec<crate::geom::Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
+    let lim = arcs::DEVIATION_USE * chord;
+    motion.iter().all(|m| {
+        (0..=8).all(|k| {
+            let (t0, t1) = m.domain();
+            let q = m.eval(t0 + (t1 - t0) * k as f64 / 8.0);
+            crate::geom::distance_to_polyline(q, &poly).is_some_and(|d| d.0 <= lim)
+        })
+    })
 }
 
 /// Renders the pieces of one smoothed run, whose planned speed is `speed`
@@ -155,15 +224,18 @@ pub fn render_run(
                 curves.push(p.curve.clone());
                 out.stats.lines += 1;
             }
-            (Curve::Arc(_), CurveForm::Arcs | CurveForm::Nurbs) => {
+            (Curve::Arc(_), CurveForm::Arcs | CurveForm::Nurbs(_)) => {
                 curves.push(p.curve.clone());
                 out.stats.arcs += 1;
             }
-            (Curve::Nurbs(_), CurveForm::Nurbs) => {
+            (Curve::Nurbs(n), CurveForm::Nurbs(lim)) if nurbs_fits(n, &lim, opts.chord) => {
                 curves.push(p.curve.clone());
                 out.stats.nurbs += 1;
             }
-            (c, CurveForm::Arcs) => {
+            (c, CurveForm::Arcs | CurveForm::Nurbs(_)) => {
+                if matches!(opts.form, CurveForm::Nurbs(_)) {
+                    out.stats.nurbs_as_arcs += 1;
+                }
                 arcs::arcs_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
             }
             (c, CurveForm::Lines) => {

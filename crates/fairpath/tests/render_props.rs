@@ -1,0 +1,357 @@
+//! Invariants of rendering curves as arcs and G1 lines (`fairpath::render`):
+//! the pieces stay within the chord share of the curve (checked by the
+//! independent verifier, with the curve as the original), start and end
+//! where it does and join exactly, arcs join tangent, and where the
+//! renderer had room the curvature steps between neighbours are what the
+//! planned speed passes (`v^2 dk <= J Ts`).
+
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_run, PlanOptions};
+use fairpath::geom::{Arc, Curve, Nurbs, ParamCurve, Plane, Vec3};
+use fairpath::path::Piece;
+use fairpath::render::{
+    nurbs_fits, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions,
+};
+use fairpath::smooth::verify::{verify_run, VerifyOptions};
+use proptest::prelude::*;
+
+fn piece(c: Curve) -> Piece {
+    Piece {
+        curve: c,
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }
+}
+
+fn opts(form: CurveForm, chord: f64) -> RenderOptions {
+    RenderOptions {
+        form,
+        chord,
+        limits: MachineLimits::thesis(),
+        min_block_periods: 1.02,
+        min_radius: 0.00254,
+        step_share: fairpath::render::arcs::STEP_SHARE,
+        min_arc_length: 4e-6,
+    }
+}
+
+fn plan_opts() -> PlanOptions {
+    PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: true,
+        window: None,
+    }
+}
+
+/// A clamped cubic B-spline through `pts` as control points.
+fn bspline(pts: &[Vec3]) -> Nurbs {
+    let n = pts.len();
+    let mut knots = vec![0.0; 4];
+    for i in 1..n - 3 {
+        knots.push(i as f64);
+    }
+    knots.extend([(n - 3) as f64; 4]);
+    Nurbs::new(3, knots, pts.to_vec(), None).unwrap()
+}
+
+/// Renders `pieces` with the plan of exactly those pieces.
+fn render(pieces: &[Piece], o: &RenderOptions) -> Vec<Piece> {
+    let plan = plan_run(pieces, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(pieces.len(), &plan, o.limits.period);
+    render_run(pieces, &speed, o).unwrap().pieces
+}
+
+/// The shared invariants; returns the rendered pieces.
+fn check(original: &[Piece], o: &RenderOptions) -> Result<Vec<Piece>, TestCaseError> {
+    let out = render(original, o);
+    prop_assert!(!out.is_empty());
+    prop_assert_eq!(out[0].start(), original[0].start());
+    prop_assert_eq!(out.last().unwrap().end(), original.last().unwrap().end());
+    for w in out.windows(2) {
+        prop_assert_eq!(w[0].end(), w[1].start(), "pieces join exactly");
+    }
+    for p in &out {
+        prop_assert!(p.start().is_finite() && p.end().is_finite());
+        if let Curve::Arc(a) = &p.curve {
+            prop_assert!(
+                Plane::of_normal(a.normal).is_some(),
+                "arc in a principal plane"
+            );
+        }
+    }
+    let rep = verify_run(original, &out, &VerifyOptions::new(o.chord));
+    prop_assert!(
+        rep.deviation_bound <= o.chord,
+        "deviation {} > chord {}",
+        rep.deviation_bound,
+        o.chord
+    );
+    Ok(out)
+}
+
+fn pt2(r: f64) -> impl Strategy<Value = Vec3> {
+    (-r..r, -r..r).prop_map(|(x, y)| Vec3::new(x, y, 0.0))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn arcs_of_planar_curves_stay_within_the_chord_and_join_tangent(
+        pts in prop::collection::vec(pt2(20.0), 4..10),
+        chord in 0.001..0.02f64,
+        plane in 0usize..3,
+    ) {
+        let plane = Plane::ALL[plane];
+        let pts: Vec<Vec3> = pts.iter().map(|p| plane.point([p.x, p.y, 1.5])).collect();
+        prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
+        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        let out = check(&original, &opts(CurveForm::Arcs, chord))?;
+        // Arcs follow a planar curve in its own plane, tangent to each
+        // other wherever both neighbours are arcs.
+        for w in out.windows(2) {
+            if let (Curve::Arc(a), Curve::Arc(b)) = (&w[0].curve, &w[1].curve) {
+                prop_assert!(a.rise.abs() < 1e-12, "rise {}", a.rise);
+                let ta = a.unit_tangent(1.0).unwrap();
+                let tb = b.unit_tangent(0.0).unwrap();
+                prop_assert!(ta.angle_to(tb) < 1e-6, "kink {}", ta.angle_to(tb));
+            }
+        }
+    }
+
+    #[test]
+    fn lines_of_planar_curves_stay_within_the_chord(
+        pts in prop::collection::vec(pt2(20.0), 4..10),
+        chord in 0.001..0.02f64,
+    ) {
+        prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
+        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        let out = check(&original, &opts(CurveForm::Lines, chord))?;
+        prop_assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+    }
+
+    #[test]
+    fn curves_in_3d_stay_within_the_chord(
+        pts in prop::collection::vec((-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64), 4..8),
+        chord in 0.002..0.02f64,
+    ) {
+        let pts: Vec<Vec3> = pts.iter().map(|&(x, y, z)| Vec3::new(x, y, z)).collect();
+        prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
+        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        check(&original, &opts(CurveForm::Arcs, chord))?;
+    }
+}
+
+#[test]
+fn a_circle_is_a_few_arcs_of_its_radius() {
+    let arc = Arc::from_center(
+        Vec3::new(10.0, 0.0, 0.0),
+        Vec3::new(0.0, 10.0, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let original = vec![piece(Curve::Nurbs(Nurbs::from_circular_arc(&arc)))];
+    let out = check(&original, &opts(CurveForm::Arcs, 0.005)).unwrap();
+    assert!(out.len() <= 4, "{} pieces", out.len());
+    for p in &out {
+        let Curve::Arc(a) = &p.curve else {
+            panic!("not an arc: {:?}", p.curve)
+        };
+        assert!((a.r0 - 10.0).abs() < 1e-9 && (a.r1 - 10.0).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn a_helix_is_helical_arcs() {
+    // A quarter turn of radius 5 rising 2 mm, as a cubic approximation.
+    let arc = Arc::from_center(
+        Vec3::new(5.0, 0.0, 0.0),
+        Vec3::new(0.0, 5.0, 2.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let original = vec![piece(Curve::Nurbs(Nurbs::approximate(&arc, 1e-7)))];
+    let o = opts(CurveForm::Arcs, 0.005);
+    let out = check(&original, &o).unwrap();
+    assert!(out.len() <= 16, "{} pieces", out.len());
+    for p in &out {
+        let Curve::Arc(a) = &p.curve else {
+            panic!("not an arc: {:?}", p.curve)
+        };
+        assert!(a.rise > 0.0 && a.normal == Vec3::Z);
+    }
+}
+
+#[test]
+fn joints_step_no_more_than_the_planned_speed_passes() {
+    // A spiral-like curve whose curvature keeps changing: arcs must be
+    // short where the machine is fast.
+    let pts: Vec<Vec3> = (0..12)
+        .map(|i| {
+            let t = i as f64 * 0.6;
+            let r = 2.0 + 1.5 * t;
+            Vec3::new(r * t.cos(), r * t.sin(), 0.0)
+        })
+        .collect();
+    let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+    let o = opts(CurveForm::Arcs, 0.005);
+    let out = render(&original, &o);
+    let plan = plan_run(&original, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(1, &plan, o.limits.period);
+    let c = &original[0].curve;
+    let m = &o.limits;
+    let (mut checked, mut over) = (0, 0);
+    for w in out.windows(2) {
+        let (Curve::Arc(a), Curve::Arc(b)) = (&w[0].curve, &w[1].curve) else {
+            continue;
+        };
+        // The joint's parameter on the curve, by its nearest sample.
+        let q = a.p1;
+        let ts: Vec<f64> = (0..=4000)
+            .map(|k| k as f64 / 4000.0 * c.domain().1)
+            .collect();
+        let t = ts
+            .iter()
+            .copied()
+            .min_by(|x, y| c.eval(*x).dist(q).total_cmp(&c.eval(*y).dist(q)))
+            .unwrap();
+        let v = speed.at(0, t);
+        let shortest = a.approx_length().min(b.approx_length());
+        if shortest < 2.0 * 1.02 * m.period * v {
+            continue; // no room to split further: one block time
+        }
+        checked += 1;
+        let dk = (b.curvature_vector(0.0) - a.curvature_vector(1.0)).norm();
+        if v * v * dk > m.jerk * m.period * 1.01 {
+            over += 1;
+        }
+    }
+    assert!(checked > 10, "{checked} joints checked");
+    assert_eq!(
+        over, 0,
+        "{over} of {checked} joints step more than v^2 dk <= J Ts"
+    );
+}
+
+#[test]
+fn a_curve_that_leaves_every_plane_is_written_as_g1() {
+    // A circle of a sphere tilted 45 degrees to every axis plane.
+    let n = Vec3::new(1.0, 1.0, 1.0).normalized(0.0).unwrap();
+    let u = n.any_perpendicular().normalized(0.0).unwrap();
+    let w = n.cross(u);
+    let pts: Vec<Vec3> = (0..9)
+        .map(|i| {
+            let a = i as f64 * 0.5;
+            u * (10.0 * a.cos()) + w * (10.0 * a.sin())
+        })
+        .collect();
+    let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+    let out = check(&original, &opts(CurveForm::Arcs, 0.005)).unwrap();
+    assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+}
+
+#[test]
+fn lines_are_equal_within_stretches_that_change_by_at_most_a_factor() {
+    let arc = Arc::from_center(
+        Vec3::new(10.0, 0.0, 0.0),
+        Vec3::new(-10.0, 0.0, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let original = vec![piece(Curve::Arc(arc))];
+    let out = check(&original, &opts(CurveForm::Lines, 0.005)).unwrap();
+    let lens: Vec<f64> = out.iter().map(|p| p.start().dist(p.end())).collect();
+    let mut changes = 0;
+    for w in lens.windows(2) {
+        if (w[0] - w[1]).abs() > 1e-6 {
+            changes += 1;
+            let r = w[0].max(w[1]) / w[0].min(w[1]);
+            assert!(
+                r <= 2.0 * fairpath::render::lines::SPACING_RATIO,
+                "{} -> {}",
+                w[0],
+                w[1]
+            );
+        }
+    }
+    // Few stretches: the speed ramps at the ends, even in the middle.
+    assert!(
+        changes * 10 < lens.len(),
+        "{changes} changes in {} moves",
+        lens.len()
+    );
+}
+
+#[test]
+fn spline_formats_keep_only_the_curves_they_can_say() {
+    let planar = bspline(&[
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 2.0, 1.0),
+        Vec3::new(3.0, 2.0, 1.0),
+        Vec3::new(4.0, 0.0, 1.0),
+    ]);
+    let mut spatial = planar.clone();
+    spatial.points[2].z = 1.5;
+    let fanuc = NurbsLimits {
+        max_degree: 3,
+        planar_mm: None,
+        xy_only: false,
+        linuxcnc_g5_2: false,
+    };
+    let in_plane = NurbsLimits {
+        planar_mm: Some(1e-9),
+        ..fanuc
+    };
+    assert!(nurbs_fits(&planar, &fanuc, 0.005));
+    assert!(nurbs_fits(&spatial, &fanuc, 0.005));
+    assert!(nurbs_fits(&planar, &in_plane, 0.005));
+    assert!(!nurbs_fits(&spatial, &in_plane, 0.005));
+    let quartic = Nurbs::new(
+        4,
+        vec![0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+        (0..5)
+            .map(|i| Vec3::new(i as f64, (i % 2) as f64, 0.0))
+            .collect(),
+        None,
+    )
+    .unwrap();
+    assert!(!nurbs_fits(&quartic, &fanuc, 0.005));
+    // In the NURBS form the spatial curve is written as arcs or lines, the
+    // planar one as it is.
+    let form = CurveForm::Nurbs(in_plane);
+    let out = render(&[piece(Curve::Nurbs(planar.clone()))], &opts(form, 0.005));
+    assert_eq!(out.len(), 1);
+    let out = render(&[piece(Curve::Nurbs(spatial))], &opts(form, 0.005));
+    assert!(out.iter().all(|p| !matches!(p.curve, Curve::Nurbs(_))));
+}
+
+#[test]
+fn planned_speed_interpolates_the_plan() {
+    let line = Curve::Line(fairpath::geom::Line::new(
+        Vec3::ZERO,
+        Vec3::new(300.0, 0.0, 0.0),
+    ));
+    let pieces = vec![piece(line)];
+    let plan = plan_run(&pieces, &plan_opts()).unwrap();
+    let sp = PlannedSpeed::new(1, &plan, 0.001);
+    // Rest at both ends, the machine's feed in the middle of 300 mm.
+    assert!(sp.at(0, 0.0) < 1.0 && sp.at(0, 1.0) < 1.0);
+    assert!((sp.at(0, 0.5) - 400.0).abs() < 1.0);
+    assert!((sp.max_over(0, 0.0, 1.0) - 400.0).abs() < 1.0);
+    assert!(sp.max_over(0, 0.0, 0.001) < sp.max_over(0, 0.0, 0.2));
+    // Unknown pieces plan no speed.
+    assert_eq!(sp.at(3, 0.5), 0.0);
+}
