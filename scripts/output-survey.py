@@ -10,8 +10,10 @@ the machine's maximum (the issue's targets). Writes a CSV (one row per
 program and format) and a Markdown summary to stdout.
 
 Usage: scripts/output-survey.py [--tolerance 0.05] [--controller generic]
-       [--formats arcs,g1,g6.2] [--csv out.csv] [PROGRAM ...]
-Build first: cargo build --release.
+       [--formats arcs,g1,g6.2] [--csv out.csv] [--markdown docs/output-survey.md]
+       [PROGRAM ...]
+Build first: cargo build --release. `--markdown` writes the report (with
+the date, the commit and the command) to a file instead of stdout.
 """
 import argparse
 import csv
@@ -65,6 +67,7 @@ def main():
     ap.add_argument("--controller", default="generic")
     ap.add_argument("--formats", default="arcs,g1,g6.2")
     ap.add_argument("--csv")
+    ap.add_argument("--markdown")
     ap.add_argument("--timeout", type=int, default=600)
     ap.add_argument("programs", nargs="*")
     a = ap.parse_args()
@@ -111,10 +114,21 @@ def main():
             wr = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
             wr.writeheader()
             wr.writerows(rows)
-    report(rows, refused, formats, a)
+    out = open(a.markdown, "w") if a.markdown else sys.stdout
+    if a.markdown:
+        commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True).stdout.strip()
+        print("# Output survey (generated)\n", file=out)
+        print(f"Written by `scripts/output-survey.py {' '.join(sys.argv[1:])}` on "
+              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit {commit}. "
+              "Do not edit by hand.\n", file=out)
+    report(rows, refused, formats, a, out)
 
 
-def report(rows, refused, formats, a):
+def report(rows, refused, formats, a, out):
+    def print(*args, **kw):
+        kw.setdefault("file", out)
+        __builtins__.print(*args, **kw)
     print(f"Survey at tolerance {a.tolerance} mm, controller {a.controller}, "
           f"`simulate --override-feed` model (default machine); "
           f"{len({r['program'] for r in rows})} programs written, {len(refused)} refused.\n")
@@ -150,6 +164,13 @@ def report(rows, refused, formats, a):
                          f"{r['written_over_input']:.3f} / {r['written_over_curves']:.3f} / "
                          f"{r['lines_out']}:{r['lines_in']}")
         print(f"| {prog} | " + " | ".join(cells) + " |")
+    print()
+    for f in formats:
+        over = sorted((r for r in rows if r["format"] == f and r["written_over_curves"] > 1.25),
+                      key=lambda r: -r["written_over_curves"])
+        print(f"{f}: {len(over)} programs over 1.25 of the curves' time"
+              + (": " + ", ".join(f"{os.path.basename(r['program'])} {r['written_over_curves']:.3f}"
+                                   for r in over) if over else "") + ".\n")
     if refused:
         print(f"\nRefused ({len(refused)}): " + "; ".join(f"{p}: {e[:80]}" for p, e in refused[:200]))
 

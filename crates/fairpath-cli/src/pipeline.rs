@@ -54,7 +54,7 @@ impl SmoothOptions {
         }
         let blend = EmitOptions::blend_share(controller, format, output);
         let budget = ToleranceBudget::new(tolerance, Some(output - blend), blend)
-            .map_err(|e| anyhow!("--tolerance: {e}"))?;
+            .map_err(|e| anyhow!("--tolerance: {e}: raise --tolerance or lower --chord"))?;
         // `auto` gives a share of the smoothing budget to the chords of
         // sampled arcs.
         let inner = budget.smoothing() * (1.0 - smooth::ARC_SHARE);

@@ -1,0 +1,260 @@
+//! What `smooth` writes is what it reports: the summary's times are the
+//! times `simulate` plans for the input and the written file, the written
+//! program is never slower than the input, each controller gets its
+//! dialect, and `compare` plans the written program per format.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fairpath"))
+}
+
+fn shared(rel: &str) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths")
+        .join(rel);
+    p.exists().then_some(p)
+}
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn ok(o: Output, what: &str) -> String {
+    assert!(
+        o.status.success(),
+        "{what}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// `smooth` with a JSON summary.
+fn smooth(input: &Path, out: &Path, extra: &[&str]) -> Value {
+    let o = bin()
+        .args([
+            "smooth",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--tolerance", "0.05", "--json-summary"])
+        .args(extra)
+        .output()
+        .unwrap();
+    serde_json::from_str(&ok(o, &format!("smooth {} {extra:?}", input.display()))).unwrap()
+}
+
+/// `simulate --format json`'s `time_s` and `feed_time_s`.
+fn simulate(path: &Path, extra: &[&str]) -> (f64, f64) {
+    let o = bin()
+        .args(["simulate", path.to_str().unwrap(), "--format", "json"])
+        .args(extra)
+        .output()
+        .unwrap();
+    let v: Value = serde_json::from_str(&ok(o, "simulate")).unwrap();
+    (
+        v["time_s"].as_f64().unwrap(),
+        v["feed_time_s"].as_f64().unwrap(),
+    )
+}
+
+fn programs() -> Vec<PathBuf> {
+    let mut v = vec![example("pocket-corners.ngc"), example("zigzag.ngc")];
+    for rel in [
+        "synthetic/butterfly-80.ngc",
+        "synthetic/helix.ngc",
+        "linuxcnc/arc-feed/arc_maxvel_xy.ngc",
+        "linuxcnc/quick-tests/spiral_tangent_test.ngc",
+        "linuxcnc/performance/line-contouring-xz.ngc",
+    ] {
+        v.extend(shared(rel));
+    }
+    v
+}
+
+#[test]
+fn the_summary_times_are_what_simulate_plans() {
+    let dir = tempfile::tempdir().unwrap();
+    for input in programs() {
+        for format in ["arcs", "g1", "g6.2", "g5.2", "json"] {
+            for feeds in [&[][..], &["--override-feed"][..]] {
+                let out = dir.path().join(format!("out.{format}"));
+                let mut extra = vec!["--format", format];
+                extra.extend_from_slice(feeds);
+                let s = smooth(&input, &out, &extra);
+                let what = format!("{} {extra:?}", input.display());
+                let (t_in, f_in) = simulate(&input, feeds);
+                let (t_out, f_out) = simulate(&out, feeds);
+                let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.max(1.0);
+                assert!(
+                    close(s["input_time_s"].as_f64().unwrap(), t_in),
+                    "{what}: {s}"
+                );
+                assert!(
+                    close(s["input_feed_time_s"].as_f64().unwrap(), f_in),
+                    "{what}"
+                );
+                if format == "json" {
+                    // JSON has no runs: consecutive pieces form the motions.
+                    assert!(
+                        (s["written_time_s"].as_f64().unwrap() - t_out).abs() <= 1e-3 * t_out,
+                        "{what}: {s} vs {t_out}"
+                    );
+                } else {
+                    assert!(
+                        close(s["written_time_s"].as_f64().unwrap(), t_out),
+                        "{what}: {s}"
+                    );
+                    assert!(
+                        close(s["written_feed_time_s"].as_f64().unwrap(), f_out),
+                        "{what}"
+                    );
+                }
+                assert!(s["curves_time_s"].as_f64().unwrap() > 0.0);
+                assert_eq!(
+                    s["written_slower_than_input"].as_bool().unwrap(),
+                    t_out > t_in,
+                    "{what}"
+                );
+                // What is written is never slower than the input (JSON holds
+                // the curves, as they are).
+                if format != "json" {
+                    assert!(t_out <= t_in, "{what}: {t_out} > {t_in}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_slower_output_is_reported_with_a_warning() {
+    // The exact curves of this NURBS program plan a little slower than
+    // LinuxCNC's biarcs of its G5.2 blocks; JSON writes the curves as they
+    // are, and the summary says so.
+    let Some(input) = shared("linuxcnc-nurbs/G6/Curva_Delfino_p1.ngc") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.json");
+    let o = bin()
+        .args([
+            "smooth",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--tolerance", "0.05", "--format", "json"])
+        .output()
+        .unwrap();
+    let text = ok(o, "smooth");
+    assert!(
+        text.contains("warning:         the written program plans slower than the input"),
+        "{text}"
+    );
+    // The G-code formats keep such runs as the program wrote them.
+    let s = smooth(&input, &dir.path().join("out.ngc"), &[]);
+    assert_eq!(s["kept_runs"].as_u64(), Some(1), "{s}");
+    assert_eq!(s["written_slower_than_input"].as_bool(), Some(false));
+}
+
+#[test]
+fn each_controller_gets_its_dialect_and_default_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("pocket-corners.ngc");
+    let out = dir.path().join("out.ngc");
+    let s = smooth(&input, &out, &[]);
+    assert_eq!(s["format"], "arcs");
+    assert_eq!(s["controller"], "generic");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("G2 ") || text.contains("G3 "), "{text}");
+    assert!(!text.contains("G64"), "{text}");
+
+    let s = smooth(&input, &out, &["--controller", "linuxcnc"]);
+    assert_eq!(s["format"], "arcs");
+    assert!(s["blend_share_mm"].as_f64().unwrap() > 0.0);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let g64 = text.lines().find(|l| l.starts_with("G64 P")).unwrap();
+    assert!(g64.ends_with(" Q0"), "{g64}");
+
+    let s = smooth(&input, &out, &["--controller", "fanuc"]);
+    assert_eq!(s["format"], "g6.2");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("G6.2 P4"), "{text}");
+    for l in text
+        .lines()
+        .filter(|l| l.starts_with("G6.2") || l.starts_with('K'))
+    {
+        for w in l.split_whitespace() {
+            if matches!(w.as_bytes()[0], b'X' | b'Y' | b'Z' | b'K' | b'R') {
+                assert!(w.contains('.'), "{w} in {l}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_tolerance_is_shared_out_and_the_output_checks_against_the_original() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("pocket-corners.ngc");
+    for extra in [&[][..], &["--controller", "linuxcnc", "--format", "g1"][..]] {
+        let out = dir.path().join("out.ngc");
+        let s = smooth(&input, &out, extra);
+        let shares = s["smoothing_share_mm"].as_f64().unwrap()
+            + s["output_share_mm"].as_f64().unwrap()
+            + s["blend_share_mm"].as_f64().unwrap();
+        assert!((shares - 0.05).abs() < 1e-15, "{s}");
+        let o = bin()
+            .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
+            .args(["--tolerance", "0.05"])
+            .output()
+            .unwrap();
+        assert!(ok(o, "check").contains("PASS"));
+    }
+}
+
+#[test]
+fn compare_plans_the_written_program_per_format() {
+    let input = example("pocket-corners.ngc");
+    let o = bin()
+        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args([
+            "--methods",
+            "auto,bspline-corner",
+            "--formats",
+            "arcs,g1,g6.2",
+        ])
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    let v: Value = serde_json::from_str(&ok(o, "compare")).unwrap();
+    let rows = v.as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    assert!(rows[0]["written"].as_array().unwrap().is_empty());
+    for r in &rows[1..] {
+        let w = r["written"].as_array().unwrap();
+        let names: Vec<&str> = w.iter().map(|x| x["format"].as_str().unwrap()).collect();
+        assert_eq!(names, ["arcs", "g1", "g6.2"]);
+        for x in w {
+            assert!(x["verified"].as_bool().unwrap());
+            assert!(x["time_s"].as_f64().unwrap() > 0.0 && x["lines"].as_u64().unwrap() > 0);
+            // Never slower than the program as it was.
+            assert!(x["time_ratio"].as_f64().unwrap() <= 1.0, "{x}");
+        }
+    }
+    // The CSV has the same columns.
+    let o = bin()
+        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["--methods", "auto", "--formats", "g1", "--format", "csv"])
+        .output()
+        .unwrap();
+    let csv = ok(o, "compare csv");
+    assert!(csv.lines().next().unwrap().ends_with(
+        "written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,written_g1_lines,written_g1_verified"
+    ));
+}

@@ -1,0 +1,342 @@
+//! The G-code writer with curves written as curves: G2/G3 arcs in all
+//! three planes (IJK and R, incremental programs, absolute centres), NURBS
+//! as G6.2 blocks, the dialects (decimal points, LinuxCNC's G64), runs kept
+//! as the program wrote them, and text that reads back to what was meant.
+
+use fairpath::geom::{Arc, Curve, Line, Nurbs, ParamCurve, Plane, Vec3};
+use fairpath::path::Piece;
+use fairpath_gcode::{
+    parse, write_gcode, write_gcode_with, ArcWords, GcodeWriteOptions, NurbsBlocks, RunOutput,
+};
+use proptest::prelude::*;
+
+fn piece(c: Curve) -> Piece {
+    Piece {
+        curve: c,
+        rapid: false,
+        source_lines: (3, 3),
+        feed: Some(600.0),
+    }
+}
+
+fn arcs_opts() -> GcodeWriteOptions {
+    GcodeWriteOptions {
+        chord_mm: 0.005,
+        header: false,
+        arcs: Some(ArcWords::Ijk),
+        resolution_mm: Some(5e-7),
+        ..Default::default()
+    }
+}
+
+/// The one run of `text` replaced by `pieces`, written and read back.
+fn write_one(text: &str, pieces: Vec<Piece>, o: &GcodeWriteOptions) -> (String, Vec<Piece>) {
+    let p = parse(text.as_bytes()).unwrap();
+    assert_eq!(p.runs().len(), 1, "{text}");
+    let out = write_gcode(&p, &[pieces], o).unwrap();
+    let q = parse(out.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{out}"));
+    assert_eq!(q.runs().len(), 1, "{out}");
+    let back = q.runs().remove(0).pieces;
+    (out, back)
+}
+
+/// A quarter circle of radius 5 in `plane` from the point (a, b) = (5, 0)
+/// with height `h0`, turning counter-clockwise (G3) or not, rising by
+/// `rise`.
+fn quarter(plane: Plane, h0: f64, ccw: bool, rise: f64) -> Arc {
+    let start = plane.point([5.0, 0.0, h0]);
+    let end = plane.point([0.0, if ccw { 5.0 } else { -5.0 }, h0 + rise]);
+    let center = plane.point([0.0, 0.0, h0]);
+    Arc::from_center(start, end, center, plane.normal(), !ccw, 1, 0.0).unwrap()
+}
+
+#[test]
+fn arcs_are_written_as_g2_g3_in_their_plane_and_read_back() {
+    for plane in Plane::ALL {
+        for ccw in [true, false] {
+            for rise in [0.0, 1.25] {
+                let arc = quarter(plane, 2.0, ccw, rise);
+                // The program: to the arc's start, then one feed move (the
+                // run) that the arc replaces.
+                let s = arc.p0;
+                let e = arc.p1;
+                let text = format!(
+                    "G21 G90\nG0 X{} Y{} Z{}\nG1 X{} Y{} Z{} F600\nM2\n",
+                    s.x, s.y, s.z, e.x, e.y, e.z
+                );
+                let (out, back) = write_one(&text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+                let g = if ccw { "G3" } else { "G2" };
+                assert!(out.contains(g), "{plane:?} {ccw}: {out}");
+                if plane != Plane::Xy {
+                    // Plane on a line of its own, restored after the run.
+                    assert!(out.contains(&format!("\n{}\n", plane.gword())), "{out}");
+                    assert!(out.contains("\nG17\n"), "{out}");
+                }
+                assert_eq!(back.len(), 1, "{out}");
+                let Curve::Arc(b) = &back[0].curve else {
+                    panic!("read back as {:?}", back[0].curve)
+                };
+                assert_eq!(b.normal, arc.normal, "{out}");
+                assert!((b.sweep - arc.sweep).abs() < 1e-6);
+                for k in 0..=8 {
+                    let t = k as f64 / 8.0;
+                    assert!(b.eval(t).dist(arc.eval(t)) < 1e-5, "{plane:?}: {out}");
+                }
+                assert_eq!(b.p1, e, "the run's end is the program's own text");
+            }
+        }
+    }
+}
+
+#[test]
+fn r_form_when_asked_and_ijk_for_half_circles() {
+    let arc = quarter(Plane::Xy, 0.0, true, 0.0);
+    let text = "G21 G90\nG0 X5 Y0 Z0\nG1 X0 Y5 F600\nM2\n";
+    let o = GcodeWriteOptions {
+        arcs: Some(ArcWords::R),
+        ..arcs_opts()
+    };
+    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    assert!(out.contains("G3 X0 Y5 R5"), "{out}");
+    assert!(matches!(back[0].curve, Curve::Arc(_)));
+    // A half circle: the R form leaves the side open, IJK is written.
+    let half = Arc::from_center(
+        Vec3::new(5.0, 0.0, 0.0),
+        Vec3::new(-5.0, 0.0, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let text = "G21 G90\nG0 X5 Y0 Z0\nG1 X-5 F600\nM2\n";
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(half))], &o);
+    assert!(out.contains("G3 X-5 I-5"), "{out}");
+}
+
+#[test]
+fn incremental_programs_get_incremental_arcs_and_absolute_centres_after_g90_1() {
+    let arc = quarter(Plane::Xy, 0.0, true, 0.0);
+    let text = "G21 G91\nG0 X5\nG1 X-5 Y5 F600\nM2\n";
+    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    assert!(out.contains("G3 X-5 Y5 I-5"), "{out}");
+    assert_eq!(back[0].end(), Vec3::new(0.0, 5.0, 0.0));
+    let text = "G21 G90 G90.1\nG0 X5\nG1 X0 Y5 F600\nM2\n";
+    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    assert!(out.contains("G3 X0 Y5 I0 J0"), "{out}");
+    let Curve::Arc(b) = &back[0].curve else {
+        panic!()
+    };
+    assert!(b.center.norm() < 1e-12);
+}
+
+#[test]
+fn an_arc_shorter_than_the_rounding_is_a_line_not_a_full_circle() {
+    // 0.2 nm long: its rounded ends coincide at 7 decimals.
+    let arc = Arc::from_center(
+        Vec3::new(5.0, 0.0, 0.0),
+        Vec3::new(5.0 * (4e-11f64).cos(), 5.0 * (4e-11f64).sin(), 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let line = Line::new(arc.p1, Vec3::new(10.0, 1.0, 0.0));
+    let text = "G21 G90\nG0 X5 Y0\nG1 X10 Y1 F600\nM2\n";
+    let (out, back) = write_one(
+        text,
+        vec![piece(Curve::Arc(arc)), piece(Curve::Line(line))],
+        &arcs_opts(),
+    );
+    assert!(!out.contains("G3"), "{out}");
+    assert!(back.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+}
+
+#[test]
+fn full_circles_keep_their_turns() {
+    let arc = Arc::from_center(
+        Vec3::new(5.0, 0.0, 0.0),
+        Vec3::new(5.0, 0.0, 3.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        3,
+        1e-7,
+    )
+    .unwrap();
+    let text = "G21 G90\nG0 X5 Y0 Z0\nG1 Z3 F600\nM2\n";
+    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    assert!(out.contains("P3"), "{out}");
+    let Curve::Arc(b) = &back[0].curve else {
+        panic!()
+    };
+    assert!((b.sweep - arc.sweep).abs() < 1e-9);
+}
+
+#[test]
+fn fanuc_numbers_carry_a_decimal_point() {
+    let arc = quarter(Plane::Xy, 0.0, true, 0.0);
+    let text = "G21 G90\nG0 X5 Y0 Z0\nG1 X0 Y5 F600\nM2\n";
+    let o = GcodeWriteOptions {
+        decimal_point: true,
+        ..arcs_opts()
+    };
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let arc_line = out.lines().find(|l| l.starts_with("G3")).unwrap();
+    for w in arc_line.split_whitespace().skip(1) {
+        if !w.starts_with('F') {
+            assert!(w.contains('.'), "{w} in {arc_line}");
+        }
+    }
+}
+
+#[test]
+fn linuxcnc_blending_is_written_around_runs_and_the_programs_own_restored() {
+    let arc = quarter(Plane::Xy, 0.0, true, 0.0);
+    let o = GcodeWriteOptions {
+        g64_blend_mm: Some(0.0025),
+        ..arcs_opts()
+    };
+    // The program's own G64 P0.01 is written back after the run.
+    let text = "G21 G90 G64 P0.01\nG0 X5 Y0 Z0\nG1 X0 Y5 F600\nG0 Z5\nM2\n";
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let lines: Vec<&str> = out.lines().collect();
+    let ours = lines.iter().position(|l| *l == "G64 P0.0025 Q0").unwrap();
+    let theirs = lines.iter().position(|l| *l == "G64 P0.01").unwrap();
+    assert!(ours < theirs, "{out}");
+    assert!(lines[theirs - 1].starts_with("G3"), "{out}");
+    // Without one, ours stays in force; in inch programs P is in inches.
+    let text = "G20 G90\nG0 X0.5 Y0 Z0\nG1 X0 Y0.5 F20\nM2\n";
+    let arc = Arc::from_center(
+        Vec3::new(12.7, 0.0, 0.0),
+        Vec3::new(0.0, 12.7, 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    assert!(out.contains("\nG64 P0.0000984 Q0\n"), "{out}");
+    assert_eq!(out.matches("G64").count(), 1, "{out}");
+}
+
+#[test]
+fn nurbs_become_g6_2_blocks_and_the_run_end_stays_exact() {
+    let n = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.5),
+            Vec3::new(3.0, 2.0, 1.0),
+            Vec3::new(4.0, 1.0 / 3.0, 1.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let text = "G21 G90\nG0 X0 Y0 Z0\nG1 X4 Y0.33333333333 Z1 F600\nM2\n";
+    let p = parse(text.as_bytes()).unwrap();
+    let end = p.runs()[0].end().unwrap();
+    let mut n2 = n.clone();
+    *n2.points.last_mut().unwrap() = end;
+    let o = GcodeWriteOptions {
+        nurbs: Some(NurbsBlocks::G6_2Fanuc),
+        ..arcs_opts()
+    };
+    let (out, back) = write_one(text, vec![piece(Curve::Nurbs(n2.clone()))], &o);
+    assert!(out.contains("G6.2 P4"), "{out}");
+    // A G1 to the program's own end text follows the block.
+    assert!(out.contains("G1 Y0.33333333333"), "{out}");
+    assert_eq!(back.last().unwrap().end(), end);
+    let Curve::Nurbs(b) = &back[0].curve else {
+        panic!("{out}")
+    };
+    for k in 0..=10 {
+        let t = k as f64 / 10.0;
+        assert!(b.eval(t).dist(n2.eval(t)) < 1e-6, "{out}");
+    }
+}
+
+#[test]
+fn runs_kept_as_written_are_copied_line_by_line() {
+    let text = "G21 G90\nG0 X0 Y0\nG1 X1 F100 (a comment)\nN20 X2 Y1\nM5\nG0 Z5\n";
+    let p = parse(text.as_bytes()).unwrap();
+    let out = write_gcode_with(&p, &[RunOutput::Original], &arcs_opts()).unwrap();
+    assert_eq!(out, text);
+}
+
+fn pt() -> impl Strategy<Value = Vec3> {
+    (-50.0..50.0f64, -50.0..50.0f64, -5.0..5.0f64).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Random chains of lines and arcs: no NaN, no word without a number,
+    /// no move line without a coordinate, and the text reads back within
+    /// the rounding of the written coordinates.
+    #[test]
+    fn written_text_is_well_formed_and_reads_back(
+        pts in prop::collection::vec(pt(), 2..12),
+        turns in prop::collection::vec((any::<bool>(), 0usize..3), 12),
+        inch in any::<bool>(),
+    ) {
+        let scale = if inch { 25.4 } else { 1.0 };
+        let mut pieces = Vec::new();
+        for (i, w) in pts.windows(2).enumerate() {
+            let (a, b) = (w[0], w[1]);
+            let (as_arc, plane) = turns[i];
+            let plane = Plane::ALL[plane];
+            let la = plane.local(a);
+            let lb = plane.local(b);
+            let chord = ((lb[0] - la[0]).powi(2) + (lb[1] - la[1]).powi(2)).sqrt();
+            // An arc bulging by a tenth of its chord, else a line.
+            let c = if as_arc && chord > 1.0 {
+                let mid = [(la[0] + lb[0]) / 2.0, (la[1] + lb[1]) / 2.0];
+                let d = [lb[0] - la[0], lb[1] - la[1]];
+                let center = plane.point([mid[0] - d[1], mid[1] + d[0], la[2]]);
+                Arc::from_center(a, b, center, plane.normal(), false, 1, 0.0)
+                    .map(Curve::Arc)
+                    .unwrap_or(Curve::Line(Line::new(a, b)))
+            } else {
+                Curve::Line(Line::new(a, b))
+            };
+            pieces.push(piece(c));
+        }
+        let mut text = String::from(if inch { "G20 G90\n" } else { "G21 G90\n" });
+        let s = pts[0] / scale;
+        text.push_str(&format!("G0 X{:.12} Y{:.12} Z{:.12}\n", s.x, s.y, s.z));
+        let e = pts[pts.len() - 1] / scale;
+        text.push_str(&format!("G1 X{:.12} Y{:.12} Z{:.12} F10\nM2\n", e.x, e.y, e.z));
+        let p = parse(text.as_bytes()).unwrap();
+        // The run as the program reads it (its end as written).
+        let end = p.runs()[0].end().unwrap();
+        let start = p.runs()[0].start().unwrap();
+        let n = pieces.len();
+        if let Some(Curve::Line(l)) = pieces.first_mut().map(|p| &mut p.curve) { l.p0 = start; }
+        if let Some(Curve::Line(l)) = pieces.last_mut().map(|p| &mut p.curve) { l.p1 = end; }
+        prop_assume!(matches!(pieces[0].curve, Curve::Line(_)) && matches!(pieces[n - 1].curve, Curve::Line(_)));
+        let out = write_gcode(&p, &[pieces.clone()], &arcs_opts()).unwrap();
+        prop_assert!(!out.contains("NaN") && !out.contains("inf"), "{}", out);
+        for l in out.lines() {
+            let t = l.trim();
+            prop_assert!(t != "G1" && t != "G2" && t != "G3", "empty move: {}", out);
+        }
+        let q = parse(out.as_bytes()).unwrap();
+        let back = q.runs();
+        prop_assert_eq!(back.len(), 1);
+        prop_assert_eq!(back[0].end().unwrap(), end);
+        // Every written piece ends where the meant one does, within the
+        // rounding (7 decimals here).
+        let ends: Vec<Vec3> = pieces.iter().map(|p| p.end()).collect();
+        for b in &back[0].pieces {
+            let d = ends.iter().map(|e| e.dist(b.end())).fold(f64::INFINITY, f64::min);
+            prop_assert!(d < 1e-5 * scale, "{} off: {}", d, out);
+        }
+    }
+}
