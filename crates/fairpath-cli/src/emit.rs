@@ -211,7 +211,17 @@ pub fn emit(
     let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
         let own = &own[k];
         let mut best: Option<(f64, Choice)> = None;
-        for &form in forms {
+        for (i, &form) in forms.iter().enumerate() {
+            // G1 is the other candidate for curves that arcs could not
+            // follow: where they all became arcs, it is not tried.
+            if i > 0
+                && form == CurveForm::Lines
+                && best
+                    .as_ref()
+                    .is_some_and(|(_, b)| b.stats.fallback_lines == 0)
+            {
+                continue;
+            }
             let c = render(k, form, opts.budget.output)?;
             let ts: Vec<f64> = feeds
                 .iter()
