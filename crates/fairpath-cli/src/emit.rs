@@ -159,7 +159,10 @@ pub fn emit(
             linuxcnc_g5_2: false,
         })],
     };
-    let wo = write_options(opts);
+    let wo = GcodeWriteOptions {
+        arcs: write_options(opts).arcs.map(|_| arc_words_of(program)),
+        ..write_options(opts)
+    };
     let render = |k: usize, form: CurveForm, chord: f64| -> Result<Choice> {
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, &wo);
@@ -362,7 +365,24 @@ fn linuxcnc_motion(pieces: &[Piece]) -> Vec<Piece> {
     out
 }
 
-/// The writer's options for `opts`.
+/// The arc form of `program`: R when any of its arcs is written with R,
+/// IJK otherwise (what the machinist reads, and the safe form near half
+/// circles).
+pub fn arc_words_of(program: &Program) -> ArcWords {
+    let lines = program.lines();
+    let uses_r = program.moves().iter().any(|m| {
+        m.kind == fairpath_gcode::MoveKind::Arc
+            && lines[m.line - 1].words.iter().any(|w| w.letter == 'R')
+    });
+    if uses_r {
+        ArcWords::R
+    } else {
+        ArcWords::Ijk
+    }
+}
+
+/// The writer's options for `opts` (arcs in IJK form; [`emit`] writes R
+/// when the program does).
 pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
     let blend = opts.budget.blend;
     GcodeWriteOptions {

@@ -245,6 +245,12 @@ impl Summary {
         if r.nurbs > 0 {
             held.push(format!("{} NURBS", r.nurbs));
         }
+        if r.nurbs_as_arcs > 0 {
+            held.push(format!(
+                "{} curves the format cannot say written as arcs",
+                r.nurbs_as_arcs
+            ));
+        }
         let _ = writeln!(
             s,
             "  written:         {} lines (input {}){}{}",
@@ -376,6 +382,7 @@ impl Summary {
             "written_arcs": self.rendered.arcs, "written_helical_arcs": self.rendered.helical,
             "written_lines": self.rendered.lines, "written_fallback_lines": self.rendered.fallback_lines,
             "written_nurbs": self.rendered.nurbs, "retried_runs": self.retried_runs,
+            "nurbs_written_as_arcs": self.rendered.nurbs_as_arcs,
             "kept_runs": self.kept_runs,
         })
         .to_string()

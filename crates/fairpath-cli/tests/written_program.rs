@@ -258,3 +258,37 @@ fn compare_plans_the_written_program_per_format() {
         "written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,written_g1_lines,written_g1_verified"
     ));
 }
+
+#[test]
+fn arcs_take_the_programs_form_and_spline_formats_count_what_they_cannot_say() {
+    let dir = tempfile::tempdir().unwrap();
+    // A program that writes its arcs with R gets R arcs.
+    let input = dir.path().join("r.ngc");
+    std::fs::write(
+        &input,
+        "G21 G90\nG0 X0 Y0\nG1 X10 F600\nG1 X20 Y5\nG2 X30 Y5 R6\nG1 X40 Y0\nG1 X50 Y8\nM2\n",
+    )
+    .unwrap();
+    let out = dir.path().join("r.out.ngc");
+    smooth(&input, &out, &[]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let arcs: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("G2 ") || l.starts_with("G3 "))
+        .collect();
+    assert!(!arcs.is_empty(), "{text}");
+    assert!(
+        arcs.iter().all(|l| l.contains(" R") && !l.contains(" I")),
+        "{text}"
+    );
+    // G5.2 is XY only: curves in XZ are written as arcs, and counted.
+    let input = dir.path().join("xz.ngc");
+    std::fs::write(
+        &input,
+        "G21 G90 G18\nG0 X0 Y0 Z0\nG1 X10 F600\nG1 X20 Z5\nG1 X30 Z0\nG1 X40 Z5\nM2\n",
+    )
+    .unwrap();
+    let s = smooth(&input, &out, &["--format", "g5.2"]);
+    assert!(s["nurbs_written_as_arcs"].as_u64().unwrap() > 0, "{s}");
+    assert_eq!(s["written_nurbs"].as_u64(), Some(0));
+}
