@@ -1,25 +1,10 @@
 //! The `fairpath` binary end to end: outputs verify, formats agree, bad
 //! input is an error with no output file.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_fairpath"))
-}
-
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/paths")
-        .join(rel);
-    p.exists().then_some(p)
-}
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
+use common::{bin, example, shared};
+use std::path::Path;
+use std::process::Output;
 
 fn run(args: &[&str]) -> Output {
     bin().args(args).output().unwrap()

@@ -3,26 +3,11 @@
 //! program is never slower than the input, each controller gets its
 //! dialect, and `compare` plans the written program per format.
 
+mod common;
+use common::{bin, example, shared};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_fairpath"))
-}
-
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/paths")
-        .join(rel);
-    p.exists().then_some(p)
-}
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+use std::process::Output;
 
 fn ok(o: Output, what: &str) -> String {
     assert!(
