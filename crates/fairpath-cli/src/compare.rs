@@ -11,7 +11,7 @@
 use crate::emit::emit;
 use crate::parallel::verify_runs;
 use crate::pipeline::{
-    plan_input_and_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
+    plan_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
 };
 use crate::simulate::{gcode_motions, simulate};
 use crate::{Controller, Format};
@@ -19,7 +19,7 @@ use anyhow::{anyhow, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::VerifyOptions;
+use fairpath::smooth::verify::{RunReport, VerifyOptions};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -84,22 +84,26 @@ pub struct CompareOptions {
     pub controller: Controller,
 }
 
-fn row(
-    method: &str,
-    original: &[Run],
-    smoothed: &[Run],
-    budget: f64,
-    (time, feed_time): (f64, f64),
-    smoothing_time: f64,
-) -> Row {
+/// The reports of `smoothed` verified against `original` at `budget`.
+fn verify(original: &[Run], smoothed: &[Run], budget: f64) -> Vec<RunReport> {
     let pairs: Vec<(&[Piece], &[Piece])> = original
         .iter()
         .zip(smoothed)
         .map(|(a, b)| (a.pieces.as_slice(), b.pieces.as_slice()))
         .collect();
-    let reports = verify_runs(&pairs, &VerifyOptions::new(budget));
+    verify_runs(&pairs, &VerifyOptions::new(budget))
+}
+
+fn row(
+    method: &str,
+    smoothed: &[Run],
+    reports: &[RunReport],
+    budget: f64,
+    (time, feed_time): (f64, f64),
+    smoothing_time: f64,
+) -> Row {
     let mut joints = [0; 4];
-    for r in &reports {
+    for r in reports {
         for (j, c) in joints.iter_mut().zip(r.joint_counts()) {
             *j += c;
         }
@@ -146,7 +150,8 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         Ok(so)
     };
     let budget0 = options("bspline-corner", Format::Json)?.budget();
-    rows.push(row("original", &runs, &runs, budget0, base_time, 0.0));
+    let reports = verify(&runs, &runs, budget0);
+    rows.push(row("original", &runs, &reports, budget0, base_time, 0.0));
     for name in &opts.methods {
         let so = options(name, Format::Json)?;
         let budget = so.budget();
@@ -159,12 +164,13 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             .iter()
             .map(|r| Run::new(r.smoothed.pieces.clone()))
             .collect();
-        let (_, exact, plans) = plan_input_and_curves(&program, &result, &so)
-            .with_context(|| format!("{name}: planning"))?;
+        let (exact, plans) =
+            plan_curves(&program, &result, &so).with_context(|| format!("{name}: planning"))?;
+        let reports: Vec<RunReport> = result.runs.iter().map(|r| r.report.clone()).collect();
         let mut r = row(
             name,
-            &runs,
             &smoothed,
+            &reports,
             budget,
             (exact.total, exact.feed),
             smoothing_time,

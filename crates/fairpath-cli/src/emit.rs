@@ -1,9 +1,10 @@
 //! From smoothed curves to the written program: each run rendered as the
 //! output format can say it (shaped by the plan of the exact curves, so
 //! that the controller keeps their speed), written in the controller's
-//! dialect, read back and verified against the original. Runs whose
+//! dialect, read back, verified against the original and timed. Runs whose
 //! written text fails are rendered again with half the chord share, a few
-//! times, before the job gives up.
+//! times, then kept as the program wrote them; so are runs that read back
+//! slower than the program's own.
 
 use crate::parallel::par_map;
 use crate::pipeline::{compare_runs, group_by_source, pair_runs, WrittenCheck};
@@ -103,6 +104,18 @@ struct Choice {
     stats: RenderStats,
 }
 
+impl Choice {
+    /// The run as the program wrote it.
+    fn original(chord: f64) -> Choice {
+        Choice {
+            form: None,
+            chord,
+            pieces: Vec::new(),
+            stats: RenderStats::default(),
+        }
+    }
+}
+
 /// Renders, writes and verifies. `smoothed` and `plans` are per run of
 /// `program` (the plan of exactly those pieces on `opts.machine` at its
 /// maximum feed). Each run is written in the form that plans fastest among
@@ -159,10 +172,8 @@ pub fn emit(
             linuxcnc_g5_2: false,
         })],
     };
-    let wo = GcodeWriteOptions {
-        arcs: write_options(opts).arcs.map(|_| arc_words_of(program)),
-        ..write_options(opts)
-    };
+    let mut wo = write_options(opts);
+    wo.arcs = wo.arcs.map(|_| arc_words_of(program));
     let render = |k: usize, form: CurveForm, chord: f64| -> Result<Choice> {
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, &wo);
@@ -242,19 +253,18 @@ pub fn emit(
                 best = Some((ts[0], c));
             }
         }
-        Ok(best.map_or(
-            Choice {
-                form: None,
-                chord: opts.budget.output,
-                pieces: Vec::new(),
-                stats: RenderStats::default(),
-            },
-            |b| b.1,
-        ))
+        Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
     });
     let mut choices: Vec<Choice> = chosen.into_iter().collect::<Result<_>>()?;
     let mut retried = vec![false; choices.len()];
-    for attempt in 0..=RETRIES {
+    // Write, read back, verify and time per run until every rewritten run
+    // verifies and is faster than the program's own. A run that fails is
+    // rendered again with half the chord, up to RETRIES times, then kept
+    // as written; one that reads back slower is kept as written at once.
+    // Runs kept as written always verify and are never slower, so the text
+    // returned is the one written last.
+    let mut attempt = 0;
+    loop {
         let outputs: Vec<RunOutput> = choices
             .iter()
             .map(|c| match c.form {
@@ -269,8 +279,6 @@ pub fn emit(
             .runs();
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
-        // Rewritten runs that read back slower than the program's own:
-        // kept as the program wrote them.
         let pairs = pair_runs(&original, &reread)?;
         let slower: Vec<usize> = par_map(pairs.len(), |i| -> Result<Option<usize>> {
             let (o, c) = pairs[i];
@@ -289,18 +297,10 @@ pub fn emit(
         .into_iter()
         .flatten()
         .collect();
-        for &o in &slower {
-            choices[o] = Choice {
-                form: None,
-                pieces: Vec::new(),
-                stats: RenderStats::default(),
-                chord: choices[o].chord,
-            };
-        }
-        if !slower.is_empty() && attempt < RETRIES {
-            continue;
-        }
-        if check.within || failed.is_empty() || attempt == RETRIES {
+        // Nothing left to change, or nothing this loop can change (a run
+        // the program wrote itself fails: the caller refuses).
+        let stuck = failed.iter().any(|&k| choices[k].form.is_none());
+        if (failed.is_empty() && slower.is_empty()) || stuck {
             let mut stats = RenderStats::default();
             for c in &choices {
                 stats.add(&c.stats);
@@ -317,23 +317,19 @@ pub fn emit(
                 kept_runs: choices.iter().filter(|c| c.form.is_none()).count(),
             });
         }
+        attempt += 1;
+        for o in slower {
+            choices[o] = Choice::original(choices[o].chord);
+        }
         for k in failed {
             retried[k] = true;
-            let c = &choices[k];
-            choices[k] = match c.form {
-                // The last try: the program's own run, which verifies.
-                Some(_) if attempt + 1 == RETRIES => Choice {
-                    form: None,
-                    pieces: Vec::new(),
-                    stats: RenderStats::default(),
-                    chord: c.chord,
-                },
-                Some(form) => render(k, form, 0.5 * c.chord)?,
-                None => c.clone(),
+            let (form, chord) = (choices[k].form, choices[k].chord);
+            choices[k] = match form {
+                Some(form) if attempt < RETRIES => render(k, form, 0.5 * chord)?,
+                _ => Choice::original(chord),
             };
         }
     }
-    unreachable!("the last attempt returns")
 }
 
 /// Spread (mm) along a plane's normal below which a NURBS counts as in the
@@ -350,7 +346,7 @@ fn linuxcnc_motion(pieces: &[Piece]) -> Vec<Piece> {
     for p in pieces {
         match &p.curve {
             fairpath::Curve::Nurbs(n) => {
-                let plane = fairpath::render::planar_plane(&n.points, PLANAR_MM)
+                let plane = fairpath::geom::Plane::of_points(&n.points, PLANAR_MM)
                     .unwrap_or(fairpath::geom::Plane::Xy);
                 match fairpath::controller::linuxcnc::g5_2_motion_of(n, plane) {
                     Ok(curves) => {

@@ -247,41 +247,43 @@ fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
         .collect()
 }
 
-/// The plans of the input and of the exact curves, and the plan of each
-/// smoothed run that the renderer shapes the written pieces for: at the
-/// machine's maximum feed, so that the written program keeps the curves'
-/// speed at any feed (a feed override above 100% included), not just at
-/// the programmed one.
-pub fn plan_input_and_curves(
+/// The planned time of the input, as `fairpath simulate` plans the file.
+pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
+    let motions = gcode_motions(program, &program.runs());
+    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+        .context("planning the input")?;
+    Ok(Times::of(&sim))
+}
+
+/// The planned time of the exact curves in the program, and the plan of
+/// each smoothed run that the renderer shapes the written pieces for: at
+/// the machine's maximum feed, so that the written program keeps the
+/// curves' speed at any feed (a feed override above 100% included), not
+/// just at the programmed one.
+pub fn plan_curves(
     program: &Program,
     result: &SmoothResult,
     opts: &SmoothOptions,
-) -> Result<(Times, Times, Vec<fairpath::feed::plan::RunPlan>)> {
+) -> Result<(Times, Vec<fairpath::feed::plan::RunPlan>)> {
     let m = &opts.machine;
-    let input = simulate(
-        &gcode_motions(program, &program.runs()),
-        m,
-        opts.override_feed,
-        None,
-    )
-    .context("planning the input")?;
     let runs = smoothed_runs(result);
     let (motions, index) = gcode_motions_indexed(program, &runs);
     let exact = simulate(&motions, m, opts.override_feed, None).context("planning the curves")?;
-    let fastest = if opts.override_feed {
-        None
+    let plans = if opts.override_feed {
+        index.iter().map(|&i| exact.plans[i].1.clone()).collect()
     } else {
         let feed_runs: Vec<crate::simulate::Motion> = runs
-            .iter()
-            .map(|r| crate::simulate::Motion::Feed(r.clone()))
+            .into_iter()
+            .map(crate::simulate::Motion::Feed)
             .collect();
-        Some(simulate(&feed_runs, m, true, None).context("planning the curves")?)
+        simulate(&feed_runs, m, true, None)
+            .context("planning the curves")?
+            .plans
+            .into_iter()
+            .map(|p| p.1)
+            .collect()
     };
-    let plans = match &fastest {
-        Some(f) => f.plans.iter().map(|p| p.1.clone()).collect(),
-        None => index.iter().map(|&i| exact.plans[i].1.clone()).collect(),
-    };
-    Ok((Times::of(&input), Times::of(&exact), plans))
+    Ok((Times::of(&exact), plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
@@ -413,7 +415,8 @@ pub fn smooth_file(
             opts.budget()
         );
     }
-    let (input_times, exact_times, plans) = plan_input_and_curves(&program, &result, opts)?;
+    let input_times = plan_input(&program, opts)?;
+    let (exact_times, plans) = plan_curves(&program, &result, opts)?;
     phases.mark("plan input and curves");
     let smoothed: Vec<Vec<Piece>> = result
         .runs

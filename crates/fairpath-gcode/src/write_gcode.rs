@@ -705,7 +705,7 @@ impl<'a> RunWriter<'a> {
             feed: feed_text,
         };
         let plane = || {
-            planar_plane(
+            Plane::of_points(
                 &n.points,
                 0.5 * 10f64.powi(-(self.decimals as i32)) * self.scale,
             )
@@ -827,15 +827,6 @@ impl<'a> RunWriter<'a> {
         self.push_line(&line);
         Ok(())
     }
-}
-
-/// The principal plane the points lie in (their coordinate along its normal
-/// varies by at most `tol` mm), G17 first.
-pub fn planar_plane(points: &[Vec3], tol: f64) -> Option<Plane> {
-    Plane::ALL.into_iter().find(|pl| {
-        let h0 = points.first().map_or(0.0, |p| pl.off_plane(*p));
-        points.iter().all(|p| (pl.off_plane(*p) - h0).abs() <= tol)
-    })
 }
 
 /// The points after the start of a curve at which G1 lines end.

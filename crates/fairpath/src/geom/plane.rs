@@ -92,6 +92,17 @@ impl Plane {
         self.point([ab[0], ab[1], off])
     }
 
+    /// The plane `points` lie in (their coordinate along its normal varies
+    /// by at most `tol` mm), G17 first.
+    pub fn of_points(points: &[Vec3], tol: f64) -> Option<Plane> {
+        Plane::ALL.into_iter().find(|pl| {
+            let h0 = points.first().map_or(0.0, |p| pl.off_plane(*p));
+            points
+                .iter()
+                .all(|p| crate::math::abs(pl.off_plane(*p) - h0) <= tol)
+        })
+    }
+
     /// The plane whose normal is `n` (either sign), if it is one of the
     /// three axes exactly.
     pub fn of_normal(n: Vec3) -> Option<Plane> {

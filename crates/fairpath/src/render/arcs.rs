@@ -22,19 +22,25 @@
 //!    jerk allows this asks for arcs one interpolation period long; where
 //!    it is constant, one arc covers all of it.
 //! 3. **3D**: a curve that is not in a principal plane is written as
-//!    helical arcs in the plane where its tangent stays closest (at least
-//!    [`MIN_IN_PLANE`] of it in the plane), rising linearly along the
-//!    normal within each biarc. The rise rate then steps between biarcs: a
-//!    kink of angle `theta` that the controller blends over the shorter
-//!    neighbour, so a curvature of about `2 theta / L`; it is held to the
-//!    same curvature-step share as 2.
+//!    helical arcs in the plane nearest its osculating plane among those
+//!    that keep at least [`MIN_IN_PLANE`] of its tangent ([`arc_plane`]),
+//!    rising linearly along the normal within each biarc. The rise rate
+//!    then steps between biarcs: a kink of angle `theta` that the
+//!    controller blends over the shorter neighbour, so a curvature of about
+//!    `2 theta / L`, held to the same curvature-step share as 2. That is
+//!    the curve's bending out of the plane, which halving does not reduce:
+//!    where it is too much, or the tangent leaves every plane, the whole
+//!    piece is written as G1 ([`super::lines`]; an arc next to a line steps
+//!    the curvature by all of the arc's, so a piece is all arcs or all
+//!    lines).
 //!
-//! An interval is not halved below the length the machine covers in
-//! `min_block_periods` interpolation periods at the planned speed
-//! (LinuxCNC spends at least 1.02 periods on any block): there the biarc is
-//! kept if it passes 1. A biarc that fails 1 at that length, or arcs of a
-//! radius below the controller's smallest, become G1 lines within the
-//! chord share.
+//! An interval is not halved for the curvature steps below the length the
+//! machine covers in `min_block_periods` interpolation periods at the
+//! planned speed (LinuxCNC spends at least 1.02 periods on any block):
+//! there the biarc is kept if it passes 1. Where the curve is sharper than
+//! the controller's smallest arc, or a biarc fails 1 at what a written
+//! coordinate resolves, that stretch becomes G1 lines within the chord
+//! share (the machine nearly stops there).
 
 use super::speed::PlannedSpeed;
 use super::{RenderOptions, RenderStats};

@@ -7,13 +7,16 @@
 //! lengths `l1 <= l2` turning by `phi ~ kappa (l1 + l2) / 2` gets a circle
 //! of curvature `phi / l1 = kappa (1 + l2 / l1) / 2`: uneven moves misstate
 //! the curvature, and the step between neighbouring circles slows the
-//! machine as any curvature step does (`v <= sqrt(J Ts / dk)`). So the
-//! points are spread with a spacing `h(s)` that changes slowly along the
-//! curve (by at most [`SPACING_SLOPE`] per unit of length), chosen as
+//! machine as any curvature step does (`v <= sqrt(J Ts / dk)`); circles
+//! only meet (and stand for the curve) when the moves are of equal length.
+//! So the curve is cut into stretches over which the spacing needed varies
+//! by at most [`SPACING_RATIO`], each into moves of equal length at the
+//! smallest spacing needed in it, which is
 //!
 //! * at most `sqrt(8 e / kappa)`: the chord error `kappa h^2 / 8` within
 //!   the share `e` (a hard limit);
-//! * at most `J Ts / (v^2 |dkappa/ds|)`, so that neighbouring circles
+//! * at most `J Ts / (v^2 |dk/ds|)` (`k` the curvature vector, whose turning
+//!   a circle-to-circle step also carries), so that neighbouring circles
 //!   differ by no more than the planned speed `v` can pass, but
 //! * never below the length covered in `min_block_periods` interpolation
 //!   periods at the planned speed (LinuxCNC spends at least 1.02 periods on

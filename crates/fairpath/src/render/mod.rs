@@ -160,17 +160,6 @@ pub struct Rendered {
     pub stats: RenderStats,
 }
 
-/// The principal plane `points` lie in (their coordinate along its normal
-/// varies by at most `tol` mm), G17 first.
-pub fn planar_plane(points: &[crate::geom::Vec3], tol: f64) -> Option<crate::geom::Plane> {
-    crate::geom::Plane::ALL.into_iter().find(|pl| {
-        let h0 = points.first().map_or(0.0, |p| pl.off_plane(*p));
-        points
-            .iter()
-            .all(|p| crate::math::abs(pl.off_plane(*p) - h0) <= tol)
-    })
-}
-
 /// Whether `n` can be written as a spline block under `lim`, within
 /// `chord` of itself as the controller runs it.
 pub fn nurbs_fits(n: &crate::geom::Nurbs, lim: &NurbsLimits, chord: f64) -> bool {
@@ -178,7 +167,7 @@ pub fn nurbs_fits(n: &crate::geom::Nurbs, lim: &NurbsLimits, chord: f64) -> bool
         return false;
     }
     let plane = match lim.planar_mm {
-        Some(tol) => match planar_plane(&n.points, tol) {
+        Some(tol) => match crate::geom::Plane::of_points(&n.points, tol) {
             Some(p) => p,
             None => return false,
         },
