@@ -36,7 +36,7 @@ use std::time::{Duration, Instant};
 /// The seed of the CI run.
 const DEFAULT_SEED: u64 = 0x5EED_F00D;
 /// Inputs tried in CI (well under a minute in the test profile).
-const DEFAULT_COUNT: u64 = 3000;
+const DEFAULT_COUNT: u64 = 2000;
 /// Reference programs up to this size are seeds: small ones keep each
 /// input fast and the mutations dense.
 const MAX_SEED_BYTES: u64 = 4096;
@@ -204,6 +204,7 @@ fn mutated_programs_and_json_never_panic() {
     let mut panics: Vec<(String, String, PathBuf)> = Vec::new();
     let mut anomalies: Vec<(String, String, PathBuf)> = Vec::new();
     let (mut tried, mut accepted) = (0u64, 0u64);
+    let mut slowest = (String::new(), 0.0);
     loop {
         let done = match seconds {
             Some(s) => started.elapsed() >= Duration::from_secs(s),
@@ -221,7 +222,12 @@ fn mutated_programs_and_json_never_panic() {
         };
         let name = format!("{seed:x}-{tried}.{ext}");
         *current.lock().unwrap() = (Instant::now(), name.clone(), input.bytes.clone());
+        let began = Instant::now();
         let out = run(&input);
+        let took = began.elapsed().as_secs_f64();
+        if took > slowest.1 {
+            slowest = (name.clone(), took);
+        }
         tried += 1;
         accepted += u64::from(out.accepted);
         let save = |kind: &str| {
@@ -254,9 +260,126 @@ fn mutated_programs_and_json_never_panic() {
         panics.len(),
         anomalies.len()
     );
+    let stages: Vec<String> = exercise::stage_times()
+        .iter()
+        .map(|(s, t)| format!("{s} {t:.1}"))
+        .collect();
+    println!(
+        "fuzz: seconds per stage: {}; slowest input {} ({:.2} s)",
+        stages.join(", "),
+        slowest.0,
+        slowest.1
+    );
     let list: Vec<String> = panics
         .iter()
         .map(|(_, w, p)| format!("{w}\n    input: {}", p.display()))
         .collect();
     assert!(panics.is_empty(), "panics:\n{}", list.join("\n"));
+}
+
+/// A JSON document of `program` (its own pieces) with its first NURBS
+/// piece replaced by a straight NURBS of `degree` (`degree + 1` points,
+/// clamped knots); the piece's index.
+fn json_with_nurbs_of_degree(program: &str, degree: usize) -> (String, usize, Program) {
+    let p = parse(program.as_bytes()).unwrap();
+    let own: Vec<Vec<Piece>> = p.runs().into_iter().map(|r| r.pieces).collect();
+    let json = write_json(&p, &own).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let pieces = doc["pieces"].as_array_mut().unwrap();
+    let index = pieces.iter().position(|q| q["type"] == "nurbs").unwrap();
+    let q = &mut pieces[index];
+    let (a, b) = (q["points"][0].clone(), q["points"].as_array().unwrap().last().unwrap().clone());
+    let lerp = |k: usize| -> Vec<f64> {
+        (0..3)
+            .map(|i| {
+                let (x, y) = (a[i].as_f64().unwrap(), b[i].as_f64().unwrap());
+                x + (y - x) * k as f64 / degree.max(1) as f64
+            })
+            .collect()
+    };
+    q["degree"] = serde_json::json!(degree);
+    q["points"] = serde_json::json!((0..=degree).map(lerp).collect::<Vec<_>>());
+    let mut knots = vec![0.0; degree + 1];
+    knots.extend(vec![1.0; degree + 1]);
+    q["knots"] = serde_json::json!(knots);
+    q["weights"] = serde_json::Value::Null;
+    (doc.to_string(), index, p)
+}
+
+/// A program with an arc (written to JSON as a rational quadratic NURBS).
+const ARC_PROGRAM: &str = "G21 G90\nG0 X0 Y0\nG1 X1 Y0 F600\nG3 X3 Y0 I1 J0\nG1 X4 Y0\nM2\n";
+
+/// The known bug of issue 17: `fairpath check ORIGINAL SMOOTHED.json` with
+/// a NURBS piece of degree 9 panicked in `ders_basis` (`assert!(p < 8)`).
+/// `read_json` refuses it, naming the piece and the degree; the check's
+/// steps on the document do not panic.
+#[test]
+fn check_of_degree_9_json_nurbs_is_an_error_not_a_panic() {
+    let (json, index, program) = json_with_nurbs_of_degree(ARC_PROGRAM, 9);
+    match fairpath_gcode::read_json(&json) {
+        Err(fairpath_gcode::JsonError::Piece { index: i, message }) => {
+            assert_eq!(i, index);
+            assert!(message.contains("degree 9"), "{message}");
+        }
+        other => panic!("expected a piece error, got {other:?}"),
+    }
+    let out = exercise_json(json.as_bytes(), Some(&program));
+    assert!(out.panic.is_none(), "{:?}", out.panic);
+}
+
+/// Degrees around the supported range: 0 and above
+/// `Nurbs::MAX_DEGREE` are piece errors, 1 to the maximum read and
+/// evaluate (through the check's steps) without panicking.
+#[test]
+fn json_nurbs_degrees_0_to_12_read_or_are_piece_errors() {
+    for degree in 0..=12 {
+        let (json, index, program) = json_with_nurbs_of_degree(ARC_PROGRAM, degree);
+        let r = fairpath_gcode::read_json(&json);
+        if (1..=fairpath::geom::Nurbs::MAX_DEGREE).contains(&degree) {
+            assert!(r.is_ok(), "degree {degree}: {r:?}");
+        } else {
+            assert!(
+                matches!(&r, Err(fairpath_gcode::JsonError::Piece { index: i, .. }) if *i == index),
+                "degree {degree}: {r:?}"
+            );
+        }
+        let out = exercise_json(json.as_bytes(), Some(&program));
+        assert!(out.panic.is_none(), "degree {degree}: {:?}", out.panic);
+    }
+}
+
+/// Fuzz input 5eedf00d-122 (seed 0x5eedf00d): a JSON cubic with weights
+/// from 1e-12 to 1e308 read, and the check's arc length ran for hours on
+/// its NaN derivatives. It is now a piece error.
+#[test]
+fn fuzz_json_122_extreme_weights_are_a_piece_error() {
+    let (json, index, _) = json_with_nurbs_of_degree(ARC_PROGRAM, 3);
+    let mut doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    doc["pieces"][index]["weights"] = serde_json::json!([8.02131094460001, 1e-12, 3.0, 1e308]);
+    let r = fairpath_gcode::read_json(&doc.to_string());
+    assert!(
+        matches!(&r, Err(fairpath_gcode::JsonError::Piece { index: i, message }) if *i == index && message.contains("ratio")),
+        "{r:?}"
+    );
+}
+
+/// A JSON line whose ends are finite but whose length is not (1e308 to
+/// -1e308) is a piece error.
+#[test]
+fn json_line_from_1e308_to_minus_1e308_is_a_piece_error() {
+    let (json, _, _) = json_with_nurbs_of_degree(ARC_PROGRAM, 2);
+    let mut doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let i = doc["pieces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|q| q["type"] == "line")
+        .unwrap();
+    doc["pieces"][i]["p0"] = serde_json::json!([1e308, 0.0, 0.0]);
+    doc["pieces"][i]["p1"] = serde_json::json!([-1e308, 0.0, 0.0]);
+    let r = fairpath_gcode::read_json(&doc.to_string());
+    assert!(
+        matches!(&r, Err(fairpath_gcode::JsonError::Piece { index, .. }) if *index == i),
+        "{r:?}"
+    );
 }

@@ -144,6 +144,14 @@ pub fn flatten_params<C: ParamCurve + ?Sized>(c: &C, chord: f64) -> Vec<f64> {
     flatten_params_between(c, a, b, chord)
 }
 
+/// Most spans [`flatten_params`] splits a curve into: a bound on time and
+/// memory for curves no machine could run (a program whose coordinates
+/// reach 1e100 mm would otherwise need 2^40 spans). Beyond it the last
+/// spans are kept longer than the chord asks; any caller that needs the
+/// chord bound verifies what it writes. A 10 m circle at a chord of 1 nm
+/// needs 2e5 spans.
+const MAX_FLATTEN_SPANS: usize = 1 << 20;
+
 /// [`flatten_params`] over the parameter interval `[a, b]` of `c`: chords
 /// within `chord` mm of the curve there, `a` and `b` included.
 pub fn flatten_params_between<C: ParamCurve + ?Sized>(
@@ -154,7 +162,8 @@ pub fn flatten_params_between<C: ParamCurve + ?Sized>(
 ) -> Vec<f64> {
     let mut out = Vec::new();
     out.push(a);
-    flatten_rec(c, a, b, chord, 40, &mut out);
+    let mut budget = MAX_FLATTEN_SPANS;
+    flatten_rec(c, (a, b), chord, 40, &mut budget, &mut out);
     out
 }
 
@@ -171,10 +180,10 @@ fn chord_error<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> f64 {
 
 fn flatten_rec<C: ParamCurve + ?Sized>(
     c: &C,
-    t0: f64,
-    t1: f64,
+    (t0, t1): (f64, f64),
     chord: f64,
     depth: u32,
+    budget: &mut usize,
     out: &mut Vec<f64>,
 ) {
     let dt = t1 - t0;
@@ -194,10 +203,12 @@ fn flatten_rec<C: ParamCurve + ?Sized>(
     // A non-finite estimate (a curve whose evaluation overflows) does not
     // improve by halving: the span is taken as it is.
     let accept = |e: f64| e <= chord || !e.is_finite();
-    if depth == 0 || tm <= t0 || tm >= t1 || (accept(est) && accept(chord_error(c, t0, t1))) {
+    let done = accept(est) && accept(chord_error(c, t0, t1));
+    if done || depth == 0 || *budget < 2 || tm <= t0 || tm >= t1 {
         out.push(t1);
     } else {
-        flatten_rec(c, t0, tm, chord, depth - 1, out);
-        flatten_rec(c, tm, t1, chord, depth - 1, out);
+        *budget -= 2;
+        flatten_rec(c, (t0, tm), chord, depth - 1, budget, out);
+        flatten_rec(c, (tm, t1), chord, depth - 1, budget, out);
     }
 }

@@ -190,7 +190,7 @@ impl Nurbs {
             return NAN_POINT;
         }
         let (a, b) = self.domain();
-        let t = t.clamp(a, b);
+        let t = clamp_to_domain(t, a, b);
         let p = self.degree;
         let span = self.find_span(t);
         let n = self.basis(span, t);
@@ -323,7 +323,7 @@ impl Nurbs {
             return [NAN_POINT; 3];
         }
         let (a, b) = self.domain();
-        let t = t.clamp(a, b);
+        let t = clamp_to_domain(t, a, b);
         let p = self.degree;
         let span = self.find_span(t);
         let ders = self.ders_basis(span, t, nd);
@@ -469,6 +469,13 @@ impl Nurbs {
             weights: None,
         }
     }
+}
+
+/// `t` within `[a, b]`. Unlike `f64::clamp`, it does not panic when the
+/// bounds are NaN or reversed (a curve built around [`Nurbs::new`]'s
+/// checks): the result is then meaningless but evaluation goes on.
+fn clamp_to_domain(t: f64, a: f64, b: f64) -> f64 {
+    t.max(a).min(b)
 }
 
 /// The checks of [`Nurbs::new`].
