@@ -181,7 +181,10 @@ fn mutated_programs_and_json_never_panic() {
         } else {
             exercise_gcode(&bytes)
         };
-        println!("fuzz: {path}: accepted {}, {:?}", out.accepted, out.anomalies);
+        println!(
+            "fuzz: {path}: accepted {}, {:?}",
+            out.accepted, out.anomalies
+        );
         assert!(out.panic.is_none(), "{path}: {:?}", out.panic);
         return;
     }
@@ -189,8 +192,9 @@ fn mutated_programs_and_json_never_panic() {
     let seconds = env_u64("FAIRPATH_FUZZ_SECONDS");
     let count = env_u64("FAIRPATH_FUZZ_COUNT").unwrap_or(DEFAULT_COUNT);
     let seeds = seeds();
+    let readable = seeds.gcode.iter().filter(|g| parse(g).is_ok()).count();
     println!(
-        "fuzz: seed {seed:#x} (FAIRPATH_FUZZ_SEED), {} G-code and {} JSON seed inputs, {}",
+        "fuzz: seed {seed:#x} (FAIRPATH_FUZZ_SEED), {} G-code ({readable} readable) and {} JSON seed inputs, {}",
         seeds.gcode.len(),
         seeds.json.len(),
         match seconds {
@@ -204,7 +208,7 @@ fn mutated_programs_and_json_never_panic() {
     let mut panics: Vec<(String, String, PathBuf)> = Vec::new();
     let mut anomalies: Vec<(String, String, PathBuf)> = Vec::new();
     let (mut tried, mut accepted) = (0u64, 0u64);
-    let mut slowest = (String::new(), 0.0);
+    let mut slowest = (String::new(), 0.0, Vec::new());
     loop {
         let done = match seconds {
             Some(s) => started.elapsed() >= Duration::from_secs(s),
@@ -226,7 +230,7 @@ fn mutated_programs_and_json_never_panic() {
         let out = run(&input);
         let took = began.elapsed().as_secs_f64();
         if took > slowest.1 {
-            slowest = (name.clone(), took);
+            slowest = (name.clone(), took, input.bytes.clone());
         }
         tried += 1;
         accepted += u64::from(out.accepted);
@@ -264,11 +268,13 @@ fn mutated_programs_and_json_never_panic() {
         .iter()
         .map(|(s, t)| format!("{s} {t:.1}"))
         .collect();
+    let slow_path = failure_dir().join(format!("slowest-{}", slowest.0));
+    std::fs::write(&slow_path, &slowest.2).unwrap();
     println!(
-        "fuzz: seconds per stage: {}; slowest input {} ({:.2} s)",
+        "fuzz: seconds per stage: {}; slowest input {:.2} s: {}",
         stages.join(", "),
-        slowest.0,
-        slowest.1
+        slowest.1,
+        slow_path.display()
     );
     let list: Vec<String> = panics
         .iter()
@@ -288,7 +294,10 @@ fn json_with_nurbs_of_degree(program: &str, degree: usize) -> (String, usize, Pr
     let pieces = doc["pieces"].as_array_mut().unwrap();
     let index = pieces.iter().position(|q| q["type"] == "nurbs").unwrap();
     let q = &mut pieces[index];
-    let (a, b) = (q["points"][0].clone(), q["points"].as_array().unwrap().last().unwrap().clone());
+    let (a, b) = (
+        q["points"][0].clone(),
+        q["points"].as_array().unwrap().last().unwrap().clone(),
+    );
     let lerp = |k: usize| -> Vec<f64> {
         (0..3)
             .map(|i| {

@@ -3,7 +3,9 @@
 //! matching error, arbitrary input never panics, and evaluating a curve
 //! built around the checks (a struct literal) gives NaN, not a panic.
 
-use fairpath::geom::{arc_length, flatten_params, Arc, ArcError, Nurbs, NurbsError, ParamCurve, Vec3};
+use fairpath::geom::{
+    arc_length, flatten_params, Arc, ArcError, Nurbs, NurbsError, ParamCurve, Vec3,
+};
 use proptest::prelude::*;
 
 fn v(x: f64, y: f64, z: f64) -> Vec3 {
@@ -36,7 +38,12 @@ impl Def {
 }
 
 fn valid_def() -> impl Strategy<Value = Def> {
-    (1..=Nurbs::MAX_DEGREE, 0usize..6, any::<bool>(), any::<bool>())
+    (
+        1..=Nurbs::MAX_DEGREE,
+        0usize..6,
+        any::<bool>(),
+        any::<bool>(),
+    )
         .prop_flat_map(|(degree, extra, clamped, rational)| {
             let n = degree + 1 + extra;
             (
@@ -409,7 +416,12 @@ fn degree_9_literal_evaluates_to_nan_instead_of_panicking() {
 #[test]
 fn fuzz_json_122_weights_1e_minus12_to_1e308_are_refused_and_length_terminates() {
     let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
-    let points = vec![v(0.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(2.0, 0.0, 0.0), v(3.0, 1.0, 0.0)];
+    let points = vec![
+        v(0.0, 0.0, 0.0),
+        v(1.0, 1.0, 0.0),
+        v(2.0, 0.0, 0.0),
+        v(3.0, 1.0, 0.0),
+    ];
     let weights = vec![8.02131094460001, 1e-12, 3.0, 1e308];
     let e = Nurbs::new(3, knots.clone(), points.clone(), Some(weights.clone())).unwrap_err();
     assert!(matches!(e, NurbsError::WeightRatio(_)), "{e:?}");

@@ -1,12 +1,15 @@
 //! What the fuzzer does with one input: G-code is parsed (both spline
-//! readings), smoothed with the default method, written back with several
-//! writer options and re-read, and written as JSON and re-read; JSON is
-//! read with `read_json`, its curves evaluated and checked against the
-//! original program as `fairpath check` does. A panic
+//! readings), smoothed with the default method, feed-planned, written back
+//! with several writer options and re-read, and written as JSON and
+//! re-read; JSON is read with `read_json`, its curves evaluated, checked
+//! against the original program as `fairpath check` does and feed-planned
+//! as `fairpath simulate` does. A panic
 //! anywhere is caught and reported with the stage it happened in; results
 //! that are errors are fine, but output of our own writers that does not
 //! read back is recorded as an anomaly.
 
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Curve, ParamCurve};
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::verify::{verify_run, VerifyOptions};
@@ -16,8 +19,8 @@ use fairpath_gcode::{
     NurbsBlocks, ParseOptions, Program, SplineReading,
 };
 use std::cell::{Cell, RefCell};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::collections::BTreeMap;
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Mutex, Once};
 use std::time::Instant;
 
@@ -34,6 +37,11 @@ pub const MAX_SMOOTHED_MOVES: usize = 60;
 /// long runs for hours (see the report of issue 17; a hang, not a panic),
 /// and no machine travels 10 km.
 pub const MAX_SMOOTHED_EXTENT_MM: f64 = 1e7;
+/// Programs whose feed path is longer than this (mm) are parsed but not
+/// smoothed: smoothing time grows with length over tolerance, and a G2 of
+/// radius 156 m (`R-6158` in an inch program) took 12 s, as long as
+/// hundreds of ordinary inputs.
+pub const MAX_SMOOTHED_LENGTH_MM: f64 = 5000.0;
 
 thread_local! {
     static CAPTURING: Cell<bool> = const { Cell::new(false) };
@@ -153,11 +161,17 @@ pub fn exercise_gcode(bytes: &[u8]) -> Outcome {
         stage("runs");
         let runs = program.runs();
         let _ = program.pieces();
-        if program.moves().len() > MAX_SMOOTHED_MOVES || extent(&program.pieces()) > MAX_SMOOTHED_EXTENT_MM
+        let pieces = program.pieces();
+        if program.moves().len() > MAX_SMOOTHED_MOVES
+            || extent(&pieces) > MAX_SMOOTHED_EXTENT_MM
+            || feed_length(&pieces) > MAX_SMOOTHED_LENGTH_MM
         {
             return;
         }
         let smoothed = smooth_runs(&runs);
+        for pieces in &smoothed {
+            plan(pieces);
+        }
         write_and_reread(&program, &smoothed, out);
     })
 }
@@ -251,6 +265,13 @@ pub fn exercise_json(bytes: &[u8], original: Option<&Program>) -> Outcome {
         for p in &pieces {
             evaluate(&p.curve);
         }
+        if extent(&pieces) <= MAX_SMOOTHED_EXTENT_MM
+            && feed_length(&pieces) <= MAX_SMOOTHED_LENGTH_MM
+        {
+            for run in continuous_feeds(&pieces) {
+                plan(&run);
+            }
+        }
         let Some(original) = original else {
             return;
         };
@@ -264,6 +285,38 @@ pub fn exercise_json(bytes: &[u8], original: Option<&Program>) -> Outcome {
             let _ = verify_run(&a.pieces, &b.pieces, &VerifyOptions::new(TOLERANCE_MM));
         }
     })
+}
+
+/// Feed planning of one run, as `fairpath simulate` plans it (the
+/// default machine, programmed feeds, whole-run look-ahead).
+fn plan(pieces: &[Piece]) {
+    stage("plan feed");
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: false,
+        window: None,
+    };
+    let _ = plan_run(pieces, &opts);
+}
+
+/// The runs `fairpath simulate` makes of JSON pieces: consecutive feed
+/// pieces that join within 1 nm.
+fn continuous_feeds(pieces: &[Piece]) -> Vec<Vec<Piece>> {
+    let mut out: Vec<Vec<Piece>> = Vec::new();
+    let mut cur: Vec<Piece> = Vec::new();
+    for p in pieces {
+        let breaks = p.rapid || cur.last().is_some_and(|q| q.end().dist(p.start()) > 1e-9);
+        if breaks && !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+        if !p.rapid {
+            cur.push(p.clone());
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
 }
 
 /// Everything a consumer asks of a curve: points, derivatives, curvature,
@@ -312,9 +365,23 @@ fn extent(pieces: &[Piece]) -> f64 {
             let ends = norm(p.curve.start()).max(norm(p.curve.end()));
             match &p.curve {
                 Curve::Line(_) => ends,
-                Curve::Arc(a) => ends.max(norm(a.center) + a.r0.abs().max(a.r1.abs()) + a.rise.abs()),
+                Curve::Arc(a) => {
+                    ends.max(norm(a.center) + a.r0.abs().max(a.r1.abs()) + a.rise.abs())
+                }
                 Curve::Nurbs(n) => n.points.iter().fold(ends, |m, &q| m.max(norm(q))),
             }
         })
-        .fold(0.0, |m: f64, x| if x.is_nan() { f64::INFINITY } else { m.max(x) })
+        .fold(
+            0.0,
+            |m: f64, x| if x.is_nan() { f64::INFINITY } else { m.max(x) },
+        )
+}
+
+/// Length of the feed moves (mm), to 1 um.
+fn feed_length(pieces: &[Piece]) -> f64 {
+    pieces
+        .iter()
+        .filter(|p| !p.rapid)
+        .map(|p| p.curve.length(1e-3))
+        .sum()
 }
