@@ -522,8 +522,9 @@ fn check(
         }
         let max = w.iter().fold(0.0f64, |m, &x| m.max(x));
         let min = w.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        // Both positive and finite: the ratio is a number (maybe infinite).
         let ratio = max / min;
-        if !(ratio <= Nurbs::MAX_WEIGHT_RATIO) {
+        if ratio > Nurbs::MAX_WEIGHT_RATIO {
             return Err(NurbsError::WeightRatio(ratio));
         }
         if points.iter().zip(w).any(|(p, &wi)| !(*p * wi).is_finite()) {
