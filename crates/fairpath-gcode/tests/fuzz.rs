@@ -359,7 +359,8 @@ fn json_nurbs_degrees_0_to_12_read_or_are_piece_errors() {
 
 /// Fuzz input 5eedf00d-122 (seed 0x5eedf00d): a JSON cubic with weights
 /// from 1e-12 to 1e308 read, and the check's arc length ran for hours on
-/// its NaN derivatives. It is now a piece error.
+/// its NaN derivatives. 1e308 times a coordinate overflows: it is now a
+/// piece error.
 #[test]
 fn fuzz_json_122_extreme_weights_are_a_piece_error() {
     let (json, index, _) = json_with_nurbs_of_degree(ARC_PROGRAM, 3);
@@ -367,7 +368,7 @@ fn fuzz_json_122_extreme_weights_are_a_piece_error() {
     doc["pieces"][index]["weights"] = serde_json::json!([8.02131094460001, 1e-12, 3.0, 1e308]);
     let r = fairpath_gcode::read_json(&doc.to_string());
     assert!(
-        matches!(&r, Err(fairpath_gcode::JsonError::Piece { index: i, message }) if *i == index && message.contains("ratio")),
+        matches!(&r, Err(fairpath_gcode::JsonError::Piece { index: i, message }) if *i == index && message.contains("weighted coordinate")),
         "{r:?}"
     );
 }

@@ -56,10 +56,6 @@ pub enum NurbsError {
     /// not positive and finite.
     #[error("weights must be one positive finite number per control point")]
     BadWeights,
-    /// The largest weight over the smallest exceeds
-    /// [`Nurbs::MAX_WEIGHT_RATIO`].
-    #[error("the weights span a ratio of {0:e} (at most {max:e})", max = Nurbs::MAX_WEIGHT_RATIO)]
-    WeightRatio(f64),
     /// A knot, a coordinate or a weighted coordinate is NaN or infinite, or
     /// the domain is too wide for f64.
     #[error("a knot, coordinate or weighted coordinate is not a finite number")]
@@ -73,19 +69,12 @@ impl Nurbs {
     /// ([`crate::controller::linuxcnc`]); tool paths use 2 and 3.
     pub const MAX_DEGREE: usize = 7;
 
-    /// Largest ratio of the largest weight to the smallest. A NURBS is
-    /// unchanged when all weights are scaled, so only the ratio matters;
-    /// beyond 1e12 the terms of the smaller weights fall below the rounding
-    /// of the rational sums (f64 keeps 16 digits) and the curve is a
-    /// degenerate polygon numerically. CAM programs use ratios below 100.
-    pub const MAX_WEIGHT_RATIO: f64 = 1e12;
-
     /// Checks the definition and builds the curve: degree 1 to
     /// [`Nurbs::MAX_DEGREE`], at least `degree + 1` points,
     /// `points + degree + 1` non-decreasing finite knots with a non-empty
     /// domain, finite coordinates, and (if given) one positive finite
-    /// weight per point within [`Nurbs::MAX_WEIGHT_RATIO`] of each other
-    /// whose products with the coordinates are finite.
+    /// weight per point whose products with the coordinates (the
+    /// homogeneous coordinates the evaluation sums) are finite.
     pub fn new(
         degree: usize,
         knots: Vec<f64>,
@@ -519,13 +508,6 @@ fn check(
     if let Some(w) = weights {
         if w.len() != points.len() || w.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
             return Err(NurbsError::BadWeights);
-        }
-        let max = w.iter().fold(0.0f64, |m, &x| m.max(x));
-        let min = w.iter().fold(f64::INFINITY, |m, &x| m.min(x));
-        // Both positive and finite: the ratio is a number (maybe infinite).
-        let ratio = max / min;
-        if ratio > Nurbs::MAX_WEIGHT_RATIO {
-            return Err(NurbsError::WeightRatio(ratio));
         }
         if points.iter().zip(w).any(|(p, &wi)| !(*p * wi).is_finite()) {
             return Err(NurbsError::NotFinite);
