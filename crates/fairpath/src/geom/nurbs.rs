@@ -35,7 +35,7 @@ pub struct Nurbs {
 }
 
 /// Why a NURBS definition is invalid.
-#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum NurbsError {
     /// Degree 0 or above [`Nurbs::MAX_DEGREE`].
     #[error("degree {0} is not supported (1 to {max})", max = Nurbs::MAX_DEGREE)]
