@@ -132,6 +132,10 @@ pub fn write_json(program: &Program, smoothed: &[Vec<Piece>]) -> Result<String, 
 }
 
 /// Reads the pieces back from [`write_json`]'s output (lines and NURBS).
+/// Every piece is checked as the library's constructors check curves
+/// ([`Nurbs::new`]: degree 1 to [`Nurbs::MAX_DEGREE`], knot count and
+/// order, finite values, positive weights): an invalid piece is a
+/// [`JsonError::Piece`] naming its index (from 0) and the reason.
 pub fn read_json(text: &str) -> Result<Vec<Piece>, JsonError> {
     let doc: JsonProgram = serde_json::from_str(text)?;
     if doc.units != "mm" {
@@ -149,7 +153,9 @@ pub fn read_json(text: &str) -> Result<Vec<Piece>, JsonError> {
                 feed,
             } => {
                 let (a, b) = (Vec3::from_array(p0), Vec3::from_array(p1));
-                if !(a.is_finite() && b.is_finite()) {
+                // The difference too: every length and direction is taken
+                // from it (1e308 and -1e308 are finite, their distance not).
+                if !(a.is_finite() && b.is_finite() && (b - a).is_finite()) {
                     return Err(bad("non-finite coordinate".into()));
                 }
                 Piece {
@@ -170,7 +176,7 @@ pub fn read_json(text: &str) -> Result<Vec<Piece>, JsonError> {
             } => {
                 let pts = points.into_iter().map(Vec3::from_array).collect();
                 let n = Nurbs::new(degree, knots, pts, weights)
-                    .map_err(|e| bad(format!("invalid NURBS: {e:?}")))?;
+                    .map_err(|e| bad(format!("invalid NURBS: {e}")))?;
                 Piece {
                     curve: Curve::Nurbs(n),
                     rapid,

@@ -32,11 +32,13 @@ pub struct Arc {
 }
 
 /// Why an arc could not be built from G2/G3 data.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum ArcError {
     /// Start or end coincides with the centre.
+    #[error("the start or end point is at the centre")]
     ZeroRadius,
     /// A coordinate is NaN or infinite.
+    #[error("a coordinate is not a finite number")]
     NotFinite,
 }
 
@@ -56,7 +58,7 @@ impl Arc {
         turns: u32,
         coincident: f64,
     ) -> Result<Arc, ArcError> {
-        if !(start.is_finite() && end.is_finite() && center.is_finite()) {
+        if !(start.is_finite() && end.is_finite() && center.is_finite() && axis.is_finite()) {
             return Err(ArcError::NotFinite);
         }
         let normal = if clockwise { -axis } else { axis };
@@ -67,6 +69,11 @@ impl Arc {
         let e_in_plane = end - normal * rise;
         let b = e_in_plane - c;
         let r1 = b.norm();
+        // Finite points can still be too far apart for f64 (1e308 and
+        // -1e308).
+        if !(r0.is_finite() && r1.is_finite() && rise.is_finite()) {
+            return Err(ArcError::NotFinite);
+        }
         if r0 <= coincident || r1 <= coincident {
             return Err(ArcError::ZeroRadius);
         }

@@ -68,6 +68,11 @@ impl Nurbs {
     /// vector (multiplicity capped at the degree; `u` outside the domain
     /// is ignored). Evaluates identically up to rounding.
     pub fn insert_knot(&self, u: f64, times: usize) -> Nurbs {
+        if self.validate().is_err() {
+            // A struct literal that breaks the invariants: nothing sound to
+            // insert into.
+            return self.clone();
+        }
         let (a, b) = super::ParamCurve::domain(self);
         let p = self.degree;
         let mut knots = self.knots.clone();
@@ -89,7 +94,11 @@ impl Nurbs {
     /// on `[t0, t1]` at the same parameters (up to rounding). Built by
     /// raising every breakpoint, the domain ends included, to multiplicity
     /// `degree` by knot insertion; clamped or not.
+    /// Empty for a curve that fails [`Nurbs::validate`].
     pub fn bezier_spans(&self) -> Vec<Nurbs> {
+        if self.validate().is_err() {
+            return Vec::new();
+        }
         let p = self.degree;
         let breaks = self.breakpoints();
         let mut knots = self.knots.clone();

@@ -82,23 +82,49 @@ fn gl5<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64) -> f64 {
     s * h
 }
 
+/// Relative accuracy below which arc-length bisection stops: the rounding
+/// of the sums of `|C'|` is a few ulps of the length, so asking a curve
+/// 1e6 mm long for 1e-12 mm would bisect to the depth limit without ever
+/// converging.
+const LENGTH_ROUNDING_FLOOR: f64 = 64.0 * f64::EPSILON;
+
+/// Most intervals the arc-length quadrature bisects into: a bound on the
+/// work for curves whose derivative has a singularity the quadrature cannot
+/// resolve (and on input with absurd coordinates). Smooth curves need a few
+/// hundred at most.
+const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
+
 /// Arc length of `c` over `[a, b]`, accurate to `accuracy` mm: adaptive
 /// 5-point Gauss-Legendre quadrature of `|C'(t)|`, bisecting until the
 /// whole-interval and two-halves estimates agree within the share of
-/// `accuracy` that interval owns.
+/// `accuracy` that interval owns (or within [`LENGTH_ROUNDING_FLOOR`] of
+/// the length). Bisection stops at a non-finite estimate (it would not
+/// converge) and after [`MAX_LENGTH_INTERVALS`] intervals.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
-    fn rec<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, whole: f64, acc: f64, depth: u32) -> f64 {
+    fn rec<C: ParamCurve + ?Sized>(
+        c: &C,
+        (a, b): (f64, f64),
+        whole: f64,
+        acc: f64,
+        depth: u32,
+        budget: &mut u32,
+    ) -> f64 {
         let m = 0.5 * (a + b);
         let l = gl5(c, a, m);
         let r = gl5(c, m, b);
-        if depth == 0 || math::abs(l + r - whole) <= acc {
-            l + r
-        } else {
-            rec(c, a, m, l, 0.5 * acc, depth - 1) + rec(c, m, b, r, 0.5 * acc, depth - 1)
+        let sum = l + r;
+        let err = math::abs(sum - whole);
+        let converged = err <= acc.max(LENGTH_ROUNDING_FLOOR * math::abs(sum));
+        if depth == 0 || converged || !sum.is_finite() || *budget < 2 || m <= a || m >= b {
+            return sum;
         }
+        *budget -= 2;
+        rec(c, (a, m), l, 0.5 * acc, depth - 1, budget)
+            + rec(c, (m, b), r, 0.5 * acc, depth - 1, budget)
     }
     let whole = gl5(c, a, b);
-    rec(c, a, b, whole, accuracy.max(0.0), 30)
+    let mut budget = MAX_LENGTH_INTERVALS;
+    rec(c, (a, b), whole, accuracy.max(0.0), 30, &mut budget)
 }
 
 /// Arc length of the whole curve, accurate to `accuracy` mm.
@@ -118,6 +144,14 @@ pub fn flatten_params<C: ParamCurve + ?Sized>(c: &C, chord: f64) -> Vec<f64> {
     flatten_params_between(c, a, b, chord)
 }
 
+/// Most spans [`flatten_params`] splits a curve into: a bound on time and
+/// memory for curves no machine could run (a program whose coordinates
+/// reach 1e100 mm would otherwise need 2^40 spans). Beyond it the last
+/// spans are kept longer than the chord asks; any caller that needs the
+/// chord bound verifies what it writes. A 10 m circle at a chord of 1 nm
+/// needs 2e5 spans.
+const MAX_FLATTEN_SPANS: usize = 1 << 20;
+
 /// [`flatten_params`] over the parameter interval `[a, b]` of `c`: chords
 /// within `chord` mm of the curve there, `a` and `b` included.
 pub fn flatten_params_between<C: ParamCurve + ?Sized>(
@@ -128,7 +162,8 @@ pub fn flatten_params_between<C: ParamCurve + ?Sized>(
 ) -> Vec<f64> {
     let mut out = Vec::new();
     out.push(a);
-    flatten_rec(c, a, b, chord, 40, &mut out);
+    let mut budget = MAX_FLATTEN_SPANS;
+    flatten_rec(c, (a, b), chord, 40, &mut budget, &mut out);
     out
 }
 
@@ -145,10 +180,10 @@ fn chord_error<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> f64 {
 
 fn flatten_rec<C: ParamCurve + ?Sized>(
     c: &C,
-    t0: f64,
-    t1: f64,
+    (t0, t1): (f64, f64),
     chord: f64,
     depth: u32,
+    budget: &mut usize,
     out: &mut Vec<f64>,
 ) {
     let dt = t1 - t0;
@@ -165,10 +200,15 @@ fn flatten_rec<C: ParamCurve + ?Sized>(
     };
     let d2 = normal_d2(t0).max(normal_d2(tm)).max(normal_d2(t1));
     let est = d2 * dt * dt / 8.0;
-    if depth == 0 || (est <= chord && chord_error(c, t0, t1) <= chord) {
+    // A non-finite estimate (a curve whose evaluation overflows) does not
+    // improve by halving: the span is taken as it is.
+    let accept = |e: f64| e <= chord || !e.is_finite();
+    let done = accept(est) && accept(chord_error(c, t0, t1));
+    if done || depth == 0 || *budget < 2 || tm <= t0 || tm >= t1 {
         out.push(t1);
     } else {
-        flatten_rec(c, t0, tm, chord, depth - 1, out);
-        flatten_rec(c, tm, t1, chord, depth - 1, out);
+        *budget -= 2;
+        flatten_rec(c, (t0, tm), chord, depth - 1, budget, out);
+        flatten_rec(c, (tm, t1), chord, depth - 1, budget, out);
     }
 }

@@ -8,7 +8,21 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
-/// A B-spline (weights `None`) or NURBS curve of any degree, clamped or not.
+/// Length of the basis-function arrays of the evaluation: one per control
+/// point a span depends on at the highest degree.
+const BASIS_LEN: usize = Nurbs::MAX_DEGREE + 1;
+
+/// What evaluating a malformed curve gives.
+const NAN_POINT: Vec3 = Vec3::new(f64::NAN, f64::NAN, f64::NAN);
+
+/// A B-spline (weights `None`) or NURBS curve of any degree up to
+/// [`Nurbs::MAX_DEGREE`], clamped or not.
+///
+/// Build it with [`Nurbs::new`], which checks the definition. The fields
+/// are public for reading and for the library's own constructions; a curve
+/// built as a struct literal must keep the same invariants
+/// ([`Nurbs::validate`] checks them). Evaluating a curve that breaks them
+/// gives NaN, never a panic.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Nurbs {
     pub degree: usize,
@@ -21,53 +35,53 @@ pub struct Nurbs {
 }
 
 /// Why a NURBS definition is invalid.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum NurbsError {
     /// Degree 0 or above [`Nurbs::MAX_DEGREE`].
-    BadDegree,
-    TooFewPoints,
-    KnotCount,
-    KnotsDecreasing,
+    #[error("degree {0} is not supported (1 to {max})", max = Nurbs::MAX_DEGREE)]
+    BadDegree(usize),
+    /// Fewer than `degree + 1` control points.
+    #[error("{points} control points are too few for degree {degree} (at least degree + 1)")]
+    TooFewPoints { points: usize, degree: usize },
+    /// The knot vector does not have `points + degree + 1` values.
+    #[error("{knots} knots given, {expected} expected (control points + degree + 1)")]
+    KnotCount { knots: usize, expected: usize },
+    /// `knots[index + 1] < knots[index]`.
+    #[error("the knots decrease after knot {index}")]
+    KnotsDecreasing { index: usize },
+    /// The domain `[knots[degree], knots[points]]` is empty.
+    #[error("the knots span no parameter range")]
     EmptyDomain,
+    /// A weight count different from the point count, or a weight that is
+    /// not positive and finite.
+    #[error("weights must be one positive finite number per control point")]
     BadWeights,
+    /// A knot, a coordinate or a weighted coordinate is NaN or infinite, or
+    /// the domain is too wide for f64.
+    #[error("a knot, coordinate or weighted coordinate is not a finite number")]
     NotFinite,
 }
 
 impl Nurbs {
-    /// Highest degree the evaluation supports (its basis arrays hold eight
-    /// values).
+    /// Highest degree supported: the evaluation keeps its basis functions
+    /// in fixed arrays of `MAX_DEGREE + 1` values (no allocation per
+    /// point). 7 covers the orders up to 8 of G6.2 and of LinuxCNC's G5.2
+    /// ([`crate::controller::linuxcnc`]); tool paths use 2 and 3.
     pub const MAX_DEGREE: usize = 7;
 
-    /// Checks the definition and builds the curve.
+    /// Checks the definition and builds the curve: degree 1 to
+    /// [`Nurbs::MAX_DEGREE`], at least `degree + 1` points,
+    /// `points + degree + 1` non-decreasing finite knots with a non-empty
+    /// domain, finite coordinates, and (if given) one positive finite
+    /// weight per point whose products with the coordinates (the
+    /// homogeneous coordinates the evaluation sums) are finite.
     pub fn new(
         degree: usize,
         knots: Vec<f64>,
         points: Vec<Vec3>,
         weights: Option<Vec<f64>>,
     ) -> Result<Nurbs, NurbsError> {
-        if degree == 0 || degree > Nurbs::MAX_DEGREE {
-            return Err(NurbsError::BadDegree);
-        }
-        if points.len() < degree + 1 {
-            return Err(NurbsError::TooFewPoints);
-        }
-        if knots.len() != points.len() + degree + 1 {
-            return Err(NurbsError::KnotCount);
-        }
-        if knots.iter().any(|k| !k.is_finite()) || points.iter().any(|p| !p.is_finite()) {
-            return Err(NurbsError::NotFinite);
-        }
-        if knots.windows(2).any(|w| w[1] < w[0]) {
-            return Err(NurbsError::KnotsDecreasing);
-        }
-        if knots[points.len()] <= knots[degree] {
-            return Err(NurbsError::EmptyDomain);
-        }
-        if let Some(w) = &weights {
-            if w.len() != points.len() || w.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
-                return Err(NurbsError::BadWeights);
-            }
-        }
+        check(degree, &knots, &points, weights.as_deref())?;
         Ok(Nurbs {
             degree,
             knots,
@@ -76,9 +90,35 @@ impl Nurbs {
         })
     }
 
+    /// The checks of [`Nurbs::new`], for a curve built otherwise.
+    pub fn validate(&self) -> Result<(), NurbsError> {
+        check(
+            self.degree,
+            &self.knots,
+            &self.points,
+            self.weights.as_deref(),
+        )
+    }
+
+    /// True when the lengths of the definition are consistent (what
+    /// evaluation indexes by): the O(1) part of [`Nurbs::validate`].
+    fn is_well_formed(&self) -> bool {
+        (1..=Nurbs::MAX_DEGREE).contains(&self.degree)
+            && self.points.len() > self.degree
+            && self.knots.len() == self.points.len() + self.degree + 1
+            && self
+                .weights
+                .as_ref()
+                .is_none_or(|w| w.len() == self.points.len())
+    }
+
     /// Piegl-Tiller A2.1: the span index `i` with `knots[i] <= t < knots[i+1]`
-    /// (the last non-empty span at the domain end).
+    /// (the last non-empty span at the domain end). For a curve that is not
+    /// well formed (see [`Nurbs::validate`]), `degree`.
     pub fn find_span(&self, t: f64) -> usize {
+        if !self.is_well_formed() {
+            return self.degree;
+        }
         let n = self.points.len() - 1;
         let p = self.degree;
         if t >= self.knots[n + 1] {
@@ -109,12 +149,13 @@ impl Nurbs {
     }
 
     /// Piegl-Tiller A2.2: the non-zero basis functions at `t` in `span`.
-    fn basis(&self, span: usize, t: f64) -> [f64; 8] {
+    /// Only for a well-formed curve (`degree <= MAX_DEGREE`).
+    fn basis(&self, span: usize, t: f64) -> [f64; BASIS_LEN] {
         let p = self.degree;
         let u = &self.knots;
-        let mut n = [0.0f64; 8];
-        let mut left = [0.0f64; 8];
-        let mut right = [0.0f64; 8];
+        let mut n = [0.0f64; BASIS_LEN];
+        let mut left = [0.0f64; BASIS_LEN];
+        let mut right = [0.0f64; BASIS_LEN];
         n[0] = 1.0;
         for j in 1..=p {
             left[j] = t - u[span + 1 - j];
@@ -131,10 +172,14 @@ impl Nurbs {
         n
     }
 
-    /// Position at `t` (clamped to the domain), by A2.2 and A4.1.
+    /// Position at `t` (clamped to the domain), by A2.2 and A4.1; NaN for a
+    /// curve that is not well formed.
     fn point_at(&self, t: f64) -> Vec3 {
+        if !self.is_well_formed() {
+            return NAN_POINT;
+        }
         let (a, b) = self.domain();
-        let t = t.clamp(a, b);
+        let t = clamp_to_domain(t, a, b);
         let p = self.degree;
         let span = self.find_span(t);
         let n = self.basis(span, t);
@@ -166,14 +211,15 @@ impl Nurbs {
 
     /// Piegl-Tiller A2.3: non-zero basis functions and their derivatives up
     /// to order `nd` at `t` in span `span`; `ders[k][j]` is the k-th
-    /// derivative of `N_{span-p+j, p}`.
-    fn ders_basis(&self, span: usize, t: f64, nd: usize) -> [[f64; 8]; 3] {
+    /// derivative of `N_{span-p+j, p}`. Only for a well-formed curve
+    /// (`degree <= MAX_DEGREE`: the arrays hold [`BASIS_LEN`] values).
+    fn ders_basis(&self, span: usize, t: f64, nd: usize) -> [[f64; BASIS_LEN]; 3] {
         let p = self.degree;
-        assert!(p < 8, "degree above 7 is not supported");
+        debug_assert!(self.is_well_formed(), "evaluating a malformed NURBS");
         let u = &self.knots;
-        let mut ndu = [[0.0f64; 8]; 8];
-        let mut left = [0.0f64; 8];
-        let mut right = [0.0f64; 8];
+        let mut ndu = [[0.0f64; BASIS_LEN]; BASIS_LEN];
+        let mut left = [0.0f64; BASIS_LEN];
+        let mut right = [0.0f64; BASIS_LEN];
         ndu[0][0] = 1.0;
         for j in 1..=p {
             left[j] = t - u[span + 1 - j];
@@ -191,7 +237,7 @@ impl Nurbs {
             }
             ndu[j][j] = saved;
         }
-        let mut ders = [[0.0f64; 8]; 3];
+        let mut ders = [[0.0f64; BASIS_LEN]; 3];
         for j in 0..=p {
             ders[0][j] = ndu[j][p];
         }
@@ -199,10 +245,10 @@ impl Nurbs {
         if nd == 0 {
             return ders;
         }
-        let mut a = [[0.0f64; 8]; 2];
+        let mut a = [[0.0f64; BASIS_LEN]; 2];
         for r in 0..=p {
             let (mut s1, mut s2) = (0usize, 1usize);
-            a[0] = [0.0; 8];
+            a[0] = [0.0; BASIS_LEN];
             a[0][0] = 1.0;
             for k in 1..=nd {
                 let mut d = 0.0;
@@ -259,10 +305,14 @@ impl Nurbs {
         self.derivs_upto(t, 2)
     }
 
-    /// Position and derivatives up to order `nd <= 2` (the others are zero).
+    /// Position and derivatives up to order `nd <= 2` (the others are
+    /// zero); NaN for a curve that is not well formed.
     fn derivs_upto(&self, t: f64, nd: usize) -> [Vec3; 3] {
+        if !self.is_well_formed() {
+            return [NAN_POINT; 3];
+        }
         let (a, b) = self.domain();
-        let t = t.clamp(a, b);
+        let t = clamp_to_domain(t, a, b);
         let p = self.degree;
         let span = self.find_span(t);
         let ders = self.ders_basis(span, t, nd);
@@ -410,6 +460,62 @@ impl Nurbs {
     }
 }
 
+/// `t` within `[a, b]`. Unlike `f64::clamp`, it does not panic when the
+/// bounds are NaN or reversed (a curve built around [`Nurbs::new`]'s
+/// checks): the result is then meaningless but evaluation goes on.
+fn clamp_to_domain(t: f64, a: f64, b: f64) -> f64 {
+    t.max(a).min(b)
+}
+
+/// The checks of [`Nurbs::new`].
+fn check(
+    degree: usize,
+    knots: &[f64],
+    points: &[Vec3],
+    weights: Option<&[f64]>,
+) -> Result<(), NurbsError> {
+    if degree == 0 || degree > Nurbs::MAX_DEGREE {
+        return Err(NurbsError::BadDegree(degree));
+    }
+    if points.len() < degree + 1 {
+        return Err(NurbsError::TooFewPoints {
+            points: points.len(),
+            degree,
+        });
+    }
+    let expected = points.len() + degree + 1;
+    if knots.len() != expected {
+        return Err(NurbsError::KnotCount {
+            knots: knots.len(),
+            expected,
+        });
+    }
+    if knots.iter().any(|k| !k.is_finite()) || points.iter().any(|p| !p.is_finite()) {
+        return Err(NurbsError::NotFinite);
+    }
+    if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
+        return Err(NurbsError::KnotsDecreasing { index });
+    }
+    let (a, b) = (knots[degree], knots[points.len()]);
+    if b <= a {
+        return Err(NurbsError::EmptyDomain);
+    }
+    // Evaluation takes differences of knots (P&T A2.2): the whole range of
+    // the knot vector must be a finite f64.
+    if !(knots[knots.len() - 1] - knots[0]).is_finite() {
+        return Err(NurbsError::NotFinite);
+    }
+    if let Some(w) = weights {
+        if w.len() != points.len() || w.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+            return Err(NurbsError::BadWeights);
+        }
+        if points.iter().zip(w).any(|(p, &wi)| !(*p * wi).is_finite()) {
+            return Err(NurbsError::NotFinite);
+        }
+    }
+    Ok(())
+}
+
 fn hermite<C: ParamCurve + ?Sized>(c: &C, t0: f64, t1: f64) -> [Vec3; 4] {
     let h = (t1 - t0) / 3.0;
     let p0 = c.eval(t0);
@@ -423,10 +529,18 @@ fn bezier_eval(b: &[Vec3; 4], s: f64) -> Vec3 {
 }
 
 impl ParamCurve for Nurbs {
+    /// `(knots[degree], knots[points])`; NaN for a curve that is not well
+    /// formed.
     fn domain(&self) -> (f64, f64) {
+        if !self.is_well_formed() {
+            return (f64::NAN, f64::NAN);
+        }
         (self.knots[self.degree], self.knots[self.points.len()])
     }
     fn eval(&self, t: f64) -> Vec3 {
+        if !self.is_well_formed() {
+            return NAN_POINT;
+        }
         // Clamped ends are the end control points exactly (no rounding from
         // the rational division).
         let (a, b) = self.domain();
