@@ -91,6 +91,7 @@
 
 pub mod error;
 pub mod interp;
+pub mod lang;
 pub mod lexer;
 pub mod program;
 pub mod spline;
@@ -101,7 +102,7 @@ pub mod write_spline;
 pub use error::{ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use interp::{parse, parse_with};
 pub use program::{
-    Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+    Expansion, Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
 pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{
