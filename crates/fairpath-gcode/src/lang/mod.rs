@@ -1,7 +1,7 @@
 //! LinuxCNC's G-code language as its interpreter (rs274ngc) reads it:
 //! expressions ([`expr`]), parameters ([`params`]), o-word control flow
 //! ([`flow`]) and polar coordinates ([`polar`]). [`crate::lexer`] reads the
-//! syntax of a line; [`line`] evaluates it into the plain words the
+//! syntax of a line; [`line`](mod@line) evaluates it into the plain words the
 //! interpreter moves by.
 //!
 //! A program without o-words is read in place: one line per source line,
