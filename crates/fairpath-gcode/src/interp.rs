@@ -9,6 +9,7 @@
 use crate::error::{ErrorKind, GcodeError};
 use crate::lang::{
     self,
+    error::LangError,
     params::{Params, SystemView},
 };
 use crate::lexer::{scan_line, split_lines, ItemKind, LexedLine, SourceLine, Word};
@@ -431,15 +432,25 @@ impl Reader {
                 .unwrap_or_else(|| text.chars().count() + 1);
             (text, col)
         };
+        // Fanuc subprograms would be passed through as unknown M codes
+        // and their moves silently lost.
+        if let Some(w) = ev
+            .lexed
+            .words
+            .iter()
+            .find(|w| w.letter == 'M' && (w.value == 98.0 || w.value == 99.0))
+        {
+            return Err(GcodeError::new(
+                source_line,
+                w.column,
+                ErrorKind::Unsupported("Fanuc subprograms (M98/M99)"),
+            ));
+        }
         let motion_before = self.st.motion;
         let first_move = self.moves.len();
-        let info =
-            interpret_line(&ev.lexed, number, &mut self.st, &mut self.moves).map_err(|mut e| {
-                if e.line == number {
-                    e.line = source_line;
-                }
-                e
-            })?;
+        let lines = &self.lines;
+        let info = interpret_line(&ev.lexed, number, &mut self.st, &mut self.moves)
+            .map_err(|e| to_source(e, number, source_line, lines))?;
         if self.start_units.is_none() && self.moves.len() > first_move {
             self.start_units = Some(self.st.units);
         }
@@ -478,6 +489,17 @@ impl Reader {
                 continue;
             }
             let src = scan_line(&text, number)?;
+            if let Some(o) = &src.oword {
+                // looks_like_oword chose this mode; it must see every
+                // statement the scanner reads.
+                return Err(GcodeError::new(
+                    number,
+                    o.column,
+                    ErrorKind::Language(LangError::OWordSyntax(
+                        "o-word statement in an unexpected form",
+                    )),
+                ));
+            }
             self.line(number, number, &src, text, ending, false)?;
         }
         Ok(())
@@ -524,12 +546,11 @@ impl Reader {
 
     fn finish(self) -> Result<Program, GcodeError> {
         let lines = self.lines;
-        self.st.spline.check_closed().map_err(|mut e| {
-            if let Some(l) = lines.get(e.line.wrapping_sub(1)) {
-                e.line = l.source_line;
-            }
-            e
-        })?;
+        let n = lines.len() + 1;
+        self.st
+            .spline
+            .check_closed()
+            .map_err(|e| to_source(e, n, n, &lines))?;
         let runs = group_runs(&lines, &self.moves);
         Ok(Program {
             lines,
@@ -539,6 +560,23 @@ impl Reader {
             expansion: self.expansion,
         })
     }
+}
+
+/// An error of the interpreter at program line `number` (source line
+/// `source_line`), or at an earlier program line (a spline block's first
+/// line), named by its source line.
+fn to_source(
+    mut e: GcodeError,
+    number: usize,
+    source_line: usize,
+    lines: &[ProgramLine],
+) -> GcodeError {
+    if e.line == number {
+        e.line = source_line;
+    } else if let Some(l) = lines.get(e.line.wrapping_sub(1)) {
+        e.line = l.source_line;
+    }
+    e
 }
 
 struct LineInfo {

@@ -693,3 +693,22 @@ fn letters_and_comments() {
     assert_eq!(p.lines()[1].text, "G0 X#1 (debug, x is #1)");
     assert_eq!(p.lines()[2].text, "(msg, #<none>)");
 }
+
+#[test]
+fn computed_calls_program_numbers_and_fanuc_subprograms() {
+    // o[expr] call (gcode-rs/_gcodeLexer_samples.ngc writes `o[#101+2] call`).
+    let text = "o12 sub\nG0 X#1\no12 endsub\n#101 = 10\no[#101+2] call [7]\n";
+    assert_eq!(ends(text), vec![[7.0, 0.0, 0.0]]);
+    // A Fanuc program number alone on a line: read in place, passed through.
+    let p = prog("O1000 (part)\nG0 X1\n");
+    assert!(!p.expanded() && p.lines()[0].interpreted);
+    // Fanuc subprograms are refused rather than passed through as M codes.
+    let e = err("G0 X1\nM98 P1000\n");
+    assert!(e.is_unsupported());
+    assert_eq!((e.line, e.column), (2, 1));
+    // An o-word after a comment is still an o-word.
+    assert_eq!(
+        ends("(c) o1 if [1]\nG0 X2\no1 endif\n"),
+        vec![[2.0, 0.0, 0.0]]
+    );
+}

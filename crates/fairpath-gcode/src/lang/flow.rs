@@ -113,7 +113,13 @@ pub fn looks_like_oword(text: &str) -> bool {
         .filter(|c| !c.is_whitespace())
         .collect::<String>()
         .to_ascii_lowercase();
-    let t = t.strip_prefix('/').unwrap_or(&t);
+    // Comments before the statement (LinuxCNC refuses them there; the
+    // scanner reports it).
+    let mut t = t.as_str();
+    while let Some(r) = t.strip_prefix('(') {
+        t = r.split_once(')').map_or("", |(_, rest)| rest);
+    }
+    let t = t.strip_prefix('/').unwrap_or(t);
     let t = match t.strip_prefix('n') {
         Some(r) => r.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
         None => t,
@@ -121,7 +127,7 @@ pub fn looks_like_oword(text: &str) -> bool {
     let Some(r) = t.strip_prefix('o') else {
         return false;
     };
-    r.starts_with('<') || {
+    r.starts_with(['<', '[', '#']) || {
         let d = r.trim_start_matches(|c: char| c.is_ascii_digit());
         d.len() < r.len() && d.starts_with(|c: char| c.is_ascii_alphabetic())
     }

@@ -324,19 +324,16 @@ impl Scope<'_> {
             return self.position(n - POSITION_PARAMETER, format!("#{n}"), ln, col);
         }
         let why = match n {
-            5061..=5070 => "a probe result",
-            5161..=5189 => "a G28/G30 home position of the machine",
+            5061..=5070 => "a probe result, known only to the machine",
+            5161..=5189 => "a G28/G30 home position from the machine's parameter file",
             5210..=5390 => "a work offset (G92, G54..G59.3) from the machine's parameter file",
-            5400..=5413 => "a tool table value",
-            5423..=5428 => "the position of an axis other than X, Y, Z",
-            _ => "a system parameter of the machine",
+            5400..=5413 => "a value of the machine's tool table",
+            5423..=5428 => "the position of an axis other than X, Y, Z, which fairpath does not track",
+            _ => "a system parameter of the machine (fairpath reads program coordinates and does not know the machine's parameter file)",
         };
         Err(fail(LangError::UnknownParameter {
             name: format!("#{n}"),
-            why: match why {
-                "a system parameter of the machine" => "a system parameter of the machine (fairpath reads program coordinates and does not know the machine's parameter file)",
-                w => w,
-            },
+            why,
         }))
     }
 
