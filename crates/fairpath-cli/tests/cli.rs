@@ -120,10 +120,11 @@ fn bad_input_is_an_error_and_leaves_no_output() {
         ("nan", b"G21\nG1 Xnan Y0 F100\n".to_vec(), "0.05"),
         ("empty", Vec::new(), "0.05"),
         ("blank", b"\n  \n".to_vec(), "0.05"),
-        ("parameters", b"G21\n#1=5\nG1 X#1 F100\n".to_vec(), "0.05"),
+        // Parameters of the machine, subroutines in other files.
+        ("parameters", b"G21\nG1 X#5221 F100\n".to_vec(), "0.05"),
         (
             "o-word",
-            b"G21\no100 sub\nG1 X1 F100\no100 endsub\n".to_vec(),
+            b"G21\no<other> call\no100 sub\nG1 X1 F100\no100 endsub\n".to_vec(),
             "0.05",
         ),
         (

@@ -29,7 +29,7 @@ impl GcodeError {
             ErrorKind::Unsupported(_)
                 | ErrorKind::UnsupportedGCode(_)
                 | ErrorKind::UnsupportedWord(_)
-        )
+        ) || matches!(&self.kind, ErrorKind::Language(l) if l.is_unsupported())
     }
 }
 
@@ -97,6 +97,9 @@ pub enum ErrorKind {
     BadValue(char),
     #[error(transparent)]
     Spline(#[from] SplineError),
+    /// Expressions, parameters, o-words, polar coordinates.
+    #[error(transparent)]
+    Language(#[from] crate::lang::error::LangError),
 }
 
 /// Malformed spline blocks (G5, G5.1, G5.2/G5.3, G6.2).

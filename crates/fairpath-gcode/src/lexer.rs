@@ -1,29 +1,55 @@
 //! Line splitting and lexing: words with spans, comments, `%` lines, block
-//! delete.
+//! delete, and the syntax of LinuxCNC's language (parameters, expressions,
+//! o-words), read as LinuxCNC's `interp_read.cc` reads it.
 //!
 //! Accepted syntax (LinuxCNC, Fanuc, Mach3, grbl, CAM post-processors):
-//! * words are a letter (any case) and a number, with optional spaces between
-//!   the letter, the sign and the digits (`G 1`, `X - 1.5`, `X  15.000`);
-//!   numbers are `[+-]digits[.digits]` or `[+-].digits`; several words per
-//!   line, with or without spaces between them (`G00G21G17`);
+//! * lines end with LF, CR LF or a lone CR (old Mac files); a UTF-8
+//!   byte-order mark at the start of the file is skipped;
+//! * blanks (space, tab) outside comments are ignored anywhere, as LinuxCNC
+//!   strips them before reading: `G 1`, `X - 1.5`, `X 1 0.5` (= `X10.5`);
+//!   letters are read in any case;
+//! * words are a letter `A`..`Z` and a value; which letters mean something is
+//!   the interpreter's business (it refuses `E`, for instance). A value is a
+//!   number `[+-]digits[.digits]` or `[+-].digits`, a parameter (`#1`,
+//!   `#<name>`, `##1`, `#[expr]`), an expression `[...]`, a function
+//!   (`SIN[...]`, `ATAN[a]/[b]`, `EXISTS[#<name>]`, ...) or a value with a
+//!   unary `-`/`+` (see [`crate::lang::expr`]);
+//! * LinuxCNC's polar words `@` (radius) and `^` (angle);
+//! * parameter assignments `#1 = value`, `#<name> = value`;
+//! * o-word statements (`o100 sub`, `o<name> call [1] [2]`, `o1 while [..]`,
+//!   ...) first on their line after an optional `/` and N word, followed by
+//!   nothing but comments; a Fanuc program number `O1234` alone on a line
+//!   (passed through);
 //! * comments `( ... )` (not nested, closed on the same line) and `;` to the
 //!   end of the line;
 //! * a line whose first non-blank character is `%` (program delimiters);
-//! * an optional block-delete `/` at the start of a line;
-//! * a Fanuc program number `O1234` alone on a line (passed through).
+//! * an optional block-delete `/` at the start of a line.
 //!
 //! Rejected with an error naming line and column: malformed numbers
-//! (`X1.2.3`, `X`, `Xnan`, `Xinf`, numbers that overflow f64), exponent
-//! notation (`X1e5` reads as `X1` followed by the unsupported word `E5`),
-//! any character that cannot start a word, LinuxCNC parameters `#`,
-//! expressions `[...]`, o-word control flow (`o100 sub`, `o<name> call`),
-//! the 3D-printer extruder word `E`, and a word letter given twice on a line
-//! (except G and M; their modal groups are checked by the interpreter).
+//! (`X1.2.3`, `X`, `Xnan`, `Xinf`), exponent notation (`X1e5` reads as `X1`
+//! followed by the word `E5`, which the interpreter refuses), a word value
+//! whose magnitude exceeds [`MAX_WORD_MAGNITUDE`] (numbers of hundreds of
+//! digits), any character that cannot start a word, malformed expressions,
+//! and a word letter given twice on a line (except G and M; their modal
+//! groups are checked by the interpreter).
 
 use crate::error::{ErrorKind, GcodeError};
+use crate::lang::error::LangError;
+use crate::lang::expr::{self, Expr, Tok};
+use crate::lang::{self, OCommand, OName, OWord};
+use std::ops::Range;
+
+/// Largest magnitude of a word's value (program units, or whatever the
+/// word counts), literal or computed: 1e9 is a million metres in mm and far
+/// beyond any feed, speed or line number a program writes, while a value of
+/// hundreds of digits is a corrupt file; refusing it at its column beats a
+/// late failure (overflowing arithmetic, a dwell of centuries).
+pub const MAX_WORD_MAGNITUDE: f64 = 1e9;
 
 /// One word: letter (upper case) and value, with the number's text as written
-/// (spaces removed) and its 1-based column (of the letter).
+/// (spaces removed) and its 1-based column (of the letter). A value computed
+/// from an expression or parameters has as text the shortest literal that
+/// reads back to exactly the same f64 ([`crate::lang::literal`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Word {
     pub letter: char,
@@ -32,7 +58,7 @@ pub struct Word {
     pub column: usize,
 }
 
-/// What a line holds after lexing.
+/// What a line holds after lexing and evaluation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LexedLine {
     /// Words in order of appearance.
@@ -53,26 +79,78 @@ impl LexedLine {
     }
 }
 
-/// Letters accepted as words.
-const LETTERS: &str = "ABCDFGHIJKLMNPQRSTUVWXYZ";
+/// What one item of a line is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ItemKind {
+    /// A word: upper-case letter (or `@`, `^`), its value, and the number's
+    /// text when the value is a plain number as written.
+    Word {
+        letter: char,
+        value: Expr,
+        literal: Option<String>,
+    },
+    /// `#target = value` (numbered: `index` is the parameter expression).
+    Assign { target: ParamTarget, value: Expr },
+}
+
+/// The parameter an assignment sets.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamTarget {
+    Numbered(Expr),
+    Named(String),
+}
+
+/// One item of a line with where it sits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Item {
+    pub kind: ItemKind,
+    /// 1-based column of the letter or the `#`.
+    pub column: usize,
+    /// Character range of the value in the line (after the letter) for a
+    /// word; of the whole assignment for an assignment.
+    pub span: Range<usize>,
+}
+
+/// The syntax of one line: what [`scan_line`] reads before anything is
+/// evaluated.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceLine {
+    pub items: Vec<Item>,
+    pub block_delete: bool,
+    pub percent: bool,
+    pub program_number: bool,
+    pub has_comment: bool,
+    /// The o-word statement of the line, if any (its N word, if any, is in
+    /// `items`).
+    pub oword: Option<OWord>,
+}
+
+impl SourceLine {
+    /// True when the line holds a parameter assignment.
+    pub fn assigns(&self) -> bool {
+        self.items
+            .iter()
+            .any(|i| matches!(i.kind, ItemKind::Assign { .. }))
+    }
+}
 
 /// Splits `text` into lines: `(content, line ending)`; the line ending is
-/// `"\r\n"`, `"\n"` or `""` (last line without a newline). A file ending in a
-/// newline has no extra empty last line. Checks UTF-8 line by line.
+/// `"\r\n"`, `"\n"`, `"\r"` (a lone CR, as old Mac files end lines) or `""`
+/// (last line without a newline). A file ending in a newline has no extra
+/// empty last line. A UTF-8 byte-order mark at the start is skipped. Checks
+/// UTF-8 line by line.
 pub fn split_lines(text: &[u8]) -> Result<Vec<(String, &'static str)>, GcodeError> {
     let mut out = Vec::new();
-    let mut rest = text;
+    let mut rest = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
     let mut number = 0;
     while !rest.is_empty() {
         number += 1;
-        let (line, ending, next) = match rest.iter().position(|&b| b == b'\n') {
-            Some(i) => {
-                if i > 0 && rest[i - 1] == b'\r' {
-                    (&rest[..i - 1], "\r\n", &rest[i + 1..])
-                } else {
-                    (&rest[..i], "\n", &rest[i + 1..])
-                }
+        let (line, ending, next) = match rest.iter().position(|&b| b == b'\n' || b == b'\r') {
+            Some(i) if rest[i] == b'\r' && rest.get(i + 1) == Some(&b'\n') => {
+                (&rest[..i], "\r\n", &rest[i + 2..])
             }
+            Some(i) if rest[i] == b'\r' => (&rest[..i], "\r", &rest[i + 1..]),
+            Some(i) => (&rest[..i], "\n", &rest[i + 1..]),
             None => (rest, "", &rest[rest.len()..]),
         };
         match std::str::from_utf8(line) {
@@ -88,31 +166,38 @@ pub fn split_lines(text: &[u8]) -> Result<Vec<(String, &'static str)>, GcodeErro
     Ok(out)
 }
 
-/// Lexes one line (without its line ending). `line_no` is 1-based.
+/// Lexes and evaluates one line (without its line ending) with no parameter
+/// set and the position at the origin: for lines of plain G-code. `line_no`
+/// is 1-based. [`crate::parse`] evaluates lines with the program's
+/// parameters instead.
 pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
+    let src = scan_line(line, line_no)?;
+    if src.oword.is_some() {
+        return Err(GcodeError::new(
+            line_no,
+            src.oword.as_ref().map_or(1, |o| o.column),
+            ErrorKind::Unsupported("o-word statements outside a program"),
+        ));
+    }
+    let mut params = lang::params::Params::new();
+    let view = lang::params::SystemView::default();
+    Ok(lang::line::evaluate(&src, line_no, &mut params, &view)?.lexed)
+}
+
+/// Reads the syntax of one line (without its line ending): items, o-word,
+/// comments. Nothing is evaluated. `line_no` is 1-based.
+pub fn scan_line(line: &str, line_no: usize) -> Result<SourceLine, GcodeError> {
     let chars: Vec<char> = line.chars().collect();
-    let err = |col: usize, kind: ErrorKind| GcodeError::new(line_no, col + 1, kind);
-    let is_blank = |c: char| c == ' ' || c == '\t' || c == '\r';
-    let mut out = LexedLine::default();
+    let err = |idx: usize, kind: ErrorKind| GcodeError::new(line_no, idx + 1, kind);
+    let mut out = SourceLine::default();
+    // Tokens: every non-blank character outside comments, lower case, with
+    // its index; a comment is one '(' token.
+    let mut toks: Vec<Tok> = Vec::with_capacity(chars.len());
     let mut i = 0;
-    while i < chars.len() && is_blank(chars[i]) {
-        i += 1;
-    }
-    if i < chars.len() && chars[i] == '%' {
-        out.percent = true;
-        return Ok(out);
-    }
-    if i < chars.len() && chars[i] == '/' {
-        out.block_delete = true;
-        i += 1;
-    }
     while i < chars.len() {
         let c = chars[i];
-        if is_blank(c) {
-            i += 1;
-            continue;
-        }
         match c {
+            ' ' | '\t' | '\r' => {}
             '(' => {
                 out.has_comment = true;
                 let start = i;
@@ -127,151 +212,215 @@ pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
                         _ => i += 1,
                     }
                 }
-                i += 1;
+                toks.push(Tok { c: '(', idx: start });
             }
             ';' => {
                 out.has_comment = true;
                 break;
             }
-            '#' => return Err(err(i, ErrorKind::Unsupported("LinuxCNC parameters (#)"))),
-            '[' => return Err(err(i, ErrorKind::Unsupported("expressions ([...])"))),
-            _ if c.is_ascii_alphabetic() => {
-                let letter = c.to_ascii_uppercase();
-                let col = i;
-                if letter == 'O' {
-                    i = lex_o_word(&chars, i, line_no, &mut out)?;
-                    continue;
-                }
-                if letter == 'E' {
-                    return Err(err(col, ErrorKind::UnsupportedWord('E')));
-                }
-                if !LETTERS.contains(letter) {
-                    return Err(err(col, ErrorKind::UnsupportedWord(letter)));
-                }
-                let (word, next) = lex_number(&chars, i + 1, letter, col, line_no)?;
-                i = next;
-                if letter != 'G' && letter != 'M' && out.words.iter().any(|w| w.letter == letter) {
-                    return Err(err(col, ErrorKind::DuplicateWord(letter)));
-                }
-                out.words.push(word);
+            _ => toks.push(Tok {
+                c: c.to_ascii_lowercase(),
+                idx: i,
+            }),
+        }
+        i += 1;
+    }
+    let mut p = expr::Parser::new(&toks, line_no, chars.len());
+    if p.peek() == Some('%') && toks[0].idx == first_non_blank(&chars) {
+        out.percent = true;
+        return Ok(out);
+    }
+    if p.peek() == Some('/') {
+        out.block_delete = true;
+        p.bump();
+    }
+    while let Some(t) = p.peek_tok() {
+        match t.c {
+            '(' => {
+                p.bump();
             }
-            _ => return Err(err(i, ErrorKind::UnexpectedCharacter(c))),
+            '#' => {
+                let item = scan_assignment(&mut p)?;
+                out.items.push(item);
+            }
+            'o' => {
+                let only_n = out
+                    .items
+                    .iter()
+                    .all(|it| matches!(it.kind, ItemKind::Word { letter: 'N', .. }));
+                if !only_n || out.oword.is_some() || out.program_number {
+                    return Err(err(
+                        t.idx,
+                        ErrorKind::Unsupported("o-word after other words"),
+                    ));
+                }
+                scan_oword(&mut p, &mut out, line_no)?;
+            }
+            c if c.is_ascii_alphabetic() || c == '@' || c == '^' => {
+                let letter = c.to_ascii_uppercase();
+                p.bump();
+                let (value, literal) = p.word_value(letter, t.idx)?;
+                if letter != 'G'
+                    && letter != 'M'
+                    && out.items.iter().any(
+                        |it| matches!(it.kind, ItemKind::Word { letter: l, .. } if l == letter),
+                    )
+                {
+                    return Err(err(t.idx, ErrorKind::DuplicateWord(letter)));
+                }
+                out.items.push(Item {
+                    kind: ItemKind::Word {
+                        letter,
+                        value,
+                        literal,
+                    },
+                    column: t.idx + 1,
+                    span: t.idx + 1..p.end_idx(),
+                });
+            }
+            _ => return Err(err(t.idx, ErrorKind::UnexpectedCharacter(chars[t.idx]))),
         }
     }
-    if out.program_number && !out.words.is_empty() {
-        let w = &out.words[0];
-        return Err(GcodeError::new(
-            line_no,
-            w.column,
-            ErrorKind::Unsupported("words on a line with an O program number"),
-        ));
+    if out.program_number {
+        if let Some(it) = out.items.first() {
+            return Err(GcodeError::new(
+                line_no,
+                it.column,
+                ErrorKind::Unsupported("words on a line with an O program number"),
+            ));
+        }
     }
     Ok(out)
 }
 
-/// An `O` word: only a Fanuc program number (`O1234`) alone on its line is
-/// accepted; anything else is an o-word subroutine or control-flow statement.
-fn lex_o_word(
-    chars: &[char],
-    start: usize,
-    line_no: usize,
-    out: &mut LexedLine,
-) -> Result<usize, GcodeError> {
-    let unsupported = GcodeError::new(
-        line_no,
-        start + 1,
-        ErrorKind::Unsupported("o-word subroutines and control flow"),
-    );
-    if !out.words.is_empty() || out.program_number || out.block_delete {
-        return Err(unsupported);
-    }
-    let mut i = start + 1;
-    let d0 = i;
-    while i < chars.len() && chars[i].is_ascii_digit() {
-        i += 1;
-    }
-    if i == d0 {
-        return Err(unsupported);
-    }
-    // Only blanks or comments may follow.
-    let mut j = i;
-    while j < chars.len() && (chars[j] == ' ' || chars[j] == '\t' || chars[j] == '\r') {
-        j += 1;
-    }
-    if j < chars.len() && chars[j] != '(' && chars[j] != ';' {
-        return Err(unsupported);
-    }
-    out.program_number = true;
-    Ok(i)
+fn first_non_blank(chars: &[char]) -> usize {
+    chars
+        .iter()
+        .position(|c| !matches!(c, ' ' | '\t' | '\r'))
+        .unwrap_or(chars.len())
 }
 
-/// Lexes the number after a word letter at `chars[i..]`.
-fn lex_number(
-    chars: &[char],
-    mut i: usize,
-    letter: char,
-    col: usize,
-    line_no: usize,
-) -> Result<(Word, usize), GcodeError> {
-    let err = |kind: ErrorKind| GcodeError::new(line_no, col + 1, kind);
-    let skip_blanks = |mut i: usize| {
-        while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
-            i += 1;
-        }
-        i
+/// `#index = value` or `#<name> = value` (LinuxCNC's
+/// `read_parameter_setting`: the value is one real value, not a bare
+/// expression without brackets).
+fn scan_assignment(p: &mut expr::Parser) -> Result<Item, GcodeError> {
+    let hash = p.peek_tok().expect("caller saw '#'");
+    p.bump();
+    let target = if p.peek() == Some('<') {
+        ParamTarget::Named(p.name()?)
+    } else {
+        ParamTarget::Numbered(p.real_value()?.0)
     };
-    i = skip_blanks(i);
-    let mut text = String::new();
-    if i < chars.len() && (chars[i] == '+' || chars[i] == '-') {
-        text.push(chars[i]);
-        i = skip_blanks(i + 1);
+    if p.peek() != Some('=') {
+        return Err(p.error_here(LangError::Syntax(
+            "'=' missing in parameter assignment (a parameter cannot start a word)",
+        )));
     }
-    let digits_start = i;
-    let mut n_digits = 0;
-    let mut n_points = 0;
-    while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-        if chars[i] == '.' {
-            n_points += 1;
-        } else {
-            n_digits += 1;
+    p.bump();
+    let (value, _) = p.real_value()?;
+    Ok(Item {
+        kind: ItemKind::Assign { target, value },
+        column: hash.idx + 1,
+        span: hash.idx..p.end_idx(),
+    })
+}
+
+/// The o-word statement at the parser's position (`o`), as LinuxCNC's
+/// `read_o` reads it: a number, `<name>` or (for `call` only) an
+/// expression, a command, its bracketed arguments, then only comments. A
+/// number with no command is a Fanuc program number.
+fn scan_oword(
+    p: &mut expr::Parser,
+    out: &mut SourceLine,
+    line_no: usize,
+) -> Result<(), GcodeError> {
+    let o = p.peek_tok().expect("caller saw 'o'");
+    p.bump();
+    let syntax = |msg| {
+        GcodeError::new(
+            line_no,
+            o.idx + 1,
+            ErrorKind::Language(LangError::OWordSyntax(msg)),
+        )
+    };
+    let name = match p.peek() {
+        Some('<') => OName::Named(p.name()?),
+        Some(c) if c.is_ascii_digit() => {
+            let mut n: u64 = 0;
+            while let Some(d) = p.peek().and_then(|c| c.to_digit(10)) {
+                n = n.saturating_mul(10).saturating_add(d as u64);
+                p.bump();
+            }
+            OName::Number(n)
         }
-        text.push(chars[i]);
-        i += 1;
+        Some('[') | Some('#') => OName::Computed(p.real_value()?.0),
+        _ => return Err(syntax("o-word without a number or <name>")),
+    };
+    let mut word = String::new();
+    while let Some(c) = p.peek().filter(|c| c.is_ascii_alphabetic()) {
+        word.push(c);
+        p.bump();
     }
-    if i == digits_start {
-        if i < chars.len() {
-            match chars[i] {
-                '#' => return Err(err(ErrorKind::Unsupported("LinuxCNC parameters (#)"))),
-                '[' => return Err(err(ErrorKind::Unsupported("expressions ([...])"))),
-                _ => {}
+    if word.is_empty() {
+        let rest_is_comment = p.rest_is_comments();
+        if matches!(name, OName::Number(_))
+            && rest_is_comment
+            && !out.block_delete
+            && out.items.is_empty()
+        {
+            out.program_number = true;
+            return Ok(());
+        }
+        return Err(syntax(
+            "o-word without a command (sub, call, while, if, ...)",
+        ));
+    }
+    let command = match OCommand::from_keyword(&word) {
+        Some(c) => c,
+        None => {
+            return Err(GcodeError::new(
+                line_no,
+                o.idx + 1,
+                ErrorKind::Language(LangError::UnknownOCommand(word)),
+            ))
+        }
+    };
+    if matches!(name, OName::Computed(_)) && command != OCommand::Call {
+        return Err(syntax("a computed o-word number is only read for call"));
+    }
+    let mut args = Vec::new();
+    loop {
+        match p.peek() {
+            Some('(') => p.bump(),
+            Some('[') => {
+                let start = p.peek_tok().map_or(0, |t| t.idx);
+                let e = p.bracketed()?;
+                args.push((e, start + 1));
+            }
+            None => break,
+            Some(_) => {
+                return Err(p.error_here(LangError::OWordSyntax(
+                    "unexpected character after the o-word command",
+                )))
             }
         }
-        if text.is_empty() {
-            return Err(err(ErrorKind::MissingValue(letter)));
-        }
-        return Err(err(ErrorKind::MalformedNumber { letter, text }));
     }
-    if n_digits == 0 || n_points > 1 {
-        return Err(err(ErrorKind::MalformedNumber { letter, text }));
+    let need = command.arguments();
+    if args.len() < need.0 || args.len() > need.1 {
+        return Err(syntax(match need {
+            (1, 1) => "this o-word command needs one [condition or count]",
+            (0, 0) => "this o-word command takes no argument",
+            (0, 1) => "return and endsub take at most one [value]",
+            _ => "o-word call takes at most 30 arguments",
+        }));
     }
-    let value: f64 = text.parse().map_err(|_| {
-        err(ErrorKind::MalformedNumber {
-            letter,
-            text: text.clone(),
-        })
-    })?;
-    if !value.is_finite() {
-        return Err(err(ErrorKind::NumberOutOfRange(letter)));
-    }
-    Ok((
-        Word {
-            letter,
-            value,
-            text,
-            column: col + 1,
-        },
-        i,
-    ))
+    out.oword = Some(OWord {
+        name,
+        command,
+        args,
+        column: o.idx + 1,
+    });
+    Ok(())
 }
 
 #[cfg(test)]
@@ -296,6 +445,7 @@ mod tests {
             ]
         );
         assert!(l.has_comment);
+        assert_eq!(l.words[2].text, "-1.5");
     }
 
     #[test]
@@ -304,13 +454,27 @@ mod tests {
         assert_eq!((e.line, e.column), (2, 4));
         let e = lex_line("G1 Xnan", 1).unwrap_err();
         assert_eq!(e.kind, ErrorKind::MissingValue('X'));
-        let e = lex_line("G1 X1e5", 1).unwrap_err();
-        assert_eq!((e.column, e.kind), (6, ErrorKind::UnsupportedWord('E')));
+        let l = lex_line("G1 X1e5", 1).unwrap();
+        assert_eq!((l.words[2].letter, l.words[2].column), ('E', 6));
         let e = lex_line("G1 X1 X2", 1).unwrap_err();
         assert_eq!(e.kind, ErrorKind::DuplicateWord('X'));
-        assert!(lex_line("o100 sub", 1).unwrap_err().is_unsupported());
+        assert!(scan_line("o100 sub", 1).unwrap().oword.is_some());
         assert!(lex_line("O1000 (prog)", 1).unwrap().program_number);
-        assert!(lex_line("#1=2", 1).unwrap_err().is_unsupported());
         assert!(lex_line("G00G21G17", 1).is_ok());
+    }
+
+    #[test]
+    fn line_endings() {
+        let l = split_lines(b"\xEF\xBB\xBFG0 X1\rG1 X2\r\nG1 X3\nG1 X4").unwrap();
+        let t: Vec<_> = l.iter().map(|(t, e)| (t.as_str(), *e)).collect();
+        assert_eq!(
+            t,
+            vec![
+                ("G0 X1", "\r"),
+                ("G1 X2", "\r\n"),
+                ("G1 X3", "\n"),
+                ("G1 X4", "")
+            ]
+        );
     }
 }

@@ -14,7 +14,8 @@
 //!
 //! ## What is read
 //! Programs as LinuxCNC, Fanuc, Mach3, grbl and CAM post-processors write
-//! them (see [`lexer`] for the syntax). G0/G1/G2/G3 (IJK and R forms, negative
+//! them (see [`lexer`] for the syntax; UTF-8, LF, CR LF or CR line
+//! endings, an optional byte-order mark). G0/G1/G2/G3 (IJK and R forms, negative
 //! R = the long arc, G17/G18/G19, helical moves, full circles, P turns),
 //! G20/G21, G90/G91, G90.1/G91.1 (default incremental IJK), F (program units
 //! per minute, stored as mm/min), axis words without a G word (the modal
@@ -53,6 +54,39 @@
 //! * Lines after `M2`/`M30` or after a closing `%` are passed through
 //!   unread.
 //!
+//! ## LinuxCNC's language ([`lang`])
+//! Parameters (`#1`, `#<name>`, `#<_global>`, `##1`, `#[expr]`),
+//! assignments (`#1 = value`, applied after the line's values are read, as
+//! LinuxCNC does), expressions in brackets with LinuxCNC's operators,
+//! precedence and functions (degrees), polar words `@` and `^` (XY plane),
+//! and o-word control flow (`sub`/`endsub`/`call`/`return`, `while`, `do`,
+//! `repeat`, `if`/`elseif`/`else`, `break`, `continue`), numbered and
+//! named, case-insensitive, blanks ignored anywhere outside comments.
+//! System parameters the reader knows: the position (`#5420`..`#5422`,
+//! `#<_x>`..`#<_z>`, program units) and modal state (`#<_metric>`,
+//! `#<_absolute>`, `#<_feed>`, `#<_motion_mode>`, `#<_plane>`, `#<_value>`,
+//! `#<_call_level>`, ...); those of the machine (work offsets, tool table,
+//! probe results, `#<_current_tool>`, ...) are unsupported-feature errors.
+//! Comments are kept verbatim (`(debug, ...)` included).
+//!
+//! * A program without o-words is read **in place**: one [`ProgramLine`]
+//!   per source line, its text kept, its [`ProgramLine::words`] holding the
+//!   evaluated values (a computed word's text is its value's round-trip
+//!   literal). A line that assigns a parameter ends runs (it is written
+//!   back verbatim, in place).
+//! * A program with o-words is **expanded** ([`Program::expansion`]): its
+//!   lines are the lines executed, in execution order, each with its
+//!   computed values written as literals and its assignments removed
+//!   (a line left empty by that is dropped); o-word lines and subroutines
+//!   not called do not appear; [`ProgramLine::source_line`] names the
+//!   source line, and errors always name source lines and columns.
+//!   [`write_gcode()`] writes such a program with
+//!   [`write_gcode::EXPANDED_HEADER`] as its first line (after a leading
+//!   `%`). Calls of subroutines not defined in the program (LinuxCNC's
+//!   subroutine files) are unsupported-feature errors; recursion deeper than
+//!   [`lang::flow::MAX_CALL_LEVEL`] and more than
+//!   [`lang::flow::MAX_EXECUTED_LINES`] executed lines are errors.
+//!
 //! ## Runs, pinned moves
 //! A *run* ([`Program::runs`]) is a maximal sequence of consecutive
 //! non-pinned feed moves (G1, G2, G3) with no run-breaking line between them.
@@ -79,18 +113,21 @@
 //! ## Errors
 //! Every reader error is a [`GcodeError`] with 1-based line and column
 //! (`Display`: `line:column: message`); [`GcodeError::is_unsupported`] tells
-//! unsupported features from malformed input. Unsupported: LinuxCNC
-//! parameters `#`, expressions `[...]`, o-words (except a Fanuc `O1234`
-//! program number alone on a line), LinuxCNC master's G6/G6.1 (aliases
+//! unsupported features from malformed input. Unsupported: the machine's
+//! parameters and subroutine files (above), Fanuc `M98`/`M99`
+//! subprograms (a Fanuc `O1234` program number alone on a line is passed
+//! through), LinuxCNC master's G6/G6.1 (aliases
 //! of G5/G5.1) and G6.3, canned cycles (G73, G74, G76, G81..G89), G7
 //! diameter mode, G16 polar
 //! coordinates, G51 scaling, G68 rotation, G70/G71/G72, G17.1/G18.1/G19.1,
-//! the extruder word E. Unknown G codes are errors; unknown M codes are
+//! the extruder word E. Word values beyond
+//! [`lexer::MAX_WORD_MAGNITUDE`] are errors. Unknown G codes are errors; unknown M codes are
 //! passed through (they break runs). An empty program is an empty
 //! [`Program`] (no moves, no runs), not an error.
 
 pub mod error;
 pub mod interp;
+pub mod lang;
 pub mod lexer;
 pub mod program;
 pub mod spline;
@@ -101,7 +138,7 @@ pub mod write_spline;
 pub use error::{ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use interp::{parse, parse_with};
 pub use program::{
-    Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+    Expansion, Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
 };
 pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{

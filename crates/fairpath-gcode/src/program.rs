@@ -109,9 +109,16 @@ pub struct Feed {
 /// One line of the input, with its interpretation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgramLine {
-    /// 1-based line number.
+    /// 1-based line number in the program as read (in an expanded program,
+    /// the position among the executed lines).
     pub number: usize,
-    /// The exact text, without the line ending.
+    /// 1-based line number in the source file: equal to `number` for a
+    /// program read in place; for an expanded program, the source line this
+    /// executed line comes from.
+    pub source_line: usize,
+    /// The exact text, without the line ending. In an expanded program,
+    /// the source line with every computed value written as a literal and
+    /// its parameter assignments removed.
     pub text: String,
     /// `"\n"`, `"\r\n"` or `""` (last line without newline).
     pub ending: &'static str,
@@ -207,6 +214,18 @@ pub struct Program {
     pub(crate) moves: Vec<Move>,
     pub(crate) runs: Vec<RunSpan>,
     pub(crate) start_units: Units,
+    pub(crate) expansion: Option<Expansion>,
+}
+
+/// How an expanded program (one with LinuxCNC o-word control flow) was
+/// read: its lines are the executed lines in execution order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Expansion {
+    /// Source lines executed, o-word lines included (a line run twice
+    /// counts twice).
+    pub executed_lines: usize,
+    /// Lines in the source file.
+    pub source_lines: usize,
 }
 
 impl Program {
@@ -252,6 +271,18 @@ impl Program {
     /// Every move with its line and pinning.
     pub fn moves(&self) -> &[Move] {
         &self.moves
+    }
+
+    /// `Some` when the program was expanded from o-word control flow: its
+    /// lines are then the executed lines ([`ProgramLine::source_line`] says
+    /// where each comes from), not the source file's.
+    pub fn expansion(&self) -> Option<&Expansion> {
+        self.expansion.as_ref()
+    }
+
+    /// True when the program was expanded from o-word control flow.
+    pub fn expanded(&self) -> bool {
+        self.expansion.is_some()
     }
 
     /// True when the program has no move at all.

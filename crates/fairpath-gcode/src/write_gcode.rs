@@ -275,6 +275,11 @@ pub enum RunOutput<'a> {
     Original,
 }
 
+/// First line of the output of an expanded program
+/// ([`Program::expanded`]): its loops and calls are written out.
+pub const EXPANDED_HEADER: &str =
+    "(fairpath: expanded from LinuxCNC o-word control flow; every move explicit)";
+
 /// [`write_gcode`], with some runs kept as the program wrote them.
 pub fn write_gcode_with(
     program: &Program,
@@ -298,8 +303,15 @@ pub fn write_gcode_with(
         .find(|e| !e.is_empty())
         .unwrap_or("\n");
     let mut out = String::new();
+    // An expanded program says so first (after a leading `%`, which must
+    // stay the first line).
+    let leading_percent = matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));
+    if program.expanded() && !leading_percent {
+        out.push_str(EXPANDED_HEADER);
+        out.push_str(eol);
+    }
     let mut header_pending = opts.header;
-    if header_pending && !matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%')) {
+    if header_pending && !leading_percent {
         out.push_str("(smoothed by fairpath)");
         out.push_str(eol);
         header_pending = false;
@@ -368,6 +380,10 @@ pub fn write_gcode_with(
         }
         out.push_str(&line.text);
         out.push_str(line.ending);
+        if i == 0 && leading_percent && program.expanded() {
+            out.push_str(EXPANDED_HEADER);
+            out.push_str(if line.ending.is_empty() { "" } else { eol });
+        }
         if header_pending {
             out.push_str("(smoothed by fairpath)");
             out.push_str(if line.ending.is_empty() { "" } else { eol });

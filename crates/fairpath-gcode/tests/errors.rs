@@ -49,10 +49,10 @@ fn garbage_and_utf8() {
 #[test]
 fn unsupported_features() {
     for (text, line, col) in [
-        (&b"G0 X0\n#1=2\n"[..], 2, 1),
-        (b"G0 X#1", 1, 4),
-        (b"G0 X[1+2]", 1, 4),
-        (b"o100 sub\n", 1, 1),
+        // Parameters of the machine, subroutines in other files.
+        (&b"G0 X0\n#5221=2\n"[..], 2, 1),
+        (b"G0 X#5221", 1, 5),
+        (b"G0 X[1+#<_current_tool>]", 1, 8),
         (b"G0 X0\nO<slot> call\n", 2, 1),
         (b"G17.1", 1, 1),
         (b"G0 X0\nG16 X1 Y1", 2, 1),
