@@ -14,11 +14,14 @@
 //!
 //! Rejected with an error naming line and column: malformed numbers
 //! (`X1.2.3`, `X`, `Xnan`, `Xinf`, numbers that overflow f64), exponent
-//! notation (`X1e5` reads as `X1` followed by the unsupported word `E5`),
+//! notation (`X1e5` reads as `X1` followed by the word `E5`, which the
+//! interpreter passes through),
 //! any character that cannot start a word, LinuxCNC parameters `#`,
 //! expressions `[...]`, o-word control flow (`o100 sub`, `o<name> call`),
-//! the 3D-printer extruder word `E`, and a word letter given twice on a line
-//! (except G and M; their modal groups are checked by the interpreter).
+//! and a word letter given twice on a line (except G and M; their modal
+//! groups are checked by the interpreter). Every letter A-Z (but `O`) lexes
+//! as a word: the interpreter passes the lines of words it does not
+//! interpret (the 3D-printer extruder word `E`) through verbatim.
 
 use crate::error::{ErrorKind, GcodeError};
 
@@ -52,9 +55,6 @@ impl LexedLine {
         self.words.iter().find(|w| w.letter == letter)
     }
 }
-
-/// Letters accepted as words.
-const LETTERS: &str = "ABCDFGHIJKLMNPQRSTUVWXYZ";
 
 /// Splits `text` into lines: `(content, line ending)`; the line ending is
 /// `"\r\n"`, `"\n"` or `""` (last line without a newline). A file ending in a
@@ -141,12 +141,6 @@ pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
                 if letter == 'O' {
                     i = lex_o_word(&chars, i, line_no, &mut out)?;
                     continue;
-                }
-                if letter == 'E' {
-                    return Err(err(col, ErrorKind::UnsupportedWord('E')));
-                }
-                if !LETTERS.contains(letter) {
-                    return Err(err(col, ErrorKind::UnsupportedWord(letter)));
                 }
                 let (word, next) = lex_number(&chars, i + 1, letter, col, line_no)?;
                 i = next;
@@ -304,8 +298,8 @@ mod tests {
         assert_eq!((e.line, e.column), (2, 4));
         let e = lex_line("G1 Xnan", 1).unwrap_err();
         assert_eq!(e.kind, ErrorKind::MissingValue('X'));
-        let e = lex_line("G1 X1e5", 1).unwrap_err();
-        assert_eq!((e.column, e.kind), (6, ErrorKind::UnsupportedWord('E')));
+        let l = lex_line("G1 X1e5", 1).unwrap();
+        assert_eq!((l.words[2].letter, l.words[2].column), ('E', 6));
         let e = lex_line("G1 X1 X2", 1).unwrap_err();
         assert_eq!(e.kind, ErrorKind::DuplicateWord('X'));
         assert!(lex_line("o100 sub", 1).unwrap_err().is_unsupported());

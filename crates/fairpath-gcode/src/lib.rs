@@ -89,6 +89,8 @@
 //! passed through (they break runs). An empty program is an empty
 //! [`Program`] (no moves, no runs), not an error.
 
+mod block_delete;
+mod cycles;
 pub mod error;
 pub mod interp;
 pub mod lexer;
@@ -98,10 +100,10 @@ pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;
 
-pub use error::{ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use interp::{parse, parse_with};
 pub use program::{
-    Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+    Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine, RunSpan, Units,
 };
 pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{
