@@ -1,56 +1,115 @@
 //! `fairpath check ORIGINAL SMOOTHED --tolerance T`.
+//!
+//! When the original has block-delete (`/`) lines, both programs are read
+//! twice, with the switch off (the `/` lines run) and on (they are
+//! skipped, as LinuxCNC does with block delete on), and compared run by
+//! run in each reading: the smoothed program must follow the original
+//! either way the operator sets the switch.
 
-use crate::pipeline::{compare_runs, group_by_source, parse_program};
+use crate::pipeline::{compare_runs, group_by_source, parse_program_with};
 use anyhow::{anyhow, Context, Result};
+use fairpath::path::Run;
 use fairpath::smooth::verify::{verify_run, VerifyOptions};
+use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 use std::process::ExitCode;
 
+/// Whether the program has a block-delete line.
+fn has_block_delete(program: &Program) -> bool {
+    program
+        .lines()
+        .iter()
+        .any(|l| l.interpreted && l.text.trim_start().starts_with('/'))
+}
+
 pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode> {
     fairpath::smooth::check_tolerance(tolerance).map_err(|e| anyhow!("--tolerance: {e}"))?;
-    let orig = crate::pipeline::read_program(original)?;
+    let original_bytes =
+        std::fs::read(original).with_context(|| format!("cannot read {}", original.display()))?;
     let bytes =
         std::fs::read(smoothed).with_context(|| format!("cannot read {}", smoothed.display()))?;
-    let original_runs = orig.runs();
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
-    let candidate = if is_json {
-        let text = std::str::from_utf8(&bytes)
-            .map_err(|_| anyhow!("{}: not UTF-8", smoothed.display()))?;
-        let pieces =
-            fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", smoothed.display()))?;
-        group_by_source(&original_runs, &pieces)
+    let off = ParseOptions::default();
+    let orig = parse_program_with(original, &original_bytes, &off)?;
+    // JSON holds the curves of one reading (the switch off).
+    let readings: &[bool] = if has_block_delete(&orig) && !is_json {
+        &[false, true]
     } else {
-        parse_program(smoothed, &bytes)?.runs()
+        &[false]
     };
-    let verdict = compare_runs(&original_runs, &candidate, tolerance)?;
     println!(
         "fairpath check: {} against {} (tolerance {} mm)",
         smoothed.display(),
         original.display(),
         tolerance
     );
-    println!("  runs checked:    {}", verdict.runs_checked);
-    println!("  max deviation:   {:.6} mm (bound)", verdict.max_deviation);
-    println!("  endpoints moved: {} runs", verdict.endpoint_failures);
-    if is_json {
-        // Joint classes are meaningful for exact curves only.
-        let mut counts = [0usize; 4];
-        for (a, b) in original_runs.iter().zip(&candidate) {
-            let rep = verify_run(&a.pieces, &b.pieces, &VerifyOptions::new(tolerance));
-            for (i, c) in rep.joint_counts().iter().enumerate() {
-                counts[i] += c;
-            }
+    let mut pass = true;
+    for &block_delete in readings {
+        let opts = ParseOptions {
+            block_delete,
+            ..Default::default()
+        };
+        let original_runs = parse_program_with(original, &original_bytes, &opts)?.runs();
+        let candidate: Vec<Run> = if is_json {
+            let text = std::str::from_utf8(&bytes)
+                .map_err(|_| anyhow!("{}: not UTF-8", smoothed.display()))?;
+            let pieces = fairpath_gcode::read_json(text)
+                .map_err(|e| anyhow!("{}: {e}", smoothed.display()))?;
+            group_by_source(&original_runs, &pieces)
+        } else {
+            parse_program_with(smoothed, &bytes, &opts)?.runs()
+        };
+        if readings.len() > 1 {
+            println!(
+                "  block delete {}:",
+                if block_delete {
+                    "on (/ lines skipped)"
+                } else {
+                    "off (/ lines run)"
+                }
+            );
         }
-        println!(
-            "  joints:          {} G2, {} G1, {} G0 (corner), {} gaps",
-            counts[3], counts[2], counts[1], counts[0]
-        );
+        let verdict = match compare_runs(&original_runs, &candidate, tolerance) {
+            Ok(v) => v,
+            // Runs that do not pair: this reading fails.
+            Err(e) => {
+                println!("  runs:            {e}");
+                if readings.len() > 1 {
+                    println!("  verdict:         FAIL");
+                }
+                pass = false;
+                continue;
+            }
+        };
+        println!("  runs checked:    {}", verdict.runs_checked);
+        println!("  max deviation:   {:.6} mm (bound)", verdict.max_deviation);
+        println!("  endpoints moved: {} runs", verdict.endpoint_failures);
+        if is_json {
+            // Joint classes are meaningful for exact curves only.
+            let mut counts = [0usize; 4];
+            for (a, b) in original_runs.iter().zip(&candidate) {
+                let rep = verify_run(&a.pieces, &b.pieces, &VerifyOptions::new(tolerance));
+                for (i, c) in rep.joint_counts().iter().enumerate() {
+                    counts[i] += c;
+                }
+            }
+            println!(
+                "  joints:          {} G2, {} G1, {} G0 (corner), {} gaps",
+                counts[3], counts[2], counts[1], counts[0]
+            );
+        }
+        if readings.len() > 1 {
+            println!(
+                "  verdict:         {}",
+                if verdict.within { "PASS" } else { "FAIL" }
+            );
+        }
+        pass &= verdict.within;
     }
-    if verdict.within {
-        println!("  verdict:         PASS");
-        Ok(ExitCode::SUCCESS)
+    println!("  verdict:         {}", if pass { "PASS" } else { "FAIL" });
+    Ok(if pass {
+        ExitCode::SUCCESS
     } else {
-        println!("  verdict:         FAIL");
-        Ok(ExitCode::from(3))
-    }
+        ExitCode::from(3)
+    })
 }

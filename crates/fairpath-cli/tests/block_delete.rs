@@ -1,0 +1,133 @@
+//! Block delete end to end: what `fairpath smooth` writes follows the
+//! original with the block-delete switch off and on, and `fairpath check`
+//! verifies both readings.
+
+mod common;
+use common::bin;
+use fairpath_gcode::{parse_with, ParseOptions};
+use std::path::Path;
+use std::process::Output;
+
+/// A corner right after the optional move (at X20 Y10): the old reader
+/// smoothed it from the end of the `/` move, so with the switch on the
+/// machine went from X10 Y0 straight to a point of the smoothed corner.
+const PROGRAM: &str = "G21 G90 G17 F1000
+G0 X0 Y0 Z0
+G1 X5 Y0
+G1 X10 Y0
+/G1 X10 Y20
+G1 X20 Y10
+G1 X30 Y20
+G1 X40 Y10
+G1 X50 Y20
+M2
+";
+
+fn check(original: &Path, smoothed: &Path) -> Output {
+    bin()
+        .args([
+            "check",
+            original.to_str().unwrap(),
+            smoothed.to_str().unwrap(),
+        ])
+        .args(["--tolerance", "0.05"])
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Regression: with the switch on, the smoothed program left the path
+/// (the run after the `/` line started at the `/` move's end). Now the move
+/// after it is written as it was, and `check` passes both readings.
+#[test]
+fn block_delete_switch_on_leaves_the_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.ngc");
+    let out = dir.path().join("out.ngc");
+    std::fs::write(&input, PROGRAM).unwrap();
+    let o = bin()
+        .args([
+            "smooth",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--tolerance", "0.05"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let written = std::fs::read_to_string(&out).unwrap();
+    // The corners after the pinned move are smoothed (the output is not
+    // the input), the `/` line and the move after it are kept.
+    assert!(written.contains("/G1 X10 Y20\nG1 X20 Y10\n"), "{written}");
+    assert!(
+        written.lines().count() > PROGRAM.lines().count(),
+        "{written}"
+    );
+    let c = check(&input, &out);
+    let report = text(&c);
+    assert!(c.status.success(), "{report}");
+    assert!(
+        report.contains("block delete off") && report.contains("block delete on"),
+        "{report}"
+    );
+    assert_eq!(report.matches("PASS").count(), 3, "{report}");
+    // Read with the switch on, the written program starts its moves where
+    // the original does.
+    let on = ParseOptions {
+        block_delete: true,
+        ..Default::default()
+    };
+    let a = parse_with(PROGRAM.as_bytes(), &on).unwrap();
+    let b = parse_with(written.as_bytes(), &on).unwrap();
+    let first_feed = |p: &fairpath_gcode::Program| {
+        p.moves()
+            .iter()
+            .find(|m| m.line > 5 && !m.piece.rapid)
+            .map(|m| m.piece.start())
+            .unwrap()
+    };
+    assert_eq!(first_feed(&a), first_feed(&b));
+}
+
+/// What the old reader wrote (the corner at X20 Y10 cut by 0.04 mm, from
+/// the `/` move's end) and a program that lost the `/`: `check` fails
+/// them in the reading that shows it.
+#[test]
+fn check_fails_outputs_wrong_with_the_switch_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.ngc");
+    std::fs::write(&input, PROGRAM).unwrap();
+    // The corner of the switch-off path, cut within 0.04 mm.
+    let old = PROGRAM.replace("G1 X20 Y10\n", "G1 X19.96 Y10.04\nG1 X20.04 Y10.04\n");
+    let bad = dir.path().join("old.ngc");
+    std::fs::write(&bad, old).unwrap();
+    let c = check(&input, &bad);
+    let report = text(&c);
+    assert_eq!(c.status.code(), Some(3), "{report}");
+    let on_part = &report[report.find("block delete on").unwrap()..];
+    assert!(on_part.contains("FAIL"), "{report}");
+    // Without the `/`: another path with the switch on (and other runs
+    // with it off).
+    let lost = dir.path().join("lost.ngc");
+    std::fs::write(&lost, PROGRAM.replace("/G1", "G1")).unwrap();
+    let c = check(&input, &lost);
+    let report = text(&c);
+    assert_eq!(c.status.code(), Some(3), "{report}");
+    let on_part = &report[report.find("block delete on").unwrap()..];
+    assert!(on_part.contains("FAIL"), "{report}");
+    // A program without `/` lines is checked once.
+    let plain = dir.path().join("plain.ngc");
+    std::fs::write(&plain, PROGRAM.replace("/G1 X10 Y20\n", "")).unwrap();
+    let c = check(&plain, &plain);
+    let report = text(&c);
+    assert!(c.status.success(), "{report}");
+    assert!(!report.contains("block delete"), "{report}");
+}
