@@ -6,13 +6,23 @@
 //! run in each reading: the smoothed program must follow the original
 //! either way the operator sets the switch.
 
-use crate::pipeline::{compare_runs, group_by_source, parse_program_with};
+use crate::pipeline::{compare_runs_within, group_by_source, parse_program_with};
 use anyhow::{anyhow, Context, Result};
 use fairpath::path::Run;
 use fairpath::smooth::verify::{verify_run, VerifyOptions};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 use std::process::ExitCode;
+
+/// How far (mm) a run's end point may be from the original's when read
+/// with the block-delete switch on. Absolute runs end on the original's
+/// text in both readings; a G91 run then starts where the skipped `/` move
+/// did not take the machine, and its written increments (the original's
+/// path re-rounded) sum to the original's end only within f64 rounding of
+/// positions accumulated from another start (around 1e-12 mm for programs
+/// of metres and thousands of moves). A nanometre is far above that and
+/// far below the finest G-code resolution (1e-4 mm).
+pub const SWITCH_ON_ENDPOINT_MM: f64 = 1e-6;
 
 /// Whether the program has a block-delete line.
 fn has_block_delete(program: &Program) -> bool {
@@ -69,7 +79,12 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode>
                 }
             );
         }
-        let verdict = match compare_runs(&original_runs, &candidate, tolerance) {
+        let slack = if block_delete {
+            SWITCH_ON_ENDPOINT_MM
+        } else {
+            0.0
+        };
+        let verdict = match compare_runs_within(&original_runs, &candidate, tolerance, slack) {
             Ok(v) => v,
             // Runs that do not pair: this reading fails.
             Err(e) => {

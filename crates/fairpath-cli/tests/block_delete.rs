@@ -131,3 +131,47 @@ fn check_fails_outputs_wrong_with_the_switch_on() {
     assert!(c.status.success(), "{report}");
     assert!(!report.contains("block delete"), "{report}");
 }
+
+/// In G91 the moves after a `/` line do not depend on it: they are
+/// smoothed, written as increments, and follow the original with the
+/// switch on too (from wherever the skipped move left the machine).
+#[test]
+fn incremental_runs_after_block_delete_are_smoothed_and_follow_both_readings() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.ngc");
+    let out = dir.path().join("out.ngc");
+    let mut prog = String::from("G21 G91 G17 F3000\nG0 X0 Y0 Z0\nG1 X5 Y0\n/G1 X0 Y20\n");
+    for i in 0..40 {
+        prog.push_str(if i % 2 == 0 {
+            "G1 X1 Y0.3\n"
+        } else {
+            "G1 X1 Y-0.3\n"
+        });
+    }
+    prog.push_str("G90\nM2\n");
+    std::fs::write(&input, &prog).unwrap();
+    let o = bin()
+        .args([
+            "smooth",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--tolerance", "0.2"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        !written.contains("G1 X1 Y0.3\n"),
+        "not smoothed:\n{written}"
+    );
+    let c = bin()
+        .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
+        .args(["--tolerance", "0.2"])
+        .output()
+        .unwrap();
+    let report = text(&c);
+    assert!(c.status.success(), "{report}");
+    assert_eq!(report.matches("PASS").count(), 3, "{report}");
+}

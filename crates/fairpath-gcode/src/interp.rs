@@ -609,7 +609,7 @@ fn interpret_words(
         });
     }
     // A plane change alone does not end a run: the plane shapes only arcs
-    // (resolved to 3D here) and canned cycles (not supported), so a `G18`
+    // (resolved to 3D here) and canned cycles (always pinned), so a `G18`
     // line between two feed moves is written back in place and the joint
     // across it is smoothed like any other (CAM posts emit one before every
     // XZ arc: LinuxCNC's test_12mmflat.ngc kept a 3-degree corner there on
