@@ -489,3 +489,86 @@ fn block_delete_pins_what_depends_on_it() {
     let text = "G21 G90 F100\nG1 X1\n/G90 G21\nG1 X2\nG1 X3\n";
     assert_eq!(pins(text, false), vec![None, None, None]);
 }
+
+/// Lines of random programs around block delete.
+const BD_LINES: &[&str] = &[
+    "G1 X{a} Y{b}",
+    "X{a}",
+    "Y{b}",
+    "G0 X{a} Y{b}",
+    "G1 Z{b}",
+    "F{f}",
+    "G1 X{a} F{f}",
+    "G90",
+    "G91",
+    "G55",
+    "G92 X{a}",
+    "M8",
+];
+
+fn bd_program(lines: &[(usize, bool, i32, i32, u32)]) -> String {
+    let mut text = String::from("G21 G90 F100\nG1 X0 Y0\n");
+    for &(k, deleted, a, b, f) in lines {
+        if deleted {
+            text.push('/');
+        }
+        let l = BD_LINES[k]
+            .replace("{a}", &a.to_string())
+            .replace("{b}", &b.to_string())
+            .replace("{f}", &(100 * f).to_string());
+        text.push_str(&l);
+        text.push('\n');
+    }
+    text
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(1500))]
+    /// A move that is not pinned when the `/` lines run means the same with
+    /// the switch on: the same kind and feed, and the same start (absolute)
+    /// or the same increment (G91). And every run has one feed.
+    #[test]
+    fn unpinned_moves_mean_the_same_with_the_switch_on(
+        lines in proptest::collection::vec(
+            (0..BD_LINES.len(), proptest::bool::weighted(0.25), -3..4i32, -3..4i32, 1..4u32),
+            0..25,
+        )
+    ) {
+        let text = bd_program(&lines);
+        let read = |block_delete| {
+            parse_with(text.as_bytes(), &ParseOptions { block_delete, ..Default::default() })
+        };
+        let (Ok(off), Ok(on)) = (read(false), read(true)) else {
+            return Ok(());
+        };
+        for p in [&off, &on] {
+            for run in p.runs() {
+                let f = run.pieces[0].feed;
+                proptest::prop_assert!(run.pieces.iter().all(|x| x.feed == f), "{text}");
+            }
+        }
+        proptest::prop_assert!(on.moves().iter().all(|m| !matches!(
+            m.pinned,
+            Some(PinReason::BlockDelete | PinReason::AfterBlockDelete)
+        )));
+        for (lo, ln) in off.lines().iter().zip(on.lines()) {
+            if lo.text.starts_with('/') || lo.moves.len() != ln.moves.len() {
+                continue;
+            }
+            for (a, b) in off.moves()[lo.moves.clone()].iter().zip(&on.moves()[ln.moves.clone()]) {
+                if a.pinned.is_some() {
+                    continue;
+                }
+                proptest::prop_assert_eq!(a.kind, b.kind, "line {}\n{}", a.line, text);
+                proptest::prop_assert_eq!(a.piece.feed, b.piece.feed, "line {}\n{}", a.line, text);
+                let (sa, sb) = (a.piece.start(), b.piece.start());
+                if lo.incremental {
+                    let (da, db) = (a.piece.end() - sa, b.piece.end() - sb);
+                    proptest::prop_assert!(da.dist(db) < 1e-9, "line {}\n{}", a.line, text);
+                } else {
+                    proptest::prop_assert_eq!(sa, sb, "line {}\n{}", a.line, text);
+                }
+            }
+        }
+    }
+}
