@@ -24,7 +24,8 @@
 //!
 //! Not supported (errors): G76 (threading), G87 (back boring), G88
 //! (manual retract), G74/G84 outside G17 (LinuxCNC's argument order there
-//! moves the wrong axes), rotary or UVW words on a cycle line.
+//! moves the wrong axes). Rotary and UVW words on a cycle line are errors,
+//! as in LinuxCNC.
 
 use crate::error::{CycleError, ErrorKind, GcodeError};
 use crate::interp::{axis, err, finite, plane_axes, set_axis, FeedMode, State};
@@ -191,11 +192,7 @@ pub(crate) fn run(c: &CycleLine, st: &mut State, moves: &mut Vec<Move>) -> Resul
         return Err(cycle_err(c, c.column, CycleError::CutterComp));
     }
     if let Some(w) = c.lx.words.iter().find(|w| "ABCUVW".contains(w.letter)) {
-        return Err(err(
-            c.ln,
-            w.column,
-            ErrorKind::Unsupported("rotary or UVW axis words on a canned cycle line"),
-        ));
+        return Err(cycle_err(c, w.column, CycleError::AxisWord(w.letter)));
     }
     let r_number = match word('R') {
         Some(w) => finite(w.value, c.ln, w)?,

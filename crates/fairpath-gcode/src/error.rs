@@ -118,6 +118,8 @@ pub enum CycleError {
     RBelowBottom { r: f64, bottom: f64 },
     #[error("Q (peck depth) must be positive, got {0}")]
     BadPeck(f64),
+    #[error("canned cycles take no {0} word (LinuxCNC moves no rotary or UVW axis in them)")]
+    AxisWord(char),
     #[error("{code} needs the spindle turning {turning}")]
     Spindle {
         code: &'static str,

@@ -304,6 +304,10 @@ fn bad_canned_cycles_are_errors_like_linuxcnc() {
         ("G21 F100\nG0 Z5\nG82 X1 Z-1 R1\n", None),
         ("G21 F100\nG0 Z5\nG81 X1 Z-1 R1 L0\n", None),
         ("G21 F100\nG0 Z5\nG93\nG81 X1 Z-1 R1 F100\n", None),
+        (
+            "G21 F100\nG0 Z5\nG81 X1 Z-1 R1 A5\n",
+            Some(ErrorKind::Cycle(CycleError::AxisWord('A'))),
+        ),
     ];
     let rs = have_rs274();
     for (i, (text, kind)) in cases.iter().enumerate() {
