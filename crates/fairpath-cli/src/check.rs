@@ -24,6 +24,30 @@ use std::process::ExitCode;
 /// far below the finest G-code resolution (1e-4 mm).
 pub const SWITCH_ON_ENDPOINT_MM: f64 = 1e-6;
 
+/// The runs of `program`, consecutive runs with no move between them that
+/// meet exactly joined into one: one stretch of feed path, however the
+/// program's lines break it into runs.
+fn joined_runs(program: &Program) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    let mut last_move: Option<usize> = None;
+    for (span, run) in program.run_spans().iter().zip(program.runs()) {
+        if let (Some(prev), Some(end)) = (out.last_mut(), last_move) {
+            let meets =
+                prev.pieces.last().map(|p| p.end()) == run.pieces.first().map(|p| p.start());
+            if end == span.moves.start && meets {
+                let mut pieces = std::mem::take(&mut prev.pieces);
+                pieces.extend(run.pieces);
+                *prev = Run::new(pieces);
+                last_move = Some(span.moves.end);
+                continue;
+            }
+        }
+        last_move = Some(span.moves.end);
+        out.push(run);
+    }
+    out
+}
+
 /// Whether the program has a block-delete line.
 fn has_block_delete(program: &Program) -> bool {
     program
@@ -59,7 +83,17 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode>
             block_delete,
             ..Default::default()
         };
-        let original_runs = parse_program_with(original, &original_bytes, &opts)?.runs();
+        // With the switch on, stretches of path that the written program
+        // ends differently (a motion word restored on a line of its own)
+        // are compared whole.
+        let runs_of = |p: Program| {
+            if block_delete {
+                joined_runs(&p)
+            } else {
+                p.runs()
+            }
+        };
+        let original_runs = runs_of(parse_program_with(original, &original_bytes, &opts)?);
         let candidate: Vec<Run> = if is_json {
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| anyhow!("{}: not UTF-8", smoothed.display()))?;
@@ -67,7 +101,7 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode>
                 .map_err(|e| anyhow!("{}: {e}", smoothed.display()))?;
             group_by_source(&original_runs, &pieces)
         } else {
-            parse_program_with(smoothed, &bytes, &opts)?.runs()
+            runs_of(parse_program_with(smoothed, &bytes, &opts)?)
         };
         if readings.len() > 1 {
             println!(

@@ -175,3 +175,64 @@ fn incremental_runs_after_block_delete_are_smoothed_and_follow_both_readings() {
     assert!(c.status.success(), "{report}");
     assert_eq!(report.matches("PASS").count(), 3, "{report}");
 }
+
+/// A `/` line right after a smoothed run, before the next motion word:
+/// the run is written with G2/G3, so the writer restores the program's G1
+/// on a line of its own; without it the lines after the `/` line ran as
+/// arcs with the switch on (or, with a motion word inserted only into the
+/// `/` line, read differently in each position of the switch).
+#[test]
+fn a_block_delete_line_after_a_run_sees_the_programs_motion_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    for tail in [
+        "/X40 Y0\nX41 Y1\nX42 Y0\n",
+        "/G0 X40 Y0\nX41 Y1\nG1 X42 Y0\nX43 Y1\n",
+    ] {
+        let mut prog = String::from("G21 G90 G17 F3000\nG0 X0 Y0 Z0\n");
+        for i in 0..30 {
+            prog.push_str(&format!(
+                "G1 X{} Y{}\n",
+                i + 1,
+                if i % 2 == 0 { 0.3 } else { 0.0 }
+            ));
+        }
+        prog.push_str(tail);
+        prog.push_str("M2\n");
+        let input = dir.path().join("in.ngc");
+        let out = dir.path().join("out.ngc");
+        std::fs::write(&input, &prog).unwrap();
+        let o = bin()
+            .args([
+                "smooth",
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--tolerance", "0.2"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{tail}: {}", text(&o));
+        let written = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            written.contains("G2 ") || written.contains("G3 "),
+            "{written}"
+        );
+        assert!(
+            written.contains(&format!("G1\n{}", tail.lines().next().unwrap())),
+            "{written}"
+        );
+        let on = ParseOptions {
+            block_delete: true,
+            ..Default::default()
+        };
+        assert!(parse_with(written.as_bytes(), &on).is_ok(), "{written}");
+        let c = bin()
+            .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
+            .args(["--tolerance", "0.2"])
+            .output()
+            .unwrap();
+        let report = text(&c);
+        assert!(c.status.success(), "{tail}: {report}");
+        assert_eq!(report.matches("PASS").count(), 3, "{report}");
+    }
+}
