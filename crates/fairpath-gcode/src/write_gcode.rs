@@ -397,10 +397,12 @@ fn restore_motion_before_block_delete(
         return written;
     };
     let wanted = next.motion_before;
+    let deleted = |l: &crate::program::ProgramLine| l.text.trim_start().starts_with('/');
+    // Up to the next motion word that runs either way.
     let slash_first = lines[run.last_line..]
         .iter()
-        .take_while(|l| !(l.sets_motion && !l.text.trim_start().starts_with('/')))
-        .any(|l| l.interpreted && l.text.trim_start().starts_with('/'));
+        .take_while(|l| !l.sets_motion || deleted(l))
+        .any(|l| l.interpreted && deleted(l));
     // Only a straight mode: a bare G5.2 would open a block, a bare G81 run
     // a cycle.
     let straight = matches!(wanted, MotionMode::Linear | MotionMode::Rapid);
