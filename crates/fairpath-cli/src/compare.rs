@@ -15,7 +15,7 @@ use crate::pipeline::{
 };
 use crate::simulate::{gcode_motions, simulate};
 use crate::{Controller, Format};
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
@@ -134,6 +134,12 @@ fn row(
 /// Runs the baseline and every method on the program at `path`.
 pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     let program = read_program(path)?;
+    if program.is_empty() {
+        bail!(
+            "{}: the program has no moves: nothing to compare",
+            path.display()
+        );
+    }
     let runs = program.runs();
     // (total, feed moves only)
     let plan_time = |runs: &[Run]| -> Result<(f64, f64)> {

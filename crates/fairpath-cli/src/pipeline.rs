@@ -14,7 +14,7 @@ use fairpath::path::{Piece, Run};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::verify::{RunReport, VerifyOptions};
 use fairpath::smooth::{self, SmoothedRun, Smoother};
-use fairpath_gcode::Program;
+use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 
 /// What the user asked for.
@@ -112,15 +112,19 @@ pub fn read_program(path: &Path) -> Result<Program> {
     parse_program(path, &bytes)
 }
 
+/// Parses a program read with the default [`ParseOptions`] (the
+/// block-delete switch off). A program without moves (tool changes,
+/// coolant ...) is a program: callers say what they make of it.
 pub fn parse_program(path: &Path, bytes: &[u8]) -> Result<Program> {
+    parse_program_with(path, bytes, &ParseOptions::default())
+}
+
+/// [`parse_program`] with `opts` (the block-delete switch).
+pub fn parse_program_with(path: &Path, bytes: &[u8], opts: &ParseOptions) -> Result<Program> {
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
         bail!("{}: empty program", path.display());
     }
-    let program = fairpath_gcode::parse(bytes).map_err(|e| anyhow!("{}:{e}", path.display()))?;
-    if program.pieces().is_empty() {
-        bail!("{}: the program has no moves", path.display());
-    }
-    Ok(program)
+    fairpath_gcode::parse_with(bytes, opts).map_err(|e| anyhow!("{}:{e}", path.display()))
 }
 
 /// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`).
@@ -354,6 +358,17 @@ pub fn pair_runs(original: &[Run], candidate: &[Run]) -> Result<Vec<(usize, usiz
 
 /// Pairs runs ([`pair_runs`]) and verifies each pair.
 pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Result<WrittenCheck> {
+    compare_runs_within(original, candidate, tolerance, 0.0)
+}
+
+/// [`compare_runs`], with run end points that may differ by up to
+/// `endpoint_slack` mm (0: exactly equal).
+pub fn compare_runs_within(
+    original: &[Run],
+    candidate: &[Run],
+    tolerance: f64,
+    endpoint_slack: f64,
+) -> Result<WrittenCheck> {
     let pairs_idx = pair_runs(original, candidate)?;
     let mut out = WrittenCheck {
         within: true,
@@ -376,10 +391,12 @@ pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Resu
         .enumerate()
     {
         out.max_deviation = out.max_deviation.max(rep.deviation_bound);
-        if rep.start_gap != 0.0 || rep.end_gap != 0.0 {
+        let moved = rep.start_gap > endpoint_slack || rep.end_gap > endpoint_slack;
+        if moved {
             out.endpoint_failures += 1;
         }
-        if !rep.within(tolerance) {
+        let within = rep.deviation_bound <= tolerance && !moved;
+        if !within {
             out.within = false;
             out.failed_runs.push(Some(pairs_idx[k].0));
         }
@@ -402,6 +419,7 @@ pub fn smooth_file(
     let mut phases = Phases::new();
     let program = read_program(input)?;
     phases.mark("read");
+    warn_passthrough(input, &program);
     let result = smooth_program(&program, opts, &mut phases)?;
     // Curves that leave their share are a smoother's fault: nothing
     // written from them can be trusted.
@@ -447,6 +465,55 @@ pub fn smooth_file(
             opts.budget.written()
         );
     }
+    if program.is_empty() {
+        // Nothing to smooth (tool changes, coolant ...): the program as it
+        // is, byte for byte.
+        let bytes =
+            std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
+        eprintln!(
+            "note: {}: the program has no moves: copied unchanged",
+            input.display()
+        );
+        summary.lines_out = summary.lines_in;
+        crate::output::write_atomically(output, &bytes)?;
+        return Ok(summary);
+    }
     crate::output::write_atomically(output, emitted.text.as_bytes())?;
     Ok(summary)
+}
+
+/// Most ranges of passed-through lines [`warn_passthrough`] lists.
+const PASSTHROUGH_LISTED: usize = 8;
+
+/// Warns on stderr about the lines passed through verbatim (canned cycles,
+/// other dialects' words): they are run as written, not smoothed.
+fn warn_passthrough(input: &Path, program: &Program) {
+    let notes = program.passthrough();
+    if notes.is_empty() {
+        return;
+    }
+    let listed: Vec<String> = notes
+        .iter()
+        .take(PASSTHROUGH_LISTED)
+        .map(|n| {
+            let (a, b) = (*n.lines.start(), *n.lines.end());
+            let lines = if a == b {
+                format!("line {a}")
+            } else {
+                format!("lines {a}-{b}")
+            };
+            format!("{lines} ({})", n.what)
+        })
+        .collect();
+    let more = notes.len().saturating_sub(PASSTHROUGH_LISTED);
+    eprintln!(
+        "warning: {}: passed through verbatim, not smoothed: {}{}",
+        input.display(),
+        listed.join(", "),
+        if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        }
+    );
 }

@@ -119,10 +119,12 @@ fn the_summary_times_are_what_simulate_plans() {
 
 #[test]
 fn a_slower_output_is_reported_with_a_warning() {
-    // The exact curves of this NURBS program plan a little slower than
-    // LinuxCNC's biarcs of its G5.2 blocks; JSON writes the curves as they
-    // are, and the summary says so.
-    let Some(input) = shared("linuxcnc-nurbs/G6/Curva_Delfino_p1.ngc") else {
+    // The exact curves of this sawtooth plan a little slower than its
+    // lines; JSON writes the curves as they are, and the summary says so.
+    // (Curva_Delfino_p1.ngc served here until runs ended at feed changes:
+    // its curves were slower only because its F500 plunge ran at the
+    // curve's F290.)
+    let Some(input) = shared("linuxcnc/quick-tests/sawtooth.ngc") else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

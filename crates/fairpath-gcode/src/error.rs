@@ -100,6 +100,34 @@ pub enum ErrorKind {
     /// Expressions, parameters, o-words, polar coordinates.
     #[error(transparent)]
     Language(#[from] crate::lang::error::LangError),
+    #[error(transparent)]
+    Cycle(#[from] CycleError),
+}
+
+/// Canned cycles LinuxCNC refuses (its messages, from interp_cycles.cc).
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum CycleError {
+    #[error("{code} needs the word {letter} (the first cycle after another motion mode)")]
+    MissingWord { code: &'static str, letter: char },
+    #[error("canned cycle with zero feed rate")]
+    ZeroFeed,
+    #[error("canned cycles cannot run in inverse time feed mode (G93)")]
+    InverseTime,
+    #[error("canned cycles cannot run with cutter radius compensation on")]
+    CutterComp,
+    #[error("L (repeats) must be a positive integer, got {0}")]
+    BadRepeats(f64),
+    #[error("R plane ({r}) below the bottom of the cycle ({bottom})")]
+    RBelowBottom { r: f64, bottom: f64 },
+    #[error("Q (peck depth) must be positive, got {0}")]
+    BadPeck(f64),
+    #[error("canned cycles take no {0} word (LinuxCNC moves no rotary or UVW axis in them)")]
+    AxisWord(char),
+    #[error("{code} needs the spindle turning {turning}")]
+    Spindle {
+        code: &'static str,
+        turning: &'static str,
+    },
 }
 
 /// Malformed spline blocks (G5, G5.1, G5.2/G5.3, G6.2).

@@ -6,6 +6,8 @@
 // Axis loops index several parallel arrays by axis number.
 #![allow(clippy::needless_range_loop)]
 
+use crate::block_delete::{Dependence, Modal, Snapshot};
+use crate::cycles::{self, CycleLine, CycleState, Spindle};
 use crate::error::{ErrorKind, GcodeError};
 use crate::lang::{
     self,
@@ -14,9 +16,10 @@ use crate::lang::{
 };
 use crate::lexer::{scan_line, split_lines, ItemKind, LexedLine, SourceLine, Word};
 use crate::program::{
-    Expansion, Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+    Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
+    RunSpan, Units,
 };
-use crate::spline::{self, ParseOptions, SplineReading, SplineState};
+use crate::spline::{self, ParseOptions, SplineState};
 use fairpath::controller::Plane;
 use fairpath::geom::{Arc, ArcError, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::Piece;
@@ -44,7 +47,7 @@ pub(crate) enum FeedMode {
 
 /// In-plane axes (first, second), normal axis, and the centre-word letters
 /// for the in-plane axes and the off-plane one.
-fn plane_axes(plane: Plane) -> (usize, usize, usize, char, char, char) {
+pub(crate) fn plane_axes(plane: Plane) -> (usize, usize, usize, char, char, char) {
     match plane {
         Plane::Xy => (0, 1, 2, 'I', 'J', 'K'),
         Plane::Zx => (2, 0, 1, 'K', 'I', 'J'),
@@ -91,7 +94,8 @@ enum G {
     ToolLength(bool),
     CoordSystem(u16),
     PathControl(u16),
-    ReturnMode,
+    /// G98 (false) or G99 (true: retract to R).
+    ReturnMode(bool),
     SpindleMode(u16),
     LatheRadius,
     Cancel(u16),
@@ -113,7 +117,7 @@ impl G {
             G::ToolLength(_) => "tool length offset",
             G::CoordSystem(_) => "coordinate system",
             G::PathControl(_) => "path control",
-            G::ReturnMode => "canned cycle return",
+            G::ReturnMode(_) => "canned cycle return",
             G::SpindleMode(_) => "spindle speed mode",
             G::LatheRadius => "lathe diameter mode",
             G::Cancel(10) => "polar coordinates",
@@ -168,8 +172,10 @@ fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
         690 => G::Cancel(69),
         510 => return unsupported("scaling G51"),
         700 | 710 | 720 => return unsupported("G70/G71/G72 (lathe cycles or legacy units)"),
-        730 | 740 | 760 | 810..=890 => {
-            return unsupported("canned cycles (G73, G74, G76, G81-G89)")
+        c if cycles::is_cycle(c) => G::Motion(MotionMode::Cycle(c)),
+        760 => return unsupported("the G76 threading cycle"),
+        870 | 880 => {
+            return unsupported("canned cycles G87 (back boring) and G88 (manual retract)")
         }
         800 => G::Motion(MotionMode::None),
         900 => G::Incremental(false),
@@ -184,7 +190,7 @@ fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
         922 => G::NonModal(NonModal::G92_2),
         923 => G::NonModal(NonModal::G92_3),
         960 | 970 => G::SpindleMode(code),
-        980 | 990 => G::ReturnMode,
+        980 | 990 => G::ReturnMode(code == 990),
         _ => return Err(ErrorKind::UnknownGCode(text.to_string())),
     })
 }
@@ -218,6 +224,17 @@ pub(crate) struct State {
     pub(crate) feed_mode: FeedMode,
     pub(crate) comp: bool,
     tlo: bool,
+    /// Canned cycle settings and the spindle direction they check.
+    pub(crate) cycle: CycleState,
+    /// Skip `/` lines (the block-delete switch on).
+    skip_block_delete: bool,
+    /// What later lines depend on of `/` lines (switch off).
+    after_delete: Dependence,
+    /// Lines passed through, and the last line holding a move that was
+    /// not passed through (ranges of passed-through lines merge across
+    /// lines without such moves).
+    passthrough: Vec<Passthrough>,
+    last_plain_move_line: usize,
     coord: u16,
     path: u16,
     /// The words of the path-control command in force (`G64 P0.01 Q0`),
@@ -231,7 +248,7 @@ pub(crate) struct State {
 }
 
 impl State {
-    fn new(splines: SplineReading) -> State {
+    fn new(opts: &ParseOptions) -> State {
         State {
             pos: Vec3::ZERO,
             known: [true; 3],
@@ -251,8 +268,49 @@ impl State {
             spindle_mode: 970,
             ended: false,
             percent_lines: 0,
-            spline: SplineState::new(splines),
+            spline: SplineState::new(opts.splines),
+            cycle: CycleState::new(),
+            skip_block_delete: opts.block_delete,
+            after_delete: Dependence::default(),
+            passthrough: Vec::new(),
+            last_plain_move_line: 0,
         }
+    }
+
+    /// What a `/` line may change ([`crate::block_delete`]).
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            pos: self.pos,
+            known: self.known,
+            feed: self.feed.as_ref().map(|f| f.mm_per_min),
+            motion: self.motion,
+            modal: Modal {
+                units: self.units,
+                incremental: self.incremental,
+                arc_incremental: self.arc_incremental,
+                plane: self.plane,
+                feed_mode: self.feed_mode,
+                comp: self.comp,
+                tool_length: self.tlo,
+                coord: self.coord,
+                path_control: self.path_words.clone(),
+                retract_to_r: self.cycle.retract_to_r,
+            },
+        }
+    }
+
+    /// Records that line `ln` is passed through because of `what`.
+    fn note_passthrough(&mut self, ln: usize, what: &'static str) {
+        if let Some(last) = self.passthrough.last_mut() {
+            if last.what == what && *last.lines.end() >= self.last_plain_move_line {
+                last.lines = *last.lines.start()..=ln;
+                return;
+            }
+        }
+        self.passthrough.push(Passthrough {
+            lines: ln..=ln,
+            what,
+        });
     }
     fn forget(&mut self, axes: [bool; 3]) {
         for a in 0..3 {
@@ -265,9 +323,10 @@ impl State {
 }
 
 const AXIS_LETTERS: [char; 3] = ['X', 'Y', 'Z'];
-/// Word letters the interpreter reads (the lexer reads any letter; `E`,
-/// the 3D-printer extruder, is refused).
-const INTERPRETED_LETTERS: &str = "ABCDFGHIJKLMNPQRSTUVWXYZ";
+/// Word letters the interpreter takes (`@` and `^` are resolved to X and
+/// Y before it; `E`, the 3D-printer extruder, is passed through, see
+/// [`FOREIGN_WORDS`]).
+const INTERPRETED_LETTERS: &str = "ABCDEFGHIJKLMNPQRSTUVWXYZ";
 const EXTRA_AXES: &str = "ABCUVW";
 
 /// Reads a program with the default [`ParseOptions`]. See the crate
@@ -306,7 +365,7 @@ struct Reader {
 impl Reader {
     fn new(opts: &ParseOptions) -> Reader {
         Reader {
-            st: State::new(opts.splines),
+            st: State::new(opts),
             params: Params::new(),
             lines: Vec::new(),
             moves: Vec::new(),
@@ -343,6 +402,7 @@ impl Reader {
                 MotionMode::QuadSpline => 51,
                 MotionMode::Nurbs => 52,
                 MotionMode::NurbsG6 => 62,
+                MotionMode::Cycle(c) => c,
             },
             feed: st.feed.as_ref().map_or(0.0, |f| f.mm_per_min / mpu),
             feed_mode: match st.feed_mode {
@@ -558,6 +618,7 @@ impl Reader {
             runs,
             start_units: self.start_units.unwrap_or(self.st.units),
             expansion: self.expansion,
+            passthrough: self.st.passthrough,
         })
     }
 }
@@ -583,24 +644,88 @@ struct LineInfo {
     breaks_run: bool,
     sets_motion: bool,
     uses_modal_motion: bool,
+    /// The line holds a group-0 code other than G4 (G10, G28, G92 ...).
+    group0: bool,
+}
+
+impl LineInfo {
+    const NONE: LineInfo = LineInfo {
+        breaks_run: false,
+        sets_motion: false,
+        uses_modal_motion: false,
+        group0: false,
+    };
 }
 
 pub(crate) fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
     GcodeError::new(line, column, kind)
 }
 
-/// Interprets one lexed line, appending its moves.
+/// Word letters that no dialect fairpath reads gives a meaning it can
+/// smooth through: `E`, the extruder of 3D printers (LinuxCNC takes E
+/// only in G76 threading, which is not supported). A line with one is
+/// passed through verbatim ([`PinReason::ForeignWords`]) and ends runs.
+const FOREIGN_WORDS: &str = "E";
+
+/// What [`Program::passthrough`] calls a line with [`FOREIGN_WORDS`].
+const FOREIGN_NOTE: &str = "extruder word E (3D printers)";
+/// What [`Program::passthrough`] calls a canned-cycle line.
+const CYCLE_NOTE: &str = "canned cycle";
+
+/// Interprets one lexed line, appending its moves: skips a `/` line when
+/// the block-delete switch is on, records what a `/` line changes when it
+/// is off ([`crate::block_delete`]), and notes passed-through lines.
 fn interpret_line(
     lx: &LexedLine,
     ln: usize,
     st: &mut State,
     moves: &mut Vec<Move>,
 ) -> Result<LineInfo, GcodeError> {
-    let none = LineInfo {
-        breaks_run: false,
-        sets_motion: false,
-        uses_modal_motion: false,
-    };
+    if lx.block_delete && st.skip_block_delete {
+        return Ok(LineInfo::NONE);
+    }
+    let first = moves.len();
+    let before = lx.block_delete.then(|| st.snapshot());
+    let info = interpret_words(lx, ln, st, moves)?;
+    if let Some(before) = before {
+        let after = st.snapshot();
+        let moved = info.sets_motion || moves.len() > first;
+        st.after_delete
+            .after_deleted_line(&before, &after, info.group0, moved);
+    }
+    let cycle = moves[first..]
+        .iter()
+        .any(|m| m.pinned == Some(PinReason::CannedCycle));
+    let foreign = lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter));
+    if cycle {
+        st.note_passthrough(ln, CYCLE_NOTE);
+    } else if foreign {
+        st.note_passthrough(ln, FOREIGN_NOTE);
+    } else if moves.len() > first {
+        st.last_plain_move_line = ln;
+    }
+    Ok(info)
+}
+
+/// Whether a move of `kind` on a line outside block delete depends on an
+/// earlier `/` line ([`crate::block_delete`]): `modal_motion` is whether
+/// the line moves in the modal motion mode.
+fn depends_on_deleted_line(st: &State, kind: MoveKind, modal_motion: bool) -> bool {
+    let dep = &st.after_delete;
+    let start = dep.axes.iter().any(|&a| a)
+        && (!st.incremental || (kind == MoveKind::Arc && !st.arc_incremental));
+    dep.state || (dep.feed && kind != MoveKind::Rapid) || (dep.motion && modal_motion) || start
+}
+
+/// Interprets the words of one line, appending its moves.
+fn interpret_words(
+    lx: &LexedLine,
+    ln: usize,
+    st: &mut State,
+    moves: &mut Vec<Move>,
+) -> Result<LineInfo, GcodeError> {
+    let none = LineInfo::NONE;
+    let motion_before_line = st.motion;
     if lx.percent {
         st.percent_lines += 1;
         if st.percent_lines >= 2 {
@@ -697,7 +822,16 @@ fn interpret_line(
 
     // ---- state changes (LinuxCNC order of execution) ----
     let mut changes = lx.block_delete || !ms.is_empty();
-    for l in ['S', 'T', 'H', 'D', 'L', 'Q'] {
+    for (c, _) in &ms {
+        match c {
+            3 => st.cycle.spindle = Spindle::Clockwise,
+            4 => st.cycle.spindle = Spindle::CounterClockwise,
+            5 => st.cycle.spindle = Spindle::Stopped,
+            _ => {}
+        }
+    }
+    let group0 = nonmodal.is_some_and(|(n, _)| n != NonModal::Dwell);
+    for l in ['S', 'T', 'H', 'D', 'L', 'Q', 'E'] {
         // L and Q are spline words on spline lines.
         if word(l).is_some() && !(spline_line && (l == 'L' || l == 'Q')) {
             changes = true;
@@ -721,7 +855,7 @@ fn interpret_line(
         });
     }
     // A plane change alone does not end a run: the plane shapes only arcs
-    // (resolved to 3D here) and canned cycles (not supported), so a `G18`
+    // (resolved to 3D here) and canned cycles (always pinned), so a `G18`
     // line between two feed moves is written back in place and the joint
     // across it is smoothed like any other (CAM posts emit one before every
     // XZ arc: LinuxCNC's test_12mmflat.ngc kept a 3-degree corner there on
@@ -782,7 +916,8 @@ fn interpret_line(
                 }
                 st.path_words = Some(text);
             }
-            G::ReturnMode | G::LatheRadius => {}
+            G::ReturnMode(to_r) => st.cycle.retract_to_r = to_r,
+            G::LatheRadius => {}
             G::SpindleMode(c) => {
                 changes |= c != st.spindle_mode;
                 st.spindle_mode = c;
@@ -806,6 +941,26 @@ fn interpret_line(
     let _ = restated_motion;
     if let Some((m, _)) = motion_g {
         st.motion = m;
+    }
+    // A line outside block delete that sets F or the motion mode ends
+    // their dependence on `/` lines.
+    if !lx.block_delete {
+        if word('F').is_some() {
+            st.after_delete.feed = false;
+        }
+        if motion_g.is_some() {
+            st.after_delete.motion = false;
+        }
+    }
+    // The motion the line runs: a canned cycle, or another motion, which
+    // makes the next cycle take a new initial level (LinuxCNC's
+    // convert_motion).
+    let line_motion = motion_g
+        .map(|(m, _)| m)
+        .or_else(|| (has_axes && axis_user_nonmodal.is_none()).then_some(motion_before_line));
+    match line_motion {
+        Some(MotionMode::Cycle(_)) | None => {}
+        Some(_) => st.cycle.other_motion(),
     }
 
     // ---- group-0 axis users ----
@@ -855,6 +1010,18 @@ fn interpret_line(
             NonModal::G28_1 | NonModal::G30_1 | NonModal::Dwell | NonModal::G53 => {}
         }
     }
+    if let (Some((n, _)), false) = (nonmodal, lx.block_delete) {
+        // Home and G92 set the position the same way with the switch on.
+        match n {
+            NonModal::G28 | NonModal::G30 => st.after_delete.axes = [false; 3],
+            NonModal::G92 => {
+                for a in 0..3 {
+                    st.after_delete.axes[a] &= !given_mask[a];
+                }
+            }
+            _ => {}
+        }
+    }
     let ended_now = ms.iter().any(|(c, _)| *c == 2 || *c == 30);
 
     // ---- motion ----
@@ -873,7 +1040,17 @@ fn interpret_line(
             other_g,
             state_change: changes || plane_changed,
         };
-        let pinned_moves = spline::line(&ctx, st, moves)?;
+        let first = moves.len();
+        let mut pinned_moves = spline::line(&ctx, st, moves)?;
+        if moves.len() > first
+            && !lx.block_delete
+            && depends_on_deleted_line(st, MoveKind::Spline, motion_g.is_none())
+        {
+            for m in &mut moves[first..] {
+                m.pinned.get_or_insert(PinReason::AfterBlockDelete);
+            }
+            pinned_moves = true;
+        }
         if ended_now {
             st.ended = true;
         }
@@ -881,6 +1058,40 @@ fn interpret_line(
             breaks_run: changes || pinned_moves,
             sets_motion,
             uses_modal_motion: has_axes && motion_g.is_none(),
+            group0,
+        });
+    }
+    if let Some(MotionMode::Cycle(code)) = line_motion {
+        let column = motion_g.map_or_else(
+            || {
+                lx.words
+                    .iter()
+                    .find(|w| w.letter != 'N')
+                    .map_or(1, |w| w.column)
+            },
+            |(_, w)| w.column,
+        );
+        let cycle = CycleLine {
+            lx,
+            ln,
+            code,
+            same_mode: motion_before_line == MotionMode::Cycle(code),
+            column,
+        };
+        cycles::run(&cycle, st, moves)?;
+        // Where a cycle ends depends on its initial level and retract
+        // plane: after anything a `/` line changed, on everything.
+        if !lx.block_delete && !st.after_delete.is_clear() {
+            st.after_delete.axes = [true; 3];
+        }
+        if ended_now {
+            st.ended = true;
+        }
+        return Ok(LineInfo {
+            breaks_run: true,
+            sets_motion,
+            uses_modal_motion: motion_g.is_none(),
+            group0,
         });
     }
     if !has_axes {
@@ -946,8 +1157,12 @@ fn interpret_line(
             !plain
         });
         let extra_axes = lx.words.iter().any(|w| EXTRA_AXES.contains(w.letter));
+        let foreign = lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter));
+        let after_delete = !lx.block_delete && depends_on_deleted_line(st, kind, uses_modal_motion);
         let pinned = if lx.block_delete {
             Some(PinReason::BlockDelete)
+        } else if foreign {
+            Some(PinReason::ForeignWords)
         } else if g53
             || matches!(
                 mode,
@@ -967,9 +1182,24 @@ fn interpret_line(
             Some(PinReason::FeedMode)
         } else if !start_known {
             Some(PinReason::UnknownStart)
+        } else if after_delete {
+            Some(PinReason::AfterBlockDelete)
         } else {
             None
         };
+        // Where the move ends with the switch on: as with it off for the
+        // axes an absolute word sets (after a motion mode that may differ,
+        // nowhere known).
+        if !lx.block_delete {
+            let dep = &mut st.after_delete;
+            if dep.motion && uses_modal_motion {
+                dep.axes = [true; 3];
+            } else if !st.incremental && !g53 {
+                for a in 0..3 {
+                    dep.axes[a] &= given[a].is_none();
+                }
+            }
+        }
         let end = match &curve {
             Curve::Arc(a) => a.end(),
             _ => target,
@@ -1020,6 +1250,7 @@ fn interpret_line(
         breaks_run,
         sets_motion,
         uses_modal_motion,
+        group0,
     })
 }
 
@@ -1031,7 +1262,7 @@ pub(crate) fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
     }
 }
 
-fn set_axis(p: &mut Vec3, a: usize, v: f64) {
+pub(crate) fn set_axis(p: &mut Vec3, a: usize, v: f64) {
     match a {
         0 => p.x = v,
         1 => p.y = v,
@@ -1039,7 +1270,7 @@ fn set_axis(p: &mut Vec3, a: usize, v: f64) {
     }
 }
 
-fn axis(p: Vec3, a: usize) -> f64 {
+pub(crate) fn axis(p: Vec3, a: usize) -> f64 {
     match a {
         0 => p.x,
         1 => p.y,
@@ -1186,8 +1417,16 @@ fn build_arc(
 }
 
 /// Groups the runs: consecutive non-pinned feed moves on lines that do not
-/// break runs. A run that starts with a spline block's moves starts at the
-/// block's first line.
+/// break runs, at one feed. A run that starts with a spline block's moves
+/// starts at the block's first line.
+///
+/// A move whose feed differs from the move before it starts a new run
+/// (the line that changes the feed lies between the two runs): the
+/// programmed feed then changes exactly at the programmed vertex, which
+/// smoothing keeps (run end points are kept exactly). Smoothing across it
+/// would make one feed apply to a stretch of path programmed at the other
+/// (`linuxcnc/diagnostic/feed-tracking-test.ngc`: `X2 F1000`, `X2.001
+/// F10`, `X5 F1000` became one move at F10, 1.03 s -> 42 s).
 fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
     let mut runs = Vec::new();
     let mut cur: Option<RunSpan> = None;
@@ -1201,6 +1440,11 @@ fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
             for mi in line.moves.clone() {
                 let m = &moves[mi];
                 debug_assert!(m.pinned.is_none() && m.kind != MoveKind::Rapid);
+                if let Some(r) = &cur {
+                    if moves[r.moves.end - 1].piece.feed != m.piece.feed {
+                        runs.extend(cur.take());
+                    }
+                }
                 match &mut cur {
                     Some(r) => {
                         r.moves.end = mi + 1;

@@ -27,11 +27,13 @@
 //!
 //! Rejected with an error naming line and column: malformed numbers
 //! (`X1.2.3`, `X`, `Xnan`, `Xinf`), exponent notation (`X1e5` reads as `X1`
-//! followed by the word `E5`, which the interpreter refuses), a word value
-//! whose magnitude exceeds [`MAX_WORD_MAGNITUDE`] (numbers of hundreds of
-//! digits), any character that cannot start a word, malformed expressions,
-//! and a word letter given twice on a line (except G and M; their modal
-//! groups are checked by the interpreter).
+//! followed by the word `E5`, which the interpreter passes through), a word
+//! value whose magnitude exceeds [`MAX_WORD_MAGNITUDE`] (numbers of
+//! hundreds of digits), any character that cannot start a word, malformed
+//! expressions, and a word letter given twice on a line (except G and M;
+//! their modal groups are checked by the interpreter). Every letter A-Z
+//! lexes as a word: the interpreter passes the lines of words it does not
+//! interpret (the 3D-printer extruder word `E`) through verbatim.
 
 use crate::error::{ErrorKind, GcodeError};
 use crate::lang::error::LangError;

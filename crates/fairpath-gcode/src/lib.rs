@@ -53,6 +53,18 @@
 //!   the axis normal to the plane (K in G17, ...) must be 0 if present.
 //! * Lines after `M2`/`M30` or after a closing `%` are passed through
 //!   unread.
+//! * Canned cycles G73, G74, G81 .. G86, G89 (G98/G99, modal repeats, `L`
+//!   repeats, G17/G18/G19; G74/G84 in G17 only) make the moves LinuxCNC
+//!   2.9 makes of them (see the `cycles` module's source), all pinned
+//!   ([`PinReason::CannedCycle`]): the position after a cycle is known.
+//! * A line with the 3D-printer extruder word `E` is passed through
+//!   verbatim ([`PinReason::ForeignWords`]). Canned-cycle and `E` lines are
+//!   listed by [`Program::passthrough`].
+//! * Block delete: with [`ParseOptions::block_delete`] set, `/` lines are
+//!   skipped (the switch on); by default they run, and the moves that
+//!   would mean something else with the switch on are pinned
+//!   ([`PinReason::AfterBlockDelete`]; the rules are in the
+//!   `block_delete` module's source).
 //!
 //! ## LinuxCNC's language ([`lang`])
 //! Parameters (`#1`, `#<name>`, `#<_global>`, `##1`, `#[expr]`),
@@ -89,9 +101,11 @@
 //!
 //! ## Runs, pinned moves
 //! A *run* ([`Program::runs`]) is a maximal sequence of consecutive
-//! non-pinned feed moves (G1, G2, G3) with no run-breaking line between them.
+//! non-pinned feed moves (G1, G2, G3) at one feed with no run-breaking line
+//! between them: a move whose feed differs from the one before starts a new
+//! run, so each programmed feed keeps its stretch of path.
 //! A line *breaks runs* when it holds a rapid or a pinned move, or changes
-//! state: any M code, S, T, H, D, L, Q words, G4 dwell, G10, G28/G30, G52,
+//! state: any M code, S, T, H, D, L, Q, E words, G4 dwell, G10, G28/G30, G52,
 //! G53, G92/G92.x, a change of coordinate system, tool length offset
 //! (G43*/G49 when active), cutter compensation (G41/G42, G40 when active),
 //! feed mode (G93/G94/G95), path control (G61/G61.1/G64, or G64 with P/Q),
@@ -105,7 +119,8 @@
 //! R, P for arcs; the spline words for splines) such as M8 or S1000,
 //! changes state, has A/B/C/U/V/W words,
 //! runs with cutter compensation active or in G93/G95 feed mode, starts at
-//! an unknown position, or is G33/G33.1/G38.x/G31 or G53 motion.
+//! an unknown position, is G33/G33.1/G38.x/G31 or G53 motion, is part of
+//! a canned cycle, has an `E` word, or depends on an earlier `/` line.
 //!
 //! Each run's pieces join exactly as f64 values (arcs keep their programmed
 //! start and end points exactly). Zero-length moves are kept.
@@ -116,15 +131,18 @@
 //! unsupported features from malformed input. Unsupported: the machine's
 //! parameters and subroutine files (above), Fanuc `M98`/`M99`
 //! subprograms (a Fanuc `O1234` program number alone on a line is passed
-//! through), LinuxCNC master's G6/G6.1 (aliases
-//! of G5/G5.1) and G6.3, canned cycles (G73, G74, G76, G81..G89), G7
-//! diameter mode, G16 polar
-//! coordinates, G51 scaling, G68 rotation, G70/G71/G72, G17.1/G18.1/G19.1,
-//! the extruder word E. Word values beyond
-//! [`lexer::MAX_WORD_MAGNITUDE`] are errors. Unknown G codes are errors; unknown M codes are
+//! through), LinuxCNC master's G6/G6.1 (aliases of G5/G5.1) and G6.3, the
+//! canned cycles G76 (threading), G87 and G88, G7 diameter mode, G16 polar
+//! coordinates, G51 scaling, G68 rotation, G70/G71/G72, G17.1/G18.1/G19.1.
+//! Canned cycles LinuxCNC refuses (no R or Z on the first cycle, R below
+//! the bottom, no feed, G84 without M3, ...) are [`CycleError`]s. Word
+//! values beyond [`lexer::MAX_WORD_MAGNITUDE`] are errors. Unknown G codes
+//! are errors; unknown M codes are
 //! passed through (they break runs). An empty program is an empty
 //! [`Program`] (no moves, no runs), not an error.
 
+mod block_delete;
+mod cycles;
 pub mod error;
 pub mod interp;
 pub mod lang;
@@ -135,10 +153,11 @@ pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;
 
-pub use error::{ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use interp::{parse, parse_with};
 pub use program::{
-    Expansion, Feed, MotionMode, Move, MoveKind, PinReason, Program, ProgramLine, RunSpan, Units,
+    Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
+    RunSpan, Units,
 };
 pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{

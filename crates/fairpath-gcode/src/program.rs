@@ -3,7 +3,7 @@
 
 use crate::lexer::Word;
 use fairpath::path::{Piece, Run};
-use std::ops::Range;
+use std::ops::{Range, RangeInclusive};
 
 /// Length units of the program (G20 inch, G21 mm).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +51,9 @@ pub enum MotionMode {
     /// G6.2: inside a NURBS block (Fanuc, LinuxCNC master), until its
     /// knot vector is complete.
     NurbsG6,
+    /// A canned cycle (G73, G74, G81 .. G86, G89): the code times 10.
+    /// Axis words on later lines repeat it at the new position.
+    Cycle(u16),
 }
 
 impl MotionMode {
@@ -70,6 +73,7 @@ impl MotionMode {
             MotionMode::Nurbs => "G5.2".into(),
             MotionMode::NurbsG6 => "G6.2".into(),
             MotionMode::Probe(c) => format!("G{}.{}", c / 10, c % 10),
+            MotionMode::Cycle(c) => format!("G{}", c / 10),
         })
     }
 }
@@ -80,6 +84,16 @@ impl MotionMode {
 pub enum PinReason {
     /// The line starts with the block-delete `/`.
     BlockDelete,
+    /// The move's start (absolute mode), its feed, its motion mode or the
+    /// modal state it runs in depends on whether an earlier `/` line ran
+    /// (see [`crate::ParseOptions::block_delete`]): written verbatim so that
+    /// the program runs as written with the switch on or off.
+    AfterBlockDelete,
+    /// One of the moves a canned cycle (G73, G74, G81 .. G86, G89) makes.
+    CannedCycle,
+    /// The line has words fairpath does not interpret (another dialect's,
+    /// such as the 3D-printer extruder word `E`): passed through verbatim.
+    ForeignWords,
     /// The line carries non-motion words (M, S, T, H, D, P on G1, ...).
     ExtraWords,
     /// The line changes modal state (units, distance mode, offsets, ...).
@@ -207,6 +221,18 @@ pub struct RunSpan {
     pub feed_after: Option<Feed>,
 }
 
+/// Lines passed through verbatim because fairpath does not smooth what
+/// they do (canned cycles, another dialect's words): callers warn about
+/// them.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Passthrough {
+    /// First and last line (1-based). Lines in between that hold no move
+    /// (comments, blank lines, modal words) count as part of the range.
+    pub lines: RangeInclusive<usize>,
+    /// What they hold, e.g. "canned cycle".
+    pub what: &'static str,
+}
+
 /// A read program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Program {
@@ -215,6 +241,7 @@ pub struct Program {
     pub(crate) runs: Vec<RunSpan>,
     pub(crate) start_units: Units,
     pub(crate) expansion: Option<Expansion>,
+    pub(crate) passthrough: Vec<Passthrough>,
 }
 
 /// How an expanded program (one with LinuxCNC o-word control flow) was
@@ -283,6 +310,12 @@ impl Program {
     /// True when the program was expanded from o-word control flow.
     pub fn expanded(&self) -> bool {
         self.expansion.is_some()
+    }
+
+    /// The lines passed through verbatim because fairpath does not
+    /// interpret or smooth them, in order.
+    pub fn passthrough(&self) -> &[Passthrough] {
+        &self.passthrough
     }
 
     /// True when the program has no move at all.

@@ -112,6 +112,11 @@ pub struct ParseOptions {
     /// G5, G5.1 and G5.2/G5.3 as LinuxCNC runs them (the default) or as
     /// the exact curves they describe.
     pub splines: SplineReading,
+    /// The block-delete switch: `true` skips the lines that start with `/`,
+    /// as LinuxCNC does with block delete on; `false` (the default) runs
+    /// them, and pins the moves whose meaning would change with the switch
+    /// on (see [`crate::PinReason::AfterBlockDelete`]).
+    pub block_delete: bool,
 }
 
 /// How far (in integers) an order or method word may be from an integer:

@@ -341,6 +341,8 @@ pub fn write_gcode_with(
                 written_motion = m;
             }
             written_path = w.path;
+            written_motion =
+                restore_motion_before_block_delete(program, run, written_motion, eol, &mut out);
             // The last line of the span may be the last line of the file.
             let last = &lines[run.last_line - 1];
             if last.ending.is_empty() && run.last_line == lines.len() && out.ends_with(eol) {
@@ -392,6 +394,42 @@ pub fn write_gcode_with(
         i += 1;
     }
     Ok(out)
+}
+
+/// After a written run whose motion mode differs from the program's, a
+/// `/` line coming before the next motion word would see one mode or the
+/// other depending on the block-delete switch (a motion word inserted into
+/// it runs only with the switch off): the program's mode is restored on a
+/// line of its own right after the run. Returns the written mode.
+fn restore_motion_before_block_delete(
+    program: &Program,
+    run: &RunSpan,
+    written: MotionMode,
+    eol: &str,
+    out: &mut String,
+) -> MotionMode {
+    let lines = program.lines();
+    let Some(next) = lines.get(run.last_line) else {
+        return written;
+    };
+    let wanted = next.motion_before;
+    let deleted = |l: &crate::program::ProgramLine| l.text.trim_start().starts_with('/');
+    // Up to the next motion word that runs either way.
+    let slash_first = lines[run.last_line..]
+        .iter()
+        .take_while(|l| !l.sets_motion || deleted(l))
+        .any(|l| l.interpreted && deleted(l));
+    // Only a straight mode: a bare G5.2 would open a block, a bare G81 run
+    // a cycle.
+    let straight = matches!(wanted, MotionMode::Linear | MotionMode::Rapid);
+    match wanted.gword() {
+        Some(g) if written != wanted && slash_first && straight => {
+            out.push_str(&g);
+            out.push_str(eol);
+            wanted
+        }
+        _ => written,
+    }
 }
 
 /// Whether the line holds a path-control command (G61, G61.1, G64).

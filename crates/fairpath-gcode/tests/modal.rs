@@ -153,13 +153,15 @@ fn modal_axis_words_and_runs() {
     let text = b"G21 G90\nG0 X0 Y0 Z1\nG1 Z0 F500\nX10\n(comment)\nY10\nF600\nX0\nG1 X0 Y0 M8\nX5\nM5\nX6\nG0 Z5\nG1 X7 A10\nX8\nX9\nM2\n";
     let p = parse(text).unwrap();
     let runs = p.run_spans();
-    // Z0..X0 (lines 3-8), X5 (10)? no: line 9 pinned breaks, line 10 alone,
-    // line 11 M5 breaks, line 12 alone, rapid, line 14 pinned (A), 15-16.
+    // Z0..Y10 (lines 3-6), the feed changes (F600 on line 7) so X0 (8)
+    // starts another run, line 9 pinned breaks, line 10 alone, line 11 M5
+    // breaks, line 12 alone, rapid, line 14 pinned (A), 15-16.
     let spans: Vec<(usize, usize)> = runs.iter().map(|r| (r.first_line, r.last_line)).collect();
-    assert_eq!(spans, vec![(3, 8), (10, 10), (12, 12), (15, 16)]);
+    assert_eq!(spans, vec![(3, 6), (8, 8), (10, 10), (12, 12), (15, 16)]);
     assert_eq!(p.moves()[5].pinned, Some(PinReason::ExtraWords));
     let feeds: Vec<Option<f64>> = p.runs()[0].pieces.iter().map(|x| x.feed).collect();
-    assert_eq!(feeds, vec![Some(500.), Some(500.), Some(500.), Some(600.)]);
+    assert_eq!(feeds, vec![Some(500.), Some(500.), Some(500.)]);
+    assert_eq!(p.runs()[1].pieces[0].feed, Some(600.));
 }
 
 #[test]

@@ -17,6 +17,7 @@ fn exact(text: &str) -> Program {
         text.as_bytes(),
         &ParseOptions {
             splines: SplineReading::Exact,
+            ..Default::default()
         },
     )
     .unwrap_or_else(|e| panic!("{e}\n{text}"))
@@ -24,8 +25,14 @@ fn exact(text: &str) -> Program {
 
 fn spline_err(text: &str) -> (usize, usize, SplineError) {
     for mode in [SplineReading::AsLinuxcnc, SplineReading::Exact] {
-        let e =
-            parse_with(text.as_bytes(), &ParseOptions { splines: mode }).expect_err("should fail");
+        let e = parse_with(
+            text.as_bytes(),
+            &ParseOptions {
+                splines: mode,
+                ..Default::default()
+            },
+        )
+        .expect_err("should fail");
         assert!(e.line >= 1 && e.column >= 1);
         if mode == SplineReading::Exact {
             match e.kind {
@@ -356,7 +363,14 @@ fn g5_2_refuses_what_it_cannot_write() {
 fn g5_2_block_moves_belong_to_its_last_line() {
     let text = "G21 G17 G90 F100\nG1 X0 Y0\nG1 X1 Y0\nG5.2 P1 L3\n(inside)\nX2 Y1 P1\nX3 Y0 P2\nX4 Y1 P1\nG5.3\nG1 X5 Y1\nM2\n";
     for mode in [SplineReading::AsLinuxcnc, SplineReading::Exact] {
-        let p = parse_with(text.as_bytes(), &ParseOptions { splines: mode }).unwrap();
+        let p = parse_with(
+            text.as_bytes(),
+            &ParseOptions {
+                splines: mode,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let ib: Vec<bool> = p.lines().iter().map(|l| l.in_block).collect();
         assert_eq!(
             ib,
@@ -727,7 +741,10 @@ proptest! {
         let body: String = toks.iter().map(|&i| SOUP[i]).collect::<Vec<_>>().join(" ");
         let text = format!("G21 F100 G1 X0.5{body}");
         for mode in [SplineReading::AsLinuxcnc, SplineReading::Exact] {
-            match parse_with(text.as_bytes(), &ParseOptions { splines: mode }) {
+            match parse_with(text.as_bytes(), &ParseOptions {
+                splines: mode,
+                ..Default::default()
+            }) {
                 Ok(p) => {
                     for m in p.moves() {
                         prop_assert!(m.piece.start().is_finite() && m.piece.end().is_finite());
@@ -758,8 +775,14 @@ fn linuxcnc_nurbs_programs_read() {
             continue; // LinuxCNC parameters: unsupported
         }
         for mode in [SplineReading::AsLinuxcnc, SplineReading::Exact] {
-            let p = parse_with(&bytes, &ParseOptions { splines: mode })
-                .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+            let p = parse_with(
+                &bytes,
+                &ParseOptions {
+                    splines: mode,
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
             assert!(p.moves().iter().any(|m| m.kind == MoveKind::Spline));
             for r in p.runs() {
                 for w in r.pieces.windows(2) {

@@ -178,6 +178,7 @@ fn ours(text: &str) -> (Vec<Call>, Vec<[f64; 3]>) {
         text.as_bytes(),
         &ParseOptions {
             splines: SplineReading::Exact,
+            ..Default::default()
         },
     )
     .unwrap();

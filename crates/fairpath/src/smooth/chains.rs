@@ -186,8 +186,12 @@ pub(crate) fn split_run(
 }
 
 /// Removes vertices where the chain runs straight on: every removed vertex
-/// lies within `tol` of the merged segment, and the direction does not
-/// reverse. Returns the number removed.
+/// lies within `tol` of the merged segment, the direction does not
+/// reverse, and the feed is the same on both sides (a vertex where the
+/// programmed feed changes stays, so that each feed keeps its stretch of
+/// path: merging it once made `X2.001 F10` slow a whole line down in
+/// `linuxcnc/diagnostic/feed-tracking-test.ngc`). Returns the number
+/// removed.
 fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
     let n = chain.pts.len();
     if n < 3 {
@@ -205,12 +209,12 @@ fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
         let b = chain.pts[k + 1];
         let d_in = chain.pts[k] - chain.pts[k - 1];
         let d_out = chain.pts[k + 1] - chain.pts[k];
-        let straight = d_in.dot(d_out) > 0.0
+        let straight = chain.feed[k] == chain.feed[k - 1]
+            && d_in.dot(d_out) > 0.0
             && (b - a).dot(d_out) > 0.0
             && (span_start + 1..=k).all(|j| point_segment_distance(chain.pts[j], a, b) <= tol);
         if straight {
             cur_lines.1 = chain.lines[k].1;
-            cur_feed = min_feed(cur_feed, chain.feed[k]);
         } else {
             pts.push(chain.pts[k]);
             lines.push(cur_lines);
@@ -284,4 +288,37 @@ pub(crate) fn smooth_by_chains(
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alloc::vec;
+
+    fn x(v: f64) -> Vec3 {
+        Vec3::new(v, 0.0, 0.0)
+    }
+
+    /// Regression (`linuxcnc/diagnostic/feed-tracking-test.ngc`): a
+    /// straight-on vertex where the feed changes is kept; one where it does
+    /// not is merged.
+    #[test]
+    fn merge_collinear_keeps_feed_changes() {
+        let mut c = LineChain {
+            pts: vec![x(0.0), x(1.0), x(2.0), x(3.0)],
+            lines: vec![(1, 1), (2, 2), (3, 3)],
+            feed: vec![Some(1000.0), Some(10.0), Some(10.0)],
+        };
+        assert_eq!(merge_collinear(&mut c, 1e-9), 1);
+        assert_eq!(c.pts, vec![x(0.0), x(1.0), x(3.0)]);
+        assert_eq!(c.lines, vec![(1, 1), (2, 3)]);
+        assert_eq!(c.feed, vec![Some(1000.0), Some(10.0)]);
+        let mut same = LineChain {
+            pts: vec![x(0.0), x(1.0), x(2.0)],
+            lines: vec![(1, 1), (2, 2)],
+            feed: vec![Some(10.0), Some(10.0)],
+        };
+        assert_eq!(merge_collinear(&mut same, 1e-9), 1);
+        assert_eq!(same.feed, vec![Some(10.0)]);
+    }
 }
