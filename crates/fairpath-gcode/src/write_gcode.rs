@@ -23,7 +23,7 @@ mod blend;
 mod carry;
 mod style;
 
-pub use blend::PathControl;
+pub use blend::{before_runs as path_control_before_runs, PathControl};
 pub use carry::MAX_COMMENT_CHARS;
 pub use style::NumberStyle;
 
