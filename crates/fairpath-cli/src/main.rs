@@ -121,7 +121,11 @@ enum Command {
         method: String,
         /// The controller the program is for: picks the default format and
         /// the dialect (LinuxCNC: G64 P<blend> Q0 around smoothed runs;
-        /// Fanuc: a decimal point in every number).
+        /// Fanuc: a decimal point in every number). For every controller
+        /// numbers follow the input's style (a decimal point in every
+        /// number when the input always writes one, its leading zeros),
+        /// and runs where the input's own G64 blends beyond the blending
+        /// share get G64 P<blend> Q0, with the input's G64 after them.
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
         controller: Controller,
         /// Output format (default: the controller's: arcs for generic and

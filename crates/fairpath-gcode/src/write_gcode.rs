@@ -560,7 +560,8 @@ impl<'a> RunWriter<'a> {
 
     /// A number in the run's units.
     fn num(&self, v_mm: f64) -> String {
-        self.style.apply(fmt_fixed(v_mm / self.scale, self.decimals))
+        self.style
+            .apply(fmt_fixed(v_mm / self.scale, self.decimals))
     }
 
     fn feed_text(&self, mm_per_min: f64) -> String {

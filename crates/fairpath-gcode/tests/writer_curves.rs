@@ -220,7 +220,7 @@ fn linuxcnc_blending_is_written_around_runs_and_the_programs_own_restored() {
         0.0,
     )
     .unwrap();
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc.clone()))], &o);
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
     // The program sets no path control: only for LinuxCNC (always).
     assert!(!out.contains("G64"), "{out}");
     let always = GcodeWriteOptions {

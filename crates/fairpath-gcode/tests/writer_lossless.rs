@@ -97,7 +97,10 @@ fn n_numbers_no_block_took_are_named_after_the_run() {
         out.contains("N30 G1 X3 F100\n(between)\n\n(N50 merged into the blocks above)\nN60 M2\n"),
         "{out}"
     );
-    assert!(out.contains("(N40 merged into the next block)\nN30 G1"), "{out}");
+    assert!(
+        out.contains("(N40 merged into the next block)\nN30 G1"),
+        "{out}"
+    );
 }
 
 #[test]
@@ -160,16 +163,19 @@ fn a_program_that_always_writes_the_point_gets_it_everywhere() {
         line(mid, b, (3, 3), 500.0),
         line(b, c, (4, 4), 500.0),
     ];
-    let out = write_gcode(&p, &[pieces.clone()], &opts()).unwrap();
+    let out = write_gcode(&p, std::slice::from_ref(&pieces), &opts()).unwrap();
     assert!(out.contains("\nG1 X5. Y.25 F500\nG1 X10. Y.5\n"), "{out}");
     for n in numbers(&out) {
         assert!(n.contains('.'), "{n} in\n{out}");
-        assert!(!n.trim_start_matches('-').starts_with("0."), "{n} in\n{out}");
+        assert!(
+            !n.trim_start_matches('-').starts_with("0."),
+            "{n} in\n{out}"
+        );
     }
     // The same program with whole numbers written without the point.
     let text = "G21 G90\nG0 X0 Y0\nG1 X10 Y0.5 F500\nG1 X20 Y0.25\nM30\n";
     let p = parse(text.as_bytes()).unwrap();
-    let out = write_gcode(&p, &[pieces.clone()], &opts()).unwrap();
+    let out = write_gcode(&p, std::slice::from_ref(&pieces), &opts()).unwrap();
     assert!(out.contains("\nG1 X5 Y0.25 F500\nG1 X10 Y0.5\n"), "{out}");
     // A controller that needs the point gets it whatever the input does.
     let o = GcodeWriteOptions {
@@ -380,7 +386,7 @@ proptest! {
         let merged: String = out.lines().filter(|l| l.contains("merged into")).collect();
         for n in &ns {
             let v: i64 = n[1..].parse().unwrap();
-            let named = merged.split(|c: char| c == ' ' || c == '(').any(|item| {
+            let named = merged.split([' ', '(']).any(|item| {
                 match item.split_once('-') {
                     Some((a, b)) => {
                         let (a, b): (i64, i64) = (a[1..].parse().unwrap(), b[1..].parse().unwrap());

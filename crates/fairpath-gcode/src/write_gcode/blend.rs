@@ -74,7 +74,8 @@ mod tests {
 
     #[test]
     fn the_command_in_force_at_each_run_in_mm() {
-        let text = "G20 G64 P0.001 Q0\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nG21\nG61\nG1 X3\nG64\nG1 X4\nM30\n";
+        let text =
+            "G20 G64 P0.001 Q0\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nG21\nG61\nG1 X3\nG64\nG1 X4\nM30\n";
         let p = parse(text.as_bytes()).unwrap();
         let b = before_runs(&p);
         assert_eq!(b.len(), 3);

@@ -123,7 +123,13 @@ mod tests {
         assert_eq!(s, NumberStyle::default());
         assert_eq!(s.apply("5".into()), "5");
         // Nothing to go by (no whole number with a point): the default.
-        assert_eq!(style("G21\nG0 X0\nG1 X1 F100\nM30\n"), NumberStyle::default());
-        assert_eq!(style("G21\nG0 X0\nG1 X0.5 Y1.25 F100\nM30\n"), NumberStyle::default());
+        assert_eq!(
+            style("G21\nG0 X0\nG1 X1 F100\nM30\n"),
+            NumberStyle::default()
+        );
+        assert_eq!(
+            style("G21\nG0 X0\nG1 X0.5 Y1.25 F100\nM30\n"),
+            NumberStyle::default()
+        );
     }
 }
