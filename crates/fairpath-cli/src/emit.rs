@@ -70,6 +70,33 @@ impl EmitOptions {
             (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
         }
     }
+
+    /// The budget to write `program` with: `self.budget`, except where it
+    /// has no blending share and the program's own path control at one of
+    /// its runs blends beyond the share LinuxCNC would get
+    /// ([`fairpath_gcode::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
+    /// a bare `G64`). A controller reading that program's `G64` blends the
+    /// written blocks, so that share ([`EmitOptions::blend_share`] for
+    /// LinuxCNC) is taken out of the output share and the writer writes
+    /// `G64 P<share> Q0` around those runs: the smoothing share stays as the
+    /// smoother used it, and smoothing + output + blending is still the
+    /// tolerance.
+    pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget> {
+        let b = self.budget;
+        let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
+        if b.blend > 0.0 || blend <= 0.0 {
+            return Ok(b);
+        }
+        let blends = fairpath_gcode::write_gcode::path_control_before_runs(program)
+            .iter()
+            .flatten()
+            .any(|p| p.exceeds(blend));
+        if !blends {
+            return Ok(b);
+        }
+        ToleranceBudget::new(b.total, Some(b.output - blend), blend)
+            .map_err(|e| anyhow!("the blending share for the program's own G64: {e}"))
+    }
 }
 
 /// A run is rewritten only if its rendering plans at least this much
@@ -81,6 +108,9 @@ pub const KEEP_MARGIN: f64 = 1e-3;
 #[derive(Clone, Debug)]
 pub struct Emitted {
     pub text: String,
+    /// The budget the text was written with ([`EmitOptions::budget_for`]:
+    /// a blending share where the program's own G64 needs one).
+    pub budget: ToleranceBudget,
     /// What was written for each run: the rendered pieces, or `None` where
     /// the run was kept as the program wrote it.
     pub runs: Vec<Option<Vec<Piece>>>,
@@ -128,6 +158,10 @@ pub fn emit(
     plans: &[RunPlan],
     opts: &EmitOptions,
 ) -> Result<Emitted> {
+    let opts = &EmitOptions {
+        budget: opts.budget_for(program)?,
+        ..*opts
+    };
     let original = program.runs();
     let tolerance = opts.budget.written();
     let forms: &[CurveForm] = match opts.format {
@@ -138,6 +172,7 @@ pub fn emit(
                 .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
             let check = compare_runs(&original, &group_by_source(&original, &pieces), tolerance)?;
             return Ok(Emitted {
+                budget: opts.budget,
                 text,
                 runs: smoothed.iter().cloned().map(Some).collect(),
                 stats: RenderStats::default(),
@@ -306,6 +341,7 @@ pub fn emit(
                 stats.add(&c.stats);
             }
             return Ok(Emitted {
+                budget: opts.budget,
                 text,
                 runs: choices
                     .iter()
@@ -390,8 +426,13 @@ pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
             (Format::G6_2, _) => Some(NurbsBlocks::G6_2Fanuc),
             _ => None,
         },
+        // The input's own style adds to this (NumberStyle::of).
         decimal_point: opts.controller == Controller::Fanuc,
-        g64_blend_mm: (opts.controller == Controller::Linuxcnc && blend > 0.0).then_some(blend),
+        // Written around every run for LinuxCNC, and for any controller
+        // around runs where the program's own G64 blends beyond the share
+        // (EmitOptions::budget_for gives one then).
+        g64_blend_mm: (blend > 0.0).then_some(blend),
+        g64_always: opts.controller == Controller::Linuxcnc,
         // For every controller: a Fanuc control reads these decimals only
         // with a fine increment system (IS-D/IS-E); with IS-C (4 decimals
         // in mm) the rounded control points of G6.2 blocks break curvature

@@ -53,7 +53,8 @@ impl Format {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Controller {
     /// Any RS274 control: G1, G2/G3 (IJK or R as the input), no blending
-    /// mode written.
+    /// mode written unless the program's own G64 blends beyond the
+    /// blending share (see `emit::EmitOptions::budget_for`).
     Generic,
     /// LinuxCNC: `G64 P<blend> Q0` around every smoothed run (P alone
     /// would let it merge blocks; its blending is taken from the

@@ -2,8 +2,8 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use fairpath_cli::{check, pipeline, Controller, Format};
-use std::path::PathBuf;
+use fairpath_cli::{check, output, pipeline, Controller, Format};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -104,9 +104,15 @@ enum Command {
     Smooth {
         /// Input G-code program.
         input: PathBuf,
-        /// Output file (written only when the result verifies).
-        #[arg(short, long)]
-        output: PathBuf,
+        /// Output file (written only when the result verifies; it keeps the
+        /// permissions of the file it replaces). The input itself, under
+        /// any name, only with --in-place.
+        #[arg(short, long, required_unless_present = "in_place")]
+        output: Option<PathBuf>,
+        /// Replace the input program (atomically, keeping its permissions)
+        /// with the result; -o may then be left out.
+        #[arg(long)]
+        in_place: bool,
         /// Largest distance (mm) of the output feed path from the original.
         #[arg(short, long)]
         tolerance: f64,
@@ -115,7 +121,11 @@ enum Command {
         method: String,
         /// The controller the program is for: picks the default format and
         /// the dialect (LinuxCNC: G64 P<blend> Q0 around smoothed runs;
-        /// Fanuc: a decimal point in every number).
+        /// Fanuc: a decimal point in every number). For every controller
+        /// numbers follow the input's style (a decimal point in every
+        /// number when the input always writes one, its leading zeros),
+        /// and runs where the input's own G64 blends beyond the blending
+        /// share get G64 P<blend> Q0, with the input's G64 after them.
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
         controller: Controller,
         /// Output format (default: the controller's: arcs for generic and
@@ -202,6 +212,25 @@ enum Command {
     },
 }
 
+/// The file `smooth` writes: `-o` (never the input, however named, unless
+/// `--in-place`), or the input with `--in-place` (then `-o`, if given, must
+/// name it).
+fn smooth_output(input: &Path, output: Option<PathBuf>, in_place: bool) -> Result<PathBuf> {
+    match (output, in_place) {
+        (Some(o), false) => {
+            output::refuse_overwrite(input, &o, "-o", Some("--in-place"))?;
+            Ok(o)
+        }
+        (Some(o), true) if !output::same_file(input, &o) => anyhow::bail!(
+            "--in-place replaces the input {}, but -o names another file {}: give one of them",
+            input.display(),
+            o.display()
+        ),
+        (_, true) => Ok(input.to_path_buf()),
+        (None, false) => anyhow::bail!("give -o OUTPUT, or --in-place to replace the input"),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
@@ -218,6 +247,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Smooth {
             input,
             output,
+            in_place,
             tolerance,
             method,
             controller,
@@ -229,6 +259,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             lambda,
             json_summary,
         } => {
+            let output = smooth_output(&input, output, in_place)?;
             let mut opts =
                 pipeline::SmoothOptions::new(tolerance, chord, &method, format, controller)?;
             if step_share.is_nan() || step_share <= 0.0 {
@@ -265,6 +296,19 @@ fn run(cli: Cli) -> Result<ExitCode> {
             segments,
             format,
         } => {
+            for (what, out) in [("--profile", &profile), ("--segments", &segments)] {
+                if let Some(out) = out {
+                    output::refuse_overwrite(&program, out, what, None)?;
+                }
+            }
+            if let (Some(p), Some(s)) = (&profile, &segments) {
+                if p == s || output::same_file(p, s) {
+                    anyhow::bail!(
+                        "--profile and --segments name the same file {}",
+                        p.display()
+                    );
+                }
+            }
             let m = machine.limits()?;
             fairpath_cli::simulate::run(
                 &program,

@@ -1,25 +1,211 @@
-//! Writing files so that a failure never leaves a partial output behind.
+//! Writing files so that a failure never leaves a partial output behind,
+//! with the permissions a controller or file share expects, and never over
+//! the program being read unless asked to.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Permissions asked for a new file: read and write for all, less the
+/// process's umask (what `open(2)` with `O_CREAT` and `creat` give, and what
+/// every editor and `cp` leave).
+#[cfg(unix)]
+pub const NEW_FILE_MODE: u32 = 0o666;
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it over
 /// `path`: readers see the old file or the whole new one, never a part.
+///
+/// The file written gets the permission bits of the file it replaces, or
+/// [`NEW_FILE_MODE`] less the umask for a new one (the temporary file is
+/// created with them, so the kernel applies the umask), not the 0600 of a
+/// temporary file: a controller or file share running as another user
+/// must be able to read it. Where `path` is a symbolic link the file it
+/// points to is replaced and the link kept. Owner, group and extended
+/// attributes are those of a new file; a hard-linked file's other names
+/// keep the old contents (the rename makes a new file).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
+    let target = resolve_link(path)?;
+    let dir = match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".fairpath-")
+    let existing = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".fairpath-");
+    #[cfg(unix)]
+    if existing.is_none() {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(NEW_FILE_MODE));
+    }
+    let mut tmp = builder
         .tempfile_in(dir)
         .with_context(|| format!("cannot create a temporary file in {}", dir.display()))?;
     tmp.write_all(bytes)
         .and_then(|_| tmp.flush())
         .with_context(|| format!("cannot write {}", path.display()))?;
-    tmp.persist(path)
+    if let Some(perms) = existing {
+        tmp.as_file()
+            .set_permissions(perms)
+            .with_context(|| format!("cannot set the permissions of {}", path.display()))?;
+    }
+    tmp.persist(&target)
         .map_err(|e| e.error)
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
+}
+
+/// `path`, or the file it names through symbolic links when it is one
+/// (a dangling link names the file it would create).
+fn resolve_link(path: &Path) -> Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    // A bounded walk: a loop of links is an error, as open(2) says ELOOP.
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(&p)
+                    .with_context(|| format!("cannot read the link {}", p.display()))?;
+                p = match p.parent() {
+                    Some(d) if to.is_relative() => d.join(to),
+                    _ => to,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    bail!("{}: too many levels of symbolic links", path.display())
+}
+
+/// Symbolic links followed before giving up (Linux's `MAXSYMLINKS`, 40).
+const MAX_LINKS: usize = 40;
+
+/// Whether `a` and `b` name the same existing file: the same device and
+/// inode on unix (also through hard links, symbolic links and different
+/// spellings of the path), the same canonical path elsewhere. A file that
+/// does not exist is the same as no other.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => false,
+        }
+    }
+}
+
+/// Refuses to write `output` over `input` (the same file, however named):
+/// `what` says which option names it. The error says how to replace the
+/// input when `in_place_flag` is given (`--in-place`).
+pub fn refuse_overwrite(
+    input: &Path,
+    output: &Path,
+    what: &str,
+    in_place_flag: Option<&str>,
+) -> Result<()> {
+    if same_file(input, output) {
+        match in_place_flag {
+            Some(flag) => bail!(
+                "{what} {} is the input program {}: pass {flag} to replace it",
+                output.display(),
+                input.display()
+            ),
+            None => bail!(
+                "{what} {} is the input program {}: refusing to overwrite it",
+                output.display(),
+                input.display()
+            ),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    fn mode(p: &Path) -> u32 {
+        std::fs::metadata(p).unwrap().permissions().mode() & 0o7777
+    }
+
+    /// The umask, read without changing it: the mode `create` gives a
+    /// probe file asking for 0666.
+    fn umask_of(dir: &Path) -> u32 {
+        let probe = dir.join("probe");
+        std::fs::File::create(&probe).unwrap();
+        let m = mode(&probe);
+        std::fs::remove_file(&probe).unwrap();
+        0o666 & !m
+    }
+
+    #[test]
+    fn a_new_file_gets_0666_less_the_umask() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("new.ngc");
+        write_atomically(&out, b"G0 X0\n").unwrap();
+        assert_eq!(mode(&out), 0o666 & !umask_of(dir.path()));
+        assert_eq!(std::fs::read(&out).unwrap(), b"G0 X0\n");
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_permissions() {
+        let dir = tempfile::tempdir().unwrap();
+        for m in [0o644, 0o640, 0o604, 0o755] {
+            let out = dir.path().join("old.ngc");
+            std::fs::write(&out, b"old").unwrap();
+            std::fs::set_permissions(&out, std::fs::Permissions::from_mode(m)).unwrap();
+            write_atomically(&out, b"new").unwrap();
+            assert_eq!(mode(&out), m);
+            assert_eq!(std::fs::read(&out).unwrap(), b"new");
+        }
+    }
+
+    #[test]
+    fn a_symbolic_link_is_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.ngc");
+        std::fs::write(&real, b"old").unwrap();
+        std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o644)).unwrap();
+        let link = dir.path().join("link.ngc");
+        std::os::unix::fs::symlink("real.ngc", &link).unwrap();
+        write_atomically(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        assert_eq!(mode(&real), 0o644);
+    }
+
+    #[test]
+    fn the_same_file_is_found_through_other_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.ngc");
+        std::fs::write(&a, b"x").unwrap();
+        let sub = dir.path().join("sub");
+        std::fs::create_dir(&sub).unwrap();
+        let dotted = sub.join("..").join("a.ngc");
+        let hard = dir.path().join("hard.ngc");
+        std::fs::hard_link(&a, &hard).unwrap();
+        let soft = dir.path().join("soft.ngc");
+        std::os::unix::fs::symlink(&a, &soft).unwrap();
+        for other in [&a, &dotted, &hard, &soft] {
+            assert!(same_file(&a, other), "{}", other.display());
+        }
+        let b = dir.path().join("b.ngc");
+        assert!(!same_file(&a, &b));
+        std::fs::write(&b, b"x").unwrap();
+        assert!(!same_file(&a, &b));
+        assert!(refuse_overwrite(&a, &b, "-o", Some("--in-place")).is_ok());
+        let e = refuse_overwrite(&a, &hard, "-o", Some("--in-place")).unwrap_err();
+        assert!(e.to_string().contains("--in-place"), "{e}");
+    }
 }

@@ -3,7 +3,13 @@
 //!
 //! Lines are written as G1; arcs as G2/G3 in their principal plane (IJK or
 //! R form) or as G1 chords; NURBS as G1 chords (the spline blocks are
-//! written by [`crate::write_spline`]).
+//! written by [`crate::write_spline`]). Nothing of the replaced lines but
+//! their moves is dropped: their N numbers, comments and the lines without
+//! moves between them are written beside the blocks that replace them
+//! ([`write_gcode`] says where), numbers follow the input's style
+//! ([`NumberStyle`]), and a blending mode of the input that could spend more
+//! than the blending share is tightened around the runs
+//! ([`GcodeWriteOptions::g64_blend_mm`]).
 
 // Axis loops index several parallel arrays by axis number.
 #![allow(clippy::needless_range_loop)]
@@ -12,6 +18,14 @@ use crate::error::WriteError;
 use crate::program::{Feed, MotionMode, Program, RunSpan, Units};
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
+
+mod blend;
+mod carry;
+mod style;
+
+pub use blend::{before_runs as path_control_before_runs, PathControl};
+pub use carry::MAX_COMMENT_CHARS;
+pub use style::NumberStyle;
 
 /// How NURBS pieces are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,17 +70,31 @@ pub struct GcodeWriteOptions {
     pub arcs: Option<ArcWords>,
     /// Write NURBS pieces as these blocks; `None`: as G1 chords.
     pub nurbs: Option<NurbsBlocks>,
-    /// Always write a decimal point in numbers (`X5.`): Fanuc-family
-    /// controls without decimal-point input read `X5` as 5 um.
+    /// Always write a decimal point in numbers (`X5.`), whatever the input
+    /// does: the controller requires it (Fanuc-family controls without
+    /// decimal-point input read `X5` as 5 um). Without it the input's own
+    /// style decides ([`NumberStyle::of`]: a program that always writes the
+    /// point gets it in every number written for it, and leading zeros
+    /// follow its habit).
     pub decimal_point: bool,
-    /// LinuxCNC's blending tolerance (mm): `G64 P<blend> Q0` (in the run's
-    /// units) is written before each run that does not already run under
-    /// it, and after the run the program's own path-control command in
-    /// force is written back (if the program set one: otherwise this one
-    /// stays in force). `Q0` turns off LinuxCNC's merging of short blocks
-    /// (`G64 P` alone sets Q = P, and arcs and lines within Q of a line are
-    /// replaced by it).
+    /// The share of the tolerance (mm) the controller's blending may spend
+    /// (LinuxCNC's `G64 P`). `G64 P<blend> Q0` (in the run's units, P
+    /// rounded down) is written before each run that does not already run
+    /// under it when [`GcodeWriteOptions::g64_always`] is set, or when the
+    /// input's path control in force at the run blends beyond it
+    /// ([`PathControl::exceeds`]: a `G64` with a larger P, `G64 P0` or a
+    /// bare `G64`; the input used LinuxCNC's syntax, so the output may
+    /// too). After the run the input's own path-control command in force
+    /// there is written back as the input wrote it (if the input set one:
+    /// otherwise ours stays in force). `Q0` turns off LinuxCNC's merging
+    /// of short blocks (`G64 P` alone sets Q = P, and arcs and lines within
+    /// Q of a line are replaced by it). `None`: path control is left as the
+    /// input has it.
     pub g64_blend_mm: Option<f64>,
+    /// Write `G64 P<g64_blend_mm> Q0` before every run, even where the
+    /// input set no path control or a tighter one (the controller is
+    /// LinuxCNC, whose default blends without a tolerance).
+    pub g64_always: bool,
     /// Largest distance (mm) rounding may move a written point, whatever
     /// the chord tolerance: the direction and curvature of a short piece
     /// come from its written coordinates, and a rounding error `rho` on a
@@ -90,6 +118,7 @@ impl Default for GcodeWriteOptions {
             nurbs: None,
             decimal_point: false,
             g64_blend_mm: None,
+            g64_always: false,
             resolution_mm: None,
         }
     }
@@ -229,16 +258,36 @@ fn axis(p: Vec3, a: usize) -> f64 {
 /// Writes the program with `smoothed[k]` replacing the moves of run `k`
 /// (same order as [`Program::runs`]).
 ///
-/// * Lines outside runs are copied unchanged, in place. Lines inside a run's
-///   span that hold no move (comments, blank lines, F-only lines, modal words
-///   restating the state, a plane change) are emitted before the first
-///   output piece whose `source_lines.1` is greater than their line number.
+/// * Lines outside runs are copied unchanged, in place. The lines of a
+///   replaced run's span are handled in order, each before the blocks of
+///   the first output piece that reaches it: a line without moves
+///   (comments, blank lines, F-only lines, modal words restating the state,
+///   a plane change) when the piece's `source_lines.1` is greater than its
+///   number, a replaced line (one with moves, or a line of a multi-line
+///   spline block) when it is at least its number. A line without moves is
+///   copied verbatim. A replaced line's comments (`( ... )` and `; ...`, as
+///   written) become a line of their own. Its N word goes on the first
+///   block written for that piece (`N20 G1 X...`), unless another replaced
+///   line reached by the same block already gave it one: such N words are
+///   named in a comment just before the block, `(N30-N50 merged into the
+///   next block)` for the stretch of lines numbered N30 to N50 (increasing
+///   stretches as `first-last`, others one by one, lines of at most
+///   [`MAX_COMMENT_CHARS`]). So the N number of the first line of a run
+///   starts its first block, comments keep their order, and no N number or
+///   comment of the input is lost. N words that no block took (the pieces
+///   after them wrote nothing) are named in a comment after the run's
+///   blocks, `(N90 merged into the blocks above)`.
 /// * A line is one `G1`; an arc is one `G2`/`G3` in its principal plane
 ///   when [`GcodeWriteOptions::arcs`] is set (with the plane word where the
 ///   written plane differs, `P` for several turns), otherwise G1 chords
 ///   within `chord_mm` as they read back; NURBS are G1 chords. An arc whose
 ///   rounded ends coincide in its plane (which G-code reads as a full
 ///   circle) is written as a G1. Every output line carries its motion word.
+/// * Numbers follow the input's style ([`NumberStyle::of`]: a decimal
+///   point in every number when the input always writes one or
+///   [`GcodeWriteOptions::decimal_point`] asks for it, leading zeros as the
+///   input writes them; counts such as arc turns `P2` stay integers, and
+///   spline blocks keep their leading zeros).
 /// * Coordinates are in the run's units, with more decimals when the chord
 ///   tolerance needs them ([`write_decimals`]); in G91 (incremental) runs
 ///   they are written as increments (the program stays
@@ -252,7 +301,7 @@ fn axis(p: Vec3, a: usize) -> f64 {
 ///   if the modal feed after the run would differ from the original's, an
 ///   `F` line restores it. A plane the written arcs changed is restored
 ///   after the run, and so is the program's path-control command when
-///   [`GcodeWriteOptions::g64_blend_mm`] replaced it.
+///   [`GcodeWriteOptions::g64_blend_mm`] replaced it (see there when).
 /// * A line after a run that relies on the modal motion mode (axis words
 ///   without G0/G1/G2/G3) gets the motion word it relied on inserted when the
 ///   written lines changed that mode.
@@ -316,6 +365,9 @@ pub fn write_gcode_with(
         out.push_str(eol);
         header_pending = false;
     }
+    let mut style = NumberStyle::of(program);
+    style.decimal_point |= opts.decimal_point;
+    let path_before = blend::before_runs(program);
     // Modal state as the written program leaves it.
     let mut written_motion = MotionMode::None;
     let mut written_path: Option<String> = None;
@@ -335,6 +387,8 @@ pub fn write_gcode_with(
         if let Some(pieces) = smoothed_run {
             let run = &runs[run_idx];
             let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
+            w.style = style;
+            w.path_before = path_before[run_idx].clone();
             w.path = written_path.take();
             w.write(pieces)?;
             if let Some(m) = w.motion {
@@ -377,7 +431,7 @@ pub fn write_gcode_with(
                 .get(i + 1)
                 .map_or(written_motion, |n| n.motion_before);
         }
-        if line.interpreted && sets_path_control(line) {
+        if blend::sets_path_control(line) {
             written_path = line.path_control_after.clone();
         }
         out.push_str(&line.text);
@@ -432,13 +486,6 @@ fn restore_motion_before_block_delete(
     }
 }
 
-/// Whether the line holds a path-control command (G61, G61.1, G64).
-fn sets_path_control(line: &crate::program::ProgramLine) -> bool {
-    line.words
-        .iter()
-        .any(|w| w.letter == 'G' && matches!((w.value * 10.0).round() as i64, 610 | 611 | 640))
-}
-
 /// The state of writing one run.
 struct RunWriter<'a> {
     program: &'a Program,
@@ -463,6 +510,14 @@ struct RunWriter<'a> {
     motion: Option<MotionMode>,
     /// Path-control command in force in the written program.
     path: Option<String>,
+    /// The input's path control in force before the run.
+    path_before: Option<PathControl>,
+    /// How numbers are written.
+    style: NumberStyle,
+    /// The N word the next block written starts with.
+    pending_n: Option<String>,
+    /// N words of replaced lines the next block merges (text, value).
+    merged_n: Vec<(String, f64)>,
     first_move: bool,
     /// Arc centres relative to the start (G91.1) in this run.
     arc_incremental: bool,
@@ -514,6 +569,10 @@ impl<'a> RunWriter<'a> {
             plane: before.map_or(Plane::Xy, |l| l.plane_after),
             motion: None,
             path: None,
+            path_before: None,
+            style: NumberStyle::default(),
+            pending_n: None,
+            merged_n: Vec::new(),
             first_move: true,
             arc_incremental: before.is_none_or(|l| l.arc_incremental_after),
         })
@@ -522,27 +581,41 @@ impl<'a> RunWriter<'a> {
     /// The blending command of [`GcodeWriteOptions::g64_blend_mm`] in the
     /// run's units: P with enough decimals to be within 1% of the asked
     /// blend (rounded down).
+    /// `None` when the blend is not positive (LinuxCNC reads `P0` as no
+    /// tolerance at all).
     fn g64(&self) -> Option<String> {
         let b = self.opts.g64_blend_mm? / self.scale;
+        if !(b.is_finite() && b > 0.0) {
+            return None;
+        }
         let mut d = 4;
         while d < MAX_DECIMALS && 10f64.powi(-(d as i32)) > 0.01 * b {
             d += 1;
         }
         let p = (b * 10f64.powi(d as i32)).floor() / 10f64.powi(d as i32);
-        Some(format!("G64 P{} Q0", self.dialect(fmt_fixed(p, d))))
+        (p > 0.0).then(|| {
+            format!(
+                "G64 P{} Q{}",
+                self.style.apply(fmt_fixed(p, d)),
+                self.style.apply("0".into())
+            )
+        })
+    }
+
+    /// Whether our blending command goes before this run: always when
+    /// asked, or when the input's path control in force blends beyond the
+    /// share ([`PathControl::exceeds`]).
+    fn tightens_blending(&self) -> bool {
+        let Some(blend) = self.opts.g64_blend_mm else {
+            return false;
+        };
+        self.opts.g64_always || self.path_before.as_ref().is_some_and(|p| p.exceeds(blend))
     }
 
     /// A number in the run's units.
     fn num(&self, v_mm: f64) -> String {
-        self.dialect(fmt_fixed(v_mm / self.scale, self.decimals))
-    }
-
-    /// `t` with a decimal point when the dialect needs one.
-    fn dialect(&self, mut t: String) -> String {
-        if self.opts.decimal_point && !t.contains('.') {
-            t.push('.');
-        }
-        t
+        self.style
+            .apply(fmt_fixed(v_mm / self.scale, self.decimals))
     }
 
     fn feed_text(&self, mm_per_min: f64) -> String {
@@ -550,7 +623,7 @@ impl<'a> RunWriter<'a> {
             .iter()
             .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
             .map_or_else(
-                || self.dialect(fmt_fixed(mm_per_min / self.scale, 4)),
+                || self.style.apply(fmt_fixed(mm_per_min / self.scale, 4)),
                 |f| f.text.clone(),
             )
     }
@@ -563,26 +636,21 @@ impl<'a> RunWriter<'a> {
     /// Writes the run's pieces with the span's lines without moves in
     /// place.
     fn write(&mut self, pieces: &[Piece]) -> Result<(), WriteError> {
-        let lines = self.program.lines();
         let run = self.run;
-        if let Some(pc) = self.g64() {
-            if self.path.as_ref() != Some(&pc) {
-                self.push_line(&pc);
-                self.path = Some(pc);
+        if self.tightens_blending() {
+            if let Some(pc) = self.g64() {
+                if self.path.as_ref() != Some(&pc) {
+                    self.push_line(&pc);
+                    self.path = Some(pc);
+                }
             }
         }
-        // Lines of a multi-line spline block carry part of its move: they
-        // are replaced with it.
-        let interior: Vec<usize> = (run.first_line..=run.last_line)
-            .filter(|&n| lines[n - 1].moves.is_empty() && !lines[n - 1].in_block)
-            .collect();
-        let mut next_interior = 0;
+        // The next line of the span to handle.
+        let mut next_line = run.first_line;
         let n_pieces = pieces.len();
         for (pi, piece) in pieces.iter().enumerate() {
-            while next_interior < interior.len() && piece.source_lines.1 > interior[next_interior] {
-                self.copy_interior(interior[next_interior]);
-                next_interior += 1;
-            }
+            self.reach(&mut next_line, piece.source_lines.1);
+            self.write_merged_n("the next block");
             let last = pi + 1 == n_pieces;
             match &piece.curve {
                 Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
@@ -599,11 +667,71 @@ impl<'a> RunWriter<'a> {
                 }
             }
         }
-        for k in next_interior..interior.len() {
-            self.copy_interior(interior[k]);
+        self.reach(&mut next_line, run.last_line + 1);
+        if let Some(n) = self.pending_n.take() {
+            let value = n[1..].parse().unwrap_or(f64::NAN);
+            self.merged_n.insert(0, (n, value));
         }
+        self.write_merged_n("the blocks above");
         self.restore_state();
         Ok(())
+    }
+
+    /// Handles the span's lines from `next` on that a piece ending on line
+    /// `end` reaches (see [`write_gcode`]): lines without moves before
+    /// `end` are copied, replaced lines up to `end` give their comments (a
+    /// line) and N words (the next block's, or merged into it).
+    fn reach(&mut self, next: &mut usize, end: usize) {
+        let lines = self.program.lines();
+        while *next <= self.run.last_line {
+            let l = &lines[*next - 1];
+            // Lines of a multi-line spline block carry part of its move:
+            // they are replaced with it.
+            let replaced = !l.moves.is_empty() || l.in_block;
+            if !(*next < end || (replaced && *next == end)) {
+                break;
+            }
+            if replaced {
+                let comments = carry::comments_of(&l.text);
+                if !comments.is_empty() {
+                    let text = comments.join(" ");
+                    self.push_line(&text);
+                }
+                if let Some(n) = carry::n_word(&l.words) {
+                    if self.pending_n.is_none() && self.merged_n.is_empty() {
+                        self.pending_n = Some(n);
+                    } else {
+                        let value = l
+                            .words
+                            .iter()
+                            .find(|w| w.letter == 'N')
+                            .map_or(f64::NAN, |w| w.value);
+                        self.merged_n.push((n, value));
+                    }
+                }
+            } else {
+                self.copy_interior(*next);
+            }
+            *next += 1;
+        }
+    }
+
+    /// The comment lines naming the merged N words, if any.
+    fn write_merged_n(&mut self, what: &str) {
+        if self.merged_n.is_empty() {
+            return;
+        }
+        let ns = std::mem::take(&mut self.merged_n);
+        for c in carry::merged_n_comments(&ns, what) {
+            self.push_line(&c);
+        }
+    }
+
+    /// The pending N word and a space, for the start of the next block.
+    fn take_n(&mut self) -> String {
+        self.pending_n
+            .take()
+            .map_or_else(String::new, |n| format!("{n} "))
     }
 
     fn copy_interior(&mut self, n: usize) {
@@ -628,7 +756,7 @@ impl<'a> RunWriter<'a> {
                 let text = if f.units == self.run.units {
                     f.text.clone()
                 } else {
-                    self.dialect(fmt_fixed(f.mm_per_min / self.scale, 4))
+                    self.style.apply(fmt_fixed(f.mm_per_min / self.scale, 4))
                 };
                 self.push_line(&format!("F{text}"));
             }
@@ -699,7 +827,7 @@ impl<'a> RunWriter<'a> {
             }
             words.push(' ');
             words.push(letters[a]);
-            words.push_str(&self.dialect(text));
+            words.push_str(&self.style.apply(text));
         }
         (words, next)
     }
@@ -727,7 +855,7 @@ impl<'a> RunWriter<'a> {
         let f = self.feed_word(feed);
         self.first_move = false;
         self.motion = Some(MotionMode::Linear);
-        let line = format!("G1{words}{f}");
+        let line = format!("{}G1{words}{f}", self.take_n());
         self.push_line(&line);
         Ok(())
     }
@@ -753,7 +881,7 @@ impl<'a> RunWriter<'a> {
         let so = SplineWriteOptions {
             mm_per_unit: self.scale,
             decimals: self.decimals,
-            decimal_point: self.opts.decimal_point,
+            decimal_point: self.style.decimal_point,
             line_ending: self.eol,
             incremental: self.run.incremental,
             feed: feed_text,
@@ -778,6 +906,8 @@ impl<'a> RunWriter<'a> {
                 g5_2_blocks(n, plane, &so)?
             }
         };
+        let n_word = self.take_n();
+        self.out.push_str(&n_word);
         self.out.push_str(&text);
         // Where the written text leaves the tool: the rounded last point.
         let end = n.points[n.points.len() - 1];
@@ -838,7 +968,7 @@ impl<'a> RunWriter<'a> {
         // A plane change on a line of its own: on the move's line it would
         // make the move a state change, which readers keep out of runs.
         self.select_plane(plane);
-        let mut line = String::new();
+        let mut line = self.take_n();
         line.push_str(if ccw { "G3" } else { "G2" });
         line.push_str(&words);
         let r = 0.5 * (a.r0 + a.r1);

@@ -221,6 +221,13 @@ fn linuxcnc_blending_is_written_around_runs_and_the_programs_own_restored() {
     )
     .unwrap();
     let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    // The program sets no path control: only for LinuxCNC (always).
+    assert!(!out.contains("G64"), "{out}");
+    let always = GcodeWriteOptions {
+        g64_always: true,
+        ..o
+    };
+    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &always);
     assert!(out.contains("\nG64 P0.0000984 Q0\n"), "{out}");
     assert_eq!(out.matches("G64").count(), 1, "{out}");
 }

@@ -150,6 +150,7 @@ pub fn exercise_gcode(bytes: &[u8]) -> Outcome {
         let _ = parse_with(
             bytes,
             &ParseOptions {
+                block_delete: false,
                 splines: SplineReading::Exact,
             },
         );
