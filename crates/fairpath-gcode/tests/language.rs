@@ -684,10 +684,10 @@ fn absurd_numbers() {
 
 #[test]
 fn letters_and_comments() {
-    // E is lexed, and refused by the interpreter as before.
-    let e = err("G1 X1 E0.5 F100");
-    assert_eq!((e.column, &e.kind), (7, &ErrorKind::UnsupportedWord('E')));
-    assert!(e.is_unsupported());
+    // E is lexed, and its line passed through (pinned) by the interpreter.
+    let p = prog("G1 X1 E0.5 F100");
+    assert_eq!(p.moves()[0].pinned, Some(fairpath_gcode::PinReason::ForeignWords));
+    assert!(p.runs().is_empty());
     // Comments are kept verbatim, debug/print/msg included.
     let p = prog("#1=3\nG0 X#1 (debug, x is #1)\n(msg, #<none>)\n");
     assert_eq!(p.lines()[1].text, "G0 X#1 (debug, x is #1)");
