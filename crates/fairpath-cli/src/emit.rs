@@ -482,3 +482,67 @@ fn render_options(
 pub fn pieces_of(runs: &[Run]) -> usize {
     runs.iter().map(|r| r.pieces.len()).sum()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options(controller: Controller, format: Format) -> EmitOptions {
+        let total = 0.05;
+        let output = fairpath::budget::OUTPUT_SHARE * total;
+        let blend = EmitOptions::blend_share(controller, format, output);
+        EmitOptions {
+            format,
+            controller,
+            budget: ToleranceBudget::new(total, Some(output - blend), blend).unwrap(),
+            machine: MachineLimits::thesis(),
+            step_share: fairpath::render::arcs::STEP_SHARE,
+            override_feed: false,
+        }
+    }
+
+    fn program(head: &str) -> Program {
+        let text = format!("G20 G90 {head}\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nM30\n");
+        fairpath_gcode::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn a_program_whose_g64_blends_beyond_the_share_gets_one_for_every_controller() {
+        // tolerance_parabolic_check.ngc's G64 P0.02 Q0.0 (inch).
+        let p = program("G64 P0.02 Q0.0");
+        for controller in [Controller::Generic, Controller::Fanuc] {
+            for format in [Format::Arcs, Format::G1, Format::G6_2] {
+                let o = options(controller, format);
+                let b = o.budget_for(&p).unwrap();
+                let want = EmitOptions::blend_share(Controller::Linuxcnc, format, o.budget.output);
+                assert_eq!(b.blend, want);
+                assert!(b.blend > 0.0);
+                assert_eq!(b.smoothing(), o.budget.smoothing());
+                assert!((b.output + b.blend - o.budget.output).abs() < 1e-15);
+                assert_eq!(
+                    write_options(&EmitOptions { budget: b, ..o }).g64_blend_mm,
+                    Some(b.blend)
+                );
+            }
+        }
+        // JSON has no blending; LinuxCNC has its share already.
+        for (c, f) in [
+            (Controller::Generic, Format::Json),
+            (Controller::Linuxcnc, Format::Arcs),
+        ] {
+            let o = options(c, f);
+            assert_eq!(o.budget_for(&p).unwrap(), o.budget);
+        }
+    }
+
+    #[test]
+    fn a_program_without_a_looser_g64_keeps_the_budget() {
+        let o = options(Controller::Generic, Format::Arcs);
+        for head in ["", "G61", "G64 P0.00001"] {
+            assert_eq!(o.budget_for(&program(head)).unwrap(), o.budget, "{head}");
+        }
+        for head in ["G64", "G64 P0"] {
+            assert!(o.budget_for(&program(head)).unwrap().blend > 0.0, "{head}");
+        }
+    }
+}

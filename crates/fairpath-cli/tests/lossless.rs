@@ -30,7 +30,11 @@ const SAMPLE_LINES: usize = 400;
 ///   the smoothed pieces carry one feed across them, and most of the
 ///   program's F values are lost (the reader's run grouping, fixed with
 ///   `feed-tracking-test.ngc`, whose run `smooth` keeps as written here).
-const KNOWN_FAILURES: &[&str] = &["linuxcnc/diagnostic/rgh.ngc"];
+///
+/// Each entry names the kind of loss (a word of the loss's description):
+/// losses of any other kind still fail (rgh.ngc's 833 numbered motion
+/// lines are the reference programs' only N numbers inside runs).
+const KNOWN_FAILURES: &[(&str, &str)] = &[("linuxcnc/diagnostic/rgh.ngc", "feed")];
 
 /// Letters of words that make a line a motion line here: axes, arc centres
 /// and radius (lines of spline blocks are told by `in_block` and by their
@@ -279,25 +283,40 @@ fn every_reference_program_keeps_its_lines_n_numbers_and_feeds() {
     assert!(results.len() > 80, "smoothed {} programs", results.len());
     let mut failures = Vec::new();
     for (rel, r) in &results {
-        let known = KNOWN_FAILURES.contains(&rel.as_str());
-        match r {
-            Err(e) => failures.push(format!("{rel}: smooth failed: {e}")),
-            Ok(lost) if known && lost.is_empty() => failures.push(format!(
-                "{rel}: listed in KNOWN_FAILURES but loses nothing now: remove it from the list"
-            )),
-            Ok(lost) if !known && !lost.is_empty() => {
+        let known = KNOWN_FAILURES
+            .iter()
+            .find(|(k, _)| k == rel)
+            .map(|(_, kind)| *kind);
+        match (r, known) {
+            (Err(e), _) => failures.push(format!("{rel}: smooth failed: {e}")),
+            (Ok(lost), Some(kind)) => {
+                if !lost.iter().any(|l| l.contains(kind)) {
+                    failures.push(format!(
+                        "{rel}: listed in KNOWN_FAILURES but loses no {kind} now: remove it from the list"
+                    ));
+                }
+                let other: Vec<&String> = lost.iter().filter(|l| !l.contains(kind)).collect();
+                if !other.is_empty() {
+                    failures.push(format!("{rel}: {other:?}"));
+                }
+            }
+            (Ok(lost), None) if !lost.is_empty() => {
                 failures.push(format!("{rel}: {}", lost.join("; ")))
             }
-            Ok(_) => {}
+            (Ok(_), None) => {}
         }
     }
-    for k in KNOWN_FAILURES {
+    for (k, _) in KNOWN_FAILURES {
         if !results.iter().any(|(rel, _)| rel == k) {
             failures.push(format!("{k}: in KNOWN_FAILURES but not smoothed here"));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    eprintln!("{} programs smoothed without losses", results.len());
+    eprintln!(
+        "{} programs smoothed, {} of them with known losses",
+        results.len(),
+        KNOWN_FAILURES.len()
+    );
 }
 
 /// A bundled example program copied to `dir` with `mode`.
@@ -510,4 +529,47 @@ fn tolerance_parabolic_check_runs_under_the_blend_share_for_every_controller() {
         assert!(smoothed > 0, "{controller}: no run smoothed\n{text}");
         assert!(losses(&program, &text).is_empty(), "{controller}\n{text}");
     }
+}
+
+/// `synthetic/butterfly-80.ngc` with an N number on every line and a
+/// comment on every fifth move: every N number and comment is written, in
+/// order, where `smooth` merges the moves into curves.
+#[test]
+fn a_numbered_commented_butterfly_keeps_every_n_number_and_comment() {
+    let Some(root) = shared_root() else {
+        eprintln!("../shared/paths not found: skipped");
+        return;
+    };
+    let original = std::fs::read_to_string(root.join("synthetic/butterfly-80.ngc")).unwrap();
+    let mut text = String::new();
+    let mut comments = Vec::new();
+    for (k, l) in original.lines().enumerate() {
+        text.push_str(&format!("N{} {l}", 10 * (k + 1)));
+        if l.starts_with("G1") && k % 5 == 0 {
+            let c = format!("(move {k})");
+            text.push(' ');
+            text.push_str(&c);
+            comments.push(c);
+        }
+        text.push('\n');
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("butterfly-numbered.ngc");
+    std::fs::write(&input, &text).unwrap();
+    let out = dir.path().join("out.ngc");
+    let r = smooth(&[input.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(losses(&text, &written), Vec::<String>::new(), "{written}");
+    let mut rest = written.as_str();
+    for c in &comments {
+        let at = rest
+            .find(c.as_str())
+            .unwrap_or_else(|| panic!("{c} missing or out of order in\n{written}"));
+        rest = &rest[at + c.len()..];
+    }
+    // The moves were rewritten: N numbers went on blocks and into merged
+    // comments.
+    assert!(written.contains(" merged into "), "{written}");
+    assert!(written.lines().any(|l| l.starts_with("N40 G")), "{written}");
 }
