@@ -8,8 +8,8 @@ written, and is nothing lost as LinuxCNC sees it:
 
 * feeds: the list of (place, new feed) where the feed in force for feed
   moves changes is the same in the original and the output (place = the
-  point where the first move with the new feed starts, to 2e-4 program
-  units: rs274 prints 4 decimals);
+  point where the first move with the new feed starts, to 2e-4 inch:
+  rs274 prints 4 decimals; feeds compared in mm/min);
 * non-motion calls: every canonical call of the original that is not a
   motion, a feed rate, a comment or the path-control/plane settings fairpath
   writes around its runs (spindle, coolant, tool, dwell, offsets,
@@ -100,25 +100,35 @@ def nums(args):
 
 
 def feed_changes(calls):
-    """[(start point, feed)] where the feed in force for feed moves changes."""
+    """[(start point, feed)] where the feed in force for feed moves changes,
+    in mm and mm/min (rs274 prints both in the units in force: a G20/G21
+    converts the feed in force, so `F100` before a G21 and `F2540` after it
+    are the same feed)."""
     feed, used, pos, out = None, None, (0.0, 0.0, 0.0), []
     plane = (0, 1, 2)
+    mm = 1.0
     for name, args in calls:
-        if name == "SET_FEED_RATE":
+        if name == "USE_LENGTH_UNITS":
+            new = 25.4 if "INCHES" in args else 1.0
+            if feed is not None:
+                feed = feed * mm / new
+            mm = new
+        elif name == "SET_FEED_RATE":
             feed = nums(args)[0]
         elif name == "SELECT_PLANE":
             plane = (2, 0, 1) if "XZ" in args else (1, 2, 0) if "YZ" in args else (0, 1, 2)
         elif name in MOTION:
             n = nums(args)
-            if name != "STRAIGHT_TRAVERSE" and feed != used:
-                out.append((pos, feed))
-                used = feed
+            f = None if feed is None else round(feed * mm, 6)
+            if name != "STRAIGHT_TRAVERSE" and f != used:
+                out.append((pos, f))
+                used = f
             if name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
-                pos = tuple(n[:3])
+                pos = tuple(x * mm for x in n[:3])
             elif name == "ARC_FEED":
                 e = [0.0, 0.0, 0.0]
                 e[plane[0]], e[plane[1]], e[plane[2]] = n[0], n[1], n[5]
-                pos = tuple(e)
+                pos = tuple(x * mm for x in e)
     return out
 
 
@@ -126,7 +136,7 @@ def same_feeds(a, b):
     if len(a) != len(b):
         return False
     for (p, f), (q, g) in zip(a, b):
-        if f != g or any(abs(x - y) > 2e-4 for x, y in zip(p, q)):
+        if f != g or any(abs(x - y) > 2e-4 * 25.4 for x, y in zip(p, q)):
             return False
     return True
 
