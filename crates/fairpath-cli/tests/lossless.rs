@@ -22,19 +22,13 @@ const MAX_BYTES: u64 = 200_000;
 /// shapes).
 const SAMPLE_LINES: usize = 400;
 
-/// Programs that lose something today, fixed on another branch: each must
-/// still lose something here (so that the list cannot go stale silently);
-/// remove a program from the list when its fix is merged.
-/// * `rgh.ngc` (its first [`SAMPLE_LINES`] lines): a feed on nearly every
-///   line (`F100100.`, `F10043.`, ...); the runs span the feed changes,
-///   the smoothed pieces carry one feed across them, and most of the
-///   program's F values are lost (the reader's run grouping, fixed with
-///   `feed-tracking-test.ngc`, whose run `smooth` keeps as written here).
-///
-/// Each entry names the kind of loss (a word of the loss's description):
-/// losses of any other kind still fail (rgh.ngc's 833 numbered motion
-/// lines are the reference programs' only N numbers inside runs).
-const KNOWN_FAILURES: &[(&str, &str)] = &[("linuxcnc/diagnostic/rgh.ngc", "feed")];
+/// Programs that lose something today: each must still lose something
+/// here (so that the list cannot go stale silently), and each entry names
+/// the kind of loss (a word of the loss's description); losses of any other
+/// kind still fail. Empty: `rgh.ngc` (a feed on nearly every line, most of
+/// them lost while runs spanned feed changes) was the last, fixed when a
+/// feed change started ending runs (`fairpath-gcode`'s `group_runs`).
+const KNOWN_FAILURES: &[(&str, &str)] = &[];
 
 /// Letters of words that make a line a motion line here: axes, arc centres
 /// and radius (lines of spline blocks are told by `in_block` and by their
