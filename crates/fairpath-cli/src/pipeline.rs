@@ -462,7 +462,7 @@ pub fn smooth_file(
             "refusing to write {}: the output leaves the tolerance ({:.6} mm > {} mm) or moves a run endpoint",
             output.display(),
             emitted.check.max_deviation,
-            opts.budget.written()
+            emitted.budget.written()
         );
     }
     if program.is_empty() {

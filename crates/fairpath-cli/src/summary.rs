@@ -125,10 +125,12 @@ impl Summary {
             format: opts.format.name(),
             controller: opts.controller.name(),
             tolerance: opts.tolerance(),
+            // The budget the writer used: a program's own looser G64 takes
+            // a blending share out of the output share (`budget_for`).
             shares: (
-                opts.budget.smoothing(),
-                opts.budget.output,
-                opts.budget.blend,
+                emitted.budget.smoothing(),
+                emitted.budget.output,
+                emitted.budget.blend,
             ),
             feed_moves_in: result.runs.iter().map(|r| r.original.pieces.len()).sum(),
             rapids: pieces.iter().filter(|p| p.rapid).count(),
@@ -201,7 +203,7 @@ impl Summary {
             self.input, self.output, self.method, self.format, self.controller, self.tolerance
         );
         let blend_text = if blend > 0.0 {
-            format!(", controller blending {blend} mm (G64 P)")
+            format!(", controller blending {blend:.6} mm (G64 P)")
         } else {
             String::new()
         };
