@@ -686,7 +686,10 @@ fn absurd_numbers() {
 fn letters_and_comments() {
     // E is lexed, and its line passed through (pinned) by the interpreter.
     let p = prog("G1 X1 E0.5 F100");
-    assert_eq!(p.moves()[0].pinned, Some(fairpath_gcode::PinReason::ForeignWords));
+    assert_eq!(
+        p.moves()[0].pinned,
+        Some(fairpath_gcode::PinReason::ForeignWords)
+    );
     assert!(p.runs().is_empty());
     // Comments are kept verbatim, debug/print/msg included.
     let p = prog("#1=3\nG0 X#1 (debug, x is #1)\n(msg, #<none>)\n");

@@ -79,3 +79,36 @@ fn endpoints_and_joints() {
     assert_eq!(rep.joints[0].class, Continuity::G2);
     assert!(rep.within(0.05));
 }
+
+/// A half circle of radius 10 mm in the XZ plane around a run along Y is
+/// 10 mm from it everywhere (the shape of fuzz input `hang-1717-17309`,
+/// whose full case is in fairpath-cli's `tests/check_robust.rs`): the
+/// distance is found and the bound covers it.
+#[test]
+fn arc_at_constant_distance_from_the_run_is_measured() {
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(0.0, 10.0, 0.0)]);
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = Nurbs::new(
+        2,
+        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0],
+        vec![
+            v(10.0, 0.0, 0.0),
+            v(10.0, 0.0, -10.0),
+            v(0.0, 0.0, -10.0),
+            v(-10.0, 0.0, -10.0),
+            v(-10.0, 0.0, 0.0),
+        ],
+        Some(vec![1.0, w, 1.0, w, 1.0]),
+    )
+    .unwrap();
+    let smoothed = vec![Piece {
+        curve: Curve::Nurbs(arc),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
+    let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05));
+    assert!(rep.max_deviation >= 10.0 - 1e-6, "{}", rep.max_deviation);
+    assert!(rep.deviation_bound >= rep.max_deviation);
+    assert!(!rep.within(0.05));
+}

@@ -329,6 +329,7 @@ impl Verifier {
             acc: opts.accuracy,
             floor: opts.tolerance * 5e-2,
             pruned_max: 0.0,
+            refined: 0,
         };
         // First pass: a coarse sample of every piece, to start the bound high.
         let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
@@ -363,6 +364,7 @@ impl Verifier {
                     v
                 }
             };
+            ctx.refined = 0;
             ctx.refine(
                 c,
                 matches!(c, Curve::Line(_)),
@@ -523,7 +525,22 @@ struct Refine<'a> {
     floor: f64,
     /// Largest bound of a span left unrefined.
     pruned_max: f64,
+    /// Splits of the current coarse span (see [`MAX_SPLITS_PER_SPAN`]).
+    refined: usize,
 }
+
+/// Most times one span of the coarse sample is split. The bisection stops
+/// where a span's upper bound is within the accuracy of the largest
+/// distance found; a curve at a constant distance from the original (fuzz
+/// input `hang-1717-17309`: a 10 mm arc centred on a line of the run, 10
+/// mm from it everywhere) never gets there before the depth limit, and the
+/// whole binary tree (2^48 spans) would be visited. Past this many splits
+/// the rest of the span is not split: the upper bounds of its parts go
+/// into the reported bound ([`Deviation::bound`] stays a bound, only
+/// looser), so a candidate that far out is still rejected. Curves within
+/// the tolerance need a few dozen splits per span (their bound falls
+/// under the largest distance found, or under the floor, quickly).
+pub const MAX_SPLITS_PER_SPAN: usize = 1 << 12;
 
 impl Refine<'_> {
     #[allow(clippy::too_many_arguments)]
@@ -575,11 +592,13 @@ impl Refine<'_> {
         }
         if bound <= best.0.max(self.floor) + self.acc
             || depth >= 48
+            || self.refined >= MAX_SPLITS_PER_SPAN
             || (straight && bound <= fa.max(fb) + self.acc)
         {
             self.pruned_max = self.pruned_max.max(bound);
             return;
         }
+        self.refined += 1;
         let tm = 0.5 * (ta + tb);
         let qm = c.eval(tm);
         let fm = r.dist(qm).0;
