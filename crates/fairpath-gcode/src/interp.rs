@@ -591,7 +591,18 @@ impl Reader {
                 if ex.call_level() == 0 {
                     for k in ex.position()..texts.len() {
                         let n = self.lines.len() + 1;
-                        self.pass_through(n, k + 1, texts[k].clone(), eol);
+                        // An o-word statement after the end (an `endwhile`
+                        // of a loop the end left) is not run, and the
+                        // expanded text has no o-words: it is kept as a
+                        // `;` comment, so the output reads back (fuzz input
+                        // anomaly-1718-22823).
+                        let text = match &scanned[k] {
+                            Ok(src) if src.oword.is_some() => {
+                                format!("; {}", texts[k].trim_start())
+                            }
+                            _ => texts[k].clone(),
+                        };
+                        self.pass_through(n, k + 1, text, eol);
                     }
                 }
                 break;

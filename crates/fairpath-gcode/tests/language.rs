@@ -715,3 +715,18 @@ fn computed_calls_program_numbers_and_fanuc_subprograms() {
         vec![[2.0, 0.0, 0.0]]
     );
 }
+
+/// Fuzz input `anomaly-1718-22823`: `M2` inside a `while` whose `endwhile`
+/// comes after it. The program ends in the loop's first pass; the lines
+/// after the end are passed through, and the `endwhile` among them is kept
+/// as a comment so that the expanded program reads back.
+#[test]
+fn anomaly_1718_22823_endwhile_after_the_end_reads_back() {
+    let text = "#1 = 1\no101 while [#1 LT 10]\nG1 X1 F100\nM2\nG1 X5\no101 endwhile\n";
+    let p = prog(text);
+    assert!(p.expanded());
+    let out = rewrite(&p);
+    assert!(out.contains("; o101 endwhile"), "{out}");
+    let back = prog(&out);
+    assert_eq!(path_ends(&back), path_ends(&p));
+}

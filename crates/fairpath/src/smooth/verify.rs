@@ -538,8 +538,14 @@ struct Refine<'a> {
 /// the rest of the span is not split: the upper bounds of its parts go
 /// into the reported bound ([`Deviation::bound`] stays a bound, only
 /// looser), so a candidate that far out is still rejected. Curves within
-/// the tolerance need a few dozen splits per span (their bound falls
-/// under the largest distance found, or under the floor, quickly).
+/// the tolerance need far fewer splits per span (their bound falls under
+/// the largest distance found, or under the floor, quickly); a curved span
+/// over many tiny segments of the original needs about two splits per
+/// segment it covers. Straight pieces are not capped: their bisection
+/// ends once both ends of a part are nearest to one segment of the
+/// original, so their work is bounded by the segments they cover (a
+/// straight piece merged over 2,000 collinear moves of
+/// `linuxcnc/spindle/straight_spindleon.ngc` needs more than 4,096).
 pub const MAX_SPLITS_PER_SPAN: usize = 1 << 12;
 
 impl Refine<'_> {
@@ -592,7 +598,7 @@ impl Refine<'_> {
         }
         if bound <= best.0.max(self.floor) + self.acc
             || depth >= 48
-            || self.refined >= MAX_SPLITS_PER_SPAN
+            || (!straight && self.refined >= MAX_SPLITS_PER_SPAN)
             || (straight && bound <= fa.max(fb) + self.acc)
         {
             self.pruned_max = self.pruned_max.max(bound);
