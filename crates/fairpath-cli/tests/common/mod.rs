@@ -23,3 +23,4 @@ pub fn example(name: &str) -> PathBuf {
         .join("../../examples")
         .join(name)
 }
+pub mod rs274;
