@@ -205,7 +205,9 @@ fn new_file_mode(dir: &Path) -> u32 {
 type Outcome = Result<Vec<String>, String>;
 
 /// One program smoothed; `None` when fairpath does not read it.
-fn smooth_and_compare(path: &Path, rel: &str, dir: &Path) -> Option<Outcome> {
+/// `new_mode` is the mode a new file gets in `dir` (probed once, before the
+/// threads start: a probe per call raced between the two threads).
+fn smooth_and_compare(path: &Path, rel: &str, dir: &Path, new_mode: u32) -> Option<Outcome> {
     let bytes = std::fs::read(path).unwrap();
     let program = match fairpath_gcode::parse(&bytes) {
         Ok(p) if !p.is_empty() => p,
@@ -227,7 +229,7 @@ fn smooth_and_compare(path: &Path, rel: &str, dir: &Path) -> Option<Outcome> {
     }
     #[cfg(unix)]
     {
-        let want = new_file_mode(dir);
+        let want = new_mode;
         if mode(&out) != want {
             return Some(Ok(vec![format!(
                 "output mode {:o}, a new file gets {want:o}",
@@ -251,6 +253,10 @@ fn every_reference_program_keeps_its_lines_n_numbers_and_feeds() {
     files.retain(|f| std::fs::metadata(f).unwrap().len() < MAX_BYTES);
     assert!(files.len() > 100, "found {} programs", files.len());
     let dir = tempfile::tempdir().unwrap();
+    #[cfg(unix)]
+    let new_mode = new_file_mode(dir.path());
+    #[cfg(not(unix))]
+    let new_mode = 0;
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<(String, Outcome)>> = Mutex::new(Vec::new());
     // Two at a time: CI machines have two cores.
@@ -266,7 +272,7 @@ fn every_reference_program_keeps_its_lines_n_numbers_and_feeds() {
                     .unwrap()
                     .to_string_lossy()
                     .into_owned();
-                if let Some(r) = smooth_and_compare(f, &rel, dir.path()) {
+                if let Some(r) = smooth_and_compare(f, &rel, dir.path(), new_mode) {
                     results.lock().unwrap().push((rel, r));
                 }
             });
