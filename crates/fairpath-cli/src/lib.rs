@@ -11,6 +11,7 @@ pub mod output;
 pub mod parallel;
 pub mod pipeline;
 pub mod simulate;
+pub mod stream;
 pub mod summary;
 
 pub mod emit;

@@ -178,6 +178,28 @@ enum Command {
         #[arg(long, value_enum, default_value_t = TextOrJson::Text)]
         format: TextOrJson,
     },
+    /// Write the planned, jerk-limited motion of a program as one position
+    /// per servo period (X Y Z in mm, one line per period), as LinuxCNC's
+    /// halstreamer plays it; smoothed first with --tolerance.
+    Stream {
+        /// G-code program, or a fairpath JSON path (streamed as it is).
+        program: PathBuf,
+        /// Output stream file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Smooth the program first (default method) within this many mm
+        /// of its path; without it the program's own moves are streamed
+        /// (every corner then passed nearly at rest).
+        #[arg(short, long)]
+        tolerance: Option<f64>,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Also stream the moves before the first feed move and after the
+        /// last (by default the stream starts where the first feed move
+        /// starts and ends where the last one ends).
+        #[arg(long)]
+        lead_rapids: bool,
+    },
     /// Run every smoothing method (and the untouched program) on one program
     /// and print one table: deviation, joints, length, peak curvature,
     /// curvature variation energy, planned time and its ratio to the
@@ -319,6 +341,26 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 segments.as_deref(),
                 format == TextOrJson::Json,
             )?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Stream {
+            program,
+            output,
+            tolerance,
+            machine,
+            lead_rapids,
+        } => {
+            let m = machine.limits()?;
+            let axis_jerk = fairpath_cli::stream::axis_jerk(machine.machine.as_deref(), &m)?;
+            fairpath_cli::stream::run(&fairpath_cli::stream::StreamArgs {
+                program: &program,
+                output: &output,
+                tolerance,
+                machine: m,
+                axis_jerk,
+                override_feed: machine.override_feed,
+                lead_rapids,
+            })?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Compare {

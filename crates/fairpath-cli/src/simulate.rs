@@ -32,6 +32,9 @@ pub struct MachineFile {
     /// Whether the jerk limit caps the speed on curves (default true;
     /// false: the thesis' time model, see `MachineLimits::jerk_on_curves`).
     pub jerk_on_curves: Option<bool>,
+    /// Per-axis jerk limits, mm/s^3 (`fairpath stream`; default: the
+    /// path's jerk).
+    pub axis_jerk: Option<[f64; 3]>,
 }
 
 /// Flags that override the machine file.

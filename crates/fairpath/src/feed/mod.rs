@@ -42,6 +42,9 @@ pub mod junction;
 pub mod limits;
 pub mod plan;
 pub mod reach;
+pub mod sampled;
+pub mod shaping;
+pub mod stream;
 
 pub use double_s::{DoubleS, Method, Phases, State};
 pub use reach::{max_entry_velocity, max_reachable_velocity, velocity_change, VelocityChange};

@@ -44,6 +44,7 @@ use super::junction::{
     blend_cap, corner_blend, corner_jump, follow_neighbours, jump_cap, Blend, MEET_REL,
 };
 use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
+use super::shaping::Shaping;
 use super::{max_entry_velocity, max_reachable_velocity, DoubleS, FeedError, Limits};
 use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
 use crate::path::Piece;
@@ -80,6 +81,36 @@ pub struct PlanOptions {
     /// only the next `n` segments and must always be able to stop at the
     /// end of what it sees.
     pub window: Option<usize>,
+}
+
+/// How the machine passes a corner (a joint where the tangent turns).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Corners {
+    /// On a blend circle within the junction deviation, as a blending
+    /// controller does ([`super::junction`]): the plan of a G-code program
+    /// that a controller runs.
+    #[default]
+    Blended,
+    /// Through the corner point itself, as a stream of positions that
+    /// follows the path exactly does: the direction changes within one
+    /// period, a velocity step of `dv = 2 v sin(phi / 2)`, which the
+    /// sampled motion shows as an acceleration `dv / Ts` in one period and
+    /// a jerk `dv / (5 Ts^2)` averaged over five
+    /// ([`super::sampled`]). The speed at the corner is capped so that
+    /// both stay within the limits: `v <= min(A Ts, 5 J Ts^2) / (2 sin(phi/2))`.
+    Followed,
+}
+
+/// The largest speed (mm/s) at which a path followed exactly may turn by
+/// the angle between unit tangents `ta` and `tb` (see [`Corners::Followed`]).
+pub fn followed_corner_cap(m: &MachineLimits, ta: Vec3, tb: Vec3) -> f64 {
+    let dv_per_v = (tb - ta).norm();
+    if dv_per_v == 0.0 {
+        return f64::INFINITY;
+    }
+    let n = super::sampled::JERK_AVERAGE_PERIODS as f64;
+    let ts = m.period;
+    (m.acc * ts).min(n * m.jerk * ts * ts) / dv_per_v
 }
 
 /// A stretch of path inside a segment, with its own speed cap.
@@ -189,6 +220,8 @@ fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
 struct Stretch {
     part: Part,
     constraint: Constraint,
+    /// Factor on the tangential acceleration and jerk ([`Shaping`]).
+    tangential: f64,
 }
 
 /// How the machine passes the joint between two consecutive pieces.
@@ -225,7 +258,12 @@ const SMOOTH_JOINT: JointCap = JointCap {
 /// freely, tangent joints at the cap of their curvature jump, corners on
 /// blend circles that may meet each other on short moves (see
 /// [`super::junction`]).
-fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Vec<JointCap> {
+fn joint_caps(
+    pieces: &[Piece],
+    valid: &[(usize, f64)],
+    m: &MachineLimits,
+    corners: Corners,
+) -> Vec<JointCap> {
     let jt = JointTolerances::from_tolerance(m.chord_error);
     enum Joint {
         Smooth,
@@ -246,7 +284,13 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
             let (pb, _) = point(c, c.domain().0);
             // Tangent within the joint tolerances (and rounding): a
             // curvature jump, not a corner of a microradian.
-            if class != Continuity::G1 && pa.tangent.angle_to(pb.tangent) > 0.0 {
+            if class != Continuity::G1
+                && pa.tangent.angle_to(pb.tangent) > 0.0
+                && corners == Corners::Followed
+            {
+                let jump = jump_cap(m, (pb.curvature - pa.curvature).norm());
+                Joint::Tangent(followed_corner_cap(m, pa.tangent, pb.tangent).min(jump))
+            } else if class != Continuity::G1 && pa.tangent.angle_to(pb.tangent) > 0.0 {
                 let room = 0.5 * la.min(lb);
                 match corner_blend(m, pa.tangent, pb.tangent, room) {
                     Some(bl) => Joint::Corner(
@@ -321,7 +365,13 @@ fn joint_caps(pieces: &[Piece], valid: &[(usize, f64)], m: &MachineLimits) -> Ve
 
 /// Cuts the run into stretches with caps; `junction[k]` caps the speed at
 /// the start of stretch `k` (INFINITY inside pieces and at G2 joints).
-fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<f64>), FeedError> {
+/// `shaping` lowers caps and tangential limits by arc length along the run.
+fn stretches(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    shaping: &Shaping,
+    corners: Corners,
+) -> Result<(Vec<Stretch>, Vec<f64>), FeedError> {
     let m = &opts.limits;
     let mut valid: Vec<(usize, f64)> = Vec::with_capacity(pieces.len());
     for (pi, p) in pieces.iter().enumerate() {
@@ -330,9 +380,11 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
             valid.push((pi, len));
         }
     }
-    let jcaps = joint_caps(pieces, &valid, m);
+    let jcaps = joint_caps(pieces, &valid, m, corners);
     let mut out: Vec<Stretch> = Vec::new();
     let mut junction: Vec<f64> = Vec::new();
+    // Arc length of the run before the current stretch.
+    let mut s_run = 0.0f64;
     for (vi, &(pi, len_total)) in valid.iter().enumerate() {
         let p = &pieces[pi];
         let feed = if opts.override_feed {
@@ -428,6 +480,7 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
             if blend_cap < cap.0 {
                 cap = (blend_cap, Constraint::Junction);
             }
+            let (cap_factor, tangential) = shaping.factors(s_run, s_run + len);
             if high > CAP_SPLIT_RATIO * cap.0
                 && len > cap.0 * m.period
                 && depth < MAX_CAP_SPLITS
@@ -438,11 +491,17 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
                 todo.push((t0, tm, depth + 1));
                 continue;
             }
-            let j = core::mem::replace(&mut jcap, f64::INFINITY);
+            let j = core::mem::replace(&mut jcap, f64::INFINITY) * cap_factor;
+            cap.0 *= cap_factor;
+            s_run += len;
             // Neighbouring stretches with the same cap and nothing between
             // them are one stretch.
             if let Some(last) = out.last_mut() {
-                if last.part.cap == cap.0 && j >= cap.0 && last.part.piece == pi {
+                if last.part.cap == cap.0
+                    && j >= cap.0
+                    && last.part.piece == pi
+                    && last.tangential == tangential
+                {
                     last.part.t1 = t1;
                     last.part.length += len;
                     continue;
@@ -458,6 +517,7 @@ fn stretches(pieces: &[Piece], opts: &PlanOptions) -> Result<(Vec<Stretch>, Vec<
                     entry_cap: j,
                 },
                 constraint: cap.1,
+                tangential,
             });
             junction.push(j);
         }
@@ -472,18 +532,18 @@ fn boundary_speeds(
     lengths: &[f64],
     caps: &[f64],
     window: Option<usize>,
-    m: &MachineLimits,
+    tl: &[(f64, f64)],
 ) -> Result<Vec<f64>, FeedError> {
     let n = lengths.len();
     let mut v = caps.to_vec();
     match window {
         None => {
             for i in (0..n).rev() {
-                let e = max_entry_velocity(v[i + 1], lengths[i], m.acc, m.jerk)?;
+                let e = max_entry_velocity(v[i + 1], lengths[i], tl[i].0, tl[i].1)?;
                 v[i] = v[i].min(e);
             }
             for i in 0..n {
-                let r = max_reachable_velocity(v[i], lengths[i], m.acc, m.jerk)?;
+                let r = max_reachable_velocity(v[i], lengths[i], tl[i].0, tl[i].1)?;
                 v[i + 1] = v[i + 1].min(r);
             }
         }
@@ -505,15 +565,16 @@ fn boundary_speeds(
                     nb[k - i] = caps[k].min(max_entry_velocity(
                         nb[k + 1 - i],
                         lengths[k],
-                        m.acc,
-                        m.jerk,
+                        tl[k].0,
+                        tl[k].1,
                     )?);
                 }
-                let reach = max_reachable_velocity(v[i], lengths[i], m.acc, m.jerk)?;
+                let reach = max_reachable_velocity(v[i], lengths[i], tl[i].0, tl[i].1)?;
                 let candidate = nb[1].min(reach).min(caps[i + 1]);
                 let feasible = candidate >= v[i]
                     || v[i]
-                        <= max_entry_velocity(candidate, lengths[i], m.acc, m.jerk)? * (1.0 - 1e-9);
+                        <= max_entry_velocity(candidate, lengths[i], tl[i].0, tl[i].1)?
+                            * (1.0 - 1e-9);
                 if feasible || i == 0 {
                     plan_b[i + 1..=end].copy_from_slice(&nb[1..]);
                     v[i + 1] = candidate;
@@ -651,12 +712,25 @@ fn violation(profile: &DoubleS, parts: &[Stretch], lower_boundary: &[f64]) -> Op
 
 /// Plans a run of feed moves (continuous pieces).
 pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedError> {
+    plan_run_shaped(pieces, opts, &Shaping::none(), Corners::Blended)
+}
+
+/// [`plan_run`] with corners passed as `corners` says, and the caps and
+/// tangential limits lowered by `shaping` (by arc length along the run).
+/// Where the tangential factor changes, a segment boundary is kept, so
+/// that a reduction on a curve does not slow the straight after it.
+pub fn plan_run_shaped(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    shaping: &Shaping,
+    corners: Corners,
+) -> Result<RunPlan, FeedError> {
     let m = &opts.limits;
     m.validate().map_err(|e| FeedError::BadLimit {
         name: e.name,
         value: e.value,
     })?;
-    let (st, junction) = stretches(pieces, opts)?;
+    let (st, junction) = stretches(pieces, opts, shaping, corners)?;
     let n = st.len();
     let mut plan = RunPlan::default();
     if n == 0 {
@@ -671,12 +745,30 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
     let mut key = alloc::vec![false; n + 1];
     key[0] = true;
     key[n] = true;
+    // Boundaries that stay: the ends and where the tangential factor
+    // changes.
+    let mut fixed = alloc::vec![false; n + 1];
+    fixed[0] = true;
+    fixed[n] = true;
     for i in 1..n {
         let (l, c, r) = (bcap[i - 1], bcap[i], bcap[i + 1]);
         if (c <= l && c < r) || (c < l && c <= r) {
             key[i] = true;
         }
+        if st[i - 1].tangential != st[i].tangential {
+            key[i] = true;
+            fixed[i] = true;
+        }
     }
+    // Tangential acceleration and jerk of a segment [a, b): the machine's,
+    // times the smallest factor inside.
+    let seg_limits = |a: usize, b: usize| {
+        let f = st[a..b]
+            .iter()
+            .map(|s| s.tangential)
+            .fold(1.0f64, f64::min);
+        (m.acc * f, m.jerk * f)
+    };
     // Prefix lengths of the stretches.
     let mut pre = alloc::vec![0.0f64; n + 1];
     for i in 0..n {
@@ -696,12 +788,13 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
     while let Some((a, b)) = stack.pop() {
         let len = pre[b] - pre[a];
         let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
+        let (acc, jerk) = seg_limits(a, b);
         let v1 = bcap[b].min(vmax);
         let v0 = bcap[a]
             .min(vmax)
-            .min(max_entry_velocity(v1, len, m.acc, m.jerk)?);
-        let v1 = v1.min(max_reachable_velocity(v0, len, m.acc, m.jerk)?);
-        let profile = DoubleS::plan(len, v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
+            .min(max_entry_velocity(v1, len, acc, jerk)?);
+        let v1 = v1.min(max_reachable_velocity(v0, len, acc, jerk)?);
+        let profile = DoubleS::plan(len, v0, v1, &Limits::new(vmax, acc, jerk)?)?;
         if let Some(k) = violation(&profile, &st[a..b], &bcap[a..=b]) {
             key[a + k] = true;
             stack.push((a, a + k));
@@ -718,9 +811,10 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
         let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
         let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
         let caps: Vec<f64> = bounds.iter().map(|&i| bcap[i]).collect();
-        let v = boundary_speeds(&lengths, &caps, opts.window, m)?;
+        let tl: Vec<(f64, f64)> = bounds.windows(2).map(|w| seg_limits(w[0], w[1])).collect();
+        let v = boundary_speeds(&lengths, &caps, opts.window, &tl)?;
         for (j, &i) in bounds.iter().enumerate() {
-            if i != 0 && i != n && v[j] < bcap[i] * (1.0 - UNREACHED_CAP) {
+            if !fixed[i] && v[j] < bcap[i] * (1.0 - UNREACHED_CAP) {
                 key[i] = false;
             }
         }
@@ -735,7 +829,8 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
         let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
         let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
         let caps: Vec<f64> = bounds.iter().map(|&i| bcap[i]).collect();
-        let v = boundary_speeds(&lengths, &caps, opts.window, m)?;
+        let tl: Vec<(f64, f64)> = bounds.windows(2).map(|w| seg_limits(w[0], w[1])).collect();
+        let v = boundary_speeds(&lengths, &caps, opts.window, &tl)?;
         let mut profiles = Vec::with_capacity(lengths.len());
         let mut split = false;
         for (j, w) in bounds.windows(2).enumerate() {
@@ -748,7 +843,8 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
                     continue;
                 }
             }
-            let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, m.acc, m.jerk)?)?;
+            let (acc, jerk) = tl[j];
+            let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, acc, jerk)?)?;
             match violation(&profile, &st[a..b], &bcap[a..=b]) {
                 Some(k) => {
                     key[a + k] = true;
@@ -768,7 +864,7 @@ pub fn plan_run(pieces: &[Piece], opts: &PlanOptions) -> Result<RunPlan, FeedErr
         plan.max_acc = plan.max_acc.max(profile.alim_a()).max(-profile.alim_d());
         let ph = profile.phases();
         if ph.tj1 > 0.0 || ph.tj2 > 0.0 {
-            plan.max_jerk = m.jerk;
+            plan.max_jerk = plan.max_jerk.max(seg_limits(a, b).1);
         }
         // The tightest constraint: the lowest cap among the stretches.
         let tight = st[a..b]
