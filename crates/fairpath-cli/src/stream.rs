@@ -17,8 +17,8 @@ use crate::Controller;
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::PlanOptions;
-use fairpath::feed::stream::{self as fstream, StreamOptions};
 use fairpath::feed::stream::StreamedKind;
+use fairpath::feed::stream::{self as fstream, StreamOptions};
 use fairpath::path::Run;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -55,9 +55,10 @@ struct LeftOut {
 /// streamed and listed as well.
 fn non_motion(line: &fairpath_gcode::ProgramLine) -> bool {
     line.interpreted
-        && line.words.iter().any(|w| {
-            matches!(w.letter, 'M' | 'S' | 'T') || (w.letter == 'G' && w.value == 4.0)
-        })
+        && line
+            .words
+            .iter()
+            .any(|w| matches!(w.letter, 'M' | 'S' | 'T') || (w.letter == 'G' && w.value == 4.0))
 }
 
 fn first_line(m: &Motion) -> usize {
@@ -79,7 +80,11 @@ fn gcode_steps(program: &fairpath_gcode::Program, runs: &[Run]) -> (Vec<Step>, V
         }
         let is_dwell = l.words.iter().any(|w| w.letter == 'G' && w.value == 4.0);
         if is_dwell {
-            let p = l.words.iter().find(|w| w.letter == 'P').map_or(0.0, |w| w.value);
+            let p = l
+                .words
+                .iter()
+                .find(|w| w.letter == 'P')
+                .map_or(0.0, |w| w.value);
             dwells.push((l.number, p));
         }
         left.push(LeftOut {
@@ -119,7 +124,11 @@ pub fn run(a: &StreamArgs) -> Result<()> {
             bail!("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)");
         }
         let motions = simulate::motions_of(a.program, &bytes)?;
-        let _ = writeln!(report, "  path:            {} streamed as it is", a.program.display());
+        let _ = writeln!(
+            report,
+            "  path:            {} streamed as it is",
+            a.program.display()
+        );
         (motions.into_iter().map(Step::Motion).collect(), Vec::new())
     } else {
         let program = pipeline::parse_program(a.program, &bytes)?;
@@ -130,7 +139,8 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 // that share of the tolerance goes to them and the rest to
                 // the smoothing.
                 let chord = a.machine.chord_error.min(0.5 * tol);
-                let mut opts = SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
+                let mut opts =
+                    SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
                 opts.machine = a.machine;
                 opts.override_feed = a.override_feed;
                 let mut phases = Phases::new();
@@ -164,7 +174,10 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                     .collect()
             }
             None => {
-                let _ = writeln!(report, "  path:            the program's own moves (no --tolerance: not smoothed)");
+                let _ = writeln!(
+                    report,
+                    "  path:            the program's own moves (no --tolerance: not smoothed)"
+                );
                 program.runs()
             }
         };
@@ -173,17 +186,33 @@ pub fn run(a: &StreamArgs) -> Result<()> {
     // The stream's window: from the first feed move to the last, unless the
     // lead rapids are asked for.
     let is_feed = |s: &Step| matches!(s, Step::Motion(Motion::Feed(_)));
-    let (first, last) = match (steps.iter().position(is_feed), steps.iter().rposition(is_feed)) {
+    let (first, last) = match (
+        steps.iter().position(is_feed),
+        steps.iter().rposition(is_feed),
+    ) {
         (Some(f), Some(l)) if !a.lead_rapids => (f, l),
         (Some(_), Some(_)) => (0, steps.len() - 1),
-        _ => bail!("{}: the program has no feed moves: nothing to stream", a.program.display()),
+        _ => bail!(
+            "{}: the program has no feed moves: nothing to stream",
+            a.program.display()
+        ),
     };
-    let lead_in = steps[..first].iter().filter(|s| matches!(s, Step::Motion(_))).count();
-    let lead_out = steps[last + 1..].iter().filter(|s| matches!(s, Step::Motion(_))).count();
+    let lead_in = steps[..first]
+        .iter()
+        .filter(|s| matches!(s, Step::Motion(_)))
+        .count();
+    let lead_out = steps[last + 1..]
+        .iter()
+        .filter(|s| matches!(s, Step::Motion(_)))
+        .count();
     let window = &steps[first..=last];
     let (lo_line, hi_line) = (
         window.iter().find_map(step_line).unwrap_or(0),
-        window.iter().rev().find_map(step_line).unwrap_or(usize::MAX),
+        window
+            .iter()
+            .rev()
+            .find_map(step_line)
+            .unwrap_or(usize::MAX),
     );
     let motions: Vec<fstream::Motion> = window
         .iter()
@@ -212,10 +241,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         let _ = writeln!(text, "{:.9} {:.9} {:.9}", p.x, p.y, p.z);
     }
     crate::output::write_atomically(a.output, text.as_bytes())?;
-    print!(
-        "{}",
-        summary(a, &st, &report, took)
-    );
+    print!("{}", summary(a, &st, &report, took));
     let list = |which: &[&LeftOut]| -> String {
         let mut shown: Vec<String> = which
             .iter()
@@ -281,12 +307,7 @@ fn step_line(s: &Step) -> Option<usize> {
     }
 }
 
-fn summary(
-    a: &StreamArgs,
-    st: &fstream::Stream,
-    report: &str,
-    took: f64,
-) -> String {
+fn summary(a: &StreamArgs, st: &fstream::Stream, report: &str, took: f64) -> String {
     let m = &a.machine;
     let mut s = String::new();
     let _ = writeln!(
@@ -354,12 +375,17 @@ pub fn axis_jerk(file: Option<&Path>, m: &MachineLimits) -> Result<[f64; 3]> {
     let Some(f) = file else {
         return Ok([m.jerk; 3]);
     };
-    let text = std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
-    let mf: simulate::MachineFile = toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
+    let text =
+        std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
+    let mf: simulate::MachineFile =
+        toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
     let j = mf.axis_jerk.unwrap_or([m.jerk; 3]);
     for (i, v) in j.iter().enumerate() {
         if !(v.is_finite() && *v > 0.0) {
-            bail!("{}: axis_jerk[{i}] must be a positive number, got {v}", f.display());
+            bail!(
+                "{}: axis_jerk[{i}] must be a positive number, got {v}",
+                f.display()
+            );
         }
     }
     Ok(j)

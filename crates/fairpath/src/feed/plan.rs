@@ -763,10 +763,7 @@ pub fn plan_run_shaped(
     // Tangential acceleration and jerk of a segment [a, b): the machine's,
     // times the smallest factor inside.
     let seg_limits = |a: usize, b: usize| {
-        let f = st[a..b]
-            .iter()
-            .map(|s| s.tangential)
-            .fold(1.0f64, f64::min);
+        let f = st[a..b].iter().map(|s| s.tangential).fold(1.0f64, f64::min);
         (m.acc * f, m.jerk * f)
     };
     // Prefix lengths of the stretches.

@@ -90,8 +90,13 @@ fn acc_at(p: &[Vec3], k: usize, t: f64) -> Vec3 {
 /// The acceleration vector of every sample (zero at both ends).
 pub fn accelerations(p: &[Vec3], period: f64) -> Vec<Vec3> {
     let mut a = alloc::vec![Vec3::ZERO; p.len()];
-    for k in 1..p.len().saturating_sub(1) {
-        a[k] = acc_at(p, k, period);
+    for (k, ak) in a
+        .iter_mut()
+        .enumerate()
+        .take(p.len().saturating_sub(1))
+        .skip(1)
+    {
+        *ak = acc_at(p, k, period);
     }
     a
 }
@@ -121,11 +126,11 @@ pub fn measure(p: &[Vec3], lim: &SampleLimits, slack: f64) -> (Peaks, Vec<Excess
         push(&mut out, k, Quantity::Velocity, r);
     }
     let a = accelerations(p, t);
-    for k in 1..p.len().saturating_sub(1) {
-        let m = a[k].norm();
+    for (k, ak) in a.iter().enumerate().take(p.len().saturating_sub(1)).skip(1) {
+        let m = ak.norm();
         peaks.acc = peaks.acc.max(m);
         let mut r = lim.acc / m;
-        for (i, c) in axes(a[k]).iter().enumerate() {
+        for (i, c) in axes(*ak).iter().enumerate() {
             peaks.axis_acc[i] = peaks.axis_acc[i].max(*c);
             r = r.min(lim.axis_acc[i] / c);
         }

@@ -104,7 +104,9 @@ pub enum StreamError {
     Gap { index: usize, gap: f64 },
     #[error("motion {index} still exceeds a limit after {rounds} rounds of planning")]
     NotWithinLimits { index: usize, rounds: usize },
-    #[error("the stream would have {samples:.0} samples (more than {max:.0}); use a longer period")]
+    #[error(
+        "the stream would have {samples:.0} samples (more than {max:.0}); use a longer period"
+    )]
     TooLong { samples: f64, max: f64 },
     #[error("a limit of the stream is not a positive number: {0}")]
     BadLimit(&'static str),
@@ -206,7 +208,9 @@ impl<'a> Track<'a> {
     fn state(&self, tau: f64) -> (usize, State, f64) {
         let i = self.seg_t.partition_point(|&t| t <= tau).max(1) - 1;
         let sg = &self.plan.segments[i];
-        let st = sg.profile.eval((tau - self.seg_t[i]).min(sg.profile.duration()));
+        let st = sg
+            .profile
+            .eval((tau - self.seg_t[i]).min(sg.profile.duration()));
         (i, st, self.seg_s[i] + st.q)
     }
 
@@ -307,7 +311,9 @@ fn reductions(rs: &RunSamples, padded: &[Vec3], excess: &[Excess], period: f64) 
     };
     let tangent = |k: usize| -> Vec3 {
         let (lo, hi) = (k.saturating_sub(1), (k + 1).min(np - 1));
-        (padded[hi] - padded[lo]).normalized(0.0).unwrap_or(Vec3::ZERO)
+        (padded[hi] - padded[lo])
+            .normalized(0.0)
+            .unwrap_or(Vec3::ZERO)
     };
     let split = |k: usize| -> (Vec3, Vec3) {
         // Measured acceleration: (tangential part of the profile, rest).
@@ -343,7 +349,11 @@ fn reductions(rs: &RunSamples, padded: &[Vec3], excess: &[Excess], period: f64) 
                 let profile = (tangent(k1) * a_plan(k1) - tangent(k0) * a_plan(k0)) / dt;
                 let (_, an) = split(c);
                 let v = v_plan(c);
-                let cross = if v > 0.0 { an * (3.0 * a_plan(c) / v) } else { Vec3::ZERO };
+                let cross = if v > 0.0 {
+                    an * (3.0 * a_plan(c) / v)
+                } else {
+                    Vec3::ZERO
+                };
                 let tp = profile + cross;
                 (tp.norm(), (measured - tp).norm(), measured.norm(), 3.0)
             }
@@ -354,8 +364,16 @@ fn reductions(rs: &RunSamples, padded: &[Vec3], excess: &[Excess], period: f64) 
         // Both parts shrink in proportion to their size.
         let sum = tangential_part + rest;
         let f = if sum > limit { limit / sum } else { r };
-        let cap = if rest > 0.0 { math::powf(f, 1.0 / power) } else { 1.0 };
-        let tangential = if tangential_part > 0.0 { f.max(0.05) } else { 1.0 };
+        let cap = if rest > 0.0 {
+            math::powf(f, 1.0 / power)
+        } else {
+            1.0
+        };
+        let tangential = if tangential_part > 0.0 {
+            f.max(0.05)
+        } else {
+            1.0
+        };
         out.push(Reduction {
             s0,
             s1,
@@ -375,11 +393,11 @@ fn rapid_profile(p: &Piece, o: &StreamOptions) -> Result<(DoubleS, Vec3, Vec3), 
     let dir = (b - a) / len;
     let comp = [math::abs(dir.x), math::abs(dir.y), math::abs(dir.z)];
     let (mut v, mut acc, mut jerk) = (m.max_feed, m.acc, m.jerk);
-    for i in 0..3 {
-        if comp[i] > 0.0 {
-            v = v.min(m.axis_vel[i] / comp[i]);
-            acc = acc.min(m.axis_acc[i] / comp[i]);
-            jerk = jerk.min(o.axis_jerk[i] / comp[i]);
+    for (i, &c) in comp.iter().enumerate() {
+        if c > 0.0 {
+            v = v.min(m.axis_vel[i] / c);
+            acc = acc.min(m.axis_acc[i] / c);
+            jerk = jerk.min(o.axis_jerk[i] / c);
         }
     }
     let prof = DoubleS::plan(len, 0.0, 0.0, &Limits::new(v, acc, jerk)?)?;
@@ -521,7 +539,12 @@ fn stream_run<'a>(
     let mut last = first;
     for round in 1..=o.max_rounds {
         if round < o.local_rounds {
-            shaping.apply(&reductions(&last.samples, &last.padded, &last.excess, period));
+            shaping.apply(&reductions(
+                &last.samples,
+                &last.padded,
+                &last.excess,
+                period,
+            ));
         } else {
             shaping.scale_all(GLOBAL_STEP);
         }
@@ -586,7 +609,7 @@ pub fn stream(motions: &[Motion], o: &StreamOptions) -> Result<Stream, StreamErr
             }
             Motion::Rapid(p) => {
                 let len = p.start().dist(p.end());
-                if !(len > 0.0) {
+                if len.is_nan() || len <= 0.0 {
                     continue;
                 }
                 let (prof, a, dir) =
