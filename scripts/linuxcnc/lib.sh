@@ -176,6 +176,7 @@ lcnc_run() {
     # which a tmpfs (mode 0755) covers $blocked and the tree is bound back at
     # its own path. Nothing outside that namespace changes.
     mkdir -p "$RUN/rip"
+    # shellcheck disable=SC2016  # the positional parameters expand in the inner sh
     runner=(unshare -m --propagation private /bin/sh -c 'set -e
       mount --bind "$1" "$2"
       mount -t tmpfs -o mode=0755 fairpath-rip "$3"

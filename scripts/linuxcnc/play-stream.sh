@@ -49,7 +49,7 @@ shift $((OPTIND-1))
 STREAM=$(realpath "$1") || exit 2
 [ -r "$STREAM" ] || { echo "cannot read $STREAM" >&2; exit 2; }
 [ "$LCNC" = system ] || LCNC=$(realpath -m "$LCNC")
-# shellcheck source=lib.sh
+# shellcheck source-path=SCRIPTDIR source=lib.sh
 . "$HERE/lib.sh"
 
 # check the stream (halstreamer skips bad lines with a message, and a last line

@@ -49,7 +49,7 @@ SRC=$(realpath "$1") || exit 2
 [ -n "$REF" ] || REF=$SRC
 [ -n "$FEED" ] || FEED=$(awk -v v="$VEL" 'BEGIN{printf "%.4f", v*60*1.001}')
 [ "$LCNC" = system ] || LCNC=$(realpath -m "$LCNC")
-# shellcheck source=lib.sh
+# shellcheck source-path=SCRIPTDIR source=lib.sh
 . "$HERE/lib.sh"
 
 lcnc_lock
