@@ -6,7 +6,8 @@
 
 Started by the linuxcnc script as:  play_display.py -ini <stream.ini>
   1. estop reset, machine on, home (HOME_SEARCH_VEL=0 -> immediate homing at
-     JOINT HOME = the stream's first line);
+     JOINT HOME = the stream's first line), then MDI G53 G0 out by 1 mm and
+     back, so that motion is exactly at the first line (homing ends only near it);
   2. prefill: halstreamer copies the stream file into the streamer FIFO while
      the streamer is disabled, until the FIFO holds the whole file or is full
      (DEPTH-1 lines; halstreamer then blocks and keeps feeding while the
@@ -106,6 +107,30 @@ def main():
         drain_errors()
         if status["errors"]:
             raise RuntimeError("LinuxCNC error: " + " | ".join(status["errors"]))
+
+        # Homing (HOME_SEARCH_VEL 0) declares the position 0 as HOME_OFFSET (0) and
+        # then moves to HOME with the free planner, which stops within
+        # ~1e-3*A*T^2 of it (2.6e-7 mm seen): not exactly at the stream's first
+        # line. Go there with the coordinated planner, which ends a move on its
+        # end point: out by 1 mm and back (a move shorter than its fuzz would be
+        # dropped).
+        status["phase"] = "go-to-start"
+        home = [ini.find("JOINT_%d" % j, "HOME") for j in range(3)]
+        away = ["%.9f" % (float(h) + 1.0) for h in home]
+        c.mode(linuxcnc.MODE_MDI); c.wait_complete(5)
+        wait(lambda: s.task_mode == linuxcnc.MODE_MDI, 10, "MDI mode")
+        for target in (away, home):
+            c.mdi("G21 G90 G53 G0 X%s Y%s Z%s" % tuple(target)); c.wait_complete(5)
+            time.sleep(0.05)
+            wait(lambda: s.interp_state == linuxcnc.INTERP_IDLE and s.queue == 0
+                 and s.inpos and s.exec_state == linuxcnc.EXEC_DONE, 20, "move to the start")
+        time.sleep(0.05)
+        err = max(abs(float(halcmd("getp", "joint.%d.motor-pos-cmd" % j)) - float(home[j]))
+                  for j in range(3))
+        status["start_error_mm"] = err
+        if err > 1e-6:
+            raise RuntimeError("motion is %.3g mm from the stream's first line" % err)
+        c.mode(linuxcnc.MODE_MANUAL); c.wait_complete(5)
 
         # prefill: streamer disabled (stream-on FALSE), halstreamer fills the FIFO
         status["phase"] = "prefill"
