@@ -16,10 +16,14 @@
 #   b. scurve-raw      the same with PLANNER_TYPE 1 (S-curve)
 #   c. fairpath-gcode  fairpath smooth --controller linuxcnc, PLANNER_TYPE 1,
 #                      run with -g keep, deviation against the ORIGINAL program
+#   e. fairpath-arcfit the same with --method arc-fit (the fewest blocks within
+#                      the tolerance: LinuxCNC's S-curve planner caps the speed
+#                      at every block end)
 #   d. fairpath-stream fairpath stream (its own jerk-limited plan, one position
 #                      per servo period) played with play-stream.sh,
 #                      deviation against the original; its planned time is
 #                      parsed from "planned time: X s" (NA if absent)
+# $CASES: which of them, by name (default all five).
 # Progress on stderr. $FAIRPATH_BIN: the fairpath binary (default
 # target/release/fairpath of this checkout). Takes long (the S-curve planner
 # runs these programs slowly, and LinuxCNC runs in real time): not for CI.
@@ -49,7 +53,9 @@ WORK=$(dirname "$TABLE")/work
 mkdir -p "$WORK"
 : > "$LOG"
 LIMITS=(-v "$V" -a "$A" -j "$J" -p "$PERIOD_NS")
-n_total=$(( $# * 4 )); n=0
+CASES=${CASES:-trapezoid-raw scurve-raw fairpath-gcode fairpath-arcfit fairpath-stream}
+want() { [[ " $CASES " == *" $1 "* ]]; }
+n_total=$(( $# * $(wc -w <<<"$CASES") )); n=0
 
 # log PROGRAM CASE LINE: one raw line "program case key=value ..."
 log() { echo "$1 $2 $3" >> "$LOG"; }
@@ -71,8 +77,8 @@ run_case() {   # program-name case command...
 for prog in "$@"; do
   prog=$(realpath "$prog") || exit 2
   name=$(basename "$prog" .ngc)
-  run_case "$name" trapezoid-raw "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 0 -g "P0.05 Q0" "$prog"
-  run_case "$name" scurve-raw    "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 1 -g "P0.05 Q0" "$prog"
+  want trapezoid-raw && run_case "$name" trapezoid-raw "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 0 -g "P0.05 Q0" "$prog"
+  want scurve-raw && run_case "$name" scurve-raw    "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 1 -g "P0.05 Q0" "$prog"
 
   # c. fairpath's G-code for LinuxCNC. --controller linuxcnc writes
   #    "G64 P<blend> Q0" before every smoothed run (blend = a share of the
@@ -81,18 +87,23 @@ for prog in "$@"; do
   #    so the output is run as written (-g keep). Imposing "G64 P0.005 Q0" as
   #    the shared rig did would blend 10x more than fairpath budgeted for, and
   #    over the program's own path control outside the smoothed runs.
-  smooth=$WORK/$name-smooth.ngc
-  if "$FAIRPATH" smooth "$prog" --controller linuxcnc --tolerance "$TOL" -o "$smooth" >"$WORK/$name-smooth.txt" 2>&1; then
-    run_case "$name" fairpath-gcode "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 1 -g keep -r "$prog" "$smooth"
-  else
-    n=$((n+1))
-    out="cycles=NA seconds=NA status=failed errors=\"fairpath smooth failed (see $WORK/$name-smooth.txt)\""
-    log "$name" fairpath-gcode "$out"; progress "$name fairpath-gcode" "$out"
-  fi
+  for c in fairpath-gcode fairpath-arcfit; do
+    want "$c" || continue
+    if [ "$c" = fairpath-arcfit ]; then margs=(--method arc-fit); else margs=(); fi
+    smooth=$WORK/$name-$c.ngc
+    if "$FAIRPATH" smooth "$prog" "${margs[@]}" --controller linuxcnc --tolerance "$TOL" -o "$smooth" >"$WORK/$name-$c.txt" 2>&1; then
+      run_case "$name" "$c" "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 1 -g keep -r "$prog" "$smooth"
+    else
+      n=$((n+1))
+      out="cycles=NA seconds=NA status=failed errors=\"fairpath smooth failed (see $WORK/$name-$c.txt)\""
+      log "$name" "$c" "$out"; progress "$name $c" "$out"
+    fi
+  done
 
   # d. fairpath's stream, played through halstreamer
   stream=$WORK/$name-stream.txt
-  if "$FAIRPATH" stream "$prog" --tolerance "$TOL" --override-feed --max-feed $((V*60)) \
+  if ! want fairpath-stream; then :
+  elif "$FAIRPATH" stream "$prog" --tolerance "$TOL" --override-feed --max-feed $((V*60)) \
        --acc "$A" --jerk "$J" --period "$(awk -v p="$PERIOD_NS" 'BEGIN{printf "%.9g", p/1e9}')" \
        -o "$stream" >"$WORK/$name-stream.out" 2>&1; then
     planned=$(sed -n 's/.*planned time: *\([0-9.eE+-]*\) *s.*/\1/p' "$WORK/$name-stream.out" | head -1)

@@ -12,6 +12,7 @@ import sys
 
 CASES = {"trapezoid-raw": "raw, trapezoid (P0)", "scurve-raw": "raw, S-curve (P1)",
          "fairpath-gcode": "fairpath G-code, S-curve (P1)",
+         "fairpath-arcfit": "fairpath arc-fit G-code, S-curve (P1)",
          "fairpath-stream": "fairpath stream (halstreamer)"}
 
 
@@ -35,9 +36,9 @@ def main():
         return "%.3f" % (t / b) if b else "NA"
 
     print("| program | case | time s | ratio to S-curve raw | ratio to trapezoid raw "
-          "| peak acc mm/s^2 (3D, 5 ms) | peak jerk mm/s^3 (3D, 5 ms avg) | peak jerk raw mm/s^3 "
+          "| peak acc mm/s^2 (3D) | peak acc (3D, 5 ms avg) | peak jerk mm/s^3 (3D, 5 ms avg) | peak jerk raw mm/s^3 "
           "| max dev mm | fairpath planned s |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for prog, case, d, ok in rows:
         label = CASES.get(case, case)
         planned = d.get("planned", "") if case == "fairpath-stream" else ""
@@ -47,12 +48,12 @@ def main():
                 why += " (underruns=%s)" % d["underruns"]
             elif d.get("played") and d.get("lines") and d["played"] != d["lines"]:
                 why += " (played %s of %s lines)" % (d["played"], d["lines"])
-            print("| %s | %s | %s | | | | | | | %s |" % (prog, label, why, planned))
+            print("| %s | %s | %s | | | | | | | | %s |" % (prog, label, why, planned))
             continue
         t = float(d["seconds"])
-        print("| %s | %s | %.3f | %s | %s | %s | %s | %s | %s | %s |" % (
+        print("| %s | %s | %.3f | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             prog, label, t, ratio(t, prog, "scurve-raw"), ratio(t, prog, "trapezoid-raw"),
-            d["acc5"], d["jerk5"], d["jerk"], d.get("max_dev", "NA"), planned))
+            d["acc"], d["acc5"], d["jerk5"], d["jerk"], d.get("max_dev", "NA"), planned))
 
 
 if __name__ == "__main__":
