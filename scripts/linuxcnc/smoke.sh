@@ -9,6 +9,14 @@
 #   - play-stream.sh reports status=ok, underruns=0 and every line played;
 #   - cycles = the stream's moving lines (within 1);
 #   - the recorded drive commands equal the stream lines (max |diff| < 1e-6 mm).
+# Then, when a fairpath binary is there ($FAIRPATH_BIN, else target/release
+# or target/debug of this checkout), plays fairpath's own stream of
+# examples/zigzag.ngc at 0.05 mm and checks the targets of the stream: time
+# = fairpath's planned time (within 2 periods), peak jerk averaged over 5 ms
+# within 5% of J, peak acceleration within 2% of A, deviation from the
+# program within the tolerance.
+# LinuxCNC that cannot start here at all (no status from its display
+# program) is reported and skipped; anything played wrong fails.
 # Exit status 0 = pass (or skipped), 1 = fail.
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -34,9 +42,14 @@ with open(sys.argv[1], "w") as f:
         x = x0 + D * (10 * u**3 - 15 * u**4 + 6 * u**5)
         f.write("%.9f %.9f %.9f\n" % (x, y0, z0))
 EOF
-OUT=$(FAIRPATH_LCNC_RUN=${FAIRPATH_LCNC_RUN:-/tmp/fairpath-lcnc-smoke} \
-      "$HERE/play-stream.sh" -L "$L" -c "$TMP/run.csv" -t 60 "$STREAM" | tail -1)
+RUNDIR=${FAIRPATH_LCNC_RUN:-/tmp/fairpath-lcnc-smoke}
+OUT=$(FAIRPATH_LCNC_RUN=$RUNDIR "$HERE/play-stream.sh" -L "$L" -c "$TMP/run.csv" -t 60 "$STREAM" | tail -1)
 echo "play-stream.sh -L $L: $OUT"
+if [ ! -s "$RUNDIR/status.json" ]; then
+  echo "skipped: LinuxCNC did not start here (no $RUNDIR/status.json; see $RUNDIR/linuxcnc.log)"
+  tail -5 "$RUNDIR/linuxcnc.log" 2>/dev/null
+  exit 0
+fi
 /usr/bin/python3 - "$STREAM" "$TMP/run.csv" "$OUT" <<'EOF'
 import re
 import sys
@@ -76,4 +89,49 @@ if fails:
     print("FAIL: " + "; ".join(fails))
     sys.exit(1)
 print("ok: cycles=%s moving=%d" % (d["cycles"], moving))
+EOF
+# shellcheck disable=SC2181
+[ $? -eq 0 ] || exit 1
+
+# fairpath's own stream of a bundled example, against the targets.
+ROOT=$(cd "$HERE/../.." && pwd)
+FP=${FAIRPATH_BIN:-}
+[ -n "$FP" ] || for c in "$ROOT/target/release/fairpath" "$ROOT/target/debug/fairpath"; do
+  [ -x "$c" ] && { FP=$c; break; }
+done
+if [ -z "$FP" ]; then
+  echo "fairpath stream: skipped (no fairpath binary; cargo build first)"
+  exit 0
+fi
+PROG=$ROOT/examples/zigzag.ngc
+"$FP" stream "$PROG" --tolerance 0.05 --override-feed -o "$TMP/zigzag.txt" > "$TMP/zigzag.out" || {
+  cat "$TMP/zigzag.out"; echo "FAIL: fairpath stream"; exit 1; }
+PLANNED=$(sed -n 's/.*planned time: *\([0-9.eE+-]*\) *s.*/\1/p' "$TMP/zigzag.out" | head -1)
+OUT=$(FAIRPATH_LCNC_RUN=$RUNDIR "$HERE/play-stream.sh" -L "$L" -r "$PROG" -t 60 "$TMP/zigzag.txt" | tail -1)
+echo "fairpath stream of zigzag.ngc (planned $PLANNED s), play-stream.sh -L $L: $OUT"
+/usr/bin/python3 - "$OUT" "$PLANNED" <<'EOF'
+import re
+import sys
+
+d = dict(re.findall(r"(\w+)=(\S+)", sys.argv[1]))
+planned = float(sys.argv[2])
+A, J, TOL, T = 4000.0, 20000.0, 0.05, 0.001
+fails = []
+try:
+    if d.get("status") != "ok":
+        fails.append("status=%s" % d.get("status"))
+    if abs(int(d["cycles"]) * T - planned) > 2 * T:
+        fails.append("executed %s s, planned %s s" % (d["seconds"], planned))
+    if float(d["jerk5"]) > 1.05 * J:
+        fails.append("jerk5=%s > 1.05 J" % d["jerk5"])
+    if float(d["acc"]) > 1.02 * A:
+        fails.append("acc=%s > 1.02 A" % d["acc"])
+    if float(d["max_dev"]) > TOL:
+        fails.append("max_dev=%s > %s" % (d["max_dev"], TOL))
+except (KeyError, ValueError) as ex:
+    fails.append("missing %s" % ex)
+if fails:
+    print("FAIL: " + "; ".join(fails))
+    sys.exit(1)
+print("ok: the stream as executed meets its targets")
 EOF

@@ -351,14 +351,20 @@ impl Simulation {
         .to_string()
     }
 
-    /// The motion sampled every `period` s (`t,s,v,a,j,x,y,z`; feed runs
-    /// through the interpolator, rapids along their line; empty unless
-    /// `rows`), and the feed fluctuation of the interpolator: (largest,
-    /// mean).
-    pub fn csv(&self, period: f64, rows: bool) -> (String, f64, f64) {
+    /// The motion sampled every period of `m` on one clock from the start
+    /// (`t,s,v,a,j,x,y,z`: sample `k` at `k Ts`, positions exact in arc
+    /// length as `fairpath stream` samples them, rapids along their line,
+    /// the last row at the end; empty unless `rows`), and the feed
+    /// fluctuation of the second-order Taylor interpolator (`interpolate`):
+    /// (largest, mean).
+    pub fn csv(&self, m: &MachineLimits, rows: bool) -> (String, f64, f64) {
+        let period = m.period;
+        let accuracy = m.chord_error * 1e-4;
         let mut out = String::from("t,s,v,a,j,x,y,z\n");
         let (mut t0, mut s0) = (0.0f64, 0.0f64);
         let (mut fmax, mut fsum, mut fn_) = (0.0f64, 0.0f64, 0usize);
+        let mut next_k = 0usize;
+        let mut end: Option<fairpath::Vec3> = None;
         let row = |out: &mut String, t: f64, s: f64, v: f64, a: f64, j: f64, p: fairpath::Vec3| {
             if !rows {
                 return;
@@ -374,31 +380,50 @@ impl Simulation {
                 (Some(run), _) => {
                     let it =
                         fairpath::feed::interpolate::interpolate(&run.pieces, plan, period, t0);
-                    for smp in &it.samples {
-                        row(&mut out, smp.t, s0 + smp.s, smp.v, smp.a, smp.j, smp.p);
-                    }
                     fmax = fmax.max(it.max_fluctuation);
                     if !it.samples.is_empty() {
                         fsum += it.mean_fluctuation * it.samples.len() as f64;
                         fn_ += it.samples.len();
                     }
+                    if rows {
+                        let phase = (next_k as f64 * period - t0).max(0.0);
+                        let samples = fairpath::feed::stream::sample_run(
+                            &run.pieces,
+                            plan,
+                            accuracy,
+                            phase,
+                            period,
+                        );
+                        for smp in &samples {
+                            let st = smp.state;
+                            row(&mut out, t0 + smp.t, s0 + smp.s, st.v, st.a, st.j, smp.p);
+                        }
+                        next_k += samples.len();
+                    }
                     t0 += plan.time;
                     s0 += plan.segments.iter().map(|s| s.length).sum::<f64>();
+                    if let Some(p) = run.pieces.last() {
+                        end = Some(p.end());
+                    }
                 }
                 (None, Some((p, prof))) => {
                     let (d, len) = (prof.duration(), prof.length());
-                    let mut k = 0.0;
-                    while k <= d {
-                        let st = prof.eval(k);
+                    while rows && (next_k as f64) * period < t0 + d {
+                        let t = next_k as f64 * period;
+                        let st = prof.eval(t - t0);
                         let at = p.start().lerp(p.end(), (st.q / len).clamp(0.0, 1.0));
-                        row(&mut out, t0 + k, s0 + st.q, st.v, st.a, st.j, at);
-                        k += period;
+                        row(&mut out, t, s0 + st.q, st.v, st.a, st.j, at);
+                        next_k += 1;
                     }
                     t0 += d;
                     s0 += len;
+                    end = Some(p.end());
                 }
                 _ => {}
             }
+        }
+        if let Some(p) = end {
+            row(&mut out, next_k as f64 * period, s0, 0.0, 0.0, 0.0, p);
         }
         let mean = if fn_ > 0 { fsum / fn_ as f64 } else { 0.0 };
         (out, fmax, mean)
@@ -462,7 +487,7 @@ pub fn run(
     // memory (a program of hours at 1 ms).
     let samples = sim.time() / m.period;
     if samples <= MAX_SAMPLES {
-        let (csv, fmax, fmean) = sim.csv(m.period, profile.is_some());
+        let (csv, fmax, fmean) = sim.csv(m, profile.is_some());
         sim.fluctuation = Some((fmax, fmean));
         if let Some(p) = profile {
             crate::output::write_atomically(p, csv.as_bytes())?;

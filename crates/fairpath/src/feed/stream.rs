@@ -404,6 +404,42 @@ fn rapid_profile(p: &Piece, o: &StreamOptions) -> Result<(DoubleS, Vec3, Vec3), 
     Ok((prof, a, dir))
 }
 
+/// One sample of a planned run: time from the run's start (s), arc length
+/// along it (mm), the profile's state and the position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSample {
+    pub t: f64,
+    pub s: f64,
+    pub state: State,
+    pub p: Vec3,
+}
+
+/// Samples `plan` (made for `pieces`) at `phase + k period` from the run's
+/// start while before its end, exact in arc length (see [`Stream`]); the
+/// end point itself is the caller's next sample. `accuracy` (mm) bounds
+/// the arc-length inversion (the planner's own: chord error / 10,000).
+pub fn sample_run(
+    pieces: &[Piece],
+    plan: &RunPlan,
+    accuracy: f64,
+    phase: f64,
+    period: f64,
+) -> Vec<RunSample> {
+    if plan.segments.is_empty() || !(period > 0.0) {
+        return Vec::new();
+    }
+    let track = Track::new(pieces, plan.clone(), accuracy);
+    let rs = track.sample(phase, period);
+    (0..rs.p.len())
+        .map(|k| RunSample {
+            t: phase + k as f64 * period,
+            s: rs.s[k],
+            state: rs.state[k],
+            p: rs.p[k],
+        })
+        .collect()
+}
+
 /// Speed-cap factors tried in turn for a whole run, from none down (see
 /// [`stream_run`]).
 pub const CAP_LEVELS: [f64; 13] = [
