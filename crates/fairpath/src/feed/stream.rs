@@ -425,7 +425,7 @@ pub fn sample_run(
     phase: f64,
     period: f64,
 ) -> Vec<RunSample> {
-    if plan.segments.is_empty() || !(period > 0.0) {
+    if plan.segments.is_empty() || period.is_nan() || period <= 0.0 {
         return Vec::new();
     }
     let track = Track::new(pieces, plan.clone(), accuracy);
