@@ -158,9 +158,28 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                     .iter()
                     .map(|r| r.report.deviation_bound)
                     .fold(0.0f64, f64::max);
+                // Each run streamed as smoothed and as written; the faster
+                // is kept (both are within the tolerance: a run of long
+                // moves with sharp corners can be faster stopped at each
+                // corner than on tight transitions).
+                let so = stream_options(a);
+                let time_of = |pieces: &[fairpath::Piece]| -> Result<f64> {
+                    fstream::stream(&[fstream::Motion::Run(pieces)], &so)
+                        .map(|s| s.time)
+                        .map_err(|e| anyhow!("{}: {e}", a.program.display()))
+                };
+                let keep_own: Vec<bool> = crate::parallel::par_map(result.runs.len(), |k| {
+                    let r = &result.runs[k];
+                    Ok::<bool, anyhow::Error>(
+                        time_of(&r.original.pieces)? < time_of(&r.smoothed.pieces)?,
+                    )
+                })
+                .into_iter()
+                .collect::<Result<_>>()?;
+                let own = keep_own.iter().filter(|&&k| k).count();
                 let _ = writeln!(
                     report,
-                    "  smoothed:        {} runs by {}, deviation at most {:.4} mm (tolerance {} mm, {} mm of it for the servo's chords)",
+                    "  smoothed:        {} runs by {}, deviation at most {:.4} mm (tolerance {} mm, {} mm of it for the servo's chords); {own} run(s) streamed as written (faster than their smoothing)",
                     result.runs.len(),
                     opts.method_name,
                     worst,
@@ -170,7 +189,14 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 result
                     .runs
                     .into_iter()
-                    .map(|r| Run::new(r.smoothed.pieces))
+                    .zip(keep_own)
+                    .map(|(r, own)| {
+                        if own {
+                            r.original
+                        } else {
+                            Run::new(r.smoothed.pieces)
+                        }
+                    })
                     .collect()
             }
             None => {
@@ -222,14 +248,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
             Step::Dwell { seconds, .. } => fstream::Motion::Dwell(*seconds),
         })
         .collect();
-    let opts = StreamOptions {
-        axis_jerk: a.axis_jerk,
-        ..StreamOptions::new(PlanOptions {
-            limits: a.machine,
-            override_feed: a.override_feed,
-            window: None,
-        })
-    };
+    let opts = stream_options(a);
     let started = std::time::Instant::now();
     let st = fstream::stream(&motions, &opts).map_err(|e| {
         // Name the motion by its program line.
@@ -298,6 +317,17 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+fn stream_options(a: &StreamArgs) -> StreamOptions {
+    StreamOptions {
+        axis_jerk: a.axis_jerk,
+        ..StreamOptions::new(PlanOptions {
+            limits: a.machine,
+            override_feed: a.override_feed,
+            window: None,
+        })
+    }
 }
 
 fn step_line(s: &Step) -> Option<usize> {
