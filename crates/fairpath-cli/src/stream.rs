@@ -119,6 +119,9 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         std::fs::read(a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     let mut report = String::new();
+    // Moves a stream of X Y Z positions cannot carry: (executed line, source
+    // line, what).
+    let mut cannot: Vec<(usize, usize, &'static str)> = Vec::new();
     let (steps, left) = if is_json {
         if a.tolerance.is_some() {
             bail!("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)");
@@ -132,6 +135,26 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         (motions.into_iter().map(Step::Motion).collect(), Vec::new())
     } else {
         let program = pipeline::parse_program(a.program, &bytes)?;
+        for m in program.moves() {
+            use fairpath_gcode::PinReason;
+            let what = match m.pinned {
+                Some(PinReason::SpecialMotion) => {
+                    "spindle-synchronized motion, probing or a move in machine coordinates (G33, G33.1, G38.x, G53)"
+                }
+                Some(PinReason::ExtraAxes) => {
+                    "a move of axes other than X Y Z (the stream holds X Y Z only)"
+                }
+                Some(PinReason::UnknownStart) => {
+                    "a move from a position fairpath does not know (after G28/G30, offset or tool-length changes)"
+                }
+                _ => continue,
+            };
+            let source = program
+                .lines()
+                .get(m.line.saturating_sub(1))
+                .map_or(m.line, |l| l.source_line);
+            cannot.push((m.line, source, what));
+        }
         let runs = match a.tolerance {
             Some(tol) => {
                 // The servo interpolates between samples along chords; the
@@ -223,6 +246,13 @@ pub fn run(a: &StreamArgs) -> Result<()> {
             a.program.display()
         ),
     };
+    let (lo_line, hi_line) = window_lines(&steps[first..=last]);
+    if let Some((_, source, what)) = cannot.iter().find(|c| c.0 >= lo_line && c.0 <= hi_line) {
+        bail!(
+            "{}:{source}: cannot be streamed: {what}",
+            a.program.display()
+        );
+    }
     let lead_in = steps[..first]
         .iter()
         .filter(|s| matches!(s, Step::Motion(_)))
@@ -232,14 +262,6 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         .filter(|s| matches!(s, Step::Motion(_)))
         .count();
     let window = &steps[first..=last];
-    let (lo_line, hi_line) = (
-        window.iter().find_map(step_line).unwrap_or(0),
-        window
-            .iter()
-            .rev()
-            .find_map(step_line)
-            .unwrap_or(usize::MAX),
-    );
     let motions: Vec<fstream::Motion> = window
         .iter()
         .map(|s| match s {
@@ -252,7 +274,22 @@ pub fn run(a: &StreamArgs) -> Result<()> {
     let started = std::time::Instant::now();
     let st = fstream::stream(&motions, &opts).map_err(|e| {
         // Name the motion by its program line.
-        anyhow!("{}: {e}", a.program.display())
+        let line_of = |i: usize| window.get(i).and_then(step_line).unwrap_or(0);
+        match e {
+            fstream::StreamError::Gap { index, gap } => anyhow!(
+                "{}:{}: this move starts {gap:.4} mm from where the move of line {} ends: a move \
+                 between them is one fairpath does not stream (spindle-synchronized motion, \
+                 probing, a move to machine coordinates), and a stream cannot jump",
+                a.program.display(),
+                line_of(index),
+                line_of(index.saturating_sub(1))
+            ),
+            fstream::StreamError::Plan { index, .. }
+            | fstream::StreamError::NotWithinLimits { index, .. } => {
+                anyhow!("{}:{}: {e}", a.program.display(), line_of(index))
+            }
+            e => anyhow!("{}: {e}", a.program.display()),
+        }
     })?;
     let took = started.elapsed().as_secs_f64();
     let mut text = String::with_capacity(st.positions.len() * 42);
@@ -327,6 +364,25 @@ fn stream_options(a: &StreamArgs) -> StreamOptions {
             override_feed: a.override_feed,
             window: None,
         })
+    }
+}
+
+/// First and last (executed) line of the steps.
+fn window_lines(window: &[Step]) -> (usize, usize) {
+    let last = |s: &Step| match s {
+        Step::Motion(m) => Some(last_line(m)),
+        Step::Dwell { line, .. } => Some(*line),
+    };
+    (
+        window.iter().find_map(step_line).unwrap_or(0),
+        window.iter().rev().find_map(last).unwrap_or(usize::MAX),
+    )
+}
+
+fn last_line(m: &Motion) -> usize {
+    match m {
+        Motion::Feed(r) => r.pieces.last().map_or(0, |p| p.source_lines.1),
+        Motion::Rapid(p) => p.source_lines.1,
     }
 }
 

@@ -279,3 +279,38 @@ fn nothing_to_stream_is_an_error_and_writes_nothing() {
         "G21\nM3 S1000\nG0 X10\nM5\nM2\n"
     );
 }
+
+/// `linuxcnc/spindle/tapping.ngc`: a rigid-tapping move (G33.1) inside the
+/// stream was reported as a 21.59 mm jump; it is refused at its line, as
+/// are moves of other axes (the stream holds X Y Z only).
+#[test]
+fn tapping_and_rotary_moves_are_refused_at_their_line() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text, line) in [
+        (
+            "tap.ngc",
+            "G20 G90\nM3 S200\nG0 X1 Y1 Z0.1\nG1 X1.5 F10\nG33.1 Z-0.75 K0.05\nG0 X2 Y1 Z0.1\nG1 X3 F10\nM2\n",
+            5,
+        ),
+        (
+            "rot.ngc",
+            "G21 G90\nG0 X0 Y0 Z1\nG1 X10 F600\nG1 X20 A90\nG1 X30\nM2\n",
+            4,
+        ),
+    ] {
+        let prog = dir.path().join(name);
+        std::fs::write(&prog, text).unwrap();
+        let out = dir.path().join("o.txt");
+        let r = bin()
+            .arg("stream")
+            .arg(&prog)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{name}");
+        assert!(err.contains(&format!("{name}:{line}: cannot be streamed")), "{err}");
+        assert!(!out.exists());
+    }
+}
