@@ -30,9 +30,9 @@
 //! * a **free arc**: the circle through `P_i`, the vertex halfway along the
 //!   stretch by length, and `P_j`.
 //!
-//! The kind that reaches furthest is written; on ties a line, then the
-//! tangent arc (tangent continuity: LinuxCNC blends a tangent joint without
-//! slowing), then the free arc. Nothing is blended: every joint between
+//! The kind that reaches furthest is written; on ties the tangent arc
+//! (tangent continuity: LinuxCNC blends a tangent joint without slowing),
+//! unless the line is tangent too, then the line, then the free arc. Nothing is blended: every joint between
 //! blocks that is not G2 (a corner, or the curvature step between tangent
 //! blocks) is reported as a kept corner, [`CornerReason::Reversal`] where
 //! the path turns back, [`CornerReason::NoRoom`] otherwise (no one block
@@ -587,6 +587,7 @@ fn longest(lo: usize, hi: usize, mut fits: impl FnMut(usize) -> bool) -> Option<
 
 /// Fits one chain of lines with the fewest blocks (module docs).
 fn fit_chain(chain: &LineChain, tolerance: f64, o: &ArcFitOptions, out: &mut SmoothedRun) {
+    let tangent_angle = JointTolerances::from_tolerance(tolerance).angle;
     let pts = &chain.pts;
     let n = chain.segments();
     if n == 0 {
@@ -632,17 +633,24 @@ fn fit_chain(chain: &LineChain, tolerance: f64, o: &ArcFitOptions, out: &mut Smo
         let line_j = longest(i + 1, hi, |j| f.line_fits(i, j)).unwrap_or(i + 1);
         let mut best: (usize, Option<Arc>) = (line_j, None);
         if line_j < hi {
-            if let (true, Some(t)) = (o.tangent, tangent) {
-                let tan_j = longest(i + 2, hi, |j| {
-                    f.tangent_arc(i, j, t).is_some_and(|a| f.arc_fits(&a, i, j))
-                });
-                if let Some(j) = tan_j.filter(|&j| j > best.0) {
-                    best = (j, f.tangent_arc(i, j, t));
-                }
-            }
             let free_j = longest(i + 2, hi, |j| f.free_arc(i, j).is_some());
             if let Some(j) = free_j.filter(|&j| j > best.0) {
                 best = (j, f.free_arc(i, j));
+            }
+        }
+        if let (true, Some(t)) = (o.tangent, tangent) {
+            // The tangent arc wins ties, but not against a line that is
+            // tangent itself.
+            let line_tangent = best.1.is_none()
+                && xy_dir(pts[line_j] - pts[i]).is_some_and(|d| d.angle_to(t) <= tangent_angle);
+            let floor = if line_tangent { best.0 + 1 } else { best.0 };
+            if floor <= hi {
+                let tan_j = longest(i + 2, hi, |j| {
+                    f.tangent_arc(i, j, t).is_some_and(|a| f.arc_fits(&a, i, j))
+                });
+                if let Some(j) = tan_j.filter(|&j| j >= floor) {
+                    best = (j, f.tangent_arc(i, j, t));
+                }
             }
         }
         let (j, arc) = best;
@@ -708,6 +716,10 @@ mod tests {
         assert!((b.center - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-12);
         let (c, cw) = f.bulge_center(0, 2, 1.0).unwrap();
         assert!((c - b.center).norm() < 1e-12 && !cw);
+        // The two segments are chords of 90 degrees: 0.29 mm off the arc.
+        assert!(f.free_arc(0, 2).is_none());
+        f.lim.tol = 0.3;
+        f.lim.sample = 0.015;
         assert!(f.free_arc(0, 2).is_some());
     }
 }
