@@ -7,7 +7,7 @@
 
 mod common;
 use common::{degenerate, polyline_run, polyline_run_with_feeds, pt2, pt3, tolerances, v};
-use fairpath::geom::{Arc, Curve, Line, ParamCurve, Vec3};
+use fairpath::geom::{Arc, Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
 use fairpath::smooth::{
@@ -99,7 +99,7 @@ fn wander(turns: Vec<f64>, step: f64, lift: f64) -> Vec<Vec3> {
     let mut out = vec![p];
     for (k, t) in turns.into_iter().enumerate() {
         h += t;
-        p = p + v(
+        p += v(
             step * h.cos(),
             step * h.sin(),
             lift * (k as f64 * 0.3).sin(),
