@@ -58,7 +58,8 @@
 //!    `t_b` is within `h = M (t_b - t_a)^2 / 8` of the chord between its
 //!    points there (the interpolation error of a `C^2` curve by its chord).
 //!    The arc is sampled at a step with `h <=` [`ARC_SAMPLE_SHARE`] of the
-//!    fit tolerance. The distance to one segment `s` is convex along a
+//!    fit tolerance, and at the vertices' angles (so that most spans run
+//!    along one segment). The distance to one segment `s` is convex along a
 //!    chord `A B`, so every point of the chord is within
 //!    `max(dist(A, s), dist(B, s))` of `s`; over the segments near the
 //!    samples' angles (any segment gives an upper bound) the smallest such
@@ -134,7 +135,14 @@ pub const ARC_MAX_SPLIT_DEPTH: u32 = 8;
 const MAX_SAMPLES: f64 = 1e6;
 
 /// Steps of the golden-section search for a free arc's bulge.
-const BULGE_ITERATIONS: usize = 24;
+const BULGE_ITERATIONS: usize = 16;
+
+/// A best-bulge arc is looked for only where the three-point arc's
+/// estimate ([`Fitter::bulge_error`]) is within this many fit tolerances:
+/// choosing the bulge gains less than a factor of two on it (0.14 against
+/// 0.25 of the depth of a corner between two segments), so further out
+/// the search would be wasted.
+const BULGE_GATE: f64 = 2.5;
 
 /// Segments searched either side of the one at a sample's angle.
 const WINDOW: usize = 2;
@@ -371,7 +379,10 @@ impl Fitter<'_> {
         let Some((center, _)) = self.bulge_center(i, j, b) else {
             return f64::INFINITY;
         };
-        let radial = |q: Vec3| math::hypot(q.x - center.x, q.y - center.y);
+        let radial = |q: Vec3| {
+            let (dx, dy) = (q.x - center.x, q.y - center.y);
+            math::sqrt(dx * dx + dy * dy)
+        };
         let r = radial(self.pts[i]);
         let mut e: f64 = 0.0;
         for k in i..j {
@@ -390,6 +401,9 @@ impl Fitter<'_> {
     /// flatter than through the corner).
     fn bulge_arc(&self, i: usize, j: usize, arc3: &Arc) -> Option<Arc> {
         let b0 = math::tan(0.25 * arc3.sweep) * if arc3.normal.z < 0.0 { -1.0 } else { 1.0 };
+        if !within(self.bulge_error(i, j, b0), BULGE_GATE * self.lim.tol) {
+            return None;
+        }
         let (mut lo, mut hi) = (0.5 * b0, 1.25 * b0);
         let g = 0.5 * (math::sqrt(5.0) - 1.0);
         let mut x1 = hi - g * (hi - lo);
@@ -483,18 +497,35 @@ impl Fitter<'_> {
             return false;
         }
         let n = (n as usize).max(1);
-        let mut ka = 0;
-        let mut pa = arc.p0;
-        for s in 1..=n {
-            let tb = s as f64 / n as f64;
+        // The uniform samples merged with the vertices' angles, so that
+        // most spans lie along one segment, where the convexity bound is
+        // tight.
+        let last = self.angles.len() - 1;
+        let (mut s, mut kv) = (1, 1);
+        let (mut ta, mut pa, mut ka) = (0.0, arc.p0, 0);
+        while s <= n {
+            let tu = s as f64 / n as f64;
+            let tv = if kv < last {
+                self.angles[kv] / sweep
+            } else {
+                f64::INFINITY
+            };
+            let tb = if tv < tu {
+                kv += 1;
+                tv
+            } else {
+                s += 1;
+                tu
+            };
+            if tb <= ta {
+                continue;
+            }
             let pb = arc.eval(tb);
             let kb = self.vertex_at(ka, tb * sweep);
-            let ta = (s - 1) as f64 / n as f64;
             if !self.span_fits(arc, i, j, (ta, tb), (pa, pb), (ka, kb), m2, 0) {
                 return false;
             }
-            ka = kb;
-            pa = pb;
+            (ta, pa, ka) = (tb, pb, kb);
         }
         true
     }
@@ -527,16 +558,23 @@ impl Fitter<'_> {
         let h = m2 * (t.1 - t.0) * (t.1 - t.0) / 8.0;
         let lo = i + k.0.saturating_sub(WINDOW);
         let hi = (i + k.1 + WINDOW).min(j - 1);
-        let mut best = f64::INFINITY;
+        let (mut best, mut near_a, mut near_b) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         for s in lo..=hi {
             let (a, b) = (self.pts[s], self.pts[s + 1]);
-            let d = point_segment_distance(p.0, a, b).max(point_segment_distance(p.1, a, b));
-            best = best.min(d);
+            let (da, db) = (
+                point_segment_distance(p.0, a, b),
+                point_segment_distance(p.1, a, b),
+            );
+            best = best.min(da.max(db));
+            near_a = near_a.min(da);
+            near_b = near_b.min(db);
         }
         if best + h <= self.lim.tol {
             return true;
         }
-        if depth >= ARC_MAX_SPLIT_DEPTH || !(best.is_finite()) {
+        // An end already too far (from the segments near it) fails however
+        // finely the span is cut.
+        if depth >= ARC_MAX_SPLIT_DEPTH || !within(near_a.max(near_b), self.lim.tol) {
             return false;
         }
         let tm = 0.5 * (t.0 + t.1);
