@@ -418,8 +418,10 @@ fn compare_prints_every_method_and_the_baseline() {
         let dev = r["max_deviation_mm"].as_f64().unwrap();
         assert!(dev > 0.0 && dev <= 0.05, "{r}");
         // Every corner of the pocket is blended: G2 joints only, apart
-        // from what the method reports as kept.
-        assert!(r["g2"].as_u64().unwrap() > 0, "{r}");
+        // from what the method reports as kept (`arc-fit` blends nothing:
+        // it refits the moves with the fewest arcs and lines).
+        let blends = r["method"] != "arc-fit";
+        assert!(!blends || r["g2"].as_u64().unwrap() > 0, "{r}");
         assert_eq!(r["gaps"].as_u64(), Some(0), "{r}");
         let ratio = r["time_ratio"].as_f64().unwrap();
         let time = r["time_s"].as_f64().unwrap();
@@ -431,7 +433,7 @@ fn compare_prints_every_method_and_the_baseline() {
         assert!(feed > 0.0 && feed <= time, "{r}");
         assert!((time - feed - (base_time - base_feed)).abs() < 1e-9, "{r}");
         assert!(r["peak_curvature_per_mm"].as_f64().unwrap() > 0.0);
-        assert!(r["curvature_variation_energy"].as_f64().unwrap() > 0.0);
+        assert!(!blends || r["curvature_variation_energy"].as_f64().unwrap() > 0.0);
     }
     // CSV: a header and a row per method.
     let o = bin()

@@ -5,6 +5,7 @@
 //! with G2 continuity wherever it can; corners it cannot blend are kept and
 //! reported. [`verify`] checks all of that without trusting the smoother.
 
+mod arc_fit;
 mod auto;
 mod auto_sections;
 mod bezier_corner;
@@ -17,6 +18,10 @@ mod fit_sections;
 mod lotm;
 pub mod verify;
 
+pub use arc_fit::{
+    ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
+    ARC_MAX_SPLIT_DEPTH, ARC_MAX_SWEEP, ARC_MIN_CHORD_PER_TOL, ARC_MIN_RADIUS_MM, ARC_SAMPLE_SHARE,
+};
 pub use auto::{
     sample_curves, through_corners_sections, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
     JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES,
@@ -104,11 +109,19 @@ pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
 }
 
 /// Names of the methods [`by_name`] knows.
-pub const METHODS: &[&str] = &["auto", "bspline-corner", "bspline-fit", "ctm", "lotm"];
+pub const METHODS: &[&str] = &[
+    "arc-fit",
+    "auto",
+    "bspline-corner",
+    "bspline-fit",
+    "ctm",
+    "lotm",
+];
 
 /// The method called `name` on the command line, with default options.
 pub fn by_name(name: &str) -> Option<alloc::boxed::Box<dyn Smoother>> {
     match name {
+        "arc-fit" => Some(alloc::boxed::Box::new(ArcFit::default())),
         "auto" => Some(alloc::boxed::Box::new(Auto::default())),
         "bspline-corner" => Some(alloc::boxed::Box::new(BsplineCorner::default())),
         "bspline-fit" => Some(alloc::boxed::Box::new(BsplineFit::default())),

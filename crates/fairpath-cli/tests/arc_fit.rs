@@ -1,0 +1,86 @@
+//! `fairpath smooth --method arc-fit --controller linuxcnc` on the reference
+//! programs: the written program verifies (`fairpath check`) and has fewer
+//! motion blocks than the input's feed moves (LinuxCNC's S-curve planner
+//! caps the speed at the end of every block, so fewer, longer blocks run
+//! faster there).
+
+mod common;
+use common::{bin, shared};
+use std::path::Path;
+
+/// Feed moves (G1/G2/G3 blocks) of the program at `path`, as read.
+fn feed_moves(path: &Path) -> usize {
+    let program = fairpath_gcode::parse(&std::fs::read(path).unwrap()).unwrap();
+    program.runs().iter().map(|r| r.pieces.len()).sum()
+}
+
+/// Smooths `rel` (under `../shared/paths`) with `arc-fit` for LinuxCNC at
+/// `tol` mm and checks the output; returns (input, output) feed moves.
+fn arc_fit(rel: &str, tol: &str) -> Option<(usize, usize)> {
+    let Some(input) = shared(rel) else {
+        eprintln!("../shared/paths not found: skipped");
+        return None;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let o = bin()
+        .args([
+            "smooth",
+            input.to_str().unwrap(),
+            "--tolerance",
+            tol,
+            "--method",
+            "arc-fit",
+            "--controller",
+            "linuxcnc",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{rel}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let c = bin()
+        .args([
+            "check",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--tolerance",
+            tol,
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        c.status.success(),
+        "check {rel}: {}{}",
+        String::from_utf8_lossy(&c.stdout),
+        String::from_utf8_lossy(&c.stderr)
+    );
+    Some((feed_moves(&input), feed_moves(&out)))
+}
+
+#[test]
+fn butterfly_has_fewer_blocks() {
+    let Some((input, output)) = arc_fit("synthetic/butterfly-80.ngc", "0.05") else {
+        return;
+    };
+    assert_eq!(input, 80);
+    assert!(output < input, "{output} blocks for {input} feed moves");
+}
+
+/// Five turns of 72 moves each: a few helical arcs (at most 350 degrees
+/// each).
+#[test]
+fn helix_becomes_a_few_arcs() {
+    for tol in ["0.05", "0.01"] {
+        let Some((input, output)) = arc_fit("synthetic/helix.ngc", tol) else {
+            return;
+        };
+        assert_eq!(input, 360);
+        assert!(output <= 6, "{output} blocks at {tol}");
+    }
+}
