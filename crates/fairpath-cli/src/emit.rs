@@ -12,7 +12,8 @@ use crate::{Controller, Format};
 use anyhow::{anyhow, Result};
 use fairpath::budget::ToleranceBudget;
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
+use fairpath::feed::shaping::Shaping;
 use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
 use fairpath::render::{
@@ -57,6 +58,10 @@ pub struct EmitOptions {
     /// (`true`), or as programmed. A run is rewritten only if it plans
     /// faster at the maximum feed and at these.
     pub override_feed: bool,
+    /// How the controller's planner is modelled when renders are judged
+    /// against the program's own runs: [`Corners::BlockCapped`] for a
+    /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
+    pub judged_by: Corners,
 }
 
 impl EmitOptions {
@@ -235,9 +240,11 @@ pub fn emit(
             override_feed,
             window: None,
         };
-        Ok(plan_run(pieces, &po)
-            .map_err(|e| anyhow!("planning: {e}"))?
-            .time)
+        Ok(
+            plan_run_shaped(pieces, &po, &Shaping::none(), opts.judged_by)
+                .map_err(|e| anyhow!("planning: {e}"))?
+                .time,
+        )
     };
     // A rendering's time: its G5.2 blocks as LinuxCNC runs them (as the
     // written text reads back).
@@ -498,6 +505,7 @@ mod tests {
             machine: MachineLimits::thesis(),
             step_share: fairpath::render::arcs::STEP_SHARE,
             override_feed: false,
+            judged_by: Corners::Blended,
         }
     }
 

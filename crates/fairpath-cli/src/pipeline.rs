@@ -102,6 +102,11 @@ impl SmoothOptions {
             machine: self.machine,
             step_share: self.step_share,
             override_feed: self.override_feed,
+            judged_by: if self.method.writes_for_block_capped_planner() {
+                fairpath::feed::plan::Corners::BlockCapped
+            } else {
+                fairpath::feed::plan::Corners::Blended
+            },
         }
     }
 }

@@ -55,6 +55,10 @@ pub struct Summary {
     pub retried_runs: usize,
     /// Runs written as the program had them (no rendering planned faster).
     pub kept_runs: usize,
+    /// The runs were judged by a planner that caps the speed at every block
+    /// end (LinuxCNC's S-curve planner, for `arc-fit`), not by the blending
+    /// model of the times above.
+    pub block_capped: bool,
 }
 
 impl Summary {
@@ -182,6 +186,7 @@ impl Summary {
             lines_out: emitted.text.lines().count(),
             retried_runs: emitted.retried_runs,
             kept_runs: emitted.kept_runs,
+            block_capped: opts.method.writes_for_block_capped_planner(),
         }
     }
 
@@ -339,6 +344,13 @@ impl Summary {
             "                   (feed moves: {:.3} s, {:.3} s, {:.3} s; {})",
             t.input.feed, t.exact.feed, t.written.feed, self.planned_on
         );
+        if self.block_capped {
+            let _ = writeln!(
+                s,
+                "  note:            {} writes for LinuxCNC's S-curve planner, which caps the speed at every block end; runs were kept or rewritten by that model (fewer, longer blocks), while the times above are a blending controller's",
+                self.method
+            );
+        }
         if self.slower_than_input() {
             let _ = writeln!(
                 s,

@@ -99,6 +99,23 @@ pub enum Corners {
     /// ([`super::sampled`]). The speed at the corner is capped so that
     /// both stay within the limits: `v <= min(A Ts, 5 J Ts^2) / (2 sin(phi/2))`.
     Followed,
+    /// As [`Corners::Blended`], and every joint between two pieces is also
+    /// capped at the speed the shorter of them reaches from rest over half
+    /// its length under the acceleration and jerk limits: the model of
+    /// LinuxCNC master's S-curve planner, which caps the speed at the end
+    /// of every block at its rest-to-rest peak speed (`tp.c`:
+    /// `tpComputeOptimalVelocity` -> `findSCurveVPeak`; about
+    /// `(L sqrt(J) / 2)^(2/3)` for a block of length `L`). Each piece is
+    /// one block.
+    BlockCapped,
+}
+
+/// The rest-to-rest peak speed (mm/s) over a block of `length` mm: the
+/// speed reached from rest over half of it (see [`Corners::BlockCapped`]).
+pub fn block_cap(m: &MachineLimits, length: f64) -> f64 {
+    max_reachable_velocity(0.0, 0.5 * length, m.acc, m.jerk)
+        .unwrap_or(0.0)
+        .min(m.max_feed)
 }
 
 /// The largest speed (mm/s) at which a path followed exactly may turn by
@@ -380,7 +397,16 @@ fn stretches(
             valid.push((pi, len));
         }
     }
-    let jcaps = joint_caps(pieces, &valid, m, corners);
+    let mut jcaps = joint_caps(pieces, &valid, m, corners);
+    if corners == Corners::BlockCapped {
+        for (j, jc) in jcaps.iter_mut().enumerate() {
+            let cap = block_cap(m, valid[j].1).min(block_cap(m, valid[j + 1].1));
+            jc.point = jc.point.min(cap);
+            jc.arc = jc.arc.min(cap);
+            jc.entry = jc.entry.min(cap);
+            jc.exit = jc.exit.min(cap);
+        }
+    }
     let mut out: Vec<Stretch> = Vec::new();
     let mut junction: Vec<f64> = Vec::new();
     // Arc length of the run before the current stretch.

@@ -181,6 +181,10 @@ impl Smoother for ArcFit {
         "arc-fit"
     }
 
+    fn writes_for_block_capped_planner(&self) -> bool {
+        true
+    }
+
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         let o = self.options;

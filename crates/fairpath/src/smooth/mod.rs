@@ -95,6 +95,13 @@ pub trait Smoother {
     /// `tolerance` mm (3D Euclidean) of the run, with the run's endpoints
     /// kept exactly.
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError>;
+    /// Whether the method writes for a planner that caps the speed at the
+    /// end of every block (LinuxCNC master's S-curve planner): its output
+    /// is then judged by that model (`feed::plan::Corners::BlockCapped`)
+    /// rather than by a blending controller's.
+    fn writes_for_block_capped_planner(&self) -> bool {
+        false
+    }
 }
 
 /// Rejects tolerances that are not positive and finite, or absurdly small
