@@ -92,6 +92,16 @@ for prog in "$@"; do
     if [ "$c" = fairpath-arcfit ]; then margs=(--method arc-fit); else margs=(); fi
     smooth=$WORK/$name-$c.ngc
     if "$FAIRPATH" smooth "$prog" "${margs[@]}" --controller linuxcnc --tolerance "$TOL" -o "$smooth" >"$WORK/$name-$c.txt" 2>&1; then
+      # Runs fairpath keeps as written carry no G64 of fairpath's; the raw
+      # runs above are blended with "G64 P<TOL> Q0": so are they, by that
+      # line after the units line (fairpath's own G64 around the runs it
+      # rewrote comes later and governs those).
+      awk -v tol="$TOL" 'BEGIN{done=0}
+        { print }
+        !done && toupper($0) ~ /G *2[01]([^0-9.]|$)/ {
+          p = (toupper($0) ~ /G *20([^0-9.]|$)/) ? tol / 25.4 : tol
+          printf "G64 P%.6g Q0 (bench: the raw runs'"'"' blending)\n", p; done=1 }' \
+        "$smooth" > "$smooth.tmp" && mv "$smooth.tmp" "$smooth"
       run_case "$name" "$c" "$HERE/run-program.sh" "${LARGS[@]}" "${LIMITS[@]}" -P 1 -g keep -r "$prog" "$smooth"
     else
       n=$((n+1))
