@@ -116,9 +116,11 @@ enum Command {
         /// Largest distance (mm) of the output feed path from the original.
         #[arg(short, long)]
         tolerance: f64,
-        /// Smoothing method.
-        #[arg(short, long, default_value = "auto")]
-        method: String,
+        /// Smoothing method (default: the controller's: arc-fit for
+        /// linuxcnc, whose planners cap the speed per block; auto for the
+        /// others).
+        #[arg(short, long)]
+        method: Option<String>,
         /// The controller the program is for: picks the default format and
         /// the dialect (LinuxCNC: G64 P<blend> Q0 around smoothed runs;
         /// Fanuc: a decimal point in every number). For every controller
@@ -282,6 +284,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             json_summary,
         } => {
             let output = smooth_output(&input, output, in_place)?;
+            let method = method.unwrap_or_else(|| controller.default_method().to_string());
             let mut opts =
                 pipeline::SmoothOptions::new(tolerance, chord, &method, format, controller)?;
             if step_share.is_nan() || step_share <= 0.0 {

@@ -84,3 +84,38 @@ fn helix_becomes_a_few_arcs() {
         assert!(output <= 6, "{output} blocks at {tol}");
     }
 }
+
+/// `linuxcnc/quick-tests/straight_segments.ngc`: 1,000 collinear G91 moves
+/// of 0.0005 in inside an o-word loop become one line. The input's f64 sum
+/// of the increments ends 1.5e-13 mm from the written `X0.5`, and the
+/// written program was refused as moving a run endpoint; end points now
+/// count as equal within the rounding share of the tolerance.
+#[test]
+fn straight_segments_merged_into_one_line_is_written() {
+    let Some((input, output)) = arc_fit("linuxcnc/quick-tests/straight_segments.ngc", "0.05")
+    else {
+        return;
+    };
+    assert!(input > 1000, "{input}");
+    assert!(output < 10, "{output} blocks");
+}
+
+/// `--controller linuxcnc` without `--method` writes with arc-fit (its
+/// planners cap the speed per block).
+#[test]
+fn linuxcnc_defaults_to_arc_fit() {
+    let Some(input) = shared("synthetic/helix.ngc") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let o = bin()
+        .args(["smooth", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["--controller", "linuxcnc", "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    assert!(text.contains("(arc-fit, arcs for linuxcnc"), "{text}");
+    assert!(feed_moves(&out) <= 6);
+}

@@ -195,6 +195,9 @@ fn linuxcnc_master_runs_what_we_write_as_g6_2() {
                 "linuxcnc",
                 "--format",
                 "g6.2",
+                // The curves: arc-fit, LinuxCNC's default, writes no NURBS.
+                "--method",
+                "auto",
             ])
             .output()
             .unwrap();
