@@ -14,9 +14,11 @@
 #   a. trapezoid-raw   the program, PLANNER_TYPE 0, G64 P0.05 Q0, feeds overridden
 #                      (F = 60*V*1.001: the machine limits, not F, govern)
 #   b. scurve-raw      the same with PLANNER_TYPE 1 (S-curve)
-#   c. fairpath-gcode  fairpath smooth --controller linuxcnc, PLANNER_TYPE 1,
+#   c. fairpath-gcode  fairpath smooth --method auto --controller linuxcnc
+#                      (the curvature-continuous output), PLANNER_TYPE 1,
 #                      run with -g keep, deviation against the ORIGINAL program
-#   e. fairpath-arcfit the same with --method arc-fit (the fewest blocks within
+#   e. fairpath-arcfit the same with --method arc-fit, the default for
+#                      --controller linuxcnc (the fewest blocks within
 #                      the tolerance: LinuxCNC's S-curve planner caps the speed
 #                      at every block end)
 #   d. fairpath-stream fairpath stream (its own jerk-limited plan, one position
@@ -89,7 +91,7 @@ for prog in "$@"; do
   #    over the program's own path control outside the smoothed runs.
   for c in fairpath-gcode fairpath-arcfit; do
     want "$c" || continue
-    if [ "$c" = fairpath-arcfit ]; then margs=(--method arc-fit); else margs=(); fi
+    if [ "$c" = fairpath-arcfit ]; then margs=(--method arc-fit); else margs=(--method auto); fi
     smooth=$WORK/$name-$c.ngc
     if "$FAIRPATH" smooth "$prog" "${margs[@]}" --controller linuxcnc --tolerance "$TOL" -o "$smooth" >"$WORK/$name-$c.txt" 2>&1; then
       # Runs fairpath keeps as written carry no G64 of fairpath's; the raw
