@@ -42,7 +42,7 @@ fn bench(c: &mut Criterion) {
             format!("smooth only, {method} (no verification, no output)"),
             |b| {
                 let runs = program.runs();
-                let m = fairpath::smooth::by_name(method).unwrap();
+                let m = fairpath::choose::by_name(method).unwrap();
                 b.iter(|| {
                     runs.iter()
                         .map(|r| m.smooth_run(r, 0.045).unwrap().pieces.len())
@@ -55,7 +55,7 @@ fn bench(c: &mut Criterion) {
 
     // Feed planning speed, in pieces per second: the smoothed raster
     // (lines and corner transitions) on the thesis machine.
-    let m = fairpath::smooth::by_name("bspline-corner").unwrap();
+    let m = fairpath::choose::by_name("bspline-corner").unwrap();
     let smoothed: Vec<_> = program
         .runs()
         .iter()

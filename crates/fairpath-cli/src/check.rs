@@ -9,7 +9,7 @@
 use crate::pipeline::{compare_runs_within, group_by_source, parse_program_with};
 use anyhow::{anyhow, Context, Result};
 use fairpath::path::Run;
-use fairpath::smooth::verify::{verify_run, VerifyOptions};
+use fairpath::verify::{verify_run, VerifyOptions};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 use std::process::ExitCode;

@@ -19,7 +19,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::{RunReport, VerifyOptions};
+use fairpath::verify::{RunReport, VerifyOptions};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -151,8 +151,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     let base_time = plan_time(&runs)?;
     let options = |name: &str, format: Format| -> Result<SmoothOptions> {
         let mut so = SmoothOptions::new(opts.tolerance, None, name, Some(format), opts.controller)?;
-        so.machine = opts.machine;
-        so.override_feed = opts.override_feed;
+        so.set_machine(opts.machine, opts.override_feed);
         Ok(so)
     };
     let budget0 = options("bspline-corner", Format::Json)?.budget();

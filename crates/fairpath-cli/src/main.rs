@@ -291,8 +291,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 anyhow::bail!("--step-share must be a positive number or inf; got {step_share}");
             }
             opts.step_share = step_share;
-            opts.machine = machine.limits()?;
-            opts.override_feed = machine.override_feed;
+            opts.set_machine(machine.limits()?, machine.override_feed);
             if method == "bspline-corner" {
                 opts.method = Box::new(fairpath::smooth::BsplineCorner {
                     options: fairpath::smooth::BsplineCornerOptions {
@@ -378,7 +377,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             use fairpath_cli::compare;
             let m = machine.limits()?;
             let methods = methods.unwrap_or_else(|| {
-                fairpath::smooth::METHODS
+                fairpath::choose::METHODS
                     .iter()
                     .map(|s| s.to_string())
                     .collect()

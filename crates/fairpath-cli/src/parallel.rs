@@ -3,9 +3,7 @@
 //! (whole runs, and chunks of long runs) and runs them on scoped threads.
 
 use fairpath::path::Piece;
-use fairpath::smooth::verify::{
-    report_without_deviation, Deviation, RunReport, Verifier, VerifyOptions,
-};
+use fairpath::verify::{report_without_deviation, Deviation, RunReport, Verifier, VerifyOptions};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 

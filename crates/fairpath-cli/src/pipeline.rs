@@ -9,11 +9,12 @@ use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::budget::ToleranceBudget;
+use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::path::{Piece, Run};
 use fairpath::render::arcs::STEP_SHARE;
-use fairpath::smooth::verify::{RunReport, VerifyOptions};
 use fairpath::smooth::{self, SmoothedRun, Smoother};
+use fairpath::verify::{RunReport, VerifyOptions};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 
@@ -57,7 +58,7 @@ impl SmoothOptions {
             .map_err(|e| anyhow!("--tolerance: {e}: raise --tolerance or lower --chord"))?;
         // `auto` gives a share of the smoothing budget to the chords of
         // sampled arcs.
-        let inner = budget.smoothing() * (1.0 - smooth::ARC_SHARE);
+        let inner = budget.smoothing() * (1.0 - choose::ARC_SHARE);
         smooth::check_tolerance(inner).map_err(|_| {
             anyhow!(
                 "--tolerance {tolerance} mm leaves {inner:e} mm for smoothing after the output \
@@ -65,10 +66,10 @@ impl SmoothOptions {
                  --tolerance or lower --chord"
             )
         })?;
-        let m = smooth::by_name(method).ok_or_else(|| {
+        let m = choose::by_name(method).ok_or_else(|| {
             anyhow!(
                 "unknown method {method:?}; known: {}",
-                smooth::METHODS.join(", ")
+                choose::METHODS.join(", ")
             )
         })?;
         Ok(SmoothOptions {
@@ -81,6 +82,19 @@ impl SmoothOptions {
             override_feed: false,
             step_share: STEP_SHARE,
         })
+    }
+
+    /// Plans on `machine` (at the programmed feeds unless `override_feed`),
+    /// and has `auto` rank its candidates by the time planned on it (at
+    /// the machine's maximum feed, so that the choice depends on the
+    /// geometry, not on a feed the program may set low).
+    pub fn set_machine(&mut self, machine: MachineLimits, override_feed: bool) {
+        self.machine = machine;
+        self.override_feed = override_feed;
+        let objective = std::sync::Arc::new(PlannedTime::new(machine, true));
+        if let Some(m) = choose::method(&self.method_name, objective) {
+            self.method = m;
+        }
     }
 
     /// The user's tolerance (mm).

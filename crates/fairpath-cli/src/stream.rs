@@ -164,8 +164,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 let chord = a.machine.chord_error.min(0.5 * tol);
                 let mut opts =
                     SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
-                opts.machine = a.machine;
-                opts.override_feed = a.override_feed;
+                opts.set_machine(a.machine, a.override_feed);
                 let mut phases = Phases::new();
                 let result = pipeline::smooth_program(&program, &opts, &mut phases)?;
                 if let Some(bad) = result.runs.iter().find(|r| !r.report.within(opts.budget())) {

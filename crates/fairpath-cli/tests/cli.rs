@@ -212,20 +212,20 @@ fn gcode_output_reread_matches_json_geometry_within_chord() {
     assert_eq!(runs.len(), 1);
     // Every written G1 point lies within the chord tolerance (plus the
     // 4-decimal rounding) of the JSON curves, and vice versa.
-    let rep = fairpath::smooth::verify::verify_run(
+    let rep = fairpath::verify::verify_run(
         &feed,
         &runs[0].pieces,
-        &fairpath::smooth::verify::VerifyOptions::new(0.005),
+        &fairpath::verify::VerifyOptions::new(0.005),
     );
     assert!(
         rep.deviation_bound <= 0.005 + 1e-4,
         "{}",
         rep.deviation_bound
     );
-    let back = fairpath::smooth::verify::verify_run(
+    let back = fairpath::verify::verify_run(
         &runs[0].pieces,
         &feed,
-        &fairpath::smooth::verify::VerifyOptions::new(0.005),
+        &fairpath::verify::VerifyOptions::new(0.005),
     );
     assert!(
         back.deviation_bound <= 0.005 + 1e-4,
@@ -408,7 +408,7 @@ fn compare_prints_every_method_and_the_baseline() {
     let rows: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
     let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
     let mut want = vec!["original"];
-    want.extend(fairpath::smooth::METHODS);
+    want.extend(fairpath::choose::METHODS);
     assert_eq!(names, want);
     let base = &rows[0];
     assert_eq!(base["time_ratio"].as_f64(), Some(1.0));
@@ -495,4 +495,51 @@ fn a_tolerance_of_one_micrometre_is_written_within_it() {
         n += 1;
     }
     eprintln!("{n} programs written within 0.001 mm");
+}
+
+/// `auto` ranks its candidates on the user's machine: `smooth --machine`
+/// (here its flags) changes what `auto` keeps, and each machine's choice
+/// plans no slower on that machine than the other machine's choice.
+#[test]
+fn smooth_with_another_machine_changes_what_auto_keeps() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("circle.ngc");
+    std::fs::write(&input, "G20 G90\nG0 X0 Y0 Z0\nG2 X0 Y0 I1 J1 F9999\nM30\n").unwrap();
+    let slow: &[&str] = &["--acc", "300", "--jerk", "1000", "--max-feed", "3000"];
+    let mut outputs = Vec::new();
+    for (name, machine) in [("default", &[][..]), ("slow", slow)] {
+        let out = dir.path().join(format!("{name}.json"));
+        let mut extra = vec![
+            "-m",
+            "auto",
+            "-f",
+            "json",
+            "--json-summary",
+            "--override-feed",
+        ];
+        extra.extend_from_slice(machine);
+        let o = smooth(&input, &out, "0.05", &extra);
+        assert_ok(&o, name);
+        let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        outputs.push((out, machine, summary["auto_chose"].clone()));
+    }
+    assert_ne!(
+        outputs[0].2, outputs[1].2,
+        "the same choice on both machines"
+    );
+    let time = |path: &Path, machine: &[&str]| -> f64 {
+        let mut a = vec!["simulate", path.to_str().unwrap(), "--format", "json"];
+        a.push("--override-feed");
+        a.extend_from_slice(machine);
+        let o = run(&a);
+        assert_ok(&o, "simulate");
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["time_s"].as_f64().unwrap()
+    };
+    for (own, machine, _) in &outputs {
+        for (other, _, _) in &outputs {
+            let (t_own, t_other) = (time(own, machine), time(other, machine));
+            assert!(t_own <= t_other + 1e-9, "{machine:?}: {t_own} > {t_other}");
+        }
+    }
 }

@@ -50,7 +50,8 @@ fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
 /// Corners `auto` keeps on the program at `path`, all of which must be
 /// reversals; their number.
 fn reversals(path: &Path) -> usize {
-    use fairpath::smooth::{Auto, CornerReason, Smoother};
+    use fairpath::choose::Auto;
+    use fairpath::smooth::{CornerReason, Smoother};
     let program = fairpath_cli::pipeline::read_program(path).unwrap();
     let mut n = 0;
     for run in program.runs() {
@@ -188,11 +189,9 @@ fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
 /// corner method and the rest is split and fitted again (15.02 s).
 #[test]
 fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
+    use fairpath::choose::{sample_curves, through_corners_sections, ARC_SHARE};
     use fairpath::feed::plan::{plan_run, PlanOptions};
-    use fairpath::smooth::{
-        sample_curves, through_corners_sections, BsplineCorner, BsplineFit, BsplineFitOptions,
-        Smoother, ARC_SHARE,
-    };
+    use fairpath::smooth::{BsplineCorner, BsplineFit, BsplineFitOptions, Smoother};
     let rel = "linuxcnc/performance/test_12mmflat.ngc";
     let Some(path) = shared(rel) else {
         eprintln!("{rel} not found: skipped");

@@ -7,8 +7,9 @@
 //! verifier called G1 from f64 rounding; the rounding allowance now uses
 //! the knot span at the joint.)
 
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
-use fairpath::smooth::{by_name, CornerReason, METHODS};
+use fairpath::choose::{by_name, METHODS};
+use fairpath::smooth::CornerReason;
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 use std::path::{Path, PathBuf};
 
 pub fn shared_paths() -> Option<PathBuf> {

@@ -25,8 +25,9 @@ mod mutate;
 mod rng;
 
 use exercise::{exercise_gcode, exercise_json, Outcome};
+use fairpath::choose::Auto;
 use fairpath::path::Piece;
-use fairpath::smooth::{Auto, Smoother};
+use fairpath::smooth::Smoother;
 use fairpath_gcode::{parse, write_json, Program};
 use rng::Rng;
 use std::path::PathBuf;

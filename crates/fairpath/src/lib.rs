@@ -6,18 +6,25 @@
 //!
 //! ```text
 //! G-code text --(fairpath-gcode reader)--> Program --> Runs of feed moves (path::Run)
-//!     --> smoother (smooth::Smoother: smooth::Auto, BsplineCorner, BsplineFit, Ctm, Lotm)
+//!     --> method (smooth::Smoother: ArcFit, BsplineCorner, BsplineFit, Ctm, Lotm;
+//!                 or choose::Auto, ranking them by an injected Objective)
 //!     --> smoothed pieces
-//!     --> smooth::verify (independent: deviation, joint continuity, endpoints)
+//!     --> verify (independent: deviation, joint continuity, endpoints)
 //!     --> feed::plan (jerk-limited look-ahead: machining time, profiles)
 //!     --> writers (fairpath-gcode: G-code, JSON)
 //! ```
 //!
 //! * [`geom`]: vectors, lines, arcs, B-spline/NURBS curves; derivatives,
-//!   curvature, arc length, distances to polylines.
+//!   curvature, arc length, distances to polylines; the continuity class of
+//!   a joint.
 //! * [`path`]: pieces of geometry tied to the input lines they replace,
 //!   grouped in runs.
-//! * [`smooth`]: smoothing methods behind one trait, and [`smooth::verify`].
+//! * [`smooth`]: the smoothing methods behind one trait (methods only).
+//! * [`verify`]: the independent check of a smoothed run (imports only
+//!   [`geom`] and [`path`]).
+//! * [`choose`] holds `auto` (candidates ranked by an injected
+//!   [`choose::Objective`], e.g. the planned time on the user's machine)
+//!   and the registry of methods by name.
 //! * [`controller`]: what controllers do with the codes fairpath reads and
 //!   writes: LinuxCNC's G5/G5.1/G5.2 spline arithmetic, replicated.
 //! * [`feed`]: machine limits, speed caps, jerk-limited (double-S)
@@ -31,6 +38,7 @@
 extern crate alloc;
 
 pub mod budget;
+pub mod choose;
 pub mod controller;
 pub mod feed;
 pub mod geom;
@@ -38,6 +46,7 @@ mod math;
 pub mod path;
 pub mod render;
 pub mod smooth;
+pub mod verify;
 
 pub use geom::{Curve, ParamCurve, Vec3};
 pub use path::{Piece, Run};

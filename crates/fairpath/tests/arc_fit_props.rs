@@ -7,12 +7,13 @@
 
 mod common;
 use common::{degenerate, polyline_run, polyline_run_with_feeds, pt2, pt3, tolerances, v};
+use fairpath::choose::by_name;
 use fairpath::geom::{Arc, Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
 use fairpath::smooth::{
-    by_name, ArcFit, ArcFitOptions, CornerReason, SmoothError, SmoothedRun, Smoother, ARC_MAX_SWEEP,
+    ArcFit, ArcFitOptions, CornerReason, SmoothError, SmoothedRun, Smoother, ARC_MAX_SWEEP,
 };
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -387,5 +388,5 @@ fn seeded_long_run() {
 #[test]
 fn known_by_name() {
     assert_eq!(by_name("arc-fit").unwrap().name(), "arc-fit");
-    assert!(fairpath::smooth::METHODS.contains(&"arc-fit"));
+    assert!(fairpath::choose::METHODS.contains(&"arc-fit"));
 }

@@ -5,14 +5,13 @@
 
 mod common;
 use common::polyline_run;
+use fairpath::choose::{sample_curves, Auto};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Arc, Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
-use fairpath::smooth::{
-    sample_curves, Auto, BsplineCorner, CornerReason, Lotm, SmoothedRun, Smoother,
-};
+use fairpath::smooth::{BsplineCorner, CornerReason, Lotm, SmoothedRun, Smoother};
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 use proptest::prelude::*;
 
 fn piece(curve: Curve, line: usize) -> Piece {
@@ -186,7 +185,8 @@ fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
 /// jerk-faired one here (3.53 s both).
 #[test]
 fn the_jerk_term_speeds_up_tight_arcs_between_sharp_corners() {
-    use fairpath::smooth::{BsplineFit, BsplineFitOptions, JERK_FAIRNESS};
+    use fairpath::choose::JERK_FAIRNESS;
+    use fairpath::smooth::{BsplineFit, BsplineFitOptions};
     let r: f64 = 3.0;
     let mut pieces = Vec::new();
     let mut p0 = Vec3::new(0.0, 0.0, 0.0);
@@ -351,7 +351,7 @@ proptest! {
 /// sections.)
 #[test]
 fn each_section_between_long_lines_gets_its_own_choice() {
-    use fairpath::smooth::{split_at_long_lines, AutoOptions, SECTION_LINES};
+    use fairpath::choose::{split_at_long_lines, AutoOptions, SECTION_LINES};
     let mut pts = vec![Vec3::ZERO];
     for i in 1..=12 {
         let last = *pts.last().unwrap();
@@ -396,6 +396,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
             section_lines: [f64::INFINITY; 3],
             ..AutoOptions::default()
         },
+        ..Auto::default()
     }
     .smooth_run(&run, tol)
     .unwrap();
@@ -410,6 +411,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
                     section_lines,
                     ..AutoOptions::default()
                 },
+                ..Auto::default()
             };
             assert!(auto.smooth_run(&run, tol).is_err(), "{bad} at {k}");
         }
@@ -434,6 +436,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
             section_lines: [SECTION_LINES[0], f64::INFINITY, f64::INFINITY],
             ..AutoOptions::default()
         },
+        ..Auto::default()
     }
     .smooth_run(&run, tol)
     .unwrap();
@@ -511,4 +514,49 @@ fn a_run_that_is_already_g2_is_offered_as_it_is() {
     let out = Auto::default().smooth_run(&corner, tol).unwrap();
     check(&corner, &out, tol);
     assert!(!out.chosen.contains(&"as is"), "{:?}", out.chosen);
+}
+
+/// `auto` ranks by the objective it is given, not by a machine of its own:
+/// with "fewest pieces" as the cost it keeps a candidate with no more
+/// pieces than the smallest candidate, and its result still verifies.
+#[test]
+fn auto_ranks_by_the_injected_objective() {
+    use fairpath::choose::{AutoOptions, Objective};
+    #[derive(Debug)]
+    struct FewestPieces;
+    impl Objective for FewestPieces {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            Some(pieces.len() as f64)
+        }
+    }
+    let pts: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let x = i as f64 * 0.7;
+            Vec3::new(
+                x,
+                (x * 0.9).sin() * 3.0 + if i % 7 == 0 { 2.0 } else { 0.0 },
+                0.0,
+            )
+        })
+        .collect();
+    let run = polyline_run(&pts);
+    let tol = 0.05;
+    let auto = Auto::new(AutoOptions::default(), std::sync::Arc::new(FewestPieces));
+    let fewest = auto
+        .candidates(&run, tol)
+        .unwrap()
+        .iter()
+        .map(|(_, c)| c.pieces.len())
+        .min()
+        .unwrap();
+    let out = auto.smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert!(
+        out.pieces.len() <= fewest,
+        "{} > {fewest}",
+        out.pieces.len()
+    );
+    let by_time = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &by_time, tol);
+    assert!(planned(&by_time.pieces) <= planned(&out.pieces) + 1e-9);
 }

@@ -7,15 +7,16 @@
 
 mod common;
 use common::{check_smoothed as check, degenerate, polyline_run, pt2, pt3, tolerances as tol, v};
+use fairpath::choose::by_name;
 use fairpath::geom::{point_segment_distance, ParamCurve, Vec3};
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
 use fairpath::smooth::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
-    bezier_corner_peak_curvature, bezier_corner_points, bezier_length_for_deviation, by_name,
+    bezier_corner_peak_curvature, bezier_corner_points, bezier_length_for_deviation,
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
     split_shared_segment, Ctm, CtmOptions, Lotm, Smoother, BAND_USE, LOTM_MIN_COEFFICIENT,
     MIN_COEFFICIENT,
 };
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -498,7 +499,7 @@ fn bad_tolerances_and_options_are_rejected() {
 #[test]
 fn methods_are_known_by_name() {
     for name in ["ctm", "lotm"] {
-        assert!(fairpath::smooth::METHODS.contains(&name));
+        assert!(fairpath::choose::METHODS.contains(&name));
         assert_eq!(by_name(name).unwrap().name(), name);
     }
 }

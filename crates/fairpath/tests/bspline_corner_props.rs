@@ -5,8 +5,8 @@
 mod common;
 use common::{check_smoothed as check, degenerate, polyline_run, pt2, pt3, tolerances as tol, v};
 use fairpath::geom::Vec3;
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
 use fairpath::smooth::{BsplineCorner, BsplineCornerOptions, ErrorTarget, Smoother};
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 use proptest::prelude::*;
 
 proptest! {

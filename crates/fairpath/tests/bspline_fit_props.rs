@@ -11,11 +11,11 @@ use common::{check_guarantees, polyline_run, v};
 use fairpath::geom::fit::{chord_params, span_errors, EndCondition};
 use fairpath::geom::{Curve, ParamCurve, Vec3};
 use fairpath::path::Run;
-use fairpath::smooth::verify::{verify_run, Continuity, RunReport, VerifyOptions};
 use fairpath::smooth::{
     dense_sections, fit_polyline, BsplineCorner, BsplineFit, BsplineFitOptions, SectionOptions,
     SmoothedRun, Smoother, BAND_USE, TRANSITION_KNOTS,
 };
+use fairpath::verify::{verify_run, Continuity, RunReport, VerifyOptions};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 

@@ -30,8 +30,8 @@ pub fn v(x: f64, y: f64, z: f64) -> Vec3 {
     Vec3::new(x, y, z)
 }
 
-use fairpath::smooth::verify::{verify_run, Continuity, RunReport, VerifyOptions};
 use fairpath::smooth::{SmoothedRun, Smoother};
+use fairpath::verify::{verify_run, Continuity, RunReport, VerifyOptions};
 use proptest::prelude::*;
 
 /// The guarantees of every method: within tolerance, endpoints exact, a

@@ -551,8 +551,8 @@ fn regression_130207l_reversal_next_to_a_gentle_corner() {
 /// limit is still checked along the profile.
 #[test]
 fn regression_tort_ripples_of_a_fitted_arc_do_not_stop_the_acceleration() {
+    use fairpath::choose::Auto;
     use fairpath::geom::Arc;
-    use fairpath::smooth::Auto;
     let arc = Arc::from_center(
         Vec3::new(2.0, -1.0, 16.0),
         Vec3::new(9.0, 6.0, 13.0),

@@ -12,7 +12,7 @@ use fairpath::path::Piece;
 use fairpath::render::{
     nurbs_fits, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions,
 };
-use fairpath::smooth::verify::{verify_run, VerifyOptions};
+use fairpath::verify::{verify_run, VerifyOptions};
 use proptest::prelude::*;
 
 fn piece(c: Curve) -> Piece {

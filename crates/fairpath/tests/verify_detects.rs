@@ -5,7 +5,7 @@ mod common;
 use common::{polyline_run, v};
 use fairpath::geom::{Curve, Line, Nurbs};
 use fairpath::path::Piece;
-use fairpath::smooth::verify::{verify_run, Continuity, VerifyOptions};
+use fairpath::verify::{verify_run, Continuity, VerifyOptions};
 
 #[test]
 fn bulge_between_samples_is_found() {

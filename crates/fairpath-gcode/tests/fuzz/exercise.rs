@@ -8,12 +8,13 @@
 //! that are errors are fine, but output of our own writers that does not
 //! read back is recorded as an anomaly.
 
+use fairpath::choose::Auto;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Curve, ParamCurve};
 use fairpath::path::{Piece, Run};
-use fairpath::smooth::verify::{verify_run, VerifyOptions};
-use fairpath::smooth::{Auto, Smoother};
+use fairpath::smooth::Smoother;
+use fairpath::verify::{verify_run, VerifyOptions};
 use fairpath_gcode::{
     parse, parse_with, read_json, write_gcode, write_json, ArcWords, GcodeWriteOptions,
     NurbsBlocks, ParseOptions, Program, SplineReading,

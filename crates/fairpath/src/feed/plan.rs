@@ -46,9 +46,9 @@ use super::junction::{
 use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
 use super::shaping::Shaping;
 use super::{max_entry_velocity, max_reachable_velocity, DoubleS, FeedError, Limits};
+use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
 use crate::path::Piece;
-use crate::smooth::verify::{classify_joint, Continuity, JointTolerances};
 use alloc::vec::Vec;
 
 /// Relative slack of the check of a profile against the caps inside its

@@ -5,6 +5,7 @@ mod arc;
 pub mod band_fit;
 mod bezier_spans;
 pub mod biarc;
+pub mod continuity;
 mod curve;
 mod fairness;
 pub mod fit;
@@ -16,6 +17,7 @@ mod polyline;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
+pub use continuity::{classify_joint, Continuity, JointTolerances};
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
     flatten_params_between, ParamCurve,

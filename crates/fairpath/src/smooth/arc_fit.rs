@@ -91,10 +91,10 @@
 
 use super::chains::{smooth_by_chains, CleanTolerances, CornerReason, KeptCorner, LineChain};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
+use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Arc, Curve, Line, ParamCurve, Vec3};
 use crate::math;
 use crate::path::{Piece, Run};
-use crate::smooth::verify::{classify_joint, Continuity, JointTolerances};
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 

@@ -2,9 +2,9 @@
 //! work) and the pieces between them (arcs, curves), after dropping
 //! zero-length moves and merging vertices where the path runs straight on.
 
+use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Curve, Vec3};
 use crate::path::{Piece, Run};
-use crate::smooth::verify::{classify_joint, Continuity, JointTolerances};
 use crate::smooth::{SmoothError, SmoothedRun};
 use alloc::vec::Vec;
 

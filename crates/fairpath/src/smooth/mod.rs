@@ -1,13 +1,13 @@
-//! Smoothing methods behind one trait, and the independent verifier.
+//! Smoothing methods behind one trait (the methods only: choosing among
+//! them is [`crate::choose`], checking them [`crate::verify`]).
 //!
 //! A [`Smoother`] turns one [`Run`] of feed moves into pieces that stay
 //! within a tolerance of it, start and end exactly where it does, and join
 //! with G2 continuity wherever it can; corners it cannot blend are kept and
-//! reported. [`verify`] checks all of that without trusting the smoother.
+//! reported. [`crate::verify`] checks all of that without trusting the
+//! smoother.
 
 mod arc_fit;
-mod auto;
-mod auto_sections;
 mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
@@ -16,16 +16,10 @@ mod fit_chain;
 mod fit_fill;
 mod fit_sections;
 mod lotm;
-pub mod verify;
 
 pub use arc_fit::{
     ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
     ARC_MAX_SPLIT_DEPTH, ARC_MAX_SWEEP, ARC_MIN_CHORD_PER_TOL, ARC_MIN_RADIUS_MM, ARC_SAMPLE_SHARE,
-};
-pub use auto::{
-    sample_curves, through_corners_sections, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
-    JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES,
-    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
@@ -49,7 +43,6 @@ pub use lotm::{
 
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
-pub use auto_sections::split_at_long_lines;
 
 /// What a smoother produced for one run.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -112,28 +105,5 @@ pub fn check_tolerance(tolerance: f64) -> Result<(), SmoothError> {
         Ok(())
     } else {
         Err(SmoothError::BadTolerance(tolerance))
-    }
-}
-
-/// Names of the methods [`by_name`] knows.
-pub const METHODS: &[&str] = &[
-    "arc-fit",
-    "auto",
-    "bspline-corner",
-    "bspline-fit",
-    "ctm",
-    "lotm",
-];
-
-/// The method called `name` on the command line, with default options.
-pub fn by_name(name: &str) -> Option<alloc::boxed::Box<dyn Smoother>> {
-    match name {
-        "arc-fit" => Some(alloc::boxed::Box::new(ArcFit::default())),
-        "auto" => Some(alloc::boxed::Box::new(Auto::default())),
-        "bspline-corner" => Some(alloc::boxed::Box::new(BsplineCorner::default())),
-        "bspline-fit" => Some(alloc::boxed::Box::new(BsplineFit::default())),
-        "ctm" => Some(alloc::boxed::Box::new(Ctm::default())),
-        "lotm" => Some(alloc::boxed::Box::new(Lotm::default())),
-        _ => None,
     }
 }

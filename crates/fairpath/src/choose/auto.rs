@@ -45,12 +45,12 @@
 //!   fit of it plans 0.3135 s). Last in the list, so it wins only when
 //!   strictly faster.
 //!
-//! Each candidate is planned by [`plan_run`] on [`AutoOptions::machine`]
-//! (the thesis machine of seed 003 by default) with programmed feeds
-//! overridden to the machine's maximum (so that the choice depends on the
-//! geometry, not on a feed the program may set low), and the fastest is
-//! kept; a tie goes to the earlier candidate. A candidate the planner
-//! rejects is skipped.
+//! Each candidate is ranked by the [`Objective`] the caller injects
+//! ([`Auto::new`]): the CLI's is the planned time on the user's machine
+//! ([`PlannedTime`], programmed feeds overridden to the machine's maximum
+//! so that the choice depends on the geometry, not on a feed the program
+//! may set low). The cheapest is kept; a tie goes to the earlier candidate.
+//! A candidate the objective cannot cost is kept only when none can.
 //!
 //! **Sections.** A run of up to [`SECTION_MAX_PIECES`] pieces is also cut
 //! at the middle of every line longer than a length
@@ -66,22 +66,50 @@
 //! candidate for the whole run (and than the mixes of the other lengths),
 //! so `auto` stays no slower than any candidate.
 
-use super::auto_sections::{split_at_long_lines, SectionCache};
-use super::bspline_fit::{BsplineFit, BsplineFitOptions};
-use super::fit_sections::SectionOptions;
-use super::verify::{classify_joint, Continuity, JointTolerances};
-use super::{by_name, check_tolerance, SmoothError, SmoothedRun, Smoother};
-use crate::feed::limits::MachineLimits;
-use crate::feed::plan::{plan_run, PlanOptions};
-use crate::geom::{flatten_params, Curve, Line, ParamCurve};
+use super::objective::{Objective, PlannedTime};
+use super::sections::{split_at_long_lines, SectionCache};
+use crate::geom::{
+    classify_joint, flatten_params, Continuity, Curve, JointTolerances, Line, ParamCurve,
+};
 use crate::path::{Piece, Run};
+use crate::smooth::{
+    check_tolerance, BsplineCorner, BsplineFit, BsplineFitOptions, Lotm, SectionOptions,
+    SmoothError, SmoothedRun, Smoother,
+};
+use alloc::sync::Arc;
 use alloc::vec::Vec;
+
+/// A corner method `auto` offers, with its default options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerMethod {
+    /// `bspline-corner` (seed 000).
+    BsplineCorner,
+    /// `lotm` (seed 001).
+    Lotm,
+}
+
+impl CornerMethod {
+    /// The method's command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            CornerMethod::BsplineCorner => "bspline-corner",
+            CornerMethod::Lotm => "lotm",
+        }
+    }
+
+    fn smooth_run(self, run: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+        match self {
+            CornerMethod::BsplineCorner => BsplineCorner::default().smooth_run(run, tol),
+            CornerMethod::Lotm => Lotm::default().smooth_run(run, tol),
+        }
+    }
+}
 
 /// Corner methods tried besides `bspline-corner` on runs of lines. `ctm`
 /// is not: with its default coefficient (`c = 1`) its transitions are the
 /// same uniform cubic B-splines as `bspline-corner`'s, at a quarter more
 /// smoothing and planning time for the same result.
-pub const CORNER_CANDIDATES: &[&str] = &["lotm"];
+pub const CORNER_CANDIDATES: &[CornerMethod] = &[CornerMethod::Lotm];
 
 /// Wiggle factor ([`SectionOptions::wiggle_per_tol`]) of the second fit
 /// candidate: a vertex up to twice the tolerance above the chord of its
@@ -196,10 +224,6 @@ pub const SECTION_MAX_PIECES: usize = 20_000;
 /// Options of [`Auto`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AutoOptions {
-    /// The machine the candidates are planned on.
-    pub machine: MachineLimits,
-    /// Plan at the machine's maximum feed instead of the programmed feeds.
-    pub override_feed: bool,
     /// Share of the tolerance for the chords of sampled arcs, in `(0, 0.5]`.
     pub arc_share: f64,
     /// For each of these lengths (mm), the lines longer than it cut the
@@ -213,8 +237,6 @@ pub struct AutoOptions {
 impl Default for AutoOptions {
     fn default() -> Self {
         AutoOptions {
-            machine: MachineLimits::thesis(),
-            override_feed: true,
             arc_share: ARC_SHARE,
             section_lines: SECTION_LINES,
         }
@@ -222,9 +244,26 @@ impl Default for AutoOptions {
 }
 
 /// The `auto` method (see the module documentation).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Auto {
     pub options: AutoOptions,
+    /// What the candidates are ranked by.
+    pub objective: Arc<dyn Objective>,
+}
+
+impl Auto {
+    /// `auto` with `options`, ranking its candidates by `objective`.
+    pub fn new(options: AutoOptions, objective: Arc<dyn Objective>) -> Self {
+        Auto { options, objective }
+    }
+}
+
+impl Default for Auto {
+    /// Default options, ranked by [`PlannedTime::default`] (the reference
+    /// machine of seed 003: pass your own with [`Auto::new`]).
+    fn default() -> Self {
+        Auto::new(AutoOptions::default(), Arc::new(PlannedTime::default()))
+    }
 }
 
 /// `run` with every piece that is not a line replaced by chords within
@@ -259,8 +298,8 @@ pub fn sample_curves(run: &Run, chord: f64) -> Run {
 #[derive(Clone, Copy, Debug)]
 enum Candidate {
     Fit(BsplineFitOptions),
-    /// A method by name, with its default options.
-    Named(&'static str),
+    /// A corner method with its default options.
+    Corner(CornerMethod),
     /// The run as it is, offered only when every joint in it is already G2
     /// ([`is_g2`]).
     AsIs,
@@ -301,10 +340,7 @@ impl Candidate {
                 },
             }
             .smooth_run(input, tol),
-            Candidate::Named(name) => match by_name(name) {
-                Some(m) => m.smooth_run(input, tol),
-                None => Err(SmoothError::BadOption("auto: unknown candidate")),
-            },
+            Candidate::Corner(m) => m.smooth_run(input, tol),
         }
     }
 }
@@ -358,7 +394,10 @@ impl Auto {
         };
         let mut out = alloc::vec![
             ("bspline-fit", Candidate::Fit(BsplineFitOptions::default())),
-            ("bspline-corner", Candidate::Named("bspline-corner")),
+            (
+                "bspline-corner",
+                Candidate::Corner(CornerMethod::BsplineCorner),
+            ),
         ];
         let wide = BsplineFitOptions {
             sections: SectionOptions {
@@ -391,8 +430,8 @@ impl Auto {
                 }),
             ));
         }
-        for name in CORNER_CANDIDATES {
-            out.push((name, Candidate::Named(name)));
+        for &m in CORNER_CANDIDATES {
+            out.push((m.name(), Candidate::Corner(m)));
         }
         if is_g2(run, tolerance) {
             out.push(("as is", Candidate::AsIs));
@@ -434,8 +473,8 @@ fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     (0..n).map(f).collect()
 }
 
-/// A candidate smoothed and its planned time (`None`: the planner
-/// rejected it).
+/// A candidate smoothed and its cost (`None`: the objective could not
+/// cost it).
 pub(super) type Planned = (Option<f64>, SmoothedRun);
 
 impl Auto {
@@ -446,16 +485,11 @@ impl Auto {
         tolerance: f64,
         cut_ends: (bool, bool),
     ) -> Result<Vec<Planned>, SmoothError> {
-        let opts = PlanOptions {
-            limits: self.options.machine,
-            override_feed: self.options.override_feed,
-            window: None,
-        };
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         map_candidates(list.len(), |i| {
             let mut cand = list[i].1.smooth(run, input.run(), tol, cut_ends)?;
             cand.chosen = alloc::vec![list[i].0];
-            let time = plan_run(&cand.pieces, &opts).ok().map(|p| p.time);
+            let time = self.objective.cost(&cand.pieces);
             Ok((time, cand))
         })
         .into_iter()
@@ -509,11 +543,6 @@ impl Smoother for Auto {
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(best);
         }
-        let opts = PlanOptions {
-            limits: self.options.machine,
-            override_feed: self.options.override_feed,
-            window: None,
-        };
         let mut cache = SectionCache::default();
         let mut tried: Vec<usize> = Vec::new();
         for line in lines {
@@ -526,7 +555,7 @@ impl Smoother for Auto {
             let Some(mixed) = self.smooth_sections(&sections, tolerance, &mut cache)? else {
                 continue;
             };
-            let t = plan_run(&mixed.pieces, &opts).ok().map(|p| p.time);
+            let t = self.objective.cost(&mixed.pieces);
             if let (Some(t), Some(tw)) = (t, time) {
                 if t < tw {
                     (time, best) = (Some(t), mixed);

@@ -2,10 +2,10 @@
 //! of its long lines, each section smoothed by its own fastest candidate.
 
 use super::auto::Auto;
-use super::verify::{classify_joint, Continuity, JointTolerances};
-use super::{SmoothError, SmoothedRun};
+use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
+use crate::smooth::{SmoothError, SmoothedRun};
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 

@@ -1,0 +1,21 @@
+//! Choosing among the methods: `auto`, which smooths each run (and each
+//! section of it) several ways and keeps the one its [`Objective`] ranks
+//! cheapest, and the registry of every method by name.
+//!
+//! This layer sits above the methods ([`crate::smooth`]), the planner
+//! ([`crate::feed`]) and the verifier ([`crate::verify`]); none of them
+//! imports it.
+
+mod auto;
+mod objective;
+mod registry;
+mod sections;
+
+pub use auto::{
+    sample_curves, through_corners_sections, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
+    JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES,
+    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
+};
+pub use objective::{Objective, PlannedTime};
+pub use registry::{by_name, method, METHODS};
+pub use sections::split_at_long_lines;
