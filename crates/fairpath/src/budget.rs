@@ -13,9 +13,84 @@
 //! So the curves are within `smoothing`, the written path within
 //! `smoothing + output` (checked on the re-read text), and what a blending
 //! controller runs within `total`.
+//!
+//! ## Every share, in one place
+//!
+//! Each consumer spends a part of the share it is handed, never more; the
+//! fractions below are the only ones in the code base (the consumers import
+//! them from here), and [`ToleranceBudget::shares`] lists the leaves in mm,
+//! which add up to at most `total` (tested).
+//!
+//! ```text
+//! total
+//! |- smoothing = total - output - blend       -> the method (Smoother::smooth_run)
+//! |    |- auto: ARC_SAMPLING_SHARE of it for the chords of sampled arcs,
+//! |    |        the rest to the candidate methods
+//! |    |- corner transitions, fits: aim at BAND_USE of their share; the rest
+//! |    |        covers the cleaning of the run and f64 rounding
+//! |    '- arc-fit: ARC_FIT_SHARE for its blocks (ARC_SAMPLE_SHARE of that for
+//! |             sampling arcs); the rest covers cleaning and written centres
+//! |- output (OUTPUT_SHARE of total by default)
+//! |    |- rounding: ROUNDING_SHARE of it for the decimals written
+//! |    '- render: the rest, for chords, arcs or spline blocks; arcs aim at
+//! |             DEVIATION_USE of it, G1 spacing at CHORD_USE
+//! '- blend: LinuxCNC's G64 P, taken out of the output share by the writer
+//!          (BLEND_SHARE_G1 of it for G1 output, BLEND_SHARE_CURVES else)
+//! ```
+//!
+//! Run end points are compared exactly, up to ENDPOINT_ROUNDING_SHARE of
+//! the tolerance (the f64 rounding of the input's own arithmetic).
 
 /// Default share of the output approximation: a tenth of the tolerance.
 pub const OUTPUT_SHARE: f64 = 0.1;
+
+/// Share of the output share that the rounding of written coordinates may
+/// take (more decimals are written until it fits): what it leaves is for
+/// the chords, arcs or spline blocks themselves.
+pub const ROUNDING_SHARE: f64 = 0.1;
+
+/// Share of the render share the sampled deviation of written arcs may use:
+/// sampling at a fixed number of points per biarc sees the error of an
+/// O(h^3) fit to within a few percent; the written text is verified exactly
+/// afterwards.
+pub const DEVIATION_USE: f64 = 0.9;
+
+/// Share of the render share the spacing rule of G1 output aims at (the
+/// chord error is checked at each move's middle afterwards).
+pub const CHORD_USE: f64 = 0.9;
+
+/// Share of the output share LinuxCNC's blending (`G64 P`) gets for G1
+/// output, where every vertex is blended.
+pub const BLEND_SHARE_G1: f64 = 0.5;
+
+/// Share of the output share LinuxCNC's blending gets for the other G-code
+/// formats (only corners that were kept are blended).
+pub const BLEND_SHARE_CURVES: f64 = 0.1;
+
+/// Share of the smoothing share that `auto` gives the chords of sampled
+/// arcs (its candidates work on the chords with the rest).
+pub const ARC_SAMPLING_SHARE: f64 = 0.05;
+
+/// Share of the tolerance corner transitions and fits aim at. The rest
+/// (0.2%) covers the dropping of zero-length moves (up to 0.1% of the
+/// tolerance, see `smooth/chains.rs`), rounding, and the accuracy of the
+/// verifier (`VerifyOptions::new` measures to 0.01% of the tolerance), so
+/// a full-band result always verifies.
+pub const BAND_USE: f64 = 0.998;
+
+/// Share of the tolerance `arc-fit`'s blocks use: the rest covers the
+/// cleaning of the run and the rounding of written centres.
+pub const ARC_FIT_SHARE: f64 = 0.9;
+
+/// Share of `arc-fit`'s block tolerance that the sampled chords of an arc
+/// may deviate from it.
+pub const ARC_SAMPLE_SHARE: f64 = 0.05;
+
+/// Run end points count as equal within this share of the tolerance: the
+/// rounding of the input's own reading (1,000 G91 moves of 0.0005 in sum
+/// to 12.700000000000152 mm in f64; the written `X0.5` reads as 12.7:
+/// `straight_segments.ngc`), far below any machine's resolution.
+pub const ENDPOINT_ROUNDING_SHARE: f64 = 1e-9;
 
 /// Smallest tolerance or share accepted (mm): 1 nm, below any machine's
 /// resolution and the f64 rounding of metre-sized parts.
@@ -101,6 +176,52 @@ impl ToleranceBudget {
     pub fn written(&self) -> f64 {
         self.total - self.blend
     }
+
+    /// What the rounding of written coordinates may take (mm).
+    pub fn rounding(&self) -> f64 {
+        ROUNDING_SHARE * self.output
+    }
+
+    /// What the chords, arcs or spline blocks of the output may deviate
+    /// from the curves (mm): the output share less the rounding.
+    pub fn render(&self) -> f64 {
+        self.output - self.rounding()
+    }
+
+    /// How far run end points may differ and still count as equal (mm).
+    pub fn endpoint_rounding(&self) -> f64 {
+        ENDPOINT_ROUNDING_SHARE * self.total
+    }
+
+    /// The leaves of the budget, in mm: they add up to at most `total`.
+    pub fn shares(&self) -> Shares {
+        Shares {
+            smoothing: self.smoothing(),
+            render: self.render(),
+            rounding: self.rounding(),
+            blend: self.blend,
+        }
+    }
+}
+
+/// What each consumer may spend (mm), from [`ToleranceBudget::shares`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shares {
+    /// The smoothing method.
+    pub smoothing: f64,
+    /// The chords, arcs or spline blocks of the output.
+    pub render: f64,
+    /// The rounding of written coordinates.
+    pub rounding: f64,
+    /// The controller's blending.
+    pub blend: f64,
+}
+
+impl Shares {
+    /// Their sum (at most the tolerance).
+    pub fn sum(&self) -> f64 {
+        self.smoothing + self.render + self.rounding + self.blend
+    }
 }
 
 #[cfg(test)]
@@ -113,6 +234,32 @@ mod tests {
         assert!((b.output - 0.005).abs() < 1e-15);
         assert_eq!(b.smoothing() + b.output + b.blend, 0.05);
         assert_eq!(b.written(), 0.05 - 0.0025);
+    }
+
+    /// Seeded random budgets: the leaves never add up to more than the
+    /// tolerance (f64 rounding of the subtractions aside: 4 ulps).
+    #[test]
+    fn the_leaves_never_exceed_the_tolerance() {
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..10_000 {
+            let total = 10f64.powf(-5.0 + 8.0 * next());
+            let output = (next() * 0.5 * total).max(MIN_SHARE_MM);
+            let blend = [0.0, BLEND_SHARE_G1 * output, BLEND_SHARE_CURVES * output][
+                (next() * 3.0) as usize % 3
+            ];
+            let Ok(b) = ToleranceBudget::new(total, Some(output), blend) else {
+                continue;
+            };
+            let s = b.shares();
+            assert!(s.smoothing > 0.0 && s.render > 0.0 && s.rounding > 0.0 && s.blend >= 0.0);
+            assert!(s.sum() <= total * (1.0 + 4.0 * f64::EPSILON), "{b:?}: {s:?}");
+        }
     }
 
     #[test]

@@ -197,8 +197,9 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// 63.60 -> 64.59 s).
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
-/// Share of the tolerance that the chords of sampled arcs may take.
-pub const ARC_SHARE: f64 = 0.05;
+/// Share of the tolerance that the chords of sampled arcs may take (see
+/// [`crate::budget`]).
+pub use crate::budget::ARC_SAMPLING_SHARE as ARC_SHARE;
 
 /// Default [`AutoOptions::section_lines`] (mm): a run is cut at the lines
 /// longer than 5 mm, then at those longer than 3 mm, then 1 mm, and the

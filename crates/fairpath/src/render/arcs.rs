@@ -56,10 +56,7 @@ use alloc::vec::Vec;
 /// singular for arcs (the piece is written as G1).
 pub const MIN_IN_PLANE: f64 = 0.5;
 
-/// Share of the chord tolerance the sampled deviation may use: sampling at
-/// [`SAMPLES`] points per biarc sees the error of an O(h^3) fit to within a
-/// few percent; the written text is verified exactly afterwards.
-pub const DEVIATION_USE: f64 = 0.9;
+pub use crate::budget::DEVIATION_USE;
 
 /// Points of the curve (and of each arc) sampled per biarc.
 pub const SAMPLES: usize = 16;

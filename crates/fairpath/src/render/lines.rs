@@ -31,9 +31,7 @@ use alloc::vec::Vec;
 /// Largest ratio of the spacings needed within one stretch of equal moves.
 pub const SPACING_RATIO: f64 = 2.0;
 
-/// Share of the chord tolerance the spacing rule aims at (the chord error
-/// is checked at each move's middle afterwards).
-pub const CHORD_USE: f64 = 0.9;
+pub use crate::budget::CHORD_USE;
 
 /// Sampling of the curve that the spacing is computed on, as a share of
 /// the chord tolerance.

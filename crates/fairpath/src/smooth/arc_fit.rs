@@ -98,13 +98,7 @@ use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
-/// Share of the tolerance the fitted blocks use (module docs): the rest
-/// covers the cleaning of the run and the rounding of written centres.
-pub const ARC_FIT_SHARE: f64 = 0.9;
-
-/// Share of the fit tolerance the sampled chords of an arc may deviate
-/// from it (the bound `h` of the module docs).
-pub const ARC_SAMPLE_SHARE: f64 = 0.05;
+pub use crate::budget::{ARC_FIT_SHARE, ARC_SAMPLE_SHARE};
 
 /// Most segments one block covers (keeps the fit linear-ish in the run).
 pub const ARC_FIT_LOOKAHEAD: usize = 2000;

@@ -67,12 +67,7 @@ pub enum ErrorTarget {
     FullBand,
 }
 
-/// Share of the tolerance the transitions aim at. The rest (0.2%) covers the
-/// dropping of zero-length moves (up to 0.1% of the tolerance, see
-/// `chains.rs`), rounding, and the accuracy of the verifier
-/// (`VerifyOptions::new` measures to 0.01% of the tolerance), so a full-band
-/// result always verifies.
-pub const BAND_USE: f64 = 0.998;
+pub use crate::budget::BAND_USE;
 
 /// Options of [`BsplineCorner`].
 #[derive(Clone, Copy, Debug, PartialEq)]

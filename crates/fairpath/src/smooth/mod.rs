@@ -41,6 +41,7 @@ pub use lotm::{
     split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
 };
 
+use crate::budget::ToleranceBudget;
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -88,6 +89,15 @@ pub trait Smoother {
     /// `tolerance` mm (3D Euclidean) of the run, with the run's endpoints
     /// kept exactly.
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError>;
+    /// [`Smoother::smooth_run`] with the smoothing share of `budget`
+    /// ([`ToleranceBudget::smoothing`]): what the verified pipeline calls.
+    fn smooth_within(
+        &self,
+        run: &Run,
+        budget: &ToleranceBudget,
+    ) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run(run, budget.smoothing())
+    }
     /// Whether the method writes for a planner that caps the speed at the
     /// end of every block (LinuxCNC master's S-curve planner): its output
     /// is then judged by that model (`feed::plan::Corners::BlockCapped`)
