@@ -250,15 +250,17 @@ mod tests {
         for _ in 0..10_000 {
             let total = 10f64.powf(-5.0 + 8.0 * next());
             let output = (next() * 0.5 * total).max(MIN_SHARE_MM);
-            let blend = [0.0, BLEND_SHARE_G1 * output, BLEND_SHARE_CURVES * output][
-                (next() * 3.0) as usize % 3
-            ];
+            let blend = [0.0, BLEND_SHARE_G1 * output, BLEND_SHARE_CURVES * output]
+                [(next() * 3.0) as usize % 3];
             let Ok(b) = ToleranceBudget::new(total, Some(output), blend) else {
                 continue;
             };
             let s = b.shares();
             assert!(s.smoothing > 0.0 && s.render > 0.0 && s.rounding > 0.0 && s.blend >= 0.0);
-            assert!(s.sum() <= total * (1.0 + 4.0 * f64::EPSILON), "{b:?}: {s:?}");
+            assert!(
+                s.sum() <= total * (1.0 + 4.0 * f64::EPSILON),
+                "{b:?}: {s:?}"
+            );
         }
     }
 

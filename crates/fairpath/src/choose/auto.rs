@@ -73,8 +73,8 @@ use crate::geom::{
 };
 use crate::path::{Piece, Run};
 use crate::smooth::{
-    check_tolerance, BsplineCorner, BsplineFit, BsplineFitOptions, Lotm, SectionOptions,
-    SmoothError, SmoothedRun, Smoother,
+    check_tolerance, require, BsplineCorner, BsplineFit, BsplineFitOptions, Lotm, OptionError,
+    SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::sync::Arc;
 use alloc::vec::Vec;
@@ -224,6 +224,11 @@ pub const SECTION_MAX_PIECES: usize = 20_000;
 
 /// Options of [`Auto`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct AutoOptions {
     /// Share of the tolerance for the chords of sampled arcs, in `(0, 0.5]`.
     pub arc_share: f64,
@@ -233,6 +238,28 @@ pub struct AutoOptions {
     /// kept ([`SECTION_LINES`]; an infinite length cuts nothing, all
     /// infinite: one choice per run).
     pub section_lines: [f64; 3],
+}
+
+impl AutoOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let s = self.arc_share;
+        require(
+            s > 0.0 && s <= 0.5,
+            "auto",
+            "arc_share",
+            s,
+            "must be in (0, 0.5]",
+        )?;
+        let l = self.section_lines;
+        require(
+            l.iter().all(|&x| x > 0.0),
+            "auto",
+            "section_lines",
+            l,
+            "must be positive lengths (mm) or infinite",
+        )
+    }
 }
 
 impl Default for AutoOptions {
@@ -373,12 +400,8 @@ impl Auto {
         run: &'a Run,
         tolerance: f64,
     ) -> Result<CandidateList<'a>, SmoothError> {
+        self.options.validate()?;
         let share = self.options.arc_share;
-        if !(share > 0.0 && share <= 0.5) {
-            return Err(SmoothError::BadOption(
-                "auto: arc share must be in (0, 0.5]",
-            ));
-        }
         // The candidates of a run with arcs get the rest of the tolerance.
         check_tolerance(tolerance * (1.0 - share))?;
         let has_curves = run
@@ -532,15 +555,11 @@ impl Smoother for Auto {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
+        self.options.validate()?;
         let lines = self.options.section_lines;
-        if lines.iter().any(|&l| l.is_nan() || l <= 0.0) {
-            return Err(SmoothError::BadOption(
-                "auto: section lines must be positive lengths (mm) or infinite",
-            ));
-        }
         let cands = self.planned_candidates(run, tolerance, (false, false))?;
         let (mut time, mut best) =
-            Self::fastest(cands, |_| true).ok_or(SmoothError::BadOption("auto: no candidate"))?;
+            Self::fastest(cands, |_| true).ok_or(SmoothError::NoCandidate)?;
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(best);
         }

@@ -17,5 +17,5 @@ pub use auto::{
     THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{Objective, PlannedTime};
-pub use registry::{by_name, method, METHODS};
+pub use registry::{by_name, method, Method, METHODS};
 pub use sections::split_at_long_lines;

@@ -56,6 +56,11 @@ use alloc::vec::Vec;
 /// 100 steps always; the early stop and the weight factor after them, and
 /// the early stop's threshold again with the weight factor.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct RelaxOptions {
     /// Radius of the balls around the data, as a share of the target:
     /// the rest is room for the curve between data points. 0.95 planned
@@ -115,22 +120,30 @@ impl Default for RelaxOptions {
 impl RelaxOptions {
     /// Whether the options are usable: the radius share in `(0, 1]`, the
     /// lengths positive and finite, at least one step.
-    pub fn check(&self) -> Result<(), &'static str> {
+    /// Checks the ranges of the options: the failing option and what it
+    /// must be.
+    pub fn check(&self) -> Result<(), (&'static str, &'static str)> {
         let positive = |x: f64| x > 0.0 && x.is_finite();
         if !(positive(self.radius_share) && self.radius_share <= 1.0) {
-            return Err("relax: radius_share must be in (0, 1]");
+            return Err(("relax.radius_share", "must be in (0, 1]"));
         }
         if !(self.converged_share >= 0.0 && self.converged_share < 1.0) {
-            return Err("relax: converged_share must be in [0, 1)");
+            return Err(("relax.converged_share", "must be in [0, 1)"));
         }
         if !positive(self.weight_factor) {
-            return Err("relax: weight_factor must be positive and finite");
+            return Err(("relax.weight_factor", "must be positive and finite"));
         }
-        if !(positive(self.max_span_per_target) && positive(self.spacing_per_target)) {
-            return Err("relax: span and spacing must be positive lengths");
+        if !positive(self.max_span_per_target) {
+            return Err(("relax.max_span_per_target", "must be positive"));
         }
-        if self.iterations == 0 || self.check_every == 0 {
-            return Err("relax: iterations and check_every must be positive");
+        if !positive(self.spacing_per_target) {
+            return Err(("relax.spacing_per_target", "must be positive"));
+        }
+        if self.iterations == 0 {
+            return Err(("relax.iterations", "must be positive"));
+        }
+        if self.check_every == 0 {
+            return Err(("relax.check_every", "must be positive"));
         }
         Ok(())
     }

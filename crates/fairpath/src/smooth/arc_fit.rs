@@ -95,6 +95,7 @@ use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Arc, Curve, Line, ParamCurve, Vec3};
 use crate::math;
 use crate::path::{Piece, Run};
+use crate::smooth::{require, OptionError};
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
@@ -143,6 +144,11 @@ const WINDOW: usize = 2;
 
 /// Options of [`ArcFit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct ArcFitOptions {
     /// Share of the tolerance the fit uses, in `(0, 1]`
     /// (default [`ARC_FIT_SHARE`]).
@@ -152,6 +158,17 @@ pub struct ArcFitOptions {
     pub max_lookahead: usize,
     /// Try arcs tangent to the previous block (default `true`).
     pub tangent: bool,
+}
+
+impl ArcFitOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let m = "arc-fit";
+        let s = self.fit_share;
+        require(s > 0.0 && s <= 1.0, m, "fit_share", s, "must be in (0, 1]")?;
+        let n = self.max_lookahead;
+        require(n >= 2, m, "max_lookahead", n, "must be at least 2")
+    }
 }
 
 impl Default for ArcFitOptions {
@@ -182,14 +199,7 @@ impl Smoother for ArcFit {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         let o = self.options;
-        if !(o.fit_share > 0.0 && o.fit_share <= 1.0) {
-            return Err(SmoothError::BadOption("arc-fit share must be in (0, 1]"));
-        }
-        if o.max_lookahead < 2 {
-            return Err(SmoothError::BadOption(
-                "arc-fit look-ahead must be at least 2",
-            ));
-        }
+        o.validate()?;
         let joints = JointTolerances::from_tolerance(tolerance);
         smooth_by_chains(run, tolerance, |chain, out| {
             let first = out.pieces.len();

@@ -83,6 +83,7 @@ use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Curve, Line, Nurbs, Vec3};
 use crate::math;
 use crate::path::{Piece, Run};
+use crate::smooth::{require, OptionError};
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -149,6 +150,11 @@ pub fn bezier_length_for_deviation(delta: f64, c: f64, theta: f64) -> f64 {
 
 /// Options of [`Ctm`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct CtmOptions {
     /// Proportional coefficient `c` in `[MIN_COEFFICIENT, 1]`.
     pub c: f64,
@@ -201,13 +207,30 @@ pub(crate) struct Planned {
 }
 
 /// Rejects a reversal threshold outside `[0, 0.5)` rad.
-pub(crate) fn check_min_half_angle(min_half_angle: f64) -> Result<(), SmoothError> {
-    if (0.0..0.5).contains(&min_half_angle) {
-        Ok(())
-    } else {
-        Err(SmoothError::BadOption(
-            "min_half_angle must be in [0, 0.5) rad",
-        ))
+pub(crate) fn check_min_half_angle(
+    method: &'static str,
+    min_half_angle: f64,
+) -> Result<(), OptionError> {
+    require(
+        (0.0..0.5).contains(&min_half_angle),
+        method,
+        "min_half_angle",
+        min_half_angle,
+        "must be in [0, 0.5) rad",
+    )
+}
+
+impl CtmOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        require(
+            (MIN_COEFFICIENT..=1.0).contains(&self.c),
+            "ctm",
+            "c",
+            self.c,
+            "must be in [0.06, 1]",
+        )?;
+        check_min_half_angle("ctm", self.min_half_angle)
     }
 }
 
@@ -218,10 +241,7 @@ impl Smoother for Ctm {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         let o = self.options;
-        if !(MIN_COEFFICIENT..=1.0).contains(&o.c) {
-            return Err(SmoothError::BadOption("c must be in [0.06, 1]"));
-        }
-        check_min_half_angle(o.min_half_angle)?;
+        o.validate()?;
         smooth_run_by_corners(run, tolerance, o.min_half_angle, &|cc| ctm_plan(cc, o.c))
     }
 }

@@ -56,9 +56,15 @@ use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Curve, Line, Nurbs, Vec3};
 use crate::math;
 use crate::path::{Piece, Run};
+use crate::smooth::{require, OptionError};
 
 /// Which approximation error the transitions aim at when they must shrink.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
 pub enum ErrorTarget {
     /// The paper's `e* = delta / 2` (section 3.3).
     HalfBand,
@@ -71,6 +77,11 @@ pub use crate::budget::BAND_USE;
 
 /// Options of [`BsplineCorner`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct BsplineCornerOptions {
     pub target: ErrorTarget,
     /// Overlap-avoidance ratio `lambda` in `[0, 1)` (paper eq. 8): the share
@@ -80,6 +91,33 @@ pub struct BsplineCornerOptions {
     /// Corners whose half-angle `theta` (radians) is below this are
     /// reversals and kept.
     pub min_half_angle: f64,
+}
+
+impl BsplineCornerOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        self.validate_for("bspline-corner")
+    }
+
+    /// [`Self::validate`], naming `method` (whose options these are part of).
+    pub fn validate_for(&self, method: &'static str) -> Result<(), OptionError> {
+        let l = self.lambda;
+        require(
+            (0.0..1.0).contains(&l),
+            method,
+            "lambda",
+            l,
+            "must be in [0, 1)",
+        )?;
+        let a = self.min_half_angle;
+        require(
+            (0.0..0.5).contains(&a),
+            method,
+            "min_half_angle",
+            a,
+            "must be in [0, 0.5) rad",
+        )
+    }
 }
 
 impl Default for BsplineCornerOptions {
@@ -145,14 +183,7 @@ impl Smoother for BsplineCorner {
         check_tolerance(tolerance)?;
         let o = &self.options;
         let delta = tolerance * BAND_USE;
-        if !(0.0..1.0).contains(&o.lambda) {
-            return Err(SmoothError::BadOption("lambda must be in [0, 1)"));
-        }
-        if !(o.min_half_angle >= 0.0 && o.min_half_angle < 0.5) {
-            return Err(SmoothError::BadOption(
-                "min_half_angle must be in [0, 0.5) rad",
-            ));
-        }
+        o.validate()?;
         let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
         smooth_by_chains(run, tolerance, |chain, out| {
             self.smooth_chain(chain, delta, min_seg, out)

@@ -83,11 +83,17 @@ use crate::geom::fit::{
 };
 use crate::geom::{Nurbs, Vec3};
 use crate::path::Run;
+use crate::smooth::{require, OptionError};
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
 /// Options of [`BsplineFit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct BsplineFitOptions {
     /// Run detection thresholds.
     pub sections: SectionOptions,
@@ -121,6 +127,41 @@ pub struct BsplineFitOptions {
     pub line_at_start: bool,
     /// The same for the run's last segment.
     pub line_at_end: bool,
+}
+
+impl BsplineFitOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let m = "bspline-fit";
+        self.sections.validate_for(m)?;
+        self.corner.validate_for(m)?;
+        let nonneg = |x: f64| x >= 0.0 && x.is_finite();
+        let f = self.fairness;
+        require(nonneg(f), m, "fairness", f, "must be >= 0 and finite")?;
+        let j = self.jerk_fairness;
+        require(nonneg(j), m, "jerk_fairness", j, "must be >= 0 and finite")?;
+        let b = self.band_use;
+        require(
+            b > 0.0 && b <= BAND_USE,
+            m,
+            "band_use",
+            b,
+            "must be in (0, 0.998]",
+        )?;
+        let n = self.max_piece_spans;
+        require(n > 0, m, "max_piece_spans", n, "must be positive")?;
+        if let Some(r) = &self.relax {
+            if let Err((option, expected)) = r.check() {
+                return Err(OptionError {
+                    method: m,
+                    option,
+                    value: alloc::format!("{r:?}"),
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for BsplineFitOptions {
@@ -462,24 +503,7 @@ fn refine_knots(knots: &[f64], errs: &[f64], target: f64, min_span: f64) -> Vec<
 
 impl BsplineFit {
     fn check_options(&self) -> Result<(), SmoothError> {
-        let o = &self.options;
-        o.sections.check()?;
-        if !(o.fairness >= 0.0 && o.fairness.is_finite()) {
-            return Err(SmoothError::BadOption("fairness must be non-negative"));
-        }
-        if !(o.jerk_fairness >= 0.0 && o.jerk_fairness.is_finite()) {
-            return Err(SmoothError::BadOption("jerk_fairness must be non-negative"));
-        }
-        if !(o.band_use > 0.0 && o.band_use <= BAND_USE) {
-            return Err(SmoothError::BadOption("band_use must be in (0, BAND_USE]"));
-        }
-        if o.max_piece_spans == 0 {
-            return Err(SmoothError::BadOption("max_piece_spans must be positive"));
-        }
-        if let Some(r) = &o.relax {
-            r.check().map_err(SmoothError::BadOption)?;
-        }
-        Ok(())
+        Ok(self.options.validate()?)
     }
 
     /// Smooths one chain: fits its dense sections, blends the corners

@@ -52,11 +52,16 @@
 //! original, and `LHchips4.ngc` 0.57 against 0.56).
 
 use crate::geom::Vec3;
-use crate::smooth::SmoothError;
+use crate::smooth::{require, OptionError};
 use alloc::vec::Vec;
 
 /// Thresholds of the run detection (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct SectionOptions {
     /// Longest segment (mm) next to a dense vertex.
     pub max_segment: f64,
@@ -85,28 +90,43 @@ impl Default for SectionOptions {
 }
 
 impl SectionOptions {
-    /// Checks the ranges of the options.
-    pub fn check(&self) -> Result<(), SmoothError> {
-        if !(self.max_segment > 0.0 && self.max_segment.is_finite()) {
-            return Err(SmoothError::BadOption("max_segment must be positive mm"));
-        }
-        if !(self.max_turn >= 0.0 && self.max_turn < core::f64::consts::PI) {
-            return Err(SmoothError::BadOption("max_turn must be in [0, pi) rad"));
-        }
-        if !(self.chord_error_per_tol >= 0.0 && self.chord_error_per_tol.is_finite()) {
-            return Err(SmoothError::BadOption(
-                "chord_error_per_tol must be non-negative",
-            ));
-        }
-        if !(self.wiggle_per_tol >= 0.0 && self.wiggle_per_tol.is_finite()) {
-            return Err(SmoothError::BadOption(
-                "wiggle_per_tol must be non-negative",
-            ));
-        }
-        if self.min_points < 3 {
-            return Err(SmoothError::BadOption("min_points must be at least 3"));
-        }
-        Ok(())
+    /// Checks the ranges of the options, naming `method` in the error.
+    pub fn validate_for(&self, method: &'static str) -> Result<(), OptionError> {
+        let m = method;
+        let s = self.max_segment;
+        require(
+            s > 0.0 && s.is_finite(),
+            m,
+            "sections.max_segment",
+            s,
+            "must be a positive length (mm)",
+        )?;
+        let t = self.max_turn;
+        require(
+            (0.0..core::f64::consts::PI).contains(&t),
+            m,
+            "sections.max_turn",
+            t,
+            "must be in [0, pi) rad",
+        )?;
+        let c = self.chord_error_per_tol;
+        require(
+            c >= 0.0 && c.is_finite(),
+            m,
+            "sections.chord_error_per_tol",
+            c,
+            "must be >= 0 and finite",
+        )?;
+        let w = self.wiggle_per_tol;
+        require(
+            w >= 0.0 && w.is_finite(),
+            m,
+            "sections.wiggle_per_tol",
+            w,
+            "must be >= 0 and finite",
+        )?;
+        let n = self.min_points;
+        require(n >= 3, m, "sections.min_points", n, "must be at least 3")
     }
 
     /// Whether vertex `i` of the chain `pts` is dense at `tolerance` mm.

@@ -63,6 +63,7 @@ use super::bezier_corner::{
 use super::{SmoothError, SmoothedRun, Smoother};
 use crate::math;
 use crate::path::Run;
+use crate::smooth::OptionError;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
@@ -258,10 +259,22 @@ pub(crate) fn lotm_plan(cc: &ChainCorners) -> Vec<Planned> {
 
 /// Options of [`Lotm`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct LotmOptions {
     /// Corners whose half-angle `theta` (radians) is below this are
     /// reversals and kept.
     pub min_half_angle: f64,
+}
+
+impl LotmOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        check_min_half_angle("lotm", self.min_half_angle)
+    }
 }
 
 impl Default for LotmOptions {
@@ -285,7 +298,7 @@ impl Smoother for Lotm {
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         let m = self.options.min_half_angle;
-        check_min_half_angle(m)?;
+        self.options.validate()?;
         smooth_run_by_corners(run, tolerance, m, &lotm_plan)
     }
 }

@@ -16,6 +16,7 @@ mod fit_chain;
 mod fit_fill;
 mod fit_sections;
 mod lotm;
+mod options;
 
 pub use arc_fit::{
     ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
@@ -40,6 +41,8 @@ pub use lotm::{
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
     split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
 };
+pub(crate) use options::require;
+pub use options::OptionError;
 
 use crate::budget::ToleranceBudget;
 use crate::path::{Piece, Run};
@@ -77,8 +80,11 @@ pub enum SmoothError {
     #[error("non-finite coordinate at input line {line}")]
     NotFinite { line: usize },
     /// A method option is out of range.
-    #[error("invalid option: {0}")]
-    BadOption(&'static str),
+    #[error("{0}")]
+    BadOption(#[from] OptionError),
+    /// `auto` found no candidate it could use.
+    #[error("auto: no candidate")]
+    NoCandidate,
 }
 
 /// A smoothing method.
