@@ -23,27 +23,21 @@
 //! * **fit, jerk-faired**, on the same runs: `bspline-fit` with the jerk
 //!   term [`JERK_FAIRNESS`], which spreads the curvature ramps of sampled
 //!   arcs between corners over more length; and through corners with a
-//!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`] (on the issue-5 survey
-//!   the jerk term through corners took `51MeanderAve.ngc` from 0.701 to
-//!   0.698 of the original).
-//!
-//!   These three were first tried only on runs with arcs. On runs of
-//!   lines they planned the issue-5 survey faster too, each of them
-//!   chosen somewhere: `noisy-line.ngc` 1.09 -> 0.93 s, `Cereal.ngc`
-//!   102.07 -> 100.80 s, `line-contouring-xz.ngc` 16.28 -> 15.38 s,
-//!   `130207L.ngc` 45.94 -> 45.75 s, nothing slower; smoothing `Cereal.ngc`
-//!   took 2.4 s instead of 0.85 s.
-//! * `bspline-corner` and the corner methods of [`CORNER_CANDIDATES`]
-//!   (`lotm`): on the run as it is when it has only lines; on the same
+//!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`]. These are offered on
+//!   runs of lines too (the survey found each chosen somewhere).
+//! * the corner methods `bspline-corner` and `lotm` (not `ctm`: with its
+//!   default coefficient its transitions are `bspline-corner`'s uniform
+//!   cubic B-splines, at more smoothing and planning time): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
 //!   so that they too leave no joint next to an arc that is not G2.
 //! * **as is**: the run untouched, when every joint in it is already G2
-//!   (one arc between two `S` words of a plasma program, say). Sampled and
-//!   refitted, an arc's curvature ripples: on such a 2 mm hole of
-//!   `51MeanderAve.ngc` the best smoothing planned 0.325 s against 0.316 s
-//!   for the arc as written (since every fit is relaxed inside the band, a
-//!   fit of it plans 0.3135 s). Last in the list, so it wins only when
-//!   strictly faster.
+//!   (one arc between two `S` words of a plasma program, say): sampled and
+//!   refitted, an arc's curvature ripples and can plan slower. Last in the
+//!   list, so it wins only when strictly faster.
+//!
+//! The candidates are a table, [`CANDIDATES`]: each row says how the
+//! candidate smooths and when it is offered. The measurements that chose
+//! the constants are in `docs/tuning.md`, not here.
 //!
 //! Each candidate is ranked by the [`Objective`] the caller injects
 //! ([`Auto::new`]): the CLI's is the planned time on the user's machine
@@ -105,12 +99,6 @@ impl CornerMethod {
     }
 }
 
-/// Corner methods tried besides `bspline-corner` on runs of lines. `ctm`
-/// is not: with its default coefficient (`c = 1`) its transitions are the
-/// same uniform cubic B-splines as `bspline-corner`'s, at a quarter more
-/// smoothing and planning time for the same result.
-pub const CORNER_CANDIDATES: &[CornerMethod] = &[CornerMethod::Lotm];
-
 /// Wiggle factor ([`SectionOptions::wiggle_per_tol`]) of the second fit
 /// candidate: a vertex up to twice the tolerance above the chord of its
 /// neighbours is dense, so a zigzag whose midline lies within the
@@ -161,21 +149,18 @@ pub fn through_corners_sections() -> SectionOptions {
     }
 }
 
-/// Largest run (pieces after sampling) for which the through-corners
-/// candidate is tried: its fits across many sharp corners fail and are
-/// split again and again, which on LinuxCNC's `LHchips4.ngc` (5,438 moves
-/// in one run) quadrupled the smoothing time for a saving of 0.2%.
+/// Largest run (pieces after sampling) for which the through-corners and
+/// jerk-faired candidates are tried: fits across many sharp corners fail
+/// and are split again and again, which costs more smoothing time on long
+/// runs than it saves machining time.
 pub const THROUGH_MAX_PIECES: usize = 2000;
 
 /// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired candidate (the
 /// one that keeps the default run detection), tried on the same runs as
 /// the through-corners candidates (up to [`THROUGH_MAX_PIECES`] pieces;
-/// those use [`THROUGH_JERK_FAIRNESS`]). Chosen on LinuxCNC's `arc-arc-sawtooth.ngc`
-/// (arcs of 5 mm radius between corners of 127 degrees, where the fits of
-/// the sampled arcs must ramp their curvature from and to zero): 0 gives
-/// 1.50 times the program as written, 1e3 1.48, 3e4 1.30. As the default of
-/// every fit it cost time on `Cereal.ngc` and `blur_torus.ngc`, so `auto`
-/// plans it beside the others.
+/// those use [`THROUGH_JERK_FAIRNESS`]). It spreads the curvature ramps of
+/// sampled arcs between sharp corners over more length; as the default of
+/// every fit it costs time elsewhere, so `auto` plans it beside the others.
 pub const JERK_FAIRNESS: f64 = 3e4;
 
 /// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired through-corners
@@ -185,16 +170,9 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// lambda)`. At a corner the machine brakes for, `kappa^2 v^3 <= J` and
 /// `|dkappa/ds| v^3 <= J` bind together when the curvature ramps over
 /// about the corner's radius `1 / kappa`, a few segments at most, so a
-/// jerk fairness of order 1 suits fits through corners. Since every fit
-/// is relaxed inside the band ([`BsplineFitOptions::relax`]), 3e4 there
-/// spread the curvature of the corners too far: on the issue-5 survey
-/// (`scripts/survey.sh 0.05`) 3 planned `test_12mmflat.ngc` 15.84 ->
-/// 15.49 s, `LHchips4.ngc` 234.73 -> 233.75 s, `blur_torus.ngc` 140.98 ->
-/// 140.33 s, the makerblock plot 331.56 -> 330.23 s and butterfly 6.81 ->
-/// 6.74 s, nothing slower (1: 15.71 s on `test_12mmflat.ngc`, 10: 15.55
-/// s, 30: 15.56 s, 300: 15.53 s, 3e3: 15.51 s). The other jerk-faired
-/// candidate keeps [`JERK_FAIRNESS`] (3 there cost `51MeanderAve.ngc`
-/// 63.60 -> 64.59 s).
+/// jerk fairness of order 1 suits fits through corners (the fits are also
+/// relaxed inside the band, [`BsplineFitOptions::relax`], so a larger one
+/// spreads the curvature of the corners too far).
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
 /// Share of the tolerance that the chords of sampled arcs may take (see
@@ -203,18 +181,10 @@ pub use crate::budget::ARC_SAMPLING_SHARE as ARC_SHARE;
 
 /// Default [`AutoOptions::section_lines`] (mm): a run is cut at the lines
 /// longer than 5 mm, then at those longer than 3 mm, then 1 mm, and the
-/// fastest of the three mixes (or the whole run) is kept. 5 mm, half the
-/// default [`SectionOptions::max_segment`], planned faster than 7.5 and
-/// 10 mm alone (`LHchips4.ngc` 0.60 of the original against 0.61,
-/// `Cereal.ngc` 0.68 against 0.69). Shorter cuts give the V-carved letters
-/// of `Cereal.ngc` their own choices between short lines, but alone cost
-/// `51MeanderAve.ngc` (3 mm: 69.44 s against 69.07 s); with all three
-/// lengths (the sections they share are smoothed once) the issue-5 survey
-/// planned `Cereal.ngc` 100.80 -> 98.01 s, `blur_torus.ngc` 151.55 ->
-/// 150.40 s, `LHchips4.ngc` 278.09 -> 275.07 s and the makerblock plot
-/// 420.17 -> 399.50 s, nothing slower; smoothing `LHchips4.ngc` took 11.9 s
-/// instead of 4.1 s. (5, 3 alone: `Cereal.ngc` 100.12 s; 5, 3, 1.5: 99.40
-/// s; adding 0.5 changed nothing more.)
+/// fastest of the three mixes (or the whole run) is kept. Long lines cut
+/// sections whose best candidates differ (a raster's passes and its
+/// step-overs); shorter cuts give short features their own choices. The
+/// sections the lengths share are smoothed once.
 pub const SECTION_LINES: [f64; 3] = [5.0, 3.0, 1.0];
 
 /// Largest run (pieces) that is also smoothed section by section: the
@@ -322,15 +292,153 @@ pub fn sample_curves(run: &Run, chord: f64) -> Run {
     Run::new(out)
 }
 
-/// One candidate smoothing of a run.
+/// How a candidate smooths a run.
 #[derive(Clone, Copy, Debug)]
 enum Candidate {
     Fit(BsplineFitOptions),
     /// A corner method with its default options.
     Corner(CornerMethod),
-    /// The run as it is, offered only when every joint in it is already G2
-    /// ([`is_g2`]).
+    /// The run as it is ([`Offered::AlreadyG2`]).
     AsIs,
+}
+
+/// Which dense-section rule a fit candidate uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionRule {
+    /// `bspline-fit`'s default.
+    Default,
+    /// [`WIDE_WIGGLE_PER_TOL`]: a zigzag within the tolerance of its midline
+    /// is dense.
+    WideWiggles,
+    /// [`through_corners_sections`]: every vertex up to [`THROUGH_MAX_TURN`].
+    ThroughCorners,
+}
+
+/// What a candidate is, in [`CANDIDATES`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// `bspline-fit` with a section rule and a jerk fairness.
+    Fit {
+        sections: SectionRule,
+        jerk_fairness: f64,
+    },
+    /// A corner method.
+    Corner(CornerMethod),
+    /// The run untouched.
+    AsIs,
+}
+
+/// When a candidate is offered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Offered {
+    /// On every run.
+    Always,
+    /// When its section rule makes some vertex dense that the default does
+    /// not (else it is the default fit again).
+    WhenItWidens,
+    /// On runs of at most [`THROUGH_MAX_PIECES`] pieces (after sampling).
+    OnShortRuns,
+    /// When every joint of the run is already G2.
+    AlreadyG2,
+}
+
+/// One row of `auto`'s candidate table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CandidateRow {
+    /// The name reported in the summary (`auto_chose`).
+    pub name: &'static str,
+    pub kind: Kind,
+    pub offered: Offered,
+}
+
+/// `auto`'s candidates, in order (a tie goes to the earlier). See the
+/// module documentation for why each is there.
+pub const CANDIDATES: &[CandidateRow] = &[
+    CandidateRow {
+        name: "bspline-fit",
+        kind: Kind::Fit {
+            sections: SectionRule::Default,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "bspline-corner",
+        kind: Kind::Corner(CornerMethod::BsplineCorner),
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "bspline-fit, wide wiggles",
+        kind: Kind::Fit {
+            sections: SectionRule::WideWiggles,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::WhenItWidens,
+    },
+    CandidateRow {
+        name: "bspline-fit, through corners",
+        kind: Kind::Fit {
+            sections: SectionRule::ThroughCorners,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "bspline-fit, through corners, jerk-faired",
+        kind: Kind::Fit {
+            sections: SectionRule::ThroughCorners,
+            jerk_fairness: THROUGH_JERK_FAIRNESS,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "bspline-fit, jerk-faired",
+        kind: Kind::Fit {
+            sections: SectionRule::Default,
+            jerk_fairness: JERK_FAIRNESS,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "lotm",
+        kind: Kind::Corner(CornerMethod::Lotm),
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "as is",
+        kind: Kind::AsIs,
+        offered: Offered::AlreadyG2,
+    },
+];
+
+impl SectionRule {
+    fn options(self) -> SectionOptions {
+        match self {
+            SectionRule::Default => SectionOptions::default(),
+            SectionRule::WideWiggles => SectionOptions {
+                wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
+                ..SectionOptions::default()
+            },
+            SectionRule::ThroughCorners => through_corners_sections(),
+        }
+    }
+}
+
+impl Kind {
+    fn candidate(self) -> Candidate {
+        match self {
+            Kind::Fit {
+                sections,
+                jerk_fairness,
+            } => Candidate::Fit(BsplineFitOptions {
+                sections: sections.options(),
+                jerk_fairness,
+                ..BsplineFitOptions::default()
+            }),
+            Kind::Corner(m) => Candidate::Corner(m),
+            Kind::AsIs => Candidate::AsIs,
+        }
+    }
 }
 
 /// Whether every joint of `run` is G2 (a run of one piece has none) at the
@@ -416,49 +524,18 @@ impl Auto {
         } else {
             (Input::Lines(run), tolerance)
         };
-        let mut out = alloc::vec![
-            ("bspline-fit", Candidate::Fit(BsplineFitOptions::default())),
-            (
-                "bspline-corner",
-                Candidate::Corner(CornerMethod::BsplineCorner),
-            ),
-        ];
-        let wide = BsplineFitOptions {
-            sections: SectionOptions {
-                wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
-                ..SectionOptions::default()
-            },
-            ..BsplineFitOptions::default()
-        };
-        if widens_sections(input.run(), tol, &wide.sections) {
-            out.push(("bspline-fit, wide wiggles", Candidate::Fit(wide)));
-        }
-        if input.run().pieces.len() <= THROUGH_MAX_PIECES {
-            let through = BsplineFitOptions {
-                sections: through_corners_sections(),
-                ..BsplineFitOptions::default()
+        let wide = SectionRule::WideWiggles.options();
+        let mut out = Vec::new();
+        for row in CANDIDATES {
+            let offered = match row.offered {
+                Offered::Always => true,
+                Offered::WhenItWidens => widens_sections(input.run(), tol, &wide),
+                Offered::OnShortRuns => input.run().pieces.len() <= THROUGH_MAX_PIECES,
+                Offered::AlreadyG2 => is_g2(run, tolerance),
             };
-            out.push(("bspline-fit, through corners", Candidate::Fit(through)));
-            out.push((
-                "bspline-fit, through corners, jerk-faired",
-                Candidate::Fit(BsplineFitOptions {
-                    jerk_fairness: THROUGH_JERK_FAIRNESS,
-                    ..through
-                }),
-            ));
-            out.push((
-                "bspline-fit, jerk-faired",
-                Candidate::Fit(BsplineFitOptions {
-                    jerk_fairness: JERK_FAIRNESS,
-                    ..BsplineFitOptions::default()
-                }),
-            ));
-        }
-        for &m in CORNER_CANDIDATES {
-            out.push((m.name(), Candidate::Corner(m)));
-        }
-        if is_g2(run, tolerance) {
-            out.push(("as is", Candidate::AsIs));
+            if offered {
+                out.push((row.name, row.kind.candidate()));
+            }
         }
         Ok((input, tol, out))
     }

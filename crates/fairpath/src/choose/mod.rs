@@ -12,9 +12,9 @@ mod registry;
 mod sections;
 
 pub use auto::{
-    sample_curves, through_corners_sections, Auto, AutoOptions, ARC_SHARE, CORNER_CANDIDATES,
-    JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES,
-    THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
+    sample_curves, through_corners_sections, Auto, AutoOptions, CandidateRow, CornerMethod, Kind,
+    Offered, SectionRule, ARC_SHARE, CANDIDATES, JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES,
+    THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{Objective, PlannedTime};
 pub use registry::{by_name, method, Method, METHODS};
