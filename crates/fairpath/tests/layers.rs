@@ -70,7 +70,12 @@ fn imports_point_down_the_layers() {
     let mut seen: BTreeMap<String, u32> = BTreeMap::new();
     for f in &files {
         let rel = f.strip_prefix(&src).unwrap();
-        let first = rel.components().next().unwrap().as_os_str().to_string_lossy();
+        let first = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_string_lossy();
         let module = first.trim_end_matches(".rs").to_string();
         if module == "lib" {
             continue;
@@ -95,7 +100,11 @@ fn imports_point_down_the_layers() {
             }
         }
     }
-    assert!(bad.is_empty(), "imports against the layers:\n{}", bad.join("\n"));
+    assert!(
+        bad.is_empty(),
+        "imports against the layers:\n{}",
+        bad.join("\n")
+    );
     for m in ["geom", "path", "smooth", "feed", "verify", "choose"] {
         assert!(seen.contains_key(m), "module {m} not found");
     }
@@ -103,7 +112,9 @@ fn imports_point_down_the_layers() {
 
 #[test]
 fn the_scanner_sees_imports_and_skips_comments() {
-    let refs = crate_refs("use crate::feed::plan; // crate::choose\n/// [`crate::smooth`]\nx(crate::geom::Vec3)");
+    let refs = crate_refs(
+        "use crate::feed::plan; // crate::choose\n/// [`crate::smooth`]\nx(crate::geom::Vec3)",
+    );
     let names: Vec<&str> = refs.iter().map(|(_, n)| n.as_str()).collect();
     assert_eq!(names, ["feed", "geom"]);
 }

@@ -22,6 +22,7 @@
 //!   which is what a jerk limit charges (not in the seed).
 //! * Bound ([`span_errors`]): see its documentation.
 
+use super::basis;
 use super::least_squares::{BandedSpd, CholeskyBand};
 use super::{point_segment_distance, Nurbs, Vec3};
 use alloc::vec;
@@ -134,80 +135,21 @@ pub fn span_of(knots: &[f64], count: usize, t: f64) -> usize {
 }
 
 /// Values, first and second derivatives of the four cubic basis functions
-/// `N_{s-3..=s}` at `t` in span `s` (Cox-de Boor, P&T eq. 2.5, and the
-/// derivative formula P&T eq. 2.7 applied twice), with `0/0 = 0`.
+/// `N_{s-3..=s}` at `t` in span `s`, with `0/0 = 0`: the crate's one basis
+/// ([`basis::ders_basis_funs`], P&T A2.3) at degree 3.
 pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
-    let u = knots;
-    let div = |a: f64, b: f64| if b != 0.0 { a / b } else { 0.0 };
-    // n1[k] = N_{s-1+k,1}, n2[k] = N_{s-2+k,2}, n3[k] = N_{s-3+k,3}.
-    let n0 = 1.0;
-    let n1 = [
-        div(u[s + 1] - t, u[s + 1] - u[s]) * n0,
-        div(t - u[s], u[s + 1] - u[s]) * n0,
-    ];
-    let mut n2 = [0.0; 3];
-    for (k, v) in n2.iter_mut().enumerate() {
-        let i = s + k - 2; // N_{i,2}
-        let left = if k >= 1 { n1[k - 1] } else { 0.0 }; // N_{i,1}
-        let right = if k < 2 { n1[k] } else { 0.0 }; // N_{i+1,1}
-        *v = div(t - u[i], u[i + 2] - u[i]) * left + div(u[i + 3] - t, u[i + 3] - u[i + 1]) * right;
-    }
-    let mut n3 = [0.0; 4];
-    let mut d1 = [0.0; 4];
-    let mut d2 = [0.0; 4];
-    // N'_{i,2} for i = s-2..=s (index k), from degree-1 values.
-    let mut dn2 = [0.0; 3];
-    for (k, v) in dn2.iter_mut().enumerate() {
-        let i = s + k - 2;
-        let left = if k >= 1 { n1[k - 1] } else { 0.0 };
-        let right = if k < 2 { n1[k] } else { 0.0 };
-        *v = 2.0 * (div(left, u[i + 2] - u[i]) - div(right, u[i + 3] - u[i + 1]));
-    }
-    for k in 0..4 {
-        let i = s + k - 3; // N_{i,3}
-        let (l2, r2) = (
-            if k >= 1 { n2[k - 1] } else { 0.0 },
-            if k < 3 { n2[k] } else { 0.0 },
-        );
-        let (dl2, dr2) = (
-            if k >= 1 { dn2[k - 1] } else { 0.0 },
-            if k < 3 { dn2[k] } else { 0.0 },
-        );
-        let (a, b) = (u[i + 3] - u[i], u[i + 4] - u[i + 1]);
-        n3[k] = div(t - u[i], a) * l2 + div(u[i + 4] - t, b) * r2;
-        d1[k] = 3.0 * (div(l2, a) - div(r2, b));
-        d2[k] = 3.0 * (div(dl2, a) - div(dr2, b));
-    }
-    [n3, d1, d2]
+    let d = basis::ders_basis_funs(knots, FIT_DEGREE, s, t, 2);
+    let four = |row: &[f64; basis::BASIS_LEN]| [row[0], row[1], row[2], row[3]];
+    [four(&d[0]), four(&d[1]), four(&d[2])]
 }
 
 /// Values of the four cubic basis functions `N_{s-3..=s}` at `t` in span
-/// `s`: [`cubic_basis`]`(..)[0]` by the triangular scheme of P&T algorithm
-/// A2.2 (6 divisions instead of about 40; the data term of every fit and
-/// the bound of every span evaluate it once per data point). An empty span
-/// (`knots[s] == knots[s + 1]`) falls back to [`cubic_basis`] and its
-/// `0/0 = 0`.
+/// `s`: [`cubic_basis`]`(..)[0]` by P&T A2.2 ([`basis::basis_funs`]: 6
+/// divisions instead of the 30 or so of A2.3; the data term of every fit
+/// and the bound of every span evaluate it once per data point).
 pub fn cubic_basis_values(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
-    let u = knots;
-    let h = u[s + 1] - u[s];
-    if h.is_nan() || h <= 0.0 {
-        return cubic_basis(knots, s, t)[0];
-    }
-    // left[j] = t - u[s+1-j], right[j] = u[s+j] - t (j = 1..=3).
-    let left = [0.0, t - u[s], t - u[s - 1], t - u[s - 2]];
-    let right = [0.0, u[s + 1] - t, u[s + 2] - t, u[s + 3] - t];
-    let mut n = [1.0, 0.0, 0.0, 0.0];
-    for j in 1..=FIT_DEGREE {
-        let mut saved = 0.0;
-        for r in 0..j {
-            // right[r+1] + left[j-r] = u[s+r+1] - u[s+1-j+r] >= u[s+1] - u[s].
-            let temp = n[r] / (right[r + 1] + left[j - r]);
-            n[r] = saved + right[r + 1] * temp;
-            saved = left[j - r] * temp;
-        }
-        n[j] = saved;
-    }
-    n
+    let n = basis::basis_funs(knots, FIT_DEGREE, s, t);
+    [n[0], n[1], n[2], n[3]]
 }
 
 /// Second derivatives of the four cubic basis functions `N_{s-3..=s}` at

@@ -3,6 +3,7 @@
 
 mod arc;
 pub mod band_fit;
+pub mod basis;
 mod bezier_spans;
 pub mod biarc;
 pub mod continuity;

@@ -2,15 +2,12 @@
 //! Book, 2nd ed.: A2.1 FindSpan, A2.3 DersBasisFuns, eq. 4.8 for rational
 //! derivatives).
 
+use super::basis::{self, BASIS_LEN};
 use super::{arc::Arc, ParamCurve, Vec3};
 use crate::math;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
-
-/// Length of the basis-function arrays of the evaluation: one per control
-/// point a span depends on at the highest degree.
-const BASIS_LEN: usize = Nurbs::MAX_DEGREE + 1;
 
 /// What evaluating a malformed curve gives.
 const NAN_POINT: Vec3 = Vec3::new(f64::NAN, f64::NAN, f64::NAN);
@@ -67,7 +64,7 @@ impl Nurbs {
     /// in fixed arrays of `MAX_DEGREE + 1` values (no allocation per
     /// point). 7 covers the orders up to 8 of G6.2 and of LinuxCNC's G5.2
     /// ([`crate::controller::linuxcnc`]); tool paths use 2 and 3.
-    pub const MAX_DEGREE: usize = 7;
+    pub const MAX_DEGREE: usize = basis::MAX_DEGREE;
 
     /// Checks the definition and builds the curve: degree 1 to
     /// [`Nurbs::MAX_DEGREE`], at least `degree + 1` points,
@@ -148,28 +145,10 @@ impl Nurbs {
         lo
     }
 
-    /// Piegl-Tiller A2.2: the non-zero basis functions at `t` in `span`.
-    /// Only for a well-formed curve (`degree <= MAX_DEGREE`).
+    /// [`basis::basis_funs`] of this curve's knots and degree. Only for a
+    /// well-formed curve (`degree <= MAX_DEGREE`).
     fn basis(&self, span: usize, t: f64) -> [f64; BASIS_LEN] {
-        let p = self.degree;
-        let u = &self.knots;
-        let mut n = [0.0f64; BASIS_LEN];
-        let mut left = [0.0f64; BASIS_LEN];
-        let mut right = [0.0f64; BASIS_LEN];
-        n[0] = 1.0;
-        for j in 1..=p {
-            left[j] = t - u[span + 1 - j];
-            right[j] = u[span + j] - t;
-            let mut saved = 0.0;
-            for r in 0..j {
-                let den = right[r + 1] + left[j - r];
-                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
-                n[r] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            n[j] = saved;
-        }
-        n
+        basis::basis_funs(&self.knots, self.degree, span, t)
     }
 
     /// Position at `t` (clamped to the domain), by A2.2 and A4.1; NaN for a
@@ -209,95 +188,11 @@ impl Nurbs {
         self.points.windows(2).map(|w| w[0].dist(w[1])).sum()
     }
 
-    /// Piegl-Tiller A2.3: non-zero basis functions and their derivatives up
-    /// to order `nd` at `t` in span `span`; `ders[k][j]` is the k-th
-    /// derivative of `N_{span-p+j, p}`. Only for a well-formed curve
-    /// (`degree <= MAX_DEGREE`: the arrays hold [`BASIS_LEN`] values).
+    /// [`basis::ders_basis_funs`] of this curve's knots and degree. Only
+    /// for a well-formed curve (`degree <= MAX_DEGREE`).
     fn ders_basis(&self, span: usize, t: f64, nd: usize) -> [[f64; BASIS_LEN]; 3] {
-        let p = self.degree;
         debug_assert!(self.is_well_formed(), "evaluating a malformed NURBS");
-        let u = &self.knots;
-        let mut ndu = [[0.0f64; BASIS_LEN]; BASIS_LEN];
-        let mut left = [0.0f64; BASIS_LEN];
-        let mut right = [0.0f64; BASIS_LEN];
-        ndu[0][0] = 1.0;
-        for j in 1..=p {
-            left[j] = t - u[span + 1 - j];
-            right[j] = u[span + j] - t;
-            let mut saved = 0.0;
-            for r in 0..j {
-                ndu[j][r] = right[r + 1] + left[j - r];
-                let temp = if ndu[j][r] != 0.0 {
-                    ndu[r][j - 1] / ndu[j][r]
-                } else {
-                    0.0
-                };
-                ndu[r][j] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            ndu[j][j] = saved;
-        }
-        let mut ders = [[0.0f64; BASIS_LEN]; 3];
-        for j in 0..=p {
-            ders[0][j] = ndu[j][p];
-        }
-        let nd = nd.min(p).min(2);
-        if nd == 0 {
-            return ders;
-        }
-        let mut a = [[0.0f64; BASIS_LEN]; 2];
-        for r in 0..=p {
-            let (mut s1, mut s2) = (0usize, 1usize);
-            a[0] = [0.0; BASIS_LEN];
-            a[0][0] = 1.0;
-            for k in 1..=nd {
-                let mut d = 0.0;
-                let rk = r as isize - k as isize;
-                let pk = p - k;
-                if r >= k {
-                    let rk = rk as usize;
-                    a[s2][0] = if ndu[pk + 1][rk] != 0.0 {
-                        a[s1][0] / ndu[pk + 1][rk]
-                    } else {
-                        0.0
-                    };
-                    d = a[s2][0] * ndu[rk][pk];
-                }
-                let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
-                let j2 = if (r as isize - 1) <= pk as isize {
-                    k - 1
-                } else {
-                    p - r
-                };
-                for j in j1..=j2 {
-                    let idx = (rk + j as isize) as usize;
-                    a[s2][j] = if ndu[pk + 1][idx] != 0.0 {
-                        (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx]
-                    } else {
-                        0.0
-                    };
-                    d += a[s2][j] * ndu[idx][pk];
-                }
-                if r <= pk {
-                    a[s2][k] = if ndu[pk + 1][r] != 0.0 {
-                        -a[s1][k - 1] / ndu[pk + 1][r]
-                    } else {
-                        0.0
-                    };
-                    d += a[s2][k] * ndu[r][pk];
-                }
-                ders[k][r] = d;
-                core::mem::swap(&mut s1, &mut s2);
-            }
-        }
-        let mut f = p as f64;
-        for (k, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
-            for v in row.iter_mut().take(p + 1) {
-                *v *= f;
-            }
-            f *= (p - k) as f64;
-        }
-        ders
+        basis::ders_basis_funs(&self.knots, self.degree, span, t, nd)
     }
 
     /// Position and first two derivatives at `t` (clamped to the domain).
