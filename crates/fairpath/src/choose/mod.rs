@@ -7,15 +7,17 @@
 //! imports it.
 
 mod auto;
+mod candidates;
 mod objective;
 mod registry;
 mod sections;
 
-pub use auto::{
-    sample_curves, through_corners_sections, Auto, AutoOptions, CandidateRow, CornerMethod, Kind,
-    Offered, SectionRule, ARC_SHARE, CANDIDATES, JERK_FAIRNESS, SECTION_LINES, SECTION_MAX_PIECES,
-    THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
+pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
+pub use candidates::{
+    through_corners_sections, CandidateRow, CornerMethod, Kind, Offered, SectionRule, CANDIDATES,
+    JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
+    WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{Objective, PlannedTime};
 pub use registry::{by_name, method, Method, METHODS};
-pub use sections::split_at_long_lines;
+pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};

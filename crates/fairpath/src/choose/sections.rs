@@ -9,6 +9,19 @@ use crate::smooth::{SmoothError, SmoothedRun};
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
+/// Default [`super::AutoOptions::section_lines`] (mm): a run is cut at the lines
+/// longer than 5 mm, then at those longer than 3 mm, then 1 mm, and the
+/// fastest of the three mixes (or the whole run) is kept. Long lines cut
+/// sections whose best candidates differ (a raster's passes and its
+/// step-overs); shorter cuts give short features their own choices. The
+/// sections the lengths share are smoothed once.
+pub const SECTION_LINES: [f64; 3] = [5.0, 3.0, 1.0];
+
+/// Largest run (pieces) that is also smoothed section by section: the
+/// sections are smoothed and planned besides the whole run (the mix is kept
+/// only when the whole run plans faster with it), which doubles the work.
+pub const SECTION_MAX_PIECES: usize = 20_000;
+
 /// The section a [`SectionCache`] entry was smoothed for: its pieces and
 /// whether each end is a cut line.
 type Section = (Run, bool, bool);

@@ -1,0 +1,321 @@
+//! `auto`'s candidates: how each smooths a run and when it is offered
+//! ([`CANDIDATES`], a table), and the constants that shape them (the
+//! measurements that chose them are in `docs/tuning.md`).
+
+use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
+use crate::path::Run;
+use crate::smooth::{
+    BsplineCorner, BsplineFit, BsplineFitOptions, Lotm, SectionOptions, SmoothError, SmoothedRun,
+    Smoother,
+};
+use alloc::vec::Vec;
+
+/// A corner method `auto` offers, with its default options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerMethod {
+    /// `bspline-corner` (seed 000).
+    BsplineCorner,
+    /// `lotm` (seed 001).
+    Lotm,
+}
+
+impl CornerMethod {
+    /// The method's command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            CornerMethod::BsplineCorner => "bspline-corner",
+            CornerMethod::Lotm => "lotm",
+        }
+    }
+
+    fn smooth_run(self, run: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+        match self {
+            CornerMethod::BsplineCorner => BsplineCorner::default().smooth_run(run, tol),
+            CornerMethod::Lotm => Lotm::default().smooth_run(run, tol),
+        }
+    }
+}
+
+/// Wiggle factor ([`SectionOptions::wiggle_per_tol`]) of the second fit
+/// candidate: a vertex up to twice the tolerance above the chord of its
+/// neighbours is dense, so a zigzag whose midline lies within the
+/// tolerance of every vertex may be fitted by that midline (LinuxCNC's
+/// `zigzag_0.002_0.001.ngc`: 0.0254 mm each side of the line at 0.05 mm).
+/// Not the default of `bspline-fit`: on paths whose sharp vertices are real
+/// (raster step-overs, V-carving) a fit across them is slower than corner
+/// transitions, so `auto` plans both and keeps the faster.
+pub const WIDE_WIGGLE_PER_TOL: f64 = 2.0;
+
+/// Whether `wide` makes some vertex of the lines of `run` dense that the
+/// default rule does not (the wide candidate would differ).
+pub(super) fn widens_sections(run: &Run, tol: f64, wide: &SectionOptions) -> bool {
+    let Some(first) = run.pieces.first() else {
+        return false;
+    };
+    let mut pts = Vec::with_capacity(run.pieces.len() + 1);
+    pts.push(first.curve.start());
+    pts.extend(run.pieces.iter().map(|p| p.curve.end()));
+    let narrow = SectionOptions::default();
+    (1..pts.len().saturating_sub(1))
+        .any(|i| wide.is_dense(&pts, i, tol) && !narrow.is_dense(&pts, i, tol))
+}
+
+/// Sharpest turn (rad, about 143 degrees) that the through-corners
+/// candidate fits across; sharper vertices (reversals) stay corners.
+///
+/// A corner transition (seed 000) ends with zero curvature on its lines.
+/// Next to a sampled arc, the fit of the arc must then ramp its curvature
+/// from zero to `1/R` after the corner and back before the next one: on
+/// short arcs between corners (LinuxCNC's `line-arc-burnin.ngc`,
+/// `linearc.ngc`) the ramps slowed `auto` below the program as it is. The
+/// through-corners candidate makes every vertex of the sampled run up to
+/// this turn dense, whatever its segment lengths, so one fit runs through
+/// the corner (knots are added where it misses the band) and each arc's
+/// curvature runs into the next piece's. Where such a fit fails, the
+/// section is split around its sharpest vertex as usual.
+pub const THROUGH_MAX_TURN: f64 = 2.5;
+
+/// The run detection of the through-corners candidates: every vertex up
+/// to [`THROUGH_MAX_TURN`] is dense, whatever its segment lengths.
+pub fn through_corners_sections() -> SectionOptions {
+    SectionOptions {
+        max_segment: 1e6,
+        max_turn: THROUGH_MAX_TURN,
+        chord_error_per_tol: 1e6,
+        ..SectionOptions::default()
+    }
+}
+
+/// Largest run (pieces after sampling) for which the through-corners and
+/// jerk-faired candidates are tried: fits across many sharp corners fail
+/// and are split again and again, which costs more smoothing time on long
+/// runs than it saves machining time.
+pub const THROUGH_MAX_PIECES: usize = 2000;
+
+/// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired candidate (the
+/// one that keeps the default run detection), tried on the same runs as
+/// the through-corners candidates (up to [`THROUGH_MAX_PIECES`] pieces;
+/// those use [`THROUGH_JERK_FAIRNESS`]). It spreads the curvature ramps of
+/// sampled arcs between sharp corners over more length; as the default of
+/// every fit it costs time elsewhere, so `auto` plans it beside the others.
+pub const JERK_FAIRNESS: f64 = 3e4;
+
+/// [`BsplineFitOptions::jerk_fairness`] of the jerk-faired through-corners
+/// candidate. The jerk term's weight against the bending term's is
+/// `mu / lambda = jerk_fairness * s^2` (mean segment `s`); it balances the
+/// two where the curvature `kappa` changes over a length `sqrt(mu /
+/// lambda)`. At a corner the machine brakes for, `kappa^2 v^3 <= J` and
+/// `|dkappa/ds| v^3 <= J` bind together when the curvature ramps over
+/// about the corner's radius `1 / kappa`, a few segments at most, so a
+/// jerk fairness of order 1 suits fits through corners (the fits are also
+/// relaxed inside the band, [`BsplineFitOptions::relax`], so a larger one
+/// spreads the curvature of the corners too far).
+pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
+
+/// How a candidate smooths a run.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Candidate {
+    Fit(BsplineFitOptions),
+    /// A corner method with its default options.
+    Corner(CornerMethod),
+    /// The run as it is ([`Offered::AlreadyG2`]).
+    AsIs,
+}
+
+/// Which dense-section rule a fit candidate uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionRule {
+    /// `bspline-fit`'s default.
+    Default,
+    /// [`WIDE_WIGGLE_PER_TOL`]: a zigzag within the tolerance of its midline
+    /// is dense.
+    WideWiggles,
+    /// [`through_corners_sections`]: every vertex up to [`THROUGH_MAX_TURN`].
+    ThroughCorners,
+}
+
+/// What a candidate is, in [`CANDIDATES`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// `bspline-fit` with a section rule and a jerk fairness.
+    Fit {
+        sections: SectionRule,
+        jerk_fairness: f64,
+    },
+    /// A corner method.
+    Corner(CornerMethod),
+    /// The run untouched.
+    AsIs,
+}
+
+/// When a candidate is offered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Offered {
+    /// On every run.
+    Always,
+    /// When its section rule makes some vertex dense that the default does
+    /// not (else it is the default fit again).
+    WhenItWidens,
+    /// On runs of at most [`THROUGH_MAX_PIECES`] pieces (after sampling).
+    OnShortRuns,
+    /// When every joint of the run is already G2.
+    AlreadyG2,
+}
+
+/// One row of `auto`'s candidate table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CandidateRow {
+    /// The name reported in the summary (`auto_chose`).
+    pub name: &'static str,
+    pub kind: Kind,
+    pub offered: Offered,
+}
+
+/// `auto`'s candidates, in order (a tie goes to the earlier). See the
+/// module documentation for why each is there.
+pub const CANDIDATES: &[CandidateRow] = &[
+    CandidateRow {
+        name: "bspline-fit",
+        kind: Kind::Fit {
+            sections: SectionRule::Default,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "bspline-corner",
+        kind: Kind::Corner(CornerMethod::BsplineCorner),
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "bspline-fit, wide wiggles",
+        kind: Kind::Fit {
+            sections: SectionRule::WideWiggles,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::WhenItWidens,
+    },
+    CandidateRow {
+        name: "bspline-fit, through corners",
+        kind: Kind::Fit {
+            sections: SectionRule::ThroughCorners,
+            jerk_fairness: 0.0,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "bspline-fit, through corners, jerk-faired",
+        kind: Kind::Fit {
+            sections: SectionRule::ThroughCorners,
+            jerk_fairness: THROUGH_JERK_FAIRNESS,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "bspline-fit, jerk-faired",
+        kind: Kind::Fit {
+            sections: SectionRule::Default,
+            jerk_fairness: JERK_FAIRNESS,
+        },
+        offered: Offered::OnShortRuns,
+    },
+    CandidateRow {
+        name: "lotm",
+        kind: Kind::Corner(CornerMethod::Lotm),
+        offered: Offered::Always,
+    },
+    CandidateRow {
+        name: "as is",
+        kind: Kind::AsIs,
+        offered: Offered::AlreadyG2,
+    },
+];
+
+impl SectionRule {
+    pub(super) fn options(self) -> SectionOptions {
+        match self {
+            SectionRule::Default => SectionOptions::default(),
+            SectionRule::WideWiggles => SectionOptions {
+                wiggle_per_tol: WIDE_WIGGLE_PER_TOL,
+                ..SectionOptions::default()
+            },
+            SectionRule::ThroughCorners => through_corners_sections(),
+        }
+    }
+}
+
+impl Kind {
+    pub(super) fn candidate(self) -> Candidate {
+        match self {
+            Kind::Fit {
+                sections,
+                jerk_fairness,
+            } => Candidate::Fit(BsplineFitOptions {
+                sections: sections.options(),
+                jerk_fairness,
+                ..BsplineFitOptions::default()
+            }),
+            Kind::Corner(m) => Candidate::Corner(m),
+            Kind::AsIs => Candidate::AsIs,
+        }
+    }
+}
+
+/// Whether every joint of `run` is G2 (a run of one piece has none) at the
+/// joint tolerances of `tolerance`.
+pub(super) fn is_g2(run: &Run, tolerance: f64) -> bool {
+    let jt = JointTolerances::from_tolerance(tolerance);
+    !run.pieces.is_empty()
+        && run
+            .pieces
+            .windows(2)
+            .all(|w| classify_joint(&w[0].curve, &w[1].curve, &jt) == Continuity::G2)
+}
+
+impl Candidate {
+    /// `cut_ends`: whether the run starts (ends) in the middle of a line
+    /// where `auto` cut it into sections, so fits must keep that line.
+    /// `original`: the run before its arcs were sampled into `input`.
+    pub(super) fn smooth(
+        &self,
+        original: &Run,
+        input: &Run,
+        tol: f64,
+        cut_ends: (bool, bool),
+    ) -> Result<SmoothedRun, SmoothError> {
+        match self {
+            Candidate::AsIs => Ok(SmoothedRun {
+                pieces: original.pieces.clone(),
+                ..SmoothedRun::default()
+            }),
+            Candidate::Fit(o) => BsplineFit {
+                options: BsplineFitOptions {
+                    line_at_start: cut_ends.0,
+                    line_at_end: cut_ends.1,
+                    ..*o
+                },
+            }
+            .smooth_run(input, tol),
+            Candidate::Corner(m) => m.smooth_run(input, tol),
+        }
+    }
+}
+
+/// The run the candidates work on: `run` itself, or `run` with its arcs
+/// and curves sampled; and the tolerance left to them.
+pub(super) enum Input<'a> {
+    Lines(&'a Run),
+    Sampled(Run),
+}
+
+impl Input<'_> {
+    pub(super) fn run(&self) -> &Run {
+        match self {
+            Input::Lines(r) => r,
+            Input::Sampled(r) => r,
+        }
+    }
+}
+
+/// The run the candidates smooth, its tolerance, and the named candidates.
+pub(super) type CandidateList<'a> = (Input<'a>, f64, Vec<(&'static str, Candidate)>);
