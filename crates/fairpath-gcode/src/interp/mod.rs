@@ -1,0 +1,72 @@
+//! The modal interpreter: turns lexed lines into moves (pieces in mm), tracks
+//! the modal state, decides which moves are pinned and which lines end runs,
+//! and groups the runs. Spline lines (G5, G5.1, G5.2 ... G5.3, G6.2) go to
+//! [`crate::spline`] once the line's state changes are applied.
+//!
+//! * `reader.rs`: the reader of a program, in place or expanded, line by
+//!   line ([`parse`], [`parse_with`]).
+//! * `state.rs`: the modal state.
+//! * `codes.rs`: G and M codes classified by modal group.
+//! * `line.rs`: one line interpreted.
+//! * `arc.rs`: G2/G3 arcs (centre and radius forms, helices, turns).
+//! * `runs.rs`: the moves grouped into runs of feed moves.
+//!
+//! This file: the helpers the interpreter shares with the canned cycles
+//! (`cycles.rs`) and the spline reader ([`crate::spline`]).
+
+// Axis loops index several parallel arrays by axis number.
+#![allow(clippy::needless_range_loop)]
+
+mod arc;
+mod codes;
+mod line;
+mod reader;
+mod runs;
+mod state;
+
+pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
+pub use reader::{parse, parse_with};
+pub(crate) use state::{FeedMode, State};
+
+use crate::error::{ErrorKind, GcodeError};
+use crate::lexer::Word;
+use fairpath::controller::Plane;
+use fairpath::geom::Vec3;
+
+/// In-plane axes (first, second), normal axis, and the centre-word letters
+/// for the in-plane axes and the off-plane one.
+pub(crate) fn plane_axes(plane: Plane) -> (usize, usize, usize, char, char, char) {
+    match plane {
+        Plane::Xy => (0, 1, 2, 'I', 'J', 'K'),
+        Plane::Zx => (2, 0, 1, 'K', 'I', 'J'),
+        Plane::Yz => (1, 2, 0, 'J', 'K', 'I'),
+    }
+}
+
+pub(crate) fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
+    GcodeError::new(line, column, kind)
+}
+
+pub(crate) fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(ln, w.column, ErrorKind::NumberOutOfRange(w.letter)))
+    }
+}
+
+pub(crate) fn set_axis(p: &mut Vec3, a: usize, v: f64) {
+    match a {
+        0 => p.x = v,
+        1 => p.y = v,
+        _ => p.z = v,
+    }
+}
+
+pub(crate) fn axis(p: Vec3, a: usize) -> f64 {
+    match a {
+        0 => p.x,
+        1 => p.y,
+        _ => p.z,
+    }
+}
