@@ -1,8 +1,9 @@
 //! G and M codes classified by modal group (LinuxCNC's groups).
 
-use super::FeedMode;
+use super::{err, FeedMode};
 use crate::cycles;
-use crate::error::ErrorKind;
+use crate::error::{ErrorKind, GcodeError};
+use crate::lexer::{LexedLine, Word};
 use crate::program::{MotionMode, Units};
 use fairpath::controller::Plane;
 
@@ -79,7 +80,7 @@ impl G {
 }
 
 /// Classifies `G<code/10>`.
-pub(super) fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
+fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
     let unsupported = |what: &'static str| Err(ErrorKind::Unsupported(what));
     Ok(match code {
         0 => G::Motion(MotionMode::Rapid),
@@ -147,7 +148,7 @@ pub(super) fn classify_g(code: u16, text: &str) -> Result<G, ErrorKind> {
 }
 
 /// M-code modal group (LinuxCNC), or 0 for codes without a group.
-pub(super) fn m_group(code: i64) -> u8 {
+fn m_group(code: i64) -> u8 {
     match code {
         0 | 1 | 2 | 30 | 60 => 4,
         6 | 61 => 6,
@@ -155,5 +156,88 @@ pub(super) fn m_group(code: i64) -> u8 {
         7..=9 => 8,
         48..=53 => 9,
         _ => 0,
+    }
+}
+
+/// The G and M codes of one line, in the order written, at most one per
+/// modal group.
+pub(super) struct LineCodes<'a> {
+    pub(super) gs: Vec<(G, &'a Word)>,
+    pub(super) ms: Vec<(i64, &'a Word)>,
+}
+
+impl<'a> LineCodes<'a> {
+    /// Classifies the G and M words of line `ln`: unknown G codes and two
+    /// codes of one modal group are errors.
+    pub(super) fn of(lx: &'a LexedLine, ln: usize) -> Result<LineCodes<'a>, GcodeError> {
+        let mut gs: Vec<(G, &Word)> = Vec::new();
+        let mut ms: Vec<(i64, &Word)> = Vec::new();
+        for w in &lx.words {
+            match w.letter {
+                'G' => {
+                    let tenths = w.value * 10.0;
+                    let code = tenths.round();
+                    if (tenths - code).abs() > 1e-6 || !(0.0..=9999.0).contains(&code) {
+                        return Err(err(ln, w.column, ErrorKind::UnknownGCode(w.text.clone())));
+                    }
+                    let g = classify_g(code as u16, &w.text).map_err(|k| err(ln, w.column, k))?;
+                    // G80 beside another motion code (`G0 G80`, common in
+                    // headers): the other code wins, as on Fanuc controls.
+                    let cancel = G::Motion(MotionMode::None);
+                    if let Some(k) = gs.iter().position(|(o, _)| o.group() == g.group()) {
+                        if gs[k].0 == cancel && g.group() == "motion" {
+                            gs[k] = (g, w);
+                            continue;
+                        } else if g == cancel {
+                            continue;
+                        }
+                        return Err(err(ln, w.column, ErrorKind::ConflictingGCodes(g.group())));
+                    }
+                    gs.push((g, w));
+                }
+                'M' => {
+                    if w.value.fract() != 0.0 || !(0.0..=1.0e6).contains(&w.value) {
+                        return Err(err(ln, w.column, ErrorKind::BadValue('M')));
+                    }
+                    let code = w.value as i64;
+                    let grp = m_group(code);
+                    if grp != 0 && ms.iter().any(|(c, _)| m_group(*c) == grp) {
+                        return Err(err(ln, w.column, ErrorKind::ConflictingMCodes));
+                    }
+                    ms.push((code, w));
+                }
+                _ => {}
+            }
+        }
+        Ok(LineCodes { gs, ms })
+    }
+
+    /// The motion code (group 1).
+    pub(super) fn motion(&self) -> Option<(MotionMode, &'a Word)> {
+        self.gs.iter().find_map(|(g, w)| match g {
+            G::Motion(m) => Some((*m, *w)),
+            _ => None,
+        })
+    }
+
+    /// The group-0 code.
+    pub(super) fn nonmodal(&self) -> Option<(NonModal, &'a Word)> {
+        self.gs.iter().find_map(|(g, w)| match g {
+            G::NonModal(n) => Some((*n, *w)),
+            _ => None,
+        })
+    }
+
+    /// The G5.3 that closes a G5.2 block.
+    pub(super) fn spline_end(&self) -> Option<&'a Word> {
+        self.gs
+            .iter()
+            .find(|(g, _)| *g == G::SplineEnd)
+            .map(|(_, w)| *w)
+    }
+
+    /// M2 or M30: the program ends after this line.
+    pub(super) fn ends_program(&self) -> bool {
+        self.ms.iter().any(|(c, _)| *c == 2 || *c == 30)
     }
 }

@@ -7,7 +7,15 @@
 //!   line ([`parse`], [`parse_with`]).
 //! * `state.rs`: the modal state.
 //! * `codes.rs`: G and M codes classified by modal group.
-//! * `line.rs`: one line interpreted.
+//! * `line.rs`: one line interpreted: what its words ask for, then a
+//!   short dispatch over the files below, `crate::spline` and
+//!   `crate::cycles`.
+//! * `modal.rs`: the line's state changes in LinuxCNC's order (M codes,
+//!   feed mode, F, plane, units, distance modes, ..., motion mode).
+//! * `nonmodal.rs`: the group-0 codes that use axis words (G92, G52, G10,
+//!   G28/G30).
+//! * `motion.rs`: a move in the modal motion mode (G0/G1, G2/G3, G53 and
+//!   the pinned special motions): its end, pin reason and feed.
 //! * `arc.rs`: G2/G3 arcs (centre and radius forms, helices, turns).
 //! * `runs.rs`: the moves grouped into runs of feed moves.
 //!
@@ -20,6 +28,9 @@
 mod arc;
 mod codes;
 mod line;
+mod modal;
+mod motion;
+mod nonmodal;
 mod reader;
 mod runs;
 mod state;

@@ -2,7 +2,7 @@
 
 use crate::block_delete::{Dependence, Modal, Snapshot};
 use crate::cycles::CycleState;
-use crate::program::{Feed, MotionMode, Passthrough, Units};
+use crate::program::{Feed, MotionMode, MoveKind, Passthrough, Units};
 use crate::spline::{ParseOptions, SplineState};
 use fairpath::controller::Plane;
 use fairpath::geom::Vec3;
@@ -119,6 +119,24 @@ impl State {
             what,
         });
     }
+    /// A `%` line: the second one ends the program.
+    pub(super) fn percent_line(&mut self) {
+        self.percent_lines += 1;
+        if self.percent_lines >= 2 {
+            self.ended = true;
+        }
+    }
+
+    /// Whether a move of `kind` on a line outside block delete depends on an
+    /// earlier `/` line ([`crate::block_delete`]): `modal_motion` is whether
+    /// the line moves in the modal motion mode.
+    pub(super) fn depends_on_deleted_line(&self, kind: MoveKind, modal_motion: bool) -> bool {
+        let dep = &self.after_delete;
+        let start = dep.axes.iter().any(|&a| a)
+            && (!self.incremental || (kind == MoveKind::Arc && !self.arc_incremental));
+        dep.state || (dep.feed && kind != MoveKind::Rapid) || (dep.motion && modal_motion) || start
+    }
+
     pub(super) fn forget(&mut self, axes: [bool; 3]) {
         for a in 0..3 {
             if axes[a] {
