@@ -1,8 +1,8 @@
 //! G2/G3 arcs: the centre (IJK) and radius (R) forms as LinuxCNC reads
 //! them, helices and several turns (P).
 
-use super::line::AXIS_LETTERS;
-use super::{axis, err, finite, plane_axes, set_axis, State};
+use super::{err, finite, State};
+use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::{LexedLine, Word};
 use crate::program::Units;
@@ -32,14 +32,15 @@ pub(super) fn build_arc(
     clockwise: bool,
     first_axis_col: usize,
 ) -> Result<Arc, GcodeError> {
-    let (a1, a2, _an, l1, l2, loff) = plane_axes(st.plane);
+    let (a1, a2, an) = st.plane.axes();
+    let (l1, l2, loff) = (CENTER_LETTERS[a1], CENTER_LETTERS[a2], CENTER_LETTERS[an]);
     let mm = st.units.mm_per_unit();
     let tol = match st.units {
         Units::Inch => ARC_RADIUS_TOLERANCE_INCH,
         Units::Mm => ARC_RADIUS_TOLERANCE_MM,
     };
     let has_axis = lx.words.iter().any(|w| AXIS_LETTERS.contains(&w.letter));
-    let has_center = ['I', 'J', 'K'].iter().any(|&l| lx.word(l).is_some());
+    let has_center = CENTER_LETTERS.iter().any(|&l| lx.word(l).is_some());
     if !has_axis && (!has_center || lx.word('R').is_some()) {
         return Err(err(ln, first_axis_col, ErrorKind::ArcWithoutAxes));
     }

@@ -5,18 +5,23 @@
 
 use super::codes::{LineCodes, NonModal, G};
 use super::{err, modal, motion, nonmodal, State};
+use crate::axes::{AXIS_LETTERS, CENTER_LETTERS};
 use crate::cycles::{self, CycleLine};
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::{LexedLine, Word};
 use crate::program::{MotionMode, Move, MoveKind, PinReason};
 use crate::spline;
 
-pub(super) const AXIS_LETTERS: [char; 3] = ['X', 'Y', 'Z'];
 /// Word letters the interpreter takes (`@` and `^` are resolved to X and
 /// Y before it; `E`, the 3D-printer extruder, is passed through, see
 /// [`FOREIGN_WORDS`]).
 const INTERPRETED_LETTERS: &str = "ABCDEFGHIJKLMNPQRSTUVWXYZ";
 pub(super) const EXTRA_AXES: &str = "ABCUVW";
+
+/// Whether `w` is an axis word (X Y Z, or A B C U V W).
+fn is_axis_word(w: &Word) -> bool {
+    AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter)
+}
 
 /// What the reader records of an interpreted line.
 pub(super) struct LineInfo {
@@ -40,7 +45,12 @@ impl LineInfo {
 /// smooth through: `E`, the extruder of 3D printers (LinuxCNC takes E
 /// only in G76 threading, which is not supported). A line with one is
 /// passed through verbatim ([`PinReason::ForeignWords`]) and ends runs.
-pub(super) const FOREIGN_WORDS: &str = "E";
+const FOREIGN_WORDS: &str = "E";
+
+/// Whether the line has [`FOREIGN_WORDS`].
+pub(super) fn has_foreign_words(lx: &LexedLine) -> bool {
+    lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter))
+}
 
 /// What [`Program::passthrough`] calls a line with [`FOREIGN_WORDS`].
 const FOREIGN_NOTE: &str = "extruder word E (3D printers)";
@@ -71,10 +81,9 @@ pub(super) fn interpret_line(
     let cycle = moves[first..]
         .iter()
         .any(|m| m.pinned == Some(PinReason::CannedCycle));
-    let foreign = lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter));
     if cycle {
         st.note_passthrough(ln, CYCLE_NOTE);
-    } else if foreign {
+    } else if has_foreign_words(lx) {
         st.note_passthrough(ln, FOREIGN_NOTE);
     } else if moves.len() > first {
         st.last_plain_move_line = ln;
@@ -152,15 +161,12 @@ impl<'a> Words<'a> {
         let motion = codes.motion();
         let nonmodal = codes.nonmodal();
         let axis_user_nonmodal = nonmodal.filter(|(n, _)| n.uses_axes());
-        let has_axes = lx
-            .words
-            .iter()
-            .any(|w| AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter));
+        let has_axes = lx.words.iter().any(is_axis_word);
         // `G2 J-1` (centre words, no axis words): a full circle back to the
         // current point, as LinuxCNC runs it (quick-tests/tangent_arcs.ngc).
         let center_only_arc = !has_axes
             && matches!(motion, Some((MotionMode::ArcCw | MotionMode::ArcCcw, _)))
-            && ['I', 'J', 'K'].iter().any(|&l| lx.word(l).is_some())
+            && CENTER_LETTERS.iter().any(|&l| lx.word(l).is_some())
             && lx.word('R').is_none()
             && axis_user_nonmodal.is_none();
         let has_axes = has_axes || center_only_arc;
@@ -216,7 +222,7 @@ impl<'a> Words<'a> {
         self.lx
             .words
             .iter()
-            .find(|w| AXIS_LETTERS.contains(&w.letter) || EXTRA_AXES.contains(w.letter))
+            .find(|w| is_axis_word(w))
             .map_or(1, |w| w.column)
     }
 }

@@ -41,18 +41,6 @@ pub(crate) use state::{FeedMode, State};
 
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::Word;
-use fairpath::controller::Plane;
-use fairpath::geom::Vec3;
-
-/// In-plane axes (first, second), normal axis, and the centre-word letters
-/// for the in-plane axes and the off-plane one.
-pub(crate) fn plane_axes(plane: Plane) -> (usize, usize, usize, char, char, char) {
-    match plane {
-        Plane::Xy => (0, 1, 2, 'I', 'J', 'K'),
-        Plane::Zx => (2, 0, 1, 'K', 'I', 'J'),
-        Plane::Yz => (1, 2, 0, 'J', 'K', 'I'),
-    }
-}
 
 pub(crate) fn err(line: usize, column: usize, kind: ErrorKind) -> GcodeError {
     GcodeError::new(line, column, kind)
@@ -63,21 +51,5 @@ pub(crate) fn finite(v: f64, ln: usize, w: &Word) -> Result<f64, GcodeError> {
         Ok(v)
     } else {
         Err(err(ln, w.column, ErrorKind::NumberOutOfRange(w.letter)))
-    }
-}
-
-pub(crate) fn set_axis(p: &mut Vec3, a: usize, v: f64) {
-    match a {
-        0 => p.x = v,
-        1 => p.y = v,
-        _ => p.z = v,
-    }
-}
-
-pub(crate) fn axis(p: Vec3, a: usize) -> f64 {
-    match a {
-        0 => p.x,
-        1 => p.y,
-        _ => p.z,
     }
 }

@@ -5,9 +5,10 @@
 
 use super::arc::build_arc;
 use super::codes::NonModal;
-use super::line::{LineInfo, Words, EXTRA_AXES, FOREIGN_WORDS};
+use super::line::{has_foreign_words, LineInfo, Words, EXTRA_AXES};
 use super::modal::Changes;
-use super::{axis, err, finite, set_axis, FeedMode, State};
+use super::{err, finite, FeedMode, State};
+use crate::axes::{axis, set_axis};
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::Word;
 use crate::program::{MotionMode, Move, MoveKind, PinReason};
@@ -183,12 +184,11 @@ fn pin_reason(
         !plain
     });
     let extra_axes = lx.words.iter().any(|w| EXTRA_AXES.contains(w.letter));
-    let foreign = lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter));
     let start_known = st.known.iter().all(|&k| k);
     let after_delete = !lx.block_delete && st.depends_on_deleted_line(kind, uses_modal_motion);
     if lx.block_delete {
         Some(PinReason::BlockDelete)
-    } else if foreign {
+    } else if has_foreign_words(lx) {
         Some(PinReason::ForeignWords)
     } else if g53
         || matches!(

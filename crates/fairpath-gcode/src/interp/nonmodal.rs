@@ -6,6 +6,7 @@ use super::codes::NonModal;
 use super::line::Words;
 use super::motion::target_point;
 use super::{finite, State};
+use crate::axes::set_axis;
 use crate::error::GcodeError;
 use crate::lexer::Word;
 use crate::program::{Move, MoveKind, PinReason};
@@ -27,8 +28,7 @@ pub(super) fn apply(w: &Words, st: &mut State, moves: &mut Vec<Move>) -> Result<
             for a in 0..3 {
                 if let Some(w) = given[a] {
                     let v = finite(w.value * mm, ln, w)?;
-                    let c = [&mut st.pos.x, &mut st.pos.y, &mut st.pos.z];
-                    *c[a] = v;
+                    set_axis(&mut st.pos, a, v);
                     st.known[a] = true;
                     st.axis_text[a] = Some(w.text.clone());
                 }

@@ -6,6 +6,7 @@
 use super::numbers::fmt_fixed;
 use super::run::RunWriter;
 use super::{ArcWords, NurbsBlocks};
+use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
 use crate::error::WriteError;
 use crate::program::MotionMode;
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
@@ -13,14 +14,6 @@ use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 /// Distance (mm) within which a smoothed run end counts as the original
 /// run end, so that the original coordinate text is written for it.
 const SAME_POINT_MM: f64 = 1e-9;
-
-fn axis(p: Vec3, a: usize) -> f64 {
-    match a {
-        0 => p.x,
-        1 => p.y,
-        _ => p.z,
-    }
-}
 
 impl RunWriter<'_> {
     /// A number in the run's units.
@@ -46,7 +39,6 @@ impl RunWriter<'_> {
         let moves = self.program.moves();
         let last_move = &moves[self.run.moves.end - 1];
         let orig_end = last_move.piece.end();
-        let letters = ['X', 'Y', 'Z'];
         let mut words = String::new();
         let mut next = self.cur;
         for a in 0..3 {
@@ -83,13 +75,9 @@ impl RunWriter<'_> {
             };
             let v: f64 = text.parse().unwrap_or(f64::NAN) * self.scale;
             let new = if self.run.incremental { now + v } else { v };
-            match a {
-                0 => next.x = new,
-                1 => next.y = new,
-                _ => next.z = new,
-            }
+            set_axis(&mut next, a, new);
             words.push(' ');
-            words.push(letters[a]);
+            words.push(AXIS_LETTERS[a]);
             words.push_str(&self.style.apply(text));
         }
         (words, next)
@@ -183,11 +171,7 @@ impl RunWriter<'_> {
         for a in 0..3 {
             let t = fmt_fixed(axis(end, a) / self.scale, self.decimals);
             let v = t.parse::<f64>().unwrap_or(f64::NAN) * self.scale;
-            match a {
-                0 => cur.x = v,
-                1 => cur.y = v,
-                _ => cur.z = v,
-            }
+            set_axis(&mut cur, a, v);
         }
         self.cur = cur;
         self.first_move = false;
@@ -254,7 +238,6 @@ impl RunWriter<'_> {
             line.push_str(" R");
             line.push_str(&self.num(signed));
         } else {
-            let letters = ['I', 'J', 'K'];
             let (ia, ib, _) = plane.axes();
             for ax in [ia, ib] {
                 let c = axis(a.center, ax);
@@ -264,7 +247,7 @@ impl RunWriter<'_> {
                     c
                 };
                 line.push(' ');
-                line.push(letters[ax]);
+                line.push(CENTER_LETTERS[ax]);
                 line.push_str(&self.num(v));
             }
         }
