@@ -22,14 +22,30 @@ impl RunWriter<'_> {
             .apply(fmt_fixed(v_mm / self.scale, self.decimals))
     }
 
-    pub(super) fn feed_text(&self, mm_per_min: f64) -> String {
+    /// A feed (mm/min) as the program wrote it in the run's units, or as a
+    /// number ([`RunWriter::feed_number`]).
+    fn feed_text(&self, mm_per_min: f64) -> String {
         self.feed_texts
             .iter()
             .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
-            .map_or_else(
-                || self.style.apply(fmt_fixed(mm_per_min / self.scale, 4)),
-                |f| f.text.clone(),
-            )
+            .map_or_else(|| self.feed_number(mm_per_min), |f| f.text.clone())
+    }
+
+    /// A feed (mm/min) as a number in the run's units (4 decimals).
+    pub(super) fn feed_number(&self, mm_per_min: f64) -> String {
+        self.style.apply(fmt_fixed(mm_per_min / self.scale, 4))
+    }
+
+    /// The text of F for a move at `feed` if one is due (on the run's first
+    /// move, or when the feed changes): the feed is then the written one.
+    fn due_feed(&mut self, feed: Option<f64>) -> Option<String> {
+        match feed {
+            Some(f) if self.first_move || self.cur_feed != Some(f) => {
+                self.cur_feed = Some(f);
+                Some(self.feed_text(f))
+            }
+            _ => None,
+        }
     }
 
     /// The coordinate words that take the written position to `target`
@@ -84,14 +100,9 @@ impl RunWriter<'_> {
     }
 
     /// The F word for a move at `feed`, if one is due.
-    pub(super) fn feed_word(&mut self, feed: Option<f64>) -> String {
-        match feed {
-            Some(f) if self.first_move || self.cur_feed != Some(f) => {
-                self.cur_feed = Some(f);
-                format!(" F{}", self.feed_text(f))
-            }
-            _ => String::new(),
-        }
+    fn feed_word(&mut self, feed: Option<f64>) -> String {
+        self.due_feed(feed)
+            .map_or_else(String::new, |t| format!(" F{t}"))
     }
 
     pub(super) fn write_g1(
@@ -116,6 +127,22 @@ impl RunWriter<'_> {
         Ok(())
     }
 
+    /// A curve as G1 chords within the chord the rounding leaves (the last
+    /// one the run's end when `run_end`).
+    pub(super) fn write_chords(
+        &mut self,
+        c: &Curve,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        let pts = piece_points(c, self.chord);
+        let n = pts.len();
+        for (k, p) in pts.into_iter().enumerate() {
+            self.write_g1(p, run_end && k + 1 == n, feed)?;
+        }
+        Ok(())
+    }
+
     /// A NURBS piece as a spline block ([`crate::write_spline`]); at the
     /// run's end a G1 to the program's own end text follows when the block's
     /// rounded last point is not it (run ends are kept exactly).
@@ -127,13 +154,7 @@ impl RunWriter<'_> {
     ) -> Result<(), WriteError> {
         use crate::write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};
         let kind = self.opts.nurbs.expect("called with NURBS blocks on");
-        let feed_text = match feed {
-            Some(f) if self.first_move || self.cur_feed != Some(f) => {
-                self.cur_feed = Some(f);
-                Some(self.feed_text(f))
-            }
-            _ => None,
-        };
+        let feed_text = self.due_feed(feed);
         let so = SplineWriteOptions {
             mm_per_unit: self.scale,
             decimals: self.decimals,
@@ -206,12 +227,7 @@ impl RunWriter<'_> {
         }
         let Some(plane) = Plane::of_normal(a.normal) else {
             // Not in a principal plane: chords.
-            let pts = piece_points(&Curve::Arc(*a), self.chord);
-            let n = pts.len();
-            for (k, p) in pts.into_iter().enumerate() {
-                self.write_g1(p, run_end && k + 1 == n, feed)?;
-            }
-            return Ok(());
+            return self.write_chords(&Curve::Arc(*a), run_end, feed);
         };
         let (words, next) = self.coord_words(a.p1, run_end);
         let full_turn = a.sweep >= 2.0 * std::f64::consts::PI * (1.0 - 1e-12);
@@ -270,7 +286,7 @@ impl RunWriter<'_> {
 }
 
 /// The points after the start of a curve at which G1 lines end.
-pub(super) fn piece_points(c: &Curve, chord: f64) -> Vec<Vec3> {
+fn piece_points(c: &Curve, chord: f64) -> Vec<Vec3> {
     match c {
         Curve::Line(l) => vec![l.p1],
         _ => {

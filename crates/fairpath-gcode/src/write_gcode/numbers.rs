@@ -32,12 +32,8 @@ pub const ARC_ROUNDING_FACTOR: f64 = 5.0;
 /// `smooth` refused to write it. Writers of arcs pass `chord_mm /`
 /// [`ARC_ROUNDING_FACTOR`].
 pub fn write_decimals(chord_mm: f64, mm_per_unit: f64, min: usize) -> (usize, f64) {
-    let rounding = |d: usize| 0.5 * 3f64.sqrt() * 10f64.powi(-(d as i32)) * mm_per_unit;
-    let mut d = min;
-    while d < MAX_DECIMALS && rounding(d) > ROUNDING_SHARE * chord_mm {
-        d += 1;
-    }
-    (d, rounding(d))
+    let d = decimals_within(min, mm_per_unit, ROUNDING_SHARE * chord_mm);
+    (d, rounding_mm(d, mm_per_unit))
 }
 
 /// Decimals of coordinates written in units of `mm_per_unit` mm (at least
@@ -52,14 +48,27 @@ pub fn output_decimals(opts: &GcodeWriteOptions, mm_per_unit: f64, min: usize) -
         1.0
     };
     let (d, _) = write_decimals(opts.chord_mm / factor, mm_per_unit, min);
-    let rounding = |d: usize| 0.5 * 3f64.sqrt() * 10f64.powi(-(d as i32)) * mm_per_unit;
-    let mut d = d;
-    if let Some(r) = opts.resolution_mm {
-        while d < MAX_DECIMALS && rounding(d) > r {
-            d += 1;
-        }
+    let d = opts
+        .resolution_mm
+        .map_or(d, |r| decimals_within(d, mm_per_unit, r));
+    (d, rounding_mm(d, mm_per_unit))
+}
+
+/// The largest distance (mm) rounding coordinates in units of
+/// `mm_per_unit` mm to `decimals` decimals moves a point: each axis by at
+/// most half a unit of the last decimal.
+fn rounding_mm(decimals: usize, mm_per_unit: f64) -> f64 {
+    0.5 * 3f64.sqrt() * 10f64.powi(-(decimals as i32)) * mm_per_unit
+}
+
+/// The fewest decimals from `min` on whose rounding ([`rounding_mm`]) is
+/// at most `limit_mm`, or [`MAX_DECIMALS`].
+fn decimals_within(min: usize, mm_per_unit: f64, limit_mm: f64) -> usize {
+    let mut d = min;
+    while d < MAX_DECIMALS && rounding_mm(d, mm_per_unit) > limit_mm {
+        d += 1;
     }
-    (d, rounding(d))
+    d
 }
 
 /// Formats `v` with `decimals` decimals, trailing zeros and a trailing point

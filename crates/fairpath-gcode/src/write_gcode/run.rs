@@ -3,7 +3,6 @@
 //! and after it the feed, plane and path control the program has there.
 
 use super::blend::PathControl;
-use super::blocks::piece_points;
 use super::carry;
 use super::numbers::{fmt_fixed, output_decimals, MAX_DECIMALS};
 use super::style::NumberStyle;
@@ -169,13 +168,7 @@ impl<'a> RunWriter<'a> {
                 Curve::Nurbs(n) if self.opts.nurbs.is_some() => {
                     self.write_nurbs(n, last, piece.feed)?
                 }
-                c => {
-                    let pts = piece_points(c, self.chord);
-                    let n = pts.len();
-                    for (k, p) in pts.into_iter().enumerate() {
-                        self.write_g1(p, last && k + 1 == n, piece.feed)?;
-                    }
-                }
+                c => self.write_chords(c, last, piece.feed)?,
             }
         }
         self.reach(&mut next_line, run.last_line + 1);
@@ -267,7 +260,7 @@ impl<'a> RunWriter<'a> {
                 let text = if f.units == self.run.units {
                     f.text.clone()
                 } else {
-                    self.style.apply(fmt_fixed(f.mm_per_min / self.scale, 4))
+                    self.feed_number(f.mm_per_min)
                 };
                 self.push_line(&format!("F{text}"));
             }
