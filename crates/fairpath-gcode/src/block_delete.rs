@@ -27,6 +27,7 @@
 //! * a `/` line with any motion makes later canned cycles depend on it
 //!   (their initial level): after a cycle line the axes are tainted.
 
+use crate::axes::axis;
 use crate::interp::FeedMode;
 use crate::program::{MotionMode, Units};
 use fairpath::controller::Plane;
@@ -102,13 +103,5 @@ impl Dependence {
         self.motion |= before.motion != after.motion;
         self.cycles |= moved;
         self.state |= group0 || before.modal != after.modal;
-    }
-}
-
-fn axis(p: Vec3, a: usize) -> f64 {
-    match a {
-        0 => p.x,
-        1 => p.y,
-        _ => p.z,
     }
 }

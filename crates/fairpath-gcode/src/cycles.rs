@@ -27,8 +27,9 @@
 //! moves the wrong axes). Rotary and UVW words on a cycle line are errors,
 //! as in LinuxCNC.
 
+use crate::axes::{axis, set_axis, AXIS_LETTERS};
 use crate::error::{CycleError, ErrorKind, GcodeError};
-use crate::interp::{axis, err, finite, plane_axes, set_axis, FeedMode, State};
+use crate::interp::{err, finite, FeedMode, State};
 use crate::lexer::{LexedLine, Word};
 use crate::program::{Move, MoveKind, PinReason};
 use fairpath::controller::Plane;
@@ -213,8 +214,8 @@ pub(crate) fn run(c: &CycleLine, st: &mut State, moves: &mut Vec<Move>) -> Resul
         return Err(err(c.ln, w.column, ErrorKind::BadValue('P')));
     }
     // ---- convert_cycle_xy / _yz / _zx ----
-    let (a1, a2, an, ..) = plane_axes(st.plane);
-    let letters = ['X', 'Y', 'Z'];
+    let (a1, a2, an) = st.plane.axes();
+    let letters = AXIS_LETTERS;
     let given = |a: usize| -> Option<&Word> { word(letters[a]) };
     if matches!(c.code, 740 | 840) && st.plane != Plane::Xy {
         return Err(err(

@@ -141,6 +141,7 @@
 //! passed through (they break runs). An empty program is an empty
 //! [`Program`] (no moves, no runs), not an error.
 
+mod axes;
 mod block_delete;
 mod cycles;
 pub mod error;

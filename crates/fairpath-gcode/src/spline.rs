@@ -85,6 +85,7 @@
 //! compensation (an error for G5/G5.1, as in LinuxCNC), G93/G95, an unknown
 //! start) when any of its lines gives a reason.
 
+use crate::axes::AXIS_LETTERS as AXES;
 use crate::error::{ErrorKind, GcodeError, SplineError};
 use crate::interp::{err, finite, FeedMode, State};
 use crate::lexer::{LexedLine, Word};
@@ -130,7 +131,6 @@ const MAX_ORDER: usize = Nurbs::MAX_DEGREE + 1;
 /// Units in the last place within which the end of LinuxCNC's last move is
 /// the block's end point (`(a + b) * mm` against `a * mm + b * mm`).
 const END_ULPS: f64 = 64.0;
-const AXES: [char; 3] = ['X', 'Y', 'Z'];
 
 /// Spline reading state: the open multi-line block, and the tangent a G5
 /// without I J continues.

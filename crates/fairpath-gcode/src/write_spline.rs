@@ -26,6 +26,7 @@
 //! * No NaN, no empty block, the first control point written is the
 //!   curve's first point (the caller makes it the current position).
 
+use crate::axes::AXIS_LETTERS;
 use crate::error::WriteError;
 use crate::write_gcode::fmt_fixed;
 use fairpath::controller::linuxcnc::g5_2_blocks_of;
@@ -384,7 +385,7 @@ pub fn g5_2_blocks(
     let blocks = g5_2_blocks_of(nurbs);
     let f = Fmt { o: opts };
     let (a1, a2, _) = plane.axes();
-    let letters = ['X', 'Y', 'Z'];
+    let letters = AXIS_LETTERS;
     let eol = opts.line_ending;
     let mut out = String::new();
     if opts.incremental {

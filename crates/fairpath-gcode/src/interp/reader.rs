@@ -1,0 +1,338 @@
+//! The `Reader`: a program read in place (one line per source line) or
+//! expanded (the lines its o-word control flow executes), line by line.
+
+use super::line::interpret_line;
+use super::runs::group_runs;
+use super::{FeedMode, State};
+use crate::error::{ErrorKind, GcodeError};
+use crate::lang::{
+    self,
+    error::LangError,
+    params::{Params, SystemView},
+};
+use crate::lexer::{scan_line, split_lines, ItemKind, SourceLine};
+use crate::program::{Expansion, MotionMode, Move, Program, ProgramLine, Units};
+use crate::spline::ParseOptions;
+use fairpath::controller::Plane;
+
+/// Reads a program with the default [`ParseOptions`]. See the crate
+/// documentation for what is accepted.
+pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
+    parse_with(text, &ParseOptions::default())
+}
+
+/// Reads a program. See the crate documentation for what is accepted.
+///
+/// A program without o-word statements is read in place, one
+/// [`ProgramLine`] per source line. A program with o-words is expanded: its
+/// lines are the executed lines in execution order ([`crate::lang::flow`]),
+/// each written out with literal values ([`Program::expansion`]).
+pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeError> {
+    let raw = split_lines(text)?;
+    let mut r = Reader::new(opts);
+    if raw.iter().any(|(t, _)| lang::flow::looks_like_oword(t)) {
+        r.expand(raw)?;
+    } else {
+        r.in_place(raw)?;
+    }
+    r.finish()
+}
+
+/// The state of reading one program.
+struct Reader {
+    st: State,
+    params: Params,
+    lines: Vec<ProgramLine>,
+    moves: Vec<Move>,
+    start_units: Option<Units>,
+    expansion: Option<Expansion>,
+}
+
+impl Reader {
+    fn new(opts: &ParseOptions) -> Reader {
+        Reader {
+            st: State::new(opts),
+            params: Params::new(),
+            lines: Vec::new(),
+            moves: Vec::new(),
+            start_units: None,
+            expansion: None,
+        }
+    }
+
+    /// What expressions may read of the interpreter's state before source
+    /// line `line`.
+    fn view(&self, line: usize) -> SystemView {
+        let st = &self.st;
+        let mpu = st.units.mm_per_unit();
+        let pos = [st.pos.x, st.pos.y, st.pos.z];
+        SystemView {
+            position: std::array::from_fn(|a| st.known[a].then(|| pos[a] / mpu)),
+            mm_per_unit: mpu,
+            incremental: st.incremental,
+            plane: match st.plane {
+                Plane::Xy => 170,
+                Plane::Zx => 180,
+                Plane::Yz => 190,
+            },
+            motion: match st.motion {
+                MotionMode::None => 800,
+                MotionMode::Rapid => 0,
+                MotionMode::Linear => 10,
+                MotionMode::ArcCw => 20,
+                MotionMode::ArcCcw => 30,
+                MotionMode::Thread => 330,
+                MotionMode::RigidTap => 331,
+                MotionMode::Probe(c) => c,
+                MotionMode::CubicSpline => 50,
+                MotionMode::QuadSpline => 51,
+                MotionMode::Nurbs => 52,
+                MotionMode::NurbsG6 => 62,
+                MotionMode::Cycle(c) => c,
+            },
+            feed: st.feed.as_ref().map_or(0.0, |f| f.mm_per_min / mpu),
+            feed_mode: match st.feed_mode {
+                FeedMode::InverseTime => 930,
+                FeedMode::PerMinute => 940,
+                FeedMode::PerRev => 950,
+            },
+            cutter_comp: st.comp,
+            arc_absolute: !st.arc_incremental,
+            coord_system: st.coord,
+            spindle_mode: st.spindle_mode,
+            line,
+        }
+    }
+
+    /// A line after the program's end, passed through unread.
+    fn pass_through(
+        &mut self,
+        number: usize,
+        source_line: usize,
+        text: String,
+        ending: &'static str,
+    ) {
+        let st = &self.st;
+        self.lines.push(ProgramLine {
+            number,
+            source_line,
+            text,
+            ending,
+            units: st.units,
+            incremental: st.incremental,
+            words: Vec::new(),
+            breaks_run: false,
+            moves: self.moves.len()..self.moves.len(),
+            interpreted: false,
+            motion_before: st.motion,
+            sets_motion: false,
+            uses_modal_motion: false,
+            feed_after: st.feed.clone(),
+            insert_column: 1,
+            plane_after: st.plane,
+            arc_incremental_after: st.arc_incremental,
+            path_control_after: st.path_words.clone(),
+            in_block: false,
+        });
+    }
+
+    /// Evaluates and interprets source line `source_line` (syntax `src`,
+    /// text `text`) as program line `number`. Expanded lines get their text
+    /// with literal values; a line that only assigned parameters is then
+    /// dropped (returns false).
+    fn line(
+        &mut self,
+        number: usize,
+        source_line: usize,
+        src: &SourceLine,
+        text: String,
+        ending: &'static str,
+        expanded: bool,
+    ) -> Result<bool, GcodeError> {
+        let view = self.view(source_line);
+        let mut ev = lang::line::evaluate(src, source_line, &mut self.params, &view)?;
+        lang::polar::resolve(&mut ev, &view, source_line)?;
+        let (text, insert_column) = if expanded {
+            let t = ev.expanded_text(&text);
+            if ev.assigns && t.trim().is_empty() {
+                return Ok(false);
+            }
+            // The column where a motion word goes, in the written text.
+            let col = scan_line(&t, source_line)
+                .ok()
+                .and_then(|l| {
+                    l.items
+                        .iter()
+                        .find(|i| !matches!(i.kind, ItemKind::Word { letter: 'N', .. }))
+                        .map(|i| i.column)
+                })
+                .unwrap_or_else(|| t.chars().count() + 1);
+            (t, col)
+        } else {
+            let col = ev
+                .lexed
+                .words
+                .iter()
+                .find(|w| w.letter != 'N')
+                .map(|w| w.column)
+                .unwrap_or_else(|| text.chars().count() + 1);
+            (text, col)
+        };
+        // Fanuc subprograms would be passed through as unknown M codes
+        // and their moves silently lost.
+        if let Some(w) = ev
+            .lexed
+            .words
+            .iter()
+            .find(|w| w.letter == 'M' && (w.value == 98.0 || w.value == 99.0))
+        {
+            return Err(GcodeError::new(
+                source_line,
+                w.column,
+                ErrorKind::Unsupported("Fanuc subprograms (M98/M99)"),
+            ));
+        }
+        let motion_before = self.st.motion;
+        let first_move = self.moves.len();
+        let lines = &self.lines;
+        let info = interpret_line(&ev.lexed, number, &mut self.st, &mut self.moves)
+            .map_err(|e| to_source(e, number, source_line, lines))?;
+        if self.start_units.is_none() && self.moves.len() > first_move {
+            self.start_units = Some(self.st.units);
+        }
+        let st = &self.st;
+        self.lines.push(ProgramLine {
+            number,
+            source_line,
+            text,
+            ending,
+            units: st.units,
+            incremental: st.incremental,
+            words: ev.lexed.words,
+            // An assignment written back verbatim must stay where it is.
+            breaks_run: info.breaks_run || (ev.assigns && !expanded),
+            moves: first_move..self.moves.len(),
+            interpreted: true,
+            motion_before,
+            sets_motion: info.sets_motion,
+            uses_modal_motion: info.uses_modal_motion,
+            feed_after: st.feed.clone(),
+            insert_column,
+            plane_after: st.plane,
+            arc_incremental_after: st.arc_incremental,
+            path_control_after: st.path_words.clone(),
+            in_block: st.spline.is_open(),
+        });
+        Ok(true)
+    }
+
+    /// Reads a program without o-words: one line per source line.
+    fn in_place(&mut self, raw: Vec<(String, &'static str)>) -> Result<(), GcodeError> {
+        for (i, (text, ending)) in raw.into_iter().enumerate() {
+            let number = i + 1;
+            if self.st.ended {
+                self.pass_through(number, number, text, ending);
+                continue;
+            }
+            let src = scan_line(&text, number)?;
+            if let Some(o) = &src.oword {
+                // looks_like_oword chose this mode; it must see every
+                // statement the scanner reads.
+                return Err(GcodeError::new(
+                    number,
+                    o.column,
+                    ErrorKind::Language(LangError::OWordSyntax(
+                        "o-word statement in an unexpected form",
+                    )),
+                ));
+            }
+            self.line(number, number, &src, text, ending, false)?;
+        }
+        Ok(())
+    }
+
+    /// Reads a program with o-words: the executed lines, in order.
+    fn expand(&mut self, raw: Vec<(String, &'static str)>) -> Result<(), GcodeError> {
+        let eol = raw
+            .iter()
+            .map(|(_, e)| *e)
+            .find(|e| !e.is_empty())
+            .unwrap_or("\n");
+        let texts: Vec<String> = raw.into_iter().map(|(t, _)| t).collect();
+        let scanned: Vec<_> = texts
+            .iter()
+            .enumerate()
+            .map(|(i, t)| scan_line(t, i + 1))
+            .collect();
+        let mut ex = lang::flow::Executor::new(&scanned, &texts)?;
+        loop {
+            let view = self.view(ex.position() + 1);
+            let Some(i) = ex.next(&mut self.params, &view)? else {
+                break;
+            };
+            let src = scanned[i].as_ref().map_err(Clone::clone)?;
+            let number = self.lines.len() + 1;
+            self.line(number, i + 1, src, texts[i].clone(), eol, true)?;
+            if self.st.ended {
+                if ex.call_level() == 0 {
+                    for k in ex.position()..texts.len() {
+                        let n = self.lines.len() + 1;
+                        // An o-word statement after the end (an `endwhile`
+                        // of a loop the end left) is not run, and the
+                        // expanded text has no o-words: it is kept as a
+                        // `;` comment, so the output reads back (fuzz input
+                        // anomaly-1718-22823).
+                        let text = match &scanned[k] {
+                            Ok(src) if src.oword.is_some() => {
+                                format!("; {}", texts[k].trim_start())
+                            }
+                            _ => texts[k].clone(),
+                        };
+                        self.pass_through(n, k + 1, text, eol);
+                    }
+                }
+                break;
+            }
+        }
+        self.expansion = Some(Expansion {
+            executed_lines: ex.executed(),
+            source_lines: texts.len(),
+        });
+        Ok(())
+    }
+
+    fn finish(self) -> Result<Program, GcodeError> {
+        let lines = self.lines;
+        let n = lines.len() + 1;
+        self.st
+            .spline
+            .check_closed()
+            .map_err(|e| to_source(e, n, n, &lines))?;
+        let runs = group_runs(&lines, &self.moves);
+        Ok(Program {
+            lines,
+            moves: self.moves,
+            runs,
+            start_units: self.start_units.unwrap_or(self.st.units),
+            expansion: self.expansion,
+            passthrough: self.st.passthrough,
+        })
+    }
+}
+
+/// An error of the interpreter at program line `number` (source line
+/// `source_line`), or at an earlier program line (a spline block's first
+/// line), named by its source line.
+fn to_source(
+    mut e: GcodeError,
+    number: usize,
+    source_line: usize,
+    lines: &[ProgramLine],
+) -> GcodeError {
+    if e.line == number {
+        e.line = source_line;
+    } else if let Some(l) = lines.get(e.line.wrapping_sub(1)) {
+        e.line = l.source_line;
+    }
+    e
+}

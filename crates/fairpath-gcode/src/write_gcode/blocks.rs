@@ -1,0 +1,302 @@
+//! The blocks written for a run's pieces: G1 lines, G2/G3 arcs, spline
+//! blocks ([`crate::write_spline`]), G1 chords of curves a format cannot
+//! say; their coordinate words (incremental or absolute, the run's end as
+//! the program wrote it) and F words.
+
+use super::numbers::fmt_fixed;
+use super::run::RunWriter;
+use super::{ArcWords, NurbsBlocks};
+use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
+use crate::error::WriteError;
+use crate::program::MotionMode;
+use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
+
+/// Distance (mm) within which a smoothed run end counts as the original
+/// run end, so that the original coordinate text is written for it.
+const SAME_POINT_MM: f64 = 1e-9;
+
+impl RunWriter<'_> {
+    /// A number in the run's units.
+    pub(super) fn num(&self, v_mm: f64) -> String {
+        self.style
+            .apply(fmt_fixed(v_mm / self.scale, self.decimals))
+    }
+
+    /// A feed (mm/min) as the program wrote it in the run's units, or as a
+    /// number ([`RunWriter::feed_number`]).
+    fn feed_text(&self, mm_per_min: f64) -> String {
+        self.feed_texts
+            .iter()
+            .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
+            .map_or_else(|| self.feed_number(mm_per_min), |f| f.text.clone())
+    }
+
+    /// A feed (mm/min) as a number in the run's units (4 decimals).
+    pub(super) fn feed_number(&self, mm_per_min: f64) -> String {
+        self.style.apply(fmt_fixed(mm_per_min / self.scale, 4))
+    }
+
+    /// The text of F for a move at `feed` if one is due (on the run's first
+    /// move, or when the feed changes): the feed is then the written one.
+    fn due_feed(&mut self, feed: Option<f64>) -> Option<String> {
+        match feed {
+            Some(f) if self.first_move || self.cur_feed != Some(f) => {
+                self.cur_feed = Some(f);
+                Some(self.feed_text(f))
+            }
+            _ => None,
+        }
+    }
+
+    /// The coordinate words that take the written position to `target`
+    /// (the original text of the run's end point when `run_end` and it is
+    /// that point), and the position they re-read to.
+    pub(super) fn coord_words(&self, target: Vec3, run_end: bool) -> (String, Vec3) {
+        let moves = self.program.moves();
+        let last_move = &moves[self.run.moves.end - 1];
+        let orig_end = last_move.piece.end();
+        let mut words = String::new();
+        let mut next = self.cur;
+        for a in 0..3 {
+            let tv = axis(target, a);
+            let now = axis(self.cur, a);
+            let text = if self.run.incremental {
+                let t = fmt_fixed((tv - now) / self.scale, self.decimals);
+                if t == "0" {
+                    continue;
+                }
+                t
+            } else {
+                let orig = if run_end && target.dist(orig_end) <= SAME_POINT_MM {
+                    last_move.end_text[a].clone()
+                } else {
+                    None
+                };
+                match orig {
+                    Some(t) => {
+                        let v: f64 = t.parse().unwrap_or(f64::NAN) * self.scale;
+                        if v == now {
+                            continue;
+                        }
+                        t
+                    }
+                    None => {
+                        let t = fmt_fixed(tv / self.scale, self.decimals);
+                        if t == fmt_fixed(now / self.scale, self.decimals) {
+                            continue;
+                        }
+                        t
+                    }
+                }
+            };
+            let v: f64 = text.parse().unwrap_or(f64::NAN) * self.scale;
+            let new = if self.run.incremental { now + v } else { v };
+            set_axis(&mut next, a, new);
+            words.push(' ');
+            words.push(AXIS_LETTERS[a]);
+            words.push_str(&self.style.apply(text));
+        }
+        (words, next)
+    }
+
+    /// The F word for a move at `feed`, if one is due.
+    fn feed_word(&mut self, feed: Option<f64>) -> String {
+        self.due_feed(feed)
+            .map_or_else(String::new, |t| format!(" F{t}"))
+    }
+
+    pub(super) fn write_g1(
+        &mut self,
+        p: Vec3,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        if !p.is_finite() {
+            return Err(WriteError::NotFinite);
+        }
+        let (words, next) = self.coord_words(p, run_end);
+        if words.is_empty() {
+            return Ok(());
+        }
+        self.cur = next;
+        let f = self.feed_word(feed);
+        self.first_move = false;
+        self.motion = Some(MotionMode::Linear);
+        let line = format!("{}G1{words}{f}", self.take_n());
+        self.push_line(&line);
+        Ok(())
+    }
+
+    /// A curve as G1 chords within the chord the rounding leaves (the last
+    /// one the run's end when `run_end`).
+    pub(super) fn write_chords(
+        &mut self,
+        c: &Curve,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        let pts = piece_points(c, self.chord);
+        let n = pts.len();
+        for (k, p) in pts.into_iter().enumerate() {
+            self.write_g1(p, run_end && k + 1 == n, feed)?;
+        }
+        Ok(())
+    }
+
+    /// A NURBS piece as a spline block ([`crate::write_spline`]); at the
+    /// run's end a G1 to the program's own end text follows when the block's
+    /// rounded last point is not it (run ends are kept exactly).
+    pub(super) fn write_nurbs(
+        &mut self,
+        n: &fairpath::geom::Nurbs,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        use crate::write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};
+        let kind = self.opts.nurbs.expect("called with NURBS blocks on");
+        let feed_text = self.due_feed(feed);
+        let so = SplineWriteOptions {
+            mm_per_unit: self.scale,
+            decimals: self.decimals,
+            decimal_point: self.style.decimal_point,
+            line_ending: self.eol,
+            incremental: self.run.incremental,
+            feed: feed_text,
+        };
+        let plane = || {
+            Plane::of_points(
+                &n.points,
+                0.5 * 10f64.powi(-(self.decimals as i32)) * self.scale,
+            )
+            .ok_or_else(|| WriteError::SplineCurve("the curve is in no principal plane".into()))
+        };
+        let text = match kind {
+            NurbsBlocks::G6_2Fanuc => g6_2_block(n, G6Dialect::Fanuc, &so)?,
+            NurbsBlocks::G6_2Linuxcnc => {
+                let plane = plane()?;
+                self.select_plane(plane);
+                g6_2_block(n, G6Dialect::Linuxcnc { plane, method: 1 }, &so)?
+            }
+            NurbsBlocks::G5_2 => {
+                let plane = plane()?;
+                self.select_plane(plane);
+                g5_2_blocks(n, plane, &so)?
+            }
+        };
+        let n_word = self.take_n();
+        self.out.push_str(&n_word);
+        self.out.push_str(&text);
+        // Where the written text leaves the tool: the rounded last point.
+        let end = n.points[n.points.len() - 1];
+        let mut cur = end;
+        for a in 0..3 {
+            let t = fmt_fixed(axis(end, a) / self.scale, self.decimals);
+            let v = t.parse::<f64>().unwrap_or(f64::NAN) * self.scale;
+            set_axis(&mut cur, a, v);
+        }
+        self.cur = cur;
+        self.first_move = false;
+        self.motion = Some(match kind {
+            NurbsBlocks::G6_2Fanuc => MotionMode::NurbsG6,
+            NurbsBlocks::G6_2Linuxcnc => MotionMode::Linear,
+            NurbsBlocks::G5_2 => MotionMode::Nurbs,
+        });
+        if run_end {
+            // Only the axes whose written text differs get a word.
+            self.write_g1(n.end(), true, None)?;
+        }
+        Ok(())
+    }
+
+    /// A plane line when `plane` is not the written one.
+    pub(super) fn select_plane(&mut self, plane: Plane) {
+        if plane != self.plane {
+            self.push_line(plane.gword());
+            self.plane = plane;
+        }
+    }
+
+    pub(super) fn write_arc(
+        &mut self,
+        a: &Arc,
+        run_end: bool,
+        feed: Option<f64>,
+    ) -> Result<(), WriteError> {
+        if !(a.p1.is_finite() && a.center.is_finite()) {
+            return Err(WriteError::NotFinite);
+        }
+        let Some(plane) = Plane::of_normal(a.normal) else {
+            // Not in a principal plane: chords.
+            return self.write_chords(&Curve::Arc(*a), run_end, feed);
+        };
+        let (words, next) = self.coord_words(a.p1, run_end);
+        let full_turn = a.sweep >= 2.0 * std::f64::consts::PI * (1.0 - 1e-12);
+        let (s, e) = (plane.local(self.cur), plane.local(next));
+        if !full_turn && s[0] == e[0] && s[1] == e[1] {
+            // The rounded ends coincide in the plane: a G2/G3 would be a
+            // full circle. The arc is shorter than the rounding: a line.
+            return self.write_g1(a.p1, run_end, feed);
+        }
+        let ccw = a.normal == plane.normal();
+        // A plane change on a line of its own: on the move's line it would
+        // make the move a state change, which readers keep out of runs.
+        self.select_plane(plane);
+        let mut line = self.take_n();
+        line.push_str(if ccw { "G3" } else { "G2" });
+        line.push_str(&words);
+        let r = 0.5 * (a.r0 + a.r1);
+        let half = std::f64::consts::PI;
+        let use_r = self.opts.arcs == Some(ArcWords::R)
+            && !full_turn
+            && ((a.sweep - half).abs() > 0.1 * half);
+        if use_r {
+            let signed = if a.sweep > half { -r } else { r };
+            line.push_str(" R");
+            line.push_str(&self.num(signed));
+        } else {
+            let (ia, ib, _) = plane.axes();
+            for ax in [ia, ib] {
+                let c = axis(a.center, ax);
+                let v = if self.arc_incremental {
+                    c - axis(self.cur, ax)
+                } else {
+                    c
+                };
+                line.push(' ');
+                line.push(CENTER_LETTERS[ax]);
+                line.push_str(&self.num(v));
+            }
+        }
+        let turns = ((a.sweep / (2.0 * half)) * (1.0 - 1e-12)).floor() as u64 + 1;
+        if turns > 1 {
+            line.push_str(&format!(" P{turns}"));
+        }
+        self.cur = next;
+        let f = self.feed_word(feed);
+        line.push_str(&f);
+        self.first_move = false;
+        self.motion = Some(if ccw {
+            MotionMode::ArcCcw
+        } else {
+            MotionMode::ArcCw
+        });
+        self.push_line(&line);
+        Ok(())
+    }
+}
+
+/// The points after the start of a curve at which G1 lines end.
+fn piece_points(c: &Curve, chord: f64) -> Vec<Vec3> {
+    match c {
+        Curve::Line(l) => vec![l.p1],
+        _ => {
+            let ts = flatten_params(c, chord);
+            let n = ts.len();
+            ts.into_iter()
+                .enumerate()
+                .skip(1)
+                .map(|(i, t)| if i + 1 == n { c.end() } else { c.eval(t) })
+                .collect()
+        }
+    }
+}

@@ -1,0 +1,280 @@
+//! Writes a program back as G-code with each run replaced by its smoothed
+//! pieces; everything else is copied byte for byte.
+//!
+//! Lines are written as G1; arcs as G2/G3 in their principal plane (IJK or
+//! R form) or as G1 chords; NURBS as G1 chords (the spline blocks are
+//! written by [`crate::write_spline`]). Nothing of the replaced lines but
+//! their moves is dropped: their N numbers, comments and the lines without
+//! moves between them are written beside the blocks that replace them
+//! ([`write_gcode`] says where), numbers follow the input's style
+//! ([`NumberStyle`]), and a blending mode of the input that could spend more
+//! than the blending share is tightened around the runs
+//! ([`GcodeWriteOptions::g64_blend_mm`]).
+//!
+//! * `options.rs`: [`GcodeWriteOptions`], [`ArcWords`], [`NurbsBlocks`].
+//! * `numbers.rs`: how many decimals ([`write_decimals`],
+//!   [`output_decimals`]) and number formatting.
+//! * `style.rs`: the input's number style ([`NumberStyle`]).
+//! * `run.rs`: writing one run: its pieces in order with the span's other
+//!   lines, then the state the program has after it.
+//! * `blocks.rs`: the blocks written for the pieces (G1, G2/G3, spline
+//!   blocks) and their coordinate and F words.
+//! * `carry.rs`: N numbers and comments of replaced lines.
+//! * `blend.rs`: G64 around runs.
+//!
+//! This file: the program, its lines outside runs copied through.
+
+// Axis loops index several parallel arrays by axis number.
+#![allow(clippy::needless_range_loop)]
+
+use crate::error::WriteError;
+use crate::program::{MotionMode, Program, RunSpan};
+use fairpath::path::Piece;
+
+mod blend;
+mod blocks;
+mod carry;
+mod numbers;
+mod options;
+mod run;
+mod style;
+
+pub use blend::{before_runs as path_control_before_runs, PathControl};
+pub use carry::MAX_COMMENT_CHARS;
+pub(crate) use numbers::fmt_fixed;
+pub use numbers::{output_decimals, write_decimals, ARC_ROUNDING_FACTOR, ROUNDING_SHARE};
+pub use options::{ArcWords, GcodeWriteOptions, NurbsBlocks};
+pub use style::NumberStyle;
+
+use run::RunWriter;
+
+/// Writes the program with `smoothed[k]` replacing the moves of run `k`
+/// (same order as [`Program::runs`]).
+///
+/// * Lines outside runs are copied unchanged, in place. The lines of a
+///   replaced run's span are handled in order, each before the blocks of
+///   the first output piece that reaches it: a line without moves
+///   (comments, blank lines, F-only lines, modal words restating the state,
+///   a plane change) when the piece's `source_lines.1` is greater than its
+///   number, a replaced line (one with moves, or a line of a multi-line
+///   spline block) when it is at least its number. A line without moves is
+///   copied verbatim. A replaced line's comments (`( ... )` and `; ...`, as
+///   written) become a line of their own. Its N word goes on the first
+///   block written for that piece (`N20 G1 X...`), unless another replaced
+///   line reached by the same block already gave it one: such N words are
+///   named in a comment just before the block, `(N30-N50 merged into the
+///   next block)` for the stretch of lines numbered N30 to N50 (increasing
+///   stretches as `first-last`, others one by one, lines of at most
+///   [`MAX_COMMENT_CHARS`]). So the N number of the first line of a run
+///   starts its first block, comments keep their order, and no N number or
+///   comment of the input is lost. N words that no block took (the pieces
+///   after them wrote nothing) are named in a comment after the run's
+///   blocks, `(N90 merged into the blocks above)`.
+/// * A line is one `G1`; an arc is one `G2`/`G3` in its principal plane
+///   when [`GcodeWriteOptions::arcs`] is set (with the plane word where the
+///   written plane differs, `P` for several turns), otherwise G1 chords
+///   within `chord_mm` as they read back; NURBS are G1 chords. An arc whose
+///   rounded ends coincide in its plane (which G-code reads as a full
+///   circle) is written as a G1. Every output line carries its motion word.
+/// * Numbers follow the input's style ([`NumberStyle::of`]: a decimal
+///   point in every number when the input always writes one or
+///   [`GcodeWriteOptions::decimal_point`] asks for it, leading zeros as the
+///   input writes them; counts such as arc turns `P2` stay integers, and
+///   spline blocks keep their leading zeros).
+/// * Coordinates are in the run's units, with more decimals when the chord
+///   tolerance needs them ([`write_decimals`]); in G91 (incremental) runs
+///   they are written as increments (the program stays
+///   position-independent), each computed from the position the written
+///   text re-reads to, so rounding does not accumulate; arc centres are
+///   offsets from that position (absolute after G90.1). Axes whose value
+///   does not change are omitted. The run's end point is written with the
+///   original text of each coordinate (absolute runs) so that it re-reads
+///   exactly.
+/// * F is written on the first move of a run and whenever the feed changes;
+///   if the modal feed after the run would differ from the original's, an
+///   `F` line restores it. A plane the written arcs changed is restored
+///   after the run, and so is the program's path-control command when
+///   [`GcodeWriteOptions::g64_blend_mm`] replaced it (see there when).
+/// * A line after a run that relies on the modal motion mode (axis words
+///   without G0/G1/G2/G3) gets the motion word it relied on inserted when the
+///   written lines changed that mode.
+pub fn write_gcode(
+    program: &Program,
+    smoothed: &[Vec<Piece>],
+    opts: &GcodeWriteOptions,
+) -> Result<String, WriteError> {
+    let outputs: Vec<RunOutput> = smoothed.iter().map(|p| RunOutput::Pieces(p)).collect();
+    write_gcode_with(program, &outputs, opts)
+}
+
+/// What [`write_gcode_with`] writes for one run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RunOutput<'a> {
+    /// These pieces, as [`write_gcode`] writes them.
+    Pieces(&'a [Piece]),
+    /// The run's own lines, as they are (a motion word inserted where a
+    /// line relies on a modal motion that the written program changed).
+    Original,
+}
+
+/// First line of the output of an expanded program
+/// ([`Program::expanded`]): its loops and calls are written out.
+pub const EXPANDED_HEADER: &str =
+    "(fairpath: expanded from LinuxCNC o-word control flow; every move explicit)";
+
+/// [`write_gcode`], with some runs kept as the program wrote them.
+pub fn write_gcode_with(
+    program: &Program,
+    smoothed: &[RunOutput],
+    opts: &GcodeWriteOptions,
+) -> Result<String, WriteError> {
+    let runs = program.run_spans();
+    if smoothed.len() != runs.len() {
+        return Err(WriteError::RunCount {
+            expected: runs.len(),
+            got: smoothed.len(),
+        });
+    }
+    if !(opts.chord_mm.is_finite() && opts.chord_mm > 0.0) {
+        return Err(WriteError::BadChord(opts.chord_mm));
+    }
+    let lines = program.lines();
+    let eol = lines
+        .iter()
+        .map(|l| l.ending)
+        .find(|e| !e.is_empty())
+        .unwrap_or("\n");
+    let mut out = String::new();
+    // An expanded program says so first (after a leading `%`, which must
+    // stay the first line).
+    let leading_percent = matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));
+    if program.expanded() && !leading_percent {
+        out.push_str(EXPANDED_HEADER);
+        out.push_str(eol);
+    }
+    let mut header_pending = opts.header;
+    if header_pending && !leading_percent {
+        out.push_str("(smoothed by fairpath)");
+        out.push_str(eol);
+        header_pending = false;
+    }
+    let mut style = NumberStyle::of(program);
+    style.decimal_point |= opts.decimal_point;
+    let path_before = blend::before_runs(program);
+    // Modal state as the written program leaves it.
+    let mut written_motion = MotionMode::None;
+    let mut written_path: Option<String> = None;
+    let mut i = 0;
+    let mut run_idx = 0;
+    while i < lines.len() {
+        let line = &lines[i];
+        let smoothed_run = match smoothed.get(run_idx) {
+            Some(RunOutput::Pieces(p)) if runs[run_idx].first_line == line.number => Some(*p),
+            Some(RunOutput::Original) if runs[run_idx].first_line == line.number => {
+                // Copied line by line below.
+                run_idx += 1;
+                None
+            }
+            _ => None,
+        };
+        if let Some(pieces) = smoothed_run {
+            let run = &runs[run_idx];
+            let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
+            w.style = style;
+            w.path_before = path_before[run_idx].clone();
+            w.path = written_path.take();
+            w.write(pieces)?;
+            if let Some(m) = w.motion {
+                written_motion = m;
+            }
+            written_path = w.path;
+            written_motion =
+                restore_motion_before_block_delete(program, run, written_motion, eol, &mut out);
+            // The last line of the span may be the last line of the file.
+            let last = &lines[run.last_line - 1];
+            if last.ending.is_empty() && run.last_line == lines.len() && out.ends_with(eol) {
+                out.truncate(out.len() - eol.len());
+            }
+            i = run.last_line;
+            run_idx += 1;
+            continue;
+        }
+        if line.interpreted && line.uses_modal_motion && written_motion != line.motion_before {
+            if let Some(g) = line.motion_before.gword() {
+                // Insert the motion word the line relies on.
+                let col = line.insert_column - 1;
+                let byte = line
+                    .text
+                    .char_indices()
+                    .nth(col)
+                    .map_or(line.text.len(), |(b, _)| b);
+                out.push_str(&line.text[..byte]);
+                out.push_str(&g);
+                out.push(' ');
+                out.push_str(&line.text[byte..]);
+                out.push_str(line.ending);
+                written_motion = line.motion_before;
+                i += 1;
+                continue;
+            }
+        }
+        if line.interpreted && line.sets_motion {
+            written_motion = program
+                .lines()
+                .get(i + 1)
+                .map_or(written_motion, |n| n.motion_before);
+        }
+        if blend::sets_path_control(line) {
+            written_path = line.path_control_after.clone();
+        }
+        out.push_str(&line.text);
+        out.push_str(line.ending);
+        if i == 0 && leading_percent && program.expanded() {
+            out.push_str(EXPANDED_HEADER);
+            out.push_str(if line.ending.is_empty() { "" } else { eol });
+        }
+        if header_pending {
+            out.push_str("(smoothed by fairpath)");
+            out.push_str(if line.ending.is_empty() { "" } else { eol });
+            header_pending = false;
+        }
+        i += 1;
+    }
+    Ok(out)
+}
+
+/// After a written run whose motion mode differs from the program's, a
+/// `/` line coming before the next motion word would see one mode or the
+/// other depending on the block-delete switch (a motion word inserted into
+/// it runs only with the switch off): the program's mode is restored on a
+/// line of its own right after the run. Returns the written mode.
+fn restore_motion_before_block_delete(
+    program: &Program,
+    run: &RunSpan,
+    written: MotionMode,
+    eol: &str,
+    out: &mut String,
+) -> MotionMode {
+    let lines = program.lines();
+    let Some(next) = lines.get(run.last_line) else {
+        return written;
+    };
+    let wanted = next.motion_before;
+    let deleted = |l: &crate::program::ProgramLine| l.text.trim_start().starts_with('/');
+    // Up to the next motion word that runs either way.
+    let slash_first = lines[run.last_line..]
+        .iter()
+        .take_while(|l| !l.sets_motion || deleted(l))
+        .any(|l| l.interpreted && deleted(l));
+    // Only a straight mode: a bare G5.2 would open a block, a bare G81 run
+    // a cycle.
+    let straight = matches!(wanted, MotionMode::Linear | MotionMode::Rapid);
+    match wanted.gword() {
+        Some(g) if written != wanted && slash_first && straight => {
+            out.push_str(&g);
+            out.push_str(eol);
+            wanted
+        }
+        _ => written,
+    }
+}

@@ -1,0 +1,282 @@
+//! Writing one run: its pieces in order, the lines of its span without
+//! moves in place, the N numbers and comments of the lines it replaces,
+//! and after it the feed, plane and path control the program has there.
+
+use super::blend::PathControl;
+use super::carry;
+use super::numbers::{fmt_fixed, output_decimals, MAX_DECIMALS};
+use super::style::NumberStyle;
+use super::GcodeWriteOptions;
+use crate::error::WriteError;
+use crate::program::{Feed, MotionMode, Program, RunSpan, Units};
+use fairpath::geom::{Curve, Plane, Vec3};
+use fairpath::path::Piece;
+
+/// The state of writing one run.
+pub(super) struct RunWriter<'a> {
+    pub(super) program: &'a Program,
+    pub(super) run: &'a RunSpan,
+    pub(super) opts: &'a GcodeWriteOptions,
+    pub(super) eol: &'static str,
+    pub(super) out: &'a mut String,
+    /// Units of the run: mm per unit, decimals, and the chord the G1
+    /// chords of curves get (what rounding leaves of `chord_mm`).
+    pub(super) scale: f64,
+    pub(super) decimals: usize,
+    pub(super) chord: f64,
+    /// Original feeds and their text, to write F as the program did.
+    pub(super) feed_texts: Vec<Feed>,
+    /// Position as the written program re-reads it (mm).
+    pub(super) cur: Vec3,
+    /// Modal feed of the written program (mm/min).
+    pub(super) cur_feed: Option<f64>,
+    /// Plane as the written program leaves it.
+    pub(super) plane: Plane,
+    /// Motion mode of the last move written, if any.
+    pub(super) motion: Option<MotionMode>,
+    /// Path-control command in force in the written program.
+    pub(super) path: Option<String>,
+    /// The input's path control in force before the run.
+    pub(super) path_before: Option<PathControl>,
+    /// How numbers are written.
+    pub(super) style: NumberStyle,
+    /// The N word the next block written starts with.
+    pub(super) pending_n: Option<String>,
+    /// N words of replaced lines the next block merges (text, value).
+    pub(super) merged_n: Vec<(String, f64)>,
+    pub(super) first_move: bool,
+    /// Arc centres relative to the start (G91.1) in this run.
+    pub(super) arc_incremental: bool,
+}
+
+impl<'a> RunWriter<'a> {
+    pub(super) fn new(
+        program: &'a Program,
+        run: &'a RunSpan,
+        opts: &'a GcodeWriteOptions,
+        eol: &'static str,
+        out: &'a mut String,
+    ) -> Result<RunWriter<'a>, WriteError> {
+        let lines = program.lines();
+        let scale = run.units.mm_per_unit();
+        let min_decimals = match run.units {
+            Units::Mm => opts.decimals_mm,
+            Units::Inch => opts.decimals_inch,
+        };
+        let (decimals, rounding) = output_decimals(opts, scale, min_decimals);
+        // The chords get what the rounding leaves.
+        let chord = opts.chord_mm - rounding;
+        if chord.is_nan() || chord <= 0.0 {
+            return Err(WriteError::ChordBelowRounding {
+                chord_mm: opts.chord_mm,
+                decimals,
+                rounding_mm: rounding,
+            });
+        }
+        let mut feed_texts: Vec<Feed> = Vec::new();
+        feed_texts.extend(run.feed_before.iter().cloned());
+        for l in &lines[run.first_line - 1..run.last_line] {
+            feed_texts.extend(l.feed_after.iter().cloned());
+        }
+        let before = run.first_line.checked_sub(2).map(|k| &lines[k]);
+        let first_move = &program.moves()[run.moves.start];
+        Ok(RunWriter {
+            program,
+            run,
+            opts,
+            eol,
+            out,
+            scale,
+            decimals,
+            chord,
+            feed_texts,
+            cur: first_move.piece.start(),
+            cur_feed: run.feed_before.as_ref().map(|f| f.mm_per_min),
+            plane: before.map_or(Plane::Xy, |l| l.plane_after),
+            motion: None,
+            path: None,
+            path_before: None,
+            style: NumberStyle::default(),
+            pending_n: None,
+            merged_n: Vec::new(),
+            first_move: true,
+            arc_incremental: before.is_none_or(|l| l.arc_incremental_after),
+        })
+    }
+
+    /// The blending command of [`GcodeWriteOptions::g64_blend_mm`] in the
+    /// run's units: P with enough decimals to be within 1% of the asked
+    /// blend (rounded down).
+    /// `None` when the blend is not positive (LinuxCNC reads `P0` as no
+    /// tolerance at all).
+    pub(super) fn g64(&self) -> Option<String> {
+        let b = self.opts.g64_blend_mm? / self.scale;
+        if !(b.is_finite() && b > 0.0) {
+            return None;
+        }
+        let mut d = 4;
+        while d < MAX_DECIMALS && 10f64.powi(-(d as i32)) > 0.01 * b {
+            d += 1;
+        }
+        let p = (b * 10f64.powi(d as i32)).floor() / 10f64.powi(d as i32);
+        (p > 0.0).then(|| {
+            format!(
+                "G64 P{} Q{}",
+                self.style.apply(fmt_fixed(p, d)),
+                self.style.apply("0".into())
+            )
+        })
+    }
+
+    /// Whether our blending command goes before this run: always when
+    /// asked, or when the input's path control in force blends beyond the
+    /// share ([`PathControl::exceeds`]).
+    pub(super) fn tightens_blending(&self) -> bool {
+        let Some(blend) = self.opts.g64_blend_mm else {
+            return false;
+        };
+        self.opts.g64_always || self.path_before.as_ref().is_some_and(|p| p.exceeds(blend))
+    }
+
+    pub(super) fn push_line(&mut self, text: &str) {
+        self.out.push_str(text);
+        self.out.push_str(self.eol);
+    }
+
+    /// Writes the run's pieces with the span's lines without moves in
+    /// place.
+    pub(super) fn write(&mut self, pieces: &[Piece]) -> Result<(), WriteError> {
+        let run = self.run;
+        if self.tightens_blending() {
+            if let Some(pc) = self.g64() {
+                if self.path.as_ref() != Some(&pc) {
+                    self.push_line(&pc);
+                    self.path = Some(pc);
+                }
+            }
+        }
+        // The next line of the span to handle.
+        let mut next_line = run.first_line;
+        let n_pieces = pieces.len();
+        for (pi, piece) in pieces.iter().enumerate() {
+            self.reach(&mut next_line, piece.source_lines.1);
+            self.write_merged_n("the next block");
+            let last = pi + 1 == n_pieces;
+            match &piece.curve {
+                Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
+                Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed)?,
+                Curve::Nurbs(n) if self.opts.nurbs.is_some() => {
+                    self.write_nurbs(n, last, piece.feed)?
+                }
+                c => self.write_chords(c, last, piece.feed)?,
+            }
+        }
+        self.reach(&mut next_line, run.last_line + 1);
+        if let Some(n) = self.pending_n.take() {
+            let value = n[1..].parse().unwrap_or(f64::NAN);
+            self.merged_n.insert(0, (n, value));
+        }
+        self.write_merged_n("the blocks above");
+        self.restore_state();
+        Ok(())
+    }
+
+    /// Handles the span's lines from `next` on that a piece ending on line
+    /// `end` reaches (see [`write_gcode`]): lines without moves before
+    /// `end` are copied, replaced lines up to `end` give their comments (a
+    /// line) and N words (the next block's, or merged into it).
+    pub(super) fn reach(&mut self, next: &mut usize, end: usize) {
+        let lines = self.program.lines();
+        while *next <= self.run.last_line {
+            let l = &lines[*next - 1];
+            // Lines of a multi-line spline block carry part of its move:
+            // they are replaced with it.
+            let replaced = !l.moves.is_empty() || l.in_block;
+            if !(*next < end || (replaced && *next == end)) {
+                break;
+            }
+            if replaced {
+                let comments = carry::comments_of(&l.text);
+                if !comments.is_empty() {
+                    let text = comments.join(" ");
+                    self.push_line(&text);
+                }
+                if let Some(n) = carry::n_word(&l.words) {
+                    if self.pending_n.is_none() && self.merged_n.is_empty() {
+                        self.pending_n = Some(n);
+                    } else {
+                        let value = l
+                            .words
+                            .iter()
+                            .find(|w| w.letter == 'N')
+                            .map_or(f64::NAN, |w| w.value);
+                        self.merged_n.push((n, value));
+                    }
+                }
+            } else {
+                self.copy_interior(*next);
+            }
+            *next += 1;
+        }
+    }
+
+    /// The comment lines naming the merged N words, if any.
+    pub(super) fn write_merged_n(&mut self, what: &str) {
+        if self.merged_n.is_empty() {
+            return;
+        }
+        let ns = std::mem::take(&mut self.merged_n);
+        for c in carry::merged_n_comments(&ns, what) {
+            self.push_line(&c);
+        }
+    }
+
+    /// The pending N word and a space, for the start of the next block.
+    pub(super) fn take_n(&mut self) -> String {
+        self.pending_n
+            .take()
+            .map_or_else(String::new, |n| format!("{n} "))
+    }
+
+    pub(super) fn copy_interior(&mut self, n: usize) {
+        let l = &self.program.lines()[n - 1];
+        self.out.push_str(&l.text);
+        self.out.push_str(l.ending);
+        if l.words.iter().any(|w| w.letter == 'F') {
+            self.cur_feed = l.feed_after.as_ref().map(|f| f.mm_per_min);
+        }
+        if l.interpreted {
+            self.plane = l.plane_after;
+        }
+    }
+
+    /// After the run: the feed, plane and path control the original has
+    /// in force there.
+    pub(super) fn restore_state(&mut self) {
+        let lines = self.program.lines();
+        let last = &lines[self.run.last_line - 1];
+        if let Some(f) = &self.run.feed_after {
+            if self.cur_feed != Some(f.mm_per_min) {
+                let text = if f.units == self.run.units {
+                    f.text.clone()
+                } else {
+                    self.feed_number(f.mm_per_min)
+                };
+                self.push_line(&format!("F{text}"));
+            }
+        }
+        if self.plane != last.plane_after {
+            self.push_line(last.plane_after.gword());
+            self.plane = last.plane_after;
+        }
+        if self.opts.g64_blend_mm.is_some() {
+            if let Some(orig) = &last.path_control_after {
+                if self.path.as_ref() != Some(orig) {
+                    let orig = orig.clone();
+                    self.push_line(&orig);
+                    self.path = Some(orig);
+                }
+            }
+        }
+    }
+}
