@@ -7,10 +7,10 @@ use super::GcodeWriteOptions;
 /// up to 15).
 pub(super) const MAX_DECIMALS: usize = 12;
 
-/// Share of the chord tolerance that the rounding of written coordinates
-/// may take (more decimals are written until it fits): what it leaves is
-/// for the chords, arcs or spline blocks themselves.
-pub const ROUNDING_SHARE: f64 = 0.1;
+/// Share of the output tolerance that the rounding of written coordinates
+/// may take (more decimals are written until it fits), from the one ledger
+/// of the tolerance ([`fairpath::budget`]).
+pub use fairpath::budget::ROUNDING_SHARE;
 
 /// How far rounding can move a written arc, in units of the rounding `rho`
 /// of one point: start and end by `rho` each, the centre by `rho`, so the
