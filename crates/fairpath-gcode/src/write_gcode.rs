@@ -351,7 +351,10 @@ pub fn write_gcode_with(
         .map(|l| l.ending)
         .find(|e| !e.is_empty())
         .unwrap_or("\n");
-    let mut out = String::new();
+    // The lines the output keeps are most of it for a comment-heavy
+    // program: reserved once, the text is not copied as it grows.
+    let kept: usize = lines.iter().map(|l| l.text.len() + l.ending.len()).sum();
+    let mut out = String::with_capacity(kept + 256);
     // An expanded program says so first (after a leading `%`, which must
     // stay the first line).
     let leading_percent = matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));
@@ -624,7 +627,7 @@ impl<'a> RunWriter<'a> {
             .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
             .map_or_else(
                 || self.style.apply(fmt_fixed(mm_per_min / self.scale, 4)),
-                |f| f.text.clone(),
+                |f| f.text.to_string(),
             )
     }
 
@@ -754,7 +757,7 @@ impl<'a> RunWriter<'a> {
         if let Some(f) = &self.run.feed_after {
             if self.cur_feed != Some(f.mm_per_min) {
                 let text = if f.units == self.run.units {
-                    f.text.clone()
+                    f.text.to_string()
                 } else {
                     self.style.apply(fmt_fixed(f.mm_per_min / self.scale, 4))
                 };
