@@ -143,3 +143,51 @@ fn long_diagonal_segment_grid_follows_its_length() {
         }
     }
 }
+
+/// LinuxCNC's G5.2 check (`nurbs_fits`) finds the nearest segment of the
+/// curve's fine polyline in a grid: the same answer as a scan of the
+/// polyline for every sample (whose cost grows as the product of two
+/// counts that both grow as the chord shrinks), on auto's curves of the
+/// five-line program at 0.01 mm, at chords on both sides of where the
+/// answer changes.
+#[test]
+fn five_line_inch_arc_program_g5_2_check_at_0_01mm() {
+    use fairpath::controller::linuxcnc::g5_2_motion_of;
+    use fairpath::geom::{distance_to_polyline, Plane};
+    use fairpath::render::{arcs::DEVIATION_USE, nurbs_fits, NurbsLimits};
+    let run = the_run(FIVE_LINE);
+    let smoothed = by_name("auto").unwrap().smooth_run(&run, 0.01).unwrap();
+    let lim = NurbsLimits {
+        max_degree: 7,
+        planar_mm: None,
+        xy_only: false,
+        linuxcnc_g5_2: true,
+    };
+    let scan = |n: &fairpath::geom::Nurbs, chord: f64| {
+        let motion = g5_2_motion_of(n, Plane::Xy).unwrap();
+        let c = Curve::Nurbs(n.clone());
+        let poly: Vec<_> = flatten_params(&c, 0.01 * chord)
+            .iter()
+            .map(|&t| c.eval(t))
+            .collect();
+        motion.iter().all(|m| {
+            (0..=8).all(|k| {
+                let (t0, t1) = m.domain();
+                let q = m.eval(t0 + (t1 - t0) * k as f64 / 8.0);
+                distance_to_polyline(q, &poly).is_some_and(|d| d.0 <= DEVIATION_USE * chord)
+            })
+        })
+    };
+    let mut checked = [0, 0];
+    for p in &smoothed.pieces {
+        let Curve::Nurbs(n) = &p.curve else {
+            continue;
+        };
+        for chord in [1e-2, 1e-3, 1e-4, 1e-5] {
+            let fits = nurbs_fits(n, &lim, chord);
+            assert_eq!(fits, scan(n, chord), "chord {chord}");
+            checked[usize::from(fits)] += 1;
+        }
+    }
+    assert!(checked[0] > 0 && checked[1] > 0, "{checked:?}");
+}
