@@ -123,7 +123,7 @@ impl SegmentGrid {
     /// its dominant axis, so it visits about `L / cell + 3` slabs of at
     /// most 36 cells (a cell is at least twice `grow`) rather than its
     /// whole bounding box (a 170 mm diagonal over 0.04 mm cells has 1.6e10
-    /// cells in its box, a few 1e4 along it); with the cell at least the
+    /// cells in its box, at most 1.5e5 along it); with the cell at least the
     /// mean segment length, all segments together visit `O(n)` cells.
     /// Returns the number of cells examined.
     fn for_cells_of(&self, i: usize, grow: f64, mut f: impl FnMut(u64)) -> usize {
