@@ -142,10 +142,23 @@ impl SourceLine {
 /// empty last line. A UTF-8 byte-order mark at the start is skipped. Checks
 /// UTF-8 line by line.
 pub fn split_lines(text: &[u8]) -> Result<Vec<(String, &'static str)>, GcodeError> {
-    let mut out = Vec::new();
+    line_slices(text)
+        .map(|l| l.map(|(t, e)| (t.to_string(), e)))
+        .collect()
+}
+
+/// The lines of `text` as [`split_lines`] cuts them, borrowed from `text`
+/// (no copy): a reader that keeps one `String` per line makes it from
+/// these, so the program holds each line's text once.
+pub fn line_slices(
+    text: &[u8],
+) -> impl Iterator<Item = Result<(&str, &'static str), GcodeError>> + '_ {
     let mut rest = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
     let mut number = 0;
-    while !rest.is_empty() {
+    core::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
         number += 1;
         let (line, ending, next) = match rest.iter().position(|&b| b == b'\n' || b == b'\r') {
             Some(i) if rest[i] == b'\r' && rest.get(i + 1) == Some(&b'\n') => {
@@ -155,17 +168,18 @@ pub fn split_lines(text: &[u8]) -> Result<Vec<(String, &'static str)>, GcodeErro
             Some(i) => (&rest[..i], "\n", &rest[i + 1..]),
             None => (rest, "", &rest[rest.len()..]),
         };
-        match std::str::from_utf8(line) {
-            Ok(s) => out.push((s.to_string(), ending)),
+        rest = next;
+        Some(match std::str::from_utf8(line) {
+            Ok(s) => Ok((s, ending)),
             Err(e) => {
+                // Nothing after an invalid line is read.
+                rest = &[];
                 let good = &line[..e.valid_up_to()];
                 let column = std::str::from_utf8(good).map_or(1, |s| s.chars().count() + 1);
-                return Err(GcodeError::new(number, column, ErrorKind::InvalidUtf8));
+                Err(GcodeError::new(number, column, ErrorKind::InvalidUtf8))
             }
-        }
-        rest = next;
-    }
-    Ok(out)
+        })
+    })
 }
 
 /// Lexes and evaluates one line (without its line ending) with no parameter
@@ -189,35 +203,43 @@ pub fn lex_line(line: &str, line_no: usize) -> Result<LexedLine, GcodeError> {
 /// Reads the syntax of one line (without its line ending): items, o-word,
 /// comments. Nothing is evaluated. `line_no` is 1-based.
 pub fn scan_line(line: &str, line_no: usize) -> Result<SourceLine, GcodeError> {
-    let chars: Vec<char> = line.chars().collect();
     let err = |idx: usize, kind: ErrorKind| GcodeError::new(line_no, idx + 1, kind);
     let mut out = SourceLine::default();
     // Tokens: every non-blank character outside comments, lower case, with
-    // its index; a comment is one '(' token.
-    let mut toks: Vec<Tok> = Vec::with_capacity(chars.len());
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
+    // its index; a comment is one '(' token. The characters are read once,
+    // as they come: a line's memory is its tokens, not a copy of its text
+    // (a comment of 200 MB costs nothing here).
+    let mut toks: Vec<Tok> = Vec::new();
+    let mut chars = line.chars().enumerate();
+    // Index (in characters) of the first non-blank character, and the
+    // number of characters read.
+    let mut first_non_blank = None;
+    let mut len = 0;
+    while let Some((i, c)) = chars.next() {
+        len = i + 1;
+        if first_non_blank.is_none() && !matches!(c, ' ' | '\t' | '\r') {
+            first_non_blank = Some(i);
+        }
         match c {
             ' ' | '\t' | '\r' => {}
             '(' => {
                 out.has_comment = true;
-                let start = i;
-                i += 1;
                 loop {
-                    if i >= chars.len() {
-                        return Err(err(start, ErrorKind::UnclosedComment));
-                    }
-                    match chars[i] {
-                        ')' => break,
-                        '(' => return Err(err(i, ErrorKind::NestedComment)),
-                        _ => i += 1,
+                    match chars.next() {
+                        None => return Err(err(i, ErrorKind::UnclosedComment)),
+                        Some((j, ')')) => {
+                            len = j + 1;
+                            break;
+                        }
+                        Some((j, '(')) => return Err(err(j, ErrorKind::NestedComment)),
+                        Some(_) => {}
                     }
                 }
-                toks.push(Tok { c: '(', idx: start });
+                toks.push(Tok { c: '(', idx: i });
             }
             ';' => {
                 out.has_comment = true;
+                len += chars.count();
                 break;
             }
             _ => toks.push(Tok {
@@ -225,10 +247,10 @@ pub fn scan_line(line: &str, line_no: usize) -> Result<SourceLine, GcodeError> {
                 idx: i,
             }),
         }
-        i += 1;
     }
-    let mut p = expr::Parser::new(&toks, line_no, chars.len());
-    if p.peek() == Some('%') && toks[0].idx == first_non_blank(&chars) {
+    let first_non_blank = first_non_blank.unwrap_or(len);
+    let mut p = expr::Parser::new(&toks, line_no, len);
+    if p.peek() == Some('%') && toks[0].idx == first_non_blank {
         out.percent = true;
         return Ok(out);
     }
@@ -280,7 +302,12 @@ pub fn scan_line(line: &str, line_no: usize) -> Result<SourceLine, GcodeError> {
                     span: t.idx + 1..p.end_idx(),
                 });
             }
-            _ => return Err(err(t.idx, ErrorKind::UnexpectedCharacter(chars[t.idx]))),
+            _ => {
+                return Err(err(
+                    t.idx,
+                    ErrorKind::UnexpectedCharacter(line.chars().nth(t.idx).unwrap_or(t.c)),
+                ))
+            }
         }
     }
     if out.program_number {
@@ -293,13 +320,6 @@ pub fn scan_line(line: &str, line_no: usize) -> Result<SourceLine, GcodeError> {
         }
     }
     Ok(out)
-}
-
-fn first_non_blank(chars: &[char]) -> usize {
-    chars
-        .iter()
-        .position(|c| !matches!(c, ' ' | '\t' | '\r'))
-        .unwrap_or(chars.len())
 }
 
 /// `#index = value` or `#<name> = value` (LinuxCNC's
@@ -478,5 +498,42 @@ mod tests {
                 ("G1 X4", "")
             ]
         );
+        // Borrowed, the same cut; an invalid line ends the lines.
+        let b: Vec<_> = line_slices(b"G0 X1\r\nG1 X2").map(Result::unwrap).collect();
+        assert_eq!(b, vec![("G0 X1", "\r\n"), ("G1 X2", "")]);
+        let e: Vec<_> = line_slices(b"G0\n(\xC3\xA9 \xFF)\nG1").collect();
+        assert_eq!(e.len(), 2);
+        let err = e[1].clone().unwrap_err();
+        assert_eq!(
+            (err.line, err.column, err.kind),
+            (2, 4, ErrorKind::InvalidUtf8)
+        );
+    }
+
+    /// The scanner reads characters as they come (no copy of the line):
+    /// columns count characters, comments of any length are one token.
+    #[test]
+    fn columns_and_comments_without_a_copy_of_the_line() {
+        let e = scan_line("(\u{e9}\u{e9}) G1 (a (b)", 4).unwrap_err();
+        assert_eq!(
+            (e.line, e.column, e.kind),
+            (4, 12, ErrorKind::NestedComment)
+        );
+        let e = scan_line("G1 X1 (\u{e9}t\u{e9}", 1).unwrap_err();
+        assert_eq!((e.column, e.kind), (7, ErrorKind::UnclosedComment));
+        let e = scan_line("G1 \u{e9}", 1).unwrap_err();
+        assert_eq!(
+            (e.column, e.kind),
+            (4, ErrorKind::UnexpectedCharacter('\u{e9}'))
+        );
+        let long = format!("G1 X2 ({})", "x".repeat(1 << 20));
+        let l = lex_line(&long, 1).unwrap();
+        assert!(l.has_comment);
+        assert_eq!(l.words.len(), 2);
+        assert!(scan_line("  % (x)", 1).unwrap().percent);
+        assert!(!scan_line("G0 %", 1).is_ok_and(|l| l.percent));
+        // A word at the end of a line with a `;` comment.
+        let e = lex_line("G1 X ; \u{e9}\u{e9}", 1).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::MissingValue('X'));
     }
 }

@@ -4,6 +4,7 @@
 use crate::lexer::Word;
 use fairpath::path::{Piece, Run};
 use std::ops::{Range, RangeInclusive};
+use std::sync::Arc;
 
 /// Length units of the program (G20 inch, G21 mm).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,7 +116,10 @@ pub enum PinReason {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Feed {
     pub mm_per_min: f64,
-    pub text: String,
+    /// Shared: every line's [`ProgramLine::feed_after`] holds the modal
+    /// feed, and a copy of its text per line would cost more than a
+    /// comment line's own text.
+    pub text: Arc<str>,
     /// Units in force when the F word was written.
     pub units: Units,
 }

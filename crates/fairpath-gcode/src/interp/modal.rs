@@ -52,7 +52,7 @@ pub(super) fn apply(w: &Words, st: &mut State) -> Result<Changes, GcodeError> {
         }
         st.feed = Some(Feed {
             mm_per_min: f.value * st.units.mm_per_unit(),
-            text: f.text.clone(),
+            text: f.text.as_str().into(),
             units: st.units,
         });
     }

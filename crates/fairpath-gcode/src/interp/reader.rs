@@ -10,7 +10,7 @@ use crate::lang::{
     error::LangError,
     params::{Params, SystemView},
 };
-use crate::lexer::{scan_line, split_lines, ItemKind, SourceLine};
+use crate::lexer::{line_slices, scan_line, split_lines, ItemKind, SourceLine};
 use crate::program::{Expansion, MotionMode, Move, Program, ProgramLine, Units};
 use crate::spline::ParseOptions;
 use fairpath::controller::Plane;
@@ -28,12 +28,18 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
 /// lines are the executed lines in execution order ([`crate::lang::flow`]),
 /// each written out with literal values ([`Program::expansion`]).
 pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeError> {
-    let raw = split_lines(text)?;
+    // One pass to validate the text and look for o-words, then the lines
+    // are read from the text itself: each is copied once, into its
+    // `ProgramLine`.
+    let mut oword = false;
+    for l in line_slices(text) {
+        oword |= lang::flow::looks_like_oword(l?.0);
+    }
     let mut r = Reader::new(opts);
-    if raw.iter().any(|(t, _)| lang::flow::looks_like_oword(t)) {
-        r.expand(raw)?;
+    if oword {
+        r.expand(split_lines(text)?)?;
     } else {
-        r.in_place(raw)?;
+        r.in_place(line_slices(text).map_while(Result::ok))?;
     }
     r.finish()
 }
@@ -227,14 +233,17 @@ impl Reader {
     }
 
     /// Reads a program without o-words: one line per source line.
-    fn in_place(&mut self, raw: Vec<(String, &'static str)>) -> Result<(), GcodeError> {
-        for (i, (text, ending)) in raw.into_iter().enumerate() {
+    fn in_place<'t>(
+        &mut self,
+        raw: impl Iterator<Item = (&'t str, &'static str)>,
+    ) -> Result<(), GcodeError> {
+        for (i, (text, ending)) in raw.enumerate() {
             let number = i + 1;
             if self.st.ended {
-                self.pass_through(number, number, text, ending);
+                self.pass_through(number, number, text.to_string(), ending);
                 continue;
             }
-            let src = scan_line(&text, number)?;
+            let src = scan_line(text, number)?;
             if let Some(o) = &src.oword {
                 // looks_like_oword chose this mode; it must see every
                 // statement the scanner reads.
@@ -246,7 +255,7 @@ impl Reader {
                     )),
                 ));
             }
-            self.line(number, number, &src, text, ending, false)?;
+            self.line(number, number, &src, text.to_string(), ending, false)?;
         }
         Ok(())
     }

@@ -108,29 +108,35 @@ pub fn uses_control_flow(lines: &[Result<SourceLine, GcodeError>], texts: &[Stri
 /// A line whose first word (after `/` and an N word) is `o` followed by
 /// `<` or digits then a letter: an o-word statement that did not scan.
 pub fn looks_like_oword(text: &str) -> bool {
-    let t: String = text
+    // The line without blanks, lower case, read as far as the decision
+    // needs (a long comment after the first word is never copied).
+    let mut t = text
         .chars()
         .filter(|c| !c.is_whitespace())
-        .collect::<String>()
-        .to_ascii_lowercase();
+        .map(|c| c.to_ascii_lowercase())
+        .peekable();
     // Comments before the statement (LinuxCNC refuses them there; the
-    // scanner reports it).
-    let mut t = t.as_str();
-    while let Some(r) = t.strip_prefix('(') {
-        t = r.split_once(')').map_or("", |(_, rest)| rest);
+    // scanner reports it); an unclosed one leaves nothing.
+    while t.next_if_eq(&'(').is_some() {
+        if !t.by_ref().any(|c| c == ')') {
+            return false;
+        }
     }
-    let t = t.strip_prefix('/').unwrap_or(t);
-    let t = match t.strip_prefix('n') {
-        Some(r) => r.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
-        None => t,
-    };
-    let Some(r) = t.strip_prefix('o') else {
+    t.next_if_eq(&'/');
+    if t.next_if_eq(&'n').is_some() {
+        while t.next_if(|&c| c.is_ascii_digit() || c == '.').is_some() {}
+    }
+    if t.next_if_eq(&'o').is_none() {
         return false;
-    };
-    r.starts_with(['<', '[', '#']) || {
-        let d = r.trim_start_matches(|c: char| c.is_ascii_digit());
-        d.len() < r.len() && d.starts_with(|c: char| c.is_ascii_alphabetic())
     }
+    if t.next_if(|c| matches!(c, '<' | '[' | '#')).is_some() {
+        return true;
+    }
+    let mut digits = false;
+    while t.next_if(|c| c.is_ascii_digit()).is_some() {
+        digits = true;
+    }
+    digits && t.next().is_some_and(|c| c.is_ascii_alphabetic())
 }
 
 impl Structure {
@@ -535,6 +541,65 @@ impl<'a> Executor<'a> {
                     return Err(fail(LangError::OWordSyntax("statement without its match")));
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::looks_like_oword;
+
+    /// The rule as it was written first, on a copy of the whole line.
+    fn on_a_copy(text: &str) -> bool {
+        let t: String = text
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect::<String>()
+            .to_ascii_lowercase();
+        let mut t = t.as_str();
+        while let Some(r) = t.strip_prefix('(') {
+            t = r.split_once(')').map_or("", |(_, rest)| rest);
+        }
+        let t = t.strip_prefix('/').unwrap_or(t);
+        let t = match t.strip_prefix('n') {
+            Some(r) => r.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
+            None => t,
+        };
+        let Some(r) = t.strip_prefix('o') else {
+            return false;
+        };
+        r.starts_with(['<', '[', '#']) || {
+            let d = r.trim_start_matches(|c: char| c.is_ascii_digit());
+            d.len() < r.len() && d.starts_with(|c: char| c.is_ascii_alphabetic())
+        }
+    }
+
+    #[test]
+    fn oword_lines_read_as_far_as_needed() {
+        let parts = [
+            "", " ", "o", "O", "1", "0", "<", "[", "#", "(", ")", "/", "n", "N", ".", "sub", "x",
+            "é", ";", "\t", "(c)", "o100", "n10", "2.5",
+        ];
+        // Every line of up to three parts.
+        let mut n = 0;
+        for a in parts {
+            for b in parts {
+                for c in parts {
+                    let line = format!("{a}{b}{c}");
+                    assert_eq!(looks_like_oword(&line), on_a_copy(&line), "{line:?}");
+                    n += 1;
+                }
+            }
+        }
+        assert_eq!(n, parts.len().pow(3));
+        for line in [
+            "o100 sub",
+            "/ N20 O<name> call",
+            "(c) o1 if",
+            "o1 (x",
+            "N1.5o2endsub",
+        ] {
+            assert_eq!(looks_like_oword(line), on_a_copy(line), "{line:?}");
         }
     }
 }

@@ -28,7 +28,7 @@ impl RunWriter<'_> {
         self.feed_texts
             .iter()
             .find(|f| f.mm_per_min == mm_per_min && f.units == self.run.units)
-            .map_or_else(|| self.feed_number(mm_per_min), |f| f.text.clone())
+            .map_or_else(|| self.feed_number(mm_per_min), |f| f.text.to_string())
     }
 
     /// A feed (mm/min) as a number in the run's units (4 decimals).

@@ -144,7 +144,10 @@ pub fn write_gcode_with(
         .map(|l| l.ending)
         .find(|e| !e.is_empty())
         .unwrap_or("\n");
-    let mut out = String::new();
+    // The lines the output keeps are most of it for a comment-heavy
+    // program: reserved once, the text is not copied as it grows.
+    let kept: usize = lines.iter().map(|l| l.text.len() + l.ending.len()).sum();
+    let mut out = String::with_capacity(kept + 256);
     // An expanded program says so first (after a leading `%`, which must
     // stay the first line).
     let leading_percent = matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));

@@ -258,7 +258,7 @@ impl<'a> RunWriter<'a> {
         if let Some(f) = &self.run.feed_after {
             if self.cur_feed != Some(f.mm_per_min) {
                 let text = if f.units == self.run.units {
-                    f.text.clone()
+                    f.text.to_string()
                 } else {
                     self.feed_number(f.mm_per_min)
                 };

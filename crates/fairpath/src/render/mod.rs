@@ -182,16 +182,22 @@ pub fn nurbs_fits(n: &crate::geom::Nurbs, lim: &NurbsLimits, chord: f64) -> bool
     let Ok(motion) = crate::controller::linuxcnc::g5_2_motion_of(n, plane) else {
         return false;
     };
-    // LinuxCNC's biarcs against a fine polyline of the curve.
+    // LinuxCNC's biarcs against a fine polyline of the curve, its segments
+    // in a grid of radius `lim`: both counts grow as the chord shrinks, so
+    // a scan of the polyline per sample would cost their product.
     let c = Curve::Nurbs(n.clone());
     let ts = crate::geom::flatten_params(&c, 0.01 * chord);
     let poly: Vec<crate::geom::Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
     let lim = arcs::DEVIATION_USE * chord;
+    // `flatten_params` returns both ends, so there is a segment; any
+    // segment within `lim` of a point is listed in the point's cell.
+    let segs = poly.windows(2).map(|w| (w[0], w[1])).collect();
+    let grid = crate::geom::SegmentGrid::new(segs, lim);
     motion.iter().all(|m| {
         (0..=8).all(|k| {
             let (t0, t1) = m.domain();
             let q = m.eval(t0 + (t1 - t0) * k as f64 / 8.0);
-            crate::geom::distance_to_polyline(q, &poly).is_some_and(|d| d.0 <= lim)
+            grid.nearest_within(q).is_some_and(|d| d.0 <= lim)
         })
     })
 }
