@@ -235,6 +235,7 @@ fn gcode_output_reread_matches_json_geometry_within_chord() {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn passthrough_is_lossless_on_real_linuxcnc_programs() {
     for rel in [
         "performance/LHchips4.ngc",

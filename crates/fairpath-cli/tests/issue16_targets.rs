@@ -42,6 +42,7 @@ fn rows(path: &Path, formats: &[Format]) -> (Row, Row) {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn the_default_output_of_dense_programs_keeps_the_gain() {
     for rel in [
         "synthetic/helix.ngc",
@@ -71,6 +72,7 @@ fn the_default_output_of_dense_programs_keeps_the_gain() {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn g6_2_output_plans_within_two_percent_of_the_curves() {
     for rel in [
         "synthetic/butterfly-80.ngc",
@@ -95,6 +97,7 @@ fn g6_2_output_plans_within_two_percent_of_the_curves() {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn arcs_keep_the_gain_of_butterfly_80() {
     // butterfly-80: 80 G1 moves whose curves plan 0.39 of the input; the
     // arcs written for them within 5% of the curves.

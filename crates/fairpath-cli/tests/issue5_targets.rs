@@ -90,6 +90,7 @@ fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Pat
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn auto_meets_the_dense_targets() {
     let programs = [
         "synthetic/surface-raster.ngc",
@@ -144,6 +145,7 @@ fn auto_meets_the_dense_targets() {
 /// 1.09 s against `bspline-corner`'s 1.13 s (0.96); fitted through its
 /// corners it plans 0.93 s (0.82).
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn auto_fits_through_the_corners_of_a_run_of_lines() {
     let programs = ["synthetic/noisy-line.ngc"];
     for_each_found(&programs, &["bspline-corner", "auto"], |rel, _, rows| {
@@ -156,6 +158,7 @@ fn auto_fits_through_the_corners_of_a_run_of_lines() {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
     let corner_methods = ["bspline-corner", "ctm", "lotm"];
     for rel in [
@@ -188,6 +191,7 @@ fn auto_is_no_slower_than_the_best_corner_method_on_sparse_programs() {
 /// (23.66 s, the same as that method). Now the short half goes to the
 /// corner method and the rest is split and fitted again (15.02 s).
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
     use fairpath::choose::{sample_curves, through_corners_sections, ARC_SHARE};
     use fairpath::feed::plan::{plan_run, PlanOptions};

@@ -284,6 +284,7 @@ fn check(bin: &str, p: &Path, dir: &Path) -> Result<String, String> {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn linuxcnc_reads_the_language_as_we_do() {
     if !have_rs274() {
         assert!(

@@ -82,6 +82,7 @@ fn has_splines(text: &str) -> bool {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
     if !have_rs274() {
         assert!(
@@ -166,6 +167,7 @@ fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn linuxcnc_master_runs_what_we_write_as_g6_2() {
     let Some(master) = master() else {
         eprintln!("LinuxCNC master not built (~/lcnc-master): skipped");

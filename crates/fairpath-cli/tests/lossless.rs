@@ -243,6 +243,7 @@ fn smooth_and_compare(path: &Path, rel: &str, dir: &Path, new_mode: u32) -> Opti
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn every_reference_program_keeps_its_lines_n_numbers_and_feeds() {
     let Some(root) = shared_root() else {
         eprintln!("../shared/paths not found: skipped");

@@ -36,6 +36,7 @@ fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn every_shared_program_reads_and_smooths_within_tolerance() {
     let Some(root) = shared_paths() else {
         eprintln!("../shared/paths not found: skipped");

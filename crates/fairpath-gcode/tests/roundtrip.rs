@@ -119,6 +119,7 @@ fn check_roundtrip(name: &str, p: &Program, out: &str) {
 }
 
 #[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn passthrough_and_roundtrip_on_shared_programs() {
     let Some(dir) = common::shared_paths() else {
         return;
