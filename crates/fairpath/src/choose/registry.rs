@@ -2,7 +2,7 @@
 
 use super::auto::{Auto, AutoOptions};
 use super::objective::Objective;
-use crate::smooth::{ArcFit, BsplineCorner, BsplineFit, Ctm, Lotm, Smoother};
+use crate::smooth::{ArcFit, BsplineCorner, BsplineFit, Ctm, Lotm, NoSmoothing, Smoother};
 use alloc::boxed::Box;
 use alloc::sync::Arc;
 
@@ -14,6 +14,7 @@ pub const METHODS: &[&str] = &[
     "bspline-fit",
     "ctm",
     "lotm",
+    "none",
 ];
 
 /// The method called `name` on the command line, with default options
@@ -35,7 +36,7 @@ pub fn method(name: &str, objective: Arc<dyn Objective>) -> Option<Box<dyn Smoot
     }
 }
 
-/// Every method but `auto`.
+/// Every method but `auto` (`none`: the runs as they are).
 fn others(name: &str) -> Option<Box<dyn Smoother>> {
     match name {
         "arc-fit" => Some(Box::new(ArcFit::default())),
@@ -43,6 +44,7 @@ fn others(name: &str) -> Option<Box<dyn Smoother>> {
         "bspline-fit" => Some(Box::new(BsplineFit::default())),
         "ctm" => Some(Box::new(Ctm::default())),
         "lotm" => Some(Box::new(Lotm::default())),
+        "none" => Some(Box::new(NoSmoothing)),
         _ => None,
     }
 }

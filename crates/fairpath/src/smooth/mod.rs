@@ -16,6 +16,7 @@ mod fit_chain;
 mod fit_fill;
 mod fit_sections;
 mod lotm;
+mod none;
 
 pub use arc_fit::{
     ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
@@ -40,6 +41,7 @@ pub use lotm::{
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
     split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
 };
+pub use none::{NoSmoothing, NONE_GAP_SHARE};
 
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
