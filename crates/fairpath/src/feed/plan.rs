@@ -622,18 +622,29 @@ fn speed_at(profile: &DoubleS, q: f64, rising: bool) -> f64 {
     } else {
         (ph.ta + ph.tv, profile.duration())
     };
-    // Bisection on time: q(t) is increasing; 64 halvings reach f64
-    // resolution of any duration.
+    // Safeguarded Newton on time: q(t) is increasing with slope v(t), so
+    // a Newton step converges in a few iterations where bisection took
+    // about 55 (this lookup was a fifth of planning a long run of arcs);
+    // a step that leaves the bracket, or a point at rest, bisects
+    // instead. 64 steps reach f64 resolution of any duration either way.
+    let mut t = 0.5 * (lo + hi);
     for _ in 0..64 {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        if profile.eval(mid).q < q {
-            lo = mid;
+        let st = profile.eval(t);
+        if st.q < q {
+            lo = t;
         } else {
-            hi = mid;
+            hi = t;
         }
+        let newton = t - (st.q - q) / st.v;
+        let next = if st.v > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if next <= lo || next >= hi || crate::math::abs(next - t) <= f64::EPSILON * t {
+            return profile.eval(next.clamp(lo, hi)).v;
+        }
+        t = next;
     }
     profile.eval(hi).v
 }
