@@ -42,6 +42,10 @@ pub const MIN_ARC_UNITS: f64 = 4.0;
 pub const G1_BLEND_SHARE: f64 = 0.5;
 pub const CURVE_BLEND_SHARE: f64 = 0.1;
 
+/// Runs of at least this many pieces are planned at both feeds side by
+/// side (shorter ones run side by side with other runs).
+const PARALLEL_FEEDS_PIECES: usize = 10_000;
+
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
 
@@ -256,16 +260,35 @@ pub fn emit(
         }
     };
     // The planned time of each of the program's own runs, at each feed.
-    let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
-        feeds
-            .iter()
-            .map(|&f| time(&original[k].pieces, f))
-            .collect::<Result<Vec<f64>>>()
+    // One job per run and feed (a single long run is planned at both feeds
+    // side by side).
+    // A run smoothed into itself (method `none`) is written as the program
+    // wrote it: no rendering could say it more exactly, and its own times
+    // are not needed.
+    let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
+    let nf = feeds.len();
+    let own_flat = par_map(smoothed.len() * nf, |i| {
+        if itself[i / nf] {
+            return Ok(f64::INFINITY);
+        }
+        time(&original[i / nf].pieces, feeds[i % nf])
     })
     .into_iter()
-    .collect::<Result<_>>()?;
+    .collect::<Result<Vec<f64>>>()?;
+    let own: Vec<Vec<f64>> = own_flat.chunks(nf).map(|c| c.to_vec()).collect();
+    // A run's times at each feed (`t(feed)`), side by side for a long run.
+    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| -> Result<Vec<f64>> {
+        if len >= PARALLEL_FEEDS_PIECES && nf > 1 {
+            par_map(nf, |i| t(feeds[i])).into_iter().collect()
+        } else {
+            feeds.iter().map(|&f| t(f)).collect()
+        }
+    };
     let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
         let own = &own[k];
+        if itself[k] {
+            return Ok(Choice::original(opts.budget.output));
+        }
         let mut best: Option<(f64, Choice)> = None;
         for (i, &form) in forms.iter().enumerate() {
             // G1 is the other candidate for curves that arcs could not
@@ -279,10 +302,16 @@ pub fn emit(
                 continue;
             }
             let c = render(k, form, opts.budget.output)?;
-            let ts: Vec<f64> = feeds
-                .iter()
-                .map(|&f| rendered_time(&c, f))
-                .collect::<Result<_>>()?;
+            // Where a rendering is already chosen, a candidate that does
+            // not beat it at the first feed loses whatever its other
+            // times: they are planned only when it does.
+            if let Some((b, _)) = &best {
+                let t0 = rendered_time(&c, feeds[0])?;
+                if t0 >= *b || t0 * (1.0 + KEEP_MARGIN) > own[0] {
+                    continue;
+                }
+            }
+            let ts = at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?;
             // Faster than the program's own run at every feed.
             if ts
                 .iter()
@@ -327,8 +356,13 @@ pub fn emit(
             if choices[o].form.is_none() || failed.contains(&o) {
                 return Ok(None);
             }
+            let pieces = &reread[c].pieces;
+            if pieces.len() >= PARALLEL_FEEDS_PIECES {
+                let ts = at_feeds(pieces.len(), &|f| time(pieces, f))?;
+                return Ok(ts.iter().zip(&own[o]).any(|(t, w)| t > w).then_some(o));
+            }
             for (fi, &f) in feeds.iter().enumerate() {
-                if time(&reread[c].pieces, f)? > own[o][fi] {
+                if time(pieces, f)? > own[o][fi] {
                     return Ok(Some(o));
                 }
             }
@@ -347,17 +381,18 @@ pub fn emit(
             for c in &choices {
                 stats.add(&c.stats);
             }
+            let kept_runs = choices.iter().filter(|c| c.form.is_none()).count();
             return Ok(Emitted {
                 budget: opts.budget,
                 text,
                 runs: choices
-                    .iter()
-                    .map(|c| c.form.map(|_| c.pieces.clone()))
+                    .into_iter()
+                    .map(|c| c.form.map(|_| c.pieces))
                     .collect(),
                 stats,
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
-                kept_runs: choices.iter().filter(|c| c.form.is_none()).count(),
+                kept_runs,
             });
         }
         attempt += 1;

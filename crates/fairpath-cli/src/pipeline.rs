@@ -4,13 +4,15 @@
 //! and plan it as `fairpath simulate` would.
 
 use crate::emit::{emit, EmitOptions};
+use crate::parallel::par_map;
 use crate::parallel::verify_runs;
-use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate, Simulation};
+use crate::simulate::{motions_of, simulate, Simulation};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::budget::ToleranceBudget;
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
 use fairpath::path::{Piece, Run};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, SmoothedRun, Smoother};
@@ -261,21 +263,110 @@ pub struct JobTimes {
     pub written: Times,
 }
 
-/// The smoothed runs as runs.
-fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
-    result
-        .runs
-        .iter()
-        .map(|r| Run::new(r.smoothed.pieces.clone()))
-        .collect()
+/// The planned times of `program` with its runs' pieces replaced by
+/// `runs` (in the order of `Program::runs`; pinned moves and rapids as the
+/// program has them), exactly as [`simulate`] sums them (same plans, same
+/// order of addition), without keeping copies of the runs or their plans:
+/// the motions are planned on all cores, the times added in order. With
+/// `keep_plans`, also the plan of each of `runs`. `what` names the step in
+/// errors.
+fn plan_program(
+    program: &Program,
+    runs: &[&[Piece]],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<(Times, Vec<RunPlan>)> {
+    enum Job<'a> {
+        Run(usize, &'a [Piece]),
+        Rapid(&'a Piece),
+    }
+    let mut jobs: Vec<Job> = Vec::with_capacity(runs.len());
+    let spans = program.run_spans();
+    let moves = program.moves();
+    let (mut next_run, mut mi) = (0, 0);
+    while mi < moves.len() {
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            jobs.push(Job::Run(next_run, runs[next_run]));
+            mi = spans[next_run].moves.end;
+            next_run += 1;
+            continue;
+        }
+        let m = &moves[mi];
+        if m.piece.rapid {
+            jobs.push(Job::Rapid(&m.piece));
+        } else {
+            jobs.push(Job::Run(usize::MAX, std::slice::from_ref(&m.piece)));
+        }
+        mi += 1;
+    }
+    let po = PlanOptions {
+        limits: *machine,
+        override_feed,
+        window: None,
+    };
+    // (feed time, rapid time, the plan kept).
+    type Planned = (f64, f64, Option<(usize, RunPlan)>);
+    let planned: Vec<Result<Planned>> = par_map(jobs.len(), |j| match jobs[j] {
+        Job::Run(k, pieces) => {
+            let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let plan = plan_run(pieces, &po)
+                .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
+                .context(what)?;
+            let time = plan.time;
+            Ok((
+                time,
+                0.0,
+                (keep_plans && k != usize::MAX).then_some((k, plan)),
+            ))
+        }
+        Job::Rapid(p) => {
+            let len = p.curve.length(1e-6);
+            if len.is_nan() || len <= 0.0 {
+                return Ok((0.0, 0.0, None));
+            }
+            let prof = plan_rapid(len, machine)
+                .map_err(|e| anyhow!("planning a rapid: {e}"))
+                .context(what)?;
+            Ok((0.0, prof.duration(), None))
+        }
+    });
+    drop(jobs);
+    let (mut feed, mut rapid) = (0.0, 0.0);
+    let mut plans: Vec<RunPlan> = Vec::with_capacity(if keep_plans { runs.len() } else { 0 });
+    for r in planned {
+        let (f, r, plan) = r?;
+        feed += f;
+        rapid += r;
+        if let Some((k, plan)) = plan {
+            debug_assert_eq!(k, plans.len());
+            plans.push(plan);
+        }
+    }
+    Ok((
+        Times {
+            total: feed + rapid,
+            feed,
+        },
+        plans,
+    ))
 }
 
 /// The planned time of the input, as `fairpath simulate` plans the file.
 pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
-    let motions = gcode_motions(program, &program.runs());
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .context("planning the input")?;
-    Ok(Times::of(&sim))
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the input";
+    Ok(plan_program(
+        program,
+        &pieces,
+        &opts.machine,
+        opts.override_feed,
+        false,
+        what,
+    )?
+    .0)
 }
 
 /// The planned time of the exact curves in the program, and the plan of
@@ -289,38 +380,101 @@ pub fn plan_curves(
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<fairpath::feed::plan::RunPlan>)> {
     let m = &opts.machine;
-    let runs = smoothed_runs(result);
-    let (motions, index) = gcode_motions_indexed(program, &runs);
-    let exact = simulate(&motions, m, opts.override_feed, None).context("planning the curves")?;
-    let plans = if opts.override_feed {
-        index.iter().map(|&i| exact.plans[i].1.clone()).collect()
-    } else {
-        let feed_runs: Vec<crate::simulate::Motion> = runs
-            .into_iter()
-            .map(crate::simulate::Motion::Feed)
-            .collect();
-        simulate(&feed_runs, m, true, None)
-            .context("planning the curves")?
-            .plans
-            .into_iter()
-            .map(|p| p.1)
-            .collect()
-    };
-    Ok((Times::of(&exact), plans))
+    let runs: Vec<&[Piece]> = result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.as_slice())
+        .collect();
+    let what = "planning the curves";
+    if opts.override_feed {
+        // The plans at the programmed feeds are the renderer's.
+        return plan_program(program, &runs, m, true, true, what);
+    }
+    // The exact time at the programmed feeds and the renderer's plans at
+    // the maximum feed, side by side.
+    let (exact, plans) = std::thread::scope(|s| {
+        let exact = s.spawn(|| plan_program(program, &runs, m, false, false, what));
+        let plans: Vec<Result<RunPlan>> = par_map(runs.len(), |k| {
+            // A run smoothed into itself is written as the program wrote
+            // it, never rendered ([`crate::emit::emit`]): no plan.
+            if result.runs[k].original.pieces == runs[k] {
+                return Ok(RunPlan::default());
+            }
+            let po = PlanOptions {
+                limits: *m,
+                override_feed: true,
+                window: None,
+            };
+            let line = runs[k].first().map(|p| p.source_lines.0).unwrap_or(0);
+            plan_run(runs[k], &po)
+                .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
+                .context(what)
+        });
+        (exact.join().expect("planning does not panic"), plans)
+    });
+    let plans = plans.into_iter().collect::<Result<Vec<_>>>()?;
+    Ok((exact?.0, plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
 /// simulate` plans the file (`path` names it in errors).
 pub fn plan_text(path: &Path, text: &str, opts: &SmoothOptions) -> Result<Times> {
-    let motions = motions_of(path, text.as_bytes())?;
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .context("planning the written program")?;
-    Ok(Times::of(&sim))
+    let bytes = text.as_bytes();
+    if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
+        let motions = motions_of(path, bytes)?;
+        let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+            .context("planning the written program")?;
+        return Ok(Times::of(&sim));
+    }
+    let program = parse_program(path, bytes)?;
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the written program";
+    Ok(plan_program(
+        &program,
+        &pieces,
+        &opts.machine,
+        opts.override_feed,
+        false,
+        what,
+    )?
+    .0)
 }
 
 /// Groups feed pieces (from JSON) into the original runs by the input lines
 /// they name.
 pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
+    // Feed pieces by first line: each run takes those from its first line
+    // on, up to its last (a piece's lines never run backwards), in their
+    // order (no scan of every piece per run).
+    let mut by_line: Vec<usize> = (0..pieces.len()).filter(|&i| !pieces[i].rapid).collect();
+    if by_line
+        .iter()
+        .any(|&i| pieces[i].source_lines.0 > pieces[i].source_lines.1)
+    {
+        return group_by_source_scan(original, pieces);
+    }
+    by_line.sort_by_key(|&i| pieces[i].source_lines.0);
+    original
+        .iter()
+        .map(|run| {
+            let lo = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let hi = run.pieces.last().map(|p| p.source_lines.1).unwrap_or(0);
+            let from = by_line.partition_point(|&i| pieces[i].source_lines.0 < lo);
+            let mut take: Vec<usize> = by_line[from..]
+                .iter()
+                .take_while(|&&i| pieces[i].source_lines.0 <= hi)
+                .filter(|&&i| pieces[i].source_lines.1 <= hi)
+                .copied()
+                .collect();
+            take.sort_unstable();
+            Run::new(take.into_iter().map(|i| pieces[i].clone()).collect())
+        })
+        .collect()
+}
+
+/// [`group_by_source`] by a scan of every piece for each run.
+fn group_by_source_scan(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
     original
         .iter()
         .map(|run| {
@@ -460,15 +614,38 @@ pub fn smooth_file(
             opts.budget()
         );
     }
-    let input_times = plan_input(&program, opts)?;
-    let (exact_times, plans) = plan_curves(&program, &result, opts)?;
+    // The input and the curves planned side by side, from the runs
+    // already read (no copies).
+    let (machine, override_feed) = (opts.machine, opts.override_feed);
+    let (input_times, curves) = std::thread::scope(|s| {
+        let input = s.spawn(|| {
+            let runs: Vec<&[Piece]> = result
+                .runs
+                .iter()
+                .map(|r| r.original.pieces.as_slice())
+                .collect();
+            let what = "planning the input";
+            plan_program(&program, &runs, &machine, override_feed, false, what).map(|t| t.0)
+        });
+        let curves = plan_curves(&program, &result, opts);
+        (input.join().expect("planning does not panic"), curves)
+    });
+    let (input_times, (exact_times, plans)) = (input_times?, curves?);
     phases.mark("plan input and curves");
+    // The smoothed pieces lent to the emitter and put back for the
+    // summary (no copy).
+    let mut result = result;
     let smoothed: Vec<Vec<Piece>> = result
         .runs
-        .iter()
-        .map(|r| r.smoothed.pieces.clone())
+        .iter_mut()
+        .map(|r| std::mem::take(&mut r.smoothed.pieces))
         .collect();
-    let emitted = emit(&program, &smoothed, &plans, &opts.emit_options())?;
+    let emitted = emit(&program, &smoothed, &plans, &opts.emit_options());
+    drop(plans);
+    for (r, pieces) in result.runs.iter_mut().zip(smoothed) {
+        r.smoothed.pieces = pieces;
+    }
+    let emitted = emitted?;
     phases.mark("render, write, check");
     let written_times = plan_text(output, &emitted.text, opts)?;
     phases.mark("plan written");
