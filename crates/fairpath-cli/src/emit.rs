@@ -131,6 +131,20 @@ pub struct Emitted {
     /// Runs kept as the program wrote them: their rendering planned no
     /// faster (or did not verify).
     pub kept_runs: usize,
+    /// The written G-code as read back for the check (`None` for JSON),
+    /// for planning it without reading it again
+    /// ([`crate::pipeline::plan_written`]).
+    pub reading: Option<WrittenReading>,
+}
+
+/// The written G-code as read back: the program, its runs, and the time of
+/// each run at the user's feeds where the check already planned it exactly
+/// as `fairpath simulate` does (corners blended), else `None`.
+#[derive(Clone, Debug)]
+pub struct WrittenReading {
+    pub program: Program,
+    pub runs: Vec<Run>,
+    pub run_times: Vec<Option<f64>>,
 }
 
 /// What is written for one run.
@@ -188,6 +202,7 @@ pub fn emit(
                 check,
                 retried_runs: 0,
                 kept_runs: 0,
+                reading: None,
             });
         }
         Format::G1 => &[CurveForm::Lines],
@@ -345,34 +360,49 @@ pub fn emit(
             .collect();
         let text = fairpath_gcode::write_gcode_with(program, &outputs, &wo)
             .map_err(|e| anyhow!("writing G-code: {e}"))?;
-        let reread = fairpath_gcode::parse(text.as_bytes())
-            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?
-            .runs();
+        let reread_program = fairpath_gcode::parse(text.as_bytes())
+            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?;
+        let reread = reread_program.runs();
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
+        let mut is_failed = vec![false; choices.len()];
+        for &k in &failed {
+            is_failed[k] = true;
+        }
         let pairs = pair_runs(&original, &reread)?;
-        let slower: Vec<usize> = par_map(pairs.len(), |i| -> Result<Option<usize>> {
+        // The feed `fairpath simulate` plans the written program at, and
+        // whether `time` plans as it does there (its time is kept).
+        let user_feed = feeds.iter().position(|&f| f == opts.override_feed);
+        let as_simulate = opts.judged_by == Corners::Blended;
+        type Slower = (Option<usize>, Option<f64>);
+        let judged: Vec<Slower> = par_map(pairs.len(), |i| -> Result<Slower> {
             let (o, c) = pairs[i];
-            if choices[o].form.is_none() || failed.contains(&o) {
-                return Ok(None);
+            if choices[o].form.is_none() || is_failed[o] {
+                return Ok((None, None));
             }
             let pieces = &reread[c].pieces;
+            let kept = |ts: &[f64]| {
+                user_feed
+                    .filter(|_| as_simulate)
+                    .and_then(|u| ts.get(u).copied())
+            };
             if pieces.len() >= PARALLEL_FEEDS_PIECES {
                 let ts = at_feeds(pieces.len(), &|f| time(pieces, f))?;
-                return Ok(ts.iter().zip(&own[o]).any(|(t, w)| t > w).then_some(o));
+                let slower = ts.iter().zip(&own[o]).any(|(t, w)| t > w);
+                return Ok((slower.then_some(o), kept(&ts)));
             }
+            let mut ts = Vec::with_capacity(nf);
             for (fi, &f) in feeds.iter().enumerate() {
-                if time(pieces, f)? > own[o][fi] {
-                    return Ok(Some(o));
+                ts.push(time(pieces, f)?);
+                if ts[fi] > own[o][fi] {
+                    return Ok((Some(o), None));
                 }
             }
-            Ok(None)
+            Ok((None, kept(&ts)))
         })
         .into_iter()
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+        .collect::<Result<Vec<_>>>()?;
+        let slower: Vec<usize> = judged.iter().filter_map(|j| j.0).collect();
         // Nothing left to change, or nothing this loop can change (a run
         // the program wrote itself fails: the caller refuses).
         let stuck = failed.iter().any(|&k| choices[k].form.is_none());
@@ -382,6 +412,10 @@ pub fn emit(
                 stats.add(&c.stats);
             }
             let kept_runs = choices.iter().filter(|c| c.form.is_none()).count();
+            let mut run_times = vec![None; reread.len()];
+            for (&(_, c), j) in pairs.iter().zip(&judged) {
+                run_times[c] = j.1;
+            }
             return Ok(Emitted {
                 budget: opts.budget,
                 text,
@@ -393,6 +427,11 @@ pub fn emit(
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
                 kept_runs,
+                reading: Some(WrittenReading {
+                    program: reread_program,
+                    runs: reread,
+                    run_times,
+                }),
             });
         }
         attempt += 1;

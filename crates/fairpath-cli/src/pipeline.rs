@@ -278,6 +278,20 @@ fn plan_program(
     keep_plans: bool,
     what: &'static str,
 ) -> Result<(Times, Vec<RunPlan>)> {
+    plan_program_known(program, runs, &[], machine, override_feed, keep_plans, what)
+}
+
+/// [`plan_program`], with the time of run `k` taken from `known[k]` where
+/// it is `Some` (a plan with the same options, already made).
+fn plan_program_known(
+    program: &Program,
+    runs: &[&[Piece]],
+    known: &[Option<f64>],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<(Times, Vec<RunPlan>)> {
     enum Job<'a> {
         Run(usize, &'a [Piece]),
         Rapid(&'a Piece),
@@ -310,6 +324,9 @@ fn plan_program(
     type Planned = (f64, f64, Option<(usize, RunPlan)>);
     let planned: Vec<Result<Planned>> = par_map(jobs.len(), |j| match jobs[j] {
         Job::Run(k, pieces) => {
+            if let (false, Some(Some(t))) = (keep_plans, known.get(k)) {
+                return Ok((*t, 0.0, None));
+            }
             let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
             let plan = plan_run(pieces, &po)
                 .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
@@ -439,6 +456,29 @@ pub fn plan_text(path: &Path, text: &str, opts: &SmoothOptions) -> Result<Times>
         what,
     )?
     .0)
+}
+
+/// The planned time of what [`emit`] wrote, exactly as [`plan_text`]
+/// plans `emitted.text`: from the reading the writer's check made (taken
+/// out of `emitted`), without reading the text again or planning again
+/// the runs the check planned the same way.
+pub fn plan_written(
+    path: &Path,
+    emitted: &mut crate::emit::Emitted,
+    opts: &SmoothOptions,
+) -> Result<Times> {
+    let Some(reading) = emitted.reading.take() else {
+        return plan_text(path, &emitted.text, opts);
+    };
+    if emitted.text.bytes().all(|b| b.is_ascii_whitespace()) {
+        bail!("{}: empty program", path.display());
+    }
+    let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the written program";
+    let m = &opts.machine;
+    let known = &reading.run_times;
+    let program = &reading.program;
+    Ok(plan_program_known(program, &pieces, known, m, opts.override_feed, false, what)?.0)
 }
 
 /// Groups feed pieces (from JSON) into the original runs by the input lines
@@ -645,9 +685,9 @@ pub fn smooth_file(
     for (r, pieces) in result.runs.iter_mut().zip(smoothed) {
         r.smoothed.pieces = pieces;
     }
-    let emitted = emitted?;
+    let mut emitted = emitted?;
     phases.mark("render, write, check");
-    let written_times = plan_text(output, &emitted.text, opts)?;
+    let written_times = plan_written(output, &mut emitted, opts)?;
     phases.mark("plan written");
     let times = JobTimes {
         input: input_times,
