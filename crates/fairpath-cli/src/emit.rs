@@ -137,12 +137,12 @@ pub struct Emitted {
     pub reading: Option<WrittenReading>,
 }
 
-/// The written G-code as read back: the program, its runs, and the time of
+/// The written G-code as read back: its motions, its runs, and the time of
 /// each run at the user's feeds where the check already planned it exactly
 /// as `fairpath simulate` does (corners blended), else `None`.
 #[derive(Clone, Debug)]
 pub struct WrittenReading {
-    pub program: Program,
+    pub outline: Vec<crate::pipeline::MotionOutline>,
     pub runs: Vec<Run>,
     pub run_times: Vec<Option<f64>>,
 }
@@ -362,7 +362,12 @@ pub fn emit(
             .map_err(|e| anyhow!("writing G-code: {e}"))?;
         let reread_program = fairpath_gcode::parse(text.as_bytes())
             .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?;
+        // What planning the written program needs of it; the program
+        // itself is dropped at once (on long outputs it is the largest
+        // thing held).
+        let reread_outline = crate::pipeline::outline(&reread_program);
         let reread = reread_program.runs();
+        drop(reread_program);
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
         let mut is_failed = vec![false; choices.len()];
@@ -428,7 +433,7 @@ pub fn emit(
                 retried_runs: retried.iter().filter(|&&r| r).count(),
                 kept_runs,
                 reading: Some(WrittenReading {
-                    program: reread_program,
+                    outline: reread_outline,
                     runs: reread,
                     run_times,
                 }),

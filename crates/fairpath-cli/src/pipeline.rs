@@ -278,13 +278,58 @@ fn plan_program(
     keep_plans: bool,
     what: &'static str,
 ) -> Result<(Times, Vec<RunPlan>)> {
-    plan_program_known(program, runs, &[], machine, override_feed, keep_plans, what)
+    let outline = outline(program);
+    plan_program_known(
+        &outline,
+        runs,
+        &[],
+        machine,
+        override_feed,
+        keep_plans,
+        what,
+    )
+}
+
+/// One motion of a program as [`simulate`] plans it, without the program.
+#[derive(Clone, Debug)]
+pub enum MotionOutline {
+    /// Run `k` (in the order of `Program::runs`).
+    Run(usize),
+    Rapid(Piece),
+    /// A feed move that is a motion of its own (pinned).
+    Pinned(Piece),
+}
+
+/// The motions of `program` in order, as [`crate::simulate::gcode_motions`]
+/// makes them, with its runs by index: what planning it needs once the
+/// program itself is dropped.
+pub fn outline(program: &Program) -> Vec<MotionOutline> {
+    let mut out = Vec::with_capacity(2 * program.run_spans().len() + 1);
+    let spans = program.run_spans();
+    let moves = program.moves();
+    let (mut next_run, mut mi) = (0, 0);
+    while mi < moves.len() {
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            out.push(MotionOutline::Run(next_run));
+            mi = spans[next_run].moves.end;
+            next_run += 1;
+            continue;
+        }
+        let p = &moves[mi].piece;
+        out.push(if p.rapid {
+            MotionOutline::Rapid(p.clone())
+        } else {
+            MotionOutline::Pinned(p.clone())
+        });
+        mi += 1;
+    }
+    out
 }
 
 /// [`plan_program`], with the time of run `k` taken from `known[k]` where
 /// it is `Some` (a plan with the same options, already made).
 fn plan_program_known(
-    program: &Program,
+    outline: &[MotionOutline],
     runs: &[&[Piece]],
     known: &[Option<f64>],
     machine: &MachineLimits,
@@ -296,25 +341,14 @@ fn plan_program_known(
         Run(usize, &'a [Piece]),
         Rapid(&'a Piece),
     }
-    let mut jobs: Vec<Job> = Vec::with_capacity(runs.len());
-    let spans = program.run_spans();
-    let moves = program.moves();
-    let (mut next_run, mut mi) = (0, 0);
-    while mi < moves.len() {
-        if next_run < spans.len() && spans[next_run].moves.start == mi {
-            jobs.push(Job::Run(next_run, runs[next_run]));
-            mi = spans[next_run].moves.end;
-            next_run += 1;
-            continue;
-        }
-        let m = &moves[mi];
-        if m.piece.rapid {
-            jobs.push(Job::Rapid(&m.piece));
-        } else {
-            jobs.push(Job::Run(usize::MAX, std::slice::from_ref(&m.piece)));
-        }
-        mi += 1;
-    }
+    let jobs: Vec<Job> = outline
+        .iter()
+        .map(|m| match m {
+            MotionOutline::Run(k) => Job::Run(*k, runs[*k]),
+            MotionOutline::Rapid(p) => Job::Rapid(p),
+            MotionOutline::Pinned(p) => Job::Run(usize::MAX, std::slice::from_ref(p)),
+        })
+        .collect();
     let po = PlanOptions {
         limits: *machine,
         override_feed,
@@ -396,25 +430,49 @@ pub fn plan_curves(
     result: &SmoothResult,
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<fairpath::feed::plan::RunPlan>)> {
-    let m = &opts.machine;
-    let runs: Vec<&[Piece]> = result
+    let (_, exact, plans) = plan_input_and_curves(program, result, opts, false)?;
+    Ok((exact, plans))
+}
+
+/// [`plan_curves`], and with `input` the planned time of the input
+/// ([`plan_input`], from the runs already read): the plans are made side
+/// by side, two at a time on the two cores this is written for (more at
+/// once would only hold more plans in memory), without copies of the runs.
+fn plan_input_and_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+    input: bool,
+) -> Result<(Option<Times>, Times, Vec<RunPlan>)> {
+    #[derive(Clone, Copy)]
+    enum Task {
+        Input,
+        /// The curves at the programmed feeds (with the plans when those
+        /// are the renderer's: feeds overridden).
+        Exact,
+        /// The renderer's plans, at the maximum feed.
+        Plans,
+    }
+    let (m, override_feed) = (&opts.machine, opts.override_feed);
+    let curves: Vec<&[Piece]> = result
         .runs
         .iter()
         .map(|r| r.smoothed.pieces.as_slice())
         .collect();
-    let what = "planning the curves";
-    if opts.override_feed {
-        // The plans at the programmed feeds are the renderer's.
-        return plan_program(program, &runs, m, true, true, what);
+    let mut tasks = Vec::new();
+    if input {
+        tasks.push(Task::Input);
     }
-    // The exact time at the programmed feeds and the renderer's plans at
-    // the maximum feed, side by side.
-    let (exact, plans) = std::thread::scope(|s| {
-        let exact = s.spawn(|| plan_program(program, &runs, m, false, false, what));
-        let plans: Vec<Result<RunPlan>> = par_map(runs.len(), |k| {
+    tasks.push(Task::Exact);
+    if !override_feed {
+        tasks.push(Task::Plans);
+    }
+    let what = "planning the curves";
+    let renderer_plans = || -> Result<Vec<RunPlan>> {
+        par_map(curves.len(), |k| {
             // A run smoothed into itself is written as the program wrote
             // it, never rendered ([`crate::emit::emit`]): no plan.
-            if result.runs[k].original.pieces == runs[k] {
+            if result.runs[k].original.pieces == curves[k] {
                 return Ok(RunPlan::default());
             }
             let po = PlanOptions {
@@ -422,15 +480,61 @@ pub fn plan_curves(
                 override_feed: true,
                 window: None,
             };
-            let line = runs[k].first().map(|p| p.source_lines.0).unwrap_or(0);
-            plan_run(runs[k], &po)
+            let line = curves[k].first().map(|p| p.source_lines.0).unwrap_or(0);
+            plan_run(curves[k], &po)
                 .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
                 .context(what)
-        });
-        (exact.join().expect("planning does not panic"), plans)
+        })
+        .into_iter()
+        .collect()
+    };
+    let done: Vec<Result<(Times, Vec<RunPlan>)>> = par_map(tasks.len(), |i| match tasks[i] {
+        Task::Input => {
+            let runs: Vec<&[Piece]> = result
+                .runs
+                .iter()
+                .map(|r| r.original.pieces.as_slice())
+                .collect();
+            plan_program(
+                program,
+                &runs,
+                m,
+                override_feed,
+                false,
+                "planning the input",
+            )
+        }
+        // Feeds overridden: the plans at the programmed feeds are the
+        // renderer's.
+        Task::Exact => plan_program(program, &curves, m, override_feed, override_feed, what),
+        Task::Plans => Ok((
+            Times {
+                total: 0.0,
+                feed: 0.0,
+            },
+            renderer_plans()?,
+        )),
     });
-    let plans = plans.into_iter().collect::<Result<Vec<_>>>()?;
-    Ok((exact?.0, plans))
+    let mut input_times = None;
+    let mut exact = Times {
+        total: 0.0,
+        feed: 0.0,
+    };
+    let mut plans = Vec::new();
+    for (task, r) in tasks.into_iter().zip(done) {
+        let (times, p) = r?;
+        match task {
+            Task::Input => input_times = Some(times),
+            Task::Exact => {
+                exact = times;
+                if override_feed {
+                    plans = p;
+                }
+            }
+            Task::Plans => plans = p,
+        }
+    }
+    Ok((input_times, exact, plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
@@ -477,8 +581,8 @@ pub fn plan_written(
     let what = "planning the written program";
     let m = &opts.machine;
     let known = &reading.run_times;
-    let program = &reading.program;
-    Ok(plan_program_known(program, &pieces, known, m, opts.override_feed, false, what)?.0)
+    let outline = &reading.outline;
+    Ok(plan_program_known(outline, &pieces, known, m, opts.override_feed, false, what)?.0)
 }
 
 /// Groups feed pieces (from JSON) into the original runs by the input lines
@@ -656,21 +760,8 @@ pub fn smooth_file(
     }
     // The input and the curves planned side by side, from the runs
     // already read (no copies).
-    let (machine, override_feed) = (opts.machine, opts.override_feed);
-    let (input_times, curves) = std::thread::scope(|s| {
-        let input = s.spawn(|| {
-            let runs: Vec<&[Piece]> = result
-                .runs
-                .iter()
-                .map(|r| r.original.pieces.as_slice())
-                .collect();
-            let what = "planning the input";
-            plan_program(&program, &runs, &machine, override_feed, false, what).map(|t| t.0)
-        });
-        let curves = plan_curves(&program, &result, opts);
-        (input.join().expect("planning does not panic"), curves)
-    });
-    let (input_times, (exact_times, plans)) = (input_times?, curves?);
+    let (input_times, exact_times, plans) = plan_input_and_curves(&program, &result, opts, true)?;
+    let input_times = input_times.expect("the input is planned");
     phases.mark("plan input and curves");
     // The smoothed pieces lent to the emitter and put back for the
     // summary (no copy).
