@@ -275,22 +275,24 @@ pub fn emit(
         }
     };
     // The planned time of each of the program's own runs, at each feed.
-    // One job per run and feed (a single long run is planned at both feeds
-    // side by side).
     // A run smoothed into itself (method `none`) is written as the program
     // wrote it: no rendering could say it more exactly, and its own times
-    // are not needed.
+    // are not needed. (Runs side by side, each run's feeds one after the
+    // other: two plans of one long input run at once held 150 MB more on
+    // surface-raster-large.ngc and saved little.)
     let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
     let nf = feeds.len();
-    let own_flat = par_map(smoothed.len() * nf, |i| {
-        if itself[i / nf] {
-            return Ok(f64::INFINITY);
+    let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
+        if itself[k] {
+            return Ok(vec![f64::INFINITY; nf]);
         }
-        time(&original[i / nf].pieces, feeds[i % nf])
+        feeds
+            .iter()
+            .map(|&f| time(&original[k].pieces, f))
+            .collect::<Result<Vec<f64>>>()
     })
     .into_iter()
-    .collect::<Result<Vec<f64>>>()?;
-    let own: Vec<Vec<f64>> = own_flat.chunks(nf).map(|c| c.to_vec()).collect();
+    .collect::<Result<_>>()?;
     // A run's times at each feed (`t(feed)`), side by side for a long run.
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| -> Result<Vec<f64>> {
         if len >= PARALLEL_FEEDS_PIECES && nf > 1 {
