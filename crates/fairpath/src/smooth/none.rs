@@ -5,9 +5,11 @@
 //! same verified path as every other method, and is the baseline the
 //! other methods' cost is measured against (`scripts/scale.sh`).
 
-use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
+use super::{check_tolerance, CornerReason, KeptCorner, SmoothError, SmoothedRun, Smoother};
+use crate::geom::{classify_joint, Continuity, Curve, JointTolerances, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
+use core::f64::consts::PI;
 
 /// Consecutive pieces of a run count as meeting when their ends are within
 /// this share of the tolerance (the same as the other methods' cleaning:
@@ -15,8 +17,10 @@ use alloc::vec::Vec;
 pub const NONE_GAP_SHARE: f64 = 1e-3;
 
 /// The method that changes nothing: each run's pieces as they are (no
-/// zero-length moves dropped, no vertices merged, every joint kept as the
-/// program has it; the verifier's joint classes say what they are).
+/// zero-length moves dropped, no vertices merged). Every joint stays as the
+/// program has it, and each that is not G2 is reported as a kept corner,
+/// as the other methods report theirs: [`CornerReason::Reversal`] where the
+/// path turns back, [`CornerReason::NoRoom`] otherwise (as `arc-fit`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NoSmoothing;
 
@@ -42,10 +46,37 @@ impl Smoother for NoSmoothing {
             p.rapid = false;
             pieces.push(p);
         }
+        let jt = JointTolerances::from_tolerance(tolerance);
+        let mut kept_corners = Vec::new();
+        for w in pieces.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            if classify_joint(&a.curve, &b.curve, &jt) != Continuity::G2 {
+                let (ta, tb) = (end_tangent(&a.curve), b.curve.deriv1(b.curve.domain().0));
+                let reason = if ta.angle_to(tb) >= PI - 2.0 * jt.angle {
+                    CornerReason::Reversal
+                } else {
+                    CornerReason::NoRoom
+                };
+                kept_corners.push(KeptCorner {
+                    at: b.start(),
+                    source_line: a.source_lines.1,
+                    reason,
+                });
+            }
+        }
         Ok(SmoothedRun {
             pieces,
+            kept_corners,
             ..SmoothedRun::default()
         })
+    }
+}
+
+/// The direction in which `c` ends.
+fn end_tangent(c: &Curve) -> Vec3 {
+    match c {
+        Curve::Line(l) => l.p1 - l.p0,
+        c => c.deriv1(c.domain().1),
     }
 }
 
@@ -73,8 +104,14 @@ mod tests {
         let run = Run::new(vec![line(a, b, 2), line(b, b, 3), line(b, c, 4)]);
         let out = NoSmoothing.smooth_run(&run, 0.05).unwrap();
         assert_eq!(out.pieces, run.pieces);
-        assert!(out.kept_corners.is_empty());
         assert_eq!(out.transitions, 0);
+        // The corner at b is kept (the zero-length move's joints too).
+        assert!(out.kept_corners.iter().any(|k| k.at == b));
+        let back = Run::new(vec![line(a, b, 2), line(b, a, 3)]);
+        let out = NoSmoothing.smooth_run(&back, 0.05).unwrap();
+        assert_eq!(out.kept_corners.len(), 1);
+        assert_eq!(out.kept_corners[0].reason, CornerReason::Reversal);
+        assert_eq!(out.kept_corners[0].source_line, 2);
     }
 
     #[test]
