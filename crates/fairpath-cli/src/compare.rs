@@ -11,7 +11,7 @@
 use crate::emit::emit;
 use crate::parallel::verify_runs;
 use crate::pipeline::{
-    plan_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
+    plan_curves, plan_written, read_program, smooth_program, Phases, SmoothOptions,
 };
 use crate::simulate::{gcode_motions, simulate};
 use crate::{Controller, Format};
@@ -183,9 +183,9 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         let pieces: Vec<Vec<Piece>> = smoothed.iter().map(|r| r.pieces.clone()).collect();
         for &format in &opts.formats {
             let fo = options(name, format)?;
-            let e = emit(&program, &pieces, &plans, &fo.emit_options())
+            let mut e = emit(&program, &pieces, &plans, &fo.emit_options())
                 .with_context(|| format!("{name}: writing {}", format.name()))?;
-            let t = plan_text(path, &e.text, &fo)
+            let t = plan_written(path, &mut e, &fo)
                 .with_context(|| format!("{name}: planning the {} output", format.name()))?;
             r.written.push(WrittenRow {
                 format,

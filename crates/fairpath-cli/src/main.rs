@@ -376,9 +376,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             use fairpath_cli::compare;
             let m = machine.limits()?;
+            // Every method but `none`: the `original` row is the untouched
+            // program already.
             let methods = methods.unwrap_or_else(|| {
                 fairpath::choose::METHODS
                     .iter()
+                    .filter(|&&s| s != "none")
                     .map(|s| s.to_string())
                     .collect()
             });

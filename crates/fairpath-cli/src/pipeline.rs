@@ -4,13 +4,15 @@
 //! and plan it as `fairpath simulate` would.
 
 use crate::emit::{emit, EmitOptions};
+use crate::parallel::par_map;
 use crate::parallel::verify_runs;
-use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate, Simulation};
+use crate::simulate::{motions_of, simulate, Simulation};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::budget::ToleranceBudget;
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
 use fairpath::path::{Piece, Run};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, SmoothedRun, Smoother};
@@ -261,21 +263,161 @@ pub struct JobTimes {
     pub written: Times,
 }
 
-/// The smoothed runs as runs.
-fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
-    result
-        .runs
+/// The planned times of `program` with its runs' pieces replaced by
+/// `runs` (in the order of `Program::runs`; pinned moves and rapids as the
+/// program has them), exactly as [`simulate`] sums them (same plans, same
+/// order of addition), without keeping copies of the runs or their plans:
+/// the motions are planned on all cores, the times added in order. With
+/// `keep_plans`, also the plan of each of `runs`. `what` names the step in
+/// errors.
+fn plan_program(
+    program: &Program,
+    runs: &[&[Piece]],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<(Times, Vec<RunPlan>)> {
+    let outline = outline(program);
+    plan_program_known(
+        &outline,
+        runs,
+        &[],
+        machine,
+        override_feed,
+        keep_plans,
+        what,
+    )
+}
+
+/// One motion of a program as [`simulate`] plans it, without the program.
+#[derive(Clone, Debug)]
+pub enum MotionOutline {
+    /// Run `k` (in the order of `Program::runs`).
+    Run(usize),
+    Rapid(Piece),
+    /// A feed move that is a motion of its own (pinned).
+    Pinned(Piece),
+}
+
+/// The motions of `program` in order, as [`crate::simulate::gcode_motions`]
+/// makes them, with its runs by index: what planning it needs once the
+/// program itself is dropped.
+pub fn outline(program: &Program) -> Vec<MotionOutline> {
+    let mut out = Vec::with_capacity(2 * program.run_spans().len() + 1);
+    let spans = program.run_spans();
+    let moves = program.moves();
+    let (mut next_run, mut mi) = (0, 0);
+    while mi < moves.len() {
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            out.push(MotionOutline::Run(next_run));
+            mi = spans[next_run].moves.end;
+            next_run += 1;
+            continue;
+        }
+        let p = &moves[mi].piece;
+        out.push(if p.rapid {
+            MotionOutline::Rapid(p.clone())
+        } else {
+            MotionOutline::Pinned(p.clone())
+        });
+        mi += 1;
+    }
+    out
+}
+
+/// [`plan_program`], with the time of run `k` taken from `known[k]` where
+/// it is `Some` (a plan with the same options, already made).
+fn plan_program_known(
+    outline: &[MotionOutline],
+    runs: &[&[Piece]],
+    known: &[Option<f64>],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<(Times, Vec<RunPlan>)> {
+    enum Job<'a> {
+        Run(usize, &'a [Piece]),
+        Rapid(&'a Piece),
+    }
+    let jobs: Vec<Job> = outline
         .iter()
-        .map(|r| Run::new(r.smoothed.pieces.clone()))
-        .collect()
+        .map(|m| match m {
+            MotionOutline::Run(k) => Job::Run(*k, runs[*k]),
+            MotionOutline::Rapid(p) => Job::Rapid(p),
+            MotionOutline::Pinned(p) => Job::Run(usize::MAX, std::slice::from_ref(p)),
+        })
+        .collect();
+    let po = PlanOptions {
+        limits: *machine,
+        override_feed,
+        window: None,
+    };
+    // (feed time, rapid time, the plan kept).
+    type Planned = (f64, f64, Option<(usize, RunPlan)>);
+    let planned: Vec<Result<Planned>> = par_map(jobs.len(), |j| match jobs[j] {
+        Job::Run(k, pieces) => {
+            if let (false, Some(Some(t))) = (keep_plans, known.get(k)) {
+                return Ok((*t, 0.0, None));
+            }
+            let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let plan = plan_run(pieces, &po)
+                .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
+                .context(what)?;
+            let time = plan.time;
+            Ok((
+                time,
+                0.0,
+                (keep_plans && k != usize::MAX).then_some((k, plan)),
+            ))
+        }
+        Job::Rapid(p) => {
+            let len = p.curve.length(1e-6);
+            if len.is_nan() || len <= 0.0 {
+                return Ok((0.0, 0.0, None));
+            }
+            let prof = plan_rapid(len, machine)
+                .map_err(|e| anyhow!("planning a rapid: {e}"))
+                .context(what)?;
+            Ok((0.0, prof.duration(), None))
+        }
+    });
+    drop(jobs);
+    let (mut feed, mut rapid) = (0.0, 0.0);
+    let mut plans: Vec<RunPlan> = Vec::with_capacity(if keep_plans { runs.len() } else { 0 });
+    for r in planned {
+        let (f, r, plan) = r?;
+        feed += f;
+        rapid += r;
+        if let Some((k, plan)) = plan {
+            debug_assert_eq!(k, plans.len());
+            plans.push(plan);
+        }
+    }
+    Ok((
+        Times {
+            total: feed + rapid,
+            feed,
+        },
+        plans,
+    ))
 }
 
 /// The planned time of the input, as `fairpath simulate` plans the file.
 pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
-    let motions = gcode_motions(program, &program.runs());
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .context("planning the input")?;
-    Ok(Times::of(&sim))
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the input";
+    Ok(plan_program(
+        program,
+        &pieces,
+        &opts.machine,
+        opts.override_feed,
+        false,
+        what,
+    )?
+    .0)
 }
 
 /// The planned time of the exact curves in the program, and the plan of
@@ -288,39 +430,195 @@ pub fn plan_curves(
     result: &SmoothResult,
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<fairpath::feed::plan::RunPlan>)> {
-    let m = &opts.machine;
-    let runs = smoothed_runs(result);
-    let (motions, index) = gcode_motions_indexed(program, &runs);
-    let exact = simulate(&motions, m, opts.override_feed, None).context("planning the curves")?;
-    let plans = if opts.override_feed {
-        index.iter().map(|&i| exact.plans[i].1.clone()).collect()
-    } else {
-        let feed_runs: Vec<crate::simulate::Motion> = runs
-            .into_iter()
-            .map(crate::simulate::Motion::Feed)
-            .collect();
-        simulate(&feed_runs, m, true, None)
-            .context("planning the curves")?
-            .plans
-            .into_iter()
-            .map(|p| p.1)
-            .collect()
+    let (_, exact, plans) = plan_input_and_curves(program, result, opts, false)?;
+    Ok((exact, plans))
+}
+
+/// [`plan_curves`], and with `input` the planned time of the input
+/// ([`plan_input`], from the runs already read): the plans are made side
+/// by side, two at a time on the two cores this is written for (more at
+/// once would only hold more plans in memory), without copies of the runs.
+fn plan_input_and_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+    input: bool,
+) -> Result<(Option<Times>, Times, Vec<RunPlan>)> {
+    #[derive(Clone, Copy)]
+    enum Task {
+        Input,
+        /// The curves at the programmed feeds (with the plans when those
+        /// are the renderer's: feeds overridden).
+        Exact,
+        /// The renderer's plans, at the maximum feed.
+        Plans,
+    }
+    let (m, override_feed) = (&opts.machine, opts.override_feed);
+    let curves: Vec<&[Piece]> = result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.as_slice())
+        .collect();
+    let mut tasks = Vec::new();
+    if input {
+        tasks.push(Task::Input);
+    }
+    tasks.push(Task::Exact);
+    if !override_feed {
+        tasks.push(Task::Plans);
+    }
+    let what = "planning the curves";
+    let renderer_plans = || -> Result<Vec<RunPlan>> {
+        par_map(curves.len(), |k| {
+            // A run smoothed into itself is written as the program wrote
+            // it, never rendered ([`crate::emit::emit`]): no plan.
+            if result.runs[k].original.pieces == curves[k] {
+                return Ok(RunPlan::default());
+            }
+            let po = PlanOptions {
+                limits: *m,
+                override_feed: true,
+                window: None,
+            };
+            let line = curves[k].first().map(|p| p.source_lines.0).unwrap_or(0);
+            plan_run(curves[k], &po)
+                .map_err(|e| anyhow!("planning the run at line {line}: {e}"))
+                .context(what)
+        })
+        .into_iter()
+        .collect()
     };
-    Ok((Times::of(&exact), plans))
+    let done: Vec<Result<(Times, Vec<RunPlan>)>> = par_map(tasks.len(), |i| match tasks[i] {
+        Task::Input => {
+            let runs: Vec<&[Piece]> = result
+                .runs
+                .iter()
+                .map(|r| r.original.pieces.as_slice())
+                .collect();
+            plan_program(
+                program,
+                &runs,
+                m,
+                override_feed,
+                false,
+                "planning the input",
+            )
+        }
+        // Feeds overridden: the plans at the programmed feeds are the
+        // renderer's.
+        Task::Exact => plan_program(program, &curves, m, override_feed, override_feed, what),
+        Task::Plans => Ok((
+            Times {
+                total: 0.0,
+                feed: 0.0,
+            },
+            renderer_plans()?,
+        )),
+    });
+    let mut input_times = None;
+    let mut exact = Times {
+        total: 0.0,
+        feed: 0.0,
+    };
+    let mut plans = Vec::new();
+    for (task, r) in tasks.into_iter().zip(done) {
+        let (times, p) = r?;
+        match task {
+            Task::Input => input_times = Some(times),
+            Task::Exact => {
+                exact = times;
+                if override_feed {
+                    plans = p;
+                }
+            }
+            Task::Plans => plans = p,
+        }
+    }
+    Ok((input_times, exact, plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
 /// simulate` plans the file (`path` names it in errors).
 pub fn plan_text(path: &Path, text: &str, opts: &SmoothOptions) -> Result<Times> {
-    let motions = motions_of(path, text.as_bytes())?;
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .context("planning the written program")?;
-    Ok(Times::of(&sim))
+    let bytes = text.as_bytes();
+    if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
+        let motions = motions_of(path, bytes)?;
+        let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+            .context("planning the written program")?;
+        return Ok(Times::of(&sim));
+    }
+    let program = parse_program(path, bytes)?;
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the written program";
+    Ok(plan_program(
+        &program,
+        &pieces,
+        &opts.machine,
+        opts.override_feed,
+        false,
+        what,
+    )?
+    .0)
+}
+
+/// The planned time of what [`emit`] wrote, exactly as [`plan_text`]
+/// plans `emitted.text`: from the reading the writer's check made (taken
+/// out of `emitted`), without reading the text again or planning again
+/// the runs the check planned the same way.
+pub fn plan_written(
+    path: &Path,
+    emitted: &mut crate::emit::Emitted,
+    opts: &SmoothOptions,
+) -> Result<Times> {
+    let Some(reading) = emitted.reading.take() else {
+        return plan_text(path, &emitted.text, opts);
+    };
+    if emitted.text.bytes().all(|b| b.is_ascii_whitespace()) {
+        bail!("{}: empty program", path.display());
+    }
+    let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let what = "planning the written program";
+    let m = &opts.machine;
+    let known = &reading.run_times;
+    let outline = &reading.outline;
+    Ok(plan_program_known(outline, &pieces, known, m, opts.override_feed, false, what)?.0)
 }
 
 /// Groups feed pieces (from JSON) into the original runs by the input lines
 /// they name.
 pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
+    // Feed pieces by first line: each run takes those from its first line
+    // on, up to its last (a piece's lines never run backwards), in their
+    // order (no scan of every piece per run).
+    let mut by_line: Vec<usize> = (0..pieces.len()).filter(|&i| !pieces[i].rapid).collect();
+    if by_line
+        .iter()
+        .any(|&i| pieces[i].source_lines.0 > pieces[i].source_lines.1)
+    {
+        return group_by_source_scan(original, pieces);
+    }
+    by_line.sort_by_key(|&i| pieces[i].source_lines.0);
+    original
+        .iter()
+        .map(|run| {
+            let lo = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let hi = run.pieces.last().map(|p| p.source_lines.1).unwrap_or(0);
+            let from = by_line.partition_point(|&i| pieces[i].source_lines.0 < lo);
+            let mut take: Vec<usize> = by_line[from..]
+                .iter()
+                .take_while(|&&i| pieces[i].source_lines.0 <= hi)
+                .filter(|&&i| pieces[i].source_lines.1 <= hi)
+                .copied()
+                .collect();
+            take.sort_unstable();
+            Run::new(take.into_iter().map(|i| pieces[i].clone()).collect())
+        })
+        .collect()
+}
+
+/// [`group_by_source`] by a scan of every piece for each run.
+fn group_by_source_scan(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
     original
         .iter()
         .map(|run| {
@@ -460,17 +758,27 @@ pub fn smooth_file(
             opts.budget()
         );
     }
-    let input_times = plan_input(&program, opts)?;
-    let (exact_times, plans) = plan_curves(&program, &result, opts)?;
+    // The input and the curves planned side by side, from the runs
+    // already read (no copies).
+    let (input_times, exact_times, plans) = plan_input_and_curves(&program, &result, opts, true)?;
+    let input_times = input_times.expect("the input is planned");
     phases.mark("plan input and curves");
+    // The smoothed pieces lent to the emitter and put back for the
+    // summary (no copy).
+    let mut result = result;
     let smoothed: Vec<Vec<Piece>> = result
         .runs
-        .iter()
-        .map(|r| r.smoothed.pieces.clone())
+        .iter_mut()
+        .map(|r| std::mem::take(&mut r.smoothed.pieces))
         .collect();
-    let emitted = emit(&program, &smoothed, &plans, &opts.emit_options())?;
+    let emitted = emit(&program, &smoothed, &plans, &opts.emit_options());
+    drop(plans);
+    for (r, pieces) in result.runs.iter_mut().zip(smoothed) {
+        r.smoothed.pieces = pieces;
+    }
+    let mut emitted = emitted?;
     phases.mark("render, write, check");
-    let written_times = plan_text(output, &emitted.text, opts)?;
+    let written_times = plan_written(output, &mut emitted, opts)?;
     phases.mark("plan written");
     let times = JobTimes {
         input: input_times,

@@ -7,9 +7,9 @@
 //! curves verified within the tolerance with exact run endpoints.
 //! `scripts/bounded-work.sh` times the same cases with the release binary.
 
+use fairpath::choose::by_name;
 use fairpath::geom::{flatten_params, Curve, ParamCurve, SegmentGrid};
 use fairpath::path::Run;
-use fairpath::choose::by_name;
 use fairpath::verify::{verify_run, VerifyOptions};
 
 /// An inch arc of radius 2 in, then a long 3D line.

@@ -6,7 +6,7 @@ use super::auto::{Auto, AutoOptions};
 use super::objective::{Objective, PlannedTime};
 use crate::smooth::{
     ArcFit, ArcFitOptions, BsplineCorner, BsplineCornerOptions, BsplineFit, BsplineFitOptions, Ctm,
-    CtmOptions, Lotm, LotmOptions, OptionError, Smoother,
+    CtmOptions, Lotm, LotmOptions, NoSmoothing, OptionError, Smoother,
 };
 use alloc::boxed::Box;
 use alloc::sync::Arc;
@@ -26,6 +26,9 @@ pub enum Method {
     Ctm(CtmOptions),
     /// `lotm`: Bezier corner transitions, optimised coefficient (seed 001).
     Lotm(LotmOptions),
+    /// `none`: every run as it is (the baseline; expands a parameterised
+    /// program through the verified pipeline).
+    None,
 }
 
 /// Names of the methods, as the command line spells them.
@@ -36,6 +39,7 @@ pub const METHODS: &[&str] = &[
     "bspline-fit",
     "ctm",
     "lotm",
+    "none",
 ];
 
 impl Method {
@@ -48,6 +52,7 @@ impl Method {
             "bspline-fit" => Method::BsplineFit(BsplineFitOptions::default()),
             "ctm" => Method::Ctm(CtmOptions::default()),
             "lotm" => Method::Lotm(LotmOptions::default()),
+            "none" => Method::None,
             _ => return None,
         })
     }
@@ -67,6 +72,10 @@ impl Method {
             "bspline-fit" => Method::BsplineFit(BsplineFitOptions::deserialize(options)?),
             "ctm" => Method::Ctm(CtmOptions::deserialize(options)?),
             "lotm" => Method::Lotm(LotmOptions::deserialize(options)?),
+            "none" => {
+                <serde::de::IgnoredAny as Deserialize>::deserialize(options)?;
+                Method::None
+            }
             _ => return Ok(None),
         }))
     }
@@ -80,6 +89,7 @@ impl Method {
             Method::BsplineFit(_) => "bspline-fit",
             Method::Ctm(_) => "ctm",
             Method::Lotm(_) => "lotm",
+            Method::None => "none",
         }
     }
 
@@ -92,6 +102,7 @@ impl Method {
             Method::BsplineFit(o) => o.validate(),
             Method::Ctm(o) => o.validate(),
             Method::Lotm(o) => o.validate(),
+            Method::None => Ok(()),
         }
     }
 
@@ -105,6 +116,7 @@ impl Method {
             Method::BsplineFit(options) => Box::new(BsplineFit { options }),
             Method::Ctm(options) => Box::new(Ctm { options }),
             Method::Lotm(options) => Box::new(Lotm { options }),
+            Method::None => Box::new(NoSmoothing),
         }
     }
 }

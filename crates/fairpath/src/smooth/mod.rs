@@ -16,6 +16,7 @@ mod fit_chain;
 mod fit_fill;
 mod fit_sections;
 mod lotm;
+mod none;
 mod options;
 
 pub use arc_fit::{
@@ -41,6 +42,7 @@ pub use lotm::{
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
     split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
 };
+pub use none::{NoSmoothing, NONE_GAP_SHARE};
 pub(crate) use options::require;
 pub use options::OptionError;
 
