@@ -144,6 +144,7 @@
 mod block_delete;
 mod cycles;
 pub mod error;
+pub mod format;
 pub mod interp;
 pub mod lang;
 pub mod lexer;
@@ -153,6 +154,7 @@ pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;
 
+pub use format::{Controller, Format};
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use interp::{parse, parse_with};
 pub use program::{
