@@ -9,7 +9,6 @@
 //! way: what a controller would run.
 
 use crate::emit::emit;
-use crate::parallel::verify_runs;
 use crate::pipeline::{
     plan_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
 };
@@ -19,6 +18,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
+use fairpath::pipeline::verify_runs;
 use fairpath::verify::{RunReport, VerifyOptions};
 use serde_json::json;
 use std::fmt::Write as _;

@@ -6,7 +6,6 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
-use crate::parallel::par_map;
 use crate::pipeline::{compare_runs, group_by_source, pair_runs, WrittenCheck};
 use crate::{Controller, Format};
 use anyhow::{anyhow, Result};
@@ -16,6 +15,7 @@ use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
+use fairpath::pipeline::par_map;
 use fairpath::render::{
     render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions, RenderStats,
 };

@@ -8,7 +8,6 @@
 pub mod check;
 pub mod compare;
 pub mod output;
-pub mod parallel;
 pub mod pipeline;
 pub mod simulate;
 pub mod stream;

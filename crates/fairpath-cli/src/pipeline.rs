@@ -4,7 +4,6 @@
 //! and plan it as `fairpath simulate` would.
 
 use crate::emit::{emit, EmitOptions};
-use crate::parallel::verify_runs;
 use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate, Simulation};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
@@ -12,6 +11,7 @@ use fairpath::budget::ToleranceBudget;
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::path::{Piece, Run};
+use fairpath::pipeline::verify_runs;
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, SmoothedRun, Smoother};
 use fairpath::verify::{RunReport, VerifyOptions};

@@ -190,7 +190,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                         .map(|s| s.time)
                         .map_err(|e| anyhow!("{}: {e}", a.program.display()))
                 };
-                let keep_own: Vec<bool> = crate::parallel::par_map(result.runs.len(), |k| {
+                let keep_own: Vec<bool> = fairpath::pipeline::par_map(result.runs.len(), |k| {
                     let r = &result.runs[k];
                     Ok::<bool, anyhow::Error>(
                         time_of(&r.original.pieces)? < time_of(&r.smoothed.pieces)?,

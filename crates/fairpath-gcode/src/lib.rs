@@ -154,8 +154,8 @@ pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;
 
-pub use format::{Controller, Format};
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use format::{Controller, Format};
 pub use interp::{parse, parse_with};
 pub use program::{
     Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
