@@ -12,10 +12,10 @@ use crate::emit::emit;
 use crate::pipeline::{
     plan_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
 };
-use crate::simulate::{gcode_motions, simulate};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
@@ -143,7 +143,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     let runs = program.runs();
     // (total, feed moves only)
     let plan_time = |runs: &[Run]| -> Result<(f64, f64)> {
-        let motions = gcode_motions(&program, runs);
+        let motions = program.motions(runs);
         let sim = simulate(&motions, &opts.machine, opts.override_feed, None)?;
         Ok((sim.time(), sim.feed_time))
     };

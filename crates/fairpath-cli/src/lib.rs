@@ -7,9 +7,10 @@
 
 pub mod check;
 pub mod compare;
+pub mod machine;
 pub mod output;
 pub mod pipeline;
-pub mod simulate;
+pub mod simulate_command;
 pub mod stream;
 pub mod summary;
 

@@ -84,9 +84,9 @@ struct MachineArgs {
 
 impl MachineArgs {
     fn limits(&self) -> Result<fairpath::feed::limits::MachineLimits> {
-        fairpath_cli::simulate::machine(
+        fairpath_cli::machine::machine(
             self.machine.as_deref(),
-            fairpath_cli::simulate::MachineFlags {
+            fairpath_cli::machine::MachineFlags {
                 max_feed: self.max_feed,
                 acc: self.acc,
                 jerk: self.jerk,
@@ -334,7 +334,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 }
             }
             let m = machine.limits()?;
-            fairpath_cli::simulate::run(
+            fairpath_cli::simulate_command::run(
                 &program,
                 &m,
                 machine.override_feed,

@@ -4,12 +4,13 @@
 //! and plan it as `fairpath simulate` would.
 
 use crate::emit::{emit, EmitOptions};
-use crate::simulate::{gcode_motions, gcode_motions_indexed, motions_of, simulate, Simulation};
+use crate::simulate_command::motions_of;
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::budget::ToleranceBudget;
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::program::{simulate, Motion, Simulation};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
 use fairpath::render::arcs::STEP_SHARE;
@@ -272,7 +273,7 @@ fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
 
 /// The planned time of the input, as `fairpath simulate` plans the file.
 pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
-    let motions = gcode_motions(program, &program.runs());
+    let motions = program.motions(&program.runs());
     let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
         .context("planning the input")?;
     Ok(Times::of(&sim))
@@ -290,15 +291,12 @@ pub fn plan_curves(
 ) -> Result<(Times, Vec<fairpath::feed::plan::RunPlan>)> {
     let m = &opts.machine;
     let runs = smoothed_runs(result);
-    let (motions, index) = gcode_motions_indexed(program, &runs);
+    let (motions, index) = program.motions_indexed(&runs);
     let exact = simulate(&motions, m, opts.override_feed, None).context("planning the curves")?;
     let plans = if opts.override_feed {
         index.iter().map(|&i| exact.plans[i].1.clone()).collect()
     } else {
-        let feed_runs: Vec<crate::simulate::Motion> = runs
-            .into_iter()
-            .map(crate::simulate::Motion::Feed)
-            .collect();
+        let feed_runs: Vec<Motion> = runs.into_iter().map(Motion::Feed).collect();
         simulate(&feed_runs, m, true, None)
             .context("planning the curves")?
             .plans

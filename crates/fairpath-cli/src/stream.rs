@@ -12,11 +12,12 @@
 //! positions cannot carry. Dwells are held in the stream for their time.
 
 use crate::pipeline::{self, Phases, SmoothOptions};
-use crate::simulate::{self, Motion};
+use crate::simulate_command;
 use crate::Controller;
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::PlanOptions;
+use fairpath::feed::program::Motion;
 use fairpath::feed::stream::StreamedKind;
 use fairpath::feed::stream::{self as fstream, StreamOptions};
 use fairpath::path::Run;
@@ -71,7 +72,7 @@ fn first_line(m: &Motion) -> usize {
 /// The steps of a G-code program: its motions (smoothed runs when given)
 /// with the dwells between them, and the non-motion lines.
 fn gcode_steps(program: &fairpath_gcode::Program, runs: &[Run]) -> (Vec<Step>, Vec<LeftOut>) {
-    let motions = simulate::gcode_motions(program, runs);
+    let motions = program.motions(runs);
     let mut dwells = Vec::new();
     let mut left = Vec::new();
     for l in program.lines() {
@@ -126,7 +127,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         if a.tolerance.is_some() {
             bail!("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)");
         }
-        let motions = simulate::motions_of(a.program, &bytes)?;
+        let motions = simulate_command::motions_of(a.program, &bytes)?;
         let _ = writeln!(
             report,
             "  path:            {} streamed as it is",
@@ -462,7 +463,7 @@ pub fn axis_jerk(file: Option<&Path>, m: &MachineLimits) -> Result<[f64; 3]> {
     };
     let text =
         std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
-    let mf: simulate::MachineFile =
+    let mf: crate::machine::MachineFile =
         toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
     let j = mf.axis_jerk.unwrap_or([m.jerk; 3]);
     for (i, v) in j.iter().enumerate() {

@@ -148,6 +148,7 @@ pub mod format;
 pub mod interp;
 pub mod lang;
 pub mod lexer;
+mod motions;
 pub mod program;
 pub mod spline;
 pub mod write_gcode;
@@ -157,6 +158,7 @@ pub mod write_spline;
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use format::{Controller, Format};
 pub use interp::{parse, parse_with};
+pub use motions::json_motions;
 pub use program::{
     Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
     RunSpan, Units,
