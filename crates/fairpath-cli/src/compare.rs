@@ -19,6 +19,7 @@ use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
+use fairpath::pipeline::PipelineError;
 use fairpath::verify::{RunReport, VerifyOptions};
 use serde_json::json;
 use std::fmt::Write as _;
@@ -161,8 +162,13 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         let so = options(name, Format::Json)?;
         let budget = so.budget();
         let mut phases = Phases::new();
-        let result = smooth_program(&program, &so, &mut phases)
-            .with_context(|| format!("{name}: smoothing"))?;
+        // Curves that fail verification are a row that says so (and no
+        // written program: nothing is written from them).
+        let (result, verified) = match smooth_program(&program, &so, &mut phases) {
+            Ok(result) => (result, true),
+            Err(PipelineError::NotVerified { result, .. }) => (*result, false),
+            Err(e) => return Err(anyhow::Error::new(e).context(format!("{name}: smoothing"))),
+        };
         let smoothing_time = phases.duration("smooth").as_secs_f64();
         let smoothed: Vec<Run> = result
             .runs
@@ -181,7 +187,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             smoothing_time,
         );
         let pieces: Vec<Vec<Piece>> = smoothed.iter().map(|r| r.pieces.clone()).collect();
-        for &format in &opts.formats {
+        for &format in opts.formats.iter().filter(|_| verified) {
             let fo = options(name, format)?;
             let e = emit(&program, &pieces, &plans, &fo.emit_options())
                 .with_context(|| format!("{name}: writing {}", format.name()))?;

@@ -12,10 +12,9 @@ use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::program::{simulate, Motion, Simulation};
 use fairpath::path::{Piece, Run};
-use fairpath::pipeline::verify_runs;
+use fairpath::pipeline::{PipelineError, Stage};
 use fairpath::render::arcs::STEP_SHARE;
-use fairpath::smooth::{self, SmoothedRun, Smoother};
-use fairpath::verify::{RunReport, VerifyOptions};
+use fairpath::smooth::{self, Smoother};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 
@@ -187,54 +186,30 @@ impl Phases {
     }
 }
 
-/// One run before and after.
-pub struct RunResult {
-    pub original: Run,
-    pub smoothed: SmoothedRun,
-    pub report: RunReport,
-}
-
-pub struct SmoothResult {
-    pub runs: Vec<RunResult>,
-}
+pub use fairpath::pipeline::{
+    compare_runs, compare_runs_within, group_by_source, pair_runs, RunResult, SmoothResult,
+    WrittenCheck, ENDPOINT_ROUNDING_SHARE,
+};
 
 /// Smooths every run with the budget left by the chord tolerance and
-/// verifies the curves against that budget.
+/// verifies the curves against that budget (the library's
+/// [`fairpath::pipeline::smooth_runs`]): curves that fail are an error.
 pub fn smooth_program(
     program: &Program,
     opts: &SmoothOptions,
     phases: &mut Phases,
-) -> Result<SmoothResult> {
-    let budget = opts.budget();
-    let mut smoothed_runs = Vec::new();
-    let runs = program.runs();
-    for run in &runs {
-        let line = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
-        let smoothed = opts
-            .method
-            .smooth_run(run, budget)
-            .with_context(|| format!("smoothing the run starting at line {line}"))?;
-        smoothed_runs.push(smoothed);
-    }
-    phases.mark("smooth");
-    let pairs: Vec<(&[Piece], &[Piece])> = runs
-        .iter()
-        .zip(&smoothed_runs)
-        .map(|(r, s)| (r.pieces.as_slice(), s.pieces.as_slice()))
-        .collect();
-    let reports = verify_runs(&pairs, &VerifyOptions::new(budget));
-    let out = runs
-        .into_iter()
-        .zip(smoothed_runs)
-        .zip(reports)
-        .map(|((original, smoothed), report)| RunResult {
-            original,
-            smoothed,
-            report,
-        })
-        .collect();
-    phases.mark("verify curves");
-    Ok(SmoothResult { runs: out })
+) -> Result<SmoothResult, PipelineError> {
+    fairpath::pipeline::smooth_runs_observed(
+        program.runs(),
+        opts.method.as_ref(),
+        &opts.budget,
+        &mut |stage| {
+            phases.mark(match stage {
+                Stage::Smoothed => "smooth",
+                Stage::Verified => "verify curves",
+            })
+        },
+    )
 }
 
 /// Planned times of one program (feed moves and rapids), s.
@@ -316,120 +291,6 @@ pub fn plan_text(path: &Path, text: &str, opts: &SmoothOptions) -> Result<Times>
     Ok(Times::of(&sim))
 }
 
-/// Groups feed pieces (from JSON) into the original runs by the input lines
-/// they name.
-pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
-    original
-        .iter()
-        .map(|run| {
-            let lo = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
-            let hi = run.pieces.last().map(|p| p.source_lines.1).unwrap_or(0);
-            Run::new(
-                pieces
-                    .iter()
-                    .filter(|p| !p.rapid && p.source_lines.0 >= lo && p.source_lines.1 <= hi)
-                    .cloned()
-                    .collect(),
-            )
-        })
-        .collect()
-}
-
-fn is_zero_length(run: &Run) -> bool {
-    run.pieces
-        .iter()
-        .all(|p| matches!(&p.curve, fairpath::Curve::Line(l) if l.p0 == l.p1))
-}
-
-/// The verdict on the written output.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WrittenCheck {
-    pub within: bool,
-    pub max_deviation: f64,
-    pub endpoint_failures: usize,
-    pub runs_checked: usize,
-    /// The runs (index in the original's `runs()`) that failed; `None`
-    /// when the failure is not tied to runs.
-    pub failed_runs: Vec<Option<usize>>,
-}
-
-/// The runs of `candidate` that stand for each run of `original`, in
-/// order, as `(original index, candidate index)`: runs of zero length on
-/// either side are skipped. An error when the counts differ.
-pub fn pair_runs(original: &[Run], candidate: &[Run]) -> Result<Vec<(usize, usize)>> {
-    let o: Vec<usize> = (0..original.len())
-        .filter(|&i| !is_zero_length(&original[i]))
-        .collect();
-    let c: Vec<usize> = (0..candidate.len())
-        .filter(|&i| !candidate[i].pieces.is_empty() && !is_zero_length(&candidate[i]))
-        .collect();
-    if o.len() != c.len() {
-        bail!(
-            "the smoothed program has {} runs of feed moves where the original has {}",
-            c.len(),
-            o.len()
-        );
-    }
-    Ok(o.into_iter().zip(c).collect())
-}
-
-/// Pairs runs ([`pair_runs`]) and verifies each pair.
-pub fn compare_runs(original: &[Run], candidate: &[Run], tolerance: f64) -> Result<WrittenCheck> {
-    compare_runs_within(original, candidate, tolerance, 0.0)
-}
-
-/// Run end points count as equal within this share of the tolerance: the
-/// rounding of the input's own reading (1,000 G91 moves of 0.0005 in sum
-/// to 12.700000000000152 mm in f64; the written `X0.5` reads as 12.7:
-/// `straight_segments.ngc`), far below any machine's resolution.
-pub const ENDPOINT_ROUNDING_SHARE: f64 = 1e-9;
-
-/// [`compare_runs`], with run end points that may differ by up to
-/// `endpoint_slack` mm (0: equal up to [`ENDPOINT_ROUNDING_SHARE`] of the
-/// tolerance).
-pub fn compare_runs_within(
-    original: &[Run],
-    candidate: &[Run],
-    tolerance: f64,
-    endpoint_slack: f64,
-) -> Result<WrittenCheck> {
-    let pairs_idx = pair_runs(original, candidate)?;
-    let mut out = WrittenCheck {
-        within: true,
-        max_deviation: 0.0,
-        endpoint_failures: 0,
-        runs_checked: 0,
-        failed_runs: Vec::new(),
-    };
-    let pairs: Vec<(&[Piece], &[Piece])> = pairs_idx
-        .iter()
-        .map(|&(a, b)| {
-            (
-                original[a].pieces.as_slice(),
-                candidate[b].pieces.as_slice(),
-            )
-        })
-        .collect();
-    for (k, rep) in verify_runs(&pairs, &VerifyOptions::new(tolerance))
-        .into_iter()
-        .enumerate()
-    {
-        out.max_deviation = out.max_deviation.max(rep.deviation_bound);
-        let slack = endpoint_slack + ENDPOINT_ROUNDING_SHARE * tolerance;
-        let moved = rep.start_gap > slack || rep.end_gap > slack;
-        if moved {
-            out.endpoint_failures += 1;
-        }
-        let within = rep.deviation_bound <= tolerance && !moved;
-        if !within {
-            out.within = false;
-            out.failed_runs.push(Some(pairs_idx[k].0));
-        }
-        out.runs_checked += 1;
-    }
-    Ok(out)
-}
-
 /// The whole `fairpath smooth` job: read `input`, smooth, verify, plan,
 /// render, write, verify the written text, plan it, and write `output`
 /// only if it passes (through a temporary file renamed over `output`).
@@ -445,19 +306,12 @@ pub fn smooth_file(
     let program = read_program(input)?;
     phases.mark("read");
     warn_passthrough(input, &program);
-    let result = smooth_program(&program, opts, &mut phases)?;
-    // Curves that leave their share are a smoother's fault: nothing
-    // written from them can be trusted.
-    if let Some(bad) = result.runs.iter().find(|r| !r.report.within(opts.budget())) {
-        let line = bad.original.pieces.first().map_or(0, |p| p.source_lines.0);
-        bail!(
-            "refusing to write {}: the smoothed curves of the run starting at line {line} leave \
-             the smoothing share of the tolerance ({:.6} mm > {} mm) or move a run endpoint",
-            output.display(),
-            bad.report.deviation_bound,
-            opts.budget()
-        );
-    }
+    let result = smooth_program(&program, opts, &mut phases).map_err(|e| match e {
+        e @ PipelineError::NotVerified { .. } => {
+            anyhow!("refusing to write {}: {e}", output.display())
+        }
+        e => e.into(),
+    })?;
     let input_times = plan_input(&program, opts)?;
     let (exact_times, plans) = plan_curves(&program, &result, opts)?;
     phases.mark("plan input and curves");

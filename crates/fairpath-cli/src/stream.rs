@@ -21,6 +21,7 @@ use fairpath::feed::program::Motion;
 use fairpath::feed::stream::StreamedKind;
 use fairpath::feed::stream::{self as fstream, StreamOptions};
 use fairpath::path::Run;
+use fairpath::pipeline::PipelineError;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -167,15 +168,18 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                     SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
                 opts.set_machine(a.machine, a.override_feed);
                 let mut phases = Phases::new();
-                let result = pipeline::smooth_program(&program, &opts, &mut phases)?;
-                if let Some(bad) = result.runs.iter().find(|r| !r.report.within(opts.budget())) {
-                    let line = bad.original.pieces.first().map_or(0, |p| p.source_lines.0);
-                    bail!(
-                        "refusing to stream: the smoothed curves of the run starting at line {line} leave their share of the tolerance ({:.6} mm > {} mm)",
-                        bad.report.deviation_bound,
-                        opts.budget()
-                    );
-                }
+                let result =
+                    pipeline::smooth_program(&program, &opts, &mut phases).map_err(|e| match e {
+                        PipelineError::NotVerified {
+                            line,
+                            deviation,
+                            share,
+                            ..
+                        } => anyhow!(
+                            "refusing to stream: the smoothed curves of the run starting at line {line} leave their share of the tolerance ({deviation:.6} mm > {share} mm)"
+                        ),
+                        e => e.into(),
+                    })?;
                 let worst = result
                     .runs
                     .iter()
