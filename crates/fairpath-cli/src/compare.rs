@@ -8,7 +8,6 @@
 //! the program `smooth` writes in each asked format is planned the same
 //! way: what a controller would run.
 
-use crate::emit::emit;
 use crate::pipeline::{
     plan_curves, plan_text, read_program, smooth_program, Phases, SmoothOptions,
 };
@@ -21,6 +20,7 @@ use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
 use fairpath::pipeline::PipelineError;
 use fairpath::verify::{RunReport, VerifyOptions};
+use fairpath_gcode::emit::emit;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -14,8 +14,6 @@ pub mod simulate_command;
 pub mod stream;
 pub mod summary;
 
-pub mod emit;
-
 /// The output format and the controller live in `fairpath-gcode` (its
 /// `clap` feature makes them command-line values).
 pub use fairpath_gcode::{Controller, Format};

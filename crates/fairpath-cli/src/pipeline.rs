@@ -1,9 +1,8 @@
 //! The main job, step by step: read, smooth each run, verify the curves,
 //! plan the input and the curves, render and write what the controller
-//! will run ([`crate::emit`]), verify what was written by reading it back,
+//! will run ([`fairpath_gcode::emit`]), verify what was written by reading it back,
 //! and plan it as `fairpath simulate` would.
 
-use crate::emit::{emit, EmitOptions};
 use crate::simulate_command::motions_of;
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
@@ -15,6 +14,7 @@ use fairpath::path::{Piece, Run};
 use fairpath::pipeline::{PipelineError, Stage};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, Smoother};
+use fairpath_gcode::emit::{emit, EmitOptions};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 

@@ -1,10 +1,10 @@
 //! The evidence printed after smoothing.
 
-use crate::emit::Emitted;
 use crate::pipeline::{JobTimes, SmoothOptions, SmoothResult};
 use fairpath::geom::Curve;
 use fairpath::render::RenderStats;
 use fairpath::smooth::CornerReason;
+use fairpath_gcode::emit::Emitted;
 use fairpath_gcode::Program;
 use serde_json::json;
 use std::fmt::Write;

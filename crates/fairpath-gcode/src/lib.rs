@@ -143,6 +143,7 @@
 
 mod block_delete;
 mod cycles;
+pub mod emit;
 pub mod error;
 pub mod format;
 pub mod interp;

@@ -6,22 +6,54 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
-use crate::pipeline::{compare_runs, group_by_source, pair_runs, WrittenCheck};
-use crate::{Controller, Format};
-use anyhow::{anyhow, Result};
-use fairpath::budget::ToleranceBudget;
+use crate::{
+    ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
+    RunOutput, WriteError, ROUNDING_SHARE,
+};
+use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
+use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
-use fairpath::pipeline::par_map;
+use fairpath::pipeline::{
+    compare_runs, group_by_source, pair_runs, par_map, RunCountMismatch, WrittenCheck,
+};
 use fairpath::render::{
-    render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions, RenderStats,
+    render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions, RenderStats,
 };
-use fairpath_gcode::{
-    ArcWords, GcodeWriteOptions, NurbsBlocks, Program, RunOutput, ROUNDING_SHARE,
-};
+
+/// Why the curves could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum EmitError {
+    /// The blending share a program's own `G64` asks for does not fit
+    /// ([`EmitOptions::budget_for`]).
+    #[error("the blending share for the program's own G64")]
+    Blend(#[source] BudgetError),
+    #[error("writing JSON")]
+    WriteJson(#[source] WriteError),
+    #[error("the written JSON does not read back")]
+    ReadJson(#[source] JsonError),
+    #[error("rendering run {run}")]
+    Render {
+        /// Index of the run in the program's runs.
+        run: usize,
+        #[source]
+        source: RenderError,
+    },
+    #[error("planning")]
+    Plan(#[source] FeedError),
+    #[error("writing G-code")]
+    WriteGcode(#[source] WriteError),
+    #[error("the written G-code does not read back")]
+    Reread(#[source] GcodeError),
+    /// The text read back has other runs than the program.
+    #[error(transparent)]
+    Runs(#[from] RunCountMismatch),
+}
+
+type Result<T, E = EmitError> = core::result::Result<T, E>;
 
 /// LinuxCNC spends at least this many servo periods on a block
 /// (`TP_MIN_SEGMENT_CYCLES`, tp.c): shorter blocks cap the speed.
@@ -79,7 +111,7 @@ impl EmitOptions {
     /// The budget to write `program` with: `self.budget`, except where it
     /// has no blending share and the program's own path control at one of
     /// its runs blends beyond the share LinuxCNC would get
-    /// ([`fairpath_gcode::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
+    /// ([`crate::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
     /// a bare `G64`). A controller reading that program's `G64` blends the
     /// written blocks, so that share ([`EmitOptions::blend_share`] for
     /// LinuxCNC) is taken out of the output share and the writer writes
@@ -92,15 +124,14 @@ impl EmitOptions {
         if b.blend > 0.0 || blend <= 0.0 {
             return Ok(b);
         }
-        let blends = fairpath_gcode::write_gcode::path_control_before_runs(program)
+        let blends = crate::write_gcode::path_control_before_runs(program)
             .iter()
             .flatten()
             .any(|p| p.exceeds(blend));
         if !blends {
             return Ok(b);
         }
-        ToleranceBudget::new(b.total, Some(b.output - blend), blend)
-            .map_err(|e| anyhow!("the blending share for the program's own G64: {e}"))
+        ToleranceBudget::new(b.total, Some(b.output - blend), blend).map_err(EmitError::Blend)
     }
 }
 
@@ -171,10 +202,8 @@ pub fn emit(
     let tolerance = opts.budget.written();
     let forms: &[CurveForm] = match opts.format {
         Format::Json => {
-            let text = fairpath_gcode::write_json(program, smoothed)
-                .map_err(|e| anyhow!("writing JSON: {e}"))?;
-            let pieces = fairpath_gcode::read_json(&text)
-                .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
+            let text = crate::write_json(program, smoothed).map_err(EmitError::WriteJson)?;
+            let pieces = crate::read_json(&text).map_err(EmitError::ReadJson)?;
             let check = compare_runs(&original, &group_by_source(&original, &pieces), tolerance)?;
             return Ok(Emitted {
                 budget: opts.budget,
@@ -218,8 +247,8 @@ pub fn emit(
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, &wo);
         let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
-        let r =
-            render_run(&smoothed[k], &speed, &ro).map_err(|e| anyhow!("rendering run {k}: {e}"))?;
+        let r = render_run(&smoothed[k], &speed, &ro)
+            .map_err(|source| EmitError::Render { run: k, source })?;
         Ok(Choice {
             form: Some(form),
             chord,
@@ -242,7 +271,7 @@ pub fn emit(
         };
         Ok(
             plan_run_shaped(pieces, &po, &Shaping::none(), opts.judged_by)
-                .map_err(|e| anyhow!("planning: {e}"))?
+                .map_err(EmitError::Plan)?
                 .time,
         )
     };
@@ -314,10 +343,10 @@ pub fn emit(
                 None => RunOutput::Original,
             })
             .collect();
-        let text = fairpath_gcode::write_gcode_with(program, &outputs, &wo)
-            .map_err(|e| anyhow!("writing G-code: {e}"))?;
-        let reread = fairpath_gcode::parse(text.as_bytes())
-            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?
+        let text =
+            crate::write_gcode_with(program, &outputs, &wo).map_err(EmitError::WriteGcode)?;
+        let reread = crate::parse(text.as_bytes())
+            .map_err(EmitError::Reread)?
             .runs();
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
@@ -410,8 +439,7 @@ fn linuxcnc_motion(pieces: &[Piece]) -> Vec<Piece> {
 pub fn arc_words_of(program: &Program) -> ArcWords {
     let lines = program.lines();
     let uses_r = program.moves().iter().any(|m| {
-        m.kind == fairpath_gcode::MoveKind::Arc
-            && lines[m.line - 1].words.iter().any(|w| w.letter == 'R')
+        m.kind == crate::MoveKind::Arc && lines[m.line - 1].words.iter().any(|w| w.letter == 'R')
     });
     if uses_r {
         ArcWords::R
@@ -464,15 +492,15 @@ fn render_options(
     opts: &EmitOptions,
     form: CurveForm,
     chord: f64,
-    units: fairpath_gcode::Units,
+    units: crate::Units,
     wo: &GcodeWriteOptions,
 ) -> RenderOptions {
     let scale = units.mm_per_unit();
     let min_decimals = match units {
-        fairpath_gcode::Units::Mm => wo.decimals_mm,
-        fairpath_gcode::Units::Inch => wo.decimals_inch,
+        crate::Units::Mm => wo.decimals_mm,
+        crate::Units::Inch => wo.decimals_inch,
     };
-    let (decimals, _) = fairpath_gcode::output_decimals(wo, scale, min_decimals);
+    let (decimals, _) = crate::output_decimals(wo, scale, min_decimals);
     RenderOptions {
         form,
         // The writer's rounding takes at most ROUNDING_SHARE of it.
@@ -511,7 +539,7 @@ mod tests {
 
     fn program(head: &str) -> Program {
         let text = format!("G20 G90 {head}\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nM30\n");
-        fairpath_gcode::parse(text.as_bytes()).unwrap()
+        crate::parse(text.as_bytes()).unwrap()
     }
 
     #[test]
