@@ -1,7 +1,9 @@
-//! The machinery behind the `fairpath` command: the smoothing pipeline
-//! (read, smooth, verify, render, verify the rendered text), the summary,
-//! `check`, and atomic file output. The binary (`main.rs`) only parses
-//! arguments; benchmarks drive the same pipeline through this library.
+//! The machinery behind the `fairpath` command around the libraries'
+//! pipeline (`fairpath::pipeline`, `fairpath_gcode::smooth_program`):
+//! reading files, the machine file, atomic output that never replaces the
+//! input unless asked, the summary, and the commands `smooth`, `simulate`,
+//! `compare`, `check` and `stream`. The binary (`main.rs`) only parses
+//! arguments; benchmarks drive the same code through this library.
 
 #![recursion_limit = "256"]
 
@@ -9,8 +11,9 @@ pub mod check;
 pub mod compare;
 pub mod machine;
 pub mod output;
-pub mod pipeline;
+pub mod read;
 pub mod simulate_command;
+pub mod smooth;
 pub mod stream;
 pub mod summary;
 

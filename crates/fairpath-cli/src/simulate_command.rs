@@ -24,7 +24,7 @@ pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
             std::str::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
         fairpath_gcode::json_motions(text).map_err(|e| anyhow!("{}: {e}", path.display()))
     } else {
-        let program = crate::pipeline::parse_program(path, bytes)?;
+        let program = crate::read::parse_program(path, bytes)?;
         Ok(program.motions(&program.runs()))
     }
 }

@@ -11,7 +11,6 @@
 //! line inside it (spindle, coolant, tool, pauses), which a stream of
 //! positions cannot carry. Dwells are held in the stream for their time.
 
-use crate::pipeline::{self, Phases, SmoothOptions};
 use crate::simulate_command;
 use crate::Controller;
 use anyhow::{anyhow, bail, Context, Result};
@@ -136,7 +135,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         );
         (motions.into_iter().map(Step::Motion).collect(), Vec::new())
     } else {
-        let program = pipeline::parse_program(a.program, &bytes)?;
+        let program = crate::read::parse_program(a.program, &bytes)?;
         for m in program.moves() {
             use fairpath_gcode::PinReason;
             let what = match m.pinned {
@@ -165,11 +164,12 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 // the smoothing.
                 let chord = a.machine.chord_error.min(0.5 * tol);
                 let mut opts =
-                    SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
-                opts.set_machine(a.machine, a.override_feed);
-                let mut phases = Phases::new();
+                    crate::smooth::options(tol, Some(chord), "auto", None, Controller::Generic)?;
+                opts.set_machine(a.machine, a.override_feed)
+                    .map_err(crate::smooth::option_error)?;
+                let mut phases = fairpath_gcode::pipeline::Phases::new();
                 let result =
-                    pipeline::smooth_program(&program, &opts, &mut phases).map_err(|e| match e {
+                    fairpath_gcode::pipeline::smooth_curves(&program, &opts, &mut phases).map_err(|e| match e {
                         PipelineError::NotVerified {
                             line,
                             deviation,
@@ -208,7 +208,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                     report,
                     "  smoothed:        {} runs by {}, deviation at most {:.4} mm (tolerance {} mm, {} mm of it for the servo's chords); {own} run(s) streamed as written (faster than their smoothing)",
                     result.runs.len(),
-                    opts.method_name,
+                    opts.method_name(),
                     worst,
                     tol,
                     chord

@@ -6,6 +6,7 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
+use crate::pipeline::{compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck};
 use crate::{
     ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
     RunOutput, WriteError, ROUNDING_SHARE,
@@ -17,9 +18,7 @@ use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
-use fairpath::pipeline::{
-    compare_runs, group_by_source, pair_runs, par_map, RunCountMismatch, WrittenCheck,
-};
+use fairpath::pipeline::par_map;
 use fairpath::render::{
     render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions, RenderStats,
 };

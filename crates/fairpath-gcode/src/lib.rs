@@ -150,6 +150,7 @@ pub mod interp;
 pub mod lang;
 pub mod lexer;
 mod motions;
+pub mod pipeline;
 pub mod program;
 pub mod spline;
 pub mod write_gcode;
@@ -160,6 +161,9 @@ pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, Write
 pub use format::{Controller, Format};
 pub use interp::{parse, parse_with};
 pub use motions::json_motions;
+pub use pipeline::{
+    smooth_parsed, smooth_program, OptionsError, Output, Report, SmoothOptions, SmoothProgramError,
+};
 pub use program::{
     Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
     RunSpan, Units,

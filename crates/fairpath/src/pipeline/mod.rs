@@ -7,8 +7,7 @@
 //!
 //! Reading a program, writing it in a controller's format and checking the
 //! written text read back against the original are `fairpath-gcode`'s
-//! (`fairpath_gcode::smooth_program`); [`compare_runs`] is the check it
-//! makes of the runs it reads back.
+//! (`fairpath_gcode::smooth_program`).
 //!
 //! ```
 //! use fairpath::budget::ToleranceBudget;
@@ -34,13 +33,8 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
-mod check;
 mod parallel;
 
-pub use check::{
-    compare_runs, compare_runs_within, group_by_source, pair_runs, RunCountMismatch, WrittenCheck,
-    ENDPOINT_ROUNDING_SHARE,
-};
 pub use parallel::{par_map, verify_runs};
 
 use crate::budget::ToleranceBudget;
