@@ -22,7 +22,7 @@ impl Program {
     }
 }
 
-/// The motions of fairpath's JSON (see [`crate::write_json`]): consecutive
+/// The motions of fairpath's JSON (see [`crate::write_json()`]): consecutive
 /// feed pieces that meet as one run, each rapid on its own.
 pub fn json_motions(text: &str) -> Result<Vec<Motion>, crate::JsonError> {
     Ok(chain_motions(crate::read_json(text)?))

@@ -17,7 +17,7 @@ pub struct Report {
     pub times: JobTimes,
     /// The budget the text was written with (for a program whose own G64
     /// blends beyond the share, a blending share taken out of the output
-    /// share: [`EmitOptions::budget_for`]).
+    /// share: [`EmitOptions::budget_for`](crate::emit::EmitOptions::budget_for)).
     pub budget: ToleranceBudget,
     /// The verdict on the written text read back, against the original.
     pub written: WrittenCheck,
