@@ -22,10 +22,8 @@ use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
 use fairpath::pipeline::PipelineError;
 use fairpath::verify::{RunReport, VerifyOptions};
-use fairpath_gcode::pipeline::{
-    plan_curves, smooth_curves, write_curves, Curves, Phases, SmoothOptions, SmoothProgramError,
-    Times,
-};
+use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases, SmoothOptions, Times};
+use fairpath_gcode::{write_curves, Curves, SmoothProgramError};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -211,11 +209,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             let report = match write_curves(&program, curves.clone(), &fo, Phases::new()) {
                 Ok((_, report)) => report,
                 Err(SmoothProgramError::OutputNotVerified { report, .. }) => *report,
-                Err(
-                    e @ (SmoothProgramError::Plan { .. }
-                    | SmoothProgramError::ReadWritten(_)
-                    | SmoothProgramError::ReadWrittenJson(_)),
-                ) => {
+                Err(e @ SmoothProgramError::Plan(_)) => {
                     return Err(anyhow::Error::new(e)
                         .context(format!("{name}: planning the {} output", format.name())))
                 }

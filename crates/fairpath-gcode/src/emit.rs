@@ -7,13 +7,14 @@
 //! slower than the program's own.
 
 use crate::pipeline::{compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck};
+pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
 use crate::{
     ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
     RunOutput, WriteError, ROUNDING_SHARE,
 };
 use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_run_shaped, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
@@ -67,72 +68,8 @@ pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
 /// ends of a shorter one could coincide (a full circle in G-code).
 pub const MIN_ARC_UNITS: f64 = 4.0;
 
-/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
-/// output (every vertex is blended) and for the other G-code formats
-/// (only corners that were kept are).
-pub const G1_BLEND_SHARE: f64 = 0.5;
-pub const CURVE_BLEND_SHARE: f64 = 0.1;
-
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
-
-/// What to write, for whom.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EmitOptions {
-    pub format: Format,
-    pub controller: Controller,
-    pub budget: ToleranceBudget,
-    pub machine: MachineLimits,
-    /// See [`RenderOptions::step_share`].
-    pub step_share: f64,
-    /// The feeds the user plans with: all at the machine's maximum
-    /// (`true`), or as programmed. A run is rewritten only if it plans
-    /// faster at the maximum feed and at these.
-    pub override_feed: bool,
-    /// How the controller's planner is modelled when renders are judged
-    /// against the program's own runs: [`Corners::BlockCapped`] for a
-    /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
-    pub judged_by: Corners,
-}
-
-impl EmitOptions {
-    /// The blending share of the tolerance for `controller` and `format`
-    /// when the output share is `output` mm (0 when no blending mode is
-    /// written).
-    pub fn blend_share(controller: Controller, format: Format, output: f64) -> f64 {
-        match (controller, format) {
-            (_, Format::Json) | (Controller::Generic | Controller::Fanuc, _) => 0.0,
-            (Controller::Linuxcnc, Format::G1) => G1_BLEND_SHARE * output,
-            (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
-        }
-    }
-
-    /// The budget to write `program` with: `self.budget`, except where it
-    /// has no blending share and the program's own path control at one of
-    /// its runs blends beyond the share LinuxCNC would get
-    /// ([`crate::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
-    /// a bare `G64`). A controller reading that program's `G64` blends the
-    /// written blocks, so that share ([`EmitOptions::blend_share`] for
-    /// LinuxCNC) is taken out of the output share and the writer writes
-    /// `G64 P<share> Q0` around those runs: the smoothing share stays as the
-    /// smoother used it, and smoothing + output + blending is still the
-    /// tolerance.
-    pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget> {
-        let b = self.budget;
-        let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
-        if b.blend > 0.0 || blend <= 0.0 {
-            return Ok(b);
-        }
-        let blends = crate::write_gcode::path_control_before_runs(program)
-            .iter()
-            .flatten()
-            .any(|p| p.exceeds(blend));
-        if !blends {
-            return Ok(b);
-        }
-        ToleranceBudget::new(b.total, Some(b.output - blend), blend).map_err(EmitError::Blend)
-    }
-}
 
 /// A run is rewritten only if its rendering plans at least this much
 /// faster than the run as the program wrote it (rounding of the written
@@ -194,7 +131,7 @@ pub fn emit(
     opts: &EmitOptions,
 ) -> Result<Emitted> {
     let opts = &EmitOptions {
-        budget: opts.budget_for(program)?,
+        budget: opts.budget_for(program).map_err(EmitError::Blend)?,
         ..*opts
     };
     let original = program.runs();
@@ -532,7 +469,7 @@ mod tests {
             machine: MachineLimits::thesis(),
             step_share: fairpath::render::arcs::STEP_SHARE,
             override_feed: false,
-            judged_by: Corners::Blended,
+            judged_by: fairpath::feed::plan::Corners::Blended,
         }
     }
 

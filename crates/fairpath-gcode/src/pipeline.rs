@@ -1,21 +1,20 @@
 //! The main job, step by step: read, smooth each run, verify the curves,
 //! plan the input and the curves, render and write what the controller
 //! will run ([`crate::emit`]), verify what was written by reading it back,
-//! and plan it as `fairpath simulate` would. The runs are smoothed and their
-//! curves verified by the library's [`fairpath::pipeline`]; a written
-//! program that does not verify against the original within
-//! [`ToleranceBudget::written`] is an error, never an output. The entry
-//! point is [`smooth_program`]
-//! (or [`smooth_parsed`] for a program already read); its steps are public
-//! for callers that share them between jobs (`fairpath compare` writes one
-//! smoothing in several formats).
+//! and plan it as `fairpath simulate` would. Here are the steps below the
+//! writing: the options ([`SmoothOptions`], and [`EmitOptions`], what the
+//! writer gets of them), smoothing and verifying the curves (the library's
+//! [`fairpath::pipeline`]), the plans, and the check of a written text read
+//! back ([`compare_runs`]). [`crate::entry`] puts them and [`crate::emit`]
+//! together: [`crate::smooth_program`] is the entry point, and its halves
+//! are public for callers that share them between jobs (`fairpath compare`
+//! writes one smoothing in several formats).
 
-use crate::emit::EmitOptions;
 use crate::{Controller, Format, Program};
-use fairpath::budget::ToleranceBudget;
+use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::RunPlan;
+use fairpath::feed::plan::{Corners, RunPlan};
 use fairpath::feed::program::{simulate, Motion, ProgramPlanError, Simulation};
 use fairpath::geom::Curve;
 use fairpath::path::{Piece, Run};
@@ -24,14 +23,10 @@ use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, Smoother};
 use fairpath::verify::VerifyOptions;
 
-mod entry;
 mod error;
-mod report;
 
-pub use entry::{smooth_and_plan, smooth_parsed, smooth_program, write_curves, Curves, Output};
-pub use error::{OptionsError, SmoothProgramError};
+pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
-pub use report::Report;
 
 /// What the user asked for.
 ///
@@ -190,15 +185,79 @@ impl SmoothOptions {
             step_share: self.step_share,
             override_feed: self.override_feed,
             judged_by: if self.method.writes_for_block_capped_planner() {
-                fairpath::feed::plan::Corners::BlockCapped
+                Corners::BlockCapped
             } else {
-                fairpath::feed::plan::Corners::Blended
+                Corners::Blended
             },
         }
     }
 }
 
-type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
+type Result<T, E = PlanError> = core::result::Result<T, E>;
+
+/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
+/// output (every vertex is blended) and for the other G-code formats
+/// (only corners that were kept are).
+pub const G1_BLEND_SHARE: f64 = 0.5;
+pub const CURVE_BLEND_SHARE: f64 = 0.1;
+
+/// What to write, for whom.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmitOptions {
+    pub format: Format,
+    pub controller: Controller,
+    pub budget: ToleranceBudget,
+    pub machine: MachineLimits,
+    /// See [`fairpath::render::RenderOptions::step_share`].
+    pub step_share: f64,
+    /// The feeds the user plans with: all at the machine's maximum
+    /// (`true`), or as programmed. A run is rewritten only if it plans
+    /// faster at the maximum feed and at these.
+    pub override_feed: bool,
+    /// How the controller's planner is modelled when renders are judged
+    /// against the program's own runs: [`Corners::BlockCapped`] for a
+    /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
+    pub judged_by: Corners,
+}
+
+impl EmitOptions {
+    /// The blending share of the tolerance for `controller` and `format`
+    /// when the output share is `output` mm (0 when no blending mode is
+    /// written).
+    pub fn blend_share(controller: Controller, format: Format, output: f64) -> f64 {
+        match (controller, format) {
+            (_, Format::Json) | (Controller::Generic | Controller::Fanuc, _) => 0.0,
+            (Controller::Linuxcnc, Format::G1) => G1_BLEND_SHARE * output,
+            (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
+        }
+    }
+
+    /// The budget to write `program` with: `self.budget`, except where it
+    /// has no blending share and the program's own path control at one of
+    /// its runs blends beyond the share LinuxCNC would get
+    /// ([`crate::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
+    /// a bare `G64`). A controller reading that program's `G64` blends the
+    /// written blocks, so that share ([`EmitOptions::blend_share`] for
+    /// LinuxCNC) is taken out of the output share and the writer writes
+    /// `G64 P<share> Q0` around those runs: the smoothing share stays as the
+    /// smoother used it, and smoothing + output + blending is still the
+    /// tolerance.
+    pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget, BudgetError> {
+        let b = self.budget;
+        let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
+        if b.blend > 0.0 || blend <= 0.0 {
+            return Ok(b);
+        }
+        let blends = crate::write_gcode::path_control_before_runs(program)
+            .iter()
+            .flatten()
+            .any(|p| p.exceeds(blend));
+        if !blends {
+            return Ok(b);
+        }
+        ToleranceBudget::new(b.total, Some(b.output - blend), blend)
+    }
+}
 
 /// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`).
 #[derive(Clone, Debug)]
@@ -306,8 +365,8 @@ pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
 }
 
 /// A planning error about `what`.
-fn plan_error(what: &'static str) -> impl Fn(ProgramPlanError) -> SmoothProgramError {
-    move |source| SmoothProgramError::Plan { what, source }
+fn plan_error(what: &'static str) -> impl Fn(ProgramPlanError) -> PlanError {
+    move |source| PlanError::Plan { what, source }
 }
 
 /// The planned time of the exact curves in the program, and the plan of
@@ -344,9 +403,9 @@ pub fn plan_curves(
 pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
     let is_json = text.bytes().find(|b| !b.is_ascii_whitespace()) == Some(b'{');
     let motions = if is_json {
-        crate::json_motions(text).map_err(SmoothProgramError::ReadWrittenJson)?
+        crate::json_motions(text).map_err(PlanError::ReadWrittenJson)?
     } else {
-        let program = crate::parse(text.as_bytes()).map_err(SmoothProgramError::ReadWritten)?;
+        let program = crate::parse(text.as_bytes()).map_err(PlanError::ReadWritten)?;
         program.motions(&program.runs())
     };
     let sim = simulate(&motions, &opts.machine, opts.override_feed, None)

@@ -1,14 +1,11 @@
-//! The errors of the pipeline: options that cannot be used, and why a
-//! program was not smoothed and written.
+//! The errors of the pipeline's steps: options that cannot be used, and
+//! programs that cannot be planned.
 
-use super::{Output, Report};
-use crate::emit::EmitError;
 use crate::{GcodeError, JsonError};
 use fairpath::budget::BudgetError;
 use fairpath::choose;
 use fairpath::feed::limits::LimitError;
 use fairpath::feed::program::ProgramPlanError;
-use fairpath::pipeline::PipelineError;
 
 /// Options that cannot be used; each names the option and its value.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -46,18 +43,9 @@ pub enum OptionsError {
     Machine(#[source] LimitError),
 }
 
-/// Why a program was not smoothed and written.
+/// Why a program's time could not be planned.
 #[derive(Debug, thiserror::Error)]
-pub enum SmoothProgramError {
-    /// Nothing but blanks.
-    #[error("empty program")]
-    EmptyProgram,
-    #[error(transparent)]
-    Read(#[from] GcodeError),
-    /// The method failed, or its curves did not verify
-    /// ([`PipelineError::NotVerified`]).
-    #[error(transparent)]
-    Curves(#[from] PipelineError),
+pub enum PlanError {
     #[error("planning {what}")]
     Plan {
         /// `the input`, `the curves`, `the written program`.
@@ -65,24 +53,8 @@ pub enum SmoothProgramError {
         #[source]
         source: ProgramPlanError,
     },
-    #[error(transparent)]
-    Emit(#[from] EmitError),
     #[error("the written program does not read back")]
     ReadWritten(#[source] GcodeError),
     #[error("the written program does not read back")]
     ReadWrittenJson(#[source] JsonError),
-    /// The written text, read back, leaves the tolerance or moves a run
-    /// end point: it is not an output. The report holds the evidence.
-    #[error(
-        "the output leaves the tolerance ({deviation:.6} mm > {tolerance} mm) or moves a run \
-         endpoint"
-    )]
-    OutputNotVerified {
-        /// The bound of the written path's deviation (mm).
-        deviation: f64,
-        /// What it may deviate ([`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written), mm).
-        tolerance: f64,
-        output: Box<Output>,
-        report: Box<Report>,
-    },
 }

@@ -1,15 +1,25 @@
 //! The entry point: a program's text in, the written program and the
-//! evidence out, or an error; and its two halves, smoothing and planning
-//! ([`smooth_and_plan`]) and writing ([`write_curves`]).
+//! evidence out, or an error ([`smooth_program`], [`smooth_parsed`]); and
+//! its two halves, smoothing and planning ([`smooth_and_plan`]) and
+//! writing ([`write_curves`]), on the steps of [`crate::pipeline`] and
+//! [`crate::emit`].
 
-use super::{
-    plan_curves, plan_input, plan_text, smooth_curves, JobTimes, Phases, Report, Result,
-    SmoothOptions, SmoothProgramError, SmoothResult, Times,
-};
+mod error;
+mod report;
+
+pub use error::SmoothProgramError;
+pub use report::Report;
+
 use crate::emit::emit;
+use crate::pipeline::{
+    plan_curves, plan_input, plan_text, smooth_curves, JobTimes, Phases, SmoothOptions,
+    SmoothResult, Times,
+};
 use crate::{Format, Program};
 use fairpath::feed::plan::RunPlan;
 use fairpath::path::Piece;
+
+type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
 
 /// The smoothed runs of a program and the plans [`write_curves`] needs.
 #[derive(Clone, Debug)]
@@ -88,8 +98,8 @@ pub fn write_curves(
         stats: emitted.stats,
         retried_runs: emitted.retried_runs,
         kept_runs: emitted.kept_runs,
-        method: opts.method_name.clone(),
-        block_capped: opts.method.writes_for_block_capped_planner(),
+        method: opts.method_name().to_string(),
+        block_capped: opts.method().writes_for_block_capped_planner(),
         lines_in: program.lines().len(),
         lines_out: emitted.text.lines().count(),
         rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
@@ -98,7 +108,7 @@ pub fn write_curves(
     };
     let output = Output {
         text: emitted.text,
-        format: opts.format,
+        format: opts.format(),
     };
     if !report.written.within {
         return Err(SmoothProgramError::OutputNotVerified {

@@ -1,6 +1,6 @@
 //! The evidence of a smoothing job.
 
-use super::{JobTimes, Phases, SmoothResult, WrittenCheck};
+use crate::pipeline::{JobTimes, Phases, SmoothResult, WrittenCheck};
 use fairpath::budget::ToleranceBudget;
 use fairpath::geom::Curve;
 use fairpath::render::RenderStats;
