@@ -5,8 +5,9 @@
 //! `cargo bench -p fairpath-cli`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use fairpath_cli::pipeline::{self, SmoothOptions};
+use fairpath_cli::smooth;
 use fairpath_cli::{Controller, Format};
+use fairpath_gcode::SmoothOptions;
 use std::path::Path;
 
 fn bench(c: &mut Criterion) {
@@ -31,7 +32,7 @@ fn bench(c: &mut Criterion) {
                         SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic)
                             .unwrap();
                     let out = dir.path().join("out.ngc");
-                    let summary = pipeline::smooth_file(&path, &out, &opts).unwrap();
+                    let summary = smooth::smooth_file(&path, &out, &opts).unwrap();
                     summary.lines_out
                 })
             },

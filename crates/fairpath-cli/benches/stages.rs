@@ -10,19 +10,22 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use fairpath::path::Piece;
+use fairpath::pipeline::verify_runs;
 use fairpath::verify::VerifyOptions;
-use fairpath_cli::emit::emit;
-use fairpath_cli::parallel::verify_runs;
-use fairpath_cli::pipeline::{
-    compare_runs, parse_program, plan_curves, plan_input, plan_text, smooth_program, Phases,
-    SmoothOptions,
+use fairpath_gcode::emit::emit;
+use fairpath_gcode::pipeline::{
+    compare_runs, plan_curves, plan_input, plan_text, smooth_curves, Phases, SmoothOptions,
 };
-use fairpath_cli::Controller;
+use fairpath_gcode::{Controller, Program};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Methods benchmarked per stage: the baseline and the ones
 /// `scripts/scale.sh` times.
+fn parse_program(bytes: &[u8]) -> Result<Program, fairpath_gcode::GcodeError> {
+    fairpath_gcode::parse(bytes)
+}
+
 const METHODS: &[&str] = &["none", "bspline-corner", "auto", "arc-fit"];
 
 const TOLERANCE: f64 = 0.05;
@@ -72,14 +75,14 @@ fn options(method: &str) -> SmoothOptions {
 }
 
 fn bench(c: &mut Criterion) {
-    let (name, path, bytes) = program();
-    let program = parse_program(&path, &bytes).unwrap();
+    let (name, _path, bytes) = program();
+    let program = parse_program(&bytes).unwrap();
     let moves = program.moves().len() as u64;
     let mut g = c.benchmark_group(format!("stages/{name}"));
     g.sample_size(10);
     g.throughput(Throughput::Elements(moves));
     g.bench_function("read", |b| {
-        b.iter(|| parse_program(&path, &bytes).unwrap().moves().len())
+        b.iter(|| parse_program(&bytes).unwrap().moves().len())
     });
     let base = options("none");
     g.bench_function("plan input", |b| {
@@ -92,8 +95,8 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 runs.iter()
                     .map(|r| {
-                        opts.method
-                            .smooth_run(r, opts.budget())
+                        opts.method()
+                            .smooth_within(r, &opts.budget())
                             .unwrap()
                             .pieces
                             .len()
@@ -101,14 +104,14 @@ fn bench(c: &mut Criterion) {
                     .sum::<usize>()
             })
         });
-        let result = smooth_program(&program, &opts, &mut Phases::new()).unwrap();
+        let result = smooth_curves(&program, &opts, &mut Phases::new()).unwrap();
         let pairs: Vec<(&[Piece], &[Piece])> = result
             .runs
             .iter()
             .map(|r| (r.original.pieces.as_slice(), r.smoothed.pieces.as_slice()))
             .collect();
         g.bench_function(format!("verify curves {method}"), |b| {
-            b.iter(|| verify_runs(&pairs, &VerifyOptions::new(opts.budget())).len())
+            b.iter(|| verify_runs(&pairs, &VerifyOptions::new(opts.budget().smoothing())).len())
         });
         g.bench_function(format!("plan curves {method}"), |b| {
             b.iter(|| plan_curves(&program, &result, &opts).unwrap().0.total)
@@ -128,7 +131,7 @@ fn bench(c: &mut Criterion) {
             b.iter_batched(
                 || text.clone(),
                 |text| {
-                    let reread = parse_program(&path, text.as_bytes()).unwrap().runs();
+                    let reread = parse_program(text.as_bytes()).unwrap().runs();
                     let original: Vec<_> = result.runs.iter().map(|r| r.original.clone()).collect();
                     compare_runs(&original, &reread, TOLERANCE).unwrap().within
                 },
@@ -136,7 +139,7 @@ fn bench(c: &mut Criterion) {
             )
         });
         g.bench_function(format!("plan written {method}"), |b| {
-            b.iter(|| plan_text(&path, &text, &opts).unwrap().total)
+            b.iter(|| plan_text(&text, &opts).unwrap().total)
         });
     }
     g.finish();

@@ -6,10 +6,11 @@
 //! run in each reading: the smoothed program must follow the original
 //! either way the operator sets the switch.
 
-use crate::pipeline::{compare_runs_within, group_by_source, parse_program_with};
+use crate::read::parse_program_with;
 use anyhow::{anyhow, Context, Result};
 use fairpath::path::Run;
 use fairpath::verify::{verify_run, VerifyOptions};
+use fairpath_gcode::pipeline::{compare_runs_within, group_by_source};
 use fairpath_gcode::{ParseOptions, Program};
 use std::path::Path;
 use std::process::ExitCode;

@@ -6,20 +6,24 @@
 //! independent verifier, its exact path is planned on the machine (as
 //! `fairpath simulate` plans the JSON output), rapids included, and then
 //! the program `smooth` writes in each asked format is planned the same
-//! way: what a controller would run.
+//! way: what a controller would run. The run loop, the planning and the
+//! writing are the libraries' (`fairpath::pipeline`, `fairpath_gcode::pipeline`),
+//! as for `smooth`; a method whose curves fail verification gets a row that
+//! says so and no written programs.
 
-use crate::emit::emit;
-use crate::parallel::verify_runs;
-use crate::pipeline::{
-    plan_curves, plan_written, read_program, smooth_program, Phases, SmoothOptions,
-};
-use crate::simulate::{gcode_motions, simulate};
+use crate::read::read_program;
+use crate::smooth::{option_error, options as smooth_options};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
+use fairpath::pipeline::verify_runs;
+use fairpath::pipeline::PipelineError;
 use fairpath::verify::{RunReport, VerifyOptions};
+use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases, SmoothOptions, Times};
+use fairpath_gcode::{write_curves, Curves, SmoothProgramError};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -143,26 +147,35 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
     let runs = program.runs();
     // (total, feed moves only)
     let plan_time = |runs: &[Run]| -> Result<(f64, f64)> {
-        let motions = gcode_motions(&program, runs);
+        let motions = program.motions(runs);
         let sim = simulate(&motions, &opts.machine, opts.override_feed, None)?;
         Ok((sim.time(), sim.feed_time))
     };
     let mut rows = Vec::new();
     let base_time = plan_time(&runs)?;
     let options = |name: &str, format: Format| -> Result<SmoothOptions> {
-        let mut so = SmoothOptions::new(opts.tolerance, None, name, Some(format), opts.controller)?;
-        so.set_machine(opts.machine, opts.override_feed);
+        let mut so = smooth_options(opts.tolerance, None, name, Some(format), opts.controller)?;
+        so.set_machine(opts.machine, opts.override_feed)
+            .map_err(option_error)?;
         Ok(so)
     };
-    let budget0 = options("bspline-corner", Format::Json)?.budget();
+    let budget0 = options("bspline-corner", Format::Json)?
+        .budget()
+        .smoothing();
     let reports = verify(&runs, &runs, budget0);
     rows.push(row("original", &runs, &reports, budget0, base_time, 0.0));
     for name in &opts.methods {
         let so = options(name, Format::Json)?;
-        let budget = so.budget();
+        let budget = so.budget().smoothing();
         let mut phases = Phases::new();
-        let result = smooth_program(&program, &so, &mut phases)
-            .with_context(|| format!("{name}: smoothing"))?;
+        // The library's run loop. Curves that fail verification are a row
+        // that says so (and no written program: nothing is written from
+        // them).
+        let (result, verified) = match smooth_curves(&program, &so, &mut phases) {
+            Ok(result) => (result, true),
+            Err(PipelineError::NotVerified { result, .. }) => (*result, false),
+            Err(e) => return Err(anyhow::Error::new(e).context(format!("{name}: smoothing"))),
+        };
         let smoothing_time = phases.duration("smooth").as_secs_f64();
         let smoothed: Vec<Run> = result
             .runs
@@ -180,20 +193,40 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             (exact.total, exact.feed),
             smoothing_time,
         );
-        let pieces: Vec<Vec<Piece>> = smoothed.iter().map(|r| r.pieces.clone()).collect();
-        for &format in &opts.formats {
+        let curves = Curves {
+            result,
+            input: Times {
+                total: base_time.0,
+                feed: base_time.1,
+            },
+            exact,
+            plans,
+        };
+        for &format in opts.formats.iter().filter(|_| verified) {
             let fo = options(name, format)?;
-            let mut e = emit(&program, &pieces, &plans, &fo.emit_options())
-                .with_context(|| format!("{name}: writing {}", format.name()))?;
-            let t = plan_written(path, &mut e, &fo)
-                .with_context(|| format!("{name}: planning the {} output", format.name()))?;
+            // Written, read back, verified and planned as `smooth` does;
+            // a written program that does not verify is a row that says so.
+            let report = match write_curves(&program, curves.clone(), &fo, Phases::new()) {
+                Ok((_, report)) => report,
+                Err(SmoothProgramError::OutputNotVerified { report, .. }) => *report,
+                Err(e @ SmoothProgramError::Plan(_)) => {
+                    return Err(anyhow::Error::new(e)
+                        .context(format!("{name}: planning the {} output", format.name())))
+                }
+                Err(e) => {
+                    return Err(
+                        anyhow::Error::new(e).context(format!("{name}: writing {}", format.name()))
+                    )
+                }
+            };
+            let t = report.times.written;
             r.written.push(WrittenRow {
                 format,
                 time: t.total,
                 feed_time: t.feed,
                 time_ratio: 1.0,
-                lines: e.text.lines().count(),
-                verified: e.check.within,
+                lines: report.lines_out,
+                verified: report.written.within,
             });
         }
         rows.push(r);

@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use fairpath_cli::{check, output, pipeline, Controller, Format};
+use fairpath_cli::{check, output, smooth, Controller, Format};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -84,9 +84,9 @@ struct MachineArgs {
 
 impl MachineArgs {
     fn limits(&self) -> Result<fairpath::feed::limits::MachineLimits> {
-        fairpath_cli::simulate::machine(
+        fairpath_cli::machine::machine(
             self.machine.as_deref(),
-            fairpath_cli::simulate::MachineFlags {
+            fairpath_cli::machine::MachineFlags {
                 max_feed: self.max_feed,
                 acc: self.acc,
                 jerk: self.jerk,
@@ -285,15 +285,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             let output = smooth_output(&input, output, in_place)?;
             let method = method.unwrap_or_else(|| controller.default_method().to_string());
-            let mut opts =
-                pipeline::SmoothOptions::new(tolerance, chord, &method, format, controller)?;
-            if step_share.is_nan() || step_share <= 0.0 {
-                anyhow::bail!("--step-share must be a positive number or inf; got {step_share}");
-            }
-            opts.step_share = step_share;
-            opts.set_machine(machine.limits()?, machine.override_feed);
+            let mut opts = smooth::options(tolerance, chord, &method, format, controller)?;
+            opts.set_step_share(step_share)
+                .map_err(smooth::option_error)?;
+            opts.set_machine(machine.limits()?, machine.override_feed)
+                .map_err(smooth::option_error)?;
             if method == "bspline-corner" {
-                opts.method = Box::new(fairpath::smooth::BsplineCorner {
+                opts.set_method(Box::new(fairpath::smooth::BsplineCorner {
                     options: fairpath::smooth::BsplineCornerOptions {
                         target: match band {
                             Band::Full => fairpath::smooth::ErrorTarget::FullBand,
@@ -302,9 +300,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
                         lambda,
                         ..Default::default()
                     },
-                });
+                }));
             }
-            let summary = pipeline::smooth_file(&input, &output, &opts)?;
+            let summary = smooth::smooth_file(&input, &output, &opts)?;
             if json_summary {
                 println!("{}", summary.json());
             } else {
@@ -334,7 +332,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 }
             }
             let m = machine.limits()?;
-            fairpath_cli::simulate::run(
+            fairpath_cli::simulate_command::run(
                 &program,
                 &m,
                 machine.override_feed,

@@ -11,15 +11,16 @@
 //! line inside it (spindle, coolant, tool, pauses), which a stream of
 //! positions cannot carry. Dwells are held in the stream for their time.
 
-use crate::pipeline::{self, Phases, SmoothOptions};
-use crate::simulate::{self, Motion};
+use crate::simulate_command;
 use crate::Controller;
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::PlanOptions;
+use fairpath::feed::program::Motion;
 use fairpath::feed::stream::StreamedKind;
 use fairpath::feed::stream::{self as fstream, StreamOptions};
 use fairpath::path::Run;
+use fairpath::pipeline::PipelineError;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -71,7 +72,7 @@ fn first_line(m: &Motion) -> usize {
 /// The steps of a G-code program: its motions (smoothed runs when given)
 /// with the dwells between them, and the non-motion lines.
 fn gcode_steps(program: &fairpath_gcode::Program, runs: &[Run]) -> (Vec<Step>, Vec<LeftOut>) {
-    let motions = simulate::gcode_motions(program, runs);
+    let motions = program.motions(runs);
     let mut dwells = Vec::new();
     let mut left = Vec::new();
     for l in program.lines() {
@@ -126,7 +127,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         if a.tolerance.is_some() {
             bail!("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)");
         }
-        let motions = simulate::motions_of(a.program, &bytes)?;
+        let motions = simulate_command::motions_of(a.program, &bytes)?;
         let _ = writeln!(
             report,
             "  path:            {} streamed as it is",
@@ -134,7 +135,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
         );
         (motions.into_iter().map(Step::Motion).collect(), Vec::new())
     } else {
-        let program = pipeline::parse_program(a.program, &bytes)?;
+        let program = crate::read::parse_program(a.program, &bytes)?;
         for m in program.moves() {
             use fairpath_gcode::PinReason;
             let what = match m.pinned {
@@ -163,18 +164,22 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 // the smoothing.
                 let chord = a.machine.chord_error.min(0.5 * tol);
                 let mut opts =
-                    SmoothOptions::new(tol, Some(chord), "auto", None, Controller::Generic)?;
-                opts.set_machine(a.machine, a.override_feed);
-                let mut phases = Phases::new();
-                let result = pipeline::smooth_program(&program, &opts, &mut phases)?;
-                if let Some(bad) = result.runs.iter().find(|r| !r.report.within(opts.budget())) {
-                    let line = bad.original.pieces.first().map_or(0, |p| p.source_lines.0);
-                    bail!(
-                        "refusing to stream: the smoothed curves of the run starting at line {line} leave their share of the tolerance ({:.6} mm > {} mm)",
-                        bad.report.deviation_bound,
-                        opts.budget()
-                    );
-                }
+                    crate::smooth::options(tol, Some(chord), "auto", None, Controller::Generic)?;
+                opts.set_machine(a.machine, a.override_feed)
+                    .map_err(crate::smooth::option_error)?;
+                let mut phases = fairpath_gcode::pipeline::Phases::new();
+                let result =
+                    fairpath_gcode::pipeline::smooth_curves(&program, &opts, &mut phases).map_err(|e| match e {
+                        PipelineError::NotVerified {
+                            line,
+                            deviation,
+                            share,
+                            ..
+                        } => anyhow!(
+                            "refusing to stream: the smoothed curves of the run starting at line {line} leave their share of the tolerance ({deviation:.6} mm > {share} mm)"
+                        ),
+                        e => e.into(),
+                    })?;
                 let worst = result
                     .runs
                     .iter()
@@ -190,7 +195,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                         .map(|s| s.time)
                         .map_err(|e| anyhow!("{}: {e}", a.program.display()))
                 };
-                let keep_own: Vec<bool> = crate::parallel::par_map(result.runs.len(), |k| {
+                let keep_own: Vec<bool> = fairpath::pipeline::par_map(result.runs.len(), |k| {
                     let r = &result.runs[k];
                     Ok::<bool, anyhow::Error>(
                         time_of(&r.original.pieces)? < time_of(&r.smoothed.pieces)?,
@@ -203,7 +208,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                     report,
                     "  smoothed:        {} runs by {}, deviation at most {:.4} mm (tolerance {} mm, {} mm of it for the servo's chords); {own} run(s) streamed as written (faster than their smoothing)",
                     result.runs.len(),
-                    opts.method_name,
+                    opts.method_name(),
                     worst,
                     tol,
                     chord
@@ -462,7 +467,7 @@ pub fn axis_jerk(file: Option<&Path>, m: &MachineLimits) -> Result<[f64; 3]> {
     };
     let text =
         std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
-    let mf: simulate::MachineFile =
+    let mf: crate::machine::MachineFile =
         toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
     let j = mf.axis_jerk.unwrap_or([m.jerk; 3]);
     for (i, v) in j.iter().enumerate() {

@@ -1,11 +1,9 @@
 //! The evidence printed after smoothing.
 
-use crate::emit::Emitted;
-use crate::pipeline::{JobTimes, SmoothOptions, SmoothResult};
-use fairpath::geom::Curve;
 use fairpath::render::RenderStats;
 use fairpath::smooth::CornerReason;
-use fairpath_gcode::Program;
+use fairpath_gcode::pipeline::JobTimes;
+use fairpath_gcode::{Report, SmoothOptions};
 use serde_json::json;
 use std::fmt::Write;
 use std::path::Path;
@@ -62,17 +60,9 @@ pub struct Summary {
 }
 
 impl Summary {
-    pub fn new(
-        input: &Path,
-        output: &Path,
-        opts: &SmoothOptions,
-        program: &Program,
-        result: &SmoothResult,
-        emitted: &Emitted,
-        times: JobTimes,
-    ) -> Summary {
-        let written = &emitted.check;
-        let m = &opts.machine;
+    pub fn new(input: &Path, output: &Path, opts: &SmoothOptions, report: &Report) -> Summary {
+        let result = &report.result;
+        let m = opts.machine();
         let planned_on = format!(
             "V {} mm/s, A {} mm/s^2, J {} mm/s^3, Ts {} ms, junction deviation {} mm, {}",
             m.max_feed,
@@ -80,75 +70,31 @@ impl Summary {
             m.jerk,
             m.period * 1e3,
             m.junction_deviation,
-            if opts.override_feed {
+            if opts.override_feed() {
                 "feeds overridden to V"
             } else {
                 "programmed feeds"
             }
         );
-        let pieces = program.pieces();
         let acc = opts.tolerance() * 1e-4;
-        let mut kept = Vec::new();
-        for reason in [
-            CornerReason::Reversal,
-            CornerReason::NoRoom,
-            CornerReason::ArcJoint,
-        ] {
-            let n = result
-                .runs
-                .iter()
-                .map(|r| {
-                    r.smoothed
-                        .kept_corners
-                        .iter()
-                        .filter(|k| k.reason == reason)
-                        .count()
-                })
-                .sum();
-            kept.push((reason, n));
-        }
-        let mut chosen: Vec<(&'static str, usize)> = Vec::new();
-        for &name in result.runs.iter().flat_map(|r| &r.smoothed.chosen) {
-            match chosen.iter_mut().find(|c| c.0 == name) {
-                Some(c) => c.1 += 1,
-                None => chosen.push((name, 1)),
-            }
-        }
-        chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
-        let mut joints = [0; 4];
-        for r in &result.runs {
-            let c = r.report.joint_counts();
-            for i in 0..4 {
-                joints[i] += c[i];
-            }
-        }
         Summary {
             input: input.display().to_string(),
             output: output.display().to_string(),
-            method: opts.method_name.clone(),
-            format: opts.format.name(),
-            controller: opts.controller.name(),
+            method: opts.method_name().to_string(),
+            format: opts.format().name(),
+            controller: opts.controller().name(),
             tolerance: opts.tolerance(),
             // The budget the writer used: a program's own looser G64 takes
             // a blending share out of the output share (`budget_for`).
-            shares: (
-                emitted.budget.smoothing(),
-                emitted.budget.output,
-                emitted.budget.blend,
-            ),
+            shares: report.shares(),
             feed_moves_in: result.runs.iter().map(|r| r.original.pieces.len()).sum(),
-            rapids: pieces.iter().filter(|p| p.rapid).count(),
+            rapids: report.rapids,
             runs: result.runs.len(),
             pieces_out: result.runs.iter().map(|r| r.smoothed.pieces.len()).sum(),
-            curves_out: result
-                .runs
-                .iter()
-                .flat_map(|r| &r.smoothed.pieces)
-                .filter(|p| !matches!(p.curve, Curve::Line(_)))
-                .count(),
+            curves_out: report.curves_out(),
             transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
-            kept_corners: kept,
-            chosen,
+            kept_corners: report.kept_corners(),
+            chosen: report.auto_chose(),
             dropped_zero_length: result
                 .runs
                 .iter()
@@ -159,13 +105,9 @@ impl Summary {
                 .iter()
                 .map(|r| r.smoothed.merged_collinear)
                 .sum(),
-            max_deviation_curves: result
-                .runs
-                .iter()
-                .map(|r| r.report.max_deviation)
-                .fold(0.0, f64::max),
-            max_deviation_written: written.max_deviation,
-            joints,
+            max_deviation_curves: report.max_deviation_curves(),
+            max_deviation_written: report.max_deviation_written(),
+            joints: report.joints(),
             length_before: result.runs.iter().map(|r| r.original.length(acc)).sum(),
             length_after: result
                 .runs
@@ -179,14 +121,14 @@ impl Summary {
                 .map(|r| r.report.peak_curvature)
                 .fold(0.0, f64::max),
             elapsed: Duration::ZERO,
-            times,
+            times: report.times,
             planned_on,
-            rendered: emitted.stats,
-            lines_in: program.lines().len(),
-            lines_out: emitted.text.lines().count(),
-            retried_runs: emitted.retried_runs,
-            kept_runs: emitted.kept_runs,
-            block_capped: opts.method.writes_for_block_capped_planner(),
+            rendered: report.stats,
+            lines_in: report.lines_in,
+            lines_out: report.lines_out,
+            retried_runs: report.retried_runs,
+            kept_runs: report.kept_runs,
+            block_capped: report.block_capped,
         }
     }
 

@@ -375,7 +375,7 @@ fn a_violating_smoother_is_refused_and_nothing_is_written() {
         fairpath_cli::Format::Json,
     ] {
         let out = dir.path().join("refused.out");
-        let mut opts = fairpath_cli::pipeline::SmoothOptions::new(
+        let mut opts = fairpath_gcode::SmoothOptions::new(
             0.05,
             None,
             "bspline-corner",
@@ -383,8 +383,8 @@ fn a_violating_smoother_is_refused_and_nothing_is_written() {
             fairpath_cli::Controller::Generic,
         )
         .unwrap();
-        opts.method = Box::new(Shortcut);
-        let err = fairpath_cli::pipeline::smooth_file(&input, &out, &opts).unwrap_err();
+        opts.set_method(Box::new(Shortcut));
+        let err = fairpath_cli::smooth::smooth_file(&input, &out, &opts).unwrap_err();
         assert!(err.to_string().contains("refusing to write"), "{err}");
         assert!(!out.exists());
     }

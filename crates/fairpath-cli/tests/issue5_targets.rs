@@ -52,7 +52,7 @@ fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
 fn reversals(path: &Path) -> usize {
     use fairpath::choose::Auto;
     use fairpath::smooth::{CornerReason, Smoother};
-    let program = fairpath_cli::pipeline::read_program(path).unwrap();
+    let program = fairpath_cli::read::read_program(path).unwrap();
     let mut n = 0;
     for run in program.runs() {
         let out = Auto::default().smooth_run(&run, TOL * 0.9).unwrap();
@@ -201,7 +201,7 @@ fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
         eprintln!("{rel} not found: skipped");
         return;
     };
-    let program = fairpath_cli::pipeline::read_program(&path).unwrap();
+    let program = fairpath_cli::read::read_program(&path).unwrap();
     let runs = program.runs();
     assert_eq!(runs.len(), 1);
     // As `auto` does: the arcs sampled within a share of the budget, the

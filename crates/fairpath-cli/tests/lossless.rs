@@ -479,7 +479,7 @@ fn tolerance_parabolic_check_runs_under_the_blend_share_for_every_controller() {
         0.0,
     )
     .unwrap();
-    let share = fairpath_cli::emit::CURVE_BLEND_SHARE * budget.output;
+    let share = fairpath_gcode::emit::CURVE_BLEND_SHARE * budget.output;
     for controller in ["generic", "fanuc", "linuxcnc"] {
         let r = bin()
             .arg("smooth")

@@ -144,18 +144,30 @@
 mod axes;
 mod block_delete;
 mod cycles;
+pub mod emit;
+pub mod entry;
 pub mod error;
+pub mod format;
 pub mod interp;
 pub mod lang;
 pub mod lexer;
+mod motions;
+pub mod pipeline;
 pub mod program;
 pub mod spline;
 pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;
 
+pub use entry::{
+    smooth_and_plan, smooth_parsed, smooth_program, write_curves, Curves, Output, Report,
+    SmoothProgramError,
+};
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use format::{Controller, Format};
 pub use interp::{parse, parse_with};
+pub use motions::json_motions;
+pub use pipeline::{OptionsError, SmoothOptions};
 pub use program::{
     Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,
     RunSpan, Units,

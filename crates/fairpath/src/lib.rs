@@ -44,6 +44,7 @@ pub mod feed;
 pub mod geom;
 mod math;
 pub mod path;
+pub mod pipeline;
 pub mod render;
 pub mod smooth;
 pub mod verify;

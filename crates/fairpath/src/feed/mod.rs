@@ -26,6 +26,9 @@
 //! * [`plan`]: the look-ahead planner (full scan or bounded window).
 //! * [`interpolate`]: positions every interpolation period by the
 //!   second-order Taylor parameter update, and the feed fluctuation.
+//! * [`program`]: whole-program planning: the motions of a program (runs
+//!   of feed moves and rapids, in order) planned one by one, with the
+//!   times, and the motion sampled every period.
 //!
 //! Not built: acceleration carried across segment boundaries. Segments
 //! run from one local minimum of the speed cap to the next and start and
@@ -41,6 +44,7 @@ pub mod interpolate;
 pub mod junction;
 pub mod limits;
 pub mod plan;
+pub mod program;
 pub mod reach;
 pub mod sampled;
 pub mod shaping;

@@ -1,120 +1,21 @@
-//! `fairpath simulate`: plan a jerk-limited feed along every move of a
-//! program (G-code or fairpath JSON) and report the machining time, the
+//! Whole-program planning, as `fairpath simulate` does it: plan a
+//! jerk-limited feed along every move of a program (its motions: runs of
+//! feed moves and rapids, in order) and report the machining time, the
 //! largest acceleration and jerk used, and the constraint that limits each
-//! segment; optionally the sampled profile as CSV.
+//! segment; optionally the sampled profile as CSV ([`Simulation::csv`]).
+//! The smoothing pipeline times the input, the curves and the written
+//! program with it. The motions of a G-code program are made by
+//! `fairpath-gcode` (`Program::motions`) on [`program_motions`].
 
-use anyhow::{anyhow, bail, Context, Result};
-use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
-use fairpath::path::{Piece, Run};
-use serde::Deserialize;
-use std::collections::BTreeMap;
-use std::fmt::Write as _;
-use std::path::Path;
-
-/// A machine file (TOML). Feeds in mm/min as G-code writes them, the rest
-/// in mm and s. Missing keys keep the defaults (the thesis machine).
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MachineFile {
-    pub max_feed: Option<f64>,
-    pub acc: Option<f64>,
-    pub normal_acc: Option<f64>,
-    pub jerk: Option<f64>,
-    pub period: Option<f64>,
-    pub chord_error: Option<f64>,
-    /// Junction deviation for corners of G1 moves, mm.
-    pub junction_deviation: Option<f64>,
-    /// Per-axis velocity limits, mm/min.
-    pub axis_feed: Option<[f64; 3]>,
-    /// Per-axis acceleration limits, mm/s^2.
-    pub axis_acc: Option<[f64; 3]>,
-    /// Whether the jerk limit caps the speed on curves (default true;
-    /// false: the thesis' time model, see `MachineLimits::jerk_on_curves`).
-    pub jerk_on_curves: Option<bool>,
-    /// Per-axis jerk limits, mm/s^3 (`fairpath stream`; default: the
-    /// path's jerk).
-    pub axis_jerk: Option<[f64; 3]>,
-}
-
-/// Flags that override the machine file.
-#[derive(Debug, Default, Clone, Copy)]
-pub struct MachineFlags {
-    pub max_feed: Option<f64>,
-    pub acc: Option<f64>,
-    pub jerk: Option<f64>,
-    pub period: Option<f64>,
-    pub junction_deviation: Option<f64>,
-    /// `Some(false)`: the thesis' time model (no jerk caps on curves).
-    pub jerk_on_curves: Option<bool>,
-}
-
-/// The machine: defaults (the thesis' V 400 mm/s, A 4000 mm/s^2, J 20000
-/// mm/s^3, Ts 1 ms), then the file, then the flags. Every limit is checked.
-pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits> {
-    let mut m = MachineLimits::thesis();
-    if let Some(f) = file {
-        let text =
-            std::fs::read_to_string(f).with_context(|| format!("cannot read {}", f.display()))?;
-        let mf: MachineFile = toml::from_str(&text).map_err(|e| anyhow!("{}: {e}", f.display()))?;
-        if let Some(v) = mf.max_feed {
-            m.max_feed = v / 60.0;
-            m.axis_vel = [m.max_feed; 3];
-        }
-        if let Some(v) = mf.acc {
-            m.acc = v;
-            m.normal_acc = v;
-            m.axis_acc = [v; 3];
-        }
-        if let Some(v) = mf.normal_acc {
-            m.normal_acc = v;
-        }
-        if let Some(v) = mf.jerk {
-            m.jerk = v;
-        }
-        if let Some(v) = mf.period {
-            m.period = v;
-        }
-        if let Some(v) = mf.chord_error {
-            m.chord_error = v;
-        }
-        if let Some(v) = mf.junction_deviation {
-            m.junction_deviation = v;
-        }
-        if let Some(v) = mf.axis_feed {
-            m.axis_vel = v.map(|x| x / 60.0);
-        }
-        if let Some(v) = mf.axis_acc {
-            m.axis_acc = v;
-        }
-        if let Some(v) = mf.jerk_on_curves {
-            m.jerk_on_curves = v;
-        }
-    }
-    if let Some(v) = flags.max_feed {
-        m.max_feed = v / 60.0;
-        m.axis_vel = m.axis_vel.map(|a| a.max(m.max_feed));
-    }
-    if let Some(v) = flags.acc {
-        m.acc = v;
-        m.normal_acc = v;
-        m.axis_acc = m.axis_acc.map(|a| a.max(v));
-    }
-    if let Some(v) = flags.jerk {
-        m.jerk = v;
-    }
-    if let Some(v) = flags.period {
-        m.period = v;
-    }
-    if let Some(v) = flags.junction_deviation {
-        m.junction_deviation = v;
-    }
-    if let Some(v) = flags.jerk_on_curves {
-        m.jerk_on_curves = v;
-    }
-    m.validate().map_err(|e| anyhow!("{e}"))?;
-    Ok(m)
-}
+use crate::feed::limits::MachineLimits;
+use crate::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
+use crate::feed::FeedError;
+use crate::path::{Piece, Run};
+use alloc::collections::BTreeMap;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt::Write as _;
+use core::ops::Range;
 
 /// What a program needs to be simulated: its feed runs and rapids in order.
 pub enum Motion {
@@ -122,87 +23,89 @@ pub enum Motion {
     Rapid(Piece),
 }
 
-/// The motions of a program: G-code runs (and each pinned move on its
-/// own), or, for JSON, consecutive continuous feed pieces.
-pub fn motions(path: &Path) -> Result<Vec<Motion>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    motions_of(path, &bytes)
-}
+/// Largest gap (mm) between consecutive feed pieces that [`chain_motions`]
+/// still counts as one run.
+pub const CHAIN_GAP_MM: f64 = 1e-9;
 
-/// [`motions`] of a program's text (`path` names it in errors).
-pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
-    let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+/// The motions of a program: for fairpath's JSON, consecutive continuous
+/// feed pieces (meeting within [`CHAIN_GAP_MM`]) as one run, each rapid on
+/// its own.
+pub fn chain_motions(pieces: Vec<Piece>) -> Vec<Motion> {
     let mut out = Vec::new();
-    if is_json {
-        let text =
-            std::str::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
-        let pieces =
-            fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-        let mut cur: Vec<Piece> = Vec::new();
-        for p in pieces {
-            let breaks = p.rapid || cur.last().is_some_and(|q| q.end().dist(p.start()) > 1e-9);
-            if breaks && !cur.is_empty() {
-                out.push(Motion::Feed(Run::new(std::mem::take(&mut cur))));
-            }
-            if p.rapid {
-                out.push(Motion::Rapid(p));
-            } else {
-                cur.push(p);
-            }
+    let mut cur: Vec<Piece> = Vec::new();
+    for p in pieces {
+        let breaks = p.rapid
+            || cur
+                .last()
+                .is_some_and(|q| q.end().dist(p.start()) > CHAIN_GAP_MM);
+        if breaks && !cur.is_empty() {
+            out.push(Motion::Feed(Run::new(core::mem::take(&mut cur))));
         }
-        if !cur.is_empty() {
-            out.push(Motion::Feed(Run::new(cur)));
+        if p.rapid {
+            out.push(Motion::Rapid(p));
+        } else {
+            cur.push(p);
         }
-    } else {
-        let program = crate::pipeline::parse_program(path, bytes)?;
-        out = gcode_motions(&program, &program.runs());
     }
-    Ok(out)
+    if !cur.is_empty() {
+        out.push(Motion::Feed(Run::new(cur)));
+    }
+    out
 }
 
-/// The motions of a G-code program with its runs replaced by `runs` (the
-/// program's own, or smoothed ones, in the order of `Program::runs`);
-/// pinned feed moves are motions of their own.
-pub fn gcode_motions(program: &fairpath_gcode::Program, runs: &[Run]) -> Vec<Motion> {
-    gcode_motions_indexed(program, runs).0
-}
-
-/// [`gcode_motions`], and the index of each run's motion.
-pub fn gcode_motions_indexed(
-    program: &fairpath_gcode::Program,
+/// The motions of a program whose moves are `moves` (in order; `piece`
+/// gives a move's piece), with the moves of each of `spans` (ranges of
+/// move indices, in order) replaced by the run of the same index in `runs`
+/// (the program's own runs, or smoothed ones); every other feed move (a
+/// pinned one) is a motion of its own, every rapid too. Also returns the
+/// index of each run's motion.
+pub fn program_motions<M>(
+    moves: &[M],
+    piece: impl Fn(&M) -> &Piece,
+    spans: &[Range<usize>],
     runs: &[Run],
 ) -> (Vec<Motion>, Vec<usize>) {
     let mut out = Vec::new();
     let mut index = Vec::with_capacity(runs.len());
-    let spans = program.run_spans();
     let mut next_run = 0;
     let mut mi = 0;
-    let moves = program.moves();
     while mi < moves.len() {
-        if next_run < spans.len() && spans[next_run].moves.start == mi {
+        if next_run < spans.len() && spans[next_run].start == mi {
             index.push(out.len());
             out.push(Motion::Feed(runs[next_run].clone()));
-            mi = spans[next_run].moves.end;
+            mi = spans[next_run].end;
             next_run += 1;
             continue;
         }
-        let m = &moves[mi];
-        if m.piece.rapid {
-            out.push(Motion::Rapid(m.piece.clone()));
+        let p = piece(&moves[mi]);
+        if p.rapid {
+            out.push(Motion::Rapid(p.clone()));
         } else {
-            out.push(Motion::Feed(Run::new(vec![m.piece.clone()])));
+            out.push(Motion::Feed(Run::new(alloc::vec![p.clone()])));
         }
         mi += 1;
     }
     (out, index)
 }
 
+/// Why a program could not be planned: the feed planner's error, with the
+/// motion it was planning.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ProgramPlanError {
+    /// A run of feed moves (its first input line).
+    #[error("planning the run at line {line}")]
+    Run {
+        line: usize,
+        #[source]
+        source: FeedError,
+    },
+    /// A rapid.
+    #[error("planning a rapid")]
+    Rapid(#[source] FeedError),
+}
+
 /// One planned motion: a feed run and its plan, or a rapid and its profile.
-pub type PlannedMotion = (
-    Option<Run>,
-    RunPlan,
-    Option<(Piece, fairpath::feed::DoubleS)>,
-);
+pub type PlannedMotion = (Option<Run>, RunPlan, Option<(Piece, crate::feed::DoubleS)>);
 
 /// The result of a simulation.
 pub struct Simulation {
@@ -227,7 +130,7 @@ pub fn simulate(
     m: &MachineLimits,
     override_feed: bool,
     window: Option<usize>,
-) -> Result<Simulation> {
+) -> Result<Simulation, ProgramPlanError> {
     let opts = PlanOptions {
         limits: *m,
         override_feed,
@@ -249,7 +152,7 @@ pub fn simulate(
             Motion::Feed(run) => {
                 let line = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
                 let plan = plan_run(&run.pieces, &opts)
-                    .map_err(|e| anyhow!("planning the run at line {line}: {e}"))?;
+                    .map_err(|source| ProgramPlanError::Run { line, source })?;
                 sim.feed_time += plan.time;
                 sim.max_acc = sim.max_acc.max(plan.max_acc);
                 sim.max_jerk = sim.max_jerk.max(plan.max_jerk);
@@ -265,7 +168,7 @@ pub fn simulate(
                     // One plan per motion, so that callers can index them.
                     sim.plans.push((None, RunPlan::default(), None));
                 } else {
-                    let prof = plan_rapid(len, m).map_err(|e| anyhow!("planning a rapid: {e}"))?;
+                    let prof = plan_rapid(len, m).map_err(ProgramPlanError::Rapid)?;
                     sim.rapid_time += prof.duration();
                     sim.max_acc = sim.max_acc.max(prof.alim_a()).max(prof.alim_d());
                     if prof.phases().tj1 > 0.0 {
@@ -324,7 +227,7 @@ impl Simulation {
         let lim: Vec<String> = self
             .limiting
             .iter()
-            .map(|(k, v)| format!("{v} {k}"))
+            .map(|(k, v)| alloc::format!("{v} {k}"))
             .collect();
         let _ = writeln!(
             s,
@@ -333,22 +236,6 @@ impl Simulation {
             lim.join(", ")
         );
         s
-    }
-
-    pub fn json(&self) -> String {
-        serde_json::json!({
-            "time_s": self.time(),
-            "feed_time_s": self.feed_time,
-            "rapid_time_s": self.rapid_time,
-            "max_acc": self.max_acc,
-            "max_jerk": self.max_jerk,
-            "segments": self.segments,
-            "limiting": self.limiting,
-            "full_scan_time_s": self.full_scan_time,
-            "feed_fluctuation_max": self.fluctuation.map(|f| f.0),
-            "feed_fluctuation_mean": self.fluctuation.map(|f| f.1),
-        })
-        .to_string()
     }
 
     /// The motion sampled every period of `m` on one clock from the start
@@ -364,8 +251,8 @@ impl Simulation {
         let (mut t0, mut s0) = (0.0f64, 0.0f64);
         let (mut fmax, mut fsum, mut fn_) = (0.0f64, 0.0f64, 0usize);
         let mut next_k = 0usize;
-        let mut end: Option<fairpath::Vec3> = None;
-        let row = |out: &mut String, t: f64, s: f64, v: f64, a: f64, j: f64, p: fairpath::Vec3| {
+        let mut end: Option<crate::Vec3> = None;
+        let row = |out: &mut String, t: f64, s: f64, v: f64, a: f64, j: f64, p: crate::Vec3| {
             if !rows {
                 return;
             }
@@ -378,8 +265,7 @@ impl Simulation {
         for (run, plan, rapid) in &self.plans {
             match (run, rapid) {
                 (Some(run), _) => {
-                    let it =
-                        fairpath::feed::interpolate::interpolate(&run.pieces, plan, period, t0);
+                    let it = crate::feed::interpolate::interpolate(&run.pieces, plan, period, t0);
                     fmax = fmax.max(it.max_fluctuation);
                     if !it.samples.is_empty() {
                         fsum += it.mean_fluctuation * it.samples.len() as f64;
@@ -387,7 +273,7 @@ impl Simulation {
                     }
                     if rows {
                         let phase = (next_k as f64 * period - t0).max(0.0);
-                        let samples = fairpath::feed::stream::sample_run(
+                        let samples = crate::feed::stream::sample_run(
                             &run.pieces,
                             plan,
                             accuracy,
@@ -463,47 +349,3 @@ impl Simulation {
 /// Most interpolation periods `simulate` samples (for the profile and the
 /// feed fluctuation): 1e8 periods of 1 ms is more than a day of machining.
 pub const MAX_SAMPLES: f64 = 1e8;
-
-/// `fairpath simulate`.
-pub fn run(
-    path: &Path,
-    m: &MachineLimits,
-    override_feed: bool,
-    window: Option<usize>,
-    profile: Option<&Path>,
-    segments: Option<&Path>,
-    json: bool,
-) -> Result<()> {
-    let motions = motions(path)?;
-    if motions.is_empty() {
-        // Tool changes, coolant ...: nothing to plan, a time of zero.
-        eprintln!("note: {}: the program has no moves", path.display());
-    }
-    let mut sim = simulate(&motions, m, override_feed, window)?;
-    if window.is_some() {
-        sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
-    }
-    // One sample per period: refuse absurd counts rather than run out of
-    // memory (a program of hours at 1 ms).
-    let samples = sim.time() / m.period;
-    if samples <= MAX_SAMPLES {
-        let (csv, fmax, fmean) = sim.csv(m, profile.is_some());
-        sim.fluctuation = Some((fmax, fmean));
-        if let Some(p) = profile {
-            crate::output::write_atomically(p, csv.as_bytes())?;
-        }
-    } else if profile.is_some() {
-        bail!(
-            "the profile would have {samples:.0} rows (more than {MAX_SAMPLES:.0}); use a longer --period"
-        );
-    }
-    if let Some(p) = segments {
-        crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;
-    }
-    if json {
-        println!("{}", sim.json());
-    } else {
-        print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
-    }
-    Ok(())
-}

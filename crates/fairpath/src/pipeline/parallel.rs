@@ -1,17 +1,33 @@
-//! Verification of many runs on all cores: the library's verifier is
-//! single-threaded (it has no `std`), so this splits the work into jobs
-//! (whole runs, and chunks of long runs) and runs them on scoped threads.
+//! Verification of many runs on all cores: the verifier is
+//! single-threaded, so this splits the work into jobs (whole runs, and
+//! chunks of long runs) and, with the `std` feature, runs them on scoped
+//! threads (without it, one after the other: the same results).
 
-use fairpath::path::Piece;
-use fairpath::verify::{report_without_deviation, Deviation, RunReport, Verifier, VerifyOptions};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use crate::path::Piece;
+use crate::verify::{report_without_deviation, Deviation, RunReport, Verifier, VerifyOptions};
+use alloc::vec::Vec;
 
 /// Pieces per deviation job: long runs are measured in chunks this size.
 const CHUNK: usize = 4096;
 
-/// Runs `f(i)` for `i in 0..n` on up to `threads` threads, results in order.
-pub(crate) fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
+/// Runs `f(i)` for `i in 0..n`, results in order: with the `std` feature
+/// on as many scoped threads as the machine has cores (at most `n`), each
+/// taking the next index when done; without it in order on this thread.
+pub fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
+    #[cfg(feature = "std")]
+    {
+        threaded(n, f)
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        (0..n).map(f).collect()
+    }
+}
+
+#[cfg(feature = "std")]
+fn threaded<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
     let threads = std::thread::available_parallelism()
         .map(|t| t.get())
         .unwrap_or(1)
@@ -66,7 +82,7 @@ pub fn verify_runs(pairs: &[(&[Piece], &[Piece])], opts: &VerifyOptions) -> Vec<
         let (i, a, b) = jobs[j];
         prepared[i].1.as_ref().unwrap().deviation(&pairs[i].1[a..b])
     });
-    let mut merged: Vec<Option<Deviation>> = vec![None; pairs.len()];
+    let mut merged: Vec<Option<Deviation>> = alloc::vec![None; pairs.len()];
     for (&(i, _, _), d) in jobs.iter().zip(results) {
         merged[i] = Some(match merged[i] {
             Some(m) => m.merge(d),

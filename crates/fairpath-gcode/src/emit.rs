@@ -6,22 +6,54 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
-use crate::parallel::par_map;
-use crate::pipeline::{compare_runs, group_by_source, pair_runs, WrittenCheck};
-use crate::{Controller, Format};
-use anyhow::{anyhow, Result};
-use fairpath::budget::ToleranceBudget;
+use crate::pipeline::{compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck};
+pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
+use crate::{
+    ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
+    RunOutput, WriteError, ROUNDING_SHARE,
+};
+use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_run_shaped, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
+use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
+use fairpath::pipeline::par_map;
 use fairpath::render::{
-    render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions, RenderStats,
+    render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions, RenderStats,
 };
-use fairpath_gcode::{
-    ArcWords, GcodeWriteOptions, NurbsBlocks, Program, RunOutput, ROUNDING_SHARE,
-};
+
+/// Why the curves could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum EmitError {
+    /// The blending share a program's own `G64` asks for does not fit
+    /// ([`EmitOptions::budget_for`]).
+    #[error("the blending share for the program's own G64")]
+    Blend(#[source] BudgetError),
+    #[error("writing JSON")]
+    WriteJson(#[source] WriteError),
+    #[error("the written JSON does not read back")]
+    ReadJson(#[source] JsonError),
+    #[error("rendering run {run}")]
+    Render {
+        /// Index of the run in the program's runs.
+        run: usize,
+        #[source]
+        source: RenderError,
+    },
+    #[error("planning")]
+    Plan(#[source] FeedError),
+    #[error("writing G-code")]
+    WriteGcode(#[source] WriteError),
+    #[error("the written G-code does not read back")]
+    Reread(#[source] GcodeError),
+    /// The text read back has other runs than the program.
+    #[error(transparent)]
+    Runs(#[from] RunCountMismatch),
+}
+
+type Result<T, E = EmitError> = core::result::Result<T, E>;
 
 /// LinuxCNC spends at least this many servo periods on a block
 /// (`TP_MIN_SEGMENT_CYCLES`, tp.c): shorter blocks cap the speed.
@@ -36,77 +68,8 @@ pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
 /// ends of a shorter one could coincide (a full circle in G-code).
 pub const MIN_ARC_UNITS: f64 = 4.0;
 
-/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
-/// output (every vertex is blended) and for the other G-code formats
-/// (only corners that were kept are).
-pub const G1_BLEND_SHARE: f64 = 0.5;
-pub const CURVE_BLEND_SHARE: f64 = 0.1;
-
-/// Runs of at least this many pieces are planned at both feeds side by
-/// side (shorter ones run side by side with other runs).
-const PARALLEL_FEEDS_PIECES: usize = 10_000;
-
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
-
-/// What to write, for whom.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EmitOptions {
-    pub format: Format,
-    pub controller: Controller,
-    pub budget: ToleranceBudget,
-    pub machine: MachineLimits,
-    /// See [`RenderOptions::step_share`].
-    pub step_share: f64,
-    /// The feeds the user plans with: all at the machine's maximum
-    /// (`true`), or as programmed. A run is rewritten only if it plans
-    /// faster at the maximum feed and at these.
-    pub override_feed: bool,
-    /// How the controller's planner is modelled when renders are judged
-    /// against the program's own runs: [`Corners::BlockCapped`] for a
-    /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
-    pub judged_by: Corners,
-}
-
-impl EmitOptions {
-    /// The blending share of the tolerance for `controller` and `format`
-    /// when the output share is `output` mm (0 when no blending mode is
-    /// written).
-    pub fn blend_share(controller: Controller, format: Format, output: f64) -> f64 {
-        match (controller, format) {
-            (_, Format::Json) | (Controller::Generic | Controller::Fanuc, _) => 0.0,
-            (Controller::Linuxcnc, Format::G1) => G1_BLEND_SHARE * output,
-            (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
-        }
-    }
-
-    /// The budget to write `program` with: `self.budget`, except where it
-    /// has no blending share and the program's own path control at one of
-    /// its runs blends beyond the share LinuxCNC would get
-    /// ([`fairpath_gcode::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
-    /// a bare `G64`). A controller reading that program's `G64` blends the
-    /// written blocks, so that share ([`EmitOptions::blend_share`] for
-    /// LinuxCNC) is taken out of the output share and the writer writes
-    /// `G64 P<share> Q0` around those runs: the smoothing share stays as the
-    /// smoother used it, and smoothing + output + blending is still the
-    /// tolerance.
-    pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget> {
-        let b = self.budget;
-        let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
-        if b.blend > 0.0 || blend <= 0.0 {
-            return Ok(b);
-        }
-        let blends = fairpath_gcode::write_gcode::path_control_before_runs(program)
-            .iter()
-            .flatten()
-            .any(|p| p.exceeds(blend));
-        if !blends {
-            return Ok(b);
-        }
-        ToleranceBudget::new(b.total, Some(b.output - blend), blend)
-            .map_err(|e| anyhow!("the blending share for the program's own G64: {e}"))
-    }
-}
 
 /// A run is rewritten only if its rendering plans at least this much
 /// faster than the run as the program wrote it (rounding of the written
@@ -131,20 +94,6 @@ pub struct Emitted {
     /// Runs kept as the program wrote them: their rendering planned no
     /// faster (or did not verify).
     pub kept_runs: usize,
-    /// The written G-code as read back for the check (`None` for JSON),
-    /// for planning it without reading it again
-    /// ([`crate::pipeline::plan_written`]).
-    pub reading: Option<WrittenReading>,
-}
-
-/// The written G-code as read back: its motions, its runs, and the time of
-/// each run at the user's feeds where the check already planned it exactly
-/// as `fairpath simulate` does (corners blended), else `None`.
-#[derive(Clone, Debug)]
-pub struct WrittenReading {
-    pub outline: Vec<crate::pipeline::MotionOutline>,
-    pub runs: Vec<Run>,
-    pub run_times: Vec<Option<f64>>,
 }
 
 /// What is written for one run.
@@ -182,17 +131,15 @@ pub fn emit(
     opts: &EmitOptions,
 ) -> Result<Emitted> {
     let opts = &EmitOptions {
-        budget: opts.budget_for(program)?,
+        budget: opts.budget_for(program).map_err(EmitError::Blend)?,
         ..*opts
     };
     let original = program.runs();
     let tolerance = opts.budget.written();
     let forms: &[CurveForm] = match opts.format {
         Format::Json => {
-            let text = fairpath_gcode::write_json(program, smoothed)
-                .map_err(|e| anyhow!("writing JSON: {e}"))?;
-            let pieces = fairpath_gcode::read_json(&text)
-                .map_err(|e| anyhow!("the written JSON does not read back: {e}"))?;
+            let text = crate::write_json(program, smoothed).map_err(EmitError::WriteJson)?;
+            let pieces = crate::read_json(&text).map_err(EmitError::ReadJson)?;
             let check = compare_runs(&original, &group_by_source(&original, &pieces), tolerance)?;
             return Ok(Emitted {
                 budget: opts.budget,
@@ -202,7 +149,6 @@ pub fn emit(
                 check,
                 retried_runs: 0,
                 kept_runs: 0,
-                reading: None,
             });
         }
         Format::G1 => &[CurveForm::Lines],
@@ -237,8 +183,8 @@ pub fn emit(
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, &wo);
         let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
-        let r =
-            render_run(&smoothed[k], &speed, &ro).map_err(|e| anyhow!("rendering run {k}: {e}"))?;
+        let r = render_run(&smoothed[k], &speed, &ro)
+            .map_err(|source| EmitError::Render { run: k, source })?;
         Ok(Choice {
             form: Some(form),
             chord,
@@ -261,7 +207,7 @@ pub fn emit(
         };
         Ok(
             plan_run_shaped(pieces, &po, &Shaping::none(), opts.judged_by)
-                .map_err(|e| anyhow!("planning: {e}"))?
+                .map_err(EmitError::Plan)?
                 .time,
         )
     };
@@ -275,17 +221,7 @@ pub fn emit(
         }
     };
     // The planned time of each of the program's own runs, at each feed.
-    // A run smoothed into itself (method `none`) is written as the program
-    // wrote it: no rendering could say it more exactly, and its own times
-    // are not needed. (Runs side by side, each run's feeds one after the
-    // other: two plans of one long input run at once held 150 MB more on
-    // surface-raster-large.ngc and saved little.)
-    let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
-    let nf = feeds.len();
     let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
-        if itself[k] {
-            return Ok(vec![f64::INFINITY; nf]);
-        }
         feeds
             .iter()
             .map(|&f| time(&original[k].pieces, f))
@@ -293,19 +229,8 @@ pub fn emit(
     })
     .into_iter()
     .collect::<Result<_>>()?;
-    // A run's times at each feed (`t(feed)`), side by side for a long run.
-    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| -> Result<Vec<f64>> {
-        if len >= PARALLEL_FEEDS_PIECES && nf > 1 {
-            par_map(nf, |i| t(feeds[i])).into_iter().collect()
-        } else {
-            feeds.iter().map(|&f| t(f)).collect()
-        }
-    };
     let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
         let own = &own[k];
-        if itself[k] {
-            return Ok(Choice::original(opts.budget.output));
-        }
         let mut best: Option<(f64, Choice)> = None;
         for (i, &form) in forms.iter().enumerate() {
             // G1 is the other candidate for curves that arcs could not
@@ -319,16 +244,10 @@ pub fn emit(
                 continue;
             }
             let c = render(k, form, opts.budget.output)?;
-            // Where a rendering is already chosen, a candidate that does
-            // not beat it at the first feed loses whatever its other
-            // times: they are planned only when it does.
-            if let Some((b, _)) = &best {
-                let t0 = rendered_time(&c, feeds[0])?;
-                if t0 >= *b || t0 * (1.0 + KEEP_MARGIN) > own[0] {
-                    continue;
-                }
-            }
-            let ts = at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?;
+            let ts: Vec<f64> = feeds
+                .iter()
+                .map(|&f| rendered_time(&c, f))
+                .collect::<Result<_>>()?;
             // Faster than the program's own run at every feed.
             if ts
                 .iter()
@@ -360,56 +279,31 @@ pub fn emit(
                 None => RunOutput::Original,
             })
             .collect();
-        let text = fairpath_gcode::write_gcode_with(program, &outputs, &wo)
-            .map_err(|e| anyhow!("writing G-code: {e}"))?;
-        let reread_program = fairpath_gcode::parse(text.as_bytes())
-            .map_err(|e| anyhow!("the written G-code does not read back: {e}"))?;
-        // What planning the written program needs of it; the program
-        // itself is dropped at once (on long outputs it is the largest
-        // thing held).
-        let reread_outline = crate::pipeline::outline(&reread_program);
-        let reread = reread_program.runs();
-        drop(reread_program);
+        let text =
+            crate::write_gcode_with(program, &outputs, &wo).map_err(EmitError::WriteGcode)?;
+        let reread = crate::parse(text.as_bytes())
+            .map_err(EmitError::Reread)?
+            .runs();
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
-        let mut is_failed = vec![false; choices.len()];
-        for &k in &failed {
-            is_failed[k] = true;
-        }
         let pairs = pair_runs(&original, &reread)?;
-        // The feed `fairpath simulate` plans the written program at, and
-        // whether `time` plans as it does there (its time is kept).
-        let user_feed = feeds.iter().position(|&f| f == opts.override_feed);
-        let as_simulate = opts.judged_by == Corners::Blended;
-        type Slower = (Option<usize>, Option<f64>);
-        let judged: Vec<Slower> = par_map(pairs.len(), |i| -> Result<Slower> {
+        let slower: Vec<usize> = par_map(pairs.len(), |i| -> Result<Option<usize>> {
             let (o, c) = pairs[i];
-            if choices[o].form.is_none() || is_failed[o] {
-                return Ok((None, None));
+            if choices[o].form.is_none() || failed.contains(&o) {
+                return Ok(None);
             }
-            let pieces = &reread[c].pieces;
-            let kept = |ts: &[f64]| {
-                user_feed
-                    .filter(|_| as_simulate)
-                    .and_then(|u| ts.get(u).copied())
-            };
-            if pieces.len() >= PARALLEL_FEEDS_PIECES {
-                let ts = at_feeds(pieces.len(), &|f| time(pieces, f))?;
-                let slower = ts.iter().zip(&own[o]).any(|(t, w)| t > w);
-                return Ok((slower.then_some(o), kept(&ts)));
-            }
-            let mut ts = Vec::with_capacity(nf);
             for (fi, &f) in feeds.iter().enumerate() {
-                ts.push(time(pieces, f)?);
-                if ts[fi] > own[o][fi] {
-                    return Ok((Some(o), None));
+                if time(&reread[c].pieces, f)? > own[o][fi] {
+                    return Ok(Some(o));
                 }
             }
-            Ok((None, kept(&ts)))
+            Ok(None)
         })
         .into_iter()
-        .collect::<Result<Vec<_>>>()?;
-        let slower: Vec<usize> = judged.iter().filter_map(|j| j.0).collect();
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
         // Nothing left to change, or nothing this loop can change (a run
         // the program wrote itself fails: the caller refuses).
         let stuck = failed.iter().any(|&k| choices[k].form.is_none());
@@ -418,27 +312,17 @@ pub fn emit(
             for c in &choices {
                 stats.add(&c.stats);
             }
-            let kept_runs = choices.iter().filter(|c| c.form.is_none()).count();
-            let mut run_times = vec![None; reread.len()];
-            for (&(_, c), j) in pairs.iter().zip(&judged) {
-                run_times[c] = j.1;
-            }
             return Ok(Emitted {
                 budget: opts.budget,
                 text,
                 runs: choices
-                    .into_iter()
-                    .map(|c| c.form.map(|_| c.pieces))
+                    .iter()
+                    .map(|c| c.form.map(|_| c.pieces.clone()))
                     .collect(),
                 stats,
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
-                kept_runs,
-                reading: Some(WrittenReading {
-                    outline: reread_outline,
-                    runs: reread,
-                    run_times,
-                }),
+                kept_runs: choices.iter().filter(|c| c.form.is_none()).count(),
             });
         }
         attempt += 1;
@@ -491,8 +375,7 @@ fn linuxcnc_motion(pieces: &[Piece]) -> Vec<Piece> {
 pub fn arc_words_of(program: &Program) -> ArcWords {
     let lines = program.lines();
     let uses_r = program.moves().iter().any(|m| {
-        m.kind == fairpath_gcode::MoveKind::Arc
-            && lines[m.line - 1].words.iter().any(|w| w.letter == 'R')
+        m.kind == crate::MoveKind::Arc && lines[m.line - 1].words.iter().any(|w| w.letter == 'R')
     });
     if uses_r {
         ArcWords::R
@@ -545,15 +428,15 @@ fn render_options(
     opts: &EmitOptions,
     form: CurveForm,
     chord: f64,
-    units: fairpath_gcode::Units,
+    units: crate::Units,
     wo: &GcodeWriteOptions,
 ) -> RenderOptions {
     let scale = units.mm_per_unit();
     let min_decimals = match units {
-        fairpath_gcode::Units::Mm => wo.decimals_mm,
-        fairpath_gcode::Units::Inch => wo.decimals_inch,
+        crate::Units::Mm => wo.decimals_mm,
+        crate::Units::Inch => wo.decimals_inch,
     };
-    let (decimals, _) = fairpath_gcode::output_decimals(wo, scale, min_decimals);
+    let (decimals, _) = crate::output_decimals(wo, scale, min_decimals);
     RenderOptions {
         form,
         // The writer's rounding takes at most ROUNDING_SHARE of it.
@@ -586,13 +469,13 @@ mod tests {
             machine: MachineLimits::thesis(),
             step_share: fairpath::render::arcs::STEP_SHARE,
             override_feed: false,
-            judged_by: Corners::Blended,
+            judged_by: fairpath::feed::plan::Corners::Blended,
         }
     }
 
     fn program(head: &str) -> Program {
         let text = format!("G20 G90 {head}\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nM30\n");
-        fairpath_gcode::parse(text.as_bytes()).unwrap()
+        crate::parse(text.as_bytes()).unwrap()
     }
 
     #[test]

@@ -1,0 +1,92 @@
+//! `fairpath simulate`: plan a jerk-limited feed along every move of a
+//! program (G-code or fairpath JSON) and report the machining time, the
+//! largest acceleration and jerk used, and the constraint that limits each
+//! segment; optionally the sampled profile as CSV. The planning is the
+//! library's ([`fairpath::feed::program`]); this reads the file and prints.
+
+use anyhow::{anyhow, bail, Context, Result};
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::program::{simulate, Motion, Simulation, MAX_SAMPLES};
+use std::path::Path;
+
+/// The motions of a program: G-code runs (and each pinned move on its
+/// own), or, for JSON, consecutive continuous feed pieces.
+pub fn motions(path: &Path) -> Result<Vec<Motion>> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    motions_of(path, &bytes)
+}
+
+/// [`motions`] of a program's text (`path` names it in errors).
+pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
+    let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+    if is_json {
+        let text =
+            std::str::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
+        fairpath_gcode::json_motions(text).map_err(|e| anyhow!("{}: {e}", path.display()))
+    } else {
+        let program = crate::read::parse_program(path, bytes)?;
+        Ok(program.motions(&program.runs()))
+    }
+}
+
+/// The simulation as JSON (at least `time_s`, `feed_time_s`, `max_acc`,
+/// `max_jerk`).
+pub fn simulation_json(sim: &Simulation) -> String {
+    serde_json::json!({
+        "time_s": sim.time(),
+        "feed_time_s": sim.feed_time,
+        "rapid_time_s": sim.rapid_time,
+        "max_acc": sim.max_acc,
+        "max_jerk": sim.max_jerk,
+        "segments": sim.segments,
+        "limiting": sim.limiting,
+        "full_scan_time_s": sim.full_scan_time,
+        "feed_fluctuation_max": sim.fluctuation.map(|f| f.0),
+        "feed_fluctuation_mean": sim.fluctuation.map(|f| f.1),
+    })
+    .to_string()
+}
+
+/// `fairpath simulate`.
+pub fn run(
+    path: &Path,
+    m: &MachineLimits,
+    override_feed: bool,
+    window: Option<usize>,
+    profile: Option<&Path>,
+    segments: Option<&Path>,
+    json: bool,
+) -> Result<()> {
+    let motions = motions(path)?;
+    if motions.is_empty() {
+        // Tool changes, coolant ...: nothing to plan, a time of zero.
+        eprintln!("note: {}: the program has no moves", path.display());
+    }
+    let mut sim = simulate(&motions, m, override_feed, window)?;
+    if window.is_some() {
+        sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
+    }
+    // One sample per period: refuse absurd counts rather than run out of
+    // memory (a program of hours at 1 ms).
+    let samples = sim.time() / m.period;
+    if samples <= MAX_SAMPLES {
+        let (csv, fmax, fmean) = sim.csv(m, profile.is_some());
+        sim.fluctuation = Some((fmax, fmean));
+        if let Some(p) = profile {
+            crate::output::write_atomically(p, csv.as_bytes())?;
+        }
+    } else if profile.is_some() {
+        bail!(
+            "the profile would have {samples:.0} rows (more than {MAX_SAMPLES:.0}); use a longer --period"
+        );
+    }
+    if let Some(p) = segments {
+        crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;
+    }
+    if json {
+        println!("{}", simulation_json(&sim));
+    } else {
+        print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
+    }
+    Ok(())
+}

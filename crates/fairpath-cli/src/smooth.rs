@@ -1,0 +1,144 @@
+//! `fairpath smooth`: the files around the library's job
+//! ([`fairpath_gcode::smooth_parsed`]): read the input, warn about lines
+//! passed through, write the output atomically only when it verified, and
+//! the summary. Option errors name the command line's flags.
+
+use crate::read::read_program;
+use crate::summary::Summary;
+use crate::{Controller, Format};
+use anyhow::{anyhow, Context, Result};
+use fairpath::pipeline::PipelineError;
+use fairpath_gcode::{OptionsError, Program, SmoothOptions, SmoothProgramError};
+use std::path::Path;
+
+/// [`SmoothOptions::new`] with errors naming the flags (`--tolerance`,
+/// `--chord`).
+pub fn options(
+    tolerance: f64,
+    chord: Option<f64>,
+    method: &str,
+    format: Option<Format>,
+    controller: Controller,
+) -> Result<SmoothOptions> {
+    SmoothOptions::new(tolerance, chord, method, format, controller).map_err(option_error)
+}
+
+/// An option error in the command line's words.
+pub fn option_error(e: OptionsError) -> anyhow::Error {
+    match e {
+        OptionsError::Tolerance(t) => anyhow!(
+            "--tolerance: {} (allowed: 1e-6 to 1000 mm)",
+            fairpath::smooth::SmoothError::BadTolerance(t)
+        ),
+        OptionsError::OutputShare { value, half } => anyhow!(
+            "--chord must be a positive number of mm, at most half the tolerance ({half} mm); got {value}"
+        ),
+        OptionsError::Budget { source, .. } => {
+            anyhow!("--tolerance: {source}: raise --tolerance or lower --chord")
+        }
+        OptionsError::NothingLeft {
+            tolerance,
+            output,
+            left,
+        } => anyhow!(
+            "--tolerance {tolerance} mm leaves {left:e} mm for smoothing after the output \
+             ({output} mm) and arc sampling; at least 1e-6 mm is needed: raise \
+             --tolerance or lower --chord"
+        ),
+        OptionsError::StepShare(s) => {
+            anyhow!("--step-share must be a positive number or inf; got {s}")
+        }
+        e @ (OptionsError::UnknownMethod(_) | OptionsError::Machine(_)) => e.into(),
+    }
+}
+
+/// The whole `fairpath smooth` job: read `input`, smooth, verify, plan,
+/// render, write, verify the written text, plan it (the library's
+/// [`fairpath_gcode::smooth_parsed`]), and write `output` only if it
+/// passes (through a temporary file renamed over `output`). Returns the
+/// summary; on a verification failure prints it to stderr and returns an
+/// error, leaving no output file.
+pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<Summary> {
+    let started = std::time::Instant::now();
+    let mut phases = fairpath_gcode::pipeline::Phases::new();
+    let program = read_program(input)?;
+    phases.mark("read");
+    warn_passthrough(input, &program);
+    let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
+    let (written, report) = match fairpath_gcode::smooth_parsed(&program, opts) {
+        Ok(done) => done,
+        Err(e) => {
+            if let SmoothProgramError::OutputNotVerified { report, .. } = &e {
+                let mut summary = Summary::new(input, output, opts, report);
+                summary.elapsed = started.elapsed();
+                if timing {
+                    eprint!("{}{}", phases.report(), report.phases.report());
+                }
+                eprint!("{}", summary.text());
+            }
+            return Err(match e {
+                e @ (SmoothProgramError::OutputNotVerified { .. }
+                | SmoothProgramError::Curves(PipelineError::NotVerified { .. })) => {
+                    anyhow!("refusing to write {}: {e}", output.display())
+                }
+                e => e.into(),
+            });
+        }
+    };
+    let mut summary = Summary::new(input, output, opts, &report);
+    summary.elapsed = started.elapsed();
+    if timing {
+        eprint!("{}{}", phases.report(), report.phases.report());
+    }
+    if report.no_moves {
+        // Nothing to smooth (tool changes, coolant ...): the program as it
+        // is, byte for byte.
+        let bytes =
+            std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
+        eprintln!(
+            "note: {}: the program has no moves: copied unchanged",
+            input.display()
+        );
+        summary.lines_out = summary.lines_in;
+        crate::output::write_atomically(output, &bytes)?;
+        return Ok(summary);
+    }
+    crate::output::write_atomically(output, written.text.as_bytes())?;
+    Ok(summary)
+}
+
+/// Most ranges of passed-through lines [`warn_passthrough`] lists.
+const PASSTHROUGH_LISTED: usize = 8;
+
+/// Warns on stderr about the lines passed through verbatim (canned cycles,
+/// other dialects' words): they are run as written, not smoothed.
+fn warn_passthrough(input: &Path, program: &Program) {
+    let notes = program.passthrough();
+    if notes.is_empty() {
+        return;
+    }
+    let listed: Vec<String> = notes
+        .iter()
+        .take(PASSTHROUGH_LISTED)
+        .map(|n| {
+            let (a, b) = (*n.lines.start(), *n.lines.end());
+            let lines = if a == b {
+                format!("line {a}")
+            } else {
+                format!("lines {a}-{b}")
+            };
+            format!("{lines} ({})", n.what)
+        })
+        .collect();
+    let more = notes.len().saturating_sub(PASSTHROUGH_LISTED);
+    eprintln!(
+        "warning: {}: passed through verbatim, not smoothed: {}{}",
+        input.display(),
+        listed.join(", "),
+        if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        }
+    );
+}

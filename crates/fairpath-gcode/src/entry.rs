@@ -1,0 +1,162 @@
+//! The entry point: a program's text in, the written program and the
+//! evidence out, or an error ([`smooth_program`], [`smooth_parsed`]); and
+//! its two halves, smoothing and planning ([`smooth_and_plan`]) and
+//! writing ([`write_curves`]), on the steps of [`crate::pipeline`] and
+//! [`crate::emit`].
+
+mod error;
+mod report;
+
+pub use error::SmoothProgramError;
+pub use report::Report;
+
+use crate::emit::emit;
+use crate::pipeline::{
+    plan_curves, plan_input, plan_text, smooth_curves, JobTimes, Phases, SmoothOptions,
+    SmoothResult, Times,
+};
+use crate::{Format, Program};
+use fairpath::feed::plan::RunPlan;
+use fairpath::path::Piece;
+
+type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
+
+/// The smoothed runs of a program and the plans [`write_curves`] needs.
+#[derive(Clone, Debug)]
+pub struct Curves {
+    /// Every run: the original, its curves, the verifier's report.
+    pub result: SmoothResult,
+    /// The planned time of the input program.
+    pub input: Times,
+    /// The planned time of the program with the curves in its runs.
+    pub exact: Times,
+    /// Each smoothed run's plan at the machine's maximum feed, which the
+    /// renderer shapes the written pieces by ([`plan_curves`]).
+    pub plans: Vec<RunPlan>,
+}
+
+/// Smooths and verifies every run ([`smooth_curves`]) and plans the input
+/// and the curves ([`plan_input`], [`plan_curves`]).
+pub fn smooth_and_plan(
+    program: &Program,
+    opts: &SmoothOptions,
+    phases: &mut Phases,
+) -> Result<Curves> {
+    let result = smooth_curves(program, opts, phases)?;
+    let input = plan_input(program, opts)?;
+    let (exact, plans) = plan_curves(program, &result, opts)?;
+    phases.mark("plan input and curves");
+    Ok(Curves {
+        result,
+        input,
+        exact,
+        plans,
+    })
+}
+
+/// The written program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output {
+    /// The program's text in `format` (for [`smooth_program`] on a program
+    /// without moves: the text as given).
+    pub text: String,
+    pub format: Format,
+}
+
+/// Writes the program with `curves` in its runs in `opts`' format for its
+/// controller ([`emit`]: each run in the form that plans fastest, or as
+/// the program wrote it), reads the text back, verifies it against the
+/// original within [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written) and plans it. A text that
+/// does not verify is [`SmoothProgramError::OutputNotVerified`]. `phases`
+/// (the job's clock) gets `render, write, check` and `plan written` and
+/// goes into the report.
+pub fn write_curves(
+    program: &Program,
+    curves: Curves,
+    opts: &SmoothOptions,
+    mut phases: Phases,
+) -> Result<(Output, Report)> {
+    let smoothed: Vec<Vec<Piece>> = curves
+        .result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.clone())
+        .collect();
+    let emitted = emit(program, &smoothed, &curves.plans, &opts.emit_options())?;
+    phases.mark("render, write, check");
+    let written_times = plan_text(&emitted.text, opts)?;
+    phases.mark("plan written");
+    let report = Report {
+        result: curves.result,
+        times: JobTimes {
+            input: curves.input,
+            exact: curves.exact,
+            written: written_times,
+        },
+        budget: emitted.budget,
+        written: emitted.check,
+        stats: emitted.stats,
+        retried_runs: emitted.retried_runs,
+        kept_runs: emitted.kept_runs,
+        method: opts.method_name().to_string(),
+        block_capped: opts.method().writes_for_block_capped_planner(),
+        lines_in: program.lines().len(),
+        lines_out: emitted.text.lines().count(),
+        rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
+        no_moves: program.is_empty(),
+        phases,
+    };
+    let output = Output {
+        text: emitted.text,
+        format: opts.format(),
+    };
+    if !report.written.within {
+        return Err(SmoothProgramError::OutputNotVerified {
+            deviation: report.written.max_deviation,
+            tolerance: report.budget.written(),
+            output: Box::new(output),
+            report: Box::new(report),
+        });
+    }
+    Ok((output, report))
+}
+
+/// [`smooth_program`] of a program already read.
+pub fn smooth_parsed(program: &Program, opts: &SmoothOptions) -> Result<(Output, Report)> {
+    let mut phases = Phases::new();
+    let curves = smooth_and_plan(program, opts, &mut phases)?;
+    write_curves(program, curves, opts, phases)
+}
+
+/// The whole job on a program's text: read it, smooth every run within
+/// the smoothing share and verify the curves, plan the input and the
+/// curves, write the program in `opts`' format for its controller, read
+/// the text back and verify it against the original within
+/// [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written), and plan it. Returns the written text and
+/// the evidence; a text that does not verify is an error
+/// ([`SmoothProgramError::OutputNotVerified`]), never an output. A program
+/// without moves comes back as given.
+/// ```
+/// use fairpath_gcode::{smooth_program, Controller, SmoothOptions};
+///
+/// let program = "G21 G90\nG0 X0 Y0\nG1 X10 F1200\nG1 X10 Y10\nG1 X0 Y10\nM30\n";
+/// let opts = SmoothOptions::new(0.05, None, "auto", None, Controller::Generic)?;
+/// let (output, report) = smooth_program(program, &opts)?;
+/// let t = report.times;
+/// println!("planned {:.3} s -> {:.3} s", t.input.total, t.written.total);
+/// assert!(report.written.within && report.max_deviation_written() <= 0.05);
+/// assert!(output.text.contains("G2") || output.text.contains("G3"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn smooth_program(text: &str, opts: &SmoothOptions) -> Result<(Output, Report)> {
+    if text.bytes().all(|b| b.is_ascii_whitespace()) {
+        return Err(SmoothProgramError::EmptyProgram);
+    }
+    let program = crate::parse(text.as_bytes())?;
+    let (mut output, mut report) = smooth_parsed(&program, opts)?;
+    if report.no_moves {
+        output.text = text.to_string();
+        report.lines_out = report.lines_in;
+    }
+    Ok((output, report))
+}

@@ -1,0 +1,138 @@
+//! The evidence of a smoothing job.
+
+use crate::pipeline::{JobTimes, Phases, SmoothResult, WrittenCheck};
+use fairpath::budget::ToleranceBudget;
+use fairpath::geom::Curve;
+use fairpath::render::RenderStats;
+use fairpath::smooth::CornerReason;
+
+/// The evidence of a smoothing job.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Every run: the original, its curves, the verifier's report on them
+    /// (against the smoothing share).
+    pub result: SmoothResult,
+    /// Planned times of the input, the exact curves and the written
+    /// program, by the same model on the same machine and feeds.
+    pub times: JobTimes,
+    /// The budget the text was written with (for a program whose own G64
+    /// blends beyond the share, a blending share taken out of the output
+    /// share: [`EmitOptions::budget_for`](crate::emit::EmitOptions::budget_for)).
+    pub budget: ToleranceBudget,
+    /// The verdict on the written text read back, against the original.
+    pub written: WrittenCheck,
+    /// What the written runs hold.
+    pub stats: RenderStats,
+    /// Runs rendered again with a finer chord before they verified.
+    pub retried_runs: usize,
+    /// Runs written as the program had them (no rendering planned faster).
+    pub kept_runs: usize,
+    /// The method's name.
+    pub method: String,
+    /// The runs were judged by a planner that caps the speed at every block
+    /// end (LinuxCNC's S-curve planner, for `arc-fit`), not by the blending
+    /// model of the times.
+    pub block_capped: bool,
+    /// Lines of the input and of the written program.
+    pub lines_in: usize,
+    pub lines_out: usize,
+    /// Rapids of the input (untouched).
+    pub rapids: usize,
+    /// The program has no moves (tool changes, coolant ...): nothing was
+    /// smoothed.
+    pub no_moves: bool,
+    /// Wall-clock time of each step.
+    pub phases: Phases,
+}
+
+impl Report {
+    /// Shares of the tolerance the text was written with: smoothing,
+    /// output, the controller's blending (mm).
+    pub fn shares(&self) -> (f64, f64, f64) {
+        (
+            self.budget.smoothing(),
+            self.budget.output,
+            self.budget.blend,
+        )
+    }
+
+    /// Largest deviation of the curves from the original (mm, as found).
+    pub fn max_deviation_curves(&self) -> f64 {
+        self.result
+            .runs
+            .iter()
+            .map(|r| r.report.max_deviation)
+            .fold(0.0, f64::max)
+    }
+
+    /// Bound of the written text's deviation from the original, read back
+    /// (mm).
+    pub fn max_deviation_written(&self) -> f64 {
+        self.written.max_deviation
+    }
+
+    /// Joints of the curves by class: gaps, G0 (corners), G1, G2.
+    pub fn joints(&self) -> [usize; 4] {
+        let mut joints = [0; 4];
+        for r in &self.result.runs {
+            let c = r.report.joint_counts();
+            for i in 0..4 {
+                joints[i] += c[i];
+            }
+        }
+        joints
+    }
+
+    /// `auto`'s choices: candidate and number of sections, most first.
+    pub fn auto_chose(&self) -> Vec<(&'static str, usize)> {
+        let mut chosen: Vec<(&'static str, usize)> = Vec::new();
+        for &name in self.result.runs.iter().flat_map(|r| &r.smoothed.chosen) {
+            match chosen.iter_mut().find(|c| c.0 == name) {
+                Some(c) => c.1 += 1,
+                None => chosen.push((name, 1)),
+            }
+        }
+        chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        chosen
+    }
+
+    /// Corners kept as corners, by reason.
+    pub fn kept_corners(&self) -> Vec<(CornerReason, usize)> {
+        let mut kept = Vec::new();
+        for reason in [
+            CornerReason::Reversal,
+            CornerReason::NoRoom,
+            CornerReason::ArcJoint,
+        ] {
+            let n = self
+                .result
+                .runs
+                .iter()
+                .map(|r| {
+                    r.smoothed
+                        .kept_corners
+                        .iter()
+                        .filter(|k| k.reason == reason)
+                        .count()
+                })
+                .sum();
+            kept.push((reason, n));
+        }
+        kept
+    }
+
+    /// Pieces of the curves that are not lines.
+    pub fn curves_out(&self) -> usize {
+        self.result
+            .runs
+            .iter()
+            .flat_map(|r| &r.smoothed.pieces)
+            .filter(|p| !matches!(p.curve, Curve::Line(_)))
+            .count()
+    }
+
+    /// True when the written program plans slower than the input.
+    pub fn slower_than_input(&self) -> bool {
+        self.times.written.total > self.times.input.total
+    }
+}

@@ -1,0 +1,546 @@
+//! The main job, step by step: read, smooth each run, verify the curves,
+//! plan the input and the curves, render and write what the controller
+//! will run ([`crate::emit`]), verify what was written by reading it back,
+//! and plan it as `fairpath simulate` would. Here are the steps below the
+//! writing: the options ([`SmoothOptions`], and [`EmitOptions`], what the
+//! writer gets of them), smoothing and verifying the curves (the library's
+//! [`fairpath::pipeline`]), the plans, and the check of a written text read
+//! back ([`compare_runs`]). [`crate::entry`] puts them and [`crate::emit`]
+//! together: [`crate::smooth_program`] is the entry point, and its halves
+//! are public for callers that share them between jobs (`fairpath compare`
+//! writes one smoothing in several formats).
+
+use crate::{Controller, Format, Program};
+use fairpath::budget::{BudgetError, ToleranceBudget};
+use fairpath::choose::{self, PlannedTime};
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{Corners, RunPlan};
+use fairpath::feed::program::{simulate, Motion, ProgramPlanError, Simulation};
+use fairpath::geom::Curve;
+use fairpath::path::{Piece, Run};
+use fairpath::pipeline::{verify_runs, PipelineError, Stage};
+use fairpath::render::arcs::STEP_SHARE;
+use fairpath::smooth::{self, Smoother};
+use fairpath::verify::VerifyOptions;
+
+mod error;
+
+pub use error::{OptionsError, PlanError};
+pub use fairpath::pipeline::{RunResult, SmoothResult};
+
+/// What the user asked for.
+///
+/// One [`ToleranceBudget`], built and validated once by
+/// [`SmoothOptions::new`], the method, the format and controller, and the
+/// machine the times are planned for.
+pub struct SmoothOptions {
+    /// How the tolerance is shared: smoothing, writing, the controller's
+    /// blending.
+    budget: ToleranceBudget,
+    method_name: String,
+    method: Box<dyn Smoother>,
+    /// Whether `method` was given by [`SmoothOptions::set_method`] (kept
+    /// by [`SmoothOptions::set_machine`]).
+    custom_method: bool,
+    format: Format,
+    controller: Controller,
+    /// The machine the times are planned for, and the render shaped for.
+    machine: MachineLimits,
+    /// Plan every feed move at the machine's maximum feed.
+    override_feed: bool,
+    /// See [`fairpath::render::RenderOptions::step_share`].
+    step_share: f64,
+}
+
+impl SmoothOptions {
+    /// Options for `tolerance` mm with output share `output` (default a
+    /// tenth of the tolerance), `method`, `format` (default: the
+    /// controller's), on the default machine with programmed feeds.
+    pub fn new(
+        tolerance: f64,
+        output: Option<f64>,
+        method: &str,
+        format: Option<Format>,
+        controller: Controller,
+    ) -> Result<Self, OptionsError> {
+        smooth::check_tolerance(tolerance).map_err(|_| OptionsError::Tolerance(tolerance))?;
+        let format = format.unwrap_or(controller.default_format());
+        let output = output.unwrap_or(fairpath::budget::OUTPUT_SHARE * tolerance);
+        if !(output.is_finite() && output > 0.0 && output <= 0.5 * tolerance) {
+            return Err(OptionsError::OutputShare {
+                value: output,
+                half: 0.5 * tolerance,
+            });
+        }
+        let blend = EmitOptions::blend_share(controller, format, output);
+        let budget = ToleranceBudget::new(tolerance, Some(output - blend), blend)
+            .map_err(|source| OptionsError::Budget { tolerance, source })?;
+        // `auto` gives a share of the smoothing budget to the chords of
+        // sampled arcs.
+        let inner = budget.smoothing() * (1.0 - choose::ARC_SHARE);
+        smooth::check_tolerance(inner).map_err(|_| OptionsError::NothingLeft {
+            tolerance,
+            output,
+            left: inner,
+        })?;
+        let m = choose::by_name(method)
+            .ok_or_else(|| OptionsError::UnknownMethod(method.to_string()))?;
+        Ok(SmoothOptions {
+            budget,
+            method_name: method.to_string(),
+            method: m,
+            custom_method: false,
+            format,
+            controller,
+            machine: MachineLimits::thesis(),
+            override_feed: false,
+            step_share: STEP_SHARE,
+        })
+    }
+
+    /// Plans on `machine` (at the programmed feeds unless `override_feed`),
+    /// and has `auto` rank its candidates by the time planned on it (at
+    /// the machine's maximum feed, so that the choice depends on the
+    /// geometry, not on a feed the program may set low).
+    pub fn set_machine(
+        &mut self,
+        machine: MachineLimits,
+        override_feed: bool,
+    ) -> Result<(), OptionsError> {
+        machine.validate().map_err(OptionsError::Machine)?;
+        self.machine = machine;
+        self.override_feed = override_feed;
+        let objective = std::sync::Arc::new(PlannedTime::new(machine, true));
+        if let Some(m) =
+            choose::method(&self.method_name, objective).filter(|_| !self.custom_method)
+        {
+            self.method = m;
+        }
+        Ok(())
+    }
+
+    /// Smooths with `method` (a method with options of its own, or one of
+    /// the caller's) instead of the one named; the name stays for the
+    /// report.
+    pub fn set_method(&mut self, method: Box<dyn Smoother>) {
+        self.method = method;
+        self.custom_method = true;
+    }
+
+    /// See [`fairpath::render::RenderOptions::step_share`]: positive, or
+    /// infinite.
+    pub fn set_step_share(&mut self, step_share: f64) -> Result<(), OptionsError> {
+        if step_share.is_nan() || step_share <= 0.0 {
+            return Err(OptionsError::StepShare(step_share));
+        }
+        self.step_share = step_share;
+        Ok(())
+    }
+
+    /// The user's tolerance (mm).
+    pub fn tolerance(&self) -> f64 {
+        self.budget.total
+    }
+
+    /// How the tolerance is shared.
+    pub fn budget(&self) -> ToleranceBudget {
+        self.budget
+    }
+
+    /// The method's name, as asked for.
+    pub fn method_name(&self) -> &str {
+        &self.method_name
+    }
+
+    /// The method.
+    pub fn method(&self) -> &dyn Smoother {
+        self.method.as_ref()
+    }
+
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    pub fn controller(&self) -> Controller {
+        self.controller
+    }
+
+    /// The machine the times are planned for.
+    pub fn machine(&self) -> &MachineLimits {
+        &self.machine
+    }
+
+    /// Whether every feed move is planned at the machine's maximum feed.
+    pub fn override_feed(&self) -> bool {
+        self.override_feed
+    }
+
+    /// What the emitter needs of these options.
+    pub fn emit_options(&self) -> EmitOptions {
+        EmitOptions {
+            format: self.format,
+            controller: self.controller,
+            budget: self.budget,
+            machine: self.machine,
+            step_share: self.step_share,
+            override_feed: self.override_feed,
+            judged_by: if self.method.writes_for_block_capped_planner() {
+                Corners::BlockCapped
+            } else {
+                Corners::Blended
+            },
+        }
+    }
+}
+
+type Result<T, E = PlanError> = core::result::Result<T, E>;
+
+/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
+/// output (every vertex is blended) and for the other G-code formats
+/// (only corners that were kept are).
+pub const G1_BLEND_SHARE: f64 = 0.5;
+pub const CURVE_BLEND_SHARE: f64 = 0.1;
+
+/// What to write, for whom.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmitOptions {
+    pub format: Format,
+    pub controller: Controller,
+    pub budget: ToleranceBudget,
+    pub machine: MachineLimits,
+    /// See [`fairpath::render::RenderOptions::step_share`].
+    pub step_share: f64,
+    /// The feeds the user plans with: all at the machine's maximum
+    /// (`true`), or as programmed. A run is rewritten only if it plans
+    /// faster at the maximum feed and at these.
+    pub override_feed: bool,
+    /// How the controller's planner is modelled when renders are judged
+    /// against the program's own runs: [`Corners::BlockCapped`] for a
+    /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
+    pub judged_by: Corners,
+}
+
+impl EmitOptions {
+    /// The blending share of the tolerance for `controller` and `format`
+    /// when the output share is `output` mm (0 when no blending mode is
+    /// written).
+    pub fn blend_share(controller: Controller, format: Format, output: f64) -> f64 {
+        match (controller, format) {
+            (_, Format::Json) | (Controller::Generic | Controller::Fanuc, _) => 0.0,
+            (Controller::Linuxcnc, Format::G1) => G1_BLEND_SHARE * output,
+            (Controller::Linuxcnc, _) => CURVE_BLEND_SHARE * output,
+        }
+    }
+
+    /// The budget to write `program` with: `self.budget`, except where it
+    /// has no blending share and the program's own path control at one of
+    /// its runs blends beyond the share LinuxCNC would get
+    /// ([`crate::write_gcode::PathControl::exceeds`]: `G64 P0.02`,
+    /// a bare `G64`). A controller reading that program's `G64` blends the
+    /// written blocks, so that share ([`EmitOptions::blend_share`] for
+    /// LinuxCNC) is taken out of the output share and the writer writes
+    /// `G64 P<share> Q0` around those runs: the smoothing share stays as the
+    /// smoother used it, and smoothing + output + blending is still the
+    /// tolerance.
+    pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget, BudgetError> {
+        let b = self.budget;
+        let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
+        if b.blend > 0.0 || blend <= 0.0 {
+            return Ok(b);
+        }
+        let blends = crate::write_gcode::path_control_before_runs(program)
+            .iter()
+            .flatten()
+            .any(|p| p.exceeds(blend));
+        if !blends {
+            return Ok(b);
+        }
+        ToleranceBudget::new(b.total, Some(b.output - blend), blend)
+    }
+}
+
+/// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`).
+#[derive(Clone, Debug)]
+pub struct Phases {
+    last: std::time::Instant,
+    done: Vec<(&'static str, std::time::Duration)>,
+}
+
+impl Default for Phases {
+    fn default() -> Self {
+        Phases::new()
+    }
+}
+
+impl Phases {
+    pub fn new() -> Phases {
+        Phases {
+            last: std::time::Instant::now(),
+            done: Vec::new(),
+        }
+    }
+    pub fn mark(&mut self, name: &'static str) {
+        let now = std::time::Instant::now();
+        self.done.push((name, now - self.last));
+        self.last = now;
+    }
+    /// Time spent in the step called `name` (zero if there was none).
+    pub fn duration(&self, name: &str) -> std::time::Duration {
+        self.done
+            .iter()
+            .filter(|(n, _)| *n == name)
+            .map(|(_, d)| *d)
+            .sum()
+    }
+    pub fn report(&self) -> String {
+        self.done
+            .iter()
+            .map(|(n, d)| format!("  {n:<22} {:>9.3} s\n", d.as_secs_f64()))
+            .collect()
+    }
+}
+
+/// Smooths every run with the budget left by the chord tolerance and
+/// verifies the curves against that budget (the library's
+/// [`fairpath::pipeline::smooth_runs`]): curves that fail are an error.
+/// `phases` gets `smooth` and `verify curves`.
+pub fn smooth_curves(
+    program: &Program,
+    opts: &SmoothOptions,
+    phases: &mut Phases,
+) -> Result<SmoothResult, PipelineError> {
+    fairpath::pipeline::smooth_runs_observed(
+        program.runs(),
+        opts.method.as_ref(),
+        &opts.budget,
+        &mut |stage| {
+            phases.mark(match stage {
+                Stage::Smoothed => "smooth",
+                Stage::Verified => "verify curves",
+            })
+        },
+    )
+}
+
+/// Planned times of one program (feed moves and rapids), s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Times {
+    pub total: f64,
+    pub feed: f64,
+}
+
+impl Times {
+    fn of(sim: &Simulation) -> Times {
+        Times {
+            total: sim.time(),
+            feed: sim.feed_time,
+        }
+    }
+}
+
+/// The three plans of a job: the input, the exact curves and the written
+/// program, on the same machine with the same feeds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JobTimes {
+    pub input: Times,
+    pub exact: Times,
+    pub written: Times,
+}
+
+/// The smoothed runs as runs.
+fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
+    result
+        .runs
+        .iter()
+        .map(|r| Run::new(r.smoothed.pieces.clone()))
+        .collect()
+}
+
+/// The planned time of the input, as `fairpath simulate` plans the file.
+pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
+    let motions = program.motions(&program.runs());
+    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+        .map_err(plan_error("the input"))?;
+    Ok(Times::of(&sim))
+}
+
+/// A planning error about `what`.
+fn plan_error(what: &'static str) -> impl Fn(ProgramPlanError) -> PlanError {
+    move |source| PlanError::Plan { what, source }
+}
+
+/// The planned time of the exact curves in the program, and the plan of
+/// each smoothed run that the renderer shapes the written pieces for: at
+/// the machine's maximum feed, so that the written program keeps the
+/// curves' speed at any feed (a feed override above 100% included), not
+/// just at the programmed one.
+pub fn plan_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+) -> Result<(Times, Vec<RunPlan>)> {
+    let m = &opts.machine;
+    let runs = smoothed_runs(result);
+    let (motions, index) = program.motions_indexed(&runs);
+    let exact =
+        simulate(&motions, m, opts.override_feed, None).map_err(plan_error("the curves"))?;
+    let plans = if opts.override_feed {
+        index.iter().map(|&i| exact.plans[i].1.clone()).collect()
+    } else {
+        let feed_runs: Vec<Motion> = runs.into_iter().map(Motion::Feed).collect();
+        simulate(&feed_runs, m, true, None)
+            .map_err(plan_error("the curves"))?
+            .plans
+            .into_iter()
+            .map(|p| p.1)
+            .collect()
+    };
+    Ok((Times::of(&exact), plans))
+}
+
+/// The planned time of a written program's text, exactly as `fairpath
+/// simulate` plans the file (G-code, or fairpath's JSON).
+pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
+    let is_json = text.bytes().find(|b| !b.is_ascii_whitespace()) == Some(b'{');
+    let motions = if is_json {
+        crate::json_motions(text).map_err(PlanError::ReadWrittenJson)?
+    } else {
+        let program = crate::parse(text.as_bytes()).map_err(PlanError::ReadWritten)?;
+        program.motions(&program.runs())
+    };
+    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
+        .map_err(plan_error("the written program"))?;
+    Ok(Times::of(&sim))
+}
+
+/// Groups feed pieces (from JSON) into the original runs by the input lines
+/// they name.
+pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
+    original
+        .iter()
+        .map(|run| {
+            let lo = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let hi = run.pieces.last().map(|p| p.source_lines.1).unwrap_or(0);
+            Run::new(
+                pieces
+                    .iter()
+                    .filter(|p| !p.rapid && p.source_lines.0 >= lo && p.source_lines.1 <= hi)
+                    .cloned()
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+fn is_zero_length(run: &Run) -> bool {
+    run.pieces
+        .iter()
+        .all(|p| matches!(&p.curve, Curve::Line(l) if l.p0 == l.p1))
+}
+
+/// The runs of a candidate do not pair with the original's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the smoothed program has {candidate} runs of feed moves where the original has {original}"
+)]
+pub struct RunCountMismatch {
+    /// Runs of the original that move.
+    pub original: usize,
+    /// Runs of the candidate that move.
+    pub candidate: usize,
+}
+
+/// The verdict on the written output.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WrittenCheck {
+    pub within: bool,
+    pub max_deviation: f64,
+    pub endpoint_failures: usize,
+    pub runs_checked: usize,
+    /// The runs (index in the original's `runs()`) that failed; `None`
+    /// when the failure is not tied to runs.
+    pub failed_runs: Vec<Option<usize>>,
+}
+
+/// The runs of `candidate` that stand for each run of `original`, in
+/// order, as `(original index, candidate index)`: runs of zero length on
+/// either side are skipped. An error when the counts differ.
+pub fn pair_runs(
+    original: &[Run],
+    candidate: &[Run],
+) -> Result<Vec<(usize, usize)>, RunCountMismatch> {
+    let o: Vec<usize> = (0..original.len())
+        .filter(|&i| !is_zero_length(&original[i]))
+        .collect();
+    let c: Vec<usize> = (0..candidate.len())
+        .filter(|&i| !candidate[i].pieces.is_empty() && !is_zero_length(&candidate[i]))
+        .collect();
+    if o.len() != c.len() {
+        return Err(RunCountMismatch {
+            original: o.len(),
+            candidate: c.len(),
+        });
+    }
+    Ok(o.into_iter().zip(c).collect())
+}
+
+/// Pairs runs ([`pair_runs`]) and verifies each pair.
+pub fn compare_runs(
+    original: &[Run],
+    candidate: &[Run],
+    tolerance: f64,
+) -> Result<WrittenCheck, RunCountMismatch> {
+    compare_runs_within(original, candidate, tolerance, 0.0)
+}
+
+/// Run end points count as equal within this share of the tolerance: the
+/// rounding of the input's own reading (1,000 G91 moves of 0.0005 in sum
+/// to 12.700000000000152 mm in f64; the written `X0.5` reads as 12.7:
+/// `straight_segments.ngc`), far below any machine's resolution.
+pub const ENDPOINT_ROUNDING_SHARE: f64 = 1e-9;
+
+/// [`compare_runs`], with run end points that may differ by up to
+/// `endpoint_slack` mm (0: equal up to [`ENDPOINT_ROUNDING_SHARE`] of the
+/// tolerance).
+pub fn compare_runs_within(
+    original: &[Run],
+    candidate: &[Run],
+    tolerance: f64,
+    endpoint_slack: f64,
+) -> Result<WrittenCheck, RunCountMismatch> {
+    let pairs_idx = pair_runs(original, candidate)?;
+    let mut out = WrittenCheck {
+        within: true,
+        max_deviation: 0.0,
+        endpoint_failures: 0,
+        runs_checked: 0,
+        failed_runs: Vec::new(),
+    };
+    let pairs: Vec<(&[Piece], &[Piece])> = pairs_idx
+        .iter()
+        .map(|&(a, b)| {
+            (
+                original[a].pieces.as_slice(),
+                candidate[b].pieces.as_slice(),
+            )
+        })
+        .collect();
+    for (k, rep) in verify_runs(&pairs, &VerifyOptions::new(tolerance))
+        .into_iter()
+        .enumerate()
+    {
+        out.max_deviation = out.max_deviation.max(rep.deviation_bound);
+        let slack = endpoint_slack + ENDPOINT_ROUNDING_SHARE * tolerance;
+        let moved = rep.start_gap > slack || rep.end_gap > slack;
+        if moved {
+            out.endpoint_failures += 1;
+        }
+        let within = rep.deviation_bound <= tolerance && !moved;
+        if !within {
+            out.within = false;
+            out.failed_runs.push(Some(pairs_idx[k].0));
+        }
+        out.runs_checked += 1;
+    }
+    Ok(out)
+}
