@@ -121,6 +121,12 @@ enum Command {
         /// others).
         #[arg(short, long)]
         method: Option<String>,
+        /// The method's options from a TOML file: the fields of its options
+        /// struct (e.g. for bspline-fit `fairness = 1e-4` and a
+        /// `[sections]` table); fields left out keep their defaults, unknown
+        /// fields and values out of range are errors.
+        #[arg(long, value_name = "FILE.toml")]
+        options: Option<PathBuf>,
         /// The controller the program is for: picks the default format and
         /// the dialect (LinuxCNC: G64 P<blend> Q0 around smoothed runs;
         /// Fanuc: a decimal point in every number). For every controller
@@ -151,11 +157,13 @@ enum Command {
         /// bspline-corner: error target when a transition must shrink:
         /// `full` uses the whole band (e = epsilon, the default: lower peak
         /// curvature), `half` is the paper's e* = delta / 2.
-        #[arg(long, value_enum, default_value_t = Band::Full)]
-        band: Band,
-        /// bspline-corner: overlap-avoidance ratio lambda in [0, 1) (paper eq. 8).
-        #[arg(long, default_value_t = 0.0)]
-        lambda: f64,
+        /// [default: full]
+        #[arg(long, value_enum)]
+        band: Option<Band>,
+        /// bspline-corner: overlap-avoidance ratio lambda in [0, 1) (paper eq. 8)
+        /// [default: 0].
+        #[arg(long)]
+        lambda: Option<f64>,
         /// Print the summary as JSON.
         #[arg(long)]
         json_summary: bool,
@@ -255,6 +263,47 @@ fn smooth_output(input: &Path, output: Option<PathBuf>, in_place: bool) -> Resul
     }
 }
 
+/// The method with the options of `--options FILE.toml` or of the flags
+/// `--band`/`--lambda` (bspline-corner's), validated once here; `None`
+/// when none of them is given (the method's defaults). Options that do
+/// not apply to the method are errors, not ignored.
+fn method_with_options(
+    method: &str,
+    file: Option<&std::path::Path>,
+    band: Option<Band>,
+    lambda: Option<f64>,
+) -> anyhow::Result<Option<fairpath::choose::Method>> {
+    use anyhow::{anyhow, bail, Context};
+    use fairpath::choose::Method;
+    let flags = band.is_some() || lambda.is_some();
+    if flags && method != "bspline-corner" {
+        bail!("--band and --lambda are options of bspline-corner, not of method {method}");
+    }
+    if flags && file.is_some() {
+        bail!("give bspline-corner's options either in --options or as --band/--lambda, not both");
+    }
+    let m = if let Some(path) = file {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("--options: reading {}", path.display()))?;
+        Method::named_with(method, toml::Deserializer::new(&text))
+            .map_err(|e| anyhow!("--options {}: method {method}: {e}", path.display()))?
+            .ok_or_else(|| anyhow!("unknown method {method:?}"))?
+    } else if flags {
+        Method::BsplineCorner(fairpath::smooth::BsplineCornerOptions {
+            target: match band.unwrap_or(Band::Full) {
+                Band::Full => fairpath::smooth::ErrorTarget::FullBand,
+                Band::Half => fairpath::smooth::ErrorTarget::HalfBand,
+            },
+            lambda: lambda.unwrap_or(0.0),
+            ..Default::default()
+        })
+    } else {
+        return Ok(None);
+    };
+    m.validate().map_err(|e| anyhow!("{e}"))?;
+    Ok(Some(m))
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
@@ -274,6 +323,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             in_place,
             tolerance,
             method,
+            options,
             controller,
             format,
             chord,
@@ -288,19 +338,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let mut opts = smooth::options(tolerance, chord, &method, format, controller)?;
             opts.set_step_share(step_share)
                 .map_err(smooth::option_error)?;
-            opts.set_machine(machine.limits()?, machine.override_feed)
+            let limits = machine.limits()?;
+            opts.set_machine(limits, machine.override_feed)
                 .map_err(smooth::option_error)?;
-            if method == "bspline-corner" {
-                opts.set_method(Box::new(fairpath::smooth::BsplineCorner {
-                    options: fairpath::smooth::BsplineCornerOptions {
-                        target: match band {
-                            Band::Full => fairpath::smooth::ErrorTarget::FullBand,
-                            Band::Half => fairpath::smooth::ErrorTarget::HalfBand,
-                        },
-                        lambda,
-                        ..Default::default()
-                    },
-                }));
+            if let Some(m) = method_with_options(&method, options.as_deref(), band, lambda)? {
+                let objective =
+                    std::sync::Arc::new(fairpath::choose::PlannedTime::new(limits, true));
+                opts.set_method(m.smoother(objective));
             }
             let summary = smooth::smooth_file(&input, &output, &opts)?;
             if json_summary {

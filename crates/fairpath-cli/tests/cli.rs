@@ -545,3 +545,47 @@ fn smooth_with_another_machine_changes_what_auto_keeps() {
         }
     }
 }
+
+/// Method options are validated once at the front door: an option that
+/// does not apply to the method, an unknown field of `--options` and a
+/// value out of range are errors naming method, option and value, and
+/// leave no output; a valid options file is used.
+#[test]
+fn method_options_are_checked_at_the_front_door() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("zigzag.ngc");
+    let out = dir.path().join("out.ngc");
+    let err = |o: &Output| String::from_utf8_lossy(&o.stderr).to_string();
+    let o = smooth(&input, &out, "0.05", &["-m", "auto", "--band", "half"]);
+    assert!(
+        !o.status.success() && err(&o).contains("bspline-corner"),
+        "{}",
+        err(&o)
+    );
+    let file = dir.path().join("opts.toml");
+    std::fs::write(&file, "lambda = 1.5\n").unwrap();
+    let f = file.to_str().unwrap();
+    let o = smooth(
+        &input,
+        &out,
+        "0.05",
+        &["-m", "bspline-corner", "--options", f],
+    );
+    let e = err(&o);
+    assert!(
+        !o.status.success() && e.contains("lambda") && e.contains("1.5"),
+        "{e}"
+    );
+    std::fs::write(&file, "fairnes = 1e-4\n").unwrap();
+    let o = smooth(&input, &out, "0.05", &["-m", "bspline-fit", "--options", f]);
+    assert!(
+        !o.status.success() && err(&o).contains("fairnes"),
+        "{}",
+        err(&o)
+    );
+    assert!(!out.exists());
+    std::fs::write(&file, "fairness = 1e-4\n[sections]\nmax_segment = 5.0\n").unwrap();
+    let o = smooth(&input, &out, "0.05", &["-m", "bspline-fit", "--options", f]);
+    assert_ok(&o, "valid options");
+    assert_ok(&check(&input, &out, "0.05"), "check");
+}
