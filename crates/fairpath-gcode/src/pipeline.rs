@@ -195,11 +195,12 @@ impl SmoothOptions {
 
 type Result<T, E = PlanError> = core::result::Result<T, E>;
 
-/// Share of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
+/// Shares of the output budget LinuxCNC's blending (`G64 P`) gets, for G1
 /// output (every vertex is blended) and for the other G-code formats
-/// (only corners that were kept are).
-pub const G1_BLEND_SHARE: f64 = 0.5;
-pub const CURVE_BLEND_SHARE: f64 = 0.1;
+/// (only corners that were kept are), from the tolerance ledger.
+pub use fairpath::budget::{
+    BLEND_SHARE_CURVES as CURVE_BLEND_SHARE, BLEND_SHARE_G1 as G1_BLEND_SHARE,
+};
 
 /// What to write, for whom.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -493,11 +494,9 @@ pub fn compare_runs(
     compare_runs_within(original, candidate, tolerance, 0.0)
 }
 
-/// Run end points count as equal within this share of the tolerance: the
-/// rounding of the input's own reading (1,000 G91 moves of 0.0005 in sum
-/// to 12.700000000000152 mm in f64; the written `X0.5` reads as 12.7:
-/// `straight_segments.ngc`), far below any machine's resolution.
-pub const ENDPOINT_ROUNDING_SHARE: f64 = 1e-9;
+/// Run end points count as equal within this share of the tolerance (see
+/// the tolerance ledger).
+pub use fairpath::budget::ENDPOINT_ROUNDING_SHARE;
 
 /// [`compare_runs`], with run end points that may differ by up to
 /// `endpoint_slack` mm (0: equal up to [`ENDPOINT_ROUNDING_SHARE`] of the

@@ -27,7 +27,7 @@
 //! |    |- auto: ARC_SAMPLING_SHARE of it for the chords of sampled arcs,
 //! |    |        the rest to the candidate methods
 //! |    |- corner transitions, fits: aim at BAND_USE of their share; the rest
-//! |    |        covers the cleaning of the run and f64 rounding
+//! |    |        covers the cleaning of the run (CLEAN_SHARE) and f64 rounding
 //! |    '- arc-fit: ARC_FIT_SHARE for its blocks (ARC_SAMPLE_SHARE of that for
 //! |             sampling arcs); the rest covers cleaning and written centres
 //! |- output (OUTPUT_SHARE of total by default)
@@ -70,6 +70,11 @@ pub const BLEND_SHARE_CURVES: f64 = 0.1;
 /// Share of the smoothing share that `auto` gives the chords of sampled
 /// arcs (its candidates work on the chords with the rest).
 pub const ARC_SAMPLING_SHARE: f64 = 0.05;
+
+/// Share of the tolerance the cleaning of a run may move it: zero-length
+/// moves dropped and vertices merged within this share (below any written
+/// decimal), by every method (`smooth/chains.rs`, `none`).
+pub const CLEAN_SHARE: f64 = 1e-3;
 
 /// Share of the tolerance corner transitions and fits aim at. The rest
 /// (0.2%) covers the dropping of zero-length moves (up to 0.1% of the

@@ -82,7 +82,7 @@ impl CleanTolerances {
     /// the band in reserve.
     pub fn from_tolerance(tol: f64) -> Self {
         CleanTolerances {
-            min_segment: tol * 1e-3,
+            min_segment: tol * crate::budget::CLEAN_SHARE,
             collinear: tol * 1e-6,
         }
     }

@@ -14,7 +14,7 @@ use core::f64::consts::PI;
 /// Consecutive pieces of a run count as meeting when their ends are within
 /// this share of the tolerance (the same as the other methods' cleaning:
 /// a thousandth of it, below any written decimal).
-pub const NONE_GAP_SHARE: f64 = 1e-3;
+pub use crate::budget::CLEAN_SHARE as NONE_GAP_SHARE;
 
 /// The method that changes nothing: each run's pieces as they are (no
 /// zero-length moves dropped, no vertices merged). Every joint stays as the
