@@ -66,10 +66,12 @@ pub struct Output {
 /// Writes the program with `curves` in its runs in `opts`' format for its
 /// controller ([`emit`]: each run in the form that plans fastest, or as
 /// the program wrote it), reads the text back, verifies it against the
-/// original within [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written) and plans it. A text that
+/// original within [`ToleranceBudget::written`] and plans it. A text that
 /// does not verify is [`SmoothProgramError::OutputNotVerified`]. `phases`
 /// (the job's clock) gets `render, write, check` and `plan written` and
 /// goes into the report.
+///
+/// [`ToleranceBudget::written`]: fairpath::budget::ToleranceBudget::written
 pub fn write_curves(
     program: &Program,
     curves: Curves,
@@ -132,10 +134,13 @@ pub fn smooth_parsed(program: &Program, opts: &SmoothOptions) -> Result<(Output,
 /// the smoothing share and verify the curves, plan the input and the
 /// curves, write the program in `opts`' format for its controller, read
 /// the text back and verify it against the original within
-/// [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written), and plan it. Returns the written text and
+/// [`ToleranceBudget::written`], and plan it. Returns the written text and
 /// the evidence; a text that does not verify is an error
 /// ([`SmoothProgramError::OutputNotVerified`]), never an output. A program
 /// without moves comes back as given.
+///
+/// [`ToleranceBudget::written`]: fairpath::budget::ToleranceBudget::written
+///
 /// ```
 /// use fairpath_gcode::{smooth_program, Controller, SmoothOptions};
 ///

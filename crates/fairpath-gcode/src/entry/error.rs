@@ -32,7 +32,8 @@ pub enum SmoothProgramError {
     OutputNotVerified {
         /// The bound of the written path's deviation (mm).
         deviation: f64,
-        /// What it may deviate ([`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written), mm).
+        /// What it may deviate (mm,
+        /// [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written)).
         tolerance: f64,
         output: Box<Output>,
         report: Box<Report>,
