@@ -232,8 +232,9 @@ fn end_tangent(c: &Curve) -> Vec3 {
 /// corners (the joint into them is `smooth_by_chains`' to report): this
 /// method blends nothing, so a joint between blocks keeps whatever
 /// continuity the fit gave it, and every one that is not G2 is reported,
-/// as the other methods report the corners they leave.
-fn report_corners(
+/// as the other methods report the corners they leave (`none` reports its
+/// joints with it too).
+pub(crate) fn report_corners(
     pieces: &[Piece],
     first: usize,
     jt: &JointTolerances,

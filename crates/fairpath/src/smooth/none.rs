@@ -5,11 +5,11 @@
 //! same verified path as every other method, and is the baseline the
 //! other methods' cost is measured against (`scripts/scale.sh`).
 
-use super::{check_tolerance, CornerReason, KeptCorner, SmoothError, SmoothedRun, Smoother};
-use crate::geom::{classify_joint, Continuity, Curve, JointTolerances, ParamCurve, Vec3};
+use super::arc_fit::report_corners;
+use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
+use crate::geom::JointTolerances;
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
-use core::f64::consts::PI;
 
 /// Consecutive pieces of a run count as meeting when their ends are within
 /// this share of the tolerance (the same as the other methods' cleaning:
@@ -48,22 +48,7 @@ impl Smoother for NoSmoothing {
         }
         let jt = JointTolerances::from_tolerance(tolerance);
         let mut kept_corners = Vec::new();
-        for w in pieces.windows(2) {
-            let (a, b) = (&w[0], &w[1]);
-            if classify_joint(&a.curve, &b.curve, &jt) != Continuity::G2 {
-                let (ta, tb) = (end_tangent(&a.curve), b.curve.deriv1(b.curve.domain().0));
-                let reason = if ta.angle_to(tb) >= PI - 2.0 * jt.angle {
-                    CornerReason::Reversal
-                } else {
-                    CornerReason::NoRoom
-                };
-                kept_corners.push(KeptCorner {
-                    at: b.start(),
-                    source_line: a.source_lines.1,
-                    reason,
-                });
-            }
-        }
+        report_corners(&pieces, 0, &jt, &mut kept_corners);
         Ok(SmoothedRun {
             pieces,
             kept_corners,
@@ -72,18 +57,11 @@ impl Smoother for NoSmoothing {
     }
 }
 
-/// The direction in which `c` ends.
-fn end_tangent(c: &Curve) -> Vec3 {
-    match c {
-        Curve::Line(l) => l.p1 - l.p0,
-        c => c.deriv1(c.domain().1),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geom::{Curve, Line, Vec3};
+    use crate::smooth::CornerReason;
     use alloc::vec;
 
     fn line(a: Vec3, b: Vec3, l: usize) -> Piece {
