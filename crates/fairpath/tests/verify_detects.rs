@@ -112,3 +112,79 @@ fn arc_at_constant_distance_from_the_run_is_measured() {
     assert!(rep.deviation_bound >= rep.max_deviation);
     assert!(!rep.within(0.05));
 }
+
+/// Regression (`arc-fit -f json` on `examples/pocket-corners.ngc`): an arc
+/// written as rational quadratic NURBS had only a first-order bound, which
+/// the split limit left at 0.081 mm where the distance is 0.005 mm, so a
+/// good output was refused. Rational curves are now bounded per Bezier
+/// span from their control points: the bound is within the accuracy of
+/// the distance found, for arcs of one and of several spans.
+#[test]
+fn arc_written_as_rational_nurbs_is_bounded_tightly() {
+    use fairpath::geom::{Arc, Vec3};
+    for (r, sweep) in [(25.47, 1.5707), (10.0, 4.712), (3.0, 6.0)] {
+        let at = |a: f64| v(r * a.cos(), r * a.sin(), -1.0);
+        // The original: 40 chords of the arc; the arc sits at most
+        // r (1 - cos(h/2)) outside them.
+        let n = 40;
+        let pts: Vec<Vec3> = (0..=n).map(|i| at(sweep * i as f64 / n as f64)).collect();
+        let orig = polyline_run(&pts);
+        let arc = Arc::from_center(
+            pts[0],
+            pts[n],
+            v(0.0, 0.0, -1.0),
+            v(0.0, 0.0, 1.0),
+            false,
+            1,
+            1e-9,
+        )
+        .unwrap();
+        let smoothed = vec![Piece {
+            curve: Curve::Nurbs(Nurbs::from_circular_arc(&arc)),
+            rapid: false,
+            source_lines: (1, n),
+            feed: None,
+        }];
+        let sagitta = r * (1.0 - (0.5 * sweep / n as f64).cos());
+        let opts = VerifyOptions::new(0.05);
+        let rep = verify_run(&orig.pieces, &smoothed, &opts);
+        assert!((rep.max_deviation - sagitta).abs() < 1e-6, "r {r}: {rep:?}");
+        assert!(
+            rep.deviation_bound <= rep.max_deviation + 2.0 * opts.accuracy,
+            "r {r}: bound {} found {}",
+            rep.deviation_bound,
+            rep.max_deviation
+        );
+    }
+}
+
+/// A degree-1 NURBS is a polyline: its second derivative is zero inside
+/// the spans but it turns at its knots, so the chord bound must not be
+/// used across them. A spike of 0.08 mm on a parameter interval narrower
+/// than the coarse sample is found.
+#[test]
+fn spike_of_a_degree_one_nurbs_between_samples_is_found() {
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
+    let spike = Nurbs::new(
+        1,
+        vec![0.0, 0.0, 0.5001, 0.50015, 0.5002, 1.0, 1.0],
+        vec![
+            v(0.0, 0.0, 0.0),
+            v(50.0, 0.0, 0.0),
+            v(50.0005, 0.08, 0.0),
+            v(50.001, 0.0, 0.0),
+            v(100.0, 0.0, 0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let smoothed = vec![Piece {
+        curve: Curve::Nurbs(spike),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
+    let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05));
+    assert!(rep.deviation_bound >= 0.08, "{rep:?}");
+    assert!(!rep.within(0.05));
+}

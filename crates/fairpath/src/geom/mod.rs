@@ -13,6 +13,7 @@ pub mod fit;
 pub mod least_squares;
 mod line;
 mod nurbs;
+mod nurbs_bounds;
 mod plane;
 mod polyline;
 mod vec3;

@@ -215,38 +215,51 @@ impl Verifier {
             refined: 0,
         };
         // First pass: a coarse sample of every piece, to start the bound high.
-        let mut spans: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
+        // Each span carries the bound of |C''| that holds on it.
+        let mut spans: Vec<(usize, f64, f64, f64, f64, Option<f64>)> = Vec::new();
         for (pi, p) in pieces.iter().enumerate() {
             if reference.contains(&p.curve) {
                 continue;
             }
             let (t0, t1) = p.curve.domain();
             let n = sample_count(&p.curve, opts.tolerance);
+            let bounds = SecondDerivative::of(&p.curve);
             let mut prev_t = t0;
             let mut prev_f = reference.dist(p.curve.eval(t0)).0;
             note(&mut best, prev_f, p.curve.eval(t0));
-            for k in 1..=n {
-                let t = t0 + (t1 - t0) * k as f64 / n as f64;
+            let mut span = 0;
+            let mut k = 1;
+            while k <= n {
+                let uniform = t0 + (t1 - t0) * k as f64 / n as f64;
+                // Per-span bounds hold between breakpoints only: stop at
+                // each one on the way.
+                let (t, d2) = match &bounds {
+                    SecondDerivative::Whole(d2) => (uniform, *d2),
+                    SecondDerivative::PerSpan(v) => {
+                        while span + 1 < v.len() && v[span].0 <= prev_t {
+                            span += 1;
+                        }
+                        (uniform.min(v[span].0), v[span].1)
+                    }
+                };
+                if t <= prev_t {
+                    k += 1;
+                    continue;
+                }
+                if t >= uniform {
+                    k += 1;
+                }
                 let q = p.curve.eval(t);
                 let f = reference.dist(q).0;
                 note(&mut best, f, q);
-                spans.push((pi, prev_t, t, prev_f, f));
+                spans.push((pi, prev_t, t, prev_f, f, d2));
                 prev_t = t;
                 prev_f = f;
             }
         }
         // Second pass: refine each span.
-        let mut d2: Option<(usize, Option<f64>)> = None;
-        for &(pi, ta, tb, fa, fb) in &spans {
+        for &(pi, ta, tb, fa, fb, d2max) in &spans {
             let c = &pieces[pi].curve;
-            let d2max = match d2 {
-                Some((i, v)) if i == pi => v,
-                _ => {
-                    let v = second_derivative_bound(c);
-                    d2 = Some((pi, v));
-                    v
-                }
-            };
             ctx.refined = 0;
             ctx.refine(
                 c,
@@ -266,10 +279,49 @@ impl Verifier {
     }
 }
 
+/// Bounds of `|C''|` on a smoothed piece: one for the whole curve, or one
+/// per knot span (`(end parameter, bound)` in order) for curves whose
+/// bound comes from their Bezier spans.
+enum SecondDerivative {
+    Whole(Option<f64>),
+    PerSpan(Vec<(f64, Option<f64>)>),
+}
+
+impl SecondDerivative {
+    fn of(c: &Curve) -> SecondDerivative {
+        match c {
+            Curve::Nurbs(n) if n.weights.is_some() || n.degree > 3 || !n.is_c1() => {
+                // Each span is a rational Bezier curve, smooth inside: a
+                // bound from its control points
+                // ([`crate::geom::Nurbs::second_derivative_bound`]), with
+                // the margin of the rounding of the knot insertion.
+                let spans = n.bezier_spans();
+                if spans.is_empty() {
+                    return SecondDerivative::Whole(None);
+                }
+                SecondDerivative::PerSpan(
+                    spans
+                        .iter()
+                        .map(|b| {
+                            let end = b.domain().1;
+                            (end, b.second_derivative_bound().map(|m| m * D2_MARGIN))
+                        })
+                        .collect(),
+                )
+            }
+            _ => SecondDerivative::Whole(second_derivative_bound(c)),
+        }
+    }
+}
+
+/// Relative margin on a bound of `|C''|` computed in floating point.
+const D2_MARGIN: f64 = 1.0 + 1e-6;
+
 /// An upper bound of `|C''|` over the whole curve, where one is cheap and
-/// sure: arcs (`r phi^2 + 2 |r1 - r0| phi`), and polynomial B-splines of
+/// sure: arcs (`r phi^2 + 2 |r1 - r0| phi`), polynomial C1 B-splines of
 /// degree at most 3, whose `C''` is linear between knots (so its largest
-/// norm is at a breakpoint).
+/// norm is at a breakpoint). The chord argument needs C1: other NURBS are
+/// bounded per knot span by [`SecondDerivative::of`].
 fn second_derivative_bound(c: &Curve) -> Option<f64> {
     match c {
         Curve::Line(_) => Some(0.0),
@@ -277,7 +329,7 @@ fn second_derivative_bound(c: &Curve) -> Option<f64> {
             let r = a.r0.max(a.r1);
             Some(r * a.sweep * a.sweep + 2.0 * math::abs(a.r1 - a.r0) * a.sweep)
         }
-        Curve::Nurbs(n) if n.weights.is_none() && n.degree <= 3 => {
+        Curve::Nurbs(n) if n.weights.is_none() && n.degree <= 3 && n.is_c1() => {
             let bps = n.breakpoints();
             let mut m: f64 = 0.0;
             for w in bps.windows(2) {
@@ -285,9 +337,10 @@ fn second_derivative_bound(c: &Curve) -> Option<f64> {
                 let h = (w[1] - w[0]) * 1e-9;
                 m = m.max(n.deriv2(w[0]).norm()).max(n.deriv2(w[1] - h).norm());
             }
-            // Rounding margin.
-            Some(m * (1.0 + 1e-6))
+            Some(m * D2_MARGIN)
         }
+        // Rational curves, higher degrees, kinks: see
+        // [`SecondDerivative::of`], which bounds them per span.
         Curve::Nurbs(_) => None,
     }
 }
