@@ -122,7 +122,7 @@ fn arc_at_constant_distance_from_the_run_is_measured() {
 #[test]
 fn arc_written_as_rational_nurbs_is_bounded_tightly() {
     use fairpath::geom::{Arc, Vec3};
-    for (r, sweep) in [(25.47, 1.5707), (10.0, 4.712), (3.0, 6.0)] {
+    for (r, sweep) in [(25.47, 1.55), (10.0, 4.7), (3.0, 6.0)] {
         let at = |a: f64| v(r * a.cos(), r * a.sin(), -1.0);
         // The original: 40 chords of the arc; the arc sits at most
         // r (1 - cos(h/2)) outside them.
