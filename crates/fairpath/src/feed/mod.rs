@@ -23,7 +23,11 @@
 //!
 //! * [`junction`]: how joints that are not G2 are passed (blend circles
 //!   within the junction deviation and half the adjacent moves).
-//! * [`plan`]: the look-ahead planner (full scan or bounded window).
+//! * [`plan`]: the look-ahead planner (full scan or bounded window), with
+//!   its parts in private files: `caps.rs` (the speed caps of a run's
+//!   stretches and joints), `lookahead.rs` (the backward and forward
+//!   passes) and `cap_check.rs` (a profile checked against the caps inside
+//!   its segment).
 //! * [`interpolate`]: positions every interpolation period by the
 //!   second-order Taylor parameter update, and the feed fluctuation.
 //! * [`program`]: whole-program planning: the motions of a program (runs
@@ -49,6 +53,11 @@ pub mod reach;
 pub mod sampled;
 pub mod shaping;
 pub mod stream;
+
+// The planner's parts; `plan` re-exports what they make public.
+mod cap_check;
+mod caps;
+mod lookahead;
 
 pub use double_s::{DoubleS, Method, Phases, State};
 pub use reach::{max_entry_velocity, max_reachable_velocity, velocity_change, VelocityChange};

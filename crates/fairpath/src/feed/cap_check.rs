@@ -1,0 +1,156 @@
+//! The check of a planned profile against the caps inside its segment
+//! (step 2 of the planner, [`super::plan`]). A segment gets one double-S
+//! profile under its highest cap; where the cap inside rises more slowly
+//! than the machine accelerates, that profile passes a lower cap of a
+//! stretch or of a joint, and the check names the stretch boundary to
+//! split the segment at, the worst first. The exact speed at an arc length
+//! is looked up only where a cheap bound of it passes the cap.
+//!
+//! The planner runs it on every profile it makes, so it is kept apart from
+//! how the caps and the profiles are made.
+
+use super::caps::Stretch;
+use super::DoubleS;
+
+/// Relative slack of the check of a profile against the caps inside its
+/// segment: rounding of the profile's closed forms, far below any speed
+/// that matters.
+pub const CAP_SLACK: f64 = 1e-9;
+
+/// The speed of `profile` at arc length `q`, on its rising side (`rising`)
+/// or its falling side.
+fn speed_at(profile: &DoubleS, q: f64, rising: bool) -> f64 {
+    let ph = profile.phases();
+    let (mut lo, mut hi) = if rising {
+        (0.0, ph.ta)
+    } else {
+        (ph.ta + ph.tv, profile.duration())
+    };
+    // Safeguarded Newton on time: q(t) is increasing with slope v(t), so
+    // a Newton step converges in a few iterations where bisection took
+    // about 55 (this lookup was a fifth of planning a long run of arcs);
+    // a step that leaves the bracket, or a point at rest, bisects
+    // instead. 64 steps reach f64 resolution of any duration either way.
+    let mut t = 0.5 * (lo + hi);
+    for _ in 0..64 {
+        let st = profile.eval(t);
+        if st.q < q {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let newton = t - (st.q - q) / st.v;
+        let next = if st.v > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if next <= lo || next >= hi || crate::math::abs(next - t) <= f64::EPSILON * t {
+            return profile.eval(next.clamp(lo, hi)).v;
+        }
+        t = next;
+    }
+    profile.eval(hi).v
+}
+
+/// Checks `profile` against the caps of `parts`. Returns the stretch
+/// boundary (index into `parts`, 0..=len) at which to split where the
+/// profile passes a cap, the worst first, or `None`.
+pub(super) fn violation(
+    profile: &DoubleS,
+    parts: &[Stretch],
+    lower_boundary: &[f64],
+) -> Option<usize> {
+    let ph = profile.phases();
+    let peak_lo = profile.eval(ph.ta).q;
+    let peak_hi = profile.eval(ph.ta + ph.tv).q;
+    let vpeak = profile.vlim().max(profile.v0()).max(profile.v1());
+    // Cheap upper bounds of the speed at arc length q (dv^2/dq = 2a and
+    // |a| is at most the profile's peak): the exact speed is looked up
+    // only where a bound passes the cap.
+    let total: f64 = parts.iter().map(|st| st.part.length).sum();
+    let (a_up, a_down) = (
+        crate::math::abs(profile.alim_a()),
+        crate::math::abs(profile.alim_d()),
+    );
+    // The speed at q on the rising (or falling) side, or a bound of it when
+    // the bound is within `cap` (no violation either way).
+    let speed_within = |q: f64, cap: f64, rising: bool| {
+        let (v_end, a_max, dist) = if rising {
+            (profile.v0(), a_up, q)
+        } else {
+            (profile.v1(), a_down, total - q)
+        };
+        let bound = crate::math::sqrt(v_end * v_end + 2.0 * a_max * dist.max(0.0));
+        if bound <= cap {
+            bound
+        } else {
+            speed_at(profile, q, rising)
+        }
+    };
+    let mut worst: Option<(f64, usize)> = None;
+    let mut s0 = 0.0;
+    for (k, st) in parts.iter().enumerate() {
+        let s1 = s0 + st.part.length;
+        let cap = st.part.cap * (1.0 + CAP_SLACK);
+        // v(q) rises to the peak plateau, then falls: the largest speed on
+        // [s0, s1] is at the end nearer the plateau.
+        let (vmax, at) = if s1 < peak_lo {
+            (
+                if vpeak <= cap {
+                    vpeak
+                } else {
+                    speed_within(s1, cap, true)
+                },
+                k + 1,
+            )
+        } else if s0 > peak_hi {
+            (
+                if vpeak <= cap {
+                    vpeak
+                } else {
+                    speed_within(s0, cap, false)
+                },
+                k,
+            )
+        } else {
+            // The plateau is inside: split at the inner end with the
+            // lower cap.
+            let inner = |i: usize| i != 0 && i != parts.len();
+            let at = match (inner(k), inner(k + 1)) {
+                (true, true) if lower_boundary[k + 1] < lower_boundary[k] => k + 1,
+                (true, _) => k,
+                (false, _) => k + 1,
+            };
+            (vpeak, at)
+        };
+        // A split at the segment's own ends is no split: the speed there is
+        // already within the cap, and only rounding can exceed it.
+        if vmax > cap && at != 0 && at != parts.len() {
+            let ratio = vmax / st.part.cap;
+            if worst.is_none_or(|(r, _)| ratio > r) {
+                worst = Some((ratio, at));
+            }
+        }
+        // The junction cap at the inner boundary at the end of this
+        // stretch.
+        let jb = lower_boundary[k + 1] * (1.0 + CAP_SLACK);
+        if k + 1 < parts.len() && vpeak > jb {
+            let v = if s1 < peak_lo {
+                speed_within(s1, jb, true)
+            } else if s1 > peak_hi {
+                speed_within(s1, jb, false)
+            } else {
+                vpeak
+            };
+            if v > jb {
+                let ratio = v / lower_boundary[k + 1];
+                if worst.is_none_or(|(r, _)| ratio > r) {
+                    worst = Some((ratio, k + 1));
+                }
+            }
+        }
+        s0 = s1;
+    }
+    worst.map(|(_, at)| at)
+}

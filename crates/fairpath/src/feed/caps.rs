@@ -1,0 +1,392 @@
+//! The speed caps of a run (step 1 of the planner, [`super::plan`]): the
+//! run cut into stretches, each with the lowest speed that any limit
+//! allows on it, and the caps at the joints between pieces.
+//!
+//! * Along a piece: the caps at a point ([`speed_cap`]: curvature, the
+//!   change of curvature `dkappa/ds` across the stretch, chord error,
+//!   axes, feed) at the ends and middle of each chord-error interval, which
+//!   is halved while they differ by more than [`CAP_SPLIT_RATIO`].
+//! * At a joint that is not G2, as [`Corners`] says: the blend circle of a
+//!   corner and the curvature jumps where it starts and ends
+//!   ([`super::junction`]), a corner followed exactly
+//!   ([`followed_corner_cap`]), or a block's rest-to-rest peak speed
+//!   ([`block_cap`]).
+//!
+//! This is where the machine's limits meet the geometry. The rest of the
+//! planner (segments, look-ahead, profiles) sees only the stretches with
+//! their caps and tangential factors, so it is kept apart from them.
+
+use super::junction::{
+    blend_cap, corner_blend, corner_jump, follow_neighbours, jump_cap, Blend, MEET_REL,
+};
+use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
+use super::plan::{Corners, Part, PlanOptions};
+use super::shaping::Shaping;
+use super::{max_reachable_velocity, FeedError};
+use crate::geom::{classify_joint, Continuity, JointTolerances};
+use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// A stretch of curve is cut in two while the speed caps at its ends and
+/// middle differ by more than this ratio (and it is longer than one period
+/// of travel): its cap, the lowest of the three, is then close to the cap
+/// everywhere in it.
+pub const CAP_SPLIT_RATIO: f64 = 1.25;
+
+/// Most halvings of a stretch for [`CAP_SPLIT_RATIO`].
+const MAX_CAP_SPLITS: u32 = 24;
+
+/// The rest-to-rest peak speed (mm/s) over a block of `length` mm: the
+/// speed reached from rest over half of it (see [`Corners::BlockCapped`]).
+pub fn block_cap(m: &MachineLimits, length: f64) -> f64 {
+    max_reachable_velocity(0.0, 0.5 * length, m.acc, m.jerk)
+        .unwrap_or(0.0)
+        .min(m.max_feed)
+}
+
+/// The largest speed (mm/s) at which a path followed exactly may turn by
+/// the angle between unit tangents `ta` and `tb` (see [`Corners::Followed`]).
+pub fn followed_corner_cap(m: &MachineLimits, ta: Vec3, tb: Vec3) -> f64 {
+    let dv_per_v = (tb - ta).norm();
+    if dv_per_v == 0.0 {
+        return f64::INFINITY;
+    }
+    let n = super::sampled::JERK_AVERAGE_PERIODS as f64;
+    let ts = m.period;
+    (m.acc * ts).min(n * m.jerk * ts * ts) / dv_per_v
+}
+
+fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
+    let d1 = c.deriv1(t);
+    let d2 = c.deriv2(t);
+    let tangent = d1.normalized(0.0).unwrap_or(crate::geom::Vec3::X);
+    let k = crate::geom::curvature_vector_from(d1, d2);
+    (
+        PathPoint {
+            tangent,
+            curvature: k,
+            dkappa_ds: 0.0,
+        },
+        k.norm(),
+    )
+}
+
+/// A stretch with a constant cap, before segmentation.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Stretch {
+    pub(super) part: Part,
+    pub(super) constraint: Constraint,
+    /// Factor on the tangential acceleration and jerk ([`Shaping`]).
+    pub(super) tangential: f64,
+}
+
+/// How the machine passes the joint between two consecutive pieces.
+#[derive(Clone, Copy, Debug)]
+struct JointCap {
+    /// Cap at the joint itself: the corner's circle, or the curvature jump
+    /// of a tangent joint (INFINITY at a G2 joint).
+    point: f64,
+    /// A corner's circle: length it takes from each move (0: no circle),
+    /// half its arc length, the cap along it, and the caps where it starts
+    /// and ends (curvature jumps).
+    tangent_length: f64,
+    half_arc: f64,
+    arc: f64,
+    entry: f64,
+    exit: f64,
+    /// The circle meets the next joint's circle (they fill the line
+    /// between).
+    meets_next: bool,
+}
+
+const SMOOTH_JOINT: JointCap = JointCap {
+    point: f64::INFINITY,
+    tangent_length: 0.0,
+    half_arc: 0.0,
+    arc: f64::INFINITY,
+    entry: f64::INFINITY,
+    exit: f64::INFINITY,
+    meets_next: false,
+};
+
+/// How each joint between consecutive pieces of `valid` (indices of
+/// pieces with positive length, and their lengths) is passed: G2 joints
+/// freely, tangent joints at the cap of their curvature jump, corners on
+/// blend circles that may meet each other on short moves (see
+/// [`super::junction`]).
+fn joint_caps(
+    pieces: &[Piece],
+    valid: &[(usize, f64)],
+    m: &MachineLimits,
+    corners: Corners,
+) -> Vec<JointCap> {
+    let jt = JointTolerances::from_tolerance(m.chord_error);
+    enum Joint {
+        Smooth,
+        Tangent(f64),
+        Corner(Blend, Vec3, Vec3),
+    }
+    let is_line = |k: usize| matches!(pieces[valid[k].0].curve, Curve::Line(_));
+    let joints: Vec<Joint> = valid
+        .windows(2)
+        .map(|w| {
+            let ((qa, la), (qb, lb)) = (w[0], w[1]);
+            let (a, c) = (&pieces[qa].curve, &pieces[qb].curve);
+            let class = classify_joint(a, c, &jt);
+            if class == Continuity::G2 {
+                return Joint::Smooth;
+            }
+            let (pa, _) = point(a, a.domain().1);
+            let (pb, _) = point(c, c.domain().0);
+            // Tangent within the joint tolerances (and rounding): a
+            // curvature jump, not a corner of a microradian.
+            if class != Continuity::G1
+                && pa.tangent.angle_to(pb.tangent) > 0.0
+                && corners == Corners::Followed
+            {
+                let jump = jump_cap(m, (pb.curvature - pa.curvature).norm());
+                Joint::Tangent(followed_corner_cap(m, pa.tangent, pb.tangent).min(jump))
+            } else if class != Continuity::G1 && pa.tangent.angle_to(pb.tangent) > 0.0 {
+                let room = 0.5 * la.min(lb);
+                match corner_blend(m, pa.tangent, pb.tangent, room) {
+                    Some(bl) => Joint::Corner(
+                        follow_neighbours(bl, pa.curvature, pb.curvature),
+                        pa.curvature,
+                        pb.curvature,
+                    ),
+                    None if pa.tangent.dot(pb.tangent) > 0.0 => Joint::Smooth,
+                    None => Joint::Tangent(0.0),
+                }
+            } else {
+                Joint::Tangent(jump_cap(m, (pb.curvature - pa.curvature).norm()))
+            }
+        })
+        .collect();
+    let blend_of = |j: usize| match joints.get(j) {
+        Some(Joint::Corner(b, _, _)) => Some(*b),
+        _ => None,
+    };
+    // Whether the circles of joints j and j + 1 fill the line between.
+    let meet = |j: usize| -> bool {
+        let (Some(a), Some(b)) = (blend_of(j), blend_of(j + 1)) else {
+            return false;
+        };
+        let len = valid[j + 1].1;
+        let rest = len - a.tangent_length - b.tangent_length;
+        is_line(j + 1) && rest <= m.chord_error.max(len * MEET_REL)
+    };
+    (0..joints.len())
+        .map(|j| match &joints[j] {
+            Joint::Smooth => SMOOTH_JOINT,
+            Joint::Tangent(cap) => JointCap {
+                point: *cap,
+                ..SMOOTH_JOINT
+            },
+            Joint::Corner(bl, k_in, k_out) => {
+                // What the circle meets: the neighbouring circle when both
+                // fill the line between them, else the piece itself.
+                let k_before = if j > 0 && meet(j - 1) {
+                    blend_of(j - 1).map_or(*k_in, |b| b.curvature)
+                } else {
+                    *k_in
+                };
+                let meets_next = meet(j);
+                let k_after = if meets_next {
+                    blend_of(j + 1).map_or(*k_out, |b| b.curvature)
+                } else {
+                    *k_out
+                };
+                let arc = blend_cap(m, bl, 0.0);
+                let entry = jump_cap(m, (bl.curvature - k_before).norm());
+                let exit = jump_cap(m, (k_after - bl.curvature).norm());
+                // Next to an arc or curve the circle's ends are not
+                // modelled as stretches: all of its caps at the joint, the
+                // curvature change across it as one jump.
+                let lines = is_line(j) && is_line(j + 1);
+                let circle = bl.curvature - (*k_in + *k_out) * 0.5;
+                let across = jump_cap(m, corner_jump(circle, *k_in, *k_out));
+                JointCap {
+                    point: if lines { arc } else { arc.min(across) },
+                    tangent_length: if lines { bl.tangent_length } else { 0.0 },
+                    half_arc: 0.5 * bl.arc_length,
+                    arc,
+                    entry,
+                    exit,
+                    meets_next: meets_next && lines,
+                }
+            }
+        })
+        .collect()
+}
+
+/// Cuts the run into stretches with caps; `junction[k]` caps the speed at
+/// the start of stretch `k` (INFINITY inside pieces and at G2 joints).
+/// `shaping` lowers caps and tangential limits by arc length along the run.
+pub(super) fn stretches(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    shaping: &Shaping,
+    corners: Corners,
+) -> Result<(Vec<Stretch>, Vec<f64>), FeedError> {
+    let m = &opts.limits;
+    let mut valid: Vec<(usize, f64)> = Vec::with_capacity(pieces.len());
+    for (pi, p) in pieces.iter().enumerate() {
+        let len = p.curve.length(m.chord_error * 1e-3);
+        if !len.is_nan() && len > 0.0 {
+            valid.push((pi, len));
+        }
+    }
+    let mut jcaps = joint_caps(pieces, &valid, m, corners);
+    if corners == Corners::BlockCapped {
+        for (j, jc) in jcaps.iter_mut().enumerate() {
+            let cap = block_cap(m, valid[j].1).min(block_cap(m, valid[j + 1].1));
+            jc.point = jc.point.min(cap);
+            jc.arc = jc.arc.min(cap);
+            jc.entry = jc.entry.min(cap);
+            jc.exit = jc.exit.min(cap);
+        }
+    }
+    let mut out: Vec<Stretch> = Vec::new();
+    let mut junction: Vec<f64> = Vec::new();
+    // Arc length of the run before the current stretch.
+    let mut s_run = 0.0f64;
+    for (vi, &(pi, len_total)) in valid.iter().enumerate() {
+        let p = &pieces[pi];
+        let feed = if opts.override_feed {
+            m.max_feed
+        } else {
+            p.feed.map(|f| f / 60.0).unwrap_or(m.max_feed)
+        };
+        if !(feed > 0.0 && feed.is_finite()) {
+            return Err(FeedError::BadValue {
+                name: "feed",
+                value: feed,
+            });
+        }
+        let c = &p.curve;
+        // The joint's cap goes to the first stretch of the piece.
+        let jin = if vi > 0 { jcaps[vi - 1] } else { SMOOTH_JOINT };
+        let jout = jcaps.get(vi).copied().unwrap_or(SMOOTH_JOINT);
+        // The cap at the start of the piece.
+        let mut jcap = jin.point;
+        // A line with a corner at an end: the end stretch of the line that
+        // the blend circle replaces is passed at the circle's cap, over
+        // half the circle's arc length (the machine follows the circle
+        // there, not just its middle), with the curvature jumps where the
+        // circle starts and ends. Arcs and curves next to a corner take
+        // the caps at the joint only.
+        // Each stretch: (cap, length or 0 for the line's own, entry cap).
+        let (ts, blend_caps) = match c {
+            Curve::Line(_) => {
+                let (tin, tout) = (jin.tangent_length, jout.tangent_length);
+                let mut ts = alloc::vec![0.0];
+                let mut caps = Vec::new();
+                if tin > 0.0 && tout > 0.0 && jin.meets_next {
+                    // The two circles fill the line and meet inside it.
+                    ts.push(tin / (tin + tout));
+                    caps.push((jin.arc, jin.half_arc, jin.point));
+                    caps.push((jout.arc, jout.half_arc, jin.exit.min(jout.entry)));
+                } else {
+                    let (a, b) = (tin / len_total, 1.0 - tout / len_total);
+                    if tin > 0.0 {
+                        ts.push(a);
+                        caps.push((jin.arc, jin.half_arc, jin.point));
+                    }
+                    if tout > 0.0 {
+                        ts.push(b);
+                    }
+                    let entry = if tin > 0.0 { jin.exit } else { jin.point };
+                    caps.push((f64::INFINITY, 0.0, entry));
+                    if tout > 0.0 {
+                        caps.push((jout.arc, jout.half_arc, jout.entry));
+                    }
+                }
+                ts.push(1.0);
+                (ts, caps)
+            }
+            _ => (flatten_params(c, m.chord_error), Vec::new()),
+        };
+        let mut blend_caps = blend_caps.into_iter();
+        // Intervals to do, last first; each is cut in two while the caps
+        // at its ends and middle differ by more than CAP_SPLIT_RATIO and it
+        // is longer than one period of travel at its cap.
+        let mut todo: Vec<(f64, f64, u32)> = ts.windows(2).rev().map(|w| (w[0], w[1], 0)).collect();
+        while let Some((t0, t1, depth)) = todo.pop() {
+            let (blend_cap, blend_len, entry) =
+                blend_caps
+                    .next()
+                    .unwrap_or((f64::INFINITY, 0.0, f64::INFINITY));
+            if matches!(c, Curve::Line(_)) {
+                jcap = jcap.min(entry);
+            }
+            let len = match c {
+                Curve::Line(_) if blend_len > 0.0 => blend_len,
+                Curve::Line(_) => len_total * (t1 - t0),
+                _ => crate::geom::arc_length_between(c, t0, t1, m.chord_error * 1e-4),
+            };
+            if len.is_nan() || len <= 0.0 {
+                continue;
+            }
+            let (p0, k0) = point(c, t0);
+            let (pm, km) = point(c, 0.5 * (t0 + t1));
+            let (p1, k1) = point(c, t1);
+            let dk = (k1 - k0) / len;
+            let dk_mid = crate::math::abs(k1 - km).max(crate::math::abs(km - k0)) * 2.0 / len;
+            let mut cap = (f64::INFINITY, Constraint::Feed);
+            let mut high = 0.0f64;
+            for mut pp in [p0, pm, p1] {
+                pp.dkappa_ds = crate::math::abs(dk).max(dk_mid);
+                let c = speed_cap(m, feed, &pp);
+                high = high.max(c.0);
+                if c.0 < cap.0 {
+                    cap = c;
+                }
+            }
+            if blend_cap < cap.0 {
+                cap = (blend_cap, Constraint::Junction);
+            }
+            let (cap_factor, tangential) = shaping.factors(s_run, s_run + len);
+            if high > CAP_SPLIT_RATIO * cap.0
+                && len > cap.0 * m.period
+                && depth < MAX_CAP_SPLITS
+                && !matches!(c, Curve::Line(_))
+            {
+                let tm = 0.5 * (t0 + t1);
+                todo.push((tm, t1, depth + 1));
+                todo.push((t0, tm, depth + 1));
+                continue;
+            }
+            let j = core::mem::replace(&mut jcap, f64::INFINITY) * cap_factor;
+            cap.0 *= cap_factor;
+            s_run += len;
+            // Neighbouring stretches with the same cap and nothing between
+            // them are one stretch.
+            if let Some(last) = out.last_mut() {
+                if last.part.cap == cap.0
+                    && j >= cap.0
+                    && last.part.piece == pi
+                    && last.tangential == tangential
+                {
+                    last.part.t1 = t1;
+                    last.part.length += len;
+                    continue;
+                }
+            }
+            out.push(Stretch {
+                part: Part {
+                    piece: pi,
+                    t0,
+                    t1,
+                    length: len,
+                    cap: cap.0,
+                    entry_cap: j,
+                },
+                constraint: cap.1,
+                tangential,
+            });
+            junction.push(j);
+        }
+    }
+    Ok((out, junction))
+}
