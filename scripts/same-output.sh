@@ -27,7 +27,7 @@ for f in "${files[@]}"; do
       if "$bin" smooth -t 0.05 -m "$m" -f "$fmt" "$f" -o "$out" >/dev/null 2>"$tmp/err"; then
         echo "$(sha256sum <"$out" | cut -c1-16) $m $fmt $(basename "$f")"
       else
-        echo "error($(head -c 80 "$tmp/err" | tr '\n' ' ')) $m $fmt $(basename "$f")"
+        echo "error($(sed "s|$tmp|TMP|g" "$tmp/err" | head -c 80 | tr '\n' ' ')) $m $fmt $(basename "$f")"
       fi
       rm -f "$out"
     done
