@@ -6,7 +6,10 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
-use crate::pipeline::{compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck};
+use crate::pipeline::{
+    compare_runs, group_by_source, outline, pair_runs, RunCountMismatch, WrittenCheck,
+    WrittenReading,
+};
 pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
 use crate::{
     ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
@@ -14,7 +17,7 @@ use crate::{
 };
 use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run_shaped, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
@@ -68,6 +71,10 @@ pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
 /// ends of a shorter one could coincide (a full circle in G-code).
 pub const MIN_ARC_UNITS: f64 = 4.0;
 
+/// Runs of at least this many pieces are planned at both feeds side by
+/// side (shorter ones run side by side with other runs).
+const PARALLEL_FEEDS_PIECES: usize = 10_000;
+
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
 
@@ -94,6 +101,10 @@ pub struct Emitted {
     /// Runs kept as the program wrote them: their rendering planned no
     /// faster (or did not verify).
     pub kept_runs: usize,
+    /// The written G-code as read back for the check (`None` for JSON),
+    /// for planning it without reading it again
+    /// ([`crate::pipeline::plan_written`]).
+    pub reading: Option<WrittenReading>,
 }
 
 /// What is written for one run.
@@ -149,6 +160,7 @@ pub fn emit(
                 check,
                 retried_runs: 0,
                 kept_runs: 0,
+                reading: None,
             });
         }
         Format::G1 => &[CurveForm::Lines],
@@ -220,8 +232,18 @@ pub fn emit(
             time(&c.pieces, override_feed)
         }
     };
-    // The planned time of each of the program's own runs, at each feed.
+    // A run smoothed into itself (method `none`) is written as the program
+    // wrote it: no rendering could say it more exactly, and its own times
+    // are not needed.
+    let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
+    let nf = feeds.len();
+    // The planned time of each of the program's own runs, at each feed:
+    // side by side by run, each run's feeds one after the other (two plans
+    // of one long run at once hold twice the memory for little time).
     let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
+        if itself[k] {
+            return Ok(vec![f64::INFINITY; nf]);
+        }
         feeds
             .iter()
             .map(|&f| time(&original[k].pieces, f))
@@ -229,8 +251,19 @@ pub fn emit(
     })
     .into_iter()
     .collect::<Result<_>>()?;
+    // A run's times at each feed (`t(feed)`), side by side for a long run.
+    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| -> Result<Vec<f64>> {
+        if len >= PARALLEL_FEEDS_PIECES && nf > 1 {
+            par_map(nf, |i| t(feeds[i])).into_iter().collect()
+        } else {
+            feeds.iter().map(|&f| t(f)).collect()
+        }
+    };
     let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
         let own = &own[k];
+        if itself[k] {
+            return Ok(Choice::original(opts.budget.output));
+        }
         let mut best: Option<(f64, Choice)> = None;
         for (i, &form) in forms.iter().enumerate() {
             // G1 is the other candidate for curves that arcs could not
@@ -244,10 +277,16 @@ pub fn emit(
                 continue;
             }
             let c = render(k, form, opts.budget.output)?;
-            let ts: Vec<f64> = feeds
-                .iter()
-                .map(|&f| rendered_time(&c, f))
-                .collect::<Result<_>>()?;
+            // Where a rendering is already chosen, a candidate that does
+            // not beat it at the first feed loses whatever its other
+            // times: they are planned only when it does.
+            if let Some((b, _)) = &best {
+                let t0 = rendered_time(&c, feeds[0])?;
+                if t0 >= *b || t0 * (1.0 + KEEP_MARGIN) > own[0] {
+                    continue;
+                }
+            }
+            let ts = at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?;
             // Faster than the program's own run at every feed.
             if ts
                 .iter()
@@ -281,29 +320,56 @@ pub fn emit(
             .collect();
         let text =
             crate::write_gcode_with(program, &outputs, &wo).map_err(EmitError::WriteGcode)?;
-        let reread = crate::parse(text.as_bytes())
-            .map_err(EmitError::Reread)?
-            .runs();
+        let reread_program = crate::parse(text.as_bytes()).map_err(EmitError::Reread)?;
+        // What planning the written program needs of it; the program
+        // itself is dropped at once (on long outputs it is the largest
+        // thing held).
+        let reread_outline = outline(&reread_program);
+        let reread = reread_program.runs();
+        drop(reread_program);
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
+        let mut is_failed = vec![false; choices.len()];
+        for &k in &failed {
+            is_failed[k] = true;
+        }
         let pairs = pair_runs(&original, &reread)?;
-        let slower: Vec<usize> = par_map(pairs.len(), |i| -> Result<Option<usize>> {
+        // The feed `fairpath simulate` plans the written program at, and
+        // whether `time` plans as it does there (then its time is kept for
+        // the written program's plan).
+        let user_feed = feeds.iter().position(|&f| f == opts.override_feed);
+        let as_simulate = opts.judged_by == Corners::Blended;
+        // (the run is slower than the program's own, its time at the
+        // user's feed).
+        type Judged = (Option<usize>, Option<f64>);
+        let judged: Vec<Judged> = par_map(pairs.len(), |i| -> Result<Judged> {
             let (o, c) = pairs[i];
-            if choices[o].form.is_none() || failed.contains(&o) {
-                return Ok(None);
+            if choices[o].form.is_none() || is_failed[o] {
+                return Ok((None, None));
             }
+            let pieces = &reread[c].pieces;
+            let kept = |ts: &[f64]| {
+                user_feed
+                    .filter(|_| as_simulate)
+                    .and_then(|u| ts.get(u).copied())
+            };
+            if pieces.len() >= PARALLEL_FEEDS_PIECES {
+                let ts = at_feeds(pieces.len(), &|f| time(pieces, f))?;
+                let slower = ts.iter().zip(&own[o]).any(|(t, w)| t > w);
+                return Ok((slower.then_some(o), kept(&ts)));
+            }
+            let mut ts = Vec::with_capacity(nf);
             for (fi, &f) in feeds.iter().enumerate() {
-                if time(&reread[c].pieces, f)? > own[o][fi] {
-                    return Ok(Some(o));
+                ts.push(time(pieces, f)?);
+                if ts[fi] > own[o][fi] {
+                    return Ok((Some(o), None));
                 }
             }
-            Ok(None)
+            Ok((None, kept(&ts)))
         })
         .into_iter()
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+        .collect::<Result<Vec<_>>>()?;
+        let slower: Vec<usize> = judged.iter().filter_map(|j| j.0).collect();
         // Nothing left to change, or nothing this loop can change (a run
         // the program wrote itself fails: the caller refuses).
         let stuck = failed.iter().any(|&k| choices[k].form.is_none());
@@ -312,17 +378,27 @@ pub fn emit(
             for c in &choices {
                 stats.add(&c.stats);
             }
+            let kept_runs = choices.iter().filter(|c| c.form.is_none()).count();
+            let mut run_times = vec![None; reread.len()];
+            for (&(_, c), j) in pairs.iter().zip(&judged) {
+                run_times[c] = j.1;
+            }
             return Ok(Emitted {
                 budget: opts.budget,
                 text,
                 runs: choices
-                    .iter()
-                    .map(|c| c.form.map(|_| c.pieces.clone()))
+                    .into_iter()
+                    .map(|c| c.form.map(|_| c.pieces))
                     .collect(),
                 stats,
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
-                kept_runs: choices.iter().filter(|c| c.form.is_none()).count(),
+                kept_runs,
+                reading: Some(WrittenReading {
+                    outline: reread_outline,
+                    runs: reread,
+                    run_times,
+                }),
             });
         }
         attempt += 1;

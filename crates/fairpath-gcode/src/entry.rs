@@ -12,7 +12,7 @@ pub use report::Report;
 
 use crate::emit::emit;
 use crate::pipeline::{
-    plan_curves, plan_input, plan_text, smooth_curves, JobTimes, Phases, SmoothOptions,
+    plan_input_and_curves, plan_text, plan_written, smooth_curves, JobTimes, Phases, SmoothOptions,
     SmoothResult, Times,
 };
 use crate::{Format, Program};
@@ -31,20 +31,20 @@ pub struct Curves {
     /// The planned time of the program with the curves in its runs.
     pub exact: Times,
     /// Each smoothed run's plan at the machine's maximum feed, which the
-    /// renderer shapes the written pieces by ([`plan_curves`]).
+    /// renderer shapes the written pieces by
+    /// ([`crate::pipeline::plan_curves`]).
     pub plans: Vec<RunPlan>,
 }
 
 /// Smooths and verifies every run ([`smooth_curves`]) and plans the input
-/// and the curves ([`plan_input`], [`plan_curves`]).
+/// and the curves side by side ([`plan_input_and_curves`]).
 pub fn smooth_and_plan(
     program: &Program,
     opts: &SmoothOptions,
     phases: &mut Phases,
 ) -> Result<Curves> {
     let result = smooth_curves(program, opts, phases)?;
-    let input = plan_input(program, opts)?;
-    let (exact, plans) = plan_curves(program, &result, opts)?;
+    let (input, exact, plans) = plan_input_and_curves(program, &result, opts)?;
     phases.mark("plan input and curves");
     Ok(Curves {
         result,
@@ -78,21 +78,37 @@ pub fn write_curves(
     opts: &SmoothOptions,
     mut phases: Phases,
 ) -> Result<(Output, Report)> {
-    let smoothed: Vec<Vec<Piece>> = curves
-        .result
+    // The smoothed pieces lent to the writer and put back for the report
+    // (no copy), the plans dropped once written.
+    let Curves {
+        mut result,
+        input,
+        exact,
+        plans,
+    } = curves;
+    let smoothed: Vec<Vec<Piece>> = result
         .runs
-        .iter()
-        .map(|r| r.smoothed.pieces.clone())
+        .iter_mut()
+        .map(|r| core::mem::take(&mut r.smoothed.pieces))
         .collect();
-    let emitted = emit(program, &smoothed, &curves.plans, &opts.emit_options())?;
+    let emitted = emit(program, &smoothed, &plans, &opts.emit_options());
+    drop(plans);
+    for (r, pieces) in result.runs.iter_mut().zip(smoothed) {
+        r.smoothed.pieces = pieces;
+    }
+    let mut emitted = emitted?;
     phases.mark("render, write, check");
-    let written_times = plan_text(&emitted.text, opts)?;
+    // From the reading the check made, or the text (JSON).
+    let written_times = match emitted.reading.take() {
+        Some(reading) => plan_written(&reading, opts)?,
+        None => plan_text(&emitted.text, opts)?,
+    };
     phases.mark("plan written");
     let report = Report {
-        result: curves.result,
+        result,
         times: JobTimes {
-            input: curves.input,
-            exact: curves.exact,
+            input,
+            exact,
             written: written_times,
         },
         budget: emitted.budget,

@@ -14,8 +14,7 @@ use crate::{Controller, Format, Program};
 use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::choose::{self, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{Corners, RunPlan};
-use fairpath::feed::program::{simulate, Motion, ProgramPlanError, Simulation};
+use fairpath::feed::plan::Corners;
 use fairpath::geom::Curve;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::{verify_runs, PipelineError, Stage};
@@ -24,9 +23,14 @@ use fairpath::smooth::{self, Smoother};
 use fairpath::verify::VerifyOptions;
 
 mod error;
+mod plans;
 
 pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
+pub use plans::{
+    outline, plan_curves, plan_input, plan_input_and_curves, plan_text, plan_written, JobTimes,
+    MotionOutline, Times, WrittenReading,
+};
 
 /// What the user asked for.
 ///
@@ -323,100 +327,40 @@ pub fn smooth_curves(
     )
 }
 
-/// Planned times of one program (feed moves and rapids), s.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Times {
-    pub total: f64,
-    pub feed: f64,
-}
-
-impl Times {
-    fn of(sim: &Simulation) -> Times {
-        Times {
-            total: sim.time(),
-            feed: sim.feed_time,
-        }
-    }
-}
-
-/// The three plans of a job: the input, the exact curves and the written
-/// program, on the same machine with the same feeds.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JobTimes {
-    pub input: Times,
-    pub exact: Times,
-    pub written: Times,
-}
-
-/// The smoothed runs as runs.
-fn smoothed_runs(result: &SmoothResult) -> Vec<Run> {
-    result
-        .runs
-        .iter()
-        .map(|r| Run::new(r.smoothed.pieces.clone()))
-        .collect()
-}
-
-/// The planned time of the input, as `fairpath simulate` plans the file.
-pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
-    let motions = program.motions(&program.runs());
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .map_err(plan_error("the input"))?;
-    Ok(Times::of(&sim))
-}
-
-/// A planning error about `what`.
-fn plan_error(what: &'static str) -> impl Fn(ProgramPlanError) -> PlanError {
-    move |source| PlanError::Plan { what, source }
-}
-
-/// The planned time of the exact curves in the program, and the plan of
-/// each smoothed run that the renderer shapes the written pieces for: at
-/// the machine's maximum feed, so that the written program keeps the
-/// curves' speed at any feed (a feed override above 100% included), not
-/// just at the programmed one.
-pub fn plan_curves(
-    program: &Program,
-    result: &SmoothResult,
-    opts: &SmoothOptions,
-) -> Result<(Times, Vec<RunPlan>)> {
-    let m = &opts.machine;
-    let runs = smoothed_runs(result);
-    let (motions, index) = program.motions_indexed(&runs);
-    let exact =
-        simulate(&motions, m, opts.override_feed, None).map_err(plan_error("the curves"))?;
-    let plans = if opts.override_feed {
-        index.iter().map(|&i| exact.plans[i].1.clone()).collect()
-    } else {
-        let feed_runs: Vec<Motion> = runs.into_iter().map(Motion::Feed).collect();
-        simulate(&feed_runs, m, true, None)
-            .map_err(plan_error("the curves"))?
-            .plans
-            .into_iter()
-            .map(|p| p.1)
-            .collect()
-    };
-    Ok((Times::of(&exact), plans))
-}
-
-/// The planned time of a written program's text, exactly as `fairpath
-/// simulate` plans the file (G-code, or fairpath's JSON).
-pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
-    let is_json = text.bytes().find(|b| !b.is_ascii_whitespace()) == Some(b'{');
-    let motions = if is_json {
-        crate::json_motions(text).map_err(PlanError::ReadWrittenJson)?
-    } else {
-        let program = crate::parse(text.as_bytes()).map_err(PlanError::ReadWritten)?;
-        program.motions(&program.runs())
-    };
-    let sim = simulate(&motions, &opts.machine, opts.override_feed, None)
-        .map_err(plan_error("the written program"))?;
-    Ok(Times::of(&sim))
-}
-
 /// Groups feed pieces (from JSON) into the original runs by the input lines
 /// they name.
 pub fn group_by_source(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
+    // Feed pieces by first line: each run takes those from its first line
+    // on, up to its last, in their order (no scan of every piece per run).
+    let mut by_line: Vec<usize> = (0..pieces.len()).filter(|&i| !pieces[i].rapid).collect();
+    if by_line
+        .iter()
+        .any(|&i| pieces[i].source_lines.0 > pieces[i].source_lines.1)
+    {
+        // Lines that run backwards (not what the writer writes): the scan.
+        return group_by_source_scan(original, pieces);
+    }
+    by_line.sort_by_key(|&i| pieces[i].source_lines.0);
+    original
+        .iter()
+        .map(|run| {
+            let lo = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let hi = run.pieces.last().map(|p| p.source_lines.1).unwrap_or(0);
+            let from = by_line.partition_point(|&i| pieces[i].source_lines.0 < lo);
+            let mut take: Vec<usize> = by_line[from..]
+                .iter()
+                .take_while(|&&i| pieces[i].source_lines.0 <= hi)
+                .filter(|&&i| pieces[i].source_lines.1 <= hi)
+                .copied()
+                .collect();
+            take.sort_unstable();
+            Run::new(take.into_iter().map(|i| pieces[i].clone()).collect())
+        })
+        .collect()
+}
+
+/// [`group_by_source`] by a scan of every piece for each run.
+fn group_by_source_scan(original: &[Run], pieces: &[Piece]) -> Vec<Run> {
     original
         .iter()
         .map(|run| {

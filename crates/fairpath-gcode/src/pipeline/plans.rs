@@ -1,0 +1,334 @@
+//! The planned times of a job: the input, the exact curves and the written
+//! program, each exactly as `fairpath simulate` plans the file (the same
+//! plan of every motion, the times added in the same order, so the same
+//! figures to the last bit), but made on all cores and without copies of
+//! the runs or of the plans `simulate` keeps for its report; and the plan
+//! of each smoothed run at the machine's maximum feed, which the renderer
+//! shapes the written pieces by.
+
+use super::{PlanError, SmoothOptions, SmoothResult};
+use crate::Program;
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
+use fairpath::feed::program::{simulate, ProgramPlanError, Simulation};
+use fairpath::path::{Piece, Run};
+use fairpath::pipeline::par_map;
+
+type Result<T, E = PlanError> = core::result::Result<T, E>;
+
+/// Accuracy (mm) of a rapid's length, as `simulate` measures it.
+const RAPID_LENGTH_ACCURACY_MM: f64 = 1e-6;
+
+/// Planned times of one program (feed moves and rapids), s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Times {
+    pub total: f64,
+    pub feed: f64,
+}
+
+impl Times {
+    pub(crate) fn of(sim: &Simulation) -> Times {
+        Times {
+            total: sim.time(),
+            feed: sim.feed_time,
+        }
+    }
+}
+
+/// The three plans of a job: the input, the exact curves and the written
+/// program, on the same machine with the same feeds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JobTimes {
+    pub input: Times,
+    pub exact: Times,
+    pub written: Times,
+}
+
+/// One motion of a program as `simulate` plans it, without the program.
+#[derive(Clone, Debug)]
+pub enum MotionOutline {
+    /// Run `k` (in the order of [`Program::runs`]).
+    Run(usize),
+    Rapid(Piece),
+    /// A feed move that is a motion of its own (pinned).
+    Pinned(Piece),
+}
+
+/// The motions of `program` in order, as [`Program::motions`] makes them,
+/// with its runs by index: what planning it needs once the program itself
+/// is dropped.
+pub fn outline(program: &Program) -> Vec<MotionOutline> {
+    let spans = program.run_spans();
+    let moves = program.moves();
+    let mut out = Vec::with_capacity(2 * spans.len() + 1);
+    let (mut next_run, mut mi) = (0, 0);
+    while mi < moves.len() {
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            out.push(MotionOutline::Run(next_run));
+            mi = spans[next_run].moves.end;
+            next_run += 1;
+            continue;
+        }
+        let p = &moves[mi].piece;
+        out.push(if p.rapid {
+            MotionOutline::Rapid(p.clone())
+        } else {
+            MotionOutline::Pinned(p.clone())
+        });
+        mi += 1;
+    }
+    out
+}
+
+/// What planning a program's motions gives: its times, and with
+/// `keep_plans` the plan of each run (in run order).
+struct Planned {
+    times: Times,
+    plans: Vec<RunPlan>,
+}
+
+/// The times of the motions of `outline` with run `k`'s pieces taken from
+/// `runs[k]`, planned on all cores and added in order as `simulate` adds
+/// them; run `k`'s time is `known[k]` where that is `Some` (a plan with the
+/// same options, already made). `what` names the step in errors.
+fn plan_outline(
+    outline: &[MotionOutline],
+    runs: &[&[Piece]],
+    known: &[Option<f64>],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<Planned> {
+    let error = |source| PlanError::Plan { what, source };
+    let po = PlanOptions {
+        limits: *machine,
+        override_feed,
+        window: None,
+    };
+    // (feed time, rapid time, the plan kept).
+    type Done = (f64, f64, Option<(usize, RunPlan)>);
+    let done: Vec<Result<Done>> = par_map(outline.len(), |j| {
+        let feed_run = |k: Option<usize>, pieces: &[Piece]| -> Result<Done> {
+            if let Some(t) = k.and_then(|k| known.get(k).copied().flatten()) {
+                return Ok((t, 0.0, None));
+            }
+            let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
+            let plan = plan_run(pieces, &po)
+                .map_err(|source| error(ProgramPlanError::Run { line, source }))?;
+            Ok((plan.time, 0.0, k.filter(|_| keep_plans).map(|k| (k, plan))))
+        };
+        match &outline[j] {
+            MotionOutline::Run(k) => feed_run(Some(*k), runs[*k]),
+            MotionOutline::Pinned(p) => feed_run(None, core::slice::from_ref(p)),
+            MotionOutline::Rapid(p) => {
+                let len = p.curve.length(RAPID_LENGTH_ACCURACY_MM);
+                if len.is_nan() || len <= 0.0 {
+                    return Ok((0.0, 0.0, None));
+                }
+                let prof = plan_rapid(len, machine)
+                    .map_err(|source| error(ProgramPlanError::Rapid(source)))?;
+                Ok((0.0, prof.duration(), None))
+            }
+        }
+    });
+    let (mut feed, mut rapid) = (0.0, 0.0);
+    let mut plans = Vec::with_capacity(if keep_plans { runs.len() } else { 0 });
+    for d in done {
+        let (f, r, plan) = d?;
+        feed += f;
+        rapid += r;
+        if let Some((k, plan)) = plan {
+            debug_assert_eq!(k, plans.len());
+            plans.push(plan);
+        }
+    }
+    Ok(Planned {
+        times: Times {
+            total: feed + rapid,
+            feed,
+        },
+        plans,
+    })
+}
+
+/// The planned time of the input, as `fairpath simulate` plans the file.
+pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let (m, o) = (&opts.machine, opts.override_feed);
+    let what = "the input";
+    Ok(plan_outline(&outline(program), &pieces, &[], m, o, false, what)?.times)
+}
+
+/// The planned time of the exact curves in the program, and the plan of
+/// each smoothed run that the renderer shapes the written pieces for: at
+/// the machine's maximum feed, so that the written program keeps the
+/// curves' speed at any feed (a feed override above 100% included), not
+/// just at the programmed one. A run smoothed into itself is written as
+/// the program wrote it, never rendered ([`crate::emit::emit`]): its plan
+/// is empty.
+pub fn plan_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+) -> Result<(Times, Vec<RunPlan>)> {
+    let (_, exact, plans) = plan_job(program, result, opts, false)?;
+    Ok((exact, plans))
+}
+
+/// [`plan_input`] (from the runs already read) and [`plan_curves`], made
+/// side by side.
+pub fn plan_input_and_curves(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+) -> Result<(Times, Times, Vec<RunPlan>)> {
+    let (input, exact, plans) = plan_job(program, result, opts, true)?;
+    Ok((input.expect("the input is planned"), exact, plans))
+}
+
+/// The plans of [`plan_input_and_curves`] (the input only with `input`),
+/// as tasks side by side: each task plans its runs on all cores, and two
+/// tasks at a time keep both cores of a small machine busy where one long
+/// run would leave one idle; more at once would only hold more plans.
+fn plan_job(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+    input: bool,
+) -> Result<(Option<Times>, Times, Vec<RunPlan>)> {
+    #[derive(Clone, Copy)]
+    enum Task {
+        Input,
+        /// The curves at the user's feeds (with the plans, when those are
+        /// the renderer's: feeds overridden).
+        Exact,
+        /// The renderer's plans, at the maximum feed.
+        Plans,
+    }
+    let (m, override_feed) = (&opts.machine, opts.override_feed);
+    let outline = outline(program);
+    let curves: Vec<&[Piece]> = result
+        .runs
+        .iter()
+        .map(|r| r.smoothed.pieces.as_slice())
+        .collect();
+    let mut tasks = Vec::new();
+    if input {
+        tasks.push(Task::Input);
+    }
+    tasks.push(Task::Exact);
+    if !override_feed {
+        tasks.push(Task::Plans);
+    }
+    let renderer_plans = || -> Result<Vec<RunPlan>> {
+        let po = PlanOptions {
+            limits: *m,
+            override_feed: true,
+            window: None,
+        };
+        par_map(curves.len(), |k| {
+            if result.runs[k].original.pieces == curves[k] {
+                return Ok(RunPlan::default());
+            }
+            let line = curves[k].first().map(|p| p.source_lines.0).unwrap_or(0);
+            plan_run(curves[k], &po).map_err(|source| PlanError::Plan {
+                what: "the curves",
+                source: ProgramPlanError::Run { line, source },
+            })
+        })
+        .into_iter()
+        .collect()
+    };
+    let done: Vec<Result<Planned>> = par_map(tasks.len(), |i| match tasks[i] {
+        Task::Input => {
+            let runs: Vec<&[Piece]> = result
+                .runs
+                .iter()
+                .map(|r| r.original.pieces.as_slice())
+                .collect();
+            let what = "the input";
+            plan_outline(&outline, &runs, &[], m, override_feed, false, what)
+        }
+        Task::Exact => {
+            let what = "the curves";
+            plan_outline(
+                &outline,
+                &curves,
+                &[],
+                m,
+                override_feed,
+                override_feed,
+                what,
+            )
+        }
+        Task::Plans => Ok(Planned {
+            times: Times {
+                total: 0.0,
+                feed: 0.0,
+            },
+            plans: renderer_plans()?,
+        }),
+    });
+    let (mut input_times, mut exact, mut plans) = (None, None, Vec::new());
+    for (task, d) in tasks.into_iter().zip(done) {
+        let d = d?;
+        match task {
+            Task::Input => input_times = Some(d.times),
+            Task::Exact => {
+                exact = Some(d.times);
+                if override_feed {
+                    plans = d.plans;
+                }
+            }
+            Task::Plans => plans = d.plans,
+        }
+    }
+    Ok((input_times, exact.expect("the curves are planned"), plans))
+}
+
+/// The planned time of a written program's text, exactly as `fairpath
+/// simulate` plans the file (G-code, or fairpath's JSON).
+pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
+    let is_json = text.bytes().find(|b| !b.is_ascii_whitespace()) == Some(b'{');
+    if is_json {
+        let motions = crate::json_motions(text).map_err(PlanError::ReadWrittenJson)?;
+        let sim =
+            simulate(&motions, &opts.machine, opts.override_feed, None).map_err(|source| {
+                PlanError::Plan {
+                    what: "the written program",
+                    source,
+                }
+            })?;
+        return Ok(Times::of(&sim));
+    }
+    let program = crate::parse(text.as_bytes()).map_err(PlanError::ReadWritten)?;
+    let runs = program.runs();
+    let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let (m, o) = (&opts.machine, opts.override_feed);
+    let what = "the written program";
+    Ok(plan_outline(&outline(&program), &pieces, &[], m, o, false, what)?.times)
+}
+
+/// The written G-code as the writer's check read it back: its motions,
+/// its runs, and the time of each run at the user's feeds where the check
+/// already planned it exactly as `fairpath simulate` does (else `None`).
+#[derive(Clone, Debug)]
+pub struct WrittenReading {
+    pub outline: Vec<MotionOutline>,
+    pub runs: Vec<Run>,
+    pub run_times: Vec<Option<f64>>,
+}
+
+/// [`plan_text`] of a written G-code program from the reading its check
+/// made ([`crate::emit::Emitted::reading`]): no second reading of the
+/// text, and the runs the check planned at the user's feeds not planned
+/// again. The same figures as [`plan_text`].
+pub fn plan_written(reading: &WrittenReading, opts: &SmoothOptions) -> Result<Times> {
+    let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
+    let (m, o) = (&opts.machine, opts.override_feed);
+    let what = "the written program";
+    let known = &reading.run_times;
+    Ok(plan_outline(&reading.outline, &pieces, known, m, o, false, what)?.times)
+}
