@@ -24,7 +24,8 @@ use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 use fairpath::render::{
-    render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions, RenderStats,
+    render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions,
+    RenderStats,
 };
 
 /// Why the curves could not be written.
@@ -74,6 +75,9 @@ pub const MIN_ARC_UNITS: f64 = 4.0;
 /// Runs of at least this many pieces are planned at both feeds side by
 /// side (shorter ones run side by side with other runs).
 const PARALLEL_FEEDS_PIECES: usize = 10_000;
+
+/// Pieces per part when a long run is rendered in parts side by side.
+const RENDER_PART_PIECES: usize = 4096;
 
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
@@ -195,14 +199,32 @@ pub fn emit(
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, &wo);
         let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
-        let r = render_run(&smoothed[k], &speed, &ro)
-            .map_err(|source| EmitError::Render { run: k, source })?;
-        Ok(Choice {
-            form: Some(form),
-            chord,
-            pieces: r.pieces,
-            stats: r.stats,
-        })
+        let pieces = &smoothed[k];
+        let error = |source| EmitError::Render { run: k, source };
+        if pieces.len() < PARALLEL_FEEDS_PIECES {
+            let r = render_run(pieces, &speed, &ro).map_err(error)?;
+            return Ok(Choice {
+                form: Some(form),
+                chord,
+                pieces: r.pieces,
+                stats: r.stats,
+            });
+        }
+        // A long run in parts side by side (each piece is rendered on its
+        // own: the same pieces as one call).
+        let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
+        let rendered = par_map(parts, |j| {
+            let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
+            render_range(pieces, j * RENDER_PART_PIECES..end, &speed, &ro)
+        });
+        let mut choice = Choice::original(chord);
+        choice.form = Some(form);
+        for r in rendered {
+            let r = r.map_err(error)?;
+            choice.pieces.extend(r.pieces);
+            choice.stats.add(&r.stats);
+        }
+        Ok(choice)
     };
     let feeds: Vec<bool> = if opts.override_feed {
         vec![true]

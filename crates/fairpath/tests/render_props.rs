@@ -10,7 +10,7 @@ use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Arc, Curve, Nurbs, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 use fairpath::render::{
-    nurbs_fits, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions,
+    nurbs_fits, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions,
 };
 use fairpath::verify::{verify_run, VerifyOptions};
 use proptest::prelude::*;
@@ -354,4 +354,38 @@ fn planned_speed_interpolates_the_plan() {
     assert!(sp.max_over(0, 0.0, 0.001) < sp.max_over(0, 0.0, 0.2));
     // Unknown pieces plan no speed.
     assert_eq!(sp.at(3, 0.5), 0.0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// A long run is rendered in parts side by side (`render_range`): the
+    /// parts, concatenated, must be the rendering of the whole run, in
+    /// every form.
+    #[test]
+    fn a_run_rendered_in_parts_is_the_run_rendered_whole(
+        pts in prop::collection::vec(pt2(20.0), 9..18),
+        cut in 1usize..8,
+        form in 0usize..2,
+    ) {
+        prop_assume!(pts.windows(2).all(|w| w[0].dist(w[1]) > 0.1));
+        // Lines and curves alternating: segments and a B-spline through
+        // the points between them.
+        let mut pieces = Vec::new();
+        for w in pts.windows(5).step_by(4) {
+            pieces.push(piece(Curve::Line(fairpath::geom::Line::new(w[0], w[1]))));
+            pieces.push(piece(Curve::Nurbs(bspline(&w[1..5]))));
+        }
+        let form = [CurveForm::Arcs, CurveForm::Lines][form];
+        let o = opts(form, 0.005);
+        let plan = plan_run(&pieces, &plan_opts()).unwrap();
+        let speed = PlannedSpeed::new(pieces.len(), &plan, o.limits.period);
+        let whole = render_run(&pieces, &speed, &o).unwrap();
+        let cut = cut.min(pieces.len());
+        let a = render_range(&pieces, 0..cut, &speed, &o).unwrap();
+        let b = render_range(&pieces, cut..pieces.len(), &speed, &o).unwrap();
+        let mut parts = a.pieces;
+        parts.extend(b.pieces);
+        prop_assert_eq!(parts, whole.pieces);
+    }
 }

@@ -209,10 +209,26 @@ pub fn render_run(
     speed: &PlannedSpeed,
     opts: &RenderOptions,
 ) -> Result<Rendered, RenderError> {
+    render_range(pieces, 0..pieces.len(), speed, opts)
+}
+
+/// [`render_run`] of the pieces `range` of the run `pieces` only. Each
+/// piece is rendered on its own (from its curve and the planned speed
+/// along it), so the renderings of consecutive ranges, concatenated, are
+/// the rendering of the whole run: a long run can be rendered in parts
+/// side by side.
+pub fn render_range(
+    pieces: &[Piece],
+    range: core::ops::Range<usize>,
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+) -> Result<Rendered, RenderError> {
     opts.validate()?;
     let mut out = Rendered::default();
     let mut curves: Vec<Curve> = Vec::new();
-    for (i, p) in pieces.iter().enumerate() {
+    let start = range.start;
+    for (j, p) in pieces[range].iter().enumerate() {
+        let i = start + j;
         curves.clear();
         match (&p.curve, opts.form) {
             (Curve::Line(_), _) => {
