@@ -12,7 +12,7 @@
 //!   on circles far longer than the moves, faster than any path through
 //!   them. On the circle the caps of any curve apply ([`speed_cap`]:
 //!   `kappa v^2 <= A_n`, `kappa^2 v^3 <= J`, chord error, axes), all along
-//!   it: the planner (`plan.rs`) replaces the `tangent_length` of each line
+//!   it: the planner (`caps.rs`) replaces the `tangent_length` of each line
 //!   next to a corner by half the circle's arc, at the circle's cap, so a
 //!   corner costs the time of its circle (a sharp corner's circle is tiny
 //!   and cheap; grbl-style planners cap the speed at the corner point
