@@ -12,6 +12,7 @@ mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
 mod chains;
+mod corner_engine;
 mod fit_chain;
 mod fit_fill;
 mod fit_sections;
