@@ -7,6 +7,9 @@
 //! reported. [`crate::verify`] checks all of that without trusting the
 //! smoother.
 
+mod arc_candidates;
+mod arc_chain;
+mod arc_check;
 mod arc_fit;
 mod bezier_corner;
 mod bspline_corner;
@@ -16,6 +19,7 @@ mod corner_engine;
 mod fit_chain;
 mod fit_fill;
 mod fit_sections;
+mod kept_joints;
 mod lotm;
 mod none;
 mod options;
