@@ -34,8 +34,8 @@
 //! (tangent continuity: LinuxCNC blends a tangent joint without slowing),
 //! unless the line is tangent too, then the line, then the free arc. Nothing is blended: every joint between
 //! blocks that is not G2 (a corner, or the curvature step between tangent
-//! blocks) is reported as a kept corner, [`CornerReason::Reversal`](super::CornerReason::Reversal) where
-//! the path turns back, [`CornerReason::NoRoom`](super::CornerReason::NoRoom) otherwise (no one block
+//! blocks) is reported as a kept corner, [`CornerReason::Reversal`] where
+//! the path turns back, [`CornerReason::NoRoom`] otherwise (no one block
 //! fits across it).
 //!
 //! **The check** (sound: an accepted arc is within the fit tolerance of the
@@ -43,7 +43,7 @@
 //! [`ARC_FIT_SHARE`] (0.9) of the method's tolerance; the rest covers the
 //! cleaning (zero-length moves move vertices by at most a thousandth of the
 //! tolerance) and the rounding of the written centres. For an arc `C(t)`,
-//! `t` in `[0, 1]` (the [`Arc`](crate::geom::Arc) that is written, its own formula):
+//! `t` in `[0, 1]` (the [`Arc`] that is written, its own formula):
 //!
 //! 1. *In order.* Every vertex's angle about the centre, unwrapped from
 //!    `P_i`, advances along the arc (it may fall back by no more than the
@@ -93,6 +93,10 @@
 //! candidate arcs are in `arc_candidates.rs`, the checks in `arc_check.rs`,
 //! the search and the walk along a chain in `arc_chain.rs`, and the
 //! reporting of joints as kept corners in `kept_joints.rs`.
+//!
+//! [`CornerReason::Reversal`]: super::CornerReason::Reversal
+//! [`CornerReason::NoRoom`]: super::CornerReason::NoRoom
+//! [`Arc`]: crate::geom::Arc
 
 use super::arc_chain::fit_chain;
 use super::chains::smooth_by_chains;
