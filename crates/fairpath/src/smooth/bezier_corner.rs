@@ -74,6 +74,10 @@
 //!   zero-length threshold of a segment between them, the second starts
 //!   exactly where the first ends: its `P0` moves along the segment by at
 //!   most that much, which leaves `d`, the deviation and G2 unchanged.
+//!
+//! The walk along a chain is the corner engine's (`corner_engine.rs`,
+//! shared with `bspline-corner`); [`smooth_run_by_corners`] gives it the
+//! planned lengths of `ctm` or `lotm` and their rules.
 
 use super::bspline_corner::{transition_curve, BAND_USE};
 use super::chains::{smooth_by_chains, CleanTolerances};

@@ -48,6 +48,10 @@
 //!   so its closing corner, where the tool starts and stops anyway, is not
 //!   blended (see the README: blending it needs a lead-in and lead-out that
 //!   the paper does not define).
+//!
+//! The walk along a chain (line pieces, transitions, kept corners) is the
+//! corner engine's (`corner_engine.rs`, shared with `ctm` and `lotm`); this
+//! file gives it the transition above (`UniformPlan`) and its rules.
 
 use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
 use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Room, Undirected};
