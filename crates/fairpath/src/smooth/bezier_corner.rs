@@ -74,17 +74,21 @@
 //!   zero-length threshold of a segment between them, the second starts
 //!   exactly where the first ends: its `P0` moves along the segment by at
 //!   most that much, which leaves `d`, the deviation and G2 unchanged.
+//!
+//! The walk along a chain is the corner engine's (`corner_engine.rs`,
+//! shared with `bspline-corner`); [`smooth_run_by_corners`] gives it the
+//! planned lengths of `ctm` or `lotm` and their rules.
 
 use super::bspline_corner::{transition_curve, BAND_USE};
-use super::chains::{
-    min_feed, smooth_by_chains, CleanTolerances, CornerReason, KeptCorner, LineChain,
+use super::chains::{smooth_by_chains, CleanTolerances};
+use super::corner_engine::{
+    self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Room, Undirected,
 };
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
-use crate::geom::{Curve, Line, Nurbs, Vec3};
+use crate::geom::{Nurbs, Vec3};
 use crate::math;
-use crate::path::{Piece, Run};
+use crate::path::Run;
 use crate::smooth::{require, OptionError};
-use alloc::vec;
 use alloc::vec::Vec;
 
 /// Smallest proportional coefficient [`Ctm`] accepts. Below about 0.056 the
@@ -178,27 +182,6 @@ pub struct Ctm {
     pub options: CtmOptions,
 }
 
-/// One chain of lines as the length rules see it.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct ChainCorners {
-    /// Length of segment `j` (from vertex `j` to `j + 1`).
-    pub seg_len: Vec<f64>,
-    /// Half-angle at vertex `k` (0 at the two ends).
-    pub theta: Vec<f64>,
-    /// Whether vertex `k` gets a transition (false at the ends and at kept
-    /// corners).
-    pub blend: Vec<bool>,
-    /// Deviation the transitions may use (mm).
-    pub delta: f64,
-}
-
-impl ChainCorners {
-    /// Whether segment `j` has transitions at both ends.
-    pub fn shared(&self, j: usize) -> bool {
-        self.blend[j] && self.blend[j + 1]
-    }
-}
-
 /// A transition planned at one vertex: coefficient `c` and length `l`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Planned {
@@ -271,7 +254,8 @@ pub(crate) fn ctm_plan(cc: &ChainCorners, c: f64) -> Vec<Planned> {
 }
 
 /// The driver shared by `ctm` and `lotm`: cleans the run, plans every chain
-/// of lines with `plan`, and emits lines and transitions.
+/// of lines with `plan`, and emits lines and transitions through the corner
+/// engine.
 pub(crate) fn smooth_run_by_corners(
     run: &Run,
     tolerance: f64,
@@ -279,115 +263,55 @@ pub(crate) fn smooth_run_by_corners(
     plan: &dyn Fn(&ChainCorners) -> Vec<Planned>,
 ) -> Result<SmoothedRun, SmoothError> {
     check_tolerance(tolerance)?;
-    let delta = tolerance * BAND_USE;
-    let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+    let band = Band {
+        delta: tolerance * BAND_USE,
+        min_seg: CleanTolerances::from_tolerance(tolerance).min_segment,
+    };
+    // Lengths planned per chain on whole segments; exact reversals kept
+    // (module docs, "Degenerate corners").
+    let rules = CornerRules {
+        min_half_angle,
+        keep_exact_reversal: true,
+        room: Room::WholeSegment,
+        undirected: Undirected::LineTo,
+    };
     smooth_by_chains(run, tolerance, |chain, out| {
-        smooth_chain(chain, delta, min_seg, min_half_angle, plan, out)
+        let mut lengths = ChainPlan {
+            plan,
+            planned: Vec::new(),
+        };
+        corner_engine::smooth_chain(chain, band, &rules, &mut lengths, out)
     })
 }
 
-fn smooth_chain(
-    chain: &LineChain,
-    delta: f64,
-    min_seg: f64,
-    min_half_angle: f64,
-    plan: &dyn Fn(&ChainCorners) -> Vec<Planned>,
-    out: &mut SmoothedRun,
-) {
-    let q = &chain.pts;
-    let n = chain.segments();
-    if n == 0 {
-        return;
+/// The transitions of `ctm` and `lotm` for the corner engine: a length and
+/// coefficient per vertex from `plan`, the control points of
+/// [`bezier_corner_points`].
+struct ChainPlan<'a> {
+    plan: &'a dyn Fn(&ChainCorners) -> Vec<Planned>,
+    planned: Vec<Planned>,
+}
+
+impl CornerPlan for ChainPlan<'_> {
+    fn plan_chain(&mut self, corners: &ChainCorners) {
+        self.planned = (self.plan)(corners);
     }
-    // Geometry of every vertex, and which corners are kept.
-    let seg_len: Vec<f64> = (0..n).map(|j| q[j].dist(q[j + 1])).collect();
-    let mut theta = vec![0.0; n + 1];
-    let mut blend = vec![false; n + 1];
-    let mut kept: Vec<Option<CornerReason>> = vec![None; n + 1];
-    let mut dirs = vec![(Vec3::ZERO, Vec3::ZERO); n + 1];
-    for k in 1..n {
-        let (Some(a), Some(b)) = (
-            (q[k - 1] - q[k]).normalized(0.0),
-            (q[k + 1] - q[k]).normalized(0.0),
-        ) else {
-            continue;
-        };
-        let th = 0.5 * a.angle_to(b);
-        // An exact reversal is kept even with `min_half_angle = 0`: a
-        // transition there would turn on the spot (a cusp at `M`).
-        kept[k] = if th < min_half_angle || th == 0.0 {
-            Some(CornerReason::Reversal)
-        } else if seg_len[k - 1] <= min_seg || seg_len[k] <= min_seg {
-            Some(CornerReason::NoRoom)
-        } else {
-            None
-        };
-        theta[k] = th;
-        blend[k] = kept[k].is_none();
-        dirs[k] = (a, b);
+
+    fn reach(&mut self, c: &Corner) -> f64 {
+        self.planned[c.k].l
     }
-    let cc = ChainCorners {
-        seg_len,
-        theta,
-        blend,
-        delta,
-    };
-    let planned = plan(&cc);
-    let push_line = |out: &mut SmoothedRun, a: Vec3, b: Vec3, seg: usize| {
-        if a.dist(b) > 0.0 {
-            out.pieces.push(Piece {
-                curve: Curve::Line(Line::new(a, b)),
-                rapid: false,
-                source_lines: chain.lines[seg],
-                feed: chain.feed[seg],
-            });
-        }
-    };
-    let mut cursor = q[0];
-    for k in 1..n {
-        let qk = q[k];
-        if let Some(reason) = kept[k] {
-            push_line(out, cursor, qk, k - 1);
-            out.kept_corners.push(KeptCorner {
-                at: qk,
-                source_line: chain.lines[k - 1].1,
-                reason,
-            });
-            cursor = qk;
-            continue;
-        }
-        if !cc.blend[k] {
-            // A vertex without direction (cannot happen after cleaning):
-            // pass through it with a line.
-            push_line(out, cursor, qk, k - 1);
-            cursor = qk;
-            continue;
-        }
-        let Planned { c, l } = planned[k];
-        let (a, b) = dirs[k];
-        let [p0, p1, _, p3, p4] = bezier_corner_points(qk, a, b, l, c);
-        // Far control points exactly on the previous end, or on the
-        // neighbouring vertex when the whole segment is used.
-        let p0 = if l >= cc.seg_len[k - 1] { q[k - 1] } else { p0 };
-        let p0 = if p0.dist(cursor) <= min_seg {
-            cursor
-        } else {
-            p0
-        };
-        let p4 = if l >= cc.seg_len[k] || (!cc.shared(k) && p4.dist(q[k + 1]) <= min_seg) {
-            q[k + 1]
-        } else {
-            p4
-        };
-        push_line(out, cursor, p0, k - 1);
-        out.pieces.push(Piece {
-            curve: Curve::Nurbs(transition_curve([p0, p1, qk, p3, p4])),
-            rapid: false,
-            source_lines: (chain.lines[k - 1].0, chain.lines[k].1),
-            feed: min_feed(chain.feed[k - 1], chain.feed[k]),
-        });
-        out.transitions += 1;
-        cursor = p4;
+
+    fn ends(&self, c: &Corner, reach: f64) -> (Vec3, Vec3) {
+        let [p0, _, _, _, p4] = bezier_corner_points(c.at, c.a, c.b, reach, self.planned[c.k].c);
+        (p0, p4)
     }
-    push_line(out, cursor, q[n], n - 1);
+
+    /// `P1` and `P3` stay where `d` puts them when the ends move: by at
+    /// most the zero-length threshold along their segments (module docs,
+    /// "Rounding at shared segments"), or onto the neighbouring vertex
+    /// when the whole segment is used.
+    fn control_points(&self, c: &Corner, reach: f64, p0: Vec3, p4: Vec3) -> [Vec3; 5] {
+        let [_, p1, p2, p3, _] = bezier_corner_points(c.at, c.a, c.b, reach, self.planned[c.k].c);
+        [p0, p1, p2, p3, p4]
+    }
 }

@@ -48,14 +48,17 @@
 //!   so its closing corner, where the tool starts and stops anyway, is not
 //!   blended (see the README: blending it needs a lead-in and lead-out that
 //!   the paper does not define).
+//!
+//! The walk along a chain (line pieces, transitions, kept corners) is the
+//! corner engine's (`corner_engine.rs`, shared with `ctm` and `lotm`); this
+//! file gives it the transition above (`UniformPlan`) and its rules.
 
-use super::chains::{
-    min_feed, smooth_by_chains, CleanTolerances, CornerReason, KeptCorner, LineChain,
-};
+use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
+use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Room, Undirected};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
-use crate::geom::{Curve, Line, Nurbs, Vec3};
+use crate::geom::{Nurbs, Vec3};
 use crate::math;
-use crate::path::{Piece, Run};
+use crate::path::Run;
 use crate::smooth::{require, OptionError};
 
 /// Which approximation error the transitions aim at when they must shrink.
@@ -203,101 +206,58 @@ impl BsplineCorner {
         out: &mut SmoothedRun,
     ) {
         let o = &self.options;
-        let q = &chain.pts;
-        let n = chain.segments();
-        let mut cursor = q[0];
-        let mut room_start = q[0];
-        let push_line = |out: &mut SmoothedRun, a: Vec3, b: Vec3, seg: usize| {
-            if a.dist(b) > 0.0 {
-                out.pieces.push(Piece {
-                    curve: Curve::Line(Line::new(a, b)),
-                    rapid: false,
-                    source_lines: chain.lines[seg],
-                    feed: chain.feed[seg],
-                });
-            }
+        // Routines 1 to 3 plan each corner from the room the previous
+        // transition left (section 3.4), under the paper's one reversal
+        // threshold (module docs).
+        let rules = CornerRules {
+            min_half_angle: o.min_half_angle,
+            keep_exact_reversal: false,
+            room: Room::LeftByPrevious { lambda: o.lambda },
+            undirected: Undirected::Skip,
         };
-        for k in 1..n {
-            let qk = q[k];
-            let seg_in = q[k - 1] - qk;
-            let out_vec = q[k + 1] - qk;
-            let len_in = room_start.dist(qk);
-            let len_out = out_vec.norm();
-            let (Some(a), Some(b)) = (seg_in.normalized(0.0), out_vec.normalized(0.0)) else {
-                continue;
+        let band = Band { delta, min_seg };
+        corner_engine::smooth_chain(chain, band, &rules, &mut UniformPlan(o), out);
+    }
+}
+
+/// The transitions of `bspline-corner` for the corner engine: the uniform
+/// five-point polygon of edge `L` (reach `2L`), sized by sections 3.2 to
+/// 3.4 from the room the walk reports.
+struct UniformPlan<'a>(&'a BsplineCornerOptions);
+
+impl CornerPlan for UniformPlan<'_> {
+    fn reach(&mut self, c: &Corner) -> f64 {
+        let o = self.0;
+        let (theta, len_in, len_out) = (c.theta, c.room_in, c.len_out);
+        // Section 3.2: the longer side is cut to the shorter's length;
+        // the polygon spans 2L on each side.
+        let mut l = 0.5 * len_in.min(len_out);
+        // Section 3.3: scale the polygon when the error leaves the band.
+        let e = corner_error(l, theta);
+        let eps = c.delta / math::sin(theta);
+        if e > eps {
+            let e_star = match o.target {
+                ErrorTarget::HalfBand => 0.5 * c.delta,
+                ErrorTarget::FullBand => eps,
             };
-            let theta = 0.5 * a.angle_to(b);
-            let reason = if theta < o.min_half_angle {
-                Some(CornerReason::Reversal)
-            } else if len_in <= min_seg || len_out <= min_seg {
-                Some(CornerReason::NoRoom)
-            } else {
-                None
-            };
-            if let Some(reason) = reason {
-                push_line(out, cursor, qk, k - 1);
-                out.kept_corners.push(KeptCorner {
-                    at: qk,
-                    source_line: chain.lines[k - 1].1,
-                    reason,
-                });
-                cursor = qk;
-                room_start = qk;
-                continue;
-            }
-            // Section 3.2: the longer side is cut to the shorter's length;
-            // the polygon spans 2L on each side.
-            let mut l = 0.5 * len_in.min(len_out);
-            // Section 3.3: scale the polygon when the error leaves the band.
-            let e = corner_error(l, theta);
-            let eps = delta / math::sin(theta);
-            if e > eps {
-                let e_star = match o.target {
-                    ErrorTarget::HalfBand => 0.5 * delta,
-                    ErrorTarget::FullBand => eps,
-                };
-                l *= e_star / e;
-            }
-            // Section 3.4: leave room for the next corner.
-            let last = k == n - 1;
-            if !last && 2.0 * l > 0.5 * len_out {
-                l = 0.25 * len_out;
-            }
-            // Control points; the far ones exactly on the room boundary or
-            // the next vertex when they reach it, so endpoints stay exact.
-            let p0 = if 2.0 * l >= len_in {
-                room_start
-            } else {
-                qk + a * (2.0 * l)
-            };
-            let p0 = if p0.dist(cursor) <= min_seg {
-                cursor
-            } else {
-                p0
-            };
-            let p4 = if 2.0 * l >= len_out {
-                q[k + 1]
-            } else {
-                qk + out_vec * (2.0 * l / len_out)
-            };
-            let p4 = if last && p4.dist(q[n]) <= min_seg {
-                q[n]
-            } else {
-                p4
-            };
-            let p1 = p0.lerp(qk, 0.5);
-            let p3 = qk.lerp(p4, 0.5);
-            push_line(out, cursor, p0, k - 1);
-            out.pieces.push(Piece {
-                curve: Curve::Nurbs(transition_curve([p0, p1, qk, p3, p4])),
-                rapid: false,
-                source_lines: (chain.lines[k - 1].0, chain.lines[k].1),
-                feed: min_feed(chain.feed[k - 1], chain.feed[k]),
-            });
-            out.transitions += 1;
-            cursor = p4;
-            room_start = p4 + (q[k + 1] - p4) * o.lambda;
+            l *= e_star / e;
         }
-        push_line(out, cursor, q[n], n - 1);
+        // Section 3.4: leave room for the next corner.
+        if !c.last && 2.0 * l > 0.5 * len_out {
+            l = 0.25 * len_out;
+        }
+        2.0 * l
+    }
+
+    fn ends(&self, c: &Corner, reach: f64) -> (Vec3, Vec3) {
+        (c.at + c.a * reach, c.at + c.out * (reach / c.len_out))
+    }
+
+    /// `P1` and `P3` halfway along the edges from the placed ends, so the
+    /// polygon stays the paper's (collinear `P0 P1 P2`: G2 joints).
+    fn control_points(&self, c: &Corner, _reach: f64, p0: Vec3, p4: Vec3) -> [Vec3; 5] {
+        let p1 = p0.lerp(c.at, 0.5);
+        let p3 = c.at.lerp(p4, 0.5);
+        [p0, p1, c.at, p3, p4]
     }
 }

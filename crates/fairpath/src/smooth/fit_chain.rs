@@ -1,4 +1,6 @@
-//! The chain around the fitted sections of `bspline-fit`: which vertices a
+//! The chain around the fitted sections of `bspline-fit`: the walk along
+//! one chain that fits its dense sections and leaves the rest to the
+//! corner method ([`BsplineFit::smooth_chain`]), which vertices a
 //! section takes ([`extend_sections`]), how far its fit leads into the kept
 //! segments at its ends ([`lead_point`]), the parts of the chain left to
 //! the corner method between fits ([`sub_chain`]), and the fit's output
@@ -13,9 +15,12 @@
 //! `spiral_lines.ngc` 0.43 -> 0.37, `LHchips4.ngc` 0.61 -> 0.57,
 //! `test_12mmflat.ngc` 0.71 -> 0.67 and `Cereal.ngc` 0.68 -> 0.65.
 
-use super::chains::{min_feed, LineChain};
+use super::bspline_corner::{BsplineCorner, BAND_USE};
+use super::bspline_fit::{fit_polyline_faired, BsplineFit};
+use super::chains::{min_feed, CleanTolerances, LineChain};
+use super::fit_sections::dense_sections;
 use super::SmoothedRun;
-use crate::geom::fit::{chord_params, split_at_knots};
+use crate::geom::fit::{chord_params, split_at_knots, EndCondition};
 use crate::geom::{Curve, Nurbs, Vec3};
 use crate::path::Piece;
 use alloc::vec::Vec;
@@ -129,5 +134,122 @@ pub(super) fn push_fit(
             feed,
         });
         seg = last;
+    }
+}
+
+impl BsplineFit {
+    /// Smooths one chain: fits its dense sections, blends the corners
+    /// between them. `keep_ends`: whether the chain's first (last) segment
+    /// must stay out of the fits (a run end that [`BsplineFitOptions::line_at_start`]
+    /// or `line_at_end` asks to keep straight).
+    ///
+    /// [`BsplineFitOptions::line_at_start`]: super::BsplineFitOptions::line_at_start
+    pub(super) fn smooth_chain(
+        &self,
+        chain: &LineChain,
+        tolerance: f64,
+        keep_ends: (bool, bool),
+        out: &mut SmoothedRun,
+    ) {
+        let o = &self.options;
+        let corner = BsplineCorner { options: o.corner };
+        let delta = tolerance * BAND_USE;
+        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let q = &chain.pts;
+        let nseg = chain.segments();
+        // Sections to fit, last first. A section whose fit fails is split
+        // around its sharpest vertex (the segment after it kept as a line
+        // between the two fits) and the halves are tried on their own, so
+        // one corner inside a section does not send all of it to the corner
+        // method.
+        // Sections that would take a run end's line it must keep lose it.
+        let mut sections = dense_sections(q, tolerance, &o.sections);
+        extend_sections(&mut sections, q, EXTEND_MAX_TURN);
+        let mut todo: Vec<(usize, usize)> = sections
+            .into_iter()
+            .map(|(k, m)| {
+                let k = if keep_ends.0 && k == 0 { 1 } else { k };
+                let m = if keep_ends.1 && m == nseg {
+                    nseg - 1
+                } else {
+                    m
+                };
+                (k, m)
+            })
+            .filter(|&(k, m)| m > k + 1)
+            .collect();
+        todo.reverse();
+        // Where the last fit (or the chain start) left off: a vertex, and
+        // the point on the segment after it where the fit ended (its lead-out).
+        let mut cursor = (0, q[0]);
+        while let Some((k, m)) = todo.pop() {
+            let dir = |a: usize, b: usize| (q[b] - q[a]).normalized(0.0);
+            let start = if k == 0 {
+                EndCondition::Free
+            } else {
+                match dir(k - 1, k) {
+                    Some(d) => EndCondition::Tangent(d),
+                    None => continue,
+                }
+            };
+            let end = if m == nseg {
+                EndCondition::Free
+            } else {
+                match dir(m, m + 1) {
+                    Some(d) => EndCondition::Tangent(d),
+                    None => continue,
+                }
+            };
+            // Lead-in and lead-out: the fit also takes a piece of the kept
+            // segment before (after) it, so it can round the corner at its
+            // end vertex instead of starting tangent to the segment there.
+            let lead = |a: usize, b: usize| lead_point(q[a], q[b], tolerance, min_seg);
+            let lead_in = if k > 0 && k > cursor.0 {
+                lead(k, k - 1)
+            } else {
+                None
+            };
+            let lead_out = if m < nseg { lead(m, m + 1) } else { None };
+            // The fit's ends as (vertex, point on the segment after it).
+            let from = lead_in.map_or((k, q[k]), |p| (k - 1, p));
+            let to = lead_out.map_or((m, q[m]), |p| (m, p));
+            let section = sub_chain(chain, from, to);
+            let Some(fit) = fit_polyline_faired(
+                &section.pts,
+                start,
+                end,
+                tolerance * o.band_use,
+                (o.fairness, o.jerk_fairness),
+                o.fairness_raises,
+                o.relax.as_ref(),
+            ) else {
+                let min = o.sections.min_points;
+                let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
+                let sharpest =
+                    (k + 1..m.saturating_sub(1)).max_by(|&a, &b| turn(a).total_cmp(&turn(b)));
+                // A half too short to fit goes to the corner method; the
+                // other is still tried (a sharp corner next to a section
+                // end, such as a plunge, no longer sends all of it there).
+                if let Some(j) = sharpest {
+                    if m - j >= min {
+                        todo.push((j + 1, m));
+                    }
+                    if j + 1 - k >= min {
+                        todo.push((k, j));
+                    }
+                }
+                continue;
+            };
+            if from.0 > cursor.0 || (from.0 == cursor.0 && from.1 != cursor.1) {
+                corner.smooth_chain(&sub_chain(chain, cursor, from), delta, min_seg, out);
+            }
+            push_fit(&section, &fit.curve, o.max_piece_spans, out);
+            out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
+            cursor = to;
+        }
+        if cursor.0 < nseg || cursor.1 != q[nseg] {
+            let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
+            corner.smooth_chain(&sub, delta, min_seg, out);
+        }
     }
 }

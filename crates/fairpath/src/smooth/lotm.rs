@@ -58,8 +58,9 @@
 
 use super::bezier_corner::{
     bezier_corner_peak_curvature, bezier_length_for_deviation, check_min_half_angle,
-    smooth_run_by_corners, ChainCorners, Planned,
+    smooth_run_by_corners, Planned,
 };
+use super::corner_engine::ChainCorners;
 use super::{SmoothError, SmoothedRun, Smoother};
 use crate::math;
 use crate::path::Run;

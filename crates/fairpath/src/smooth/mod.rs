@@ -7,14 +7,21 @@
 //! reported. [`crate::verify`] checks all of that without trusting the
 //! smoother.
 
+mod arc_candidates;
+mod arc_chain;
+mod arc_check;
 mod arc_fit;
 mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
 mod chains;
+mod corner_engine;
 mod fit_chain;
+mod fit_fairing;
 mod fit_fill;
+mod fit_search;
 mod fit_sections;
+mod kept_joints;
 mod lotm;
 mod none;
 mod options;

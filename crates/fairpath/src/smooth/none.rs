@@ -5,7 +5,7 @@
 //! same verified path as every other method, and is the baseline the
 //! other methods' cost is measured against (`scripts/scale.sh`).
 
-use super::arc_fit::report_corners;
+use super::kept_joints::report_corners;
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::JointTolerances;
 use crate::path::{Piece, Run};
