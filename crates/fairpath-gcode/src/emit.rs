@@ -342,7 +342,7 @@ pub fn emit(
             .collect();
         let text =
             crate::write_gcode_with(program, &outputs, &wo).map_err(EmitError::WriteGcode)?;
-        let reread_program = crate::parse(text.as_bytes()).map_err(EmitError::Reread)?;
+        let reread_program = crate::parse_motion(text.as_bytes()).map_err(EmitError::Reread)?;
         // What planning the written program needs of it; the program
         // itself is dropped at once (on long outputs it is the largest
         // thing held).

@@ -44,3 +44,38 @@ fn written_times_equal_a_fresh_plan_of_the_text() {
         }
     }
 }
+
+/// `parse_motion` (what the writer's check reads the written text with)
+/// reads the same moves and runs as `parse`, and keeps no text.
+#[test]
+fn parse_motion_reads_the_same_motion_as_parse() {
+    let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
+    let mut texts: Vec<String> = PROGRAMS.iter().map(|t| t.to_string()).collect();
+    for f in [
+        "synthetic/helix.ngc",
+        "linuxcnc/quick-tests/square_spiral.ngc",
+        "linuxcnc/quick-tests/rick_combine.ngc",
+    ] {
+        if let Ok(t) = std::fs::read_to_string(shared.join(f)) {
+            texts.push(t);
+        }
+    }
+    for text in &texts {
+        let full = fairpath_gcode::parse(text.as_bytes()).unwrap();
+        let lean = fairpath_gcode::parse_motion(text.as_bytes()).unwrap();
+        assert_eq!(full.runs(), lean.runs());
+        assert_eq!(full.run_spans(), lean.run_spans());
+        let pieces = |p: &fairpath_gcode::Program| -> Vec<_> {
+            p.moves()
+                .iter()
+                .map(|m| (m.piece.clone(), m.line, m.kind, m.pinned))
+                .collect()
+        };
+        assert_eq!(pieces(&full), pieces(&lean));
+        assert_eq!(full.lines().len(), lean.lines().len());
+        assert!(lean
+            .lines()
+            .iter()
+            .all(|l| l.text.is_empty() && l.words.is_empty()));
+    }
+}

@@ -4,7 +4,7 @@
 //! [`crate::spline`] once the line's state changes are applied.
 //!
 //! * `reader.rs`: the reader of a program, in place or expanded, line by
-//!   line ([`parse`], [`parse_with`]).
+//!   line ([`parse`], [`parse_with`]; for motion only, [`parse_motion`]).
 //! * `state.rs`: the modal state.
 //! * `codes.rs`: G and M codes classified by modal group.
 //! * `line.rs`: one line interpreted: what its words ask for, then a
@@ -36,7 +36,7 @@ mod runs;
 mod state;
 
 pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
-pub use reader::{parse, parse_with};
+pub use reader::{parse, parse_motion, parse_with};
 pub(crate) use state::{FeedMode, State};
 
 use crate::error::{ErrorKind, GcodeError};

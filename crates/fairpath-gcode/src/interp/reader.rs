@@ -21,6 +21,16 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
     parse_with(text, &ParseOptions::default())
 }
 
+/// Reads a program for its motion only: the moves, runs and modal facts
+/// of [`parse`], without what only writing the program again needs: the
+/// lines' texts and words, the path-control words and the moves' written
+/// end coordinates (on a long program most of its memory: a written
+/// program read back to be checked and timed holds half as much). Such a
+/// [`Program`] must not be given to a writer.
+pub fn parse_motion(text: &[u8]) -> Result<Program, GcodeError> {
+    read(text, &ParseOptions::default(), true)
+}
+
 /// Reads a program. See the crate documentation for what is accepted.
 ///
 /// A program without o-word statements is read in place, one
@@ -28,6 +38,11 @@ pub fn parse(text: &[u8]) -> Result<Program, GcodeError> {
 /// lines are the executed lines in execution order ([`crate::lang::flow`]),
 /// each written out with literal values ([`Program::expansion`]).
 pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeError> {
+    read(text, opts, false)
+}
+
+/// [`parse_with`], or with `motion_only` [`parse_motion`].
+fn read(text: &[u8], opts: &ParseOptions, motion_only: bool) -> Result<Program, GcodeError> {
     // One pass to validate the text and look for o-words, then the lines
     // are read from the text itself: each is copied once, into its
     // `ProgramLine`.
@@ -36,6 +51,7 @@ pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeErro
         oword |= lang::flow::looks_like_oword(l?.0);
     }
     let mut r = Reader::new(opts);
+    r.motion_only = motion_only;
     if oword {
         r.expand(split_lines(text)?)?;
     } else {
@@ -52,6 +68,8 @@ struct Reader {
     moves: Vec<Move>,
     start_units: Option<Units>,
     expansion: Option<Expansion>,
+    /// Keep no texts, words or written coordinates ([`parse_motion`]).
+    motion_only: bool,
 }
 
 impl Reader {
@@ -63,6 +81,7 @@ impl Reader {
             moves: Vec::new(),
             start_units: None,
             expansion: None,
+            motion_only: false,
         }
     }
 
@@ -118,6 +137,11 @@ impl Reader {
         text: String,
         ending: &'static str,
     ) {
+        let text = if self.motion_only {
+            String::new()
+        } else {
+            text
+        };
         let st = &self.st;
         self.lines.push(ProgramLine {
             number,
@@ -206,6 +230,14 @@ impl Reader {
         if self.start_units.is_none() && self.moves.len() > first_move {
             self.start_units = Some(self.st.units);
         }
+        let (text, words, path_control) = if self.motion_only {
+            for m in &mut self.moves[first_move..] {
+                m.end_text = [None, None, None];
+            }
+            (String::new(), Vec::new(), None)
+        } else {
+            (text, ev.lexed.words, self.st.path_words.clone())
+        };
         let st = &self.st;
         self.lines.push(ProgramLine {
             number,
@@ -214,7 +246,7 @@ impl Reader {
             ending,
             units: st.units,
             incremental: st.incremental,
-            words: ev.lexed.words,
+            words,
             // An assignment written back verbatim must stay where it is.
             breaks_run: info.breaks_run || (ev.assigns && !expanded),
             moves: first_move..self.moves.len(),
@@ -226,7 +258,7 @@ impl Reader {
             insert_column,
             plane_after: st.plane,
             arc_incremental_after: st.arc_incremental,
-            path_control_after: st.path_words.clone(),
+            path_control_after: path_control,
             in_block: st.spline.is_open(),
         });
         Ok(true)

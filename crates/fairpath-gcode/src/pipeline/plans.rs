@@ -303,7 +303,7 @@ pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
             })?;
         return Ok(Times::of(&sim));
     }
-    let program = crate::parse(text.as_bytes()).map_err(PlanError::ReadWritten)?;
+    let program = crate::parse_motion(text.as_bytes()).map_err(PlanError::ReadWritten)?;
     let runs = program.runs();
     let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
