@@ -84,6 +84,15 @@
 //! move line is (`/`, extra words such as M8, a state change, cutter
 //! compensation (an error for G5/G5.1, as in LinuxCNC), G93/G95, an unknown
 //! start) when any of its lines gives a reason.
+//!
+//! ## Files
+//! * This file: the reading options, the spline state with its open block,
+//!   and a line dispatched to its code's reader.
+//! * `words.rs`: the words of a line (which letters a code takes,
+//!   coordinates, weights, integer words, the in-plane pair) and the pin
+//!   reasons a line or its state gives a block.
+
+mod words;
 
 use crate::axes::AXIS_LETTERS as AXES;
 use crate::error::{ErrorKind, GcodeError, SplineError};
@@ -94,6 +103,7 @@ use fairpath::controller::linuxcnc::{g5_2_curve, g5_2_motion, G5Error};
 use fairpath::controller::Plane;
 use fairpath::geom::{Curve, Line, Nurbs, NurbsError, Vec3};
 use fairpath::path::Piece;
+use words::{check_words, coord, int_word, line_pin, plane_pair, state_pin, weight, NEAR_INT};
 
 /// How G5, G5.1 and G5.2/G5.3 are read (G6.2 is always read exactly).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -120,9 +130,6 @@ pub struct ParseOptions {
     pub block_delete: bool,
 }
 
-/// How far (in integers) an order or method word may be from an integer:
-/// LinuxCNC's `is_near_int` and `read_integer_value` take 0.0001.
-const NEAR_INT: f64 = 1e-4;
 /// Highest `L` taken on G5.2 lines (LinuxCNC has no limit; the block
 /// needs that many points anyway).
 const MAX_L: usize = 64;
@@ -277,128 +284,6 @@ pub(crate) fn line(
         MotionMode::QuadSpline => g5(ctx, st, moves, true),
         MotionMode::Nurbs => g5_2_point(ctx, st).map(|_| false),
         _ => g6_2_line(ctx, st, moves),
-    }
-}
-
-/// Checks the words of a spline line: the plane's axes (and the off-plane
-/// one when `off_plane`), `letters`, N F G; other axes and spline letters
-/// are errors; any other word pins (returns true).
-fn check_words(
-    lx: &LexedLine,
-    ln: usize,
-    code: &'static str,
-    plane: Plane,
-    letters: &str,
-    off_plane: bool,
-) -> Result<bool, GcodeError> {
-    let normal = AXES[plane.axes().2];
-    let mut extra = false;
-    for w in &lx.words {
-        let l = w.letter;
-        let ok = match l {
-            'N' | 'F' | 'G' => true,
-            'X' | 'Y' | 'Z' => l != normal || off_plane,
-            'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' | 'K' | 'P' | 'Q' | 'R' | 'L' => {
-                letters.contains(l)
-            }
-            _ => {
-                extra = true;
-                true
-            }
-        };
-        if !ok {
-            let e = SplineError::WordNotAllowed { code, letter: l };
-            return Err(spline_err(ln, w.column, e));
-        }
-    }
-    Ok(extra)
-}
-
-/// The pin reason a line gives its block.
-fn line_pin(ctx: &LineCtx, extra: bool) -> Option<PinReason> {
-    if ctx.lx.block_delete {
-        Some(PinReason::BlockDelete)
-    } else if extra {
-        Some(PinReason::ExtraWords)
-    } else if ctx.state_change {
-        Some(PinReason::StateChange)
-    } else {
-        None
-    }
-}
-
-/// The pin reasons of the state a block runs in.
-fn state_pin(st: &State, start_known: bool) -> Option<PinReason> {
-    if st.comp {
-        Some(PinReason::CutterComp)
-    } else if st.feed_mode != FeedMode::PerMinute {
-        Some(PinReason::FeedMode)
-    } else if !start_known {
-        Some(PinReason::UnknownStart)
-    } else {
-        None
-    }
-}
-
-/// An axis word's value in program units and mm (relative to `start` in
-/// G91), LinuxCNC's `find_ends`.
-fn coord(st: &State, w: &Word, a: usize, start: Vec3, ln: usize) -> Result<(f64, f64), GcodeError> {
-    let mm = st.units.mm_per_unit();
-    let s = start.to_array()[a];
-    let (prog, in_mm) = if st.incremental {
-        (s / mm + w.value, s + w.value * mm)
-    } else {
-        (w.value, w.value * mm)
-    };
-    Ok((finite(prog, ln, w)?, finite(in_mm, ln, w)?))
-}
-
-fn weight(w: &Word, ln: usize) -> Result<f64, GcodeError> {
-    if w.value > 0.0 && w.value.is_finite() {
-        Ok(w.value)
-    } else {
-        Err(spline_err(ln, w.column, SplineError::BadWeight(w.value)))
-    }
-}
-
-/// An integer word within [`NEAR_INT`] of an integer in `min..=max`.
-fn int_word(w: &Word, ln: usize, min: usize, max: usize) -> Result<usize, GcodeError> {
-    let r = w.value.round();
-    if (w.value - r).abs() > NEAR_INT || r < min as f64 || r > max as f64 {
-        return Err(spline_err(
-            ln,
-            w.column,
-            SplineError::BadOrder {
-                value: w.value,
-                min,
-                max,
-            },
-        ));
-    }
-    Ok(r as usize)
-}
-
-/// The first in-plane axis word, and an error when only one of the pair
-/// is given.
-fn plane_pair<'a>(
-    lx: &'a LexedLine,
-    ln: usize,
-    code: &'static str,
-    plane: Plane,
-) -> Result<Option<[&'a Word; 2]>, GcodeError> {
-    let (a, b, _) = plane.axes();
-    match (lx.word(AXES[a]), lx.word(AXES[b])) {
-        (Some(x), Some(y)) => Ok(Some([x, y])),
-        (None, None) => Ok(None),
-        (Some(w), None) | (None, Some(w)) => Err(spline_err(
-            ln,
-            w.column,
-            SplineError::AxisPair {
-                code,
-                first: AXES[a],
-                second: AXES[b],
-            },
-        )),
     }
 }
 
