@@ -70,6 +70,7 @@ fn bench(c: &mut Criterion) {
         limits: fairpath::feed::limits::MachineLimits::thesis(),
         override_feed: true,
         window: None,
+        ends: Default::default(),
     };
     g.bench_function("plan smoothed surface-raster-large (pieces)", |b| {
         b.iter(|| {

@@ -36,6 +36,12 @@ impl TimeModel {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RunEndsArg {
+    Rest,
+    Cap,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum TextOrJson {
     Text,
     Json,
@@ -178,6 +184,13 @@ enum Command {
         /// it (default: the whole run); also reports the full scan's time.
         #[arg(long)]
         lookahead: Option<usize>,
+        /// The speed every run starts and ends at: `rest` (the default), or
+        /// `cap`, the speed cap there (the feed on a straight): with
+        /// `--time-model thesis --override-feed` and the thesis' machine,
+        /// the simulation of seed 003 (section 4.5), which starts and ends
+        /// its paths at the maximum feed.
+        #[arg(long, value_enum, default_value = "rest")]
+        run_ends: RunEndsArg,
         /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z).
         #[arg(long)]
         profile: Option<PathBuf>,
@@ -358,6 +371,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             program,
             machine,
             lookahead,
+            run_ends,
             profile,
             segments,
             format,
@@ -376,10 +390,15 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 }
             }
             let m = machine.limits()?;
+            let ends = match run_ends {
+                RunEndsArg::Rest => fairpath::feed::plan::RunEnds::AtRest,
+                RunEndsArg::Cap => fairpath::feed::plan::RunEnds::AtCap,
+            };
             fairpath_cli::simulate_command::run(
                 &program,
                 &m,
                 machine.override_feed,
+                ends,
                 lookahead,
                 profile.as_deref(),
                 segments.as_deref(),

@@ -6,7 +6,8 @@
 
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::program::{simulate, Motion, Simulation, MAX_SAMPLES};
+use fairpath::feed::plan::{PlanOptions, RunEnds};
+use fairpath::feed::program::{average_curvature, simulate_with, Motion, Simulation, MAX_SAMPLES};
 use std::path::Path;
 
 /// The motions of a program: G-code runs (and each pinned move on its
@@ -29,12 +30,18 @@ pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
     }
 }
 
+/// Accuracy of the average curvature's integrals (radians and mm).
+const CURVATURE_ACCURACY: f64 = 1e-6;
+
 /// The simulation as JSON (at least `time_s`, `feed_time_s`, `max_acc`,
-/// `max_jerk`).
-pub fn simulation_json(sim: &Simulation) -> String {
+/// `max_jerk`), with the average curvature of the feed moves (1/mm).
+pub fn simulation_json(sim: &Simulation, average_curvature: Option<f64>) -> String {
     serde_json::json!({
         "time_s": sim.time(),
         "feed_time_s": sim.feed_time,
+        "feed_length_mm": sim.feed_length,
+        "average_feed_mm_s": sim.average_feed(),
+        "average_curvature_per_mm": average_curvature,
         "rapid_time_s": sim.rapid_time,
         "max_acc": sim.max_acc,
         "max_jerk": sim.max_jerk,
@@ -47,11 +54,13 @@ pub fn simulation_json(sim: &Simulation) -> String {
     .to_string()
 }
 
-/// `fairpath simulate`.
+/// `fairpath simulate`: runs start and end as `ends` says.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     path: &Path,
     m: &MachineLimits,
     override_feed: bool,
+    ends: RunEnds,
     window: Option<usize>,
     profile: Option<&Path>,
     segments: Option<&Path>,
@@ -62,10 +71,21 @@ pub fn run(
         // Tool changes, coolant ...: nothing to plan, a time of zero.
         eprintln!("note: {}: the program has no moves", path.display());
     }
-    let mut sim = simulate(&motions, m, override_feed, window)?;
+    let opts = PlanOptions {
+        limits: *m,
+        override_feed,
+        window,
+        ends,
+    };
+    let mut sim = simulate_with(&motions, &opts)?;
     if window.is_some() {
-        sim.full_scan_time = Some(simulate(&motions, m, override_feed, None)?.time());
+        let full = PlanOptions {
+            window: None,
+            ..opts
+        };
+        sim.full_scan_time = Some(simulate_with(&motions, &full)?.time());
     }
+    let curvature = average_curvature(&motions, CURVATURE_ACCURACY);
     // One sample per period: refuse absurd counts rather than run out of
     // memory (a program of hours at 1 ms).
     let samples = sim.time() / m.period;
@@ -84,9 +104,21 @@ pub fn run(
         crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;
     }
     if json {
-        println!("{}", simulation_json(&sim));
+        println!("{}", simulation_json(&sim, curvature));
     } else {
         print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
+        print!(
+            "  feed moves:      {:.3} mm, average feed {:.1} mm/s",
+            sim.feed_length,
+            sim.average_feed()
+        );
+        match curvature {
+            Some(k) => println!(", average curvature {k:.6} 1/mm"),
+            None => println!(),
+        }
+        if ends == RunEnds::AtCap {
+            println!("  runs start and end at their speed cap (--run-ends cap)");
+        }
     }
     Ok(())
 }

@@ -367,6 +367,7 @@ fn stream_options(a: &StreamArgs) -> StreamOptions {
             limits: a.machine,
             override_feed: a.override_feed,
             window: None,
+            ends: Default::default(),
         })
     }
 }

@@ -219,6 +219,7 @@ fn a_failing_fit_is_split_even_when_its_sharpest_vertex_is_next_to_an_end() {
         limits: MachineLimits::thesis(),
         override_feed: true,
         window: None,
+        ends: Default::default(),
     };
     let plan = |s: &dyn Smoother| {
         let out = s.smooth_run(&sampled, budget - chord).unwrap();

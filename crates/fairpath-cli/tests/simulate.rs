@@ -351,3 +351,48 @@ fn helix_profile_is_on_one_clock_and_ends_at_the_programs_end() {
         assert!(d <= 0.4 + 1e-6, "a jump of {d} mm at t = {}", w[1][0]);
     }
 }
+
+/// The thesis' simulation (seed 003, section 4.5): `--time-model thesis
+/// --override-feed --run-ends cap` runs a straight 100 mm at 400 mm/s from
+/// end to end (0.25 s); the JSON reports the feed length, the average feed
+/// and the average curvature (1/r on a half circle of radius 10 after it).
+#[test]
+fn run_ends_at_cap_and_the_thesis_metrics() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.ngc");
+    let run = |text: &str, extra: &[&str]| -> serde_json::Value {
+        std::fs::write(&path, text).unwrap();
+        let mut args = vec!["simulate", path.to_str().unwrap(), "--format", "json"];
+        args.extend_from_slice(extra);
+        let o = bin().args(&args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let thesis = [
+        "--time-model",
+        "thesis",
+        "--override-feed",
+        "--run-ends",
+        "cap",
+    ];
+    let line = "G21 G90\nG0 X0 Y0\nG1 X100 F6000\nM2\n";
+    let v = run(line, &thesis);
+    assert!(
+        (v["feed_time_s"].as_f64().unwrap() - 0.25).abs() < 1e-9,
+        "{v}"
+    );
+    assert!((v["average_feed_mm_s"].as_f64().unwrap() - 400.0).abs() < 1e-6);
+    assert_eq!(v["average_curvature_per_mm"].as_f64(), Some(0.0));
+    let at_rest = run(line, &["--override-feed"]);
+    assert!(at_rest["feed_time_s"].as_f64().unwrap() > 0.3);
+    // A 100 mm line, then a half circle of radius 10 (31.4 mm): the
+    // average curvature is pi / (100 + 10 pi).
+    let v = run(
+        "G21 G90\nG0 X0 Y0\nG1 X100 F6000\nG3 X100 Y20 J10\nM2\n",
+        &thesis,
+    );
+    let pi = std::f64::consts::PI;
+    let k = v["average_curvature_per_mm"].as_f64().unwrap();
+    assert!((k - pi / (100.0 + 10.0 * pi)).abs() < 1e-6, "{k}");
+    assert!((v["feed_length_mm"].as_f64().unwrap() - (100.0 + 10.0 * pi)).abs() < 1e-6);
+}

@@ -238,6 +238,7 @@ pub fn emit(
             limits: opts.machine,
             override_feed,
             window: None,
+            ends: Default::default(),
         };
         Ok(
             plan_run_shaped(pieces, &po, &Shaping::none(), opts.judged_by)

@@ -89,6 +89,7 @@ fn planned_on(pieces: &[Piece], limits: MachineLimits) -> f64 {
             limits,
             override_feed: true,
             window: None,
+            ends: Default::default(),
         },
     )
     .unwrap()

@@ -41,6 +41,7 @@ fn planned(c: &Nurbs) -> f64 {
         limits: MachineLimits::thesis(),
         override_feed: true,
         window: None,
+        ends: Default::default(),
     };
     plan_run(&[piece], &opts).unwrap().time
 }

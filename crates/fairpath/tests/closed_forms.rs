@@ -127,3 +127,41 @@ fn curvature_variation_energy_of_a_parabola_matches_the_integral() {
     let line = Curve::Line(fairpath::geom::Line::new(Vec3::ZERO, Vec3::X));
     assert_eq!(curvature_variation_energy(&line, 1e-6), 0.0);
 }
+
+/// `total_curvature` is the angle a plane curve's tangent turns through:
+/// the sweep of a circular arc (also written as a rational NURBS), zero on
+/// a line, and for a cubic the integral against a fine midpoint sum.
+#[test]
+fn total_curvature_is_the_turning_angle() {
+    use fairpath::geom::{total_curvature, Arc, Curve, Line, Nurbs, ParamCurve, Vec3};
+    let z = Vec3::new(0.0, 0.0, 1.0);
+    for (r, sweep) in [(3.0, 0.7), (10.0, 4.0), (0.5, 6.2)] {
+        let end = Vec3::new(r * f64::cos(sweep), r * f64::sin(sweep), 0.0);
+        let arc =
+            Arc::from_center(Vec3::new(r, 0.0, 0.0), end, Vec3::ZERO, z, false, 1, 1e-9).unwrap();
+        assert!((total_curvature(&Curve::Arc(arc), 1e-9) - sweep).abs() < 1e-8);
+        let n = Nurbs::from_circular_arc(&arc);
+        assert!((total_curvature(&n, 1e-9) - sweep).abs() < 1e-7);
+    }
+    let line = Line::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(total_curvature(&line, 1e-9), 0.0);
+    let cubic = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![
+            Vec3::ZERO,
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(3.0, -1.0, 0.5),
+            Vec3::new(4.0, 1.0, 0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let steps = 200_000;
+    let mut sum = 0.0;
+    for i in 0..steps {
+        let t = (i as f64 + 0.5) / steps as f64;
+        sum += cubic.curvature(t) * cubic.deriv1(t).norm() / steps as f64;
+    }
+    assert!((total_curvature(&cubic, 1e-10) - sum).abs() < 1e-6, "{sum}");
+}

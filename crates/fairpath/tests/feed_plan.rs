@@ -39,6 +39,7 @@ fn check_limits_window(pieces: &[Piece], m: &MachineLimits, window: Option<usize
             limits: *m,
             override_feed: false,
             window,
+            ends: Default::default(),
         },
     )
     .unwrap_or_else(|e| panic!("window {window:?}: {e}"));
@@ -183,6 +184,7 @@ fn converges_to_the_acceleration_limited_time_as_jerk_grows() {
                 limits: m,
                 override_feed: false,
                 window: None,
+                ends: Default::default(),
             },
         )
         .unwrap();
@@ -266,6 +268,7 @@ fn interpolation_tracks_the_path_with_small_feed_fluctuation() {
             limits: m,
             override_feed: false,
             window: None,
+            ends: Default::default(),
         },
     )
     .unwrap();
@@ -458,6 +461,7 @@ fn regression_arc_to_line_tangent_joint_is_a_curvature_jump_not_a_corner() {
             limits: m,
             override_feed: false,
             window: None,
+            ends: Default::default(),
         },
     )
     .unwrap();
@@ -499,6 +503,7 @@ fn a_corner_is_passed_on_its_circle_at_the_circle_cap() {
             limits: m,
             override_feed: false,
             window: None,
+            ends: Default::default(),
         },
     )
     .unwrap();
@@ -586,4 +591,63 @@ fn regression_tort_ripples_of_a_fitted_arc_do_not_stop_the_acceleration() {
     let t = check_limits(&smoothed.pieces, &m);
     println!("as programmed {raw:.4} s, auto {t:.4} s");
     assert!(t <= raw * 1.2, "auto {t} s, as programmed {raw} s");
+}
+
+/// `RunEnds::AtCap` (the thesis' simulation, seed 003 section 4.5): a
+/// straight run at the maximum feed takes exactly `L / V`; at rest it
+/// takes longer by the time to reach and leave the feed; with a curve in
+/// the middle, both plans slow down there and stay within the limits.
+#[test]
+fn runs_that_start_and_end_at_their_cap() {
+    use fairpath::feed::plan::RunEnds;
+    let m = MachineLimits::thesis();
+    let opts = |ends| PlanOptions {
+        limits: m,
+        override_feed: true,
+        window: None,
+        ends,
+    };
+    let line = [Piece {
+        curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(100.0, 0.0, 0.0))),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
+    let at_cap = plan_run(&line, &opts(RunEnds::AtCap)).unwrap();
+    assert!(
+        (at_cap.time - 100.0 / m.max_feed).abs() < 1e-9,
+        "{}",
+        at_cap.time
+    );
+    let at_rest = plan_run(&line, &opts(RunEnds::AtRest)).unwrap();
+    assert!(
+        at_rest.time > at_cap.time + 0.05,
+        "{} {}",
+        at_rest.time,
+        at_cap.time
+    );
+    // A run with a corner transition: slower than L / V, faster than from
+    // rest, the profile starts and ends at the feed (the lines are long
+    // enough to brake from it to the corner's cap and back: where they are
+    // not, the start speed is lowered as the thesis lowers its maxima).
+    let run = run_of(
+        &[
+            Vec3::ZERO,
+            Vec3::new(200.0, 0.0, 0.0),
+            Vec3::new(400.0, 80.0, 0.0),
+        ],
+        &[6000.0],
+    );
+    let pieces = BsplineCorner::default()
+        .smooth_run(&run, 0.05)
+        .unwrap()
+        .pieces;
+    let capped = plan_run(&pieces, &opts(RunEnds::AtCap)).unwrap();
+    let rest = plan_run(&pieces, &opts(RunEnds::AtRest)).unwrap();
+    let length: f64 = capped.segments.iter().map(|s| s.length).sum();
+    assert!(capped.time > length / m.max_feed && capped.time < rest.time);
+    let first = &capped.segments[0].profile;
+    let last = &capped.segments[capped.segments.len() - 1].profile;
+    assert!((first.eval(0.0).v - m.max_feed).abs() < 1e-9);
+    assert!((last.eval(last.duration()).v - m.max_feed).abs() < 1e-6);
 }

@@ -41,6 +41,7 @@ fn plan_opts() -> PlanOptions {
         limits: MachineLimits::thesis(),
         override_feed: true,
         window: None,
+        ends: Default::default(),
     }
 }
 

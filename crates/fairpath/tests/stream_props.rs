@@ -30,6 +30,7 @@ fn opts(m: MachineLimits) -> StreamOptions {
         limits: m,
         override_feed: true,
         window: None,
+        ends: Default::default(),
     })
 }
 

@@ -105,6 +105,7 @@ fn plan_outline(
         limits: *machine,
         override_feed,
         window: None,
+        ends: Default::default(),
     };
     // (feed time, rapid time, the plan kept).
     type Done = (f64, f64, Option<(usize, RunPlan)>);
@@ -227,6 +228,7 @@ fn plan_job(
             limits: *m,
             override_feed: true,
             window: None,
+            ends: Default::default(),
         };
         par_map(curves.len(), |k| {
             if result.runs[k].original.pieces == curves[k] {

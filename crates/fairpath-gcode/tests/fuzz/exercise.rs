@@ -297,6 +297,7 @@ fn plan(pieces: &[Piece]) {
         limits: MachineLimits::thesis(),
         override_feed: false,
         window: None,
+        ends: Default::default(),
     };
     let _ = plan_run(pieces, &opts);
 }

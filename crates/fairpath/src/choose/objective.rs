@@ -35,6 +35,7 @@ impl PlannedTime {
                 limits,
                 override_feed,
                 window: None,
+                ends: Default::default(),
             },
         }
     }

@@ -76,6 +76,21 @@ pub struct PlanOptions {
     /// only the next `n` segments and must always be able to stop at the
     /// end of what it sees.
     pub window: Option<usize>,
+    /// The speed a run starts and ends at.
+    pub ends: RunEnds,
+}
+
+/// The speed at a run's two ends.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RunEnds {
+    /// At rest: a run between rapids, or at a program's start and end.
+    #[default]
+    AtRest,
+    /// At the speed cap there (the feed, or less on a curve): the thesis'
+    /// simulation (seed 003, section 4.5: "the trajectory generator assumed
+    /// that the feedrate was capable of maximum velocity at the beginning
+    /// and end of the tool paths"), for comparing its tables like for like.
+    AtCap,
 }
 
 /// How the machine passes a corner (a joint where the tangent turns).
@@ -216,10 +231,15 @@ pub fn plan_run_shaped(
     if n == 0 {
         return Ok(plan);
     }
-    // Cap at each stretch boundary (rest at both ends) and what sets it.
+    // Cap at each stretch boundary (rest at both ends, or the cap of the
+    // end stretch) and what sets it.
     let mut bcap = alloc::vec![0.0f64; n + 1];
     for i in 1..n {
         bcap[i] = st[i - 1].part.cap.min(st[i].part.cap).min(junction[i]);
+    }
+    if opts.ends == RunEnds::AtCap {
+        bcap[0] = st[0].part.cap;
+        bcap[n] = st[n - 1].part.cap;
     }
     // Initial segment boundaries: the ends and the local minima of the cap.
     let mut key = alloc::vec![false; n + 1];

@@ -110,6 +110,8 @@ pub type PlannedMotion = (Option<Run>, RunPlan, Option<(Piece, crate::feed::Doub
 /// The result of a simulation.
 pub struct Simulation {
     pub feed_time: f64,
+    /// Length of the feed moves, mm (as planned).
+    pub feed_length: f64,
     pub rapid_time: f64,
     pub max_acc: f64,
     pub max_jerk: f64,
@@ -135,9 +137,23 @@ pub fn simulate(
         limits: *m,
         override_feed,
         window,
+        ends: Default::default(),
     };
+    simulate_with(motions, &opts)
+}
+
+/// [`simulate`] with every planning option given, e.g. runs that start
+/// and end at their speed cap ([`crate::feed::plan::RunEnds::AtCap`], the
+/// thesis' simulation).
+pub fn simulate_with(
+    motions: &[Motion],
+    opts: &PlanOptions,
+) -> Result<Simulation, ProgramPlanError> {
+    let m = &opts.limits;
+    let opts = *opts;
     let mut sim = Simulation {
         feed_time: 0.0,
+        feed_length: 0.0,
         rapid_time: 0.0,
         max_acc: 0.0,
         max_jerk: 0.0,
@@ -154,6 +170,7 @@ pub fn simulate(
                 let plan = plan_run(&run.pieces, &opts)
                     .map_err(|source| ProgramPlanError::Run { line, source })?;
                 sim.feed_time += plan.time;
+                sim.feed_length += plan.segments.iter().map(|s| s.length).sum::<f64>();
                 sim.max_acc = sim.max_acc.max(plan.max_acc);
                 sim.max_jerk = sim.max_jerk.max(plan.max_jerk);
                 sim.segments += plan.segments.len();
@@ -186,6 +203,17 @@ pub fn simulate(
 impl Simulation {
     pub fn time(&self) -> f64 {
         self.feed_time + self.rapid_time
+    }
+
+    /// Average feed over the feed moves, mm/s: their length over their
+    /// time (the time average of the speed; the thesis' Table 4-2 reports
+    /// an average whose definition it does not give).
+    pub fn average_feed(&self) -> f64 {
+        if self.feed_time > 0.0 {
+            self.feed_length / self.feed_time
+        } else {
+            0.0
+        }
     }
 
     pub fn text(&self, m: &MachineLimits) -> String {
@@ -349,3 +377,21 @@ impl Simulation {
 /// Most interpolation periods `simulate` samples (for the profile and the
 /// feed fluctuation): 1e8 periods of 1 ms is more than a day of machining.
 pub const MAX_SAMPLES: f64 = 1e8;
+
+/// Average curvature of the feed moves of `motions`, 1/mm: their total
+/// curvature ([`crate::geom::total_curvature`], each piece to `accuracy`
+/// radians) over their length (each to `accuracy` mm); corners between
+/// pieces count nothing. The thesis' measure of a path (seed 003, Table
+/// 4-1). `None` without feed moves.
+pub fn average_curvature(motions: &[Motion], accuracy: f64) -> Option<f64> {
+    let (mut turning, mut length) = (0.0, 0.0);
+    for mo in motions {
+        if let Motion::Feed(run) = mo {
+            for p in &run.pieces {
+                turning += crate::geom::total_curvature(&p.curve, accuracy);
+                length += p.curve.length(accuracy);
+            }
+        }
+    }
+    (length > 0.0).then(|| turning / length)
+}

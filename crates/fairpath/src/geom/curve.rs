@@ -72,12 +72,12 @@ const GL5_W: [f64; 5] = [
     0.236_926_885_056_189_1,
 ];
 
-fn gl5<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64) -> f64 {
+fn gl5(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
     let h = 0.5 * (b - a);
     let m = 0.5 * (a + b);
     let mut s = 0.0;
     for i in 0..5 {
-        s += GL5_W[i] * c.deriv1(m + h * GL5_X[i]).norm();
+        s += GL5_W[i] * f(m + h * GL5_X[i]);
     }
     s * h
 }
@@ -101,8 +101,16 @@ const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
 /// the length). Bisection stops at a non-finite estimate (it would not
 /// converge) and after [`MAX_LENGTH_INTERVALS`] intervals.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
-    fn rec<C: ParamCurve + ?Sized>(
-        c: &C,
+    integrate(&|t| c.deriv1(t).norm(), a, b, accuracy)
+}
+
+/// `integral f(t) dt` over `[a, b]` by adaptive 5-point Gauss-Legendre,
+/// halving an interval until its two halves agree with it within its share
+/// of `accuracy` (or the rounding floor, the depth limit or the work limit
+/// [`MAX_LENGTH_INTERVALS`]).
+fn integrate(f: &impl Fn(f64) -> f64, a: f64, b: f64, accuracy: f64) -> f64 {
+    fn rec(
+        f: &impl Fn(f64) -> f64,
         (a, b): (f64, f64),
         whole: f64,
         acc: f64,
@@ -110,8 +118,8 @@ pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accurac
         budget: &mut u32,
     ) -> f64 {
         let m = 0.5 * (a + b);
-        let l = gl5(c, a, m);
-        let r = gl5(c, m, b);
+        let l = gl5(f, a, m);
+        let r = gl5(f, m, b);
         let sum = l + r;
         let err = math::abs(sum - whole);
         let converged = err <= acc.max(LENGTH_ROUNDING_FLOOR * math::abs(sum));
@@ -119,12 +127,35 @@ pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accurac
             return sum;
         }
         *budget -= 2;
-        rec(c, (a, m), l, 0.5 * acc, depth - 1, budget)
-            + rec(c, (m, b), r, 0.5 * acc, depth - 1, budget)
+        rec(f, (a, m), l, 0.5 * acc, depth - 1, budget)
+            + rec(f, (m, b), r, 0.5 * acc, depth - 1, budget)
     }
-    let whole = gl5(c, a, b);
+    let whole = gl5(f, a, b);
     let mut budget = MAX_LENGTH_INTERVALS;
-    rec(c, (a, b), whole, accuracy.max(0.0), 30, &mut budget)
+    rec(f, (a, b), whole, accuracy.max(0.0), 30, &mut budget)
+}
+
+/// Total curvature of the whole curve, `integral kappa ds` (the angle its
+/// tangent turns through, radians, for a plane curve), accurate to
+/// `accuracy` radians: `kappa |C'| = |C' x C''| / |C'|^2` integrated over
+/// the parameter. Divided by the length it is the average curvature the
+/// thesis reports (seed 003, Table 4-1).
+pub fn total_curvature<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
+    let (a, b) = c.domain();
+    integrate(
+        &|t| {
+            let d1 = c.deriv1(t);
+            let n2 = d1.dot(d1);
+            if n2 > 0.0 {
+                d1.cross(c.deriv2(t)).norm() / n2
+            } else {
+                0.0
+            }
+        },
+        a,
+        b,
+        accuracy,
+    )
 }
 
 /// Arc length of the whole curve, accurate to `accuracy` mm.

@@ -26,7 +26,7 @@ pub use arc::{Arc, ArcError};
 pub use continuity::{classify_joint, Continuity, JointTolerances};
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
-    flatten_params_between, ParamCurve,
+    flatten_params_between, total_curvature, ParamCurve,
 };
 pub use fairness::curvature_variation_energy;
 pub use line::Line;
