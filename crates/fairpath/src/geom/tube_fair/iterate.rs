@@ -35,7 +35,7 @@
 
 use super::categories::categorize;
 use super::directions::{directions, Direction, STILL_SHARE};
-use super::guard::{span_peaks, undo_rises, PEAK_SAMPLES};
+use super::guard::{undo_rises, PeakReference};
 use super::polygon::Polygon;
 use super::sensitivity::{move_distances, point_parameters, scaled_inverse, sensitivities};
 use super::tube::{deviation_bound, difference, hull_bound, sampled_deviation};
@@ -132,8 +132,9 @@ impl Setup<'_> {
         let mock = self.step(&dirs, &move_distances(&ones, r));
         let mut sens = sensitivities(&mock, knots, &params);
 
-        let orig_peaks = span_peaks(knots, orig, PEAK_SAMPLES);
-        let floor = opts.accuracy * orig_peaks.iter().map(|p| p.1).fold(0.0, f64::max);
+        let reference = opts
+            .peak_guard
+            .then(|| PeakReference::new(knots, orig, opts.accuracy));
         let mut cur = orig.to_vec();
         let (mut cur_bound, mut sampled) = (0.0, 0.0);
         let mut records = Vec::new();
@@ -170,8 +171,8 @@ impl Setup<'_> {
                 }
             }
             let mut undone = 0;
-            if opts.peak_guard {
-                undone = undo_rises(knots, &cur, &mut new, &orig_peaks, PEAK_SAMPLES, floor);
+            if let Some(reference) = &reference {
+                undone = undo_rises(knots, &cur, &mut new, reference);
                 if undone > 0 {
                     undone_total += undone;
                     bound = deviation_bound(&difference(&new, orig), knots, res);
