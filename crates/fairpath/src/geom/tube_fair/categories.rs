@@ -1,5 +1,5 @@
-//! Categories of the control points (thesis section 3.5, "3.3" in its
-//! overview): ends, ripple points and smooth points, recomputed every
+//! Categories of the control points (thesis section 3.5, "3.3" in the
+//! checklist): ends, ripple points and smooth points, recomputed every
 //! iteration from the shape of the control polygon.
 //!
 //! * **Ends**: the first and last point (the seam of a closed path).

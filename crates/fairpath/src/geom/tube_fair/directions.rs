@@ -1,5 +1,5 @@
 //! Direction vectors of the control points (thesis section 3.6, "3.4" in
-//! its overview), and how far along them a point may go this iteration.
+//! the checklist), and how far along them a point may go this iteration.
 //!
 //! * **Ripple points** (eqs. 3-23 to 3-25): `DV = normalize(A + B)`, `A`
 //!   and `B` the unit vectors from the point to its two neighbours: the

@@ -1,5 +1,5 @@
-//! The iterations (thesis sections 3.9 to 3.11, "3.7" and "3.8" in its
-//! overview): categorise, find directions, scale the move distances by the
+//! The iterations (thesis sections 3.9 to 3.11, "3.7" and "3.8" in the
+//! checklist): categorise, find directions, scale the move distances by the
 //! inverse sensitivities, move (`P_new = P_old + MD_i DV_i`, eq. 3-47),
 //! measure, until the curve touches the tube.
 //!
@@ -30,8 +30,9 @@
 //! 6. Sensitivities of the move made (eq. 3-38).
 //!
 //! Stops also when nothing moves ([`Termination::Stationary`]: every
-//! point straight or pinned, or every move put back by the guard) and after `max_iterations`
-//! ([`Termination::IterationCap`]; the thesis has no cap).
+//! point straight or pinned, or every move put back by the guard) and
+//! after `max_iterations` ([`Termination::IterationCap`]; the thesis has
+//! no cap).
 
 use super::categories::categorize;
 use super::directions::{directions, Direction, STILL_SHARE};

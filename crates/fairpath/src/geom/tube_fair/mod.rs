@@ -9,6 +9,10 @@
 //! it, until the curve touches a tube of radius `R` around the original.
 //! Same knots, same number of control points: only positions change.
 //!
+//! Section numbers are the thesis' own (its chapter 3 as printed; the
+//! project's checklist counts them differently, 3.3 for categories up to
+//! 3.8 for termination).
+//!
 //! | thesis | here |
 //! |---|---|
 //! | 3.2 overview, eq. 3-6 `k = (n-1)/n h / a^2`: flatter polygon, lower curvature | the whole module |
@@ -30,7 +34,8 @@
 //! * adjacent smooth groups are cut where the turning direction changes;
 //! * a ripple point or single apex moves at most half way to the chord of
 //!   its neighbours per iteration (all points move at once: a full step
-//!   would swap a saw-tooth's phase instead of flattening it);
+//!   would swap a saw-tooth's phase instead of flattening it), and the
+//!   other points of a smooth group no further than their apex;
 //! * the maximum of eq. 3-40 is over the points that move;
 //! * every polygon kept is inside the tube on a **sure bound** (the
 //!   convex hull of the difference spline's Bezier spans), not only on the
@@ -60,8 +65,8 @@
 //! (5), [`THESIS_ACCURACY`] (1%). Every other threshold is scaled from the
 //! radius: `accuracy * R` is the resolution (how close to a line counts as
 //! on it in the line tests, how tight the sure bound is, when the curve
-//! touches the tube); [`STILL_SHARE`] of it when a ripple point counts as
-//! on the chord of its neighbours.
+//! touches the tube); [`STILL_SHARE`] of the radius is how close to the
+//! chord of its neighbours a ripple point counts as on it.
 
 pub mod categories;
 pub mod directions;

@@ -1,5 +1,5 @@
 //! Sensitivities and move distances (thesis sections 3.7 and 3.9, "3.5"
-//! and "3.7" in its overview).
+//! and "3.7" in the checklist).
 //!
 //! The sensitivity of a control point is how far the curve moved at the
 //! point's parameter for each mm the point moved in the previous iteration

@@ -1,5 +1,5 @@
 //! How far the curve is from the original, and how much of the tube is
-//! left (thesis section 3.8, "3.6" in its overview).
+//! left (thesis section 3.8, "3.6" in the checklist).
 //!
 //! The curve and the original share their knots, so their distance at
 //! equal parameters is the difference spline `D(t) = P_cur(t) - P_orig(t)`
