@@ -10,7 +10,7 @@ use fairpath::geom::tube_fair::{
     fair_in_tube, EndRule, Faired, Termination, TubeFairError, TubeFairOptions,
 };
 use fairpath::geom::{
-    arc_length, classify_joint, Continuity, Curve, JointTolerances, Line, Nurbs, ParamCurve, Vec3,
+    classify_joint, Continuity, Curve, JointTolerances, Line, Nurbs, ParamCurve, Vec3,
 };
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::{BsplineFit, BsplineFitOptions, Fair, FairOptions, Smoother};
@@ -70,8 +70,11 @@ fn u_shape(a: f64, leg: f64, nleg: usize, narc: usize) -> Nurbs {
 }
 
 /// Average curvature (integral of the curvature over the length, divided
-/// by the length; the thesis' Table 4-1 measure), peak curvature (dense
-/// samples) and length of `c`.
+/// by the length; the thesis' Table 4-1 measure), peak curvature and
+/// length of `c`, all by the midpoint rule at 400 points per knot span
+/// (`geom::arc_length`'s adaptive quadrature can stop early on a long
+/// straight spline with narrow bumps: 97 mm for the 99 mm of a 100-point
+/// line).
 fn metrics(c: &Nurbs) -> (f64, f64, f64) {
     let (mut ks, mut len, mut peak) = (0.0, 0.0, 0.0f64);
     for w in c.breakpoints().windows(2) {
@@ -85,7 +88,7 @@ fn metrics(c: &Nurbs) -> (f64, f64, f64) {
             peak = peak.max(k);
         }
     }
-    (ks / len, peak, arc_length(c, 1e-9))
+    (ks / len, peak, len)
 }
 
 /// Largest `|a(t) - b(t)|` at `n` samples per knot span (same knots).
