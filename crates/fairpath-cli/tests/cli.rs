@@ -589,3 +589,66 @@ fn method_options_are_checked_at_the_front_door() {
     assert_ok(&o, "valid options");
     assert_ok(&check(&input, &out, "0.05"), "check");
 }
+
+/// A G6.2 program of the thesis' case 5 kind: a cubic NURBS (P4, unit
+/// weights) along a 100 mm line with two of its 32 control points
+/// displaced 0.2 mm.
+fn rippled_g6_2() -> String {
+    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F3000\n");
+    for i in 0..32 {
+        let x = 100.0 * i as f64 / 31.0;
+        let y = match i {
+            10 => 0.2,
+            21 => -0.2,
+            _ => 0.0,
+        };
+        let k = i.max(3) - 3;
+        let head = if i == 0 { "G6.2 " } else { "  " };
+        let tail = if i == 0 { " P4 Q1" } else { "" };
+        s += &format!("{head}X{x:.4} Y{y:.4} R1 K{k}{tail}\n");
+    }
+    for _ in 0..4 {
+        s += "G6.2 K29\n";
+    }
+    s += "G0 Z5\nM2\n";
+    s
+}
+
+/// The peak curvature `smooth` prints for the curves.
+fn printed_peak(o: &Output) -> f64 {
+    let text = String::from_utf8_lossy(&o.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.contains("peak curvature:"))
+        .unwrap_or_else(|| panic!("{text}"));
+    line.split_whitespace().nth(2).unwrap().parse().unwrap()
+}
+
+/// Method `fair` end to end: the rippled G6.2 spline comes out within the
+/// tolerance (checked again by `check`) and all but straight, in G6.2 and
+/// in the default format; the zigzag's lines go through the fit and the
+/// fairing.
+#[test]
+fn fair_smooths_a_g6_2_spline_and_the_zigzag() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("rippled.ngc");
+    std::fs::write(&input, rippled_g6_2()).unwrap();
+    let out = dir.path().join("out.ngc");
+    let none = smooth(&input, &out, "0.25", &["-m", "none"]);
+    assert_ok(&none, "none");
+    let before = printed_peak(&none);
+    for fmt in ["g6.2", "arcs"] {
+        let o = smooth(&input, &out, "0.25", &["-m", "fair", "-f", fmt]);
+        assert_ok(&o, fmt);
+        let after = printed_peak(&o);
+        assert!(
+            after < 0.05 * before,
+            "{fmt}: peak {after} against {before}"
+        );
+        assert_ok(&check(&input, &out, "0.25"), "check");
+    }
+    let zigzag = example("zigzag.ngc");
+    let o = smooth(&zigzag, &out, "0.05", &["-m", "fair"]);
+    assert_ok(&o, "zigzag");
+    assert_ok(&check(&zigzag, &out, "0.05"), "check zigzag");
+}

@@ -28,8 +28,11 @@
 //! |    |        the rest to the candidate methods
 //! |    |- corner transitions, fits: aim at BAND_USE of their share; the rest
 //! |    |        covers the cleaning of the run (CLEAN_SHARE) and f64 rounding
-//! |    '- arc-fit: ARC_FIT_SHARE for its blocks (ARC_SAMPLE_SHARE of that for
-//! |             sampling arcs); the rest covers cleaning and written centres
+//! |    |- arc-fit: ARC_FIT_SHARE for its blocks (ARC_SAMPLE_SHARE of that for
+//! |    |        sampling arcs); the rest covers cleaning and written centres
+//! |    '- fair: its fits of runs of lines FAIR_FIT_SHARE of BAND_USE of it,
+//! |             the tube of the fairing around them BAND_USE of the rest
+//! |             (around curves of the input: BAND_USE of all of it)
 //! |- output (OUTPUT_SHARE of total by default)
 //! |    |- rounding: ROUNDING_SHARE of it for the decimals written
 //! |    '- render: the rest, for chords, arcs or spline blocks; arcs aim at
@@ -86,6 +89,15 @@ pub const BAND_USE: f64 = 0.998;
 /// Share of the tolerance `arc-fit`'s blocks use: the rest covers the
 /// cleaning of the run and the rounding of written centres.
 pub const ARC_FIT_SHARE: f64 = 0.9;
+
+/// Share of the band (`BAND_USE` of the smoothing share) that method
+/// `fair` gives the least-squares fits (`bspline-fit`) of runs of lines;
+/// the thesis' fairing then moves the fitted curves inside a tube of the
+/// rest of the band around them, so the result stays within the band of
+/// the original (triangle inequality). A quarter: the fit only needs to follow the lines closely
+/// (a CAM-like spline, ripples and all); flattening is the fairing's job,
+/// and the wider its tube the more it flattens.
+pub const FAIR_FIT_SHARE: f64 = 0.25;
 
 /// Share of `arc-fit`'s block tolerance that the sampled chords of an arc
 /// may deviate from it.

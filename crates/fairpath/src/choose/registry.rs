@@ -6,7 +6,7 @@ use super::auto::{Auto, AutoOptions};
 use super::objective::{Objective, PlannedTime};
 use crate::smooth::{
     ArcFit, ArcFitOptions, BsplineCorner, BsplineCornerOptions, BsplineFit, BsplineFitOptions, Ctm,
-    CtmOptions, Lotm, LotmOptions, NoSmoothing, OptionError, Smoother,
+    CtmOptions, Fair, FairOptions, Lotm, LotmOptions, NoSmoothing, OptionError, Smoother,
 };
 use alloc::boxed::Box;
 use alloc::sync::Arc;
@@ -24,6 +24,9 @@ pub enum Method {
     BsplineFit(BsplineFitOptions),
     /// `ctm`: Bezier corner transitions, constant coefficient (seed 001).
     Ctm(CtmOptions),
+    /// `fair`: B-splines faired inside the tolerance tube (seed 003); runs
+    /// of lines fitted first (seed 002).
+    Fair(FairOptions),
     /// `lotm`: Bezier corner transitions, optimised coefficient (seed 001).
     Lotm(LotmOptions),
     /// `none`: every run as it is (the baseline; expands a parameterised
@@ -38,6 +41,7 @@ pub const METHODS: &[&str] = &[
     "bspline-corner",
     "bspline-fit",
     "ctm",
+    "fair",
     "lotm",
     "none",
 ];
@@ -51,6 +55,7 @@ impl Method {
             "bspline-corner" => Method::BsplineCorner(BsplineCornerOptions::default()),
             "bspline-fit" => Method::BsplineFit(BsplineFitOptions::default()),
             "ctm" => Method::Ctm(CtmOptions::default()),
+            "fair" => Method::Fair(FairOptions::default()),
             "lotm" => Method::Lotm(LotmOptions::default()),
             "none" => Method::None,
             _ => return None,
@@ -71,6 +76,7 @@ impl Method {
             "bspline-corner" => Method::BsplineCorner(BsplineCornerOptions::deserialize(options)?),
             "bspline-fit" => Method::BsplineFit(BsplineFitOptions::deserialize(options)?),
             "ctm" => Method::Ctm(CtmOptions::deserialize(options)?),
+            "fair" => Method::Fair(FairOptions::deserialize(options)?),
             "lotm" => Method::Lotm(LotmOptions::deserialize(options)?),
             "none" => {
                 <serde::de::IgnoredAny as Deserialize>::deserialize(options)?;
@@ -88,6 +94,7 @@ impl Method {
             Method::BsplineCorner(_) => "bspline-corner",
             Method::BsplineFit(_) => "bspline-fit",
             Method::Ctm(_) => "ctm",
+            Method::Fair(_) => "fair",
             Method::Lotm(_) => "lotm",
             Method::None => "none",
         }
@@ -101,6 +108,7 @@ impl Method {
             Method::BsplineCorner(o) => o.validate(),
             Method::BsplineFit(o) => o.validate(),
             Method::Ctm(o) => o.validate(),
+            Method::Fair(o) => o.validate(),
             Method::Lotm(o) => o.validate(),
             Method::None => Ok(()),
         }
@@ -115,6 +123,7 @@ impl Method {
             Method::BsplineCorner(options) => Box::new(BsplineCorner { options }),
             Method::BsplineFit(options) => Box::new(BsplineFit { options }),
             Method::Ctm(options) => Box::new(Ctm { options }),
+            Method::Fair(options) => Box::new(Fair { options }),
             Method::Lotm(options) => Box::new(Lotm { options }),
             Method::None => Box::new(NoSmoothing),
         }

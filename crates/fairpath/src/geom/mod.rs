@@ -20,6 +20,7 @@ mod nurbs;
 mod nurbs_bounds;
 mod plane;
 mod polyline;
+pub mod tube_fair;
 mod vec3;
 
 pub use arc::{Arc, ArcError};

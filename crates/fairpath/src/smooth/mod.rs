@@ -16,6 +16,7 @@ mod bspline_corner;
 mod bspline_fit;
 mod chains;
 mod corner_engine;
+mod fair;
 mod fit_chain;
 mod fit_fairing;
 mod fit_fill;
@@ -44,6 +45,7 @@ pub use bspline_fit::{
     SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
+pub use fair::{Fair, FairOptions};
 pub use fit_sections::{dense_sections, SectionOptions};
 pub use lotm::{
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,

@@ -1,0 +1,253 @@
+//! Method `fair`: the thesis' fairing inside a tolerance tube (seed 003,
+//! Naseath 2007; the method itself is [`crate::geom::tube_fair`]) applied
+//! to a run.
+//!
+//! * **B-spline pieces** of the run (cubic, non-rational NURBS from G5.2 or
+//!   G6.2 programs read exactly, or from fairpath's JSON) are faired in a
+//!   tube of radius `band_use * tolerance` around themselves.
+//! * **Runs of lines** go through `bspline-fit` (seed 002's least-squares
+//!   B-splines of dense sections, `bspline-corner` transitions at the
+//!   corners between them, kept lines) at the whole tolerance, but with its
+//!   fits held to [`FairOptions::fit_share`] of their band
+//!   ([`crate::budget::FAIR_FIT_SHARE`] by default). The fitted curves are
+//!   then faired in a tube of radius `band_use * (1 - fit_share) *
+//!   tolerance` around themselves: the fit is within `fit_share *
+//!   band_use * tolerance` of the lines (plus the cleaning of the run,
+//!   [`crate::budget::CLEAN_SHARE`] of the tolerance), the faired curve
+//!   within its tube of the fit at equal parameters, so by the triangle
+//!   inequality the result is within `band_use * tolerance` plus the
+//!   cleaning of the original. The corner transitions use the whole band
+//!   already (as in `bspline-corner`) and are kept as they are: they are
+//!   told from fits by their knot vector ([`TRANSITION_KNOTS`]; a fit that
+//!   happened to have it would only be left unfaired). By default the fit
+//!   is the plain least-squares fit (its fairness raises and its in-band
+//!   relaxation off: flattening is the thesis' method's job here).
+//! * Arcs, lines and curves of other kinds are kept as they are.
+//! * **Joints**: a curve that joins another piece of the run keeps its
+//!   first (or last) three control points, so its position, tangent and
+//!   curvature at the joint do not change: a G2 joint stays G2. At the
+//!   run's ends only the end point is kept ([`FairOptions::ends`]: the end
+//!   tangent may turn, or with `slide-along-tangent` keeps its
+//!   direction). Run endpoints stay bit for bit.
+//! * Long fits come from `bspline-fit` cut into pieces of at most
+//!   `max_piece_spans` spans; each piece is faired on its own with its
+//!   joints kept, so the few spans next to a cut are not faired.
+//!
+//! A curve the fairing cannot take (rational, not cubic, not clamped) is
+//! kept as it is. The pipeline verifies the result as for every method.
+
+use super::bspline_corner::TRANSITION_KNOTS;
+use super::bspline_fit::{BsplineFit, BsplineFitOptions};
+use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
+use crate::budget::{BAND_USE, FAIR_FIT_SHARE};
+use crate::geom::tube_fair::{
+    fair_in_tube, EndRule, TubeFairError, TubeFairOptions, DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY,
+    THESIS_PRECISION,
+};
+use crate::geom::Curve;
+use crate::path::{Piece, Run};
+
+/// Options of [`Fair`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+pub struct FairOptions {
+    /// The fit of runs of lines (`bspline-fit`'s options; its `band_use`
+    /// is scaled by `fit_share`).
+    pub fit: BsplineFitOptions,
+    /// Share of the band the fits of runs of lines may use, in (0, 1); the
+    /// fairing of the fitted curves gets the rest.
+    pub fit_share: f64,
+    /// Share of the tolerance (or of what the fit leaves) the tube's
+    /// radius is, in (0, 0.998]: the rest covers the cleaning of the run
+    /// and the verifier's accuracy.
+    pub band_use: f64,
+    /// Samples per knot interval of the thesis' allowance (its precision).
+    pub precision: usize,
+    /// Share of the radius within which the curve touches the tube (its
+    /// accuracy).
+    pub accuracy: f64,
+    /// Most iterations per curve.
+    pub max_iterations: usize,
+    /// What the run's ends do.
+    pub ends: EndRule,
+    /// Put back moves that raise the peak curvature locally (the thesis'
+    /// U-to-V failure).
+    pub peak_guard: bool,
+}
+
+impl Default for FairOptions {
+    fn default() -> Self {
+        FairOptions {
+            fit: BsplineFitOptions {
+                fairness_raises: 0,
+                relax: None,
+                ..BsplineFitOptions::default()
+            },
+            fit_share: FAIR_FIT_SHARE,
+            band_use: BAND_USE,
+            precision: THESIS_PRECISION,
+            accuracy: THESIS_ACCURACY,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+            ends: EndRule::Pinned,
+            peak_guard: true,
+        }
+    }
+}
+
+impl FairOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let m = "fair";
+        self.fit.validate().map_err(|e| OptionError {
+            method: m,
+            option: "fit",
+            value: alloc::format!("{}: {}", e.option, e.value),
+            expected: e.expected,
+        })?;
+        let f = self.fit_share;
+        require(f > 0.0 && f < 1.0, m, "fit_share", f, "must be in (0, 1)")?;
+        let b = self.band_use;
+        require(
+            b > 0.0 && b <= BAND_USE,
+            m,
+            "band_use",
+            b,
+            "must be in (0, 0.998]",
+        )?;
+        match self.tube(1.0, false, false).validate() {
+            Ok(()) => Ok(()),
+            Err(TubeFairError::BadOption {
+                option,
+                value,
+                expected,
+            }) => Err(OptionError {
+                method: m,
+                option,
+                value,
+                expected,
+            }),
+            Err(_) => Ok(()),
+        }
+    }
+
+    /// The tube options for radius `radius`, keeping the G2 joints asked.
+    fn tube(&self, radius: f64, keep_start: bool, keep_end: bool) -> TubeFairOptions {
+        TubeFairOptions {
+            radius,
+            precision: self.precision,
+            accuracy: self.accuracy,
+            max_iterations: self.max_iterations,
+            ends: self.ends,
+            keep_g2_start: keep_start,
+            keep_g2_end: keep_end,
+            peak_guard: self.peak_guard,
+        }
+    }
+}
+
+/// The `fair` method (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Fair {
+    pub options: FairOptions,
+}
+
+impl Smoother for Fair {
+    fn name(&self) -> &'static str {
+        "fair"
+    }
+
+    fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        check_tolerance(tolerance)?;
+        self.options.validate()?;
+        let o = &self.options;
+        // Lines first: fitted within their share of the band, corners
+        // blended within all of it.
+        let fit = BsplineFitOptions {
+            band_use: o.fit_share * o.fit.band_use,
+            ..o.fit
+        };
+        let mut out = BsplineFit { options: fit }.smooth_run(run, tolerance)?;
+        // The run's own curves come through the fit unchanged, in order:
+        // they get the whole band, the fits what they leave of it.
+        let mut originals = run
+            .pieces
+            .iter()
+            .filter(|p| !matches!(p.curve, Curve::Line(_)))
+            .peekable();
+        let n = out.pieces.len();
+        for i in 0..n {
+            let piece: &Piece = &out.pieces[i];
+            let from_input = originals.peek().is_some_and(|p| p.curve == piece.curve);
+            if from_input {
+                originals.next();
+            }
+            let Curve::Nurbs(c) = &piece.curve else {
+                continue;
+            };
+            let room = if from_input {
+                tolerance
+            } else if c.knots == TRANSITION_KNOTS {
+                continue; // a corner transition: the band is used up
+            } else {
+                (1.0 - o.fit_share) * tolerance
+            };
+            let opts = o.tube(o.band_use * room, i > 0, i + 1 < n);
+            match fair_in_tube(c, &opts) {
+                Ok(f) => out.pieces[i].curve = Curve::Nurbs(f.curve),
+                Err(TubeFairError::BadOption {
+                    option,
+                    value,
+                    expected,
+                }) => {
+                    return Err(SmoothError::BadOption(OptionError {
+                        method: "fair",
+                        option,
+                        value,
+                        expected,
+                    }))
+                }
+                // Not a curve the thesis' method takes: kept as it is.
+                Err(_) => {}
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_bad_options_are_named() {
+        assert_eq!(FairOptions::default().validate(), Ok(()));
+        let e = FairOptions {
+            fit_share: 1.0,
+            ..FairOptions::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!(
+            (e.method, e.option, e.value.as_str()),
+            ("fair", "fit_share", "1.0")
+        );
+        let e = FairOptions {
+            accuracy: 0.0,
+            ..FairOptions::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!((e.method, e.option), ("fair", "accuracy"));
+        let e = FairOptions {
+            precision: 0,
+            ..FairOptions::default()
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!((e.option, e.value.as_str()), ("precision", "0"));
+    }
+}
