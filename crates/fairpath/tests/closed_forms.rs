@@ -165,3 +165,85 @@ fn total_curvature_is_the_turning_angle() {
     }
     assert!((total_curvature(&cubic, 1e-10) - sum).abs() < 1e-6, "{sum}");
 }
+
+/// A clamped uniform cubic on 32 control points along a 100 mm line, two
+/// of them displaced 0.2 mm: the thesis' "noisy line" (seed 003, case 5).
+fn line_with_two_bumps() -> fairpath::geom::Nurbs {
+    let mut pts: Vec<Vec3> = (0..32)
+        .map(|i| Vec3::new(100.0 * i as f64 / 31.0, 0.0, 0.0))
+        .collect();
+    pts[10].y += 0.2;
+    pts[21].y += 0.2;
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..29).map(|i| i as f64 / 29.0));
+    knots.extend([1.0; 4]);
+    fairpath::geom::Nurbs::new(3, knots, pts, None).unwrap()
+}
+
+/// Regression (found by the `fair` work on the thesis' case 5): flattening
+/// and arc length worked on the whole domain at once, and seven samples
+/// over it fell outside both bumps, so the spline was flattened to one
+/// chord 0.13 mm from it and planned as a straight line. They now work
+/// knot interval by knot interval.
+#[test]
+fn flattening_and_length_see_a_bump_between_knots() {
+    use fairpath::geom::{arc_length, flatten_params, point_segment_distance, ParamCurve};
+    let c = line_with_two_bumps();
+    let chord = 1e-3;
+    let ts = flatten_params(&c, chord);
+    for w in ts.windows(2) {
+        let (p0, p1) = (c.eval(w[0]), c.eval(w[1]));
+        for k in 1..50 {
+            let q = c.eval(w[0] + (w[1] - w[0]) * k as f64 / 50.0);
+            let d = point_segment_distance(q, p0, p1);
+            assert!(d <= chord * 1.01, "chord error {d} in [{}, {}]", w[0], w[1]);
+        }
+    }
+    // Length against a fine polyline.
+    let n = 400_000;
+    let fine: f64 = (0..n)
+        .map(|i| {
+            c.eval(i as f64 / n as f64)
+                .dist(c.eval((i + 1) as f64 / n as f64))
+        })
+        .sum();
+    let l = arc_length(&c, 1e-9);
+    assert!((l - fine).abs() < 1e-6, "length {l} against {fine}");
+    // A straight spline on many control points: its length exactly.
+    let mut straight = line_with_two_bumps();
+    for p in &mut straight.points {
+        p.y = 0.0;
+    }
+    assert!((arc_length(&straight, 1e-9) - 100.0).abs() < 1e-9);
+}
+
+/// The same spline planned: its bumps cap the speed (it was planned as one
+/// straight segment at the feed).
+#[test]
+fn the_planner_sees_a_bump_between_knots() {
+    use fairpath::feed::limits::MachineLimits;
+    use fairpath::feed::plan::{plan_run, PlanOptions};
+    use fairpath::geom::Curve;
+    use fairpath::path::Piece;
+    let piece = Piece {
+        curve: Curve::Nurbs(line_with_two_bumps()),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    };
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: true,
+        window: None,
+        ends: Default::default(),
+    };
+    let plan = plan_run(&[piece], &opts).unwrap();
+    let lowest = plan
+        .segments
+        .iter()
+        .map(|s| s.cap)
+        .fold(f64::INFINITY, f64::min);
+    // kappa^2 v^3 <= J at the bumps' peak curvature 0.038 1/mm: about
+    // 240 mm/s, well under the 400 mm/s feed.
+    assert!(lowest < 300.0, "lowest cap {lowest}");
+}

@@ -188,3 +188,27 @@ fn spike_of_a_degree_one_nurbs_between_samples_is_found() {
     assert!(rep.deviation_bound >= 0.08, "{rep:?}");
     assert!(!rep.within(0.05));
 }
+
+/// An original spline's bump between knots is part of the reference (it is
+/// flattened knot interval by knot interval): a straight output 0.13 mm
+/// from it is refused at 0.05 mm.
+#[test]
+fn a_straight_output_of_a_bumped_original_spline_is_refused() {
+    let mut pts: Vec<fairpath::geom::Vec3> = (0..32)
+        .map(|i| v(100.0 * i as f64 / 31.0, 0.0, 0.0))
+        .collect();
+    pts[10].y += 0.2;
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..29).map(|i| i as f64 / 29.0));
+    knots.extend([1.0; 4]);
+    let original = vec![Piece {
+        curve: Curve::Nurbs(Nurbs::new(3, knots, pts, None).unwrap()),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }];
+    let straight = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
+    let rep = verify_run(&original, &straight.pieces, &VerifyOptions::new(0.05));
+    assert!(rep.deviation_bound > 0.1, "{rep:?}");
+    assert!(!rep.within(0.05));
+}

@@ -36,6 +36,30 @@ pub trait ParamCurve {
     fn unit_tangent(&self, t: f64) -> Option<Vec3> {
         self.deriv1(t).normalized(0.0)
     }
+    /// The parameters, domain ends included, between which the curve is
+    /// one smooth (polynomial or rational) piece: a NURBS's distinct knots.
+    /// Sampling and quadrature work interval by interval: across a knot a
+    /// spline may turn or bulge between samples that see nothing of it
+    /// (a control point displaced 0.2 mm on a clamped spline of 32 points
+    /// lies between two of seven samples over the whole domain).
+    fn breaks(&self) -> Vec<f64> {
+        let (a, b) = self.domain();
+        alloc::vec![a, b]
+    }
+}
+
+/// The intervals of `c`'s smooth pieces ([`ParamCurve::breaks`]) within
+/// `[a, b]`, in order, covering it.
+fn smooth_intervals<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64) -> Vec<(f64, f64)> {
+    let mut cuts: Vec<f64> = Vec::new();
+    cuts.push(a);
+    for t in c.breaks() {
+        if t > a && t < b {
+            cuts.push(t);
+        }
+    }
+    cuts.push(b);
+    cuts.windows(2).map(|w| (w[0], w[1])).collect()
 }
 
 /// Curvature from the first two derivatives.
@@ -101,7 +125,25 @@ const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
 /// the length). Bisection stops at a non-finite estimate (it would not
 /// converge) and after [`MAX_LENGTH_INTERVALS`] intervals.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
-    integrate(&|t| c.deriv1(t).norm(), a, b, accuracy)
+    integrate_pieces(c, &|t| c.deriv1(t).norm(), a, b, accuracy)
+}
+
+/// [`integrate`] over each smooth piece of `c` within `[a, b]`
+/// ([`ParamCurve::breaks`]), the accuracy shared by length of parameter.
+fn integrate_pieces<C: ParamCurve + ?Sized>(
+    c: &C,
+    f: &impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    accuracy: f64,
+) -> f64 {
+    if b.partial_cmp(&a) != Some(core::cmp::Ordering::Greater) {
+        return integrate(f, a, b, accuracy);
+    }
+    smooth_intervals(c, a, b)
+        .into_iter()
+        .map(|(u, v)| integrate(f, u, v, accuracy * (v - u) / (b - a)))
+        .sum()
 }
 
 /// `integral f(t) dt` over `[a, b]` by adaptive 5-point Gauss-Legendre,
@@ -142,7 +184,8 @@ fn integrate(f: &impl Fn(f64) -> f64, a: f64, b: f64, accuracy: f64) -> f64 {
 /// thesis reports (seed 003, Table 4-1).
 pub fn total_curvature<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
     let (a, b) = c.domain();
-    integrate(
+    integrate_pieces(
+        c,
         &|t| {
             let d1 = c.deriv1(t);
             let n2 = d1.dot(d1);
@@ -194,7 +237,15 @@ pub fn flatten_params_between<C: ParamCurve + ?Sized>(
     let mut out = Vec::new();
     out.push(a);
     let mut budget = MAX_FLATTEN_SPANS;
-    flatten_rec(c, (a, b), chord, 40, &mut budget, &mut out);
+    if b.partial_cmp(&a) != Some(core::cmp::Ordering::Greater) {
+        flatten_rec(c, (a, b), chord, 40, &mut budget, &mut out);
+        return out;
+    }
+    // Piece by piece: a span across a knot could hide a bulge from the
+    // chord test's samples.
+    for span in smooth_intervals(c, a, b) {
+        flatten_rec(c, span, chord, 40, &mut budget, &mut out);
+    }
     out
 }
 

@@ -87,6 +87,15 @@ impl ParamCurve for Curve {
             Curve::Nurbs(c) => c.deriv2(t),
         }
     }
+    fn breaks(&self) -> Vec<f64> {
+        match self {
+            Curve::Nurbs(c) => c.breaks(),
+            c => {
+                let (a, b) = c.domain();
+                alloc::vec![a, b]
+            }
+        }
+    }
     fn curvature(&self, t: f64) -> f64 {
         match self {
             Curve::Line(_) => 0.0,

@@ -463,4 +463,8 @@ impl ParamCurve for Nurbs {
         let [_, d1, d2] = self.derivs(t);
         super::curvature_vector_from(d1, d2)
     }
+    /// The distinct knots in the domain ([`Nurbs::breakpoints`]).
+    fn breaks(&self) -> Vec<f64> {
+        self.breakpoints()
+    }
 }
