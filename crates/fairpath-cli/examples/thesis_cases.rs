@@ -97,11 +97,12 @@ fn interpolate(pts: &[Vec3]) -> Nurbs {
             .expect("rows");
         a.swap(col, piv);
         rhs.swap(col, piv);
+        let pivot = a[col].clone();
         for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
+            let f = a[row][col] / pivot[col];
             if f != 0.0 {
-                for k in col..n {
-                    a[row][k] -= f * a[col][k];
+                for (x, p) in a[row][col..].iter_mut().zip(&pivot[col..]) {
+                    *x -= f * p;
                 }
                 let r = rhs[col];
                 rhs[row] -= r * f;
