@@ -87,7 +87,7 @@ impl ParamCurve for Curve {
             Curve::Nurbs(c) => c.deriv2(t),
         }
     }
-    fn breaks(&self) -> Vec<f64> {
+    fn breaks(&self) -> alloc::vec::Vec<f64> {
         match self {
             Curve::Nurbs(c) => c.breaks(),
             c => {
