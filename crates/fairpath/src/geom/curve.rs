@@ -38,10 +38,11 @@ pub trait ParamCurve {
     }
     /// The parameters, domain ends included, between which the curve is
     /// one smooth (polynomial or rational) piece: a NURBS's distinct knots.
-    /// Sampling and quadrature work interval by interval: across a knot a
-    /// spline may turn or bulge between samples that see nothing of it
-    /// (a control point displaced 0.2 mm on a clamped spline of 32 points
-    /// lies between two of seven samples over the whole domain).
+    /// Quadrature works interval by interval and flattening samples them:
+    /// across knots a spline may turn or bulge between samples that see
+    /// nothing of it (a control point displaced 0.2 mm on a clamped spline
+    /// of 32 points lies between two of seven samples over the whole
+    /// domain).
     fn breaks(&self) -> Vec<f64> {
         let (a, b) = self.domain();
         alloc::vec![a, b]
