@@ -96,6 +96,12 @@ impl ParamCurve for Curve {
             }
         }
     }
+    fn breaks_within(&self, a: f64, b: f64) -> alloc::vec::Vec<f64> {
+        match self {
+            Curve::Nurbs(c) => c.breaks_within(a, b),
+            _ => alloc::vec::Vec::new(),
+        }
+    }
     fn curvature(&self, t: f64) -> f64 {
         match self {
             Curve::Line(_) => 0.0,

@@ -467,4 +467,19 @@ impl ParamCurve for Nurbs {
     fn breaks(&self) -> Vec<f64> {
         self.breakpoints()
     }
+    fn breaks_within(&self, a: f64, b: f64) -> Vec<f64> {
+        let (lo, hi) = self.domain();
+        let (a, b) = (a.max(lo), b.min(hi));
+        let from = self.knots.partition_point(|&k| k <= a);
+        let mut out: Vec<f64> = Vec::new();
+        for &k in &self.knots[from..] {
+            if k >= b {
+                break;
+            }
+            if out.last() != Some(&k) {
+                out.push(k);
+            }
+        }
+        out
+    }
 }
