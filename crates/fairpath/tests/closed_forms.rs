@@ -166,18 +166,36 @@ fn total_curvature_is_the_turning_angle() {
     assert!((total_curvature(&cubic, 1e-10) - sum).abs() < 1e-6, "{sum}");
 }
 
-/// A clamped uniform cubic on 32 control points along a 100 mm line, two
-/// of them displaced 0.2 mm: the thesis' "noisy line" (seed 003, case 5).
-fn line_with_two_bumps() -> fairpath::geom::Nurbs {
-    let mut pts: Vec<Vec3> = (0..32)
-        .map(|i| Vec3::new(100.0 * i as f64 / 31.0, 0.0, 0.0))
+/// A clamped uniform cubic on `n` control points along a 100 mm line,
+/// with the control points at `bumps` displaced in y.
+fn bumped_line(n: usize, bumps: &[(usize, f64)]) -> fairpath::geom::Nurbs {
+    let mut pts: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(100.0 * i as f64 / (n - 1) as f64, 0.0, 0.0))
         .collect();
-    pts[10].y += 0.2;
-    pts[21].y += 0.2;
+    for &(i, dy) in bumps {
+        pts[i].y += dy;
+    }
     let mut knots = vec![0.0; 4];
-    knots.extend((1..29).map(|i| i as f64 / 29.0));
+    knots.extend((1..n - 3).map(|i| i as f64 / (n - 3) as f64));
     knots.extend([1.0; 4]);
     fairpath::geom::Nurbs::new(3, knots, pts, None).unwrap()
+}
+
+/// The thesis' "noisy line" (seed 003, case 5): 32 control points, two of
+/// them displaced 0.2 mm.
+fn line_with_two_bumps() -> fairpath::geom::Nurbs {
+    bumped_line(32, &[(10, 0.2), (21, 0.2)])
+}
+
+/// Length of `c` as a polyline of `m` equal parameter steps.
+fn fine_length(c: &fairpath::geom::Nurbs, m: usize) -> f64 {
+    use fairpath::geom::ParamCurve;
+    (0..m)
+        .map(|i| {
+            c.eval(i as f64 / m as f64)
+                .dist(c.eval((i + 1) as f64 / m as f64))
+        })
+        .sum()
 }
 
 /// Regression (found by the `fair` work on the thesis' case 5): flattening
@@ -200,35 +218,15 @@ fn flattening_and_length_see_a_bump_between_knots() {
         }
     }
     // Length against a fine polyline.
-    let n = 400_000;
-    let fine: f64 = (0..n)
-        .map(|i| {
-            c.eval(i as f64 / n as f64)
-                .dist(c.eval((i + 1) as f64 / n as f64))
-        })
-        .sum();
+    let fine = fine_length(&c, 400_000);
     let l = arc_length(&c, 1e-9);
     assert!((l - fine).abs() < 1e-6, "length {l} against {fine}");
     // Straight splines on many control points, with narrow bumps or none:
     // their lengths against fine polylines.
     for n in [32usize, 100, 400] {
         for bump in [0.0, 0.2] {
-            let mut pts: Vec<Vec3> = (0..n)
-                .map(|i| Vec3::new(100.0 * i as f64 / (n - 1) as f64, 0.0, 0.0))
-                .collect();
-            pts[n / 3].y += bump;
-            pts[2 * n / 3].y -= bump;
-            let mut knots = vec![0.0; 4];
-            knots.extend((1..n - 3).map(|i| i as f64 / (n - 3) as f64));
-            knots.extend([1.0; 4]);
-            let c = fairpath::geom::Nurbs::new(3, knots, pts, None).unwrap();
-            let m = 400_000;
-            let fine: f64 = (0..m)
-                .map(|i| {
-                    c.eval(i as f64 / m as f64)
-                        .dist(c.eval((i + 1) as f64 / m as f64))
-                })
-                .sum();
+            let c = bumped_line(n, &[(n / 3, bump), (2 * n / 3, -bump)]);
+            let fine = fine_length(&c, 400_000);
             let l = arc_length(&c, 1e-9);
             assert!(
                 (l - fine).abs() < 1e-6,
