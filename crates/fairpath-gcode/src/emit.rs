@@ -7,8 +7,8 @@
 //! slower than the program's own.
 
 use crate::pipeline::{
-    compare_runs, group_by_source, outline, pair_runs, RunCountMismatch, WrittenCheck,
-    WrittenReading,
+    compare_runs, group_by_source, into_outline_and_runs, pair_runs, RunCountMismatch,
+    WrittenCheck, WrittenReading,
 };
 pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
 use crate::{
@@ -75,6 +75,20 @@ pub const MIN_ARC_UNITS: f64 = 4.0;
 /// Runs of at least this many pieces are planned at both feeds side by
 /// side (shorter ones run side by side with other runs).
 const PARALLEL_FEEDS_PIECES: usize = 10_000;
+
+/// A run of at least this many curves is long: its only candidate
+/// rendering is not planned before it is written (the written text is), and
+/// the all-G1 candidate is not tried where the arcs fell back to lines on
+/// fewer than [`LINES_CANDIDATE_SHARE`] of their blocks. Each plan of such a
+/// run costs seconds (`docs/scale.md`).
+const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
+
+/// Share of a long run's arc rendering that fell back to G1 below which
+/// the all-G1 rendering is not tried: where arcs follow nearly all of a
+/// long run, G1 throughout plans slower (on the reference programs it won
+/// on 24 of 300 runs under 1,000 curves and on none of the 6 longer ones,
+/// `docs/tuning.md`).
+const LINES_CANDIDATE_SHARE: f64 = 0.1;
 
 /// Pieces per part when a long run is rendered in parts side by side.
 const RENDER_PART_PIECES: usize = 4096;
@@ -290,16 +304,31 @@ pub fn emit(
         let mut best: Option<(f64, Choice)> = None;
         for (i, &form) in forms.iter().enumerate() {
             // G1 is the other candidate for curves that arcs could not
-            // follow: where they all became arcs, it is not tried.
+            // follow: where they all became arcs, it is not tried; nor on
+            // a long run where few did.
             if i > 0
                 && form == CurveForm::Lines
-                && best
-                    .as_ref()
-                    .is_some_and(|(_, b)| b.stats.fallback_lines == 0)
+                && best.as_ref().is_some_and(|(_, b)| {
+                    b.stats.fallback_lines == 0
+                        || (smoothed[k].len() >= LONG_RUN_PIECES
+                            && (b.stats.fallback_lines as f64)
+                                < LINES_CANDIDATE_SHARE * b.pieces.len() as f64)
+                })
             {
                 continue;
             }
             let c = render(k, form, opts.budget.output)?;
+            // A long run's only candidate is timed once, as written (the
+            // check below plans what reads back at every feed and keeps the
+            // run as the program wrote it where that is slower).
+            let sole = i + 1 == forms.len()
+                || (form == CurveForm::Arcs
+                    && smoothed[k].len() >= LONG_RUN_PIECES
+                    && (c.stats.fallback_lines as f64)
+                        < LINES_CANDIDATE_SHARE * c.pieces.len() as f64);
+            if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
+                return Ok(c);
+            }
             // Where a rendering is already chosen, a candidate that does
             // not beat it at the first feed loses whatever its other
             // times: they are planned only when it does.
@@ -345,11 +374,9 @@ pub fn emit(
             crate::write_gcode_with(program, &outputs, &wo).map_err(EmitError::WriteGcode)?;
         let reread_program = crate::parse_motion(text.as_bytes()).map_err(EmitError::Reread)?;
         // What planning the written program needs of it; the program
-        // itself is dropped at once (on long outputs it is the largest
-        // thing held).
-        let reread_outline = outline(&reread_program);
-        let reread = reread_program.runs();
-        drop(reread_program);
+        // itself is consumed (on long outputs it is the largest thing
+        // held).
+        let (reread_outline, reread) = into_outline_and_runs(reread_program);
         let check = compare_runs(&original, &reread, tolerance)?;
         let failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
         let mut is_failed = vec![false; choices.len()];

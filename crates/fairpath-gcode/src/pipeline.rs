@@ -28,8 +28,8 @@ mod plans;
 pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
 pub use plans::{
-    outline, plan_curves, plan_input, plan_input_and_curves, plan_text, plan_written, JobTimes,
-    MotionOutline, Times, WrittenReading,
+    into_outline_and_runs, outline, plan_curves, plan_input, plan_input_and_curves, plan_text,
+    plan_written, JobTimes, MotionOutline, Times, WrittenReading,
 };
 
 /// What the user asked for.

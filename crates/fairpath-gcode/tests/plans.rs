@@ -46,11 +46,14 @@ fn written_times_equal_a_fresh_plan_of_the_text() {
 }
 
 /// `parse_motion` (what the writer's check reads the written text with)
-/// reads the same moves and runs as `parse`, and keeps no text.
+/// reads the same moves and runs as `parse`, and keeps no text; consumed
+/// into its outline and runs, it gives what `outline` and `runs` give.
 #[test]
 fn parse_motion_reads_the_same_motion_as_parse() {
     let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
     let mut texts: Vec<String> = PROGRAMS.iter().map(|t| t.to_string()).collect();
+    // Rapids, a pinned move (M8 on its line) and a run of one move.
+    texts.push("G0 X0 Y0\nG1 X1 F100\nG1 X2 Y1 M8\nG1 X3\nG0 Z5\nG1 X4 Y4\nM2\n".into());
     for f in [
         "synthetic/helix.ngc",
         "linuxcnc/quick-tests/square_spiral.ngc",
@@ -63,6 +66,11 @@ fn parse_motion_reads_the_same_motion_as_parse() {
     for text in &texts {
         let full = fairpath_gcode::parse(text.as_bytes()).unwrap();
         let lean = fairpath_gcode::parse_motion(text.as_bytes()).unwrap();
+        // What the check keeps of the reading, with the program consumed.
+        assert_eq!(
+            fairpath_gcode::pipeline::into_outline_and_runs(lean.clone()),
+            (fairpath_gcode::pipeline::outline(&full), full.runs())
+        );
         assert_eq!(full.runs(), lean.runs());
         assert_eq!(full.run_spans(), lean.run_spans());
         let pieces = |p: &fairpath_gcode::Program| -> Vec<_> {
@@ -78,4 +86,35 @@ fn parse_motion_reads_the_same_motion_as_parse() {
             .iter()
             .all(|l| l.text.is_empty() && l.words.is_empty()));
     }
+}
+
+/// A run of more curves than `emit`'s long-run threshold (10,000): its
+/// only candidate rendering is timed once, as written. The output still
+/// verifies, is never slower than the input, and its reported time is a
+/// fresh plan of the text (complete run only).
+#[test]
+#[ignore]
+fn a_long_run_is_timed_as_written() {
+    // A zigzag of 1 mm steps 0.1 mm high: its corners slow the input.
+    let mut text = String::from("G21 G90 G17\nG0 X0 Y0\nG1 Z0 F3000\n");
+    for i in 1..=10_500 {
+        text.push_str(&format!("G1 X{i} Y{}\n", 0.1 * (i % 2) as f64));
+    }
+    text.push_str("G0 Z5\nM2\n");
+    let opts = SmoothOptions::new(
+        0.05,
+        None,
+        "bspline-corner",
+        Some(Format::Arcs),
+        Controller::Generic,
+    )
+    .unwrap();
+    let (output, report) = smooth_program(&text, &opts).unwrap();
+    assert!(report.written.within);
+    assert_eq!(report.kept_runs, 0, "the run is written smoothed");
+    assert!(report.times.written.total < report.times.input.total);
+    assert_eq!(
+        report.times.written,
+        plan_text(&output.text, &opts).unwrap()
+    );
 }

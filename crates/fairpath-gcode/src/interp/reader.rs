@@ -47,11 +47,20 @@ fn read(text: &[u8], opts: &ParseOptions, motion_only: bool) -> Result<Program, 
     // are read from the text itself: each is copied once, into its
     // `ProgramLine`.
     let mut oword = false;
+    let mut count = 0;
     for l in line_slices(text) {
         oword |= lang::flow::looks_like_oword(l?.0);
+        count += 1;
     }
     let mut r = Reader::new(opts);
     r.motion_only = motion_only;
+    // A line read in place is one `ProgramLine` and holds at most one move
+    // in most programs: room for that many at once, not the up to twice as
+    // much a growing vector keeps (the program's largest allocations).
+    if !oword {
+        r.lines.reserve_exact(count);
+        r.moves.reserve_exact(count);
+    }
     if oword {
         r.expand(split_lines(text)?)?;
     } else {
@@ -350,9 +359,11 @@ impl Reader {
             .check_closed()
             .map_err(|e| to_source(e, n, n, &lines))?;
         let runs = group_runs(&lines, &self.moves);
+        let mut moves = self.moves;
+        moves.shrink_to_fit();
         Ok(Program {
             lines,
-            moves: self.moves,
+            moves,
             runs,
             start_units: self.start_units.unwrap_or(self.st.units),
             expansion: self.expansion,
