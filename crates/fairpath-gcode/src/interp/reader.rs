@@ -55,8 +55,8 @@ fn read(text: &[u8], opts: &ParseOptions, motion_only: bool) -> Result<Program, 
     let mut r = Reader::new(opts);
     r.motion_only = motion_only;
     // A line read in place is one `ProgramLine` and holds at most one move
-    // in most programs: room for that many at once, not the up to twice as
-    // much a growing vector keeps (the program's largest allocations).
+    // in most programs: room for that many at once (the program's largest
+    // allocations, grown once rather than by copies).
     if !oword {
         r.lines.reserve_exact(count);
         r.moves.reserve_exact(count);
