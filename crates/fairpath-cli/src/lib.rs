@@ -2,7 +2,7 @@
 //! pipeline (`fairpath::pipeline`, `fairpath_gcode::smooth_program`):
 //! reading files, the machine file, atomic output that never replaces the
 //! input unless asked, the summary, and the commands `smooth`, `simulate`,
-//! `compare`, `check` and `stream`. The binary (`main.rs`) only parses
+//! `compare`, `check`, `report` and `stream`. The binary (`main.rs`) only parses
 //! arguments; benchmarks drive the same code through this library.
 
 #![recursion_limit = "256"]
@@ -12,6 +12,7 @@ pub mod compare;
 pub mod machine;
 pub mod output;
 pub mod read;
+pub mod report;
 pub mod simulate_command;
 pub mod smooth;
 pub mod stream;

@@ -247,6 +247,33 @@ enum Command {
         #[arg(long, value_enum, default_value_t = TableFormat::Text)]
         format: TableFormat,
     },
+    /// Write one self-contained HTML page with the path and its tolerance
+    /// band before and after (zoomable), curvature along the path, the
+    /// planned feed against time and arc length (coloured by what limits
+    /// it), and the summary of each method: what a machinist looks at to
+    /// decide.
+    Report {
+        program: PathBuf,
+        /// Largest distance (mm) of each method's path from the original.
+        #[arg(short, long)]
+        tolerance: f64,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Methods to show, comma-separated (default: the controller's
+        /// default method).
+        #[arg(long, value_delimiter = ',')]
+        methods: Option<Vec<String>>,
+        /// The controller whose dialect the written programs use.
+        #[arg(long, value_enum, default_value_t = Controller::Generic)]
+        controller: Controller,
+        /// Output format of the written programs (default: the
+        /// controller's).
+        #[arg(short, long, value_enum)]
+        format: Option<Format>,
+        /// The HTML file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Verify a smoothed program (G-code or JSON) against its original.
     Check {
         original: PathBuf,
@@ -475,6 +502,36 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     ExitCode::from(3)
                 },
             )
+        }
+        Command::Report {
+            program,
+            tolerance,
+            machine,
+            methods,
+            controller,
+            format,
+            output,
+        } => {
+            output::refuse_overwrite(&program, &output, "-o", None)?;
+            let html = fairpath_cli::report::report(
+                &program,
+                &fairpath_cli::report::ReportOptions {
+                    tolerance,
+                    methods: methods
+                        .unwrap_or_else(|| vec![controller.default_method().to_string()]),
+                    machine: machine.limits()?,
+                    override_feed: machine.override_feed,
+                    controller,
+                    format,
+                },
+            )?;
+            output::write_atomically(&output, html.as_bytes())?;
+            eprintln!(
+                "fairpath report: {} -> {}",
+                program.display(),
+                output.display()
+            );
+            Ok(ExitCode::SUCCESS)
         }
         Command::Check {
             original,
