@@ -22,7 +22,7 @@ pub const ARC_ROUNDING_FACTOR: f64 = 5.0;
 /// least `min`, and the largest distance (mm) rounding then moves a point:
 /// each axis by at most half a unit of the last decimal, so
 /// `sqrt(3) / 2 * 10^-decimals * mm_per_unit`. Decimals are added until that
-/// is at most [`ROUNDING_SHARE`] of `chord_mm` (or [`MAX_DECIMALS`] are
+/// is at most [`ROUNDING_SHARE`] of `chord_mm` (or `MAX_DECIMALS` are
 /// reached); the curves are then sampled within `chord_mm` less the
 /// rounding, so that the polyline as it reads back stays within
 /// `chord_mm` of them (a segment between two moved points lies within the

@@ -77,7 +77,7 @@ impl NumberStyle {
         }
     }
 
-    /// `t` (a number as [`super::fmt_fixed`] writes it: no trailing point,
+    /// `t` (a number as `fmt_fixed` writes it: no trailing point,
     /// a leading zero below 1) in this style.
     pub fn apply(&self, mut t: String) -> String {
         if self.decimal_point && !t.contains('.') {

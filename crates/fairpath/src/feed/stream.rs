@@ -441,7 +441,7 @@ pub fn sample_run(
 }
 
 /// Speed-cap factors tried in turn for a whole run, from none down (see
-/// [`stream_run`]).
+/// `stream_run`).
 pub const CAP_LEVELS: [f64; 13] = [
     1.0, 0.97, 0.94, 0.9, 0.85, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1,
 ];

@@ -127,9 +127,9 @@ const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
 /// Arc length of `c` over `[a, b]`, accurate to `accuracy` mm: adaptive
 /// 5-point Gauss-Legendre quadrature of `|C'(t)|`, bisecting until the
 /// whole-interval and two-halves estimates agree within the share of
-/// `accuracy` that interval owns (or within [`LENGTH_ROUNDING_FLOOR`] of
+/// `accuracy` that interval owns (or within `LENGTH_ROUNDING_FLOOR` of
 /// the length). Bisection stops at a non-finite estimate (it would not
-/// converge) and after [`MAX_LENGTH_INTERVALS`] intervals.
+/// converge) and after `MAX_LENGTH_INTERVALS` intervals.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
     integrate_pieces(c, &|t| c.deriv1(t).norm(), a, b, accuracy)
 }

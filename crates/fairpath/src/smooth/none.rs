@@ -19,8 +19,8 @@ pub use crate::budget::CLEAN_SHARE as NONE_GAP_SHARE;
 /// The method that changes nothing: each run's pieces as they are (no
 /// zero-length moves dropped, no vertices merged). Every joint stays as the
 /// program has it, and each that is not G2 is reported as a kept corner,
-/// as the other methods report theirs: [`CornerReason::Reversal`] where the
-/// path turns back, [`CornerReason::NoRoom`] otherwise (as `arc-fit`).
+/// as the other methods report theirs: [`CornerReason::Reversal`](super::CornerReason::Reversal) where the
+/// path turns back, [`CornerReason::NoRoom`](super::CornerReason::NoRoom) otherwise (as `arc-fit`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NoSmoothing;
 
