@@ -143,10 +143,7 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: f64) -> Result<ExitCode>
                     counts[i] += c;
                 }
             }
-            println!(
-                "  joints:          {} G2, {} G1, {} G0 (corner), {} gaps",
-                counts[3], counts[2], counts[1], counts[0]
-            );
+            println!("  joints:          {}", crate::summary::joints_text(counts));
         }
         if readings.len() > 1 {
             println!(

@@ -40,7 +40,7 @@ pub struct Row {
     pub max_deviation: f64,
     /// Whether every run verified: within the budget, endpoints exact.
     pub verified: bool,
-    /// Joints by class: gaps, G0 (corners), G1, G2.
+    /// Joints by continuity class: gaps, C0 (corners), C1, C2.
     pub joints: [usize; 4],
     /// Feed path length (mm).
     pub length: f64,
@@ -249,9 +249,9 @@ const HEADER: [&str; 14] = [
     "max_deviation_mm",
     "verified",
     "gaps",
-    "g0",
-    "g1",
-    "g2",
+    "c0",
+    "c1",
+    "c2",
     "length_mm",
     "peak_curvature_per_mm",
     "curvature_variation_energy",
@@ -279,7 +279,7 @@ pub fn text(rows: &[Row]) -> String {
         "method",
         "max dev mm",
         "ok",
-        "joints G2/G1/G0/gap",
+        "joints C2/C1/C0/gap",
         "length mm",
         "peak k 1/mm",
         "energy",
@@ -398,9 +398,9 @@ pub fn json(rows: &[Row]) -> String {
                 "max_deviation_mm": r.max_deviation,
                 "verified": r.verified,
                 "gaps": r.joints[0],
-                "g0": r.joints[1],
-                "g1": r.joints[2],
-                "g2": r.joints[3],
+                "c0": r.joints[1],
+                "c1": r.joints[2],
+                "c2": r.joints[3],
                 "length_mm": r.length,
                 "peak_curvature_per_mm": r.peak_curvature,
                 "curvature_variation_energy": r.energy,

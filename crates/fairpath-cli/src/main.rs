@@ -10,7 +10,7 @@ use std::process::ExitCode;
 #[command(
     name = "fairpath",
     version,
-    about = "Tolerance-bounded G2 smoothing of CNC tool paths"
+    about = "Curvature-continuous smoothing of CNC tool paths within a tolerance"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -106,7 +106,8 @@ impl MachineArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Replace the feed moves of a program with a G2 path within the tolerance.
+    /// Replace the feed moves of a program with a curvature-continuous path
+    /// within the tolerance.
     Smooth {
         /// Input G-code program.
         input: PathBuf,

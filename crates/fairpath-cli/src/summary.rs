@@ -9,6 +9,15 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Duration;
 
+/// Joints by continuity class (`[gaps, C0, C1, C2]`, as
+/// `RunReport::joint_counts`) in words: `C2` curvature continuous, `C1`
+/// tangent continuous, `C0` a corner. Not G2/G1/G0, which in a G-code tool
+/// read as arc, line and rapid.
+pub fn joints_text(joints: [usize; 4]) -> String {
+    let [gap, c0, c1, c2] = joints;
+    format!("{c2} C2 (curvature continuous), {c1} C1 (tangent continuous), {c0} C0 (corner), {gap} gaps")
+}
+
 /// Figures for one smoothing job.
 #[derive(Debug)]
 pub struct Summary {
@@ -236,11 +245,7 @@ impl Summary {
             "  max deviation:   {:.6} mm (curves), {:.6} mm (written output, bound)",
             self.max_deviation_curves, self.max_deviation_written
         );
-        let [gap, g0, g1, g2] = self.joints;
-        let _ = writeln!(
-            s,
-            "  joints:          {g2} G2, {g1} G1, {g0} G0 (corner), {gap} gaps"
-        );
+        let _ = writeln!(s, "  joints:          {}", joints_text(self.joints));
         let kept: Vec<String> = self
             .kept_corners
             .iter()
@@ -322,7 +327,7 @@ impl Summary {
             "merged_collinear": self.merged_collinear,
             "max_deviation_curves_mm": self.max_deviation_curves,
             "max_deviation_written_mm": self.max_deviation_written,
-            "joints": {"G2": self.joints[3], "G1": self.joints[2], "G0": self.joints[1], "gap": self.joints[0]},
+            "joints": {"C2": self.joints[3], "C1": self.joints[2], "C0": self.joints[1], "gap": self.joints[0]},
             "length_before_mm": self.length_before, "length_after_mm": self.length_after,
             "peak_curvature_per_mm": self.peak_curvature,
             "time_s": self.elapsed.as_secs_f64(),

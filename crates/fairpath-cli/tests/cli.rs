@@ -419,11 +419,11 @@ fn compare_prints_every_method_and_the_baseline() {
         assert_eq!(r["verified"].as_bool(), Some(true), "{r}");
         let dev = r["max_deviation_mm"].as_f64().unwrap();
         assert!(dev > 0.0 && dev <= 0.05, "{r}");
-        // Every corner of the pocket is blended: G2 joints only, apart
+        // Every corner of the pocket is blended: C2 joints only, apart
         // from what the method reports as kept (`arc-fit` blends nothing:
         // it refits the moves with the fewest arcs and lines).
         let blends = r["method"] != "arc-fit";
-        assert!(!blends || r["g2"].as_u64().unwrap() > 0, "{r}");
+        assert!(!blends || r["c2"].as_u64().unwrap() > 0, "{r}");
         assert_eq!(r["gaps"].as_u64(), Some(0), "{r}");
         let ratio = r["time_ratio"].as_f64().unwrap();
         let time = r["time_s"].as_f64().unwrap();
