@@ -247,10 +247,7 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: Length, json: bool) -> R
                 block_delete,
             };
             say(worst_text(&place, original, units));
-            if worst
-                .as_ref()
-                .is_none_or(|w| place.deviation > w.deviation)
-            {
+            if worst.as_ref().is_none_or(|w| place.deviation > w.deviation) {
                 worst = Some(place);
             }
         }
