@@ -62,9 +62,9 @@ table() {
         printf '%-16s' "$item"
         for t in $tolerances; do
             if [ "$what" = methods ]; then
-                printf '%10s' "$(run "$dir/$prog" --tolerance "$t" --method "$item")"
+                printf '%10s' "$(run "$dir/$prog" --tolerance "${t}mm" --method "$item")"
             else
-                printf '%10s' "$(run "$dir/$prog" --tolerance "$t" --format "$item")"
+                printf '%10s' "$(run "$dir/$prog" --tolerance "${t}mm" --format "$item")"
             fi
         done
         printf '\n'
@@ -102,7 +102,7 @@ PY
         size_kb=$(($(stat -c %s "$big") / 1024))
         for m in auto arc-fit; do
             if /usr/bin/time -f "%e %M" -o "$dir/time" timeout "$limit" "$bin" smooth "$big" \
-                --tolerance 0.05 --method "$m" -o "$dir/out" >/dev/null 2>&1; then
+                --tolerance 0.05mm --method "$m" -o "$dir/out" >/dev/null 2>&1; then
                 read -r secs kb <"$dir/time"
                 ratio=$(awk -v k="$kb" -v s="$size_kb" 'BEGIN { printf "%.2f", k / s }')
             else

@@ -32,7 +32,7 @@ progs=(synthetic/surface-raster.ngc synthetic/helix.ngc synthetic/butterfly-80.n
 for rel in "${progs[@]}"; do
   f=$P/$rel
   [ -f "$f" ] || { echo "$rel: not found" >&2; continue; }
-  "$bin" compare "$f" --tolerance "$tol" --methods bspline-fit,fair --format csv 2>/dev/null |
+  "$bin" compare "$f" --tolerance "${tol}mm" --methods bspline-fit,fair --format csv 2>/dev/null |
     python3 -c '
 import csv, sys
 rel = sys.argv[1]

@@ -75,7 +75,7 @@ def main():
     rows = []
     refused = []
     for p in programs(a.programs):
-        cmd = [BIN, "compare", p, "--tolerance", a.tolerance, "--override-feed",
+        cmd = [BIN, "compare", p, "--tolerance", a.tolerance + "mm", "--override-feed",
                "--methods", "auto", "--controller", a.controller,
                "--formats", a.formats, "--format", "json"]
         t0 = time.time()

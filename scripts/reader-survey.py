@@ -166,7 +166,7 @@ def main():
         out = os.path.join(tmp, "out" + os.path.splitext(p)[1])
         if os.path.exists(out):
             os.remove(out)
-        o = run([BIN, "smooth", p, "-o", out, "--tolerance", args.tolerance])
+        o = run([BIN, "smooth", p, "-o", out, "--tolerance", args.tolerance + "mm"])
         if o.returncode != 0:
             err = [l for l in o.stderr.splitlines() if l.strip()]
             r["fairpath"] = "rejects"
@@ -176,7 +176,7 @@ def main():
                   file=sys.stderr)
             continue
         r["fairpath"] = "writes"
-        chk = run([BIN, "check", p, out, "--tolerance", args.tolerance])
+        chk = run([BIN, "check", p, out, "--tolerance", args.tolerance + "mm"])
         r["check"] = "pass" if chk.returncode == 0 else "FAIL"
         if ref is not None:
             okw, cw = rs274(out, master=(r["rs274"] == "master"))

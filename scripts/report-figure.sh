@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 cargo build -q --release -p fairpath-cli
 command -v chromium >/dev/null || { echo "needs chromium (apt-get install chromium)" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-target/release/fairpath report examples/pocket-corners.ngc --tolerance 0.05 \
+target/release/fairpath report examples/pocket-corners.ngc --tolerance 0.05mm \
   --methods auto,arc-fit -o "$tmp/report.html"
 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars \
   --window-size=1050,1500 --virtual-time-budget=2000 \

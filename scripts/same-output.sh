@@ -24,7 +24,7 @@ for f in "${files[@]}"; do
   for m in none bspline-corner ctm lotm bspline-fit arc-fit auto; do
     for fmt in arcs g1 g6.2 json; do
       out="$tmp/out.ngc"
-      if "$bin" smooth -t 0.05 -m "$m" -f "$fmt" "$f" -o "$out" >/dev/null 2>"$tmp/err"; then
+      if "$bin" smooth -t 0.05mm -m "$m" -f "$fmt" "$f" -o "$out" >/dev/null 2>"$tmp/err"; then
         echo "$(sha256sum <"$out" | cut -c1-16) $m $fmt $(basename "$f")"
       else
         echo "error($(sed "s|$tmp|TMP|g" "$tmp/err" | head -c 80 | tr '\n' ' ')) $m $fmt $(basename "$f")"

@@ -50,7 +50,7 @@ for f in "${progs[@]}"; do
   size=$(stat -c %s "$f")
   none_s=; none_cpu=
   for m in "${methods[@]}"; do
-    if ! /usr/bin/time -f '%e %U %S %M' -o "$tmp/t" "$bin" smooth "$f" --tolerance "$tol" \
+    if ! /usr/bin/time -f '%e %U %S %M' -o "$tmp/t" "$bin" smooth "$f" --tolerance "${tol}mm" \
         --method "$m" -o "$tmp/out.ngc" >/dev/null 2>"$tmp/err"; then
       printf '%-28s %-15s failed: %s\n' "$(basename "$f" | cut -c1-28)" "$m" "$(tail -1 "$tmp/err")"
       continue

@@ -61,7 +61,7 @@ def peaks(path):
 def stream(prog, out, tol):
     args = [BIN, "stream", prog, "-o", out, "--override-feed"]
     if tol is not None:
-        args += ["--tolerance", str(tol)]
+        args += ["--tolerance", "%gmm" % tol]
     t0 = time.time()
     r = subprocess.run(args, capture_output=True, text=True, timeout=1800)
     took = time.time() - t0

@@ -20,7 +20,7 @@ fi
 bin=target/release/fairpath
 printf '%-28s %9s %9s %9s %6s %6s %6s %s\n' program original corner auto a/orig a/corn feed ok
 for f in "${progs[@]}"; do
-  out=$($bin compare "$f" --tolerance "$tol" --override-feed --junction-deviation "$tol" \
+  out=$($bin compare "$f" --tolerance "${tol}mm" --override-feed --junction-deviation "$tol" \
         --methods bspline-corner,auto --format json 2>/dev/null) || { echo "$(basename $f): failed"; continue; }
   python3 - "$f" "$out" <<'PY'
 import json, sys, os

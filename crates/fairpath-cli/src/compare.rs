@@ -23,7 +23,7 @@ use fairpath::pipeline::verify_runs;
 use fairpath::pipeline::PipelineError;
 use fairpath::verify::{RunReport, VerifyOptions};
 use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases, SmoothOptions, Times};
-use fairpath_gcode::{write_curves, Curves, SmoothProgramError};
+use fairpath_gcode::{write_curves, Curves, Program, SmoothProgramError};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -40,7 +40,7 @@ pub struct Row {
     pub max_deviation: f64,
     /// Whether every run verified: within the budget, endpoints exact.
     pub verified: bool,
-    /// Joints by class: gaps, G0 (corners), G1, G2.
+    /// Joints by continuity class: gaps, C0 (corners), C1, C2.
     pub joints: [usize; 4],
     /// Feed path length (mm).
     pub length: f64,
@@ -135,13 +135,18 @@ fn row(
     }
 }
 
-/// Runs the baseline and every method on the program at `path`.
+/// Runs the baseline and every method on the program at `path` (`-`:
+/// standard input).
 pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
-    let program = read_program(path)?;
+    compare_program(path, &read_program(path)?, opts)
+}
+
+/// [`compare`] on a program read already (`path` names it in messages).
+pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) -> Result<Vec<Row>> {
     if program.is_empty() {
         bail!(
             "{}: the program has no moves: nothing to compare",
-            path.display()
+            crate::read::name(path)
         );
     }
     let runs = program.runs();
@@ -171,7 +176,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
         // The library's run loop. Curves that fail verification are a row
         // that says so (and no written program: nothing is written from
         // them).
-        let (result, verified) = match smooth_curves(&program, &so, &mut phases) {
+        let (result, verified) = match smooth_curves(program, &so, &mut phases) {
             Ok(result) => (result, true),
             Err(PipelineError::NotVerified { result, .. }) => (*result, false),
             Err(e) => return Err(anyhow::Error::new(e).context(format!("{name}: smoothing"))),
@@ -183,7 +188,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             .map(|r| Run::new(r.smoothed.pieces.clone()))
             .collect();
         let (exact, plans) =
-            plan_curves(&program, &result, &so).with_context(|| format!("{name}: planning"))?;
+            plan_curves(program, &result, &so).with_context(|| format!("{name}: planning"))?;
         let reports: Vec<RunReport> = result.runs.iter().map(|r| r.report.clone()).collect();
         let mut r = row(
             name,
@@ -206,7 +211,7 @@ pub fn compare(path: &Path, opts: &CompareOptions) -> Result<Vec<Row>> {
             let fo = options(name, format)?;
             // Written, read back, verified and planned as `smooth` does;
             // a written program that does not verify is a row that says so.
-            let report = match write_curves(&program, curves.clone(), &fo, Phases::new()) {
+            let report = match write_curves(program, curves.clone(), &fo, Phases::new()) {
                 Ok((_, report)) => report,
                 Err(SmoothProgramError::OutputNotVerified { report, .. }) => *report,
                 Err(e @ SmoothProgramError::Plan(_)) => {
@@ -249,9 +254,9 @@ const HEADER: [&str; 14] = [
     "max_deviation_mm",
     "verified",
     "gaps",
-    "g0",
-    "g1",
-    "g2",
+    "c0",
+    "c1",
+    "c2",
     "length_mm",
     "peak_curvature_per_mm",
     "curvature_variation_energy",
@@ -279,7 +284,7 @@ pub fn text(rows: &[Row]) -> String {
         "method",
         "max dev mm",
         "ok",
-        "joints G2/G1/G0/gap",
+        "joints C2/C1/C0/gap",
         "length mm",
         "peak k 1/mm",
         "energy",
@@ -398,9 +403,9 @@ pub fn json(rows: &[Row]) -> String {
                 "max_deviation_mm": r.max_deviation,
                 "verified": r.verified,
                 "gaps": r.joints[0],
-                "g0": r.joints[1],
-                "g1": r.joints[2],
-                "g2": r.joints[3],
+                "c0": r.joints[1],
+                "c1": r.joints[2],
+                "c2": r.joints[3],
                 "length_mm": r.length,
                 "peak_curvature_per_mm": r.peak_curvature,
                 "curvature_variation_energy": r.energy,

@@ -9,14 +9,18 @@
 
 pub mod check;
 pub mod compare;
+pub mod length;
 pub mod machine;
+pub mod methods;
 pub mod output;
 pub mod read;
 pub mod report;
 pub mod simulate_command;
 pub mod smooth;
+pub mod source_error;
 pub mod stream;
 pub mod summary;
+pub mod usage;
 
 /// The output format and the controller live in `fairpath-gcode` (its
 /// `clap` feature makes them command-line values).

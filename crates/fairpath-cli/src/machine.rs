@@ -106,6 +106,6 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
     if let Some(v) = flags.jerk_on_curves {
         m.jerk_on_curves = v;
     }
-    m.validate().map_err(|e| anyhow!("{e}"))?;
+    m.validate().map_err(crate::usage::usage)?;
     Ok(m)
 }

@@ -2,30 +2,41 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use fairpath_cli::{check, output, smooth, Controller, Format};
-use std::path::{Path, PathBuf};
+use fairpath_cli::length::Length;
+use fairpath_cli::usage::{self, usage, EXIT_CODES_HELP};
+use fairpath_cli::{check, output, read, smooth, Controller, Format};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(
     name = "fairpath",
     version,
-    about = "Tolerance-bounded G2 smoothing of CNC tool paths"
+    about = "Curvature-continuous smoothing of CNC tool paths within a tolerance",
+    after_help = EXIT_CODES_HELP
 )]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+/// bspline-corner's error target when a transition must shrink.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum Band {
+    /// The whole band, e = epsilon: lower peak curvature (the default).
     Full,
+    /// The paper's e* = delta / 2.
     Half,
 }
 
+/// What caps the speed on curves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum TimeModel {
+    /// Centripetal acceleration and jerk (centripetal jerk, curvature
+    /// change): the default.
     Full,
+    /// Centripetal acceleration only, as the thesis' simulation (seed 003,
+    /// eq. 4-1).
     Thesis,
 }
 
@@ -35,24 +46,40 @@ impl TimeModel {
     }
 }
 
+/// The speed every run starts and ends at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum RunEndsArg {
+    /// At rest (the default).
     Rest,
+    /// At the speed cap there (the feed on a straight), as seed 003's
+    /// simulation (section 4.5).
     Cap,
 }
 
+/// How a report is printed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum TextOrJson {
+    /// Lines for a person to read.
     Text,
+    /// One JSON object, for scripts.
     Json,
 }
 
+/// How the table of `compare` is printed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum TableFormat {
+    /// Aligned columns.
     Text,
+    /// An array of objects, the written programs under `written`.
     Json,
+    /// A header row, then one row per method.
     Csv,
 }
+
+/// The help of `--tolerance` (smooth, compare, check).
+const TOLERANCE_HELP: &str = "Largest distance of the output feed path from the original: \
+a number with a unit (0.05mm, 0.002in) or a bare number in the program's units \
+(inches in a G20 program, mm in a G21 one)";
 
 /// The machine times are planned for.
 #[derive(clap::Args, Clone, Debug)]
@@ -106,26 +133,30 @@ impl MachineArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Replace the feed moves of a program with a G2 path within the tolerance.
+    /// Replace the feed moves of a program with a curvature-continuous path
+    /// within the tolerance.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Smooth {
-        /// Input G-code program.
+        /// Input G-code program; - reads standard input.
         input: PathBuf,
         /// Output file (written only when the result verifies; it keeps the
-        /// permissions of the file it replaces). The input itself, under
-        /// any name, only with --in-place.
-        #[arg(short, long, required_unless_present = "in_place")]
+        /// permissions of the file it replaces); - writes standard output
+        /// (the summary then goes to standard error). Default: NAME.smoothed.EXT
+        /// beside the input (NAME.smoothed.json for --format json), standard
+        /// output when the input is standard input. The input itself,
+        /// under any name, only with --in-place.
+        #[arg(short, long)]
         output: Option<PathBuf>,
         /// Replace the input program (atomically, keeping its permissions)
         /// with the result; -o may then be left out.
         #[arg(long)]
         in_place: bool,
-        /// Largest distance (mm) of the output feed path from the original.
-        #[arg(short, long)]
-        tolerance: f64,
+        #[arg(short, long, help = TOLERANCE_HELP, value_name = "LENGTH", allow_hyphen_values = true)]
+        tolerance: Length,
         /// Smoothing method (default: the controller's: arc-fit for
         /// linuxcnc, whose planners cap the speed per block; auto for the
         /// others).
-        #[arg(short, long)]
+        #[arg(short, long, value_parser = fairpath_cli::methods::parser())]
         method: Option<String>,
         /// The method's options from a TOML file: the fields of its options
         /// struct (e.g. for bspline-fit `fairness = 1e-4` and a
@@ -146,11 +177,12 @@ enum Command {
         /// linuxcnc, g6.2 for fanuc).
         #[arg(short, long, value_enum)]
         format: Option<Format>,
-        /// Share of the tolerance (mm) for writing the curves in the output
+        /// Share of the tolerance for writing the curves in the output
         /// format (chords, arcs, rounding; LinuxCNC's blending comes out of
-        /// it too). Default: a tenth of the tolerance.
-        #[arg(long)]
-        chord: Option<f64>,
+        /// it too), with a unit or in the program's units as --tolerance.
+        /// Default: a tenth of the tolerance.
+        #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
+        chord: Option<Length>,
         /// How much curvature step a joint of written pieces may take, as a
         /// share of what the planned speed passes without slowing down
         /// (`J Ts / v^2`): 0.5 (default) keeps the curves' speed; larger
@@ -176,7 +208,9 @@ enum Command {
     },
     /// Plan a jerk-limited feed along a program (G-code or JSON) and report
     /// the machining time.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Simulate {
+        /// G-code program or fairpath JSON path; - reads standard input.
         program: PathBuf,
         #[command(flatten)]
         machine: MachineArgs,
@@ -204,17 +238,19 @@ enum Command {
     /// Write the planned, jerk-limited motion of a program as one position
     /// per servo period (X Y Z in mm, one line per period), as LinuxCNC's
     /// halstreamer plays it; smoothed first with --tolerance.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Stream {
         /// G-code program, or a fairpath JSON path (streamed as it is).
         program: PathBuf,
         /// Output stream file.
         #[arg(short, long)]
         output: PathBuf,
-        /// Smooth the program first (default method) within this many mm
-        /// of its path; without it the program's own moves are streamed
-        /// (every corner then passed nearly at rest).
-        #[arg(short, long)]
-        tolerance: Option<f64>,
+        /// Smooth the program first (default method) within this distance
+        /// of its path (a unit, 0.05mm or 0.002in, or a bare number in the
+        /// program's units); without it the program's own moves are
+        /// streamed (every corner then passed nearly at rest).
+        #[arg(short, long, value_name = "LENGTH", allow_hyphen_values = true)]
+        tolerance: Option<Length>,
         #[command(flatten)]
         machine: MachineArgs,
         /// Also stream the moves before the first feed move and after the
@@ -227,15 +263,16 @@ enum Command {
     /// and print one table: deviation, joints, length, peak curvature,
     /// curvature variation energy, planned time and its ratio to the
     /// original, smoothing time. Exit status 3 if a method fails to verify.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Compare {
+        /// G-code program; - reads standard input.
         program: PathBuf,
-        /// Largest distance (mm) of each method's path from the original.
-        #[arg(short, long)]
-        tolerance: f64,
+        #[arg(short, long, help = TOLERANCE_HELP, value_name = "LENGTH", allow_hyphen_values = true)]
+        tolerance: Length,
         #[command(flatten)]
         machine: MachineArgs,
-        /// Methods to run, comma-separated (default: all).
-        #[arg(long, value_delimiter = ',')]
+        /// Methods to run, comma-separated (default: all but none).
+        #[arg(long, value_delimiter = ',', value_parser = fairpath_cli::methods::parser())]
         methods: Option<Vec<String>>,
         /// The controller whose dialect the written programs use.
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
@@ -252,16 +289,17 @@ enum Command {
     /// planned feed against time and arc length (coloured by what limits
     /// it), and the summary of each method: what a machinist looks at to
     /// decide.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Report {
+        /// The program; - reads standard input.
         program: PathBuf,
-        /// Largest distance (mm) of each method's path from the original.
-        #[arg(short, long)]
-        tolerance: f64,
+        #[arg(short, long, help = TOLERANCE_HELP, value_name = "LENGTH", allow_hyphen_values = true)]
+        tolerance: Length,
         #[command(flatten)]
         machine: MachineArgs,
         /// Methods to show, comma-separated (default: the controller's
         /// default method).
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', value_parser = fairpath_cli::methods::parser())]
         methods: Option<Vec<String>>,
         /// The controller whose dialect the written programs use.
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
@@ -270,37 +308,28 @@ enum Command {
         /// controller's).
         #[arg(short, long, value_enum)]
         format: Option<Format>,
-        /// The HTML file to write.
+        /// The HTML file to write (- : standard output).
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Verify a smoothed program (G-code or JSON) against its original.
+    /// Verify a smoothed program (G-code or JSON) against its original and
+    /// say where it is farthest from it. Exit status 3 if it is not within
+    /// the tolerance.
+    #[command(after_help = EXIT_CODES_HELP, allow_negative_numbers = true)]
     Check {
+        /// The original G-code program; - reads standard input.
         original: PathBuf,
+        /// The smoothed program (G-code or fairpath JSON); - reads standard
+        /// input (one of the two at most).
         smoothed: PathBuf,
-        /// Largest allowed distance (mm) of the smoothed feed path from the original.
-        #[arg(short, long)]
-        tolerance: f64,
+        /// Largest allowed distance of the smoothed feed path from the
+        /// original: a number with a unit (0.05mm, 0.002in) or a bare
+        /// number in the original's units (inches in a G20 program).
+        #[arg(short, long, value_name = "LENGTH", allow_hyphen_values = true)]
+        tolerance: Length,
+        #[arg(long, value_enum, default_value_t = TextOrJson::Text)]
+        format: TextOrJson,
     },
-}
-
-/// The file `smooth` writes: `-o` (never the input, however named, unless
-/// `--in-place`), or the input with `--in-place` (then `-o`, if given, must
-/// name it).
-fn smooth_output(input: &Path, output: Option<PathBuf>, in_place: bool) -> Result<PathBuf> {
-    match (output, in_place) {
-        (Some(o), false) => {
-            output::refuse_overwrite(input, &o, "-o", Some("--in-place"))?;
-            Ok(o)
-        }
-        (Some(o), true) if !output::same_file(input, &o) => anyhow::bail!(
-            "--in-place replaces the input {}, but -o names another file {}: give one of them",
-            input.display(),
-            o.display()
-        ),
-        (_, true) => Ok(input.to_path_buf()),
-        (None, false) => anyhow::bail!("give -o OUTPUT, or --in-place to replace the input"),
-    }
 }
 
 /// The method with the options of `--options FILE.toml` or of the flags
@@ -313,21 +342,31 @@ fn method_with_options(
     band: Option<Band>,
     lambda: Option<f64>,
 ) -> anyhow::Result<Option<fairpath::choose::Method>> {
-    use anyhow::{anyhow, bail, Context};
+    use anyhow::Context;
     use fairpath::choose::Method;
     let flags = band.is_some() || lambda.is_some();
     if flags && method != "bspline-corner" {
-        bail!("--band and --lambda are options of bspline-corner, not of method {method}");
+        return Err(usage(format!(
+            "--band and --lambda are options of bspline-corner, not of method {method}: \
+             leave them out or pass --method bspline-corner"
+        )));
     }
     if flags && file.is_some() {
-        bail!("give bspline-corner's options either in --options or as --band/--lambda, not both");
+        return Err(usage(
+            "give bspline-corner's options either in --options or as --band/--lambda, not both",
+        ));
     }
     let m = if let Some(path) = file {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("--options: reading {}", path.display()))?;
         Method::named_with(method, toml::Deserializer::new(&text))
-            .map_err(|e| anyhow!("--options {}: method {method}: {e}", path.display()))?
-            .ok_or_else(|| anyhow!("unknown method {method:?}"))?
+            .map_err(|e| {
+                usage(format!(
+                    "--options {}: method {method}: {e}",
+                    path.display()
+                ))
+            })?
+            .ok_or_else(|| usage(format!("unknown method {method:?}")))?
     } else if flags {
         Method::BsplineCorner(fairpath::smooth::BsplineCornerOptions {
             target: match band.unwrap_or(Band::Full) {
@@ -340,7 +379,7 @@ fn method_with_options(
     } else {
         return Ok(None);
     };
-    m.validate().map_err(|e| anyhow!("{e}"))?;
+    m.validate().map_err(usage)?;
     Ok(Some(m))
 }
 
@@ -350,7 +389,10 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(1)
+            if usage::is_usage(&e) {
+                eprintln!("\nFor more information, try '--help'.");
+            }
+            ExitCode::from(usage::exit_status(&e))
         }
     }
 }
@@ -373,9 +415,20 @@ fn run(cli: Cli) -> Result<ExitCode> {
             lambda,
             json_summary,
         } => {
-            let output = smooth_output(&input, output, in_place)?;
+            let json = format.unwrap_or_else(|| controller.default_format()) == Format::Json;
+            let output = output::smooth_output(&input, output, in_place, json)?;
+            let started = std::time::Instant::now();
+            let bytes = read::read_bytes(&input)?;
+            let program = read::parse_program(&input, &bytes)?;
+            let units = program.units();
             let method = method.unwrap_or_else(|| controller.default_method().to_string());
-            let mut opts = smooth::options(tolerance, chord, &method, format, controller)?;
+            let mut opts = smooth::options(
+                tolerance.mm(units),
+                chord.map(|c| c.mm(units)),
+                &method,
+                format,
+                controller,
+            )?;
             opts.set_step_share(step_share)
                 .map_err(smooth::option_error)?;
             let limits = machine.limits()?;
@@ -386,11 +439,18 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     std::sync::Arc::new(fairpath::choose::PlannedTime::new(limits, true));
                 opts.set_method(m.smoother(objective));
             }
-            let summary = smooth::smooth_file(&input, &output, &opts)?;
-            if json_summary {
-                println!("{}", summary.json());
+            let summary = smooth::smooth_read(&input, &bytes, &program, started, &output, &opts)?;
+            let text = if json_summary {
+                summary.json() + "\n"
             } else {
-                print!("{}", summary.text());
+                summary.text()
+            };
+            // With the program on standard output the summary goes to
+            // standard error.
+            if read::is_stdio(&output) {
+                eprint!("{text}");
+            } else {
+                print!("{text}");
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -410,10 +470,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
             }
             if let (Some(p), Some(s)) = (&profile, &segments) {
                 if p == s || output::same_file(p, s) {
-                    anyhow::bail!(
-                        "--profile and --segments name the same file {}",
+                    return Err(usage(format!(
+                        "--profile and --segments name the same file {}: give two files",
                         p.display()
-                    );
+                    )));
                 }
             }
             let m = machine.limits()?;
@@ -464,6 +524,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             use fairpath_cli::compare;
             let m = machine.limits()?;
+            let parsed = read::read_program(&program)?;
+            let tolerance = tolerance.mm(parsed.units());
             // Every method but `none`: the `original` row is the untouched
             // program already.
             let methods = methods.unwrap_or_else(|| {
@@ -473,8 +535,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     .map(|s| s.to_string())
                     .collect()
             });
-            let rows = compare::compare(
+            let rows = compare::compare_program(
                 &program,
+                &parsed,
                 &compare::CompareOptions {
                     tolerance,
                     machine: m,
@@ -499,7 +562,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 {
                     ExitCode::SUCCESS
                 } else {
-                    ExitCode::from(3)
+                    ExitCode::from(usage::EXIT_NOT_VERIFIED)
                 },
             )
         }
@@ -513,10 +576,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             output::refuse_overwrite(&program, &output, "-o", None)?;
-            let html = fairpath_cli::report::report(
+            let parsed = read::read_program(&program)?;
+            let html = fairpath_cli::report::report_program(
                 &program,
+                &parsed,
                 &fairpath_cli::report::ReportOptions {
-                    tolerance,
+                    tolerance: tolerance.mm(parsed.units()),
                     methods: methods
                         .unwrap_or_else(|| vec![controller.default_method().to_string()]),
                     machine: machine.limits()?,
@@ -525,7 +590,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     format,
                 },
             )?;
-            output::write_atomically(&output, html.as_bytes())?;
+            output::write_output(&output, html.as_bytes())?;
             eprintln!(
                 "fairpath report: {} -> {}",
                 program.display(),
@@ -537,6 +602,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             original,
             smoothed,
             tolerance,
-        } => check::run(&original, &smoothed, tolerance),
+            format,
+        } => check::run(&original, &smoothed, tolerance, format == TextOrJson::Json),
     }
 }

@@ -54,6 +54,19 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Writes `bytes` to `path` atomically ([`write_atomically`]), or to
+/// standard output when `path` is `-`.
+pub fn write_output(path: &Path, bytes: &[u8]) -> Result<()> {
+    if crate::read::is_stdio(path) {
+        let mut out = std::io::stdout().lock();
+        out.write_all(bytes)
+            .and_then(|_| out.flush())
+            .context("cannot write standard output")
+    } else {
+        write_atomically(path, bytes)
+    }
+}
+
 /// `path`, or the file it names through symbolic links when it is one
 /// (a dangling link names the file it would create).
 fn resolve_link(path: &Path) -> Result<PathBuf> {
@@ -81,8 +94,12 @@ const MAX_LINKS: usize = 40;
 /// Whether `a` and `b` name the same existing file: the same device and
 /// inode on unix (also through hard links, symbolic links and different
 /// spellings of the path), the same canonical path elsewhere. A file that
-/// does not exist is the same as no other.
+/// does not exist is the same as no other, nor is `-` (standard input or
+/// output).
 pub fn same_file(a: &Path, b: &Path) -> bool {
+    if crate::read::is_stdio(a) || crate::read::is_stdio(b) {
+        return false;
+    }
     let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
         return false;
     };
@@ -103,7 +120,8 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 
 /// Refuses to write `output` over `input` (the same file, however named):
 /// `what` says which option names it. The error says how to replace the
-/// input when `in_place_flag` is given (`--in-place`).
+/// input when `in_place_flag` is given (`--in-place`). A usage error
+/// (exit status 2).
 pub fn refuse_overwrite(
     input: &Path,
     output: &Path,
@@ -111,20 +129,77 @@ pub fn refuse_overwrite(
     in_place_flag: Option<&str>,
 ) -> Result<()> {
     if same_file(input, output) {
-        match in_place_flag {
-            Some(flag) => bail!(
-                "{what} {} is the input program {}: pass {flag} to replace it",
+        return Err(crate::usage::usage(match in_place_flag {
+            Some(flag) => format!(
+                "{what} {} is the input program {} (the same file): refusing to overwrite it; \
+                 pass {flag} to replace the input, or name another output",
                 output.display(),
                 input.display()
             ),
-            None => bail!(
-                "{what} {} is the input program {}: refusing to overwrite it",
+            None => format!(
+                "{what} {} is the input program {} (the same file): refusing to overwrite it; \
+                 name another file",
                 output.display(),
                 input.display()
             ),
-        }
+        }));
     }
     Ok(())
+}
+
+/// The file `smooth` writes: `-o` (`-`: standard output; never the input,
+/// however named, unless `--in-place`), the input with `--in-place` (then
+/// `-o`, if given, must name it), else [`default_output`] beside the input,
+/// or standard output when the input is standard input. Conflicts are
+/// usage errors.
+pub fn smooth_output(
+    input: &Path,
+    output: Option<PathBuf>,
+    in_place: bool,
+    json: bool,
+) -> Result<PathBuf> {
+    use crate::read::is_stdio;
+    use crate::usage::usage;
+    if in_place && is_stdio(input) {
+        return Err(usage(
+            "--in-place replaces the input file, but the input is standard input (-): \
+             leave --in-place out",
+        ));
+    }
+    match (output, in_place) {
+        (Some(o), false) => {
+            refuse_overwrite(input, &o, "-o", Some("--in-place"))?;
+            Ok(o)
+        }
+        (Some(o), true) if !same_file(input, &o) => Err(usage(format!(
+            "--in-place replaces the input {}, but -o names another file {}: give one of them",
+            input.display(),
+            o.display()
+        ))),
+        (_, true) => Ok(input.to_path_buf()),
+        (None, false) if is_stdio(input) => Ok(PathBuf::from("-")),
+        (None, false) => Ok(default_output(input, json)),
+    }
+}
+
+/// The output's name when `-o` is left out: `NAME.smoothed.EXT` beside
+/// `NAME.EXT` (the input's extension kept; `NAME.smoothed.json` for the
+/// JSON format; `NAME.smoothed` for an input without an extension).
+pub fn default_output(input: &Path, json: bool) -> PathBuf {
+    let stem = input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "program".to_string());
+    let ext = if json {
+        Some("json".to_string())
+    } else {
+        input.extension().map(|e| e.to_string_lossy().into_owned())
+    };
+    let name = match ext {
+        Some(e) => format!("{stem}.smoothed.{e}"),
+        None => format!("{stem}.smoothed"),
+    };
+    input.with_file_name(name)
 }
 
 #[cfg(all(test, unix))]
@@ -207,5 +282,15 @@ mod tests {
         assert!(refuse_overwrite(&a, &b, "-o", Some("--in-place")).is_ok());
         let e = refuse_overwrite(&a, &hard, "-o", Some("--in-place")).unwrap_err();
         assert!(e.to_string().contains("--in-place"), "{e}");
+        assert!(!same_file(Path::new("-"), &a));
+    }
+
+    #[test]
+    fn default_names_keep_the_extension_beside_the_input() {
+        let d = |p: &str, json| default_output(Path::new(p), json);
+        assert_eq!(d("dir/part.ngc", false), Path::new("dir/part.smoothed.ngc"));
+        assert_eq!(d("part.NC", false), Path::new("part.smoothed.NC"));
+        assert_eq!(d("dir/part.ngc", true), Path::new("dir/part.smoothed.json"));
+        assert_eq!(d("part", false), Path::new("part.smoothed"));
     }
 }

@@ -4,7 +4,7 @@
 //! segment; optionally the sampled profile as CSV. The planning is the
 //! library's ([`fairpath::feed::program`]); this reads the file and prints.
 
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{PlanOptions, RunEnds};
 use fairpath::feed::program::{average_curvature, simulate_with, Motion, Simulation, MAX_SAMPLES};
@@ -13,7 +13,7 @@ use std::path::Path;
 /// The motions of a program: G-code runs (and each pinned move on its
 /// own), or, for JSON, consecutive continuous feed pieces.
 pub fn motions(path: &Path) -> Result<Vec<Motion>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = crate::read::read_bytes(path)?;
     motions_of(path, &bytes)
 }
 
@@ -21,9 +21,9 @@ pub fn motions(path: &Path) -> Result<Vec<Motion>> {
 pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     if is_json {
-        let text =
-            std::str::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8", path.display()))?;
-        fairpath_gcode::json_motions(text).map_err(|e| anyhow!("{}: {e}", path.display()))
+        let text = std::str::from_utf8(bytes)
+            .map_err(|_| anyhow!("{}: not UTF-8", crate::read::name(path)))?;
+        fairpath_gcode::json_motions(text).map_err(|e| anyhow!("{}: {e}", crate::read::name(path)))
     } else {
         let program = crate::read::parse_program(path, bytes)?;
         Ok(program.motions(&program.runs()))
@@ -69,7 +69,10 @@ pub fn run(
     let motions = motions(path)?;
     if motions.is_empty() {
         // Tool changes, coolant ...: nothing to plan, a time of zero.
-        eprintln!("note: {}: the program has no moves", path.display());
+        eprintln!(
+            "note: {}: the program has no moves",
+            crate::read::name(path)
+        );
     }
     let opts = PlanOptions {
         limits: *m,
@@ -106,7 +109,11 @@ pub fn run(
     if json {
         println!("{}", simulation_json(&sim, curvature));
     } else {
-        print!("fairpath simulate: {}\n{}", path.display(), sim.text(m));
+        print!(
+            "fairpath simulate: {}\n{}",
+            crate::read::name(path),
+            sim.text(m)
+        );
         print!(
             "  feed moves:      {:.3} mm, average feed {:.1} mm/s",
             sim.feed_length,

@@ -3,10 +3,11 @@
 //! passed through, write the output atomically only when it verified, and
 //! the summary. Option errors name the command line's flags.
 
-use crate::read::read_program;
+use crate::read::{parse_program, read_bytes};
 use crate::summary::Summary;
+use crate::usage::usage;
 use crate::{Controller, Format};
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use fairpath::pipeline::PipelineError;
 use fairpath_gcode::{OptionsError, Program, SmoothOptions, SmoothProgramError};
 use std::path::Path;
@@ -23,33 +24,34 @@ pub fn options(
     SmoothOptions::new(tolerance, chord, method, format, controller).map_err(option_error)
 }
 
-/// An option error in the command line's words.
+/// An option error in the command line's words: a usage error (exit
+/// status 2).
 pub fn option_error(e: OptionsError) -> anyhow::Error {
-    match e {
-        OptionsError::Tolerance(t) => anyhow!(
+    usage(match e {
+        OptionsError::Tolerance(t) => format!(
             "--tolerance: {} (allowed: 1e-6 to 1000 mm)",
             fairpath::smooth::SmoothError::BadTolerance(t)
         ),
-        OptionsError::OutputShare { value, half } => anyhow!(
+        OptionsError::OutputShare { value, half } => format!(
             "--chord must be a positive number of mm, at most half the tolerance ({half} mm); got {value}"
         ),
         OptionsError::Budget { source, .. } => {
-            anyhow!("--tolerance: {source}: raise --tolerance or lower --chord")
+            format!("--tolerance: {source}: raise --tolerance or lower --chord")
         }
         OptionsError::NothingLeft {
             tolerance,
             output,
             left,
-        } => anyhow!(
+        } => format!(
             "--tolerance {tolerance} mm leaves {left:e} mm for smoothing after the output \
              ({output} mm) and arc sampling; at least 1e-6 mm is needed: raise \
              --tolerance or lower --chord"
         ),
         OptionsError::StepShare(s) => {
-            anyhow!("--step-share must be a positive number or inf; got {s}")
+            format!("--step-share must be a positive number or inf; got {s}")
         }
-        e @ (OptionsError::UnknownMethod(_) | OptionsError::Machine(_)) => e.into(),
-    }
+        e @ (OptionsError::UnknownMethod(_) | OptionsError::Machine(_)) => e.to_string(),
+    })
 }
 
 /// The whole `fairpath smooth` job: read `input`, smooth, verify, plan,
@@ -60,16 +62,32 @@ pub fn option_error(e: OptionsError) -> anyhow::Error {
 /// error, leaving no output file.
 pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<Summary> {
     let started = std::time::Instant::now();
+    let bytes = read_bytes(input)?;
+    let program = parse_program(input, &bytes)?;
+    smooth_read(input, &bytes, &program, started, output, opts)
+}
+
+/// [`smooth_file`] of a program read already: `bytes` is the text of
+/// `input` (`-`: standard input), `program` its reading, begun at
+/// `started`; `output` `-` writes to standard output.
+pub fn smooth_read(
+    input: &Path,
+    bytes: &[u8],
+    program: &Program,
+    started: std::time::Instant,
+    output: &Path,
+    opts: &SmoothOptions,
+) -> Result<Summary> {
     let mut phases = fairpath_gcode::pipeline::Phases::new();
-    let program = read_program(input)?;
     phases.mark("read");
-    warn_passthrough(input, &program);
+    warn_passthrough(input, program);
     let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
-    let (written, report) = match fairpath_gcode::smooth_parsed(&program, opts) {
+    let (written, report) = match fairpath_gcode::smooth_parsed(program, opts) {
         Ok(done) => done,
         Err(e) => {
             if let SmoothProgramError::OutputNotVerified { report, .. } = &e {
                 let mut summary = Summary::new(input, output, opts, report);
+                summary.units = program.units();
                 summary.elapsed = started.elapsed();
                 if timing {
                     eprint!("{}{}", phases.report(), report.phases.report());
@@ -79,13 +97,17 @@ pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<
             return Err(match e {
                 e @ (SmoothProgramError::OutputNotVerified { .. }
                 | SmoothProgramError::Curves(PipelineError::NotVerified { .. })) => {
-                    anyhow!("refusing to write {}: {e}", output.display())
+                    anyhow!(
+                        "refusing to write {}: {e}",
+                        crate::summary::output_name(output)
+                    )
                 }
                 e => e.into(),
             });
         }
     };
     let mut summary = Summary::new(input, output, opts, &report);
+    summary.units = program.units();
     summary.elapsed = started.elapsed();
     if timing {
         eprint!("{}{}", phases.report(), report.phases.report());
@@ -93,17 +115,15 @@ pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<
     if report.no_moves {
         // Nothing to smooth (tool changes, coolant ...): the program as it
         // is, byte for byte.
-        let bytes =
-            std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
         eprintln!(
             "note: {}: the program has no moves: copied unchanged",
-            input.display()
+            crate::read::name(input)
         );
         summary.lines_out = summary.lines_in;
-        crate::output::write_atomically(output, &bytes)?;
+        crate::output::write_output(output, bytes)?;
         return Ok(summary);
     }
-    crate::output::write_atomically(output, written.text.as_bytes())?;
+    crate::output::write_output(output, written.text.as_bytes())?;
     Ok(summary)
 }
 
@@ -133,7 +153,7 @@ fn warn_passthrough(input: &Path, program: &Program) {
     let more = notes.len().saturating_sub(PASSTHROUGH_LISTED);
     eprintln!(
         "warning: {}: passed through verbatim, not smoothed: {}{}",
-        input.display(),
+        crate::read::name(input),
         listed.join(", "),
         if more > 0 {
             format!(" and {more} more")

@@ -28,7 +28,9 @@ use std::path::Path;
 pub struct StreamArgs<'a> {
     pub program: &'a Path,
     pub output: &'a Path,
-    pub tolerance: Option<f64>,
+    /// Smooth first within this distance (a bare number in the
+    /// program's units).
+    pub tolerance: Option<crate::length::Length>,
     pub machine: MachineLimits,
     pub axis_jerk: [f64; 3],
     pub override_feed: bool,
@@ -116,8 +118,7 @@ fn gcode_steps(program: &fairpath_gcode::Program, runs: &[Run]) -> (Vec<Step>, V
 /// `fairpath stream`.
 pub fn run(a: &StreamArgs) -> Result<()> {
     crate::output::refuse_overwrite(a.program, a.output, "-o", None)?;
-    let bytes =
-        std::fs::read(a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
+    let bytes = crate::read::read_bytes(a.program)?;
     let is_json = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     let mut report = String::new();
     // Moves a stream of X Y Z positions cannot carry: (executed line, source
@@ -125,7 +126,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
     let mut cannot: Vec<(usize, usize, &'static str)> = Vec::new();
     let (steps, left) = if is_json {
         if a.tolerance.is_some() {
-            bail!("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)");
+            return Err(crate::usage::usage("--tolerance smooths a G-code program; a fairpath JSON path is streamed as it is (leave --tolerance out)"));
         }
         let motions = simulate_command::motions_of(a.program, &bytes)?;
         let _ = writeln!(
@@ -156,7 +157,7 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 .map_or(m.line, |l| l.source_line);
             cannot.push((m.line, source, what));
         }
-        let runs = match a.tolerance {
+        let runs = match a.tolerance.map(|t| t.mm(program.units())) {
             Some(tol) => {
                 // The servo interpolates between samples along chords; the
                 // planner holds them within the machine's chord error, so

@@ -9,6 +9,24 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Duration;
 
+/// Joints by continuity class (`[gaps, C0, C1, C2]`, as
+/// `RunReport::joint_counts`) in words: `C2` curvature continuous, `C1`
+/// tangent continuous, `C0` a corner. Not G2/G1/G0, which in a G-code tool
+/// read as arc, line and rapid.
+pub fn joints_text(joints: [usize; 4]) -> String {
+    let [gap, c0, c1, c2] = joints;
+    format!("{c2} C2 (curvature continuous), {c1} C1 (tangent continuous), {c0} C0 (corner), {gap} gaps")
+}
+
+/// How an output path is named in messages: `<stdout>` for `-`.
+pub fn output_name(path: &Path) -> String {
+    if crate::read::is_stdio(path) {
+        "<stdout>".to_string()
+    } else {
+        path.display().to_string()
+    }
+}
+
 /// Figures for one smoothing job.
 #[derive(Debug)]
 pub struct Summary {
@@ -18,6 +36,9 @@ pub struct Summary {
     pub format: &'static str,
     pub controller: &'static str,
     pub tolerance: f64,
+    /// The program's units (G20/G21 at its first move): the tolerance is
+    /// printed in them too where they are not mm.
+    pub units: fairpath_gcode::Units,
     /// Shares of the tolerance: smoothing, output, the controller's
     /// blending (mm).
     pub shares: (f64, f64, f64),
@@ -78,12 +99,13 @@ impl Summary {
         );
         let acc = opts.tolerance() * 1e-4;
         Summary {
-            input: input.display().to_string(),
-            output: output.display().to_string(),
+            input: crate::read::name(input),
+            output: output_name(output),
             method: opts.method_name().to_string(),
             format: opts.format().name(),
             controller: opts.controller().name(),
             tolerance: opts.tolerance(),
+            units: fairpath_gcode::Units::Mm,
             // The budget the writer used: a program's own looser G64 takes
             // a blending share out of the output share (`budget_for`).
             shares: report.shares(),
@@ -141,13 +163,36 @@ impl Summary {
         self.kept_corners.iter().map(|k| k.1).sum()
     }
 
+    /// The tolerance in the program's units (`None` for mm programs).
+    pub fn tolerance_in_program_units(&self) -> Option<f64> {
+        (self.units != fairpath_gcode::Units::Mm).then(|| self.tolerance / self.units.mm_per_unit())
+    }
+
+    /// The tolerance as printed: mm, and the program's units where they
+    /// differ.
+    fn tolerance_text(&self) -> String {
+        match self.tolerance_in_program_units() {
+            Some(t) => format!(
+                "{} mm = {t} {}",
+                self.tolerance,
+                crate::length::unit_name(self.units)
+            ),
+            None => format!("{} mm", self.tolerance),
+        }
+    }
+
     pub fn text(&self) -> String {
         let mut s = String::new();
         let (sm, out, blend) = self.shares;
         let _ = writeln!(
             s,
-            "fairpath smooth: {} -> {} ({}, {} for {}, tolerance {} mm)",
-            self.input, self.output, self.method, self.format, self.controller, self.tolerance
+            "fairpath smooth: {} -> {} ({}, {} for {}, tolerance {})",
+            self.input,
+            self.output,
+            self.method,
+            self.format,
+            self.controller,
+            self.tolerance_text()
         );
         let blend_text = if blend > 0.0 {
             format!(", controller blending {blend:.6} mm (G64 P)")
@@ -236,11 +281,7 @@ impl Summary {
             "  max deviation:   {:.6} mm (curves), {:.6} mm (written output, bound)",
             self.max_deviation_curves, self.max_deviation_written
         );
-        let [gap, g0, g1, g2] = self.joints;
-        let _ = writeln!(
-            s,
-            "  joints:          {g2} G2, {g1} G1, {g0} G0 (corner), {gap} gaps"
-        );
+        let _ = writeln!(s, "  joints:          {}", joints_text(self.joints));
         let kept: Vec<String> = self
             .kept_corners
             .iter()
@@ -313,7 +354,10 @@ impl Summary {
         json!({
             "input": self.input, "output": self.output, "method": self.method,
             "format": self.format, "controller": self.controller,
-            "tolerance_mm": self.tolerance, "smoothing_share_mm": self.shares.0,
+            "tolerance_mm": self.tolerance,
+            "program_units": crate::length::unit_name(self.units),
+            "tolerance_program_units": self.tolerance / self.units.mm_per_unit(),
+            "smoothing_share_mm": self.shares.0,
             "output_share_mm": self.shares.1, "blend_share_mm": self.shares.2,
             "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
             "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
@@ -322,7 +366,7 @@ impl Summary {
             "merged_collinear": self.merged_collinear,
             "max_deviation_curves_mm": self.max_deviation_curves,
             "max_deviation_written_mm": self.max_deviation_written,
-            "joints": {"G2": self.joints[3], "G1": self.joints[2], "G0": self.joints[1], "gap": self.joints[0]},
+            "joints": {"C2": self.joints[3], "C1": self.joints[2], "C0": self.joints[1], "gap": self.joints[0]},
             "length_before_mm": self.length_before, "length_after_mm": self.length_after,
             "peak_curvature_per_mm": self.peak_curvature,
             "time_s": self.elapsed.as_secs_f64(),

@@ -28,7 +28,7 @@ fn arc_fit(rel: &str, tol: &str) -> Option<(usize, usize)> {
             "smooth",
             input.to_str().unwrap(),
             "--tolerance",
-            tol,
+            &format!("{tol}mm"),
             "--method",
             "arc-fit",
             "--controller",
@@ -50,7 +50,7 @@ fn arc_fit(rel: &str, tol: &str) -> Option<(usize, usize)> {
             input.to_str().unwrap(),
             out.to_str().unwrap(),
             "--tolerance",
-            tol,
+            &format!("{tol}mm"),
         ])
         .output()
         .unwrap();
@@ -110,7 +110,7 @@ fn linuxcnc_defaults_to_arc_fit() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
     let o = bin()
-        .args(["smooth", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["smooth", input.to_str().unwrap(), "--tolerance", "0.05mm"])
         .args(["--controller", "linuxcnc", "-o", out.to_str().unwrap()])
         .output()
         .unwrap();

@@ -30,7 +30,7 @@ fn check(original: &Path, smoothed: &Path) -> Output {
             original.to_str().unwrap(),
             smoothed.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05"])
+        .args(["--tolerance", "0.05mm"])
         .output()
         .unwrap()
 }
@@ -59,7 +59,7 @@ fn block_delete_switch_on_leaves_the_path() {
             "-o",
             out.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05"])
+        .args(["--tolerance", "0.05mm"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", text(&o));
@@ -157,7 +157,7 @@ fn incremental_runs_after_block_delete_are_smoothed_and_follow_both_readings() {
             "-o",
             out.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.2"])
+        .args(["--tolerance", "0.2mm"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", text(&o));
@@ -168,7 +168,7 @@ fn incremental_runs_after_block_delete_are_smoothed_and_follow_both_readings() {
     );
     let c = bin()
         .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
-        .args(["--tolerance", "0.2"])
+        .args(["--tolerance", "0.2mm"])
         .output()
         .unwrap();
     let report = text(&c);
@@ -208,7 +208,7 @@ fn a_block_delete_line_after_a_run_sees_the_programs_motion_mode() {
                 "-o",
                 out.to_str().unwrap(),
             ])
-            .args(["--tolerance", "0.2"])
+            .args(["--tolerance", "0.2mm"])
             .output()
             .unwrap();
         assert!(o.status.success(), "{tail}: {}", text(&o));
@@ -228,7 +228,7 @@ fn a_block_delete_line_after_a_run_sees_the_programs_motion_mode() {
         assert!(parse_with(written.as_bytes(), &on).is_ok(), "{written}");
         let c = bin()
             .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
-            .args(["--tolerance", "0.2"])
+            .args(["--tolerance", "0.2mm"])
             .output()
             .unwrap();
         let report = text(&c);

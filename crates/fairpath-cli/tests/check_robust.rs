@@ -23,7 +23,7 @@ fn check_of_degree_9_json_nurbs_is_an_error_not_a_panic() {
         "-o",
         json.to_str().unwrap(),
         "--tolerance",
-        "0.05",
+        "0.05mm",
         "--format",
         "json",
     ]);
@@ -50,7 +50,7 @@ fn check_of_degree_9_json_nurbs_is_an_error_not_a_panic() {
         input.to_str().unwrap(),
         edited.to_str().unwrap(),
         "--tolerance",
-        "0.05",
+        "0.05mm",
     ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
@@ -83,7 +83,7 @@ fn hang_1717_17309_check_of_a_misplaced_arc_finishes_and_fails() {
         original.to_str().unwrap(),
         json.to_str().unwrap(),
         "--tolerance",
-        "0.05",
+        "0.05mm",
     ]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(3), "{out}");

@@ -50,7 +50,7 @@ fn smooths_the_bundled_example_and_checks_it() {
     let input = example("pocket-corners.ngc");
     for (fmt, name) in [("gcode", "out.ngc"), ("json", "out.json")] {
         let out = dir.path().join(name);
-        let o = smooth(&input, &out, "0.05", &["--format", fmt]);
+        let o = smooth(&input, &out, "0.05mm", &["--format", fmt]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let summary = String::from_utf8_lossy(&o.stdout);
         assert!(
@@ -80,7 +80,7 @@ fn smooths_the_bundled_example_and_checks_it() {
             .sum();
         assert!(chose.ends_with(" (sections)"), "{chose}");
         assert!(sections >= 2, "{chose}");
-        let c = check(&input, &out, "0.05");
+        let c = check(&input, &out, "0.05mm");
         assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stdout));
         assert!(String::from_utf8_lossy(&c.stdout).contains("PASS"));
     }
@@ -97,7 +97,7 @@ fn check_fails_on_a_program_that_leaves_the_band() {
         "G21 G90\nG0 X0 Y0 Z0\nG1 X5 F100\nG1 X10 Y0.2\nG1 Y10\nM2\n",
     )
     .unwrap();
-    let c = check(&orig, &moved, "0.05");
+    let c = check(&orig, &moved, "0.05mm");
     assert_eq!(
         c.status.code(),
         Some(3),
@@ -198,10 +198,10 @@ fn gcode_output_reread_matches_json_geometry_within_chord() {
     let dir = tempfile::tempdir().unwrap();
     let g = dir.path().join("b.ngc");
     let j = dir.path().join("b.json");
-    assert!(smooth(&input, &g, "0.05", &["--format", "gcode"])
+    assert!(smooth(&input, &g, "0.05mm", &["--format", "gcode"])
         .status
         .success());
-    assert!(smooth(&input, &j, "0.05", &["--format", "json"])
+    assert!(smooth(&input, &j, "0.05mm", &["--format", "json"])
         .status
         .success());
     let json = std::fs::read_to_string(&j).unwrap();
@@ -248,7 +248,7 @@ fn passthrough_is_lossless_on_real_linuxcnc_programs() {
         };
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("o.ngc");
-        let o = smooth(&input, &out, "0.01", &[]);
+        let o = smooth(&input, &out, "0.01mm", &[]);
         assert_ok(&o, rel);
         let program = fairpath_gcode::parse(&std::fs::read(&input).unwrap()).unwrap();
         // Every line that is not a feed move of a run appears in the output,
@@ -285,7 +285,7 @@ fn json_lists_every_move_in_order_as_one_continuous_path() {
         let Some(input) = shared(rel) else { return };
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("o.json");
-        let o = smooth(&input, &out, "0.05", &["--format", "json"]);
+        let o = smooth(&input, &out, "0.05mm", &["--format", "json"]);
         assert!(
             o.status.success(),
             "{rel}: {}",
@@ -399,7 +399,7 @@ fn compare_prints_every_method_and_the_baseline() {
             "compare",
             program.to_str().unwrap(),
             "--tolerance",
-            "0.05",
+            "0.05mm",
             "--format",
             "json",
         ])
@@ -419,11 +419,11 @@ fn compare_prints_every_method_and_the_baseline() {
         assert_eq!(r["verified"].as_bool(), Some(true), "{r}");
         let dev = r["max_deviation_mm"].as_f64().unwrap();
         assert!(dev > 0.0 && dev <= 0.05, "{r}");
-        // Every corner of the pocket is blended: G2 joints only, apart
+        // Every corner of the pocket is blended: C2 joints only, apart
         // from what the method reports as kept (`arc-fit` blends nothing:
         // it refits the moves with the fewest arcs and lines).
         let blends = r["method"] != "arc-fit";
-        assert!(!blends || r["g2"].as_u64().unwrap() > 0, "{r}");
+        assert!(!blends || r["c2"].as_u64().unwrap() > 0, "{r}");
         assert_eq!(r["gaps"].as_u64(), Some(0), "{r}");
         let ratio = r["time_ratio"].as_f64().unwrap();
         let time = r["time_s"].as_f64().unwrap();
@@ -443,7 +443,7 @@ fn compare_prints_every_method_and_the_baseline() {
             "compare",
             program.to_str().unwrap(),
             "--tolerance",
-            "0.05",
+            "0.05mm",
             "--methods",
             "bspline-corner",
             "--format",
@@ -463,7 +463,7 @@ fn compare_prints_every_method_and_the_baseline() {
             "compare",
             program.to_str().unwrap(),
             "--tolerance",
-            "0.05",
+            "0.05mm",
             "--methods",
             "nope",
         ])
@@ -492,8 +492,8 @@ fn a_tolerance_of_one_micrometre_is_written_within_it() {
             continue;
         };
         let out = dir.path().join("out.ngc");
-        assert_ok(&smooth(&input, &out, "0.001", &[]), rel);
-        assert_ok(&check(&input, &out, "0.001"), rel);
+        assert_ok(&smooth(&input, &out, "0.001mm", &[]), rel);
+        assert_ok(&check(&input, &out, "0.001mm"), rel);
         n += 1;
     }
     eprintln!("{n} programs written within 0.001 mm");
@@ -520,7 +520,7 @@ fn smooth_with_another_machine_changes_what_auto_keeps() {
             "--override-feed",
         ];
         extra.extend_from_slice(machine);
-        let o = smooth(&input, &out, "0.05", &extra);
+        let o = smooth(&input, &out, "0.05mm", &extra);
         assert_ok(&o, name);
         let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         outputs.push((out, machine, summary["auto_chose"].clone()));
@@ -556,7 +556,7 @@ fn method_options_are_checked_at_the_front_door() {
     let input = example("zigzag.ngc");
     let out = dir.path().join("out.ngc");
     let err = |o: &Output| String::from_utf8_lossy(&o.stderr).to_string();
-    let o = smooth(&input, &out, "0.05", &["-m", "auto", "--band", "half"]);
+    let o = smooth(&input, &out, "0.05mm", &["-m", "auto", "--band", "half"]);
     assert!(
         !o.status.success() && err(&o).contains("bspline-corner"),
         "{}",
@@ -568,7 +568,7 @@ fn method_options_are_checked_at_the_front_door() {
     let o = smooth(
         &input,
         &out,
-        "0.05",
+        "0.05mm",
         &["-m", "bspline-corner", "--options", f],
     );
     let e = err(&o);
@@ -577,7 +577,12 @@ fn method_options_are_checked_at_the_front_door() {
         "{e}"
     );
     std::fs::write(&file, "fairnes = 1e-4\n").unwrap();
-    let o = smooth(&input, &out, "0.05", &["-m", "bspline-fit", "--options", f]);
+    let o = smooth(
+        &input,
+        &out,
+        "0.05mm",
+        &["-m", "bspline-fit", "--options", f],
+    );
     assert!(
         !o.status.success() && err(&o).contains("fairnes"),
         "{}",
@@ -585,9 +590,14 @@ fn method_options_are_checked_at_the_front_door() {
     );
     assert!(!out.exists());
     std::fs::write(&file, "fairness = 1e-4\n[sections]\nmax_segment = 5.0\n").unwrap();
-    let o = smooth(&input, &out, "0.05", &["-m", "bspline-fit", "--options", f]);
+    let o = smooth(
+        &input,
+        &out,
+        "0.05mm",
+        &["-m", "bspline-fit", "--options", f],
+    );
     assert_ok(&o, "valid options");
-    assert_ok(&check(&input, &out, "0.05"), "check");
+    assert_ok(&check(&input, &out, "0.05mm"), "check");
 }
 
 /// A G6.2 program of the thesis' case 5 kind: a cubic NURBS (P4, unit
@@ -634,21 +644,21 @@ fn fair_smooths_a_g6_2_spline_and_the_zigzag() {
     let input = dir.path().join("rippled.ngc");
     std::fs::write(&input, rippled_g6_2()).unwrap();
     let out = dir.path().join("out.ngc");
-    let none = smooth(&input, &out, "0.25", &["-m", "none"]);
+    let none = smooth(&input, &out, "0.25mm", &["-m", "none"]);
     assert_ok(&none, "none");
     let before = printed_peak(&none);
     for fmt in ["g6.2", "arcs"] {
-        let o = smooth(&input, &out, "0.25", &["-m", "fair", "-f", fmt]);
+        let o = smooth(&input, &out, "0.25mm", &["-m", "fair", "-f", fmt]);
         assert_ok(&o, fmt);
         let after = printed_peak(&o);
         assert!(
             after < 0.05 * before,
             "{fmt}: peak {after} against {before}"
         );
-        assert_ok(&check(&input, &out, "0.25"), "check");
+        assert_ok(&check(&input, &out, "0.25mm"), "check");
     }
     let zigzag = example("zigzag.ngc");
-    let o = smooth(&zigzag, &out, "0.05", &["-m", "fair"]);
+    let o = smooth(&zigzag, &out, "0.05mm", &["-m", "fair"]);
     assert_ok(&o, "zigzag");
-    assert_ok(&check(&zigzag, &out, "0.05"), "check zigzag");
+    assert_ok(&check(&zigzag, &out, "0.05mm"), "check zigzag");
 }

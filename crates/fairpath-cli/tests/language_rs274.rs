@@ -231,7 +231,7 @@ M30
 fn smooth(p: &Path, out: &Path) -> Result<String, String> {
     let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
         .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
-        .args(["--tolerance", "0.01"])
+        .args(["--tolerance", "0.01mm"])
         .output()
         .unwrap();
     if !o.status.success() {

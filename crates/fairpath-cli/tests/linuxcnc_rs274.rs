@@ -67,11 +67,11 @@ fn programs() -> Vec<PathBuf> {
 /// Tolerances and extra `smooth` arguments of the outputs run by rs274
 /// (those with extra arguments on programs under 20 kB).
 const CONFIGS: &[(&str, &[&str])] = &[
-    ("0.01", &[]),
-    ("0.05", &[]),
-    ("0.05", &["--controller", "linuxcnc"]),
-    ("0.05", &["--format", "g1"]),
-    ("0.05", &["--controller", "linuxcnc", "--format", "g5.2"]),
+    ("0.01mm", &[]),
+    ("0.05mm", &[]),
+    ("0.05mm", &["--controller", "linuxcnc"]),
+    ("0.05mm", &["--format", "g1"]),
+    ("0.05mm", &["--controller", "linuxcnc", "--format", "g5.2"]),
 ];
 
 /// Spline programs (G5.x, G6.2): rs274 prints them as NURBS_FEED calls
@@ -192,7 +192,7 @@ fn linuxcnc_master_runs_what_we_write_as_g6_2() {
             .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
             .args([
                 "--tolerance",
-                "0.05",
+                "0.05mm",
                 "--controller",
                 "linuxcnc",
                 "--format",

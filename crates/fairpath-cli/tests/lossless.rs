@@ -221,7 +221,7 @@ fn smooth_and_compare(path: &Path, rel: &str, dir: &Path, new_mode: u32) -> Opti
         .arg(&input)
         .arg("-o")
         .arg(&out)
-        .args(["--tolerance", "0.05"])
+        .args(["--tolerance", "0.05mm"])
         .output()
         .unwrap();
     if !r.status.success() {
@@ -331,7 +331,7 @@ fn smooth(args: &[&std::ffi::OsStr]) -> std::process::Output {
     bin()
         .arg("smooth")
         .args(args)
-        .args(["--tolerance", "0.05"])
+        .args(["--tolerance", "0.05mm"])
         .output()
         .unwrap()
 }
@@ -486,7 +486,7 @@ fn tolerance_parabolic_check_runs_under_the_blend_share_for_every_controller() {
             .arg(&input)
             .arg("-o")
             .arg(&out)
-            .args(["--tolerance", "0.05", "--format", "arcs"])
+            .args(["--tolerance", "0.05mm", "--format", "arcs"])
             .args(["--controller", controller])
             .output()
             .unwrap();

@@ -13,7 +13,7 @@ fn smooth_none(input: &Path, output: &Path) {
             "-o",
             output.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05", "--method", "none"])
+        .args(["--tolerance", "0.05mm", "--method", "none"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -18,7 +18,7 @@ fn smooth(input: &Path, out: &Path) -> Output {
             "-o",
             out.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05"])
+        .args(["--tolerance", "0.05mm"])
         .output()
         .unwrap()
 }
@@ -117,7 +117,7 @@ fn feed_tracking_test_keeps_every_feed_on_its_stretch() {
                 "-o",
                 out.to_str().unwrap(),
             ])
-            .args(["--tolerance", "0.05", "--format", format])
+            .args(["--tolerance", "0.05mm", "--format", format])
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", text(&o));
@@ -214,7 +214,7 @@ fn a_program_without_moves_is_copied_unchanged() {
         "{report}"
     );
     let o = bin()
-        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05mm"])
         .output()
         .unwrap();
     let report = text(&o);

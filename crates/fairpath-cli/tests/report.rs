@@ -16,7 +16,7 @@ fn root() -> PathBuf {
 /// Writes the report of `program` with `methods` and returns its HTML.
 fn report(program: &Path, methods: &str, out: &Path) -> String {
     let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
-        .args(["report", "-t", "0.05", "--methods", methods, "-o"])
+        .args(["report", "-t", "0.05mm", "--methods", methods, "-o"])
         .arg(out)
         .arg(program)
         .output()
@@ -93,7 +93,7 @@ fn a_method_that_does_not_exist_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.html");
     let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
-        .args(["report", "-t", "0.05", "--methods", "smoothest", "-o"])
+        .args(["report", "-t", "0.05mm", "--methods", "smoothest", "-o"])
         .arg(&out)
         .arg(root().join("examples/zigzag.ngc"))
         .output()

@@ -106,7 +106,7 @@ fn smoothing_saves_time_on_the_butterfly_noisy_line_and_surface_raster() {
                 "--format",
                 "json",
                 "--tolerance",
-                "0.05",
+                "0.05mm",
             ])
             .output()
             .unwrap();
@@ -264,7 +264,7 @@ fn the_thesis_time_model_drops_the_jerk_caps_on_curves() {
     let json = dir.path().join("s.json");
     let o = bin()
         .args(["smooth", &example(), "-o", json.to_str().unwrap()])
-        .args(["-t", "0.05", "-f", "json"])
+        .args(["-t", "0.05mm", "-f", "json"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

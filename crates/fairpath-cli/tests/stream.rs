@@ -139,7 +139,7 @@ fn the_helix_streams_within_the_limits_and_the_tolerance() {
         .arg(&helix)
         .arg("-o")
         .arg(&out)
-        .args(["--tolerance", "0.05", "--override-feed"])
+        .args(["--tolerance", "0.05mm", "--override-feed"])
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&r.stdout);
@@ -201,7 +201,7 @@ fn per_axis_jerk_of_the_machine_file_holds() {
         .arg(example("zigzag.ngc"))
         .arg("-o")
         .arg(&out)
-        .args(["--tolerance", "0.05", "--machine"])
+        .args(["--tolerance", "0.05mm", "--machine"])
         .arg(&machine)
         .output()
         .unwrap();

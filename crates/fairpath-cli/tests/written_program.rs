@@ -28,7 +28,7 @@ fn smooth(input: &Path, out: &Path, extra: &[&str]) -> Value {
             "-o",
             out.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05", "--json-summary"])
+        .args(["--tolerance", "0.05mm", "--json-summary"])
         .args(extra)
         .output()
         .unwrap();
@@ -136,7 +136,7 @@ fn a_slower_output_is_reported_with_a_warning() {
             "-o",
             out.to_str().unwrap(),
         ])
-        .args(["--tolerance", "0.05", "--format", "json"])
+        .args(["--tolerance", "0.05mm", "--format", "json"])
         .output()
         .unwrap();
     let text = ok(o, "smooth");
@@ -198,7 +198,7 @@ fn the_tolerance_is_shared_out_and_the_output_checks_against_the_original() {
         assert!((shares - 0.05).abs() < 1e-15, "{s}");
         let o = bin()
             .args(["check", input.to_str().unwrap(), out.to_str().unwrap()])
-            .args(["--tolerance", "0.05"])
+            .args(["--tolerance", "0.05mm"])
             .output()
             .unwrap();
         assert!(ok(o, "check").contains("PASS"));
@@ -209,7 +209,7 @@ fn the_tolerance_is_shared_out_and_the_output_checks_against_the_original() {
 fn compare_plans_the_written_program_per_format() {
     let input = example("pocket-corners.ngc");
     let o = bin()
-        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05mm"])
         .args([
             "--methods",
             "auto,bspline-corner",
@@ -236,7 +236,7 @@ fn compare_plans_the_written_program_per_format() {
     }
     // The CSV has the same columns.
     let o = bin()
-        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05"])
+        .args(["compare", input.to_str().unwrap(), "--tolerance", "0.05mm"])
         .args(["--methods", "auto", "--formats", "g1", "--format", "csv"])
         .output()
         .unwrap();

@@ -20,7 +20,7 @@ use fairpath::path::{Piece, Run};
 use fairpath::pipeline::{verify_runs, PipelineError, Stage};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, Smoother};
-use fairpath::verify::VerifyOptions;
+use fairpath::verify::{RunReport, VerifyOptions};
 
 mod error;
 mod plans;
@@ -451,6 +451,27 @@ pub fn compare_runs_within(
     tolerance: f64,
     endpoint_slack: f64,
 ) -> Result<WrittenCheck, RunCountMismatch> {
+    compare_runs_reported(original, candidate, tolerance, endpoint_slack).map(|(check, _)| check)
+}
+
+/// One pair of runs verified: the indices of the original's and the
+/// candidate's run and the verifier's report (where the largest distance
+/// was found among it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairReport {
+    pub original: usize,
+    pub candidate: usize,
+    pub report: RunReport,
+}
+
+/// [`compare_runs_within`] with the report of every pair, for callers that
+/// say where the candidate is farthest from the original (`fairpath check`).
+pub fn compare_runs_reported(
+    original: &[Run],
+    candidate: &[Run],
+    tolerance: f64,
+    endpoint_slack: f64,
+) -> Result<(WrittenCheck, Vec<PairReport>), RunCountMismatch> {
     let pairs_idx = pair_runs(original, candidate)?;
     let mut out = WrittenCheck {
         within: true,
@@ -468,10 +489,8 @@ pub fn compare_runs_within(
             )
         })
         .collect();
-    for (k, rep) in verify_runs(&pairs, &VerifyOptions::new(tolerance))
-        .into_iter()
-        .enumerate()
-    {
+    let reports = verify_runs(&pairs, &VerifyOptions::new(tolerance));
+    for (k, rep) in reports.iter().enumerate() {
         out.max_deviation = out.max_deviation.max(rep.deviation_bound);
         let slack = endpoint_slack + ENDPOINT_ROUNDING_SHARE * tolerance;
         let moved = rep.start_gap > slack || rep.end_gap > slack;
@@ -485,5 +504,14 @@ pub fn compare_runs_within(
         }
         out.runs_checked += 1;
     }
-    Ok(out)
+    let reported = pairs_idx
+        .iter()
+        .zip(reports)
+        .map(|(&(original, candidate), report)| PairReport {
+            original,
+            candidate,
+            report,
+        })
+        .collect();
+    Ok((out, reported))
 }

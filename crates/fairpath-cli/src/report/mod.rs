@@ -95,7 +95,15 @@ struct Written {
 
 /// The report of the program at `path` as an HTML page.
 pub fn report(path: &Path, opts: &ReportOptions) -> Result<String> {
-    let program = read_program(path)?;
+    report_program(path, &read_program(path)?, opts)
+}
+
+/// [`report`] of a program read already (`path` names it).
+pub fn report_program(
+    path: &Path,
+    program: &fairpath_gcode::Program,
+    opts: &ReportOptions,
+) -> Result<String> {
     let original = program.motions(&program.runs());
     let original_sim = simulate(&original, &opts.machine, opts.override_feed, None)
         .map_err(|e| anyhow!("{}: planning the program: {e}", path.display()))?;
@@ -115,7 +123,7 @@ pub fn report(path: &Path, opts: &ReportOptions) -> Result<String> {
         .zip(&smooth_opts)
         .map(|(name, so)| MethodResult {
             name: name.clone(),
-            outcome: smooth_one(path, &program, name, so).map_err(|e| format!("{e:#}")),
+            outcome: smooth_one(path, program, name, so).map_err(|e| format!("{e:#}")),
         })
         .collect();
     let title = path.file_name().map_or_else(
