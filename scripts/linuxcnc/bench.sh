@@ -93,7 +93,7 @@ for prog in "$@"; do
     want "$c" || continue
     if [ "$c" = fairpath-arcfit ]; then margs=(--method arc-fit); else margs=(--method auto); fi
     smooth=$WORK/$name-$c.ngc
-    if "$FAIRPATH" smooth "$prog" "${margs[@]}" --controller linuxcnc --tolerance "$TOL" -o "$smooth" >"$WORK/$name-$c.txt" 2>&1; then
+    if "$FAIRPATH" smooth "$prog" "${margs[@]}" --controller linuxcnc --tolerance "${TOL}mm" -o "$smooth" >"$WORK/$name-$c.txt" 2>&1; then
       # Runs fairpath keeps as written carry no G64 of fairpath's; the raw
       # runs above are blended with "G64 P<TOL> Q0": so are they, by that
       # line after the units line (fairpath's own G64 around the runs it
@@ -115,7 +115,7 @@ for prog in "$@"; do
   # d. fairpath's stream, played through halstreamer
   stream=$WORK/$name-stream.txt
   if ! want fairpath-stream; then :
-  elif "$FAIRPATH" stream "$prog" --tolerance "$TOL" --override-feed --max-feed $((V*60)) \
+  elif "$FAIRPATH" stream "$prog" --tolerance "${TOL}mm" --override-feed --max-feed $((V*60)) \
        --acc "$A" --jerk "$J" --period "$(awk -v p="$PERIOD_NS" 'BEGIN{printf "%.9g", p/1e9}')" \
        -o "$stream" >"$WORK/$name-stream.out" 2>&1; then
     planned=$(sed -n 's/.*planned time: *\([0-9.eE+-]*\) *s.*/\1/p' "$WORK/$name-stream.out" | head -1)

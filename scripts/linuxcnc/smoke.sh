@@ -104,7 +104,7 @@ if [ -z "$FP" ]; then
   exit 0
 fi
 PROG=$ROOT/examples/zigzag.ngc
-"$FP" stream "$PROG" --tolerance 0.05 --override-feed -o "$TMP/zigzag.txt" > "$TMP/zigzag.out" || {
+"$FP" stream "$PROG" --tolerance 0.05mm --override-feed -o "$TMP/zigzag.txt" > "$TMP/zigzag.out" || {
   cat "$TMP/zigzag.out"; echo "FAIL: fairpath stream"; exit 1; }
 PLANNED=$(sed -n 's/.*planned time: *\([0-9.eE+-]*\) *s.*/\1/p' "$TMP/zigzag.out" | head -1)
 OUT=$(FAIRPATH_LCNC_RUN=$RUNDIR "$HERE/play-stream.sh" -L "$L" -r "$PROG" -t 60 "$TMP/zigzag.txt" | tail -1)
