@@ -13,6 +13,7 @@ pub mod length;
 pub mod machine;
 pub mod methods;
 pub mod output;
+pub mod progress;
 pub mod read;
 pub mod report;
 pub mod simulate_command;

@@ -205,6 +205,10 @@ enum Command {
         /// Print the summary as JSON.
         #[arg(long)]
         json_summary: bool,
+        /// No progress line (it is shown on a terminal's standard error
+        /// when the job takes more than a second).
+        #[arg(short, long)]
+        quiet: bool,
     },
     /// Plan a jerk-limited feed along a program (G-code or JSON) and report
     /// the machining time.
@@ -311,6 +315,10 @@ enum Command {
         /// The HTML file to write (- : standard output).
         #[arg(short, long)]
         output: PathBuf,
+        /// No progress line (it is shown on a terminal's standard error
+        /// when the job takes more than a second).
+        #[arg(short, long)]
+        quiet: bool,
     },
     /// Verify a smoothed program (G-code or JSON) against its original and
     /// say where it is farthest from it. Exit status 3 if it is not within
@@ -414,10 +422,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
             band,
             lambda,
             json_summary,
+            quiet,
         } => {
             let json = format.unwrap_or_else(|| controller.default_format()) == Format::Json;
             let output = output::smooth_output(&input, output, in_place, json)?;
             let started = std::time::Instant::now();
+            let mut progress = fairpath_cli::progress::Progress::start("reading", quiet);
             let bytes = read::read_bytes(&input)?;
             let program = read::parse_program(&input, &bytes)?;
             let units = program.units();
@@ -439,7 +449,15 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     std::sync::Arc::new(fairpath::choose::PlannedTime::new(limits, true));
                 opts.set_method(m.smoother(objective));
             }
-            let summary = smooth::smooth_read(&input, &bytes, &program, started, &output, &opts)?;
+            let summary = smooth::smooth_read(
+                &input,
+                &bytes,
+                &program,
+                started,
+                &output,
+                &opts,
+                Some(&mut progress),
+            )?;
             let text = if json_summary {
                 summary.json() + "\n"
             } else {
@@ -574,6 +592,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             controller,
             format,
             output,
+            quiet,
         } => {
             output::refuse_overwrite(&program, &output, "-o", None)?;
             let parsed = read::read_program(&program)?;
@@ -588,6 +607,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     override_feed: machine.override_feed,
                     controller,
                     format,
+                    quiet,
                 },
             )?;
             output::write_output(&output, html.as_bytes())?;

@@ -64,12 +64,13 @@ pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<
     let started = std::time::Instant::now();
     let bytes = read_bytes(input)?;
     let program = parse_program(input, &bytes)?;
-    smooth_read(input, &bytes, &program, started, output, opts)
+    smooth_read(input, &bytes, &program, started, output, opts, None)
 }
 
 /// [`smooth_file`] of a program read already: `bytes` is the text of
 /// `input` (`-`: standard input), `program` its reading, begun at
-/// `started`; `output` `-` writes to standard output.
+/// `started`; `output` `-` writes to standard output. `progress`, if any,
+/// follows the steps and is erased before anything is printed.
 pub fn smooth_read(
     input: &Path,
     bytes: &[u8],
@@ -77,12 +78,23 @@ pub fn smooth_read(
     started: std::time::Instant,
     output: &Path,
     opts: &SmoothOptions,
+    mut progress: Option<&mut crate::progress::Progress>,
 ) -> Result<Summary> {
-    let mut phases = fairpath_gcode::pipeline::Phases::new();
+    use fairpath_gcode::pipeline::Phases;
+    let clock = || match &progress {
+        Some(p) => Phases::observed(p.observer("")),
+        None => Phases::new(),
+    };
+    let mut phases = clock();
     phases.mark("read");
+    let job = clock();
     warn_passthrough(input, program);
     let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
-    let (written, report) = match fairpath_gcode::smooth_parsed(program, opts) {
+    let done = fairpath_gcode::smooth_parsed_with(program, opts, job);
+    if let Some(p) = progress.as_mut() {
+        p.finish();
+    }
+    let (written, report) = match done {
         Ok(done) => done,
         Err(e) => {
             if let SmoothProgramError::OutputNotVerified { report, .. } = &e {

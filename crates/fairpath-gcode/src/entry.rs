@@ -141,7 +141,18 @@ pub fn write_curves(
 
 /// [`smooth_program`] of a program already read.
 pub fn smooth_parsed(program: &Program, opts: &SmoothOptions) -> Result<(Output, Report)> {
-    let mut phases = Phases::new();
+    smooth_parsed_with(program, opts, Phases::new())
+}
+
+/// [`smooth_parsed`] on the clock `phases` (e.g. [`Phases::observed`], for
+/// a progress display): it gets each step as it ends (`smooth`, `verify
+/// curves`, `plan input and curves`, `render, write, check`, `plan
+/// written`) and goes into the report.
+pub fn smooth_parsed_with(
+    program: &Program,
+    opts: &SmoothOptions,
+    mut phases: Phases,
+) -> Result<(Output, Report)> {
     let curves = smooth_and_plan(program, opts, &mut phases)?;
     write_curves(program, curves, opts, phases)
 }

@@ -160,8 +160,8 @@ pub mod write_json;
 pub mod write_spline;
 
 pub use entry::{
-    smooth_and_plan, smooth_parsed, smooth_program, write_curves, Curves, Output, Report,
-    SmoothProgramError,
+    smooth_and_plan, smooth_parsed, smooth_parsed_with, smooth_program, write_curves, Curves,
+    Output, Report, SmoothProgramError,
 };
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use format::{Controller, Format};

@@ -264,11 +264,26 @@ impl EmitOptions {
     }
 }
 
-/// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`).
-#[derive(Clone, Debug)]
+/// Called with the name of each step of a job as it ends (a progress
+/// display's hook).
+pub type StepObserver = std::sync::Arc<dyn Fn(&'static str) + Send + Sync>;
+
+/// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`), and
+/// an observer told of each step as it ends.
+#[derive(Clone)]
 pub struct Phases {
     last: std::time::Instant,
     done: Vec<(&'static str, std::time::Duration)>,
+    observer: Option<StepObserver>,
+}
+
+impl core::fmt::Debug for Phases {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Phases")
+            .field("done", &self.done)
+            .field("observed", &self.observer.is_some())
+            .finish()
+    }
 }
 
 impl Default for Phases {
@@ -282,12 +297,23 @@ impl Phases {
         Phases {
             last: std::time::Instant::now(),
             done: Vec::new(),
+            observer: None,
+        }
+    }
+    /// A clock that tells `observer` of each step as it ends.
+    pub fn observed(observer: StepObserver) -> Phases {
+        Phases {
+            observer: Some(observer),
+            ..Phases::new()
         }
     }
     pub fn mark(&mut self, name: &'static str) {
         let now = std::time::Instant::now();
         self.done.push((name, now - self.last));
         self.last = now;
+        if let Some(o) = &self.observer {
+            o(name);
+        }
     }
     /// Time spent in the step called `name` (zero if there was none).
     pub fn duration(&self, name: &str) -> std::time::Duration {

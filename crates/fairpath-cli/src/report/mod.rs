@@ -28,6 +28,7 @@ use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::program::{simulate, Motion, Simulation};
 use fairpath::geom::{flatten_params, ParamCurve, Vec3};
 use fairpath::path::Piece;
+use fairpath_gcode::pipeline::Phases;
 use fairpath_gcode::SmoothOptions;
 use std::path::Path;
 use view::{Layer, Markers};
@@ -78,6 +79,8 @@ pub struct ReportOptions {
     pub override_feed: bool,
     pub controller: Controller,
     pub format: Option<Format>,
+    /// No progress line ([`crate::progress`]).
+    pub quiet: bool,
 }
 
 /// What one method wrote, read back and planned (or why it could not).
@@ -104,6 +107,7 @@ pub fn report_program(
     program: &fairpath_gcode::Program,
     opts: &ReportOptions,
 ) -> Result<String> {
+    let mut progress = crate::progress::Progress::start("planning the program", opts.quiet);
     let original = program.motions(&program.runs());
     let original_sim = simulate(&original, &opts.machine, opts.override_feed, None)
         .map_err(|e| anyhow!("{}: planning the program: {e}", path.display()))?;
@@ -121,11 +125,16 @@ pub fn report_program(
         .methods
         .iter()
         .zip(&smooth_opts)
-        .map(|(name, so)| MethodResult {
-            name: name.clone(),
-            outcome: smooth_one(path, program, name, so).map_err(|e| format!("{e:#}")),
+        .map(|(name, so)| {
+            progress.set(&format!("{name}: smoothing"));
+            let clock = Phases::observed(progress.observer(&format!("{name}: ")));
+            MethodResult {
+                name: name.clone(),
+                outcome: smooth_one(path, program, name, so, clock).map_err(|e| format!("{e:#}")),
+            }
         })
         .collect();
+    progress.set("drawing");
     let title = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into(),
@@ -164,6 +173,7 @@ pub fn report_program(
             "programmed feeds"
         }
     );
+    progress.finish();
     Ok(page::page(&title, &subtitle, &sections))
 }
 
@@ -173,9 +183,10 @@ fn smooth_one(
     program: &fairpath_gcode::Program,
     name: &str,
     so: &SmoothOptions,
+    clock: Phases,
 ) -> Result<Written> {
     let (output, report) =
-        fairpath_gcode::smooth_parsed(program, so).map_err(|e| anyhow!("{e}"))?;
+        fairpath_gcode::smooth_parsed_with(program, so, clock).map_err(|e| anyhow!("{e}"))?;
     let written_name = Path::new("written");
     let motions = motions_of(written_name, output.text.as_bytes())?;
     let sim = simulate(&motions, so.machine(), so.override_feed(), None)
