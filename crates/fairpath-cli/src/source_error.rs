@@ -79,7 +79,7 @@ fn hint(e: &GcodeError) -> &'static str {
         }
         _ if e.is_unsupported() => {
             "fairpath does not read this: rewrite the line without it, or post the program \
-             for plain RS274 (see the README, \"Real programs\")"
+             for plain RS274 (see docs/real-programs.md)"
         }
         _ => "correct the line as the message says; LinuxCNC would refuse it too",
     }

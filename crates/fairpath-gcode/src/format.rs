@@ -76,7 +76,7 @@ impl Controller {
     /// within the tolerance run fastest: `arc-fit` (butterfly-80 at 0.05 mm
     /// on LinuxCNC master: 13.96 s on the S-curve planner against 115.1 s
     /// for `auto`'s arcs and 18.67 s for the raw program; 4.37 s against
-    /// 7.12 s on the trapezoid planner; README, "On a real controller").
+    /// 7.12 s on the trapezoid planner; docs/linuxcnc.md).
     /// Elsewhere `auto`, the curvature-continuous path.
     pub fn default_method(self) -> &'static str {
         match self {
