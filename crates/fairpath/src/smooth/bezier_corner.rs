@@ -80,7 +80,7 @@
 //! planned lengths of `ctm` or `lotm` and their rules.
 
 use super::bspline_corner::{transition_curve, BAND_USE};
-use super::chains::{smooth_by_chains, CleanTolerances};
+use super::chains::{absorb_limit, smooth_by_chains, CleanTolerances};
 use super::corner_engine::{
     self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Room, Undirected,
 };
@@ -245,7 +245,7 @@ pub(crate) fn ctm_plan(cc: &ChainCorners, c: f64) -> Vec<Planned> {
             if !cc.blend[k] {
                 return Planned::default();
             }
-            let l = bezier_length_for_deviation(cc.delta, c, cc.theta[k])
+            let l = bezier_length_for_deviation(cc.delta[k], c, cc.theta[k])
                 .min(room(k - 1))
                 .min(room(k));
             Planned { c, l }
@@ -275,13 +275,18 @@ pub(crate) fn smooth_run_by_corners(
         room: Room::WholeSegment,
         undirected: Undirected::LineTo,
     };
-    smooth_by_chains(run, tolerance, |chain, out| {
-        let mut lengths = ChainPlan {
-            plan,
-            planned: Vec::new(),
-        };
-        corner_engine::smooth_chain(chain, band, &rules, &mut lengths, out)
-    })
+    smooth_by_chains(
+        run,
+        tolerance,
+        absorb_limit(tolerance, band.delta),
+        |chain, out| {
+            let mut lengths = ChainPlan {
+                plan,
+                planned: Vec::new(),
+            };
+            corner_engine::smooth_chain(chain, band, &rules, &mut lengths, out)
+        },
+    )
 }
 
 /// The transitions of `ctm` and `lotm` for the corner engine: a length and

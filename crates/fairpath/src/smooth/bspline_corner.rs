@@ -53,7 +53,7 @@
 //! corner engine's (`corner_engine.rs`, shared with `ctm` and `lotm`); this
 //! file gives it the transition above (`UniformPlan`) and its rules.
 
-use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
+use super::chains::{absorb_limit, smooth_by_chains, CleanTolerances, LineChain};
 use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Room, Undirected};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Nurbs, Vec3};
@@ -188,9 +188,12 @@ impl Smoother for BsplineCorner {
         let delta = tolerance * BAND_USE;
         o.validate()?;
         let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
-        smooth_by_chains(run, tolerance, |chain, out| {
-            self.smooth_chain(chain, delta, min_seg, out)
-        })
+        smooth_by_chains(
+            run,
+            tolerance,
+            absorb_limit(tolerance, delta),
+            |chain, out| self.smooth_chain(chain, delta, min_seg, out),
+        )
     }
 }
 

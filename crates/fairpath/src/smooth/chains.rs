@@ -1,7 +1,10 @@
 //! Splitting a run into chains of straight segments (where corner methods
 //! work) and the pieces between them (arcs, curves), after dropping
-//! zero-length moves and merging vertices where the path runs straight on.
+//! zero-length moves, merging vertices where the path runs straight on and
+//! absorbing moves far inside the tolerance into their neighbours
+//! (`absorb.rs`).
 
+use super::absorb::{absorb_jogs, JogTolerances};
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Curve, Vec3};
 use crate::path::{Piece, Run};
@@ -47,11 +50,26 @@ pub(crate) struct LineChain {
     /// Input lines of segment `i` (first, last: several after merging).
     pub lines: Vec<(usize, usize)>,
     pub feed: Vec<Option<f64>>,
+    /// How far segment `i` may lie from the moves it replaces after jogs
+    /// were absorbed into it (mm, `absorb.rs`): empty when nothing was
+    /// absorbed, else one per segment. A method builds what it builds on
+    /// segment `i` within its band less this.
+    pub absorbed: Vec<f64>,
 }
 
 impl LineChain {
     pub fn segments(&self) -> usize {
         self.pts.len().saturating_sub(1)
+    }
+
+    /// What absorbing jogs spent on segment `i` (mm).
+    pub fn absorbed_at(&self, i: usize) -> f64 {
+        self.absorbed.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// What absorbing jogs spent on the segments `range` (mm, the largest).
+    pub fn absorbed_max(&self, range: core::ops::Range<usize>) -> f64 {
+        range.map(|i| self.absorbed_at(i)).fold(0.0, f64::max)
     }
 }
 
@@ -72,6 +90,8 @@ pub(crate) struct CleanTolerances {
     /// A vertex whose removal moves the path by no more than this is a
     /// straight-on vertex and merged away.
     pub collinear: f64,
+    /// Moves far inside the tolerance, absorbed into their neighbours.
+    pub jogs: JogTolerances,
 }
 
 impl CleanTolerances {
@@ -79,43 +99,77 @@ impl CleanTolerances {
     /// below the resolution of any G-code, so only rounding artefacts such
     /// as `Y14.828427124746183` followed by `Y14.828427` fall under it);
     /// straight-on within a millionth of it. Smoothers keep this much of
-    /// the band in reserve.
+    /// the band in reserve. Nothing absorbed (see [`Self::absorbing`]).
     pub fn from_tolerance(tol: f64) -> Self {
+        let min_segment = tol * crate::budget::CLEAN_SHARE;
         CleanTolerances {
-            min_segment: tol * crate::budget::CLEAN_SHARE,
+            min_segment,
             collinear: tol * 1e-6,
+            jogs: JogTolerances::new(0.0, 0.0, min_segment),
+        }
+    }
+
+    /// These thresholds for `tol` mm, with jogs absorbed within
+    /// `max_dev` mm per segment (`absorb.rs`), which the method takes out
+    /// of its band, and short moves up to [`crate::budget::SHORT_MOVE_SHARE`]
+    /// of `tol` long considered.
+    pub fn absorbing(self, tol: f64, max_dev: f64) -> Self {
+        let short = tol * crate::budget::SHORT_MOVE_SHARE;
+        CleanTolerances {
+            jogs: JogTolerances::new(max_dev, short, self.min_segment),
+            ..self
         }
     }
 }
 
-/// Splits `run` into elements. Returns the elements, the number of dropped
-/// zero-length moves and the number of merged straight-on vertices.
+/// What absorbing jogs may spend on one segment (mm) for a method whose
+/// narrowest band is `band` mm: [`crate::budget::ABSORB_SHARE`] of the
+/// tolerance, and never more than half the band (a method's options can
+/// narrow its band below the default).
+pub(crate) fn absorb_limit(tolerance: f64, band: f64) -> f64 {
+    (crate::budget::ABSORB_SHARE * tolerance).min(0.5 * band)
+}
+
+/// What cleaning a run did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Cleaned {
+    /// Zero-length moves dropped.
+    pub dropped: usize,
+    /// Straight-on vertices merged.
+    pub merged: usize,
+    /// Jogs absorbed into their neighbours.
+    pub absorbed: usize,
+}
+
+/// Splits `run` into elements. Returns the elements and what was cleaned.
 pub(crate) fn split_run(
     run: &Run,
     clean: CleanTolerances,
-) -> Result<(Vec<Element>, usize, usize), SmoothError> {
+) -> Result<(Vec<Element>, Cleaned), SmoothError> {
     let mut out: Vec<Element> = Vec::new();
-    let mut dropped = 0;
-    let mut merged = 0;
+    let mut cleaned = Cleaned::default();
     let mut prev_end: Option<Vec3> = None;
     let mut chain = LineChain::default();
     // First input line of zero-length moves at the start of the run, not yet
     // named by any piece.
     let mut pending_first: Option<usize> = None;
-    let finish =
-        |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
-            if chain.segments() > 0 {
-                // A dropped tail leaves the chain short of the true end: move
-                // the last vertex there (by at most `min_segment`).
-                if let Some(e) = end {
-                    *chain.pts.last_mut().unwrap() = e;
-                }
-                *merged += merge_collinear(chain, clean.collinear);
-                out.push(Element::Chain(core::mem::take(chain)));
-            } else {
-                *chain = LineChain::default();
+    let finish = |chain: &mut LineChain,
+                  out: &mut Vec<Element>,
+                  cleaned: &mut Cleaned,
+                  end: Option<Vec3>| {
+        if chain.segments() > 0 {
+            // A dropped tail leaves the chain short of the true end: move
+            // the last vertex there (by at most `min_segment`).
+            if let Some(e) = end {
+                *chain.pts.last_mut().unwrap() = e;
             }
-        };
+            cleaned.merged += merge_collinear(chain, clean.collinear);
+            cleaned.absorbed += absorb_jogs(chain, &clean.jogs);
+            out.push(Element::Chain(core::mem::take(chain)));
+        } else {
+            *chain = LineChain::default();
+        }
+    };
     for piece in &run.pieces {
         let s = piece.start();
         let e = piece.end();
@@ -138,7 +192,7 @@ pub(crate) fn split_run(
                 }
                 let last = *chain.pts.last().unwrap();
                 if last.dist(l.p1) <= clean.min_segment {
-                    dropped += 1;
+                    cleaned.dropped += 1;
                     // The dropped move's line is named by a neighbour.
                     if let Some(lines) = chain.lines.last_mut() {
                         lines.1 = piece.source_lines.1;
@@ -158,7 +212,7 @@ pub(crate) fn split_run(
                 }
             }
             _ => {
-                finish(&mut chain, &mut out, &mut merged, prev_end);
+                finish(&mut chain, &mut out, &mut cleaned, prev_end);
                 let mut p = piece.clone();
                 if let Some(first) = pending_first.take() {
                     p.source_lines.0 = p.source_lines.0.min(first);
@@ -181,8 +235,8 @@ pub(crate) fn split_run(
             }
         }
     }
-    finish(&mut chain, &mut out, &mut merged, prev_end);
-    Ok((out, dropped, merged))
+    finish(&mut chain, &mut out, &mut cleaned, prev_end);
+    Ok((out, cleaned))
 }
 
 /// Removes vertices where the chain runs straight on: every removed vertex
@@ -245,19 +299,23 @@ pub(crate) fn min_feed(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 }
 
 /// The driver every chain-based method shares: cleans `run` (see
-/// [`split_run`]), smooths each chain of lines with `smooth_chain`, keeps
-/// arcs and curves as they are, and reports each joint next to them that
-/// is not G2 as a kept corner ([`CornerReason::ArcJoint`]).
+/// [`split_run`]; jogs absorbed within `absorb` mm per segment, see
+/// [`absorb_limit`]), smooths each chain of lines with `smooth_chain`
+/// (which takes [`LineChain::absorbed`] out of its band), keeps arcs and
+/// curves as they are, and reports each joint next to them that is not G2
+/// as a kept corner ([`CornerReason::ArcJoint`]).
 pub(crate) fn smooth_by_chains(
     run: &Run,
     tolerance: f64,
+    absorb: f64,
     mut smooth_chain: impl FnMut(&LineChain, &mut SmoothedRun),
 ) -> Result<SmoothedRun, SmoothError> {
-    let clean = CleanTolerances::from_tolerance(tolerance);
-    let (elements, dropped, merged) = split_run(run, clean)?;
+    let clean = CleanTolerances::from_tolerance(tolerance).absorbing(tolerance, absorb);
+    let (elements, cleaned) = split_run(run, clean)?;
     let mut out = SmoothedRun {
-        dropped_zero_length: dropped,
-        merged_collinear: merged,
+        dropped_zero_length: cleaned.dropped,
+        merged_collinear: cleaned.merged,
+        absorbed_jogs: cleaned.absorbed,
         ..SmoothedRun::default()
     };
     let joints = JointTolerances::from_tolerance(tolerance);
@@ -308,6 +366,7 @@ mod tests {
             pts: vec![x(0.0), x(1.0), x(2.0), x(3.0)],
             lines: vec![(1, 1), (2, 2), (3, 3)],
             feed: vec![Some(1000.0), Some(10.0), Some(10.0)],
+            absorbed: vec![],
         };
         assert_eq!(merge_collinear(&mut c, 1e-9), 1);
         assert_eq!(c.pts, vec![x(0.0), x(1.0), x(3.0)]);
@@ -317,6 +376,7 @@ mod tests {
             pts: vec![x(0.0), x(1.0), x(2.0)],
             lines: vec![(1, 1), (2, 2)],
             feed: vec![Some(10.0), Some(10.0)],
+            absorbed: vec![],
         };
         assert_eq!(merge_collinear(&mut same, 1e-9), 1);
         assert_eq!(same.feed, vec![Some(10.0)]);

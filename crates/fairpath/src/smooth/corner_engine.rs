@@ -101,7 +101,9 @@ impl CornerRules {
 /// The band one chain is smoothed in, mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Band {
-    /// Deviation the transitions may use.
+    /// Deviation the transitions may use from the original moves: a
+    /// transition on segments that absorbed jogs uses this less what they
+    /// spent ([`LineChain::absorbed`]).
     pub delta: f64,
     /// Moves no longer than this are zero-length (the cleaning's
     /// threshold, `CleanTolerances::min_segment`).
@@ -118,8 +120,9 @@ pub(crate) struct ChainCorners {
     /// Whether vertex `k` gets a transition (false at the ends and at kept
     /// corners).
     pub blend: Vec<bool>,
-    /// Deviation the transitions may use (mm).
-    pub delta: f64,
+    /// Deviation the transition at vertex `k` may use from the chain (mm):
+    /// the band less what absorbing jogs spent on its two segments.
+    pub delta: Vec<f64>,
 }
 
 impl ChainCorners {
@@ -186,6 +189,8 @@ pub(crate) fn smooth_chain(
         return;
     }
     let min_seg = band.min_seg;
+    // The band at vertex `k`, less what absorbing jogs spent next to it.
+    let delta_at = |k: usize| band.delta - chain.absorbed_max(k.saturating_sub(1)..(k + 1).min(n));
     // Directions and half-angle at every inner vertex that has both.
     let geometry: Vec<Option<(Vec3, Vec3, f64)>> = (0..=n)
         .map(|k| {
@@ -215,7 +220,7 @@ pub(crate) fn smooth_chain(
             seg_len,
             theta,
             blend,
-            delta: band.delta,
+            delta: (0..=n).map(delta_at).collect(),
         };
         plan.plan_chain(&cc);
         cc.blend
@@ -260,7 +265,7 @@ pub(crate) fn smooth_chain(
             out: out_vec,
             len_out: out_vec.norm(),
             last: k == n - 1,
-            delta: band.delta,
+            delta: delta_at(k),
         };
         if let Some(reason) = rules.keep(theta, c.room_in, c.len_out, min_seg) {
             push_line(out, cursor, qk, k - 1);

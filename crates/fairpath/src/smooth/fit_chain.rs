@@ -94,13 +94,26 @@ pub(super) fn sub_chain(chain: &LineChain, from: (usize, Vec3), to: (usize, Vec3
     pts.extend_from_slice(&chain.pts[a + 1..=b]);
     let mut lines = chain.lines[a..b].to_vec();
     let mut feed = chain.feed[a..b].to_vec();
+    let mut absorbed: Vec<f64> = if chain.absorbed.is_empty() {
+        Vec::new()
+    } else {
+        chain.absorbed[a..b].to_vec()
+    };
     if to.1 != chain.pts[b] {
         // `to.1` lies on segment `b`.
         pts.push(to.1);
         lines.push(chain.lines[b]);
         feed.push(chain.feed[b]);
+        if !chain.absorbed.is_empty() {
+            absorbed.push(chain.absorbed[b]);
+        }
     }
-    LineChain { pts, lines, feed }
+    LineChain {
+        pts,
+        lines,
+        feed,
+        absorbed,
+    }
 }
 
 /// Pushes the fit of the whole of `section` as pieces of at most
@@ -218,7 +231,8 @@ impl BsplineFit {
                 &section.pts,
                 start,
                 end,
-                tolerance * o.band_use,
+                // The band less what absorbing jogs spent on the section.
+                tolerance * o.band_use - section.absorbed_max(0..section.segments()),
                 (o.fairness, o.jerk_fairness),
                 o.fairness_raises,
                 o.relax.as_ref(),
