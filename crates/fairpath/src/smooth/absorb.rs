@@ -260,3 +260,142 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
     chain.absorbed = out.iter().map(|s| s.dev).collect();
     absorbed
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::distance_to_polyline;
+    use alloc::vec;
+    use proptest::prelude::*;
+
+    fn v(x: f64, y: f64) -> Vec3 {
+        Vec3::new(x, y, 0.0)
+    }
+
+    fn chain(pts: Vec<Vec3>, feed: Vec<Option<f64>>) -> LineChain {
+        let n = pts.len() - 1;
+        LineChain {
+            pts,
+            lines: (1..=n).map(|i| (i, i)).collect(),
+            feed,
+            absorbed: vec![],
+        }
+    }
+
+    const JT: JogTolerances = JogTolerances {
+        max_len: 2e-3,
+        short_len: 0.1,
+        max_dev: 1e-3,
+        min_len: 5e-5,
+    };
+
+    /// Issue 21: `X10 Y0` / `X10 Y0.00028` / `X20 Y0.00028`: the jog
+    /// collapses into its midpoint, its line goes to the move before it.
+    #[test]
+    fn a_jog_of_0_28_um_collapses_into_its_midpoint() {
+        let mut c = chain(
+            vec![
+                v(0.0, 0.0),
+                v(10.0, 0.0),
+                v(10.0, 0.00028),
+                v(20.0, 0.00028),
+            ],
+            vec![Some(1000.0); 3],
+        );
+        assert_eq!(absorb_jogs(&mut c, &JT), 1);
+        assert_eq!(c.pts, vec![v(0.0, 0.0), v(10.0, 0.00014), v(20.0, 0.00028)]);
+        assert_eq!(c.lines, vec![(1, 2), (3, 3)]);
+        assert!(c.absorbed.iter().all(|&d| d <= 0.00014 + 1e-15));
+    }
+
+    /// A programmed feed keeps its stretch of path: a jog next to a feed
+    /// change stays.
+    #[test]
+    fn a_jog_next_to_a_feed_change_stays() {
+        let pts = vec![
+            v(0.0, 0.0),
+            v(10.0, 0.0),
+            v(10.0, 0.00028),
+            v(20.0, 0.00028),
+        ];
+        let mut c = chain(pts.clone(), vec![Some(1000.0), Some(10.0), Some(10.0)]);
+        assert_eq!(absorb_jogs(&mut c, &JT), 0);
+        assert_eq!(c.pts, pts);
+    }
+
+    /// The ends of a chain are exact: a jog at either end is merged into
+    /// the move next to it, which keeps the end vertex.
+    #[test]
+    fn jogs_at_the_ends_keep_the_end_vertices() {
+        let pts = vec![
+            v(0.0, 0.0),
+            v(0.0003, 0.0001),
+            v(10.0, 0.0),
+            v(10.0, 0.0002),
+        ];
+        let mut c = chain(pts, vec![None; 3]);
+        assert_eq!(absorb_jogs(&mut c, &JT), 2);
+        assert_eq!(c.pts, vec![v(0.0, 0.0), v(10.0, 0.0002)]);
+        assert_eq!(c.lines, vec![(1, 3)]);
+    }
+
+    /// `X199.99` / `X200 Y0.0001` before a step-over: the short move's
+    /// start is skipped, the step-over's corner keeps its vertex.
+    #[test]
+    fn a_short_move_before_a_step_over_is_skipped() {
+        let mut c = chain(
+            vec![v(0.0, 0.0), v(199.99, 0.0), v(200.0, 0.0001), v(200.0, 1.0)],
+            vec![None; 3],
+        );
+        assert_eq!(absorb_jogs(&mut c, &JT), 1);
+        assert_eq!(c.pts, vec![v(0.0, 0.0), v(200.0, 0.0001), v(200.0, 1.0)]);
+        // A short move on a gentle curve (no sharp corner) stays.
+        let mut arc = chain(
+            vec![v(0.0, 0.0), v(0.05, 0.0), v(0.1, 0.001), v(0.15, 0.003)],
+            vec![None; 3],
+        );
+        assert_eq!(absorb_jogs(&mut arc, &JT), 0);
+    }
+
+    proptest! {
+        /// Every point of the absorbed chain lies within its segment's
+        /// `absorbed` bound (at most `max_dev`) of the original chain; the
+        /// ends are exact; every input line is still named, in order.
+        #[test]
+        fn absorbed_chains_stay_within_their_bounds(
+            steps in prop::collection::vec((-1.0..1.0f64, -1.0..1.0f64, 0u8..4), 2..30),
+        ) {
+            // Long moves and jogs mixed: a quarter of the moves are tiny.
+            let mut p = v(0.0, 0.0);
+            let mut pts = vec![p];
+            for (dx, dy, kind) in steps {
+                let scale = if kind == 0 { 1.5e-3 } else { 1.0 };
+                let d = v(dx, dy) * scale;
+                if d.norm() > JT.min_len {
+                    p = p + d;
+                    pts.push(p);
+                }
+            }
+            prop_assume!(pts.len() >= 3);
+            let n = pts.len() - 1;
+            let original = pts.clone();
+            let mut c = chain(pts, vec![None; n]);
+            absorb_jogs(&mut c, &JT);
+            prop_assert_eq!(c.pts[0], original[0]);
+            prop_assert_eq!(*c.pts.last().unwrap(), original[n]);
+            let mut next = 1;
+            for (j, &(a, b)) in c.lines.iter().enumerate() {
+                prop_assert_eq!(a, next);
+                next = b + 1;
+                let dev = c.absorbed_at(j);
+                prop_assert!(dev <= JT.max_dev);
+                for s in 0..=16 {
+                    let q = c.pts[j].lerp(c.pts[j + 1], s as f64 / 16.0);
+                    let d = distance_to_polyline(q, &original).unwrap().0;
+                    prop_assert!(d <= dev + 1e-12, "segment {} at {}: {} > {}", j, s, d, dev);
+                }
+            }
+            prop_assert_eq!(next, n + 1);
+        }
+    }
+}
