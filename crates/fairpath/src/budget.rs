@@ -28,7 +28,7 @@
 //! |    |        the rest to the candidate methods
 //! |    |- cleaning: CLEAN_SHARE for zero-length moves dropped; jogs absorbed
 //! |    |        into their neighbours within ABSORB_SHARE per segment, which
-//! |    |        the method takes out of its own band where it is spent
+//! |    |        the corner transitions take out of their band where spent
 //! |    |- corner transitions, fits: aim at BAND_USE of their share; the rest
 //! |    |        covers the cleaning of the run (CLEAN_SHARE) and f64 rounding
 //! |    |- arc-fit: ARC_FIT_SHARE for its blocks (ARC_SAMPLE_SHARE of that for
@@ -84,11 +84,12 @@ pub const CLEAN_SHARE: f64 = 1e-3;
 
 /// Share of the tolerance that absorbing moves far inside it (jogs, moves
 /// up to twice this long) into their neighbours may move one segment of a
-/// chain of lines (`smooth/absorb.rs`). It is no extra share: a method
-/// builds what it builds on a segment within its band *less* what
-/// absorbing spent there (`LineChain::absorbed`), so by the triangle
-/// inequality its result stays within its band of the original program
-/// and the shares below add up as before. Where nothing is absorbed, the
+/// chain of lines before corner transitions are built (`smooth/absorb.rs`).
+/// It is no extra share: the corner engine builds a transition within its
+/// band *less* what absorbing spent on its two segments
+/// (`LineChain::absorbed`), so by the triangle inequality the result stays
+/// within the band of the original program and the shares below add up as
+/// before. Where nothing is absorbed, the
 /// bands are unchanged. 5%: a 0.28 um jog is 0.6% of 0.05 mm and 2.8% of
 /// 0.01 mm; a micrometre of rounding between moves is 2% of 0.05 mm.
 pub const ABSORB_SHARE: f64 = 0.05;

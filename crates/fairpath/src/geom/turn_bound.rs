@@ -40,7 +40,8 @@ pub fn turn_curvature(deflection: f64, band: f64, leg: f64) -> f64 {
     if phi >= core::f64::consts::PI || band <= 0.0 || leg <= 0.0 {
         return f64::INFINITY;
     }
-    let by_band = 2.0 * math::sin(0.25 * phi).powi(2) / band;
+    let s = math::sin(0.25 * phi);
+    let by_band = 2.0 * s * s / band;
     let by_leg = math::tan(0.5 * phi) / leg;
     by_band.max(by_leg)
 }

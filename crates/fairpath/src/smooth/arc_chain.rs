@@ -95,8 +95,7 @@ pub(super) fn fit_chain(
     if n == 0 {
         return;
     }
-    // The blocks' band, less what absorbing jogs spent on the chain.
-    let tol = tolerance * o.fit_share - chain.absorbed_max(0..n);
+    let tol = tolerance * o.fit_share;
     let mut cum = Vec::with_capacity(n + 1);
     let mut acc = 0.0;
     cum.push(0.0);

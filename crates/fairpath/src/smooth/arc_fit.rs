@@ -99,7 +99,7 @@
 //! [`Arc`]: crate::geom::Arc
 
 use super::arc_chain::fit_chain;
-use super::chains::{absorb_limit, smooth_by_chains};
+use super::chains::smooth_by_chains;
 use super::kept_joints::report_corners;
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::JointTolerances;
@@ -193,8 +193,7 @@ impl Smoother for ArcFit {
         let o = self.options;
         o.validate()?;
         let joints = JointTolerances::from_tolerance(tolerance);
-        let absorb = absorb_limit(tolerance, tolerance * o.fit_share);
-        smooth_by_chains(run, tolerance, absorb, |chain, out| {
+        smooth_by_chains(run, tolerance, |chain, out| {
             let first = out.pieces.len();
             fit_chain(chain, tolerance, &o, out);
             report_corners(&out.pieces, first, &joints, &mut out.kept_corners);

@@ -80,7 +80,7 @@
 //! planned lengths of `ctm` or `lotm` and their rules.
 
 use super::bspline_corner::{transition_curve, BAND_USE};
-use super::chains::{absorb_limit, smooth_by_chains, CleanTolerances};
+use super::chains::smooth_by_chains;
 use super::corner_engine::{
     self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Room, Undirected,
 };
@@ -263,10 +263,7 @@ pub(crate) fn smooth_run_by_corners(
     plan: &dyn Fn(&ChainCorners) -> Vec<Planned>,
 ) -> Result<SmoothedRun, SmoothError> {
     check_tolerance(tolerance)?;
-    let band = Band {
-        delta: tolerance * BAND_USE,
-        min_seg: CleanTolerances::from_tolerance(tolerance).min_segment,
-    };
+    let band = Band::new(tolerance, tolerance * BAND_USE);
     // Lengths planned per chain on whole segments; exact reversals kept
     // (module docs, "Degenerate corners").
     let rules = CornerRules {
@@ -275,18 +272,13 @@ pub(crate) fn smooth_run_by_corners(
         room: Room::WholeSegment,
         undirected: Undirected::LineTo,
     };
-    smooth_by_chains(
-        run,
-        tolerance,
-        absorb_limit(tolerance, band.delta),
-        |chain, out| {
-            let mut lengths = ChainPlan {
-                plan,
-                planned: Vec::new(),
-            };
-            corner_engine::smooth_chain(chain, band, &rules, &mut lengths, out)
-        },
-    )
+    smooth_by_chains(run, tolerance, |chain, out| {
+        let mut lengths = ChainPlan {
+            plan,
+            planned: Vec::new(),
+        };
+        corner_engine::smooth_chain(chain, band, &rules, &mut lengths, out)
+    })
 }
 
 /// The transitions of `ctm` and `lotm` for the corner engine: a length and

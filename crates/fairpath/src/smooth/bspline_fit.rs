@@ -83,7 +83,7 @@
 //! [`EndCondition::Tangent`]: crate::geom::fit::EndCondition::Tangent
 
 use super::bspline_corner::{BsplineCorner, BsplineCornerOptions, BAND_USE};
-use super::chains::{absorb_limit, smooth_by_chains};
+use super::chains::smooth_by_chains;
 use super::fit_sections::SectionOptions;
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::band_fit::RelaxOptions;
@@ -218,20 +218,13 @@ impl Smoother for BsplineFit {
         }
         .smooth_run(&Run::default(), tolerance)?;
         let (start, end) = (run.start(), run.end());
-        // The fits' band and the corner transitions' (module docs, 5, 7).
-        let band = tolerance * self.options.band_use.min(BAND_USE);
-        smooth_by_chains(
-            run,
-            tolerance,
-            absorb_limit(tolerance, band),
-            |chain, out| {
-                let at = |p: Option<Vec3>, q: Option<&Vec3>| p.is_some() && p.as_ref() == q;
-                let keep = (
-                    self.options.line_at_start && at(start, chain.pts.first()),
-                    self.options.line_at_end && at(end, chain.pts.last()),
-                );
-                self.smooth_chain(chain, tolerance, keep, out)
-            },
-        )
+        smooth_by_chains(run, tolerance, |chain, out| {
+            let at = |p: Option<Vec3>, q: Option<&Vec3>| p.is_some() && p.as_ref() == q;
+            let keep = (
+                self.options.line_at_start && at(start, chain.pts.first()),
+                self.options.line_at_end && at(end, chain.pts.last()),
+            );
+            self.smooth_chain(chain, tolerance, keep, out)
+        })
     }
 }

@@ -1,10 +1,8 @@
 //! Splitting a run into chains of straight segments (where corner methods
 //! work) and the pieces between them (arcs, curves), after dropping
-//! zero-length moves, merging vertices where the path runs straight on and
-//! absorbing moves far inside the tolerance into their neighbours
-//! (`absorb.rs`).
+//! zero-length moves and merging vertices where the path runs straight on
+//! (the corner engine then absorbs jogs, `absorb.rs`).
 
-use super::absorb::{absorb_jogs, JogTolerances};
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Curve, Vec3};
 use crate::path::{Piece, Run};
@@ -90,8 +88,6 @@ pub(crate) struct CleanTolerances {
     /// A vertex whose removal moves the path by no more than this is a
     /// straight-on vertex and merged away.
     pub collinear: f64,
-    /// Moves far inside the tolerance, absorbed into their neighbours.
-    pub jogs: JogTolerances,
 }
 
 impl CleanTolerances {
@@ -99,33 +95,19 @@ impl CleanTolerances {
     /// below the resolution of any G-code, so only rounding artefacts such
     /// as `Y14.828427124746183` followed by `Y14.828427` fall under it);
     /// straight-on within a millionth of it. Smoothers keep this much of
-    /// the band in reserve. Nothing absorbed (see [`Self::absorbing`]).
+    /// the band in reserve.
     pub fn from_tolerance(tol: f64) -> Self {
-        let min_segment = tol * crate::budget::CLEAN_SHARE;
         CleanTolerances {
-            min_segment,
+            min_segment: tol * crate::budget::CLEAN_SHARE,
             collinear: tol * 1e-6,
-            jogs: JogTolerances::new(0.0, 0.0, min_segment),
-        }
-    }
-
-    /// These thresholds for `tol` mm, with jogs absorbed within
-    /// `max_dev` mm per segment (`absorb.rs`), which the method takes out
-    /// of its band, and short moves up to [`crate::budget::SHORT_MOVE_SHARE`]
-    /// of `tol` long considered.
-    pub fn absorbing(self, tol: f64, max_dev: f64) -> Self {
-        let short = tol * crate::budget::SHORT_MOVE_SHARE;
-        CleanTolerances {
-            jogs: JogTolerances::new(max_dev, short, self.min_segment),
-            ..self
         }
     }
 }
 
 /// What absorbing jogs may spend on one segment (mm) for a method whose
-/// narrowest band is `band` mm: [`crate::budget::ABSORB_SHARE`] of the
-/// tolerance, and never more than half the band (a method's options can
-/// narrow its band below the default).
+/// band is `band` mm: [`crate::budget::ABSORB_SHARE`] of the tolerance,
+/// and never more than half the band (a method's options can narrow its
+/// band below the default).
 pub(crate) fn absorb_limit(tolerance: f64, band: f64) -> f64 {
     (crate::budget::ABSORB_SHARE * tolerance).min(0.5 * band)
 }
@@ -137,8 +119,6 @@ pub(crate) struct Cleaned {
     pub dropped: usize,
     /// Straight-on vertices merged.
     pub merged: usize,
-    /// Jogs absorbed into their neighbours.
-    pub absorbed: usize,
 }
 
 /// Splits `run` into elements. Returns the elements and what was cleaned.
@@ -164,7 +144,6 @@ pub(crate) fn split_run(
                 *chain.pts.last_mut().unwrap() = e;
             }
             cleaned.merged += merge_collinear(chain, clean.collinear);
-            cleaned.absorbed += absorb_jogs(chain, &clean.jogs);
             out.push(Element::Chain(core::mem::take(chain)));
         } else {
             *chain = LineChain::default();
@@ -246,7 +225,11 @@ pub(crate) fn split_run(
 /// path: merging it once made `X2.001 F10` slow a whole line down in
 /// `linuxcnc/diagnostic/feed-tracking-test.ngc`). Returns the number
 /// removed.
-fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
+///
+/// A merged segment lies within `tol` of the segments it replaces (every
+/// removed vertex is within `tol` of it), so its [`LineChain::absorbed`]
+/// bound is theirs (the largest) plus `tol`.
+pub(crate) fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
     let n = chain.pts.len();
     if n < 3 {
         return 0;
@@ -258,6 +241,8 @@ fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
     let mut span_start = 0; // index in chain.pts of the last kept vertex
     let mut cur_lines = chain.lines[0];
     let mut cur_feed = chain.feed[0];
+    let mut absorbed = Vec::new();
+    let mut cur_abs = chain.absorbed_at(0);
     for k in 1..n - 1 {
         let a = chain.pts[span_start];
         let b = chain.pts[k + 1];
@@ -269,22 +254,29 @@ fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
             && (span_start + 1..=k).all(|j| point_segment_distance(chain.pts[j], a, b) <= tol);
         if straight {
             cur_lines.1 = chain.lines[k].1;
+            cur_abs = cur_abs.max(chain.absorbed_at(k)) + tol;
         } else {
             pts.push(chain.pts[k]);
             lines.push(cur_lines);
             feed.push(cur_feed);
+            absorbed.push(cur_abs);
             span_start = k;
             cur_lines = chain.lines[k];
             cur_feed = chain.feed[k];
+            cur_abs = chain.absorbed_at(k);
         }
     }
     pts.push(chain.pts[n - 1]);
     lines.push(cur_lines);
     feed.push(cur_feed);
+    absorbed.push(cur_abs);
     let removed = n - pts.len();
     chain.pts = pts;
     chain.lines = lines;
     chain.feed = feed;
+    if !chain.absorbed.is_empty() {
+        chain.absorbed = absorbed;
+    }
     removed
 }
 
@@ -299,23 +291,19 @@ pub(crate) fn min_feed(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 }
 
 /// The driver every chain-based method shares: cleans `run` (see
-/// [`split_run`]; jogs absorbed within `absorb` mm per segment, see
-/// [`absorb_limit`]), smooths each chain of lines with `smooth_chain`
-/// (which takes [`LineChain::absorbed`] out of its band), keeps arcs and
-/// curves as they are, and reports each joint next to them that is not G2
-/// as a kept corner ([`CornerReason::ArcJoint`]).
+/// [`split_run`]), smooths each chain of lines with `smooth_chain`, keeps
+/// arcs and curves as they are, and reports each joint next to them that
+/// is not G2 as a kept corner ([`CornerReason::ArcJoint`]).
 pub(crate) fn smooth_by_chains(
     run: &Run,
     tolerance: f64,
-    absorb: f64,
     mut smooth_chain: impl FnMut(&LineChain, &mut SmoothedRun),
 ) -> Result<SmoothedRun, SmoothError> {
-    let clean = CleanTolerances::from_tolerance(tolerance).absorbing(tolerance, absorb);
+    let clean = CleanTolerances::from_tolerance(tolerance);
     let (elements, cleaned) = split_run(run, clean)?;
     let mut out = SmoothedRun {
         dropped_zero_length: cleaned.dropped,
         merged_collinear: cleaned.merged,
-        absorbed_jogs: cleaned.absorbed,
         ..SmoothedRun::default()
     };
     let joints = JointTolerances::from_tolerance(tolerance);

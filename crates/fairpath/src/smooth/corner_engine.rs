@@ -22,8 +22,11 @@
 //! moved ends (its polygon stays uniform), the Bezier corners leave them
 //! where the length put them (`d` unchanged).
 
+use super::absorb::{absorb_jogs, JogTolerances};
 use super::bspline_corner::transition_curve;
-use super::chains::{min_feed, CornerReason, KeptCorner, LineChain};
+use super::chains::{
+    absorb_limit, merge_collinear, min_feed, CleanTolerances, CornerReason, KeptCorner, LineChain,
+};
 use super::SmoothedRun;
 use crate::geom::{Curve, Line, Vec3};
 use crate::path::Piece;
@@ -108,6 +111,25 @@ pub(crate) struct Band {
     /// Moves no longer than this are zero-length (the cleaning's
     /// threshold, `CleanTolerances::min_segment`).
     pub min_seg: f64,
+    /// The jogs absorbed before the walk (`absorb.rs`).
+    pub jogs: JogTolerances,
+}
+
+impl Band {
+    /// The band of transitions that may use `delta` mm of the tolerance
+    /// `tolerance`: zero-length moves as the cleaning's, jogs absorbed
+    /// within [`absorb_limit`], short moves up to
+    /// [`crate::budget::SHORT_MOVE_SHARE`] tolerances considered.
+    pub fn new(tolerance: f64, delta: f64) -> Band {
+        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let short = tolerance * crate::budget::SHORT_MOVE_SHARE;
+        Band {
+            delta,
+            min_seg,
+            jogs: JogTolerances::new(absorb_limit(tolerance, delta), short, min_seg)
+                .merging(CleanTolerances::from_tolerance(tolerance).collinear),
+        }
+    }
 }
 
 /// One chain of lines as a whole-chain plan sees it ([`Room::WholeSegment`]).
@@ -174,8 +196,9 @@ pub(crate) trait CornerPlan {
 }
 
 /// Smooths one chain of lines (its end vertices kept exactly) with `plan`
-/// under `rules`, appending to `out`. A chain without segments adds
-/// nothing.
+/// under `rules`, appending to `out`, after absorbing its jogs into their
+/// neighbours (`absorb.rs`; each transition's band less what that spent on
+/// its segments). A chain without segments adds nothing.
 pub(crate) fn smooth_chain(
     chain: &LineChain,
     band: Band,
@@ -183,6 +206,20 @@ pub(crate) fn smooth_chain(
     plan: &mut impl CornerPlan,
     out: &mut SmoothedRun,
 ) {
+    let absorbed;
+    let chain = if band.jogs.max_dev > 0.0 {
+        let mut c = chain.clone();
+        let n = absorb_jogs(&mut c, &band.jogs);
+        if n > 0 {
+            // A jog collapsed on a straight line leaves a straight-on vertex.
+            out.merged_collinear += merge_collinear(&mut c, band.jogs.collinear);
+        }
+        out.absorbed_jogs += n;
+        absorbed = c;
+        &absorbed
+    } else {
+        chain
+    };
     let q = &chain.pts;
     let n = chain.segments();
     if n == 0 {

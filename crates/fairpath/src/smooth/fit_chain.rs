@@ -17,7 +17,8 @@
 
 use super::bspline_corner::{BsplineCorner, BAND_USE};
 use super::bspline_fit::{fit_polyline_faired, BsplineFit};
-use super::chains::{min_feed, CleanTolerances, LineChain};
+use super::chains::{min_feed, LineChain};
+use super::corner_engine::Band;
 use super::fit_sections::dense_sections;
 use super::SmoothedRun;
 use crate::geom::fit::{chord_params, split_at_knots, EndCondition};
@@ -166,8 +167,8 @@ impl BsplineFit {
     ) {
         let o = &self.options;
         let corner = BsplineCorner { options: o.corner };
-        let delta = tolerance * BAND_USE;
-        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let band = Band::new(tolerance, tolerance * BAND_USE);
+        let min_seg = band.min_seg;
         let q = &chain.pts;
         let nseg = chain.segments();
         // Sections to fit, last first. A section whose fit fails is split
@@ -231,8 +232,7 @@ impl BsplineFit {
                 &section.pts,
                 start,
                 end,
-                // The band less what absorbing jogs spent on the section.
-                tolerance * o.band_use - section.absorbed_max(0..section.segments()),
+                tolerance * o.band_use,
                 (o.fairness, o.jerk_fairness),
                 o.fairness_raises,
                 o.relax.as_ref(),
@@ -255,7 +255,7 @@ impl BsplineFit {
                 continue;
             };
             if from.0 > cursor.0 || (from.0 == cursor.0 && from.1 != cursor.1) {
-                corner.smooth_chain(&sub_chain(chain, cursor, from), delta, min_seg, out);
+                corner.smooth_chain(&sub_chain(chain, cursor, from), band, out);
             }
             push_fit(&section, &fit.curve, o.max_piece_spans, out);
             out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
@@ -263,7 +263,7 @@ impl BsplineFit {
         }
         if cursor.0 < nseg || cursor.1 != q[nseg] {
             let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
-            corner.smooth_chain(&sub, delta, min_seg, out);
+            corner.smooth_chain(&sub, band, out);
         }
     }
 }
