@@ -53,6 +53,8 @@ pub struct Summary {
     pub chosen: Vec<(&'static str, usize)>,
     pub dropped_zero_length: usize,
     pub merged_collinear: usize,
+    /// Jogs and short moves absorbed into their neighbours.
+    pub absorbed_jogs: usize,
     pub max_deviation_curves: f64,
     pub max_deviation_written: f64,
     pub joints: [usize; 4],
@@ -127,6 +129,7 @@ impl Summary {
                 .iter()
                 .map(|r| r.smoothed.merged_collinear)
                 .sum(),
+            absorbed_jogs: result.runs.iter().map(|r| r.smoothed.absorbed_jogs).sum(),
             max_deviation_curves: report.max_deviation_curves(),
             max_deviation_written: report.max_deviation_written(),
             joints: report.joints(),
@@ -273,8 +276,8 @@ impl Summary {
         }
         let _ = writeln!(
             s,
-            "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged",
-            self.dropped_zero_length, self.merged_collinear
+            "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged, {} tiny moves absorbed",
+            self.dropped_zero_length, self.merged_collinear, self.absorbed_jogs
         );
         let _ = writeln!(
             s,
@@ -364,6 +367,7 @@ impl Summary {
             "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
             "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "sections": c})).collect::<Vec<_>>(),
             "merged_collinear": self.merged_collinear,
+            "absorbed_jogs": self.absorbed_jogs,
             "max_deviation_curves_mm": self.max_deviation_curves,
             "max_deviation_written_mm": self.max_deviation_written,
             "joints": {"C2": self.joints[3], "C1": self.joints[2], "C0": self.joints[1], "gap": self.joints[0]},

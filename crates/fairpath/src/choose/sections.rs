@@ -103,6 +103,7 @@ impl Auto {
             out.kept_corners.extend(best.kept_corners);
             out.dropped_zero_length += best.dropped_zero_length;
             out.merged_collinear += best.merged_collinear;
+            out.absorbed_jogs += best.absorbed_jogs;
             out.transitions += best.transitions;
             out.chosen.extend(best.chosen);
         }

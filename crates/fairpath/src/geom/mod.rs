@@ -21,6 +21,7 @@ mod nurbs_bounds;
 mod plane;
 mod polyline;
 pub mod tube_fair;
+mod turn_bound;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
@@ -36,6 +37,7 @@ pub use plane::Plane;
 pub use polyline::{
     distance_to_polyline, point_segment_distance, point_segment_distance_t, SegmentGrid,
 };
+pub use turn_bound::turn_curvature;
 pub use vec3::Vec3;
 
 /// One piece of a tool path: a line, a G2/G3 arc, or a NURBS curve.

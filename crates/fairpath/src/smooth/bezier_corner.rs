@@ -80,7 +80,7 @@
 //! planned lengths of `ctm` or `lotm` and their rules.
 
 use super::bspline_corner::{transition_curve, BAND_USE};
-use super::chains::{smooth_by_chains, CleanTolerances};
+use super::chains::smooth_by_chains;
 use super::corner_engine::{
     self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Room, Undirected,
 };
@@ -245,7 +245,7 @@ pub(crate) fn ctm_plan(cc: &ChainCorners, c: f64) -> Vec<Planned> {
             if !cc.blend[k] {
                 return Planned::default();
             }
-            let l = bezier_length_for_deviation(cc.delta, c, cc.theta[k])
+            let l = bezier_length_for_deviation(cc.delta[k], c, cc.theta[k])
                 .min(room(k - 1))
                 .min(room(k));
             Planned { c, l }
@@ -263,10 +263,7 @@ pub(crate) fn smooth_run_by_corners(
     plan: &dyn Fn(&ChainCorners) -> Vec<Planned>,
 ) -> Result<SmoothedRun, SmoothError> {
     check_tolerance(tolerance)?;
-    let band = Band {
-        delta: tolerance * BAND_USE,
-        min_seg: CleanTolerances::from_tolerance(tolerance).min_segment,
-    };
+    let band = Band::new(tolerance, tolerance * BAND_USE);
     // Lengths planned per chain on whole segments; exact reversals kept
     // (module docs, "Degenerate corners").
     let rules = CornerRules {

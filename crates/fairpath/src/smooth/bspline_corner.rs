@@ -53,7 +53,7 @@
 //! corner engine's (`corner_engine.rs`, shared with `ctm` and `lotm`); this
 //! file gives it the transition above (`UniformPlan`) and its rules.
 
-use super::chains::{smooth_by_chains, CleanTolerances, LineChain};
+use super::chains::{smooth_by_chains, LineChain};
 use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Room, Undirected};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Nurbs, Vec3};
@@ -185,26 +185,19 @@ impl Smoother for BsplineCorner {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         let o = &self.options;
-        let delta = tolerance * BAND_USE;
         o.validate()?;
-        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let band = Band::new(tolerance, tolerance * BAND_USE);
         smooth_by_chains(run, tolerance, |chain, out| {
-            self.smooth_chain(chain, delta, min_seg, out)
+            self.smooth_chain(chain, band, out)
         })
     }
 }
 
 impl BsplineCorner {
-    /// Smooths one chain of segments (its end vertices kept exactly), with
-    /// `delta` the deviation the transitions may use; `bspline-fit` calls it
-    /// for the sparse parts between fitted sections.
-    pub(crate) fn smooth_chain(
-        &self,
-        chain: &LineChain,
-        delta: f64,
-        min_seg: f64,
-        out: &mut SmoothedRun,
-    ) {
+    /// Smooths one chain of segments (its end vertices kept exactly) in
+    /// `band`; `bspline-fit` calls it for the sparse parts between fitted
+    /// sections.
+    pub(crate) fn smooth_chain(&self, chain: &LineChain, band: Band, out: &mut SmoothedRun) {
         let o = &self.options;
         // Routines 1 to 3 plan each corner from the room the previous
         // transition left (section 3.4), under the paper's one reversal
@@ -215,7 +208,6 @@ impl BsplineCorner {
             room: Room::LeftByPrevious { lambda: o.lambda },
             undirected: Undirected::Skip,
         };
-        let band = Band { delta, min_seg };
         corner_engine::smooth_chain(chain, band, &rules, &mut UniformPlan(o), out);
     }
 }

@@ -1,6 +1,7 @@
 //! Splitting a run into chains of straight segments (where corner methods
 //! work) and the pieces between them (arcs, curves), after dropping
-//! zero-length moves and merging vertices where the path runs straight on.
+//! zero-length moves and merging vertices where the path runs straight on
+//! (the corner engine then absorbs jogs, `absorb.rs`).
 
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{point_segment_distance, Curve, Vec3};
@@ -47,11 +48,26 @@ pub(crate) struct LineChain {
     /// Input lines of segment `i` (first, last: several after merging).
     pub lines: Vec<(usize, usize)>,
     pub feed: Vec<Option<f64>>,
+    /// How far segment `i` may lie from the moves it replaces after jogs
+    /// were absorbed into it (mm, `absorb.rs`): empty when nothing was
+    /// absorbed, else one per segment. A method builds what it builds on
+    /// segment `i` within its band less this.
+    pub absorbed: Vec<f64>,
 }
 
 impl LineChain {
     pub fn segments(&self) -> usize {
         self.pts.len().saturating_sub(1)
+    }
+
+    /// What absorbing jogs spent on segment `i` (mm).
+    pub fn absorbed_at(&self, i: usize) -> f64 {
+        self.absorbed.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// What absorbing jogs spent on the segments `range` (mm, the largest).
+    pub fn absorbed_max(&self, range: core::ops::Range<usize>) -> f64 {
+        range.map(|i| self.absorbed_at(i)).fold(0.0, f64::max)
     }
 }
 
@@ -88,34 +104,51 @@ impl CleanTolerances {
     }
 }
 
-/// Splits `run` into elements. Returns the elements, the number of dropped
-/// zero-length moves and the number of merged straight-on vertices.
+/// What absorbing jogs may spend on one segment (mm) for a method whose
+/// band is `band` mm: [`crate::budget::ABSORB_SHARE`] of the tolerance,
+/// and never more than half the band (a method's options can narrow its
+/// band below the default).
+pub(crate) fn absorb_limit(tolerance: f64, band: f64) -> f64 {
+    (crate::budget::ABSORB_SHARE * tolerance).min(0.5 * band)
+}
+
+/// What cleaning a run did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Cleaned {
+    /// Zero-length moves dropped.
+    pub dropped: usize,
+    /// Straight-on vertices merged.
+    pub merged: usize,
+}
+
+/// Splits `run` into elements. Returns the elements and what was cleaned.
 pub(crate) fn split_run(
     run: &Run,
     clean: CleanTolerances,
-) -> Result<(Vec<Element>, usize, usize), SmoothError> {
+) -> Result<(Vec<Element>, Cleaned), SmoothError> {
     let mut out: Vec<Element> = Vec::new();
-    let mut dropped = 0;
-    let mut merged = 0;
+    let mut cleaned = Cleaned::default();
     let mut prev_end: Option<Vec3> = None;
     let mut chain = LineChain::default();
     // First input line of zero-length moves at the start of the run, not yet
     // named by any piece.
     let mut pending_first: Option<usize> = None;
-    let finish =
-        |chain: &mut LineChain, out: &mut Vec<Element>, merged: &mut usize, end: Option<Vec3>| {
-            if chain.segments() > 0 {
-                // A dropped tail leaves the chain short of the true end: move
-                // the last vertex there (by at most `min_segment`).
-                if let Some(e) = end {
-                    *chain.pts.last_mut().unwrap() = e;
-                }
-                *merged += merge_collinear(chain, clean.collinear);
-                out.push(Element::Chain(core::mem::take(chain)));
-            } else {
-                *chain = LineChain::default();
+    let finish = |chain: &mut LineChain,
+                  out: &mut Vec<Element>,
+                  cleaned: &mut Cleaned,
+                  end: Option<Vec3>| {
+        if chain.segments() > 0 {
+            // A dropped tail leaves the chain short of the true end: move
+            // the last vertex there (by at most `min_segment`).
+            if let Some(e) = end {
+                *chain.pts.last_mut().unwrap() = e;
             }
-        };
+            cleaned.merged += merge_collinear(chain, clean.collinear);
+            out.push(Element::Chain(core::mem::take(chain)));
+        } else {
+            *chain = LineChain::default();
+        }
+    };
     for piece in &run.pieces {
         let s = piece.start();
         let e = piece.end();
@@ -138,7 +171,7 @@ pub(crate) fn split_run(
                 }
                 let last = *chain.pts.last().unwrap();
                 if last.dist(l.p1) <= clean.min_segment {
-                    dropped += 1;
+                    cleaned.dropped += 1;
                     // The dropped move's line is named by a neighbour.
                     if let Some(lines) = chain.lines.last_mut() {
                         lines.1 = piece.source_lines.1;
@@ -158,7 +191,7 @@ pub(crate) fn split_run(
                 }
             }
             _ => {
-                finish(&mut chain, &mut out, &mut merged, prev_end);
+                finish(&mut chain, &mut out, &mut cleaned, prev_end);
                 let mut p = piece.clone();
                 if let Some(first) = pending_first.take() {
                     p.source_lines.0 = p.source_lines.0.min(first);
@@ -181,8 +214,8 @@ pub(crate) fn split_run(
             }
         }
     }
-    finish(&mut chain, &mut out, &mut merged, prev_end);
-    Ok((out, dropped, merged))
+    finish(&mut chain, &mut out, &mut cleaned, prev_end);
+    Ok((out, cleaned))
 }
 
 /// Removes vertices where the chain runs straight on: every removed vertex
@@ -192,7 +225,11 @@ pub(crate) fn split_run(
 /// path: merging it once made `X2.001 F10` slow a whole line down in
 /// `linuxcnc/diagnostic/feed-tracking-test.ngc`). Returns the number
 /// removed.
-fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
+///
+/// A merged segment lies within `tol` of the segments it replaces (every
+/// removed vertex is within `tol` of it), so its [`LineChain::absorbed`]
+/// bound is theirs (the largest) plus `tol`.
+pub(crate) fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
     let n = chain.pts.len();
     if n < 3 {
         return 0;
@@ -204,6 +241,8 @@ fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
     let mut span_start = 0; // index in chain.pts of the last kept vertex
     let mut cur_lines = chain.lines[0];
     let mut cur_feed = chain.feed[0];
+    let mut absorbed = Vec::new();
+    let mut cur_abs = chain.absorbed_at(0);
     for k in 1..n - 1 {
         let a = chain.pts[span_start];
         let b = chain.pts[k + 1];
@@ -215,22 +254,29 @@ fn merge_collinear(chain: &mut LineChain, tol: f64) -> usize {
             && (span_start + 1..=k).all(|j| point_segment_distance(chain.pts[j], a, b) <= tol);
         if straight {
             cur_lines.1 = chain.lines[k].1;
+            cur_abs = cur_abs.max(chain.absorbed_at(k)) + tol;
         } else {
             pts.push(chain.pts[k]);
             lines.push(cur_lines);
             feed.push(cur_feed);
+            absorbed.push(cur_abs);
             span_start = k;
             cur_lines = chain.lines[k];
             cur_feed = chain.feed[k];
+            cur_abs = chain.absorbed_at(k);
         }
     }
     pts.push(chain.pts[n - 1]);
     lines.push(cur_lines);
     feed.push(cur_feed);
+    absorbed.push(cur_abs);
     let removed = n - pts.len();
     chain.pts = pts;
     chain.lines = lines;
     chain.feed = feed;
+    if !chain.absorbed.is_empty() {
+        chain.absorbed = absorbed;
+    }
     removed
 }
 
@@ -254,10 +300,10 @@ pub(crate) fn smooth_by_chains(
     mut smooth_chain: impl FnMut(&LineChain, &mut SmoothedRun),
 ) -> Result<SmoothedRun, SmoothError> {
     let clean = CleanTolerances::from_tolerance(tolerance);
-    let (elements, dropped, merged) = split_run(run, clean)?;
+    let (elements, cleaned) = split_run(run, clean)?;
     let mut out = SmoothedRun {
-        dropped_zero_length: dropped,
-        merged_collinear: merged,
+        dropped_zero_length: cleaned.dropped,
+        merged_collinear: cleaned.merged,
         ..SmoothedRun::default()
     };
     let joints = JointTolerances::from_tolerance(tolerance);
@@ -308,6 +354,7 @@ mod tests {
             pts: vec![x(0.0), x(1.0), x(2.0), x(3.0)],
             lines: vec![(1, 1), (2, 2), (3, 3)],
             feed: vec![Some(1000.0), Some(10.0), Some(10.0)],
+            absorbed: vec![],
         };
         assert_eq!(merge_collinear(&mut c, 1e-9), 1);
         assert_eq!(c.pts, vec![x(0.0), x(1.0), x(3.0)]);
@@ -317,6 +364,7 @@ mod tests {
             pts: vec![x(0.0), x(1.0), x(2.0)],
             lines: vec![(1, 1), (2, 2)],
             feed: vec![Some(10.0), Some(10.0)],
+            absorbed: vec![],
         };
         assert_eq!(merge_collinear(&mut same, 1e-9), 1);
         assert_eq!(same.feed, vec![Some(10.0)]);

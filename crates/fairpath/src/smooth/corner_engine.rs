@@ -22,8 +22,11 @@
 //! moved ends (its polygon stays uniform), the Bezier corners leave them
 //! where the length put them (`d` unchanged).
 
+use super::absorb::{absorb_jogs, JogTolerances};
 use super::bspline_corner::transition_curve;
-use super::chains::{min_feed, CornerReason, KeptCorner, LineChain};
+use super::chains::{
+    absorb_limit, merge_collinear, min_feed, CleanTolerances, CornerReason, KeptCorner, LineChain,
+};
 use super::SmoothedRun;
 use crate::geom::{Curve, Line, Vec3};
 use crate::path::Piece;
@@ -101,11 +104,32 @@ impl CornerRules {
 /// The band one chain is smoothed in, mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Band {
-    /// Deviation the transitions may use.
+    /// Deviation the transitions may use from the original moves: a
+    /// transition on segments that absorbed jogs uses this less what they
+    /// spent ([`LineChain::absorbed`]).
     pub delta: f64,
     /// Moves no longer than this are zero-length (the cleaning's
     /// threshold, `CleanTolerances::min_segment`).
     pub min_seg: f64,
+    /// The jogs absorbed before the walk (`absorb.rs`).
+    pub jogs: JogTolerances,
+}
+
+impl Band {
+    /// The band of transitions that may use `delta` mm of the tolerance
+    /// `tolerance`: zero-length moves as the cleaning's, jogs absorbed
+    /// within [`absorb_limit`], short moves up to
+    /// [`crate::budget::SHORT_MOVE_SHARE`] tolerances considered.
+    pub fn new(tolerance: f64, delta: f64) -> Band {
+        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let short = tolerance * crate::budget::SHORT_MOVE_SHARE;
+        Band {
+            delta,
+            min_seg,
+            jogs: JogTolerances::new(absorb_limit(tolerance, delta), short, min_seg)
+                .merging(CleanTolerances::from_tolerance(tolerance).collinear),
+        }
+    }
 }
 
 /// One chain of lines as a whole-chain plan sees it ([`Room::WholeSegment`]).
@@ -118,8 +142,9 @@ pub(crate) struct ChainCorners {
     /// Whether vertex `k` gets a transition (false at the ends and at kept
     /// corners).
     pub blend: Vec<bool>,
-    /// Deviation the transitions may use (mm).
-    pub delta: f64,
+    /// Deviation the transition at vertex `k` may use from the chain (mm):
+    /// the band less what absorbing jogs spent on its two segments.
+    pub delta: Vec<f64>,
 }
 
 impl ChainCorners {
@@ -171,8 +196,9 @@ pub(crate) trait CornerPlan {
 }
 
 /// Smooths one chain of lines (its end vertices kept exactly) with `plan`
-/// under `rules`, appending to `out`. A chain without segments adds
-/// nothing.
+/// under `rules`, appending to `out`, after absorbing its jogs into their
+/// neighbours (`absorb.rs`; each transition's band less what that spent on
+/// its segments). A chain without segments adds nothing.
 pub(crate) fn smooth_chain(
     chain: &LineChain,
     band: Band,
@@ -180,12 +206,28 @@ pub(crate) fn smooth_chain(
     plan: &mut impl CornerPlan,
     out: &mut SmoothedRun,
 ) {
+    let absorbed;
+    let chain = if band.jogs.max_dev > 0.0 {
+        let mut c = chain.clone();
+        let n = absorb_jogs(&mut c, &band.jogs);
+        if n > 0 {
+            // A jog collapsed on a straight line leaves a straight-on vertex.
+            out.merged_collinear += merge_collinear(&mut c, band.jogs.collinear);
+        }
+        out.absorbed_jogs += n;
+        absorbed = c;
+        &absorbed
+    } else {
+        chain
+    };
     let q = &chain.pts;
     let n = chain.segments();
     if n == 0 {
         return;
     }
     let min_seg = band.min_seg;
+    // The band at vertex `k`, less what absorbing jogs spent next to it.
+    let delta_at = |k: usize| band.delta - chain.absorbed_max(k.saturating_sub(1)..(k + 1).min(n));
     // Directions and half-angle at every inner vertex that has both.
     let geometry: Vec<Option<(Vec3, Vec3, f64)>> = (0..=n)
         .map(|k| {
@@ -215,7 +257,7 @@ pub(crate) fn smooth_chain(
             seg_len,
             theta,
             blend,
-            delta: band.delta,
+            delta: (0..=n).map(delta_at).collect(),
         };
         plan.plan_chain(&cc);
         cc.blend
@@ -260,7 +302,7 @@ pub(crate) fn smooth_chain(
             out: out_vec,
             len_out: out_vec.norm(),
             last: k == n - 1,
-            delta: band.delta,
+            delta: delta_at(k),
         };
         if let Some(reason) = rules.keep(theta, c.room_in, c.len_out, min_seg) {
             push_line(out, cursor, qk, k - 1);

@@ -17,7 +17,8 @@
 
 use super::bspline_corner::{BsplineCorner, BAND_USE};
 use super::bspline_fit::{fit_polyline_faired, BsplineFit};
-use super::chains::{min_feed, CleanTolerances, LineChain};
+use super::chains::{min_feed, LineChain};
+use super::corner_engine::Band;
 use super::fit_sections::dense_sections;
 use super::SmoothedRun;
 use crate::geom::fit::{chord_params, split_at_knots, EndCondition};
@@ -94,13 +95,26 @@ pub(super) fn sub_chain(chain: &LineChain, from: (usize, Vec3), to: (usize, Vec3
     pts.extend_from_slice(&chain.pts[a + 1..=b]);
     let mut lines = chain.lines[a..b].to_vec();
     let mut feed = chain.feed[a..b].to_vec();
+    let mut absorbed: Vec<f64> = if chain.absorbed.is_empty() {
+        Vec::new()
+    } else {
+        chain.absorbed[a..b].to_vec()
+    };
     if to.1 != chain.pts[b] {
         // `to.1` lies on segment `b`.
         pts.push(to.1);
         lines.push(chain.lines[b]);
         feed.push(chain.feed[b]);
+        if !chain.absorbed.is_empty() {
+            absorbed.push(chain.absorbed[b]);
+        }
     }
-    LineChain { pts, lines, feed }
+    LineChain {
+        pts,
+        lines,
+        feed,
+        absorbed,
+    }
 }
 
 /// Pushes the fit of the whole of `section` as pieces of at most
@@ -153,8 +167,8 @@ impl BsplineFit {
     ) {
         let o = &self.options;
         let corner = BsplineCorner { options: o.corner };
-        let delta = tolerance * BAND_USE;
-        let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
+        let band = Band::new(tolerance, tolerance * BAND_USE);
+        let min_seg = band.min_seg;
         let q = &chain.pts;
         let nseg = chain.segments();
         // Sections to fit, last first. A section whose fit fails is split
@@ -241,7 +255,7 @@ impl BsplineFit {
                 continue;
             };
             if from.0 > cursor.0 || (from.0 == cursor.0 && from.1 != cursor.1) {
-                corner.smooth_chain(&sub_chain(chain, cursor, from), delta, min_seg, out);
+                corner.smooth_chain(&sub_chain(chain, cursor, from), band, out);
             }
             push_fit(&section, &fit.curve, o.max_piece_spans, out);
             out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
@@ -249,7 +263,7 @@ impl BsplineFit {
         }
         if cursor.0 < nseg || cursor.1 != q[nseg] {
             let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
-            corner.smooth_chain(&sub, delta, min_seg, out);
+            corner.smooth_chain(&sub, band, out);
         }
     }
 }

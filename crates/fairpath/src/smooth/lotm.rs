@@ -236,7 +236,7 @@ pub(crate) fn lotm_plan(cc: &ChainCorners) -> Vec<Planned> {
                 l: f64::INFINITY,
             };
             k_unit[k] = bezier_corner_peak_curvature(1.0, c, cc.theta[k]);
-            lmax[k] = bezier_length_for_deviation(cc.delta, c, cc.theta[k]);
+            lmax[k] = bezier_length_for_deviation(cc.delta[k], c, cc.theta[k]);
         }
     }
     for j in 0..n {

@@ -7,6 +7,7 @@
 //! reported. [`crate::verify`] checks all of that without trusting the
 //! smoother.
 
+mod absorb;
 mod arc_candidates;
 mod arc_chain;
 mod arc_check;
@@ -70,6 +71,9 @@ pub struct SmoothedRun {
     pub dropped_zero_length: usize,
     /// Vertices where the path runs straight on, merged into one line.
     pub merged_collinear: usize,
+    /// Moves far inside the tolerance absorbed into their neighbours
+    /// (jogs, `absorb.rs`).
+    pub absorbed_jogs: usize,
     /// Corners replaced by a transition curve.
     pub transitions: usize,
     /// The candidate `auto` kept for each section of this run, in order
