@@ -87,6 +87,12 @@ pub(crate) struct JogTolerances {
     /// Straight-on vertices a collapse leaves are merged within this
     /// (the cleaning's `collinear`).
     pub collinear: f64,
+    /// The chain's first and last segments keep their direction: set where
+    /// the chain's ends join fits, which lead into the end segments along
+    /// their line (a turned end segment would leave a corner at the joint).
+    /// Elsewhere a chain ends at a run's end, where only the position
+    /// counts, or at an arc of the input, a joint kept as a corner.
+    pub keep_end_directions: bool,
 }
 
 impl JogTolerances {
@@ -101,6 +107,7 @@ impl JogTolerances {
             max_dev,
             min_len,
             collinear: 0.0,
+            keep_end_directions: false,
         }
     }
 
@@ -148,6 +155,7 @@ fn cheapest(
     s: &Seg,
     t: Option<&Seg>,
     jt: &JogTolerances,
+    allowed: impl Fn(&Collapse) -> bool,
 ) -> Option<Collapse> {
     let feed_ok = p_a.is_none_or(|(_, a)| a.feed == s.feed) && t.is_none_or(|t| t.feed == s.feed);
     if !feed_ok {
@@ -190,7 +198,7 @@ fn cheapest(
     options
         .into_iter()
         .flatten()
-        .filter(|c| c.cost() <= jt.max_dev)
+        .filter(|c| c.cost() <= jt.max_dev && allowed(c))
         .min_by(|x, y| x.cost().total_cmp(&y.cost()))
 }
 
@@ -221,7 +229,19 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
         let p_a = out
             .last()
             .map(|a| (out.len().checked_sub(2).map_or(start, |j| out[j].to), a));
-        let collapse = cheapest(p_a, e, &s, t.as_ref(), jt);
+        // With `keep_end_directions`, no collapse turns the first or last
+        // segment: `A` is the first segment when it starts the chain, `s`
+        // when nothing is finished; `t` is the last when `i == n - 1`, `s`
+        // when there is no `t`.
+        let a_first = jt.keep_end_directions && out.len() == 1;
+        let s_first = jt.keep_end_directions && out.is_empty();
+        let t_last = jt.keep_end_directions && i + 1 == n;
+        let s_last = jt.keep_end_directions && t.is_none();
+        let collapse = cheapest(p_a, e, &s, t.as_ref(), jt, |c| match c {
+            Collapse::Midpoint { .. } => !a_first && !t_last,
+            Collapse::SkipEnd { .. } => !s_first && !t_last,
+            Collapse::SkipStart { .. } => !a_first && !s_last,
+        });
         match (collapse, t) {
             (Some(Collapse::Midpoint { m, dev_a, dev_t }), Some(mut t)) => {
                 let mut a = out.pop().unwrap();
@@ -312,6 +332,7 @@ mod tests {
         max_dev: 1e-3,
         min_len: 5e-5,
         collinear: 0.0,
+        keep_end_directions: false,
     };
 
     /// Issue 21: `X10 Y0` / `X10 Y0.00028` / `X20 Y0.00028`: the jog
@@ -366,16 +387,67 @@ mod tests {
         assert_eq!(c.lines, vec![(1, 3)]);
     }
 
+    /// With `keep_end_directions` (a chain between fits) the end segments
+    /// keep their direction: a jog at either end stays, and one next to
+    /// them does not turn them (regression:
+    /// `bspline_fit_props::mixed_dense_and_sparse`, where a fit led into a
+    /// first move of 2 um that a collapse had turned, leaving a corner at
+    /// the joint).
+    #[test]
+    fn between_fits_the_end_segments_keep_their_direction() {
+        let jt = JogTolerances {
+            keep_end_directions: true,
+            ..JT
+        };
+        let pts = vec![
+            v(0.0, 0.0),
+            v(0.0003, 0.0001),
+            v(10.0, 0.0),
+            v(10.0, 0.0002),
+        ];
+        let mut c = chain(pts.clone(), vec![None; 3]);
+        assert_eq!(absorb_jogs(&mut c, &jt), 0);
+        assert_eq!(c.pts, pts);
+        let pts = vec![
+            v(-10.0, 0.0),
+            v(0.0, 0.0),
+            v(0.0003, 0.0001),
+            v(10.0, 0.0),
+            v(20.0, 0.0),
+        ];
+        let mut c = chain(pts, vec![None; 4]);
+        assert_eq!(absorb_jogs(&mut c, &jt), 1);
+        let d = |c: &LineChain, i: usize| (c.pts[i + 1] - c.pts[i]).normalized(0.0).unwrap();
+        assert_eq!(d(&c, 0), Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(d(&c, c.segments() - 1), Vec3::new(1.0, 0.0, 0.0));
+    }
+
     /// `X199.99` / `X200 Y0.0001` before a step-over: the short move's
     /// start is skipped, the step-over's corner keeps its vertex.
     #[test]
     fn a_short_move_before_a_step_over_is_skipped() {
         let mut c = chain(
-            vec![v(0.0, 0.0), v(199.99, 0.0), v(200.0, 0.0001), v(200.0, 1.0)],
-            vec![None; 3],
+            vec![
+                v(-1.0, 0.0),
+                v(0.0, 0.0),
+                v(199.99, 0.0),
+                v(200.0, 0.0001),
+                v(200.0, 1.0),
+                v(199.0, 1.0),
+            ],
+            vec![None; 5],
         );
         assert_eq!(absorb_jogs(&mut c, &JT), 1);
-        assert_eq!(c.pts, vec![v(0.0, 0.0), v(200.0, 0.0001), v(200.0, 1.0)]);
+        assert_eq!(
+            c.pts,
+            vec![
+                v(-1.0, 0.0),
+                v(0.0, 0.0),
+                v(200.0, 0.0001),
+                v(200.0, 1.0),
+                v(199.0, 1.0)
+            ]
+        );
         // A short move on a gentle curve (no sharp corner) stays.
         let mut arc = chain(
             vec![v(0.0, 0.0), v(0.05, 0.0), v(0.1, 0.001), v(0.15, 0.003)],

@@ -167,7 +167,10 @@ impl BsplineFit {
     ) {
         let o = &self.options;
         let corner = BsplineCorner { options: o.corner };
-        let band = Band::new(tolerance, tolerance * BAND_USE);
+        // The chains between fits: their end segments keep their
+        // direction when jogs are absorbed (the fits lead into them).
+        let mut band = Band::new(tolerance, tolerance * BAND_USE);
+        band.jogs.keep_end_directions = true;
         let min_seg = band.min_seg;
         let q = &chain.pts;
         let nseg = chain.segments();
