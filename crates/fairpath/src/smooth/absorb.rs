@@ -87,12 +87,13 @@ pub(crate) struct JogTolerances {
     /// Straight-on vertices a collapse leaves are merged within this
     /// (the cleaning's `collinear`).
     pub collinear: f64,
-    /// The chain's first and last segments keep their direction: set where
-    /// the chain's ends join fits, which lead into the end segments along
-    /// their line (a turned end segment would leave a corner at the joint).
+    /// The chain's first (last) segment keeps its direction: set where the
+    /// chain starts (ends) at a fit, which leads into that segment along
+    /// its line (a turned end segment would leave a corner at the joint).
     /// Elsewhere a chain ends at a run's end, where only the position
     /// counts, or at an arc of the input, a joint kept as a corner.
-    pub keep_end_directions: bool,
+    pub keep_first_direction: bool,
+    pub keep_last_direction: bool,
 }
 
 impl JogTolerances {
@@ -107,7 +108,8 @@ impl JogTolerances {
             max_dev,
             min_len,
             collinear: 0.0,
-            keep_end_directions: false,
+            keep_first_direction: false,
+            keep_last_direction: false,
         }
     }
 
@@ -229,14 +231,14 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
         let p_a = out
             .last()
             .map(|a| (out.len().checked_sub(2).map_or(start, |j| out[j].to), a));
-        // With `keep_end_directions`, no collapse turns the first or last
-        // segment: `A` is the first segment when it starts the chain, `s`
-        // when nothing is finished; `t` is the last when `i == n - 1`, `s`
-        // when there is no `t`.
-        let a_first = jt.keep_end_directions && out.len() == 1;
-        let s_first = jt.keep_end_directions && out.is_empty();
-        let t_last = jt.keep_end_directions && i + 1 == n;
-        let s_last = jt.keep_end_directions && t.is_none();
+        // No collapse turns a first or last segment whose direction is
+        // kept: `A` is the first segment when it starts the chain, `s` when
+        // nothing is finished; `t` is the last when `i == n - 1`, `s` when
+        // there is no `t`.
+        let a_first = jt.keep_first_direction && out.len() == 1;
+        let s_first = jt.keep_first_direction && out.is_empty();
+        let t_last = jt.keep_last_direction && i + 1 == n;
+        let s_last = jt.keep_last_direction && t.is_none();
         let collapse = cheapest(p_a, e, &s, t.as_ref(), jt, |c| match c {
             Collapse::Midpoint { .. } => !a_first && !t_last,
             Collapse::SkipEnd { .. } => !s_first && !t_last,
@@ -332,7 +334,8 @@ mod tests {
         max_dev: 1e-3,
         min_len: 5e-5,
         collinear: 0.0,
-        keep_end_directions: false,
+        keep_first_direction: false,
+        keep_last_direction: false,
     };
 
     /// Issue 21: `X10 Y0` / `X10 Y0.00028` / `X20 Y0.00028`: the jog
@@ -387,7 +390,8 @@ mod tests {
         assert_eq!(c.lines, vec![(1, 3)]);
     }
 
-    /// With `keep_end_directions` (a chain between fits) the end segments
+    /// With `keep_first_direction` and `keep_last_direction` (a chain
+    /// between fits) the end segments
     /// keep their direction: a jog at either end stays, and one next to
     /// them does not turn them (regression:
     /// `bspline_fit_props::mixed_dense_and_sparse`, where a fit led into a
@@ -396,7 +400,8 @@ mod tests {
     #[test]
     fn between_fits_the_end_segments_keep_their_direction() {
         let jt = JogTolerances {
-            keep_end_directions: true,
+            keep_first_direction: true,
+            keep_last_direction: true,
             ..JT
         };
         let pts = vec![

@@ -167,10 +167,16 @@ impl BsplineFit {
     ) {
         let o = &self.options;
         let corner = BsplineCorner { options: o.corner };
-        // The chains between fits: their end segments keep their
+        let band = Band::new(tolerance, tolerance * BAND_USE);
+        // The corner parts next to fits: their segments there keep their
         // direction when jogs are absorbed (the fits lead into them).
-        let mut band = Band::new(tolerance, tolerance * BAND_USE);
-        band.jogs.keep_end_directions = true;
+        let next_to_fits = |first: bool, last: bool| {
+            let mut b = band;
+            b.jogs.keep_first_direction = first;
+            b.jogs.keep_last_direction = last;
+            b
+        };
+        let mut after_fit = false;
         let min_seg = band.min_seg;
         let q = &chain.pts;
         let nseg = chain.segments();
@@ -258,15 +264,20 @@ impl BsplineFit {
                 continue;
             };
             if from.0 > cursor.0 || (from.0 == cursor.0 && from.1 != cursor.1) {
-                corner.smooth_chain(&sub_chain(chain, cursor, from), band, out);
+                corner.smooth_chain(
+                    &sub_chain(chain, cursor, from),
+                    next_to_fits(after_fit, true),
+                    out,
+                );
             }
             push_fit(&section, &fit.curve, o.max_piece_spans, out);
+            after_fit = true;
             out.transitions += (m - k + 1) - usize::from(k == 0) - usize::from(m == nseg);
             cursor = to;
         }
         if cursor.0 < nseg || cursor.1 != q[nseg] {
             let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
-            corner.smooth_chain(&sub, band, out);
+            corner.smooth_chain(&sub, next_to_fits(after_fit, false), out);
         }
     }
 }
