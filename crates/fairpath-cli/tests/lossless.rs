@@ -396,9 +396,12 @@ fn the_input_is_never_the_output_unless_in_place() {
     ]);
     assert!(!r.status.success());
     assert!(!other.exists());
-    // Neither -o nor --in-place.
+    // Neither -o nor --in-place: NAME.smoothed.EXT beside the input, the
+    // input untouched.
     let r = smooth(&[input.as_os_str()]);
-    assert!(!r.status.success());
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(input.with_extension("smoothed.ngc").exists());
+    assert_eq!(std::fs::read(&input).unwrap(), before);
     // simulate's CSV files never go over the program either.
     for flag in ["--profile", "--segments"] {
         let r = bin()
