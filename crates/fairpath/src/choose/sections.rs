@@ -105,6 +105,7 @@ impl Auto {
             out.merged_collinear += best.merged_collinear;
             out.transitions += best.transitions;
             out.chosen.extend(best.chosen);
+            out.unfaired.extend(best.unfaired);
         }
         Ok(Some(out))
     }
