@@ -61,8 +61,8 @@
 //! so `auto` stays no slower than any candidate.
 
 use super::candidates::{
-    is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
-    THROUGH_MAX_PIECES,
+    has_splines, is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
+    FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
@@ -208,6 +208,9 @@ impl Auto {
                 Offered::WhenItWidens => widens_sections(input.run(), tol, &wide),
                 Offered::OnShortRuns => input.run().pieces.len() <= THROUGH_MAX_PIECES,
                 Offered::AlreadyG2 => is_g2(run, tolerance),
+                Offered::OnSplinesOrShortRuns => {
+                    has_splines(run) || input.run().pieces.len() <= FAIR_MAX_PIECES
+                }
             };
             if offered {
                 out.push((row.name, row.kind.candidate()));
@@ -225,7 +228,10 @@ impl Auto {
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         list.iter()
-            .map(|(name, c)| Ok((*name, c.smooth(run, input.run(), tol, (false, false))?)))
+            .map(|(name, c)| {
+                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false))?;
+                Ok((*name, cand))
+            })
             .collect()
     }
 }
@@ -264,7 +270,9 @@ impl Auto {
     ) -> Result<Vec<Planned>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         map_candidates(list.len(), |i| {
-            let mut cand = list[i].1.smooth(run, input.run(), tol, cut_ends)?;
+            let mut cand = list[i]
+                .1
+                .smooth((run, tolerance), input.run(), tol, cut_ends)?;
             cand.chosen = alloc::vec![list[i].0];
             let time = self.objective.cost(&cand.pieces);
             Ok((time, cand))
