@@ -30,6 +30,15 @@
 //!   cubic B-splines, at more smoothing and planning time): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
 //!   so that they too leave no joint next to an arc that is not G2.
+//! * **fair**: method `fair` (seed 003, the thesis' fairing inside the
+//!   tolerance tube) with its default options. On a run with B-spline
+//!   pieces it works on the run as it is, with the whole tolerance: the
+//!   splines are faired in place (no other candidate keeps them; the
+//!   others refit their samples), its lines fitted then faired. On other
+//!   runs of at most [`FAIR_MAX_PIECES`] pieces (after sampling) it fits
+//!   the same lines as the fits and fairs the fits in the rest of the
+//!   band; longer runs of lines do not get it (its work grows with the
+//!   fits' length: `docs/auto-fair.md`).
 //! * **as is**: the run untouched, when every joint in it is already G2
 //!   (one arc between two `S` words of a plasma program, say): sampled and
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the

@@ -114,11 +114,12 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
 /// Largest run (pieces after sampling) of lines on which `fair` is a
-/// candidate: it fits the lines as `bspline-fit` does and fairs every fit
-/// by the thesis' iteration on top, which on a long run costs more
-/// smoothing time than the candidates beside it (`docs/auto-fair.md`).
-/// Runs with B-spline pieces get it whatever their length: there it fairs
-/// the splines in place, which no other candidate does.
+/// candidate, as for the through-corners fits: it fits the lines (the
+/// plain least-squares fit) and fairs every fit by the thesis' iteration,
+/// work that grows with the run; the evidence for the cap (where it won,
+/// what it costs, what it gives on long runs) is in `docs/auto-fair.md`. Runs
+/// with B-spline pieces get it whatever their length: there it fairs the
+/// splines in place, which no other candidate does.
 pub const FAIR_MAX_PIECES: usize = THROUGH_MAX_PIECES;
 
 /// How a candidate smooths a run.
