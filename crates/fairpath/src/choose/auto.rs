@@ -71,7 +71,7 @@
 
 use super::candidates::{
     has_splines, is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
-    FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
@@ -342,13 +342,26 @@ impl Smoother for Auto {
                 continue;
             }
             tried.push(sections.len());
-            let Some(mixed) = self.smooth_sections(&sections, tolerance, &mut cache)? else {
-                continue;
-            };
-            let t = self.objective.cost(&mixed.pieces);
-            if let (Some(t), Some(tw)) = (t, time) {
-                if t < tw {
-                    (time, best) = (Some(t), mixed);
+            // Each section's fastest candidate; where that was `fair`
+            // somewhere, also the fastest but `fair` (see `smooth_sections`).
+            let mut with_fair = false;
+            for without_fair in [false, true] {
+                if without_fair && !with_fair {
+                    break;
+                }
+                let Some(mixed) =
+                    self.smooth_sections(&sections, tolerance, &mut cache, without_fair)?
+                else {
+                    // `fair` may have left a cut joint not G2: try without.
+                    with_fair = true;
+                    continue;
+                };
+                with_fair = mixed.chosen.contains(&FAIR);
+                let t = self.objective.cost(&mixed.pieces);
+                if let (Some(t), Some(tw)) = (t, time) {
+                    if t < tw {
+                        (time, best) = (Some(t), mixed);
+                    }
                 }
             }
         }

@@ -122,6 +122,10 @@ pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 /// splines in place, which no other candidate does.
 pub const FAIR_MAX_PIECES: usize = THROUGH_MAX_PIECES;
 
+/// The name of the `fair` candidate (`auto` also plans its section mixes
+/// without it: [`super::auto::Auto`]).
+pub const FAIR: &str = "fair";
+
 /// How a candidate smooths a run.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Candidate {
@@ -244,7 +248,7 @@ pub const CANDIDATES: &[CandidateRow] = &[
         offered: Offered::Always,
     },
     CandidateRow {
-        name: "fair",
+        name: FAIR,
         kind: Kind::Fair,
         offered: Offered::OnSplinesOrShortRuns,
     },
