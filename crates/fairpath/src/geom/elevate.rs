@@ -167,8 +167,9 @@ fn blossom(c: &Nurbs, hom: &[Hom], span: usize, args: &[f64]) -> Hom {
         for k in (r..=p).rev() {
             let j = span - p + k;
             let alpha = (t - u[j]) / (u[j + p + 1 - r] - u[j]);
-            for e in 0..4 {
-                d[k][e] = d[k - 1][e] * (1.0 - alpha) + d[k][e] * alpha;
+            let prev = d[k - 1];
+            for (x, q) in d[k].iter_mut().zip(prev) {
+                *x = q * (1.0 - alpha) + *x * alpha;
             }
         }
     }
