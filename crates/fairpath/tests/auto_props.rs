@@ -613,3 +613,46 @@ fn fair_is_a_candidate_on_splines_and_short_runs() {
     assert!(offered(&zigzag(40)));
     assert!(!offered(&zigzag(FAIR_MAX_PIECES + 1)));
 }
+
+/// Regression, `linuxcnc-nurbs/G6/Curva_Farfalla_p1.ngc`: `fair` in place
+/// kept the tangent joint of a spline and a line (curvature jumps there)
+/// as a corner next to a curve, which no candidate of `auto` may leave;
+/// there it now works on the sampled run, as the others.
+#[test]
+fn no_candidate_keeps_a_joint_next_to_a_spline() {
+    use fairpath::geom::Nurbs;
+    let pts: Vec<Vec3> = [
+        (0.0, 0.0),
+        (5.0, 0.0),
+        (10.0, 0.0),
+        (15.0, 0.1),
+        (20.0, 0.0),
+        (25.0, 0.0),
+        (30.0, 0.5),
+        (35.0, 2.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Vec3::new(x, y, 0.0))
+    .collect();
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 5.0, 5.0, 5.0];
+    let spline = Nurbs::new(3, knots, pts, None).unwrap();
+    let end = Vec3::new(35.0, 2.0, 0.0);
+    let tangent = Vec3::new(5.0, 1.5, 0.0);
+    let run = Run::new(vec![
+        piece(Curve::Nurbs(spline), 5),
+        piece(Curve::Line(Line::new(end, end + tangent * 2.0)), 6),
+    ]);
+    let tol = 0.05;
+    for (name, c) in Auto::default().candidates(&run, tol).unwrap() {
+        check(&run, &c, tol);
+        assert!(
+            c.kept_corners
+                .iter()
+                .all(|k| k.reason != CornerReason::ArcJoint),
+            "{name}: {:?}",
+            c.kept_corners
+        );
+    }
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+}

@@ -6,8 +6,8 @@ use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    BsplineCorner, BsplineFit, BsplineFitOptions, Fair, FairOptions, Lotm, SectionOptions,
-    SmoothError, SmoothedRun, Smoother,
+    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, Lotm,
+    SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
 
@@ -131,7 +131,8 @@ pub const FAIR: &str = "fair";
 pub(super) enum Candidate {
     Fit(BsplineFitOptions),
     /// Method `fair` with its default options: on the run as it is when
-    /// it has B-spline pieces (faired in place, with the whole tolerance),
+    /// it has B-spline pieces (faired in place, with the whole tolerance)
+    /// and that keeps no joint next to an arc or spline that is not G2,
     /// else on the lines the others smooth.
     Fair(FairOptions),
     /// A corner method with its default options.
@@ -336,11 +337,20 @@ impl Candidate {
                 let fair = Fair {
                     options: FairOptions { fit, ..*o },
                 };
+                // In place, unless that keeps a joint next to an arc or a
+                // spline that is not G2 (every candidate of `auto` leaves
+                // none): then on the sampled run, as the others.
                 if has_splines(original) {
-                    fair.smooth_run(original, tolerance)
-                } else {
-                    fair.smooth_run(input, tol)
+                    let out = fair.smooth_run(original, tolerance)?;
+                    if out
+                        .kept_corners
+                        .iter()
+                        .all(|k| k.reason != CornerReason::ArcJoint)
+                    {
+                        return Ok(out);
+                    }
                 }
+                fair.smooth_run(input, tol)
             }
         }
     }
