@@ -1,7 +1,7 @@
 //! The evidence printed after smoothing.
 
 use fairpath::render::RenderStats;
-use fairpath::smooth::CornerReason;
+use fairpath::smooth::{CornerReason, UnfairedReason};
 use fairpath_gcode::pipeline::JobTimes;
 use fairpath_gcode::{Report, SmoothOptions};
 use serde_json::json;
@@ -51,6 +51,9 @@ pub struct Summary {
     pub kept_corners: Vec<(CornerReason, usize)>,
     /// `auto`'s choices: candidate and number of runs, most runs first.
     pub chosen: Vec<(&'static str, usize)>,
+    /// Curves left as written although the method smooths their kind: the
+    /// reason, how many, the first input line.
+    pub unfaired: Vec<(UnfairedReason, usize, usize)>,
     pub dropped_zero_length: usize,
     pub merged_collinear: usize,
     /// Jogs and short moves absorbed into their neighbours.
@@ -119,6 +122,7 @@ impl Summary {
             transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
             kept_corners: report.kept_corners(),
             chosen: report.auto_chose(),
+            unfaired: report.unfaired(),
             dropped_zero_length: result
                 .runs
                 .iter()
@@ -223,6 +227,20 @@ impl Summary {
                 .map(|(name, n)| format!("{n} x {name}"))
                 .collect();
             let _ = writeln!(s, "  auto chose:      {} (sections)", list.join("; "));
+        }
+        if !self.unfaired.is_empty() {
+            let n: usize = self.unfaired.iter().map(|u| u.1).sum();
+            let list: Vec<String> = self
+                .unfaired
+                .iter()
+                .map(|(reason, n, line)| format!("{n} {reason}, first at line {line}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "  not faired:      {n} curve{} kept as written ({})",
+                if n == 1 { "" } else { "s" },
+                list.join("; ")
+            );
         }
         let r = &self.rendered;
         let mut held = Vec::new();
@@ -366,6 +384,7 @@ impl Summary {
             "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
             "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
             "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "sections": c})).collect::<Vec<_>>(),
+            "not_faired": self.unfaired.iter().map(|(r, n, l)| json!({"reason": r.to_string(), "curves": n, "first_line": l})).collect::<Vec<_>>(),
             "merged_collinear": self.merged_collinear,
             "absorbed_jogs": self.absorbed_jogs,
             "max_deviation_curves_mm": self.max_deviation_curves,

@@ -561,3 +561,98 @@ fn auto_ranks_by_the_injected_objective() {
     check(&run, &by_time, tol);
     assert!(planned(&by_time.pieces) <= planned(&out.pieces) + 1e-9);
 }
+
+/// `fair` (seed 003) is a candidate on runs with B-spline pieces (faired in
+/// place) and on runs of at most `FAIR_MAX_PIECES` lines, not on longer
+/// runs of lines; the choice is deterministic and no slower than any
+/// candidate. The spline: the thesis' single ripple (`examples/thesis/
+/// ripple-0.1.ngc`: 50 mm, 16 control points, one displaced 0.1 mm) at
+/// 0.05 mm.
+#[test]
+fn fair_is_a_candidate_on_splines_and_short_runs() {
+    use fairpath::choose::FAIR_MAX_PIECES;
+    use fairpath::geom::Nurbs;
+    let m = 16;
+    let pts: Vec<Vec3> = (0..m)
+        .map(|i| {
+            let y = if i == 8 { 0.1 } else { 0.0 };
+            Vec3::new(50.0 * i as f64 / (m - 1) as f64, y, 0.0)
+        })
+        .collect();
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..m - 3).map(|i| i as f64 / (m - 3) as f64));
+    knots.extend([1.0; 4]);
+    let spline = Nurbs::new(3, knots, pts, None).unwrap();
+    let run = Run::new(vec![piece(Curve::Nurbs(spline), 5)]);
+    let tol = 0.05;
+    let cands = Auto::default().candidates(&run, tol).unwrap();
+    let names: Vec<&str> = cands.iter().map(|(n, _)| *n).collect();
+    assert!(names.contains(&"fair"), "{names:?}");
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert_eq!(out, Auto::default().smooth_run(&run, tol).unwrap());
+    let t_out = planned(&out.pieces);
+    for (name, c) in &cands {
+        check(&run, c, tol);
+        assert!(t_out <= planned(&c.pieces), "{name}: {t_out}");
+    }
+    // Lines: offered up to FAIR_MAX_PIECES pieces, not beyond.
+    let zigzag = |n: usize| {
+        let pts: Vec<Vec3> = (0..=n)
+            .map(|i| Vec3::new(i as f64 * 0.5, 0.01 * (i % 2) as f64, 0.0))
+            .collect();
+        polyline_run(&pts)
+    };
+    let offered = |run: &Run| {
+        Auto::default()
+            .candidates(run, 0.05)
+            .unwrap()
+            .iter()
+            .any(|(n, _)| *n == "fair")
+    };
+    assert!(offered(&zigzag(40)));
+    assert!(!offered(&zigzag(FAIR_MAX_PIECES + 1)));
+}
+
+/// Regression, `linuxcnc-nurbs/G6/Curva_Farfalla_p1.ngc`: `fair` in place
+/// kept the tangent joint of a spline and a line (curvature jumps there)
+/// as a corner next to a curve, which no candidate of `auto` may leave;
+/// there it now works on the sampled run, as the others.
+#[test]
+fn no_candidate_keeps_a_joint_next_to_a_spline() {
+    use fairpath::geom::Nurbs;
+    let pts: Vec<Vec3> = [
+        (0.0, 0.0),
+        (5.0, 0.0),
+        (10.0, 0.0),
+        (15.0, 0.1),
+        (20.0, 0.0),
+        (25.0, 0.0),
+        (30.0, 0.5),
+        (35.0, 2.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Vec3::new(x, y, 0.0))
+    .collect();
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 5.0, 5.0, 5.0];
+    let spline = Nurbs::new(3, knots, pts, None).unwrap();
+    let end = Vec3::new(35.0, 2.0, 0.0);
+    let tangent = Vec3::new(5.0, 1.5, 0.0);
+    let run = Run::new(vec![
+        piece(Curve::Nurbs(spline), 5),
+        piece(Curve::Line(Line::new(end, end + tangent * 2.0)), 6),
+    ]);
+    let tol = 0.05;
+    for (name, c) in Auto::default().candidates(&run, tol).unwrap() {
+        check(&run, &c, tol);
+        assert!(
+            c.kept_corners
+                .iter()
+                .all(|k| k.reason != CornerReason::ArcJoint),
+            "{name}: {:?}",
+            c.kept_corners
+        );
+    }
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+}

@@ -4,7 +4,7 @@ use crate::pipeline::{JobTimes, Phases, SmoothResult, WrittenCheck};
 use fairpath::budget::ToleranceBudget;
 use fairpath::geom::Curve;
 use fairpath::render::RenderStats;
-use fairpath::smooth::CornerReason;
+use fairpath::smooth::{CornerReason, UnfairedReason};
 
 /// The evidence of a smoothing job.
 #[derive(Clone, Debug)]
@@ -119,6 +119,25 @@ impl Report {
             kept.push((reason, n));
         }
         kept
+    }
+
+    /// Curves left as written although the method smooths their kind
+    /// (method `fair`: curves the thesis' fairing cannot take), by reason:
+    /// the reason, how many, the first input line of the first.
+    pub fn unfaired(&self) -> Vec<(UnfairedReason, usize, usize)> {
+        let mut out: Vec<(UnfairedReason, usize, usize)> = Vec::new();
+        for u in self.result.runs.iter().flat_map(|r| &r.smoothed.unfaired) {
+            let line = u.source_lines.0;
+            match out.iter_mut().find(|e| e.0 == u.reason) {
+                Some(e) => {
+                    e.1 += 1;
+                    e.2 = e.2.min(line);
+                }
+                None => out.push((u.reason, 1, line)),
+            }
+        }
+        out.sort();
+        out
     }
 
     /// Pieces of the curves that are not lines.

@@ -30,6 +30,15 @@
 //!   cubic B-splines, at more smoothing and planning time): on the run as it is when it has only lines; on the same
 //!   sampled run (with the same share of the tolerance) when it has arcs,
 //!   so that they too leave no joint next to an arc that is not G2.
+//! * **fair**: method `fair` (seed 003, the thesis' fairing inside the
+//!   tolerance tube) with its default options. On a run with B-spline
+//!   pieces it works on the run as it is, with the whole tolerance: the
+//!   splines are faired in place (no other candidate keeps them; the
+//!   others refit their samples), its lines fitted then faired. On other
+//!   runs of at most [`FAIR_MAX_PIECES`] pieces (after sampling) it fits
+//!   the same lines as the fits and fairs the fits in the rest of the
+//!   band; longer runs of lines do not get it (its work grows with the
+//!   fits' length: `docs/auto-fair.md`).
 //! * **as is**: the run untouched, when every joint in it is already G2
 //!   (one arc between two `S` words of a plasma program, say): sampled and
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the
@@ -61,8 +70,8 @@
 //! so `auto` stays no slower than any candidate.
 
 use super::candidates::{
-    is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
-    THROUGH_MAX_PIECES,
+    has_splines, is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
+    FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
@@ -208,6 +217,9 @@ impl Auto {
                 Offered::WhenItWidens => widens_sections(input.run(), tol, &wide),
                 Offered::OnShortRuns => input.run().pieces.len() <= THROUGH_MAX_PIECES,
                 Offered::AlreadyG2 => is_g2(run, tolerance),
+                Offered::OnSplinesOrShortRuns => {
+                    has_splines(run) || input.run().pieces.len() <= FAIR_MAX_PIECES
+                }
             };
             if offered {
                 out.push((row.name, row.kind.candidate()));
@@ -225,7 +237,10 @@ impl Auto {
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         list.iter()
-            .map(|(name, c)| Ok((*name, c.smooth(run, input.run(), tol, (false, false))?)))
+            .map(|(name, c)| {
+                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false))?;
+                Ok((*name, cand))
+            })
             .collect()
     }
 }
@@ -264,7 +279,9 @@ impl Auto {
     ) -> Result<Vec<Planned>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         map_candidates(list.len(), |i| {
-            let mut cand = list[i].1.smooth(run, input.run(), tol, cut_ends)?;
+            let mut cand = list[i]
+                .1
+                .smooth((run, tolerance), input.run(), tol, cut_ends)?;
             cand.chosen = alloc::vec![list[i].0];
             let time = self.objective.cost(&cand.pieces);
             Ok((time, cand))
@@ -325,13 +342,26 @@ impl Smoother for Auto {
                 continue;
             }
             tried.push(sections.len());
-            let Some(mixed) = self.smooth_sections(&sections, tolerance, &mut cache)? else {
-                continue;
-            };
-            let t = self.objective.cost(&mixed.pieces);
-            if let (Some(t), Some(tw)) = (t, time) {
-                if t < tw {
-                    (time, best) = (Some(t), mixed);
+            // Each section's fastest candidate; where that was `fair`
+            // somewhere, also the fastest but `fair` (see `smooth_sections`).
+            let mut with_fair = false;
+            for without_fair in [false, true] {
+                if without_fair && !with_fair {
+                    break;
+                }
+                let Some(mixed) =
+                    self.smooth_sections(&sections, tolerance, &mut cache, without_fair)?
+                else {
+                    // `fair` may have left a cut joint not G2: try without.
+                    with_fair = true;
+                    continue;
+                };
+                with_fair = mixed.chosen.contains(&FAIR);
+                let t = self.objective.cost(&mixed.pieces);
+                if let (Some(t), Some(tw)) = (t, time) {
+                    if t < tw {
+                        (time, best) = (Some(t), mixed);
+                    }
                 }
             }
         }

@@ -2,11 +2,12 @@
 //! ([`CANDIDATES`], a table), and the constants that shape them (the
 //! measurements that chose them are in `docs/tuning.md`).
 
+use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    BsplineCorner, BsplineFit, BsplineFitOptions, Lotm, SectionOptions, SmoothError, SmoothedRun,
-    Smoother,
+    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, Lotm,
+    SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
 
@@ -112,10 +113,28 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// spreads the curvature of the corners too far).
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
+/// Largest run (pieces after sampling) of lines on which `fair` is a
+/// candidate, as for the through-corners fits: it fits the lines (the
+/// plain least-squares fit) and fairs every fit by the thesis' iteration,
+/// work that grows with the run; the evidence for the cap (where it won,
+/// what it costs, what it gives on long runs) is in `docs/auto-fair.md`. Runs
+/// with B-spline pieces get it whatever their length: there it fairs the
+/// splines in place, which no other candidate does.
+pub const FAIR_MAX_PIECES: usize = THROUGH_MAX_PIECES;
+
+/// The name of the `fair` candidate (`auto` also plans its section mixes
+/// without it: [`super::auto::Auto`]).
+pub const FAIR: &str = "fair";
+
 /// How a candidate smooths a run.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Candidate {
     Fit(BsplineFitOptions),
+    /// Method `fair` with its default options: on the run as it is when
+    /// it has B-spline pieces (faired in place, with the whole tolerance)
+    /// and that keeps no joint next to an arc or spline that is not G2,
+    /// else on the lines the others smooth.
+    Fair(FairOptions),
     /// A corner method with its default options.
     Corner(CornerMethod),
     /// The run as it is ([`Offered::AlreadyG2`]).
@@ -144,6 +163,8 @@ pub enum Kind {
     },
     /// A corner method.
     Corner(CornerMethod),
+    /// Method `fair` (seed 003) with its default options.
+    Fair,
     /// The run untouched.
     AsIs,
 }
@@ -160,6 +181,9 @@ pub enum Offered {
     OnShortRuns,
     /// When every joint of the run is already G2.
     AlreadyG2,
+    /// On runs with a B-spline piece, and on runs of at most
+    /// [`FAIR_MAX_PIECES`] pieces (after sampling).
+    OnSplinesOrShortRuns,
 }
 
 /// One row of `auto`'s candidate table.
@@ -225,6 +249,11 @@ pub const CANDIDATES: &[CandidateRow] = &[
         offered: Offered::Always,
     },
     CandidateRow {
+        name: FAIR,
+        kind: Kind::Fair,
+        offered: Offered::OnSplinesOrShortRuns,
+    },
+    CandidateRow {
         name: "as is",
         kind: Kind::AsIs,
         offered: Offered::AlreadyG2,
@@ -256,6 +285,7 @@ impl Kind {
                 ..BsplineFitOptions::default()
             }),
             Kind::Corner(m) => Candidate::Corner(m),
+            Kind::Fair => Candidate::Fair(FairOptions::default()),
             Kind::AsIs => Candidate::AsIs,
         }
     }
@@ -275,10 +305,11 @@ pub(super) fn is_g2(run: &Run, tolerance: f64) -> bool {
 impl Candidate {
     /// `cut_ends`: whether the run starts (ends) in the middle of a line
     /// where `auto` cut it into sections, so fits must keep that line.
-    /// `original`: the run before its arcs were sampled into `input`.
+    /// `original`: the run before its arcs were sampled into `input`,
+    /// whose tolerance is `tolerance` (`input`'s is `tol`).
     pub(super) fn smooth(
         &self,
-        original: &Run,
+        (original, tolerance): (&Run, f64),
         input: &Run,
         tol: f64,
         cut_ends: (bool, bool),
@@ -297,8 +328,39 @@ impl Candidate {
             }
             .smooth_run(input, tol),
             Candidate::Corner(m) => m.smooth_run(input, tol),
+            Candidate::Fair(o) => {
+                let fit = BsplineFitOptions {
+                    line_at_start: cut_ends.0,
+                    line_at_end: cut_ends.1,
+                    ..o.fit
+                };
+                let fair = Fair {
+                    options: FairOptions { fit, ..*o },
+                };
+                // In place, unless that keeps a joint next to an arc or a
+                // spline that is not G2 (every candidate of `auto` leaves
+                // none): then on the sampled run, as the others.
+                if has_splines(original) {
+                    let out = fair.smooth_run(original, tolerance)?;
+                    if out
+                        .kept_corners
+                        .iter()
+                        .all(|k| k.reason != CornerReason::ArcJoint)
+                    {
+                        return Ok(out);
+                    }
+                }
+                fair.smooth_run(input, tol)
+            }
         }
     }
+}
+
+/// Whether `run` has a B-spline (NURBS) piece.
+pub(super) fn has_splines(run: &Run) -> bool {
+    run.pieces
+        .iter()
+        .any(|p| matches!(p.curve, Curve::Nurbs(_)))
 }
 
 /// The run the candidates work on: `run` itself, or `run` with its arcs

@@ -15,7 +15,7 @@ mod sections;
 pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
 pub use candidates::{
     through_corners_sections, CandidateRow, CornerMethod, Kind, Offered, SectionRule, CANDIDATES,
-    JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
+    FAIR_MAX_PIECES, JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
     WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{Objective, PlannedTime};

@@ -1,7 +1,8 @@
 //! The sections of `auto` (see [`super::auto`]): a run cut at the middle
 //! of its long lines, each section smoothed by its own fastest candidate.
 
-use super::auto::Auto;
+use super::auto::{Auto, Planned};
+use super::candidates::FAIR;
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
@@ -30,14 +31,18 @@ type Section = (Run, bool, bool);
 /// bits) and its piece count.
 type SectionKey = ([u64; 3], [u64; 3], usize);
 
-/// Sections already smoothed, with the candidate kept for each (`None`:
-/// no candidate met its cut lines G2). `auto` cuts a run at several line
-/// lengths ([`super::auto::SECTION_LINES`]); a section between two long
-/// lines is the same at every length and is smoothed once.
+/// The candidate kept for a section among all candidates, and among all
+/// but `fair` (`None`: none met its cut lines G2).
+type Choices = [Option<SmoothedRun>; 2];
+
+/// Sections already smoothed, with the candidates kept for each
+/// ([`Choices`]). `auto` cuts a run at several line lengths
+/// ([`super::auto::SECTION_LINES`]); a section between two long lines is
+/// the same at every length and is smoothed once.
 #[derive(Default)]
 pub(super) struct SectionCache {
     /// By [`SectionKey`], then the sections themselves, compared in full.
-    entries: BTreeMap<SectionKey, Vec<(Section, Option<SmoothedRun>)>>,
+    entries: BTreeMap<SectionKey, Vec<(Section, Choices)>>,
 }
 
 fn point_bits(p: Vec3) -> [u64; 3] {
@@ -51,7 +56,7 @@ impl SectionCache {
         (point_bits(first), point_bits(last), run.pieces.len())
     }
 
-    fn get(&self, section: &Section) -> Option<&Option<SmoothedRun>> {
+    fn get(&self, section: &Section) -> Option<&Choices> {
         self.entries
             .get(&Self::key(&section.0))?
             .iter()
@@ -59,7 +64,7 @@ impl SectionCache {
             .map(|(_, best)| best)
     }
 
-    fn insert(&mut self, section: Section, best: Option<SmoothedRun>) {
+    fn insert(&mut self, section: Section, best: Choices) {
         self.entries
             .entry(Self::key(&section.0))
             .or_default()
@@ -70,25 +75,35 @@ impl SectionCache {
 impl Auto {
     /// `run` smoothed section by section (see [`split_at_long_lines`]), the
     /// fastest candidate kept in each section among those that meet the
-    /// cut lines G2; `None` when some section has no such candidate or a
-    /// cut joint is not G2 (the caller then chooses for the whole run).
-    /// Sections found in `cache` are not smoothed again.
+    /// cut lines G2 (with `without_fair`, among those but `fair`); `None`
+    /// when some section has no such candidate or a cut joint is not G2
+    /// (the caller then chooses for the whole run). Sections found in
+    /// `cache` are not smoothed again.
+    ///
+    /// Why the choice without `fair`: each section's choice is planned from
+    /// rest to rest and the mix as one run, so a candidate that wins a
+    /// section can make the mix slower. Planned both ways, the mix of the
+    /// candidates `auto` had before `fair` joined them stays available,
+    /// and adding `fair` cannot make `auto` slower by its objective.
     pub(super) fn smooth_sections(
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
         tolerance: f64,
         cache: &mut SectionCache,
+        without_fair: bool,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let jt = JointTolerances::from_tolerance(tolerance);
         let mut out = SmoothedRun::default();
         for (run, before, after) in sections {
             let section = (run.clone(), before.is_some(), after.is_some());
+            let k = usize::from(without_fair);
             let best = match cache.get(&section) {
-                Some(best) => best.clone(),
+                Some(best) => best[k].clone(),
                 None => {
                     let best = self.best_for_section(run, *before, *after, tolerance, jt)?;
-                    cache.insert(section, best.clone());
-                    best
+                    let kept = best[k].clone();
+                    cache.insert(section, best);
+                    kept
                 }
             };
             let Some(best) = best else {
@@ -106,12 +121,14 @@ impl Auto {
             out.absorbed_jogs += best.absorbed_jogs;
             out.transitions += best.transitions;
             out.chosen.extend(best.chosen);
+            out.unfaired.extend(best.unfaired);
         }
         Ok(Some(out))
     }
 
     /// The fastest candidate for one section that meets its cut lines
-    /// (directions `before`, `after`) G2.
+    /// (directions `before`, `after`) G2, and the fastest of those but
+    /// `fair` ([`Choices`]).
     fn best_for_section(
         &self,
         run: &Run,
@@ -119,7 +136,7 @@ impl Auto {
         after: Option<Vec3>,
         tolerance: f64,
         jt: JointTolerances,
-    ) -> Result<Option<SmoothedRun>, SmoothError> {
+    ) -> Result<Choices, SmoothError> {
         let cands = self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
         let eligible = |c: &SmoothedRun| {
             let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
@@ -137,7 +154,15 @@ impl Auto {
             });
             starts_straight && ends_straight
         };
-        Ok(Self::fastest(cands, eligible).map(|(_, best)| best))
+        let others: Vec<Planned> = cands
+            .iter()
+            .filter(|(_, c)| c.chosen != [FAIR])
+            .cloned()
+            .collect();
+        Ok([
+            Self::fastest(cands, eligible).map(|(_, best)| best),
+            Self::fastest(others, eligible).map(|(_, best)| best),
+        ])
     }
 }
 

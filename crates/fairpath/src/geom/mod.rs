@@ -9,6 +9,7 @@ pub mod biarc;
 pub mod continuity;
 mod cubic_span;
 mod curve;
+pub mod elevate;
 mod fairness;
 pub mod fit;
 mod fit_bound;

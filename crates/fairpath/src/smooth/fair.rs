@@ -33,19 +33,33 @@
 //!   `max_piece_spans` spans; each piece is faired on its own with its
 //!   joints kept, so the few spans next to a cut are not faired.
 //!
-//! A curve the fairing cannot take (rational, not cubic, not clamped) is
-//! kept as it is. The pipeline verifies the result as for every method.
+//! * **Other B-splines** are written exactly as clamped cubics first
+//!   ([`as_fairable`]): a quadratic raised to degree 3, an unclamped curve
+//!   clamped by knot insertion; a curve the fairing did not move stays as
+//!   written. A curve of degree 1 is its control polygon, exactly: its
+//!   lines go through the fit and the fairing as other lines do.
+//! * **Curves the fairing cannot take** (rational, degree 4 and above, see
+//!   [`as_fairable`]) are kept as written and listed in
+//!   [`SmoothedRun::unfaired`] with the reason, which the report and the
+//!   CLI's summary show. Not an error: the rest of the program is faired
+//!   and the kept curves are within the tolerance of themselves, while
+//!   refusing the whole program for one exact arc would help no one.
+//!
+//! The pipeline verifies the result as for every method.
 
 use super::bspline_corner::TRANSITION_KNOTS;
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
+use super::unfaired::{Unfaired, UnfairedReason};
 use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
 use crate::budget::{BAND_USE, FAIR_FIT_SHARE};
+use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::{
-    fair_in_tube, EndRule, TubeFairError, TubeFairOptions, DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY,
-    THESIS_PRECISION,
+    as_fairable, fair_in_tube, EndRule, TubeFairError, TubeFairOptions, DEFAULT_MAX_ITERATIONS,
+    THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::Curve;
+use crate::geom::{Curve, Line};
 use crate::path::{Piece, Run};
+use alloc::vec::Vec;
 
 /// Options of [`Fair`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -170,6 +184,14 @@ impl Smoother for Fair {
             band_use: o.fit_share * o.fit.band_use,
             ..o.fit
         };
+        let lines_run;
+        let run = match polylines_as_lines(run) {
+            Some(r) => {
+                lines_run = r;
+                &lines_run
+            }
+            None => run,
+        };
         let mut out = BsplineFit { options: fit }.smooth_run(run, tolerance)?;
         // The run's own curves come through the fit unchanged, in order:
         // they get the whole band, the fits what they leave of it.
@@ -196,7 +218,9 @@ impl Smoother for Fair {
                 (1.0 - o.fit_share) * tolerance
             };
             let opts = o.tube(o.band_use * room, i > 0, i + 1 < n);
-            match fair_in_tube(c, &opts) {
+            match as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)) {
+                // Unmoved: the curve as written (not its cubic form).
+                Ok(f) if f.iterations.is_empty() => {}
                 Ok(f) => out.pieces[i].curve = Curve::Nurbs(f.curve),
                 Err(TubeFairError::BadOption {
                     option,
@@ -210,12 +234,56 @@ impl Smoother for Fair {
                         expected,
                     }))
                 }
-                // Not a curve the thesis' method takes: kept as it is.
-                Err(_) => {}
+                // Not a curve the thesis' method takes: kept as it is, and
+                // said.
+                Err(e) => out.unfaired.push(Unfaired {
+                    source_lines: out.pieces[i].source_lines,
+                    reason: UnfairedReason::from_error(&e).unwrap_or(UnfairedReason::Invalid),
+                }),
             }
         }
         Ok(out)
     }
+}
+
+/// `run` with each NURBS of degree 1 replaced by the lines of its control
+/// polygon (clamped: the curve itself, exactly, end points bit for bit;
+/// rational or not, each span is the straight segment between two control
+/// points), `None` when it has none. Each line keeps the curve's input
+/// lines and feed.
+fn polylines_as_lines(run: &Run) -> Option<Run> {
+    let is_polyline = |p: &Piece| matches!(&p.curve, Curve::Nurbs(c) if c.degree == 1);
+    if !run.pieces.iter().any(is_polyline) {
+        return None;
+    }
+    let mut pieces = Vec::with_capacity(run.pieces.len());
+    for p in &run.pieces {
+        let clamped = match &p.curve {
+            Curve::Nurbs(c) if c.degree == 1 => clamped_with_degree(c, 1).ok(),
+            _ => None,
+        };
+        let Some(c) = clamped else {
+            pieces.push(p.clone());
+            continue;
+        };
+        let first = pieces.len();
+        let mut prev = c.points[0];
+        for &q in &c.points[1..] {
+            if q == prev {
+                continue;
+            }
+            pieces.push(Piece {
+                curve: Curve::Line(Line::new(prev, q)),
+                ..p.clone()
+            });
+            prev = q;
+        }
+        if pieces.len() == first {
+            // A polygon of one point: the curve as it is.
+            pieces.push(p.clone());
+        }
+    }
+    Some(Run::new(pieces))
 }
 
 #[cfg(test)]

@@ -27,6 +27,7 @@ mod kept_joints;
 mod lotm;
 mod none;
 mod options;
+mod unfaired;
 
 pub use arc_fit::{
     ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
@@ -55,6 +56,7 @@ pub use lotm::{
 pub use none::{NoSmoothing, NONE_GAP_SHARE};
 pub(crate) use options::require;
 pub use options::OptionError;
+pub use unfaired::{Unfaired, UnfairedReason};
 
 use crate::budget::ToleranceBudget;
 use crate::path::{Piece, Run};
@@ -80,6 +82,10 @@ pub struct SmoothedRun {
     /// (empty from the other methods): e.g. `"bspline-fit"`,
     /// `"bspline-fit, through corners"`, `"lotm"`.
     pub chosen: Vec<&'static str>,
+    /// Curves of the run left as written although the method smooths
+    /// their kind, with the reason (method `fair`: curves the thesis'
+    /// fairing cannot take).
+    pub unfaired: Vec<Unfaired>,
 }
 
 /// Why smoothing could not be done.

@@ -60,6 +60,8 @@
 //!
 //! Input: a non-rational clamped cubic B-spline (a NURBS with equal
 //! weights is one); rational curves and other degrees are errors.
+//! [`as_fairable`] writes a quadratic, or an unclamped curve, exactly as
+//! such a cubic first ([`crate::geom::elevate`]).
 //!
 //! Constants of the thesis: [`APEX_WEIGHT`] (9.0), [`THESIS_PRECISION`]
 //! (5), [`THESIS_ACCURACY`] (1%). Every other threshold is scaled from the
@@ -79,6 +81,7 @@ pub mod tube;
 
 pub use directions::{APEX_WEIGHT, MIN_END_LEG_SHARE, RIPPLE_REACH_SHARE, STILL_SHARE};
 
+use super::elevate::ElevateError;
 use super::{Nurbs, NurbsError};
 use alloc::format;
 use alloc::string::String;
@@ -233,6 +236,50 @@ pub enum TubeFairError {
     /// The knot vector does not start and end with four equal knots.
     #[error("the curve is not clamped (its first and last knots are not each 4 times)")]
     NotClamped,
+    /// A knot repeated more than the degree: the curve jumps there.
+    #[error("the curve is not continuous at knot {0}")]
+    Discontinuous(f64),
+}
+
+/// `curve` written exactly as the clamped non-rational cubic B-spline
+/// [`fair_in_tube`] takes: a cubic as it is (clamped by knot insertion if
+/// it is not), a quadratic raised to degree 3 (the same curve, each
+/// interior knot once more, so it keeps its C1 continuity there), a NURBS
+/// with equal weights without them. Refused, as no exact cubic of the
+/// same curve exists or fairing it would not be sound:
+/// * rational curves ([`TubeFairError::Rational`]): the thesis' method
+///   moves the control points of a polynomial B-spline, and the tube bound
+///   here is that of the polynomial difference spline; in tool paths a
+///   rational curve is a conic written exactly (an arc), design geometry
+///   rather than the ripples the method removes;
+/// * degree 4 and above ([`TubeFairError::Degree`]): lowering the degree
+///   is not exact;
+/// * degree 1 ([`TubeFairError::Degree`]): a polyline; as a cubic its
+///   vertices are triple knots, corners the fairing cannot round (the
+///   method `fair` takes such a curve as its lines instead);
+/// * curves that jump at a knot ([`TubeFairError::Discontinuous`]).
+pub fn as_fairable(curve: &Nurbs) -> Result<Nurbs, TubeFairError> {
+    curve.validate()?;
+    if let Some(w) = &curve.weights {
+        if w.iter().any(|&x| x != w[0]) {
+            return Err(TubeFairError::Rational);
+        }
+    }
+    if curve.degree != 2 && curve.degree != 3 {
+        return Err(TubeFairError::Degree(curve.degree));
+    }
+    if curve.degree == 3 && super::elevate::is_clamped(curve) {
+        return Ok(curve.clone());
+    }
+    let c = Nurbs {
+        weights: None,
+        ..curve.clone()
+    };
+    super::elevate::clamped_with_degree(&c, 3).map_err(|e| match e {
+        ElevateError::Invalid(e) => TubeFairError::Invalid(e),
+        ElevateError::Discontinuous(t) => TubeFairError::Discontinuous(t),
+        ElevateError::Degree { from, .. } => TubeFairError::Degree(from),
+    })
 }
 
 /// How the iterations ended.

@@ -1,0 +1,227 @@
+//! Method `fair` on the B-splines the thesis' fairing does not take as
+//! they are (issue 20: "rational curves, or a clear error"): a quadratic
+//! and a polyline (degree 1) in G6.2 are faired, an unclamped cubic from
+//! fairpath's JSON is faired; a rational curve and a quintic are kept as
+//! written and the summary says so, in text and JSON. Every output is
+//! checked again by `fairpath check`.
+
+mod common;
+use common::bin;
+use fairpath::path::Run;
+use fairpath::smooth::{Fair, Smoother, UnfairedReason};
+use fairpath::verify::{verify_run, VerifyOptions};
+use std::path::Path;
+use std::process::Output;
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// `fairpath smooth IN -o OUT --tolerance TOL -m METHOD`, which must
+/// succeed, then `fairpath check IN OUT`, which must pass.
+fn smooth_checked(input: &Path, out: &Path, tol: &str, method: &str, extra: &[&str]) -> String {
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let mut a = vec!["smooth", i, "-o", o, "--tolerance", tol, "-m", method];
+    a.extend_from_slice(extra);
+    let s = run(&a);
+    assert!(s.status.success(), "{method}: {}", text(&s));
+    let c = run(&["check", i, o, "--tolerance", tol]);
+    assert!(c.status.success(), "check {method}: {}", text(&c));
+    text(&s)
+}
+
+/// The peak curvature `smooth` prints for the curves (0 for none).
+fn peak(summary: &str) -> f64 {
+    let line = summary
+        .lines()
+        .find(|l| l.contains("peak curvature:"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    line.split_whitespace()
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap_or(0.0)
+}
+
+/// A G6.2 block of order `order` through 32 points along a 100 mm line
+/// with two of them displaced 0.2 mm (the thesis' case 5 kind), weight
+/// `weight(i)` per point, clamped uniform knots.
+fn g6_2(order: usize, weight: impl Fn(usize) -> f64) -> String {
+    let m = 32;
+    let p = order - 1;
+    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F3000\n");
+    for i in 0..m {
+        let x = 100.0 * i as f64 / (m - 1) as f64;
+        let y = match i {
+            10 => 0.2,
+            21 => -0.2,
+            _ => 0.0,
+        };
+        let k = i.max(p) - p;
+        let head = if i == 0 { "G6.2 " } else { "  " };
+        let tail = if i == 0 {
+            format!(" P{order}")
+        } else {
+            String::new()
+        };
+        s += &format!("{head}X{x:.4} Y{y:.4} R{} K{k}{tail}\n", weight(i));
+    }
+    for _ in 0..order {
+        s += &format!("G6.2 K{}\n", m - p);
+    }
+    s + "G0 Z5\nM2\n"
+}
+
+#[test]
+fn a_quadratic_is_faired_as_a_cubic() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("quadratic.ngc");
+    std::fs::write(&input, g6_2(3, |_| 1.0)).unwrap();
+    let out = dir.path().join("out.ngc");
+    let before = peak(&smooth_checked(&input, &out, "0.25", "none", &[]));
+    for fmt in ["g6.2", "arcs"] {
+        let s = smooth_checked(&input, &out, "0.25", "fair", &["-f", fmt]);
+        assert!(!s.contains("not faired"), "{s}");
+        assert!(peak(&s) < 0.05 * before, "{fmt}: {s} against {before}");
+    }
+}
+
+#[test]
+fn a_polyline_spline_is_faired_as_its_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("polyline.ngc");
+    // Order 2: a zigzag of 0.02 mm about the line, one G6.2 block.
+    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F3000\n");
+    for i in 0..32 {
+        let x = 100.0 * i as f64 / 31.0;
+        let y = if i == 0 || i == 31 {
+            0.0
+        } else {
+            0.02 * if i % 2 == 0 { 1.0 } else { -1.0 }
+        };
+        let head = if i == 0 { "G6.2 " } else { "  " };
+        let tail = if i == 0 { " P2" } else { "" };
+        s += &format!("{head}X{x:.4} Y{y:.4} R1 K{}{tail}\n", i.max(1) - 1);
+    }
+    s += "G6.2 K31\nG6.2 K31\nG0 Z5\nM2\n";
+    std::fs::write(&input, s).unwrap();
+    let out = dir.path().join("out.ngc");
+    let none = smooth_checked(&input, &out, "0.05", "none", &[]);
+    assert!(none.contains("1 G0 (corner)"), "{none}");
+    let fair = smooth_checked(&input, &out, "0.05", "fair", &[]);
+    assert!(fair.contains(" 0 G0 (corner)"), "{fair}");
+    assert!(!fair.contains("not faired"), "{fair}");
+}
+
+#[test]
+fn rational_and_quintic_curves_are_kept_and_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "rational.ngc",
+            g6_2(3, |i| if i % 3 == 0 { 0.7 } else { 1.0 }),
+            "1 curve kept as written (1 rational (weights differ), first at line 4)",
+            "rational (weights differ)",
+        ),
+        (
+            "quintic.ngc",
+            g6_2(6, |_| 1.0),
+            "1 curve kept as written (1 degree 5 (no exact cubic), first at line 4)",
+            "degree 5 (no exact cubic)",
+        ),
+    ];
+    for (name, program, said, reason) in cases {
+        let input = dir.path().join(name);
+        std::fs::write(&input, program).unwrap();
+        let out = dir.path().join("out.ngc");
+        let before = peak(&smooth_checked(&input, &out, "0.25", "none", &[]));
+        let s = smooth_checked(&input, &out, "0.25", "fair", &[]);
+        assert!(s.contains(said), "{name}: {s}");
+        assert_eq!(peak(&s), before, "{name}: kept as written");
+        let j = smooth_checked(&input, &out, "0.25", "fair", &["--json-summary"]);
+        let start = j.find('{').unwrap();
+        let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+        let nf = &v["not_faired"][0];
+        assert_eq!(
+            (
+                nf["reason"].as_str(),
+                nf["curves"].as_u64(),
+                nf["first_line"].as_u64()
+            ),
+            (Some(reason), Some(1), Some(4)),
+            "{name}: {v}"
+        );
+    }
+}
+
+/// An unclamped cubic (uniform knots 0..35, 32 control points) in
+/// fairpath's JSON: clamped by knot insertion, then faired; the run's
+/// endpoints stay, the verifier passes, the ripples flatten.
+#[test]
+fn an_unclamped_cubic_from_json_is_faired() {
+    let m = 32;
+    let pts: Vec<String> = (0..m)
+        .map(|i| {
+            let y = match i {
+                10 => 0.2,
+                21 => -0.2,
+                _ => 0.0,
+            };
+            format!("[{},{y},0.0]", 100.0 * i as f64 / (m - 1) as f64)
+        })
+        .collect();
+    let knots: Vec<String> = (0..m + 4).map(|i| format!("{i}.0")).collect();
+    let json = format!(
+        r#"{{"units":"mm","pieces":[{{"type":"nurbs","degree":3,"knots":[{}],"points":[{}],"weights":null,"rapid":false,"source_lines":[2,2],"feed":3000.0}}]}}"#,
+        knots.join(","),
+        pts.join(",")
+    );
+    let pieces = fairpath_gcode::read_json(&json).unwrap();
+    let run = Run::new(pieces);
+    let tol = 0.25;
+    let out = Fair::default().smooth_run(&run, tol).unwrap();
+    assert!(out.unfaired.is_empty(), "{:?}", out.unfaired);
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    assert!(rep.within(tol), "{rep:?}");
+    let first = out.pieces[0].curve.clone();
+    let (fairpath::Curve::Nurbs(c), fairpath::Curve::Nurbs(orig)) = (&first, &run.pieces[0].curve)
+    else {
+        panic!("{first:?}");
+    };
+    assert_eq!(c.knots[..4], [3.0; 4], "clamped at the domain's start");
+    use fairpath::geom::ParamCurve;
+    assert_eq!((c.start(), c.end()), (orig.start(), orig.end()));
+    let peak = |n: &fairpath::geom::Nurbs| {
+        (0..=2000)
+            .map(|i| n.curvature(3.0 + 29.0 * i as f64 / 2000.0))
+            .fold(0.0, f64::max)
+    };
+    assert!(peak(c) < 0.1 * peak(orig), "{} {}", peak(c), peak(orig));
+    // A rational curve in the same form is reported with its lines.
+    let rational = json.replace(
+        r#""weights":null"#,
+        &format!(
+            r#""weights":[{}]"#,
+            (0..m)
+                .map(|i| if i == 5 { "0.5" } else { "1.0" })
+                .collect::<Vec<_>>()
+                .join(",")
+        ),
+    );
+    let run = Run::new(fairpath_gcode::read_json(&rational).unwrap());
+    let out = Fair::default().smooth_run(&run, tol).unwrap();
+    assert_eq!(out.unfaired.len(), 1);
+    assert_eq!(
+        (out.unfaired[0].reason, out.unfaired[0].source_lines),
+        (UnfairedReason::Rational, (2, 2))
+    );
+    assert_eq!(out.pieces, run.pieces);
+}
