@@ -32,7 +32,10 @@ def run(b, f, method="auto", extra=()):
     """The JSON summary of `f` smoothed by `method`, with the CPU time
     (user + system, s) as "cpu_s", or None when smooth fails."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    o = subprocess.run([b, "smooth", f, "--tolerance", tol, "-o", os.path.join(tmp, "x.ngc"),
+    # The current build reads a bare tolerance in the program's units: mm
+    # said (the base build, older, reads mm and no unit).
+    t = tol + "mm" if b == bin_ else tol
+    o = subprocess.run([b, "smooth", f, "--tolerance", t, "-o", os.path.join(tmp, "x.ngc"),
                         "-m", method, "--json-summary", *extra], capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if o.returncode != 0:

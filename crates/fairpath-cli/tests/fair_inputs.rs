@@ -86,9 +86,9 @@ fn a_quadratic_is_faired_as_a_cubic() {
     let input = dir.path().join("quadratic.ngc");
     std::fs::write(&input, g6_2(3, |_| 1.0)).unwrap();
     let out = dir.path().join("out.ngc");
-    let before = peak(&smooth_checked(&input, &out, "0.25", "none", &[]));
+    let before = peak(&smooth_checked(&input, &out, "0.25mm", "none", &[]));
     for fmt in ["g6.2", "arcs"] {
-        let s = smooth_checked(&input, &out, "0.25", "fair", &["-f", fmt]);
+        let s = smooth_checked(&input, &out, "0.25mm", "fair", &["-f", fmt]);
         assert!(!s.contains("not faired"), "{s}");
         assert!(peak(&s) < 0.05 * before, "{fmt}: {s} against {before}");
     }
@@ -114,9 +114,9 @@ fn a_polyline_spline_is_faired_as_its_lines() {
     s += "G6.2 K31\nG6.2 K31\nG0 Z5\nM2\n";
     std::fs::write(&input, s).unwrap();
     let out = dir.path().join("out.ngc");
-    let none = smooth_checked(&input, &out, "0.05", "none", &[]);
+    let none = smooth_checked(&input, &out, "0.05mm", "none", &[]);
     assert!(none.contains("1 G0 (corner)"), "{none}");
-    let fair = smooth_checked(&input, &out, "0.05", "fair", &[]);
+    let fair = smooth_checked(&input, &out, "0.05mm", "fair", &[]);
     assert!(fair.contains(" 0 G0 (corner)"), "{fair}");
     assert!(!fair.contains("not faired"), "{fair}");
 }
@@ -142,11 +142,11 @@ fn rational_and_quintic_curves_are_kept_and_reported() {
         let input = dir.path().join(name);
         std::fs::write(&input, program).unwrap();
         let out = dir.path().join("out.ngc");
-        let before = peak(&smooth_checked(&input, &out, "0.25", "none", &[]));
-        let s = smooth_checked(&input, &out, "0.25", "fair", &[]);
+        let before = peak(&smooth_checked(&input, &out, "0.25mm", "none", &[]));
+        let s = smooth_checked(&input, &out, "0.25mm", "fair", &[]);
         assert!(s.contains(said), "{name}: {s}");
         assert_eq!(peak(&s), before, "{name}: kept as written");
-        let j = smooth_checked(&input, &out, "0.25", "fair", &["--json-summary"]);
+        let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
         let start = j.find('{').unwrap();
         let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
         let nf = &v["not_faired"][0];
