@@ -115,9 +115,9 @@ fn a_polyline_spline_is_faired_as_its_lines() {
     std::fs::write(&input, s).unwrap();
     let out = dir.path().join("out.ngc");
     let none = smooth_checked(&input, &out, "0.05mm", "none", &[]);
-    assert!(none.contains("1 G0 (corner)"), "{none}");
+    assert!(none.contains("1 C0 (corner)"), "{none}");
     let fair = smooth_checked(&input, &out, "0.05mm", "fair", &[]);
-    assert!(fair.contains(" 0 G0 (corner)"), "{fair}");
+    assert!(fair.contains(" 0 C0 (corner)"), "{fair}");
     assert!(!fair.contains("not faired"), "{fair}");
 }
 
