@@ -94,7 +94,16 @@ struct Written {
     motions: Vec<Motion>,
     sim: Simulation,
     kept: Vec<Vec3>,
+    /// Curvature variation energy of the method's curves (1/mm^3, as
+    /// `compare` reports it: the written arcs' curvature is piecewise
+    /// constant, its steps are in the joints).
+    energy: f64,
+    /// Wall time of the smoothing alone (s).
+    smoothing_s: f64,
 }
+
+/// Relative accuracy of the curvature variation energy (as `compare`).
+const ENERGY_ACCURACY: f64 = 1e-3;
 
 /// The report of the program at `path` as an HTML page.
 pub fn report(path: &Path, opts: &ReportOptions) -> Result<String> {
@@ -198,11 +207,21 @@ fn smooth_one(
         .flat_map(|r| r.smoothed.kept_corners.iter().map(|k| k.at))
         .collect();
     let summary = Summary::new(path, written_name, so, &report);
+    let energy = report
+        .result
+        .runs
+        .iter()
+        .flat_map(|r| &r.smoothed.pieces)
+        .filter(|p| !matches!(p.curve, fairpath::geom::Curve::Line(_)))
+        .map(|p| fairpath::geom::curvature_variation_energy(&p.curve, ENERGY_ACCURACY))
+        .sum();
     Ok(Written {
+        smoothing_s: report.phases.duration("smooth").as_secs_f64(),
         summary,
         motions,
         sim,
         kept,
+        energy,
     })
 }
 
@@ -212,12 +231,13 @@ fn table(results: &[MethodResult], original: &Simulation) -> String {
     let mut o = String::from(
         "<table><thead><tr><th>method</th><th>max deviation (mm)</th>\
          <th>joints C2 / C1 / C0</th><th>kept corners</th><th>length (mm)</th>\
-         <th>peak curvature (1/mm)</th><th>lines</th><th>planned time (s)</th>\
-         <th>of the program</th></tr></thead><tbody>",
+         <th>peak curvature (1/mm)</th><th>curvature variation energy of the curves (1/mm³)</th>\
+         <th>lines</th><th>planned time (s)</th><th>of the program</th>\
+         <th>smoothing (s)</th></tr></thead><tbody>",
     );
     o.push_str(&format!(
         "<tr><td>program as read</td><td>0</td><td></td><td></td><td>{:.3}</td><td></td>\
-         <td></td><td>{:.3}</td><td>1.000</td></tr>",
+         <td></td><td></td><td>{:.3}</td><td>1.000</td><td></td></tr>",
         original.feed_length,
         original.time()
     ));
@@ -228,7 +248,8 @@ fn table(results: &[MethodResult], original: &Simulation) -> String {
                 let kept: usize = s.kept_corners.iter().map(|(_, n)| n).sum();
                 o.push_str(&format!(
                     "<tr><td>{}</td><td>{:.6}</td><td>{} / {} / {}</td><td>{kept}</td>\
-                     <td>{:.3}</td><td>{:.4}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+                     <td>{:.3}</td><td>{:.4}</td><td>{:.4e}</td><td>{}</td><td>{:.3}</td>\
+                     <td>{:.3}</td><td>{:.3}</td></tr>",
                     esc(&r.name),
                     s.max_deviation_written,
                     s.joints[3],
@@ -236,13 +257,15 @@ fn table(results: &[MethodResult], original: &Simulation) -> String {
                     s.joints[1],
                     s.length_after,
                     s.peak_curvature,
+                    w.energy,
                     s.lines_out,
                     s.times.written.total,
                     s.times.written.total / s.times.input.total,
+                    w.smoothing_s,
                 ));
             }
             Err(e) => o.push_str(&format!(
-                "<tr class=\"failed\"><td>{}</td><td colspan=\"8\">failed: {}</td></tr>",
+                "<tr class=\"failed\"><td>{}</td><td colspan=\"10\">failed: {}</td></tr>",
                 esc(&r.name),
                 esc(e)
             )),
