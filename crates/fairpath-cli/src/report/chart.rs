@@ -107,24 +107,7 @@ impl Chart {
                 .flat_map(|s| &s.stretches)
                 .flat_map(|s| &s.points)
         };
-        let (mut x0, mut x1, mut y0, mut y1) = (
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        );
-        for &(x, y) in pts() {
-            let y = self.y_of(y);
-            if x.is_finite() && y.is_finite() {
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y0 = y0.min(y);
-                y1 = y1.max(y);
-            }
-        }
-        if !x0.is_finite() {
-            (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
-        }
+        let (x0, mut x1, mut y0, mut y1) = bounds(pts().map(|&(x, y)| (x, self.y_of(y))));
         if !self.log_y {
             y0 = y0.min(0.0);
         }
@@ -234,6 +217,28 @@ impl Chart {
         }
         o.push_str("</svg>");
         o
+    }
+}
+
+/// The smallest box `(x0, x1, y0, y1)` holding the finite `points`, or
+/// the unit box when there is none.
+pub fn bounds(points: impl Iterator<Item = (f64, f64)>) -> (f64, f64, f64, f64) {
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for (x, y) in points.filter(|(x, y)| x.is_finite() && y.is_finite()) {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x0.is_finite() {
+        (x0, x1, y0, y1)
+    } else {
+        (0.0, 1.0, 0.0, 1.0)
     }
 }
 

@@ -68,22 +68,13 @@ pub fn view_svg(
     markers: &[Markers],
 ) -> String {
     let (a, b) = plane.axes;
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
+    let (x0, x1, y0, y1) = super::chart::bounds(
+        layers
+            .iter()
+            .flat_map(|l| &l.polylines)
+            .flatten()
+            .map(|p| (coord(*p, a), -coord(*p, b))),
     );
-    for p in layers.iter().flat_map(|l| &l.polylines).flatten() {
-        let (x, y) = (coord(*p, a), -coord(*p, b));
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if !x0.is_finite() {
-        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
-    }
     let pad = 0.03 * (x1 - x0).max(y1 - y0).max(4.0 * tolerance);
     let (vx, vy, vw, vh) = (x0 - pad, y0 - pad, x1 - x0 + 2.0 * pad, y1 - y0 + 2.0 * pad);
     let mut o = String::new();
