@@ -302,18 +302,20 @@ pub fn emit(
             return Ok(Choice::original(opts.budget.output));
         }
         let mut best: Option<(f64, Choice)> = None;
+        // A long run whose arcs fell back to G1 on few blocks.
+        let long_with_few_lines = |c: &Choice| {
+            smoothed[k].len() >= LONG_RUN_PIECES
+                && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.pieces.len() as f64
+        };
         for (i, &form) in forms.iter().enumerate() {
             // G1 is the other candidate for curves that arcs could not
             // follow: where they all became arcs, it is not tried; nor on
             // a long run where few did.
             if i > 0
                 && form == CurveForm::Lines
-                && best.as_ref().is_some_and(|(_, b)| {
-                    b.stats.fallback_lines == 0
-                        || (smoothed[k].len() >= LONG_RUN_PIECES
-                            && (b.stats.fallback_lines as f64)
-                                < LINES_CANDIDATE_SHARE * b.pieces.len() as f64)
-                })
+                && best
+                    .as_ref()
+                    .is_some_and(|(_, b)| b.stats.fallback_lines == 0 || long_with_few_lines(b))
             {
                 continue;
             }
@@ -321,11 +323,7 @@ pub fn emit(
             // A long run's only candidate is timed once, as written (the
             // check below plans what reads back at every feed and keeps the
             // run as the program wrote it where that is slower).
-            let sole = i + 1 == forms.len()
-                || (form == CurveForm::Arcs
-                    && smoothed[k].len() >= LONG_RUN_PIECES
-                    && (c.stats.fallback_lines as f64)
-                        < LINES_CANDIDATE_SHARE * c.pieces.len() as f64);
+            let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
             if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
                 return Ok(c);
             }
