@@ -123,16 +123,19 @@ pub fn smooth_runs_observed(
     observe: &mut dyn FnMut(Stage),
 ) -> Result<SmoothResult, PipelineError> {
     let share = budget.smoothing();
-    let mut smoothed_runs = Vec::with_capacity(runs.len());
-    for run in &runs {
-        let smoothed = method
-            .smooth_run(run, share)
-            .map_err(|source| PipelineError::Smooth {
+    // Runs are independent: smoothed on all cores (with `std`), results in
+    // order, so the output and the first error reported do not depend on
+    // the number of threads.
+    let smoothed_runs = par_map(runs.len(), |i| method.smooth_run(&runs[i], share))
+        .into_iter()
+        .zip(&runs)
+        .map(|(smoothed, run)| {
+            smoothed.map_err(|source| PipelineError::Smooth {
                 line: first_line(run),
                 source,
-            })?;
-        smoothed_runs.push(smoothed);
-    }
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     observe(Stage::Smoothed);
     let pairs: Vec<(&[Piece], &[Piece])> = runs
         .iter()

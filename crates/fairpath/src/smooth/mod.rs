@@ -108,8 +108,9 @@ pub enum SmoothError {
     NoCandidate,
 }
 
-/// A smoothing method.
-pub trait Smoother {
+/// A smoothing method. `Sync`, so that the verified pipeline can smooth
+/// independent runs on several threads.
+pub trait Smoother: Sync {
     /// The name used on the command line (`bspline-corner`, ...).
     fn name(&self) -> &'static str;
     /// Smooths one run so that every point of the result lies within
