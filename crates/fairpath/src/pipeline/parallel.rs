@@ -58,45 +58,43 @@ fn threaded<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
 }
 
 /// The same reports as `verify_run` on each `(original, smoothed)` pair.
+///
+/// A prepared original (its segments in a grid) can be far larger than
+/// its run, so at most one per thread is held at a time: a short run is
+/// one job that prepares, measures and drops its original; a long run is
+/// prepared once and its smoothed pieces are measured in chunks of
+/// [`CHUNK`] on all threads, one long run after the other.
 pub fn verify_runs(pairs: &[(&[Piece], &[Piece])], opts: &VerifyOptions) -> Vec<RunReport> {
-    // Per run: everything but the deviation, and the prepared original.
-    let prepared: Vec<(RunReport, Option<Verifier>)> = par_map(pairs.len(), |i| {
-        let (o, s) = pairs[i];
-        let (report, measure) = report_without_deviation(o, s, opts);
-        (report, measure.then(|| Verifier::new(o, opts)))
-    });
-    // Deviation jobs: chunks of the smoothed pieces of each run to measure.
-    let mut jobs: Vec<(usize, usize, usize)> = Vec::new();
-    for (i, (_, v)) in prepared.iter().enumerate() {
-        if v.is_some() {
-            let n = pairs[i].1.len();
-            let mut a = 0;
-            while a < n {
-                let b = (a + CHUNK).min(n);
-                jobs.push((i, a, b));
-                a = b;
-            }
+    let is_long = |i: usize| pairs[i].1.len() > CHUNK;
+    let short: Vec<usize> = (0..pairs.len()).filter(|&i| !is_long(i)).collect();
+    let short_reports = par_map(short.len(), |j| {
+        let (o, s) = pairs[short[j]];
+        let (mut report, measure) = report_without_deviation(o, s, opts);
+        if measure {
+            report.set_deviation(Verifier::new(o, opts).deviation(s));
         }
-    }
-    let results: Vec<Deviation> = par_map(jobs.len(), |j| {
-        let (i, a, b) = jobs[j];
-        prepared[i].1.as_ref().unwrap().deviation(&pairs[i].1[a..b])
+        report
     });
-    let mut merged: Vec<Option<Deviation>> = alloc::vec![None; pairs.len()];
-    for (&(i, _, _), d) in jobs.iter().zip(results) {
-        merged[i] = Some(match merged[i] {
-            Some(m) => m.merge(d),
-            None => d,
-        });
+    let mut reports: Vec<Option<RunReport>> = (0..pairs.len()).map(|_| None).collect();
+    for (i, report) in short.into_iter().zip(short_reports) {
+        reports[i] = Some(report);
     }
-    prepared
-        .into_iter()
-        .zip(merged)
-        .map(|((mut report, _), d)| {
-            if let Some(d) = d {
+    for i in (0..pairs.len()).filter(|&i| is_long(i)) {
+        let (o, s) = pairs[i];
+        let (mut report, measure) = report_without_deviation(o, s, opts);
+        if measure {
+            let verifier = Verifier::new(o, opts);
+            let chunks = s.len().div_ceil(CHUNK);
+            let merged = par_map(chunks, |c| {
+                verifier.deviation(&s[c * CHUNK..((c + 1) * CHUNK).min(s.len())])
+            })
+            .into_iter()
+            .reduce(Deviation::merge);
+            if let Some(d) = merged {
                 report.set_deviation(d);
             }
-            report
-        })
-        .collect()
+        }
+        reports[i] = Some(report);
+    }
+    reports.into_iter().flatten().collect()
 }
