@@ -152,9 +152,11 @@ impl Choice {
 /// maximum feed). Each run is written in the form that plans fastest among
 /// those the format allows (arcs or, for curves arcs cannot follow, G1),
 /// or as the program wrote it when none is faster, both at the machine's
-/// maximum feed and at the programmed feeds.
+/// maximum feed and at the programmed feeds. `original` is
+/// `program.runs()` (lent by the caller, which holds it already).
 pub fn emit(
     program: &Program,
+    original: &[Run],
     smoothed: &[Vec<Piece>],
     plans: &[RunPlan],
     opts: &EmitOptions,
@@ -163,7 +165,6 @@ pub fn emit(
         budget: opts.budget_for(program).map_err(EmitError::Blend)?,
         ..*opts
     };
-    let original = program.runs();
     let tolerance = opts.budget.written();
     let forms: &[CurveForm] = match opts.format {
         Format::Json => {

@@ -17,7 +17,7 @@ use crate::pipeline::{
 };
 use crate::{Format, Program};
 use fairpath::feed::plan::RunPlan;
-use fairpath::path::Piece;
+use fairpath::path::{Piece, Run};
 
 type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
 
@@ -78,7 +78,7 @@ pub fn write_curves(
     opts: &SmoothOptions,
     mut phases: Phases,
 ) -> Result<(Output, Report)> {
-    // The smoothed pieces lent to the writer and put back for the report
+    // The original and smoothed pieces lent to the writer and put back for the report
     // (no copy), the plans dropped once written.
     let Curves {
         mut result,
@@ -86,14 +86,20 @@ pub fn write_curves(
         exact,
         plans,
     } = curves;
-    let smoothed: Vec<Vec<Piece>> = result
+    let (original, smoothed): (Vec<Run>, Vec<Vec<Piece>>) = result
         .runs
         .iter_mut()
-        .map(|r| core::mem::take(&mut r.smoothed.pieces))
-        .collect();
-    let emitted = emit(program, &smoothed, &plans, &opts.emit_options());
+        .map(|r| {
+            (
+                core::mem::take(&mut r.original),
+                core::mem::take(&mut r.smoothed.pieces),
+            )
+        })
+        .unzip();
+    let emitted = emit(program, &original, &smoothed, &plans, &opts.emit_options());
     drop(plans);
-    for (r, pieces) in result.runs.iter_mut().zip(smoothed) {
+    for ((r, run), pieces) in result.runs.iter_mut().zip(original).zip(smoothed) {
+        r.original = run;
         r.smoothed.pieces = pieces;
     }
     let mut emitted = emitted?;
