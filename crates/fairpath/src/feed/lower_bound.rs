@@ -97,6 +97,8 @@ pub struct BoundOptions {
     pub min_turn: f64,
     /// Longest window, in chords between gates.
     pub max_window: usize,
+    /// Longest link of the chains that bound lengths, in gates.
+    pub max_chain: usize,
 }
 
 impl BoundOptions {
@@ -110,6 +112,7 @@ impl BoundOptions {
             chord_share: 1e-3,
             min_turn: 0.05,
             max_window: 6,
+            max_chain: 48,
         }
     }
 }
@@ -382,6 +385,28 @@ fn straight_gate(pts: &[Vec3], s: &[f64], x: f64, r: f64, e: f64, max_delta: f64
     (delta <= max_delta).then_some(Gate { at: q, radius: e + delta })
 }
 
+/// The longest chain of gates from `a` to `b` (links of at most `max_link`
+/// gates), each link `|q_i - q_j| - rho_i - rho_j`: a lower bound of the
+/// length of any band path between passing gate `a` and gate `b`.
+fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) -> f64 {
+    if b <= a {
+        return 0.0;
+    }
+    let mut best = alloc::vec![f64::NEG_INFINITY; b - a + 1];
+    best[0] = 0.0;
+    for i in a..b {
+        let bi = best[i - a];
+        for j in (i + 1)..=(i + max_link).min(b) {
+            let link = (gates[j].at.dist(gates[i].at) - gates[i].radius - gates[j].radius).max(0.0);
+            let v = bi + link;
+            if v > best[j - a] {
+                best[j - a] = v;
+            }
+        }
+    }
+    best[b - a].max(0.0)
+}
+
 /// `asin(x)` for `x` in `[0, 1]`.
 fn asin(x: f64) -> f64 {
     math::atan2(x, math::sqrt((1.0 - x * x).max(0.0)))
@@ -467,8 +492,11 @@ pub fn lower_bound_time(
             None => i += 1,
         }
     }
-    let length: f64 = chords.iter().map(|c| c.0).sum();
-    let chord_sum = |a: usize, b: usize| chords[a..b].iter().map(|c| c.0).sum::<f64>();
+    // Length between gate a and gate b: the longest chain of gates
+    // between them (each link `|q_i - q_j| - rho_i - rho_j`), which loses
+    // the gates' radii only where the chain turns.
+    let chord_sum = |a: usize, b: usize| chain_length(&gates, a, b, opts.max_chain);
+    let length = chord_sum(0, chords.len());
     let rest = Envelope::new(0.0, true, f, m.acc, m.jerk);
     let mut time = 0.0;
     if windows.is_empty() {
