@@ -193,7 +193,11 @@ impl Envelope {
             } else {
                 g(u0)
             };
-            let dx = if gmax > 0.0 { u0 * (u1 - u0) / gmax } else { f64::INFINITY };
+            let dx = if gmax > 0.0 {
+                u0 * (u1 - u0) / gmax
+            } else {
+                f64::INFINITY
+            };
             speed.push(u1);
             dist.push(dist[i - 1] + dx);
         }
@@ -235,7 +239,11 @@ fn stretch_time(len: f64, f: f64, start: Option<&Envelope>, end: Option<&Envelop
     for k in 1..=TIME_STEPS {
         let x1 = if k == TIME_STEPS { len } else { node(k) };
         let v = at(start, x1).min(at(end, len - x0));
-        time += if v > 0.0 { (x1 - x0) / v } else { f64::INFINITY };
+        time += if v > 0.0 {
+            (x1 - x0) / v
+        } else {
+            f64::INFINITY
+        };
         x0 = x1;
     }
     time
@@ -274,7 +282,11 @@ fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>) {
 fn point_at(pts: &[Vec3], s: &[f64], x: f64) -> Vec3 {
     let i = s.partition_point(|&v| v <= x).clamp(1, pts.len() - 1);
     let (a, b) = (s[i - 1], s[i]);
-    let t = if b > a { ((x - a) / (b - a)).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if b > a {
+        ((x - a) / (b - a)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     pts[i - 1].lerp(pts[i], t)
 }
 
@@ -300,8 +312,11 @@ fn bridges(pts: &[Vec3], s: &[f64], e: f64, r: f64) -> (Vec<f64>, Vec<f64>) {
             math::floor(p.z / cell) as i64,
         ]
     };
-    let mut order: Vec<([i64; 3], usize)> =
-        samples.iter().enumerate().map(|(i, (_, p))| (key(*p), i)).collect();
+    let mut order: Vec<([i64; 3], usize)> = samples
+        .iter()
+        .enumerate()
+        .map(|(i, (_, p))| (key(*p), i))
+        .collect();
     order.sort_unstable();
     let mut reach = alloc::vec![f64::NEG_INFINITY; samples.len()];
     for (i, &(xi, pi)) in samples.iter().enumerate() {
@@ -338,7 +353,10 @@ fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Gate> {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
     let r = o.reach * tol;
-    let mut out = alloc::vec![Gate { at: pts[0], radius: 0.0 }];
+    let mut out = alloc::vec![Gate {
+        at: pts[0],
+        radius: 0.0
+    }];
     let (starts, reach) = bridges(pts, s, e, r);
     let spacing = o.gate_spacing * tol;
     let mut x = r.max(spacing);
@@ -382,7 +400,10 @@ fn straight_gate(pts: &[Vec3], s: &[f64], x: f64, r: f64, e: f64, max_delta: f64
         last = along;
         delta = delta.max(((p - q) - d * along).norm());
     }
-    (delta <= max_delta).then_some(Gate { at: q, radius: e + delta })
+    (delta <= max_delta).then_some(Gate {
+        at: q,
+        radius: e + delta,
+    })
 }
 
 /// The longest chain of gates from `a` to `b` (links of at most `max_link`
@@ -434,7 +455,10 @@ pub fn lower_bound_time(
         let feed = if override_feed {
             m.max_feed
         } else {
-            p.feed.map(|v| v / 60.0).unwrap_or(m.max_feed).min(m.max_feed)
+            p.feed
+                .map(|v| v / 60.0)
+                .unwrap_or(m.max_feed)
+                .min(m.max_feed)
         };
         f = f.max(feed);
     }
