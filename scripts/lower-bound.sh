@@ -29,8 +29,9 @@ rows=json.load(sys.stdin); name=sys.argv[1]
 b=rows[0]["lower_bound_s"]; by={r["method"]:r for r in rows}
 singles=[r for r in rows if r["method"] not in ("original","auto") and r["verified"]]
 best=min(singles,key=lambda r:r["time_s"]) if singles else None
-a=by.get("auto")
-print(f"| {name} | {b:.3f} | {by[\"original\"][\"time_s\"]:.3f} | {a[\"time_s\"]:.3f} | {a[\"x_bound\"]:.2f} | " + (f"{best[\"x_bound\"]:.2f} ({best[\"method\"]})" if best else "") + " |")
+a=by.get("auto"); o=by["original"]
+bs="%.2f (%s)" % (best["x_bound"], best["method"]) if best else ""
+print("| %s | %.3f | %.3f | %.3f | %.2f | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs))
 ' "${p#$SHARED/}"
   done
 } > "$OUT"
