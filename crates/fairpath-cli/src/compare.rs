@@ -10,12 +10,18 @@
 //! writing are the libraries' (`fairpath::pipeline`, `fairpath_gcode::pipeline`),
 //! as for `smooth`; a method whose curves fail verification gets a row that
 //! says so and no written programs.
+//!
+//! Every row also gives its time over the program's lower bound
+//! (`fairpath::feed::lower_bound`: the least time any path within the
+//! tolerance of the original can take under the same limits, rapids as
+//! planned): `x bound`.
 
 use crate::read::read_program;
 use crate::smooth::{option_error, options as smooth_options};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::lower_bound::{program_lower_bound, BoundOptions};
 use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
@@ -58,6 +64,10 @@ pub struct Row {
     pub time_ratio: f64,
     /// Wall time of the smoothing alone (s).
     pub smoothing_time: f64,
+    /// The program's lower bound (s), the same on every row.
+    pub lower_bound: f64,
+    /// `time` over `lower_bound`.
+    pub x_bound: f64,
     /// The program written in each asked format (none for the baseline).
     pub written: Vec<WrittenRow>,
 }
@@ -71,6 +81,8 @@ pub struct WrittenRow {
     pub feed_time: f64,
     /// `time` over the baseline's.
     pub time_ratio: f64,
+    /// `time` over the program's lower bound.
+    pub x_bound: f64,
     /// Lines of the written program.
     pub lines: usize,
     /// Whether it read back within the tolerance.
@@ -131,6 +143,8 @@ fn row(
         feed_time,
         time_ratio: 1.0,
         smoothing_time,
+        lower_bound: f64::NAN,
+        x_bound: f64::NAN,
         written: Vec::new(),
     }
 }
@@ -158,6 +172,14 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
     };
     let mut rows = Vec::new();
     let base_time = plan_time(&runs)?;
+    let bound = program_lower_bound(
+        &program.motions(&runs),
+        &BoundOptions::new(opts.tolerance),
+        &opts.machine,
+        opts.override_feed,
+    )
+    .context("the lower bound")?
+    .time;
     let options = |name: &str, format: Format| -> Result<SmoothOptions> {
         let mut so = smooth_options(opts.tolerance, None, name, Some(format), opts.controller)?;
         so.set_machine(opts.machine, opts.override_feed)
@@ -230,6 +252,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
                 time: t.total,
                 feed_time: t.feed,
                 time_ratio: 1.0,
+                x_bound: f64::NAN,
                 lines: report.lines_out,
                 verified: report.written.within,
             });
@@ -242,14 +265,17 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
     }
     for r in &mut rows {
         r.time_ratio = r.time / base_time;
+        r.lower_bound = bound;
+        r.x_bound = r.time / bound;
         for w in &mut r.written {
             w.time_ratio = w.time / base_time;
+            w.x_bound = w.time / bound;
         }
     }
     Ok(rows)
 }
 
-const HEADER: [&str; 14] = [
+const HEADER: [&str; 16] = [
     "method",
     "max_deviation_mm",
     "verified",
@@ -264,6 +290,8 @@ const HEADER: [&str; 14] = [
     "feed_time_s",
     "time_ratio",
     "smoothing_s",
+    "lower_bound_s",
+    "x_bound",
 ];
 
 /// The formats written for the methods (the first method's list).
@@ -280,7 +308,7 @@ pub fn text(rows: &[Row]) -> String {
     let fmts = formats(rows);
     let _ = write!(
         out,
-        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>10}",
+        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>7} {:>10}",
         "method",
         "max dev mm",
         "ok",
@@ -291,14 +319,16 @@ pub fn text(rows: &[Row]) -> String {
         "time s",
         "feed s",
         "ratio",
+        "x bound",
         "smooth s"
     );
     for f in &fmts {
         let _ = write!(
             out,
-            " {:>10} {:>7} {:>8}",
+            " {:>10} {:>7} {:>7} {:>8}",
             format!("{} s", f.name()),
             "ratio",
+            "x bound",
             "lines"
         );
     }
@@ -310,7 +340,7 @@ pub fn text(rows: &[Row]) -> String {
         );
         let _ = write!(
             out,
-            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>10.4}",
+            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>7.3} {:>10.4}",
             r.method,
             r.max_deviation,
             if r.verified { "yes" } else { "NO" },
@@ -321,19 +351,28 @@ pub fn text(rows: &[Row]) -> String {
             r.time,
             r.feed_time,
             r.time_ratio,
+            r.x_bound,
             r.smoothing_time
         );
         for w in &r.written {
             let _ = write!(
                 out,
-                " {:>10.3} {:>7.3} {:>8}{}",
+                " {:>10.3} {:>7.3} {:>7.3} {:>8}{}",
                 w.time,
                 w.time_ratio,
+                w.x_bound,
                 w.lines,
                 if w.verified { "" } else { " NOT VERIFIED" }
             );
         }
         out.push('\n');
+    }
+    if let Some(r) = rows.first() {
+        let _ = writeln!(
+            out,
+            "(lower bound {:.3} s: the least time of any path within the tolerance under the same limits; x bound: time over it)",
+            r.lower_bound
+        );
     }
     if !fmts.is_empty() {
         let _ = writeln!(
@@ -351,7 +390,14 @@ pub fn csv(rows: &[Row]) -> String {
     let fmts = formats(rows);
     let mut out = HEADER.join(",");
     for f in &fmts {
-        for c in ["time_s", "feed_time_s", "time_ratio", "lines", "verified"] {
+        for c in [
+            "time_s",
+            "feed_time_s",
+            "time_ratio",
+            "x_bound",
+            "lines",
+            "verified",
+        ] {
             let _ = write!(out, ",written_{}_{c}", f.name());
         }
     }
@@ -359,7 +405,7 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.method,
             r.max_deviation,
             r.verified,
@@ -373,18 +419,20 @@ pub fn csv(rows: &[Row]) -> String {
             r.time,
             r.feed_time,
             r.time_ratio,
-            r.smoothing_time
+            r.smoothing_time,
+            r.lower_bound,
+            r.x_bound
         );
         for f in &fmts {
             match r.written.iter().find(|w| w.format == *f) {
                 Some(w) => {
                     let _ = write!(
                         out,
-                        ",{},{},{},{},{}",
-                        w.time, w.feed_time, w.time_ratio, w.lines, w.verified
+                        ",{},{},{},{},{},{}",
+                        w.time, w.feed_time, w.time_ratio, w.x_bound, w.lines, w.verified
                     );
                 }
-                None => out.push_str(",,,,,"),
+                None => out.push_str(",,,,,,"),
             }
         }
         out.push('\n');
@@ -413,11 +461,14 @@ pub fn json(rows: &[Row]) -> String {
                 "feed_time_s": r.feed_time,
                 "time_ratio": r.time_ratio,
                 "smoothing_s": r.smoothing_time,
+                "lower_bound_s": r.lower_bound,
+                "x_bound": r.x_bound,
                 "written": r.written.iter().map(|w| json!({
                     "format": w.format.name(),
                     "time_s": w.time,
                     "feed_time_s": w.feed_time,
                     "time_ratio": w.time_ratio,
+                    "x_bound": w.x_bound,
                     "lines": w.lines,
                     "verified": w.verified,
                 })).collect::<Vec<_>>(),

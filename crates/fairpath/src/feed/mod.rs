@@ -47,6 +47,7 @@ pub mod double_s;
 pub mod interpolate;
 pub mod junction;
 pub mod limits;
+pub mod lower_bound;
 pub mod plan;
 pub mod program;
 pub mod reach;

@@ -1,0 +1,603 @@
+//! A lower bound on the machining time of any path inside the tolerance
+//! band of a run (issue 21, item 2): what no smoothing can beat under the
+//! planner's limits.
+//!
+//! # The model it bounds
+//! The planner's (`plan.rs`): a path is run with a speed profile `v(t)`
+//! along its arc length with `v <= F` (the run's largest feed),
+//! `|dv/dt| <= A` and `|d2v/dt2| <= J` (the double-S profiles; `A` and `J`
+//! may be lowered by shaping, never raised), pointwise curvature caps
+//! `k v^2 <= A_n` and, with [`MachineLimits::jerk_on_curves`],
+//! `k^2 v^3 <= J`; every run starts and ends at rest with zero
+//! acceleration ([`super::plan::RunEnds::AtRest`]). Per-axis limits, the
+//! chord-error cap, `|dk/ds| v^3 <= J` and shaping only slow a plan
+//! further and are dropped (a relaxation). The planner checks its caps at
+//! the ends and middle of stretches of chord-error length, so a plan
+//! follows this model up to that sampling.
+//!
+//! # The relaxation, step by step (each step proven below)
+//! Let `e` be the tolerance plus the flattening chord (the original is
+//! replaced by a polyline within the chord of it, so any band path is
+//! within `e` of the polyline `c(s)`). `T_-(s)` is the band around
+//! `c([0, s])`, `T_+(s)` around `c([s, L])`.
+//!
+//! 1. **Gates.** For a point `q = c(s)`, let `tau(s)` be the first time the
+//!    path is in `T_+(s)`. Just before it the path was in `T_-(s)` (the two
+//!    cover the band), so by closedness `x = path(tau(s))` is within `e` of
+//!    some `c(s1)`, `s1 <= s`, and some `c(s2)`, `s2 >= s`. If no two points
+//!    `s1 <= s <= s2` with `s2 - s1 > r` are within `2e` of each other (no
+//!    "bridge", checked on samples of the polyline with the sampling step
+//!    added to `2e`), both lie within arc length `r` of `s`; if there the
+//!    polyline is monotone along the direction `d` of its chord over
+//!    `[s - r, s + r]` and within `delta` of the line through `q` along `d`,
+//!    then `|x - q| <= e + delta` (split `x - q` along `d`: the point on
+//!    the far side in `d` is at least as far along `d`; the rest is the
+//!    triangle inequality). `tau` is nondecreasing in `s`, so gates are
+//!    passed in order, and the path's length between two gates is at least
+//!    `|q_i - q_j| - rho_i - rho_j` (`rho = e + delta`). The run's ends are
+//!    gates of radius 0 (kept exactly).
+//! 2. **Turns.** Between the gates `a < a+1 <= b < b+1` the mean directions
+//!    of travel over `[tau_a, tau_a+1]` and `[tau_b, tau_b+1]` are within
+//!    `asin((rho_a + rho_a+1) / |q_a+1 - q_a|)` of the chords' directions.
+//!    A mean direction lies in the convex cone of the tangents it
+//!    averages; a tangent curve of total turning `Theta < pi` on the
+//!    sphere lies in a cap of radius `Theta/2` (around its middle point),
+//!    which is convex; so the tangent turns by at least
+//!    `alpha = angle(chords) - slacks` over `[tau_a, tau_b+1]`.
+//! 3. **Rotation time.** The tangent turns at `omega = k v`; the caps give
+//!    `omega <= A_n / v` and `omega <= sqrt(J / v)`. If the speed in the
+//!    window stays `>= c`, the window lasts at least
+//!    `alpha max(c / A_n, sqrt(c / J))`.
+//! 4. **Speed envelopes.** With `v <= F` at all times and `|j| <= J`, an
+//!    acceleration `a > 0` still raises the speed by `a^2 / (2J)`, so
+//!    `|a| <= sqrt(2 J (F - v))` (by time reversal also when braking);
+//!    from rest with `a = 0`, `a^2 - 2 J v` does not grow while `a > 0`, so
+//!    `a <= sqrt(2 J v)` (and the same towards the end at rest). With
+//!    `|a| <= A`, `d v / d x = a / v <= g(v) / v`: the speed at distance `x`
+//!    from a point of speed `<= c` is at most the solution of that
+//!    equation (tabulated conservatively, [`Envelope`]).
+//! 5. **Zones.** Turns with disjoint windows split the run at gates between
+//!    them into zones, whose times add up. In a zone with a turn, let `c`
+//!    be the least speed in its window. Its time is at least the time over
+//!    its length under the envelopes from its ends (free: `F`; run ends:
+//!    from rest) and from a point of speed `c` somewhere in the window, and
+//!    at least the rotation time plus the rest of its length at `F`. The
+//!    bound takes the least over `c` (a grid, each cell bounded by its
+//!    ends, both terms being monotone in `c`). Longer stretches never take
+//!    less time (a profile over a longer stretch, scaled down in speed,
+//!    runs a shorter one in the same time within every limit), so the
+//!    length lower bounds may stand for the lengths.
+//!
+//! Every threshold is scaled from the tolerance: gate spacing, bridge
+//! reach `r`, straightness `delta` and the flattening chord (a share of it).
+
+use super::limits::MachineLimits;
+use super::plan::plan_rapid;
+use super::program::Motion;
+use super::FeedError;
+use crate::geom::{flatten_params, ParamCurve, Vec3};
+use crate::math;
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// How the bound is built; every length is a multiple of the tolerance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundOptions {
+    /// The band's half-width, mm.
+    pub tolerance: f64,
+    /// Spacing of candidate gates along the run, in tolerances.
+    pub gate_spacing: f64,
+    /// Arc length `r` within which gate pairs are local, in tolerances.
+    pub reach: f64,
+    /// Largest `delta` of a gate, in tolerances.
+    pub straightness: f64,
+    /// Flattening chord, as a share of the tolerance.
+    pub chord_share: f64,
+    /// Least turn `alpha` (rad) kept as a turn window.
+    pub min_turn: f64,
+    /// Longest window, in chords between gates.
+    pub max_window: usize,
+    /// Longest link of the chains that bound lengths, in gates.
+    pub max_chain: usize,
+}
+
+impl BoundOptions {
+    /// The defaults at `tolerance` mm.
+    pub fn new(tolerance: f64) -> BoundOptions {
+        BoundOptions {
+            tolerance,
+            gate_spacing: 6.0,
+            reach: 4.0,
+            straightness: 0.5,
+            chord_share: 1e-3,
+            min_turn: 0.05,
+            max_window: 6,
+            max_chain: 48,
+        }
+    }
+}
+
+/// A lower bound and what it rests on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LowerBound {
+    /// Seconds.
+    pub time: f64,
+    /// Lower bound of the feed path's length, mm.
+    pub length: f64,
+    /// Turn windows used.
+    pub turns: usize,
+    /// Gates used (run ends included).
+    pub gates: usize,
+}
+
+impl core::ops::AddAssign for LowerBound {
+    fn add_assign(&mut self, o: LowerBound) {
+        self.time += o.time;
+        self.length += o.length;
+        self.turns += o.turns;
+        self.gates += o.gates;
+    }
+}
+
+/// Why no bound could be made.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum BoundError {
+    #[error("tolerance must be a positive number, got {0}")]
+    Tolerance(f64),
+    #[error(transparent)]
+    Feed(#[from] FeedError),
+}
+
+/// Speed grid of an envelope table.
+const SPEED_NODES: usize = 96;
+/// Steps of the quadrature of a stretch's time.
+const TIME_STEPS: usize = 32;
+/// Cells of the grid over the least speed `c` of a window.
+const C_CELLS: usize = 24;
+/// Cells of the grid over the slow point's place in its window.
+const P_CELLS: usize = 4;
+/// Most samples of the bridge check per run (longer runs are sampled more
+/// coarsely, the step added to the reach of a bridge).
+const MAX_SAMPLES: usize = 1 << 21;
+
+/// The fastest the speed can be at a distance from a point: from a speed
+/// `c`, or from rest with zero acceleration (module docs, step 4).
+/// `dist[i]` is a lower bound of the distance needed to reach `speed[i]`.
+struct Envelope {
+    speed: Vec<f64>,
+    dist: Vec<f64>,
+}
+
+impl Envelope {
+    fn new(c: f64, from_rest: bool, f: f64, acc: f64, jerk: f64) -> Envelope {
+        let c = c.clamp(0.0, f);
+        let mut speed = Vec::with_capacity(SPEED_NODES + 1);
+        let mut dist = Vec::with_capacity(SPEED_NODES + 1);
+        speed.push(c);
+        dist.push(0.0);
+        let g = |v: f64| {
+            let mut a = acc.min(math::sqrt(2.0 * jerk * (f - v).max(0.0)));
+            if from_rest {
+                a = a.min(math::sqrt(2.0 * jerk * v));
+            }
+            a
+        };
+        for i in 1..=SPEED_NODES {
+            let u0 = *speed.last().unwrap_or(&c);
+            let u1 = c + (f - c) * (i as f64 / SPEED_NODES as f64);
+            // dx = v dv / a: at least u0 du / (largest g on [u0, u1]).
+            let gmax = if from_rest {
+                // g rises with v up to F / 2 and falls after: its largest
+                // value on [u0, u1] is at F / 2 clamped into it.
+                g((0.5 * f).clamp(u0, u1))
+            } else {
+                g(u0)
+            };
+            let dx = if gmax > 0.0 {
+                u0 * (u1 - u0) / gmax
+            } else {
+                f64::INFINITY
+            };
+            speed.push(u1);
+            dist.push(dist[i - 1] + dx);
+        }
+        Envelope { speed, dist }
+    }
+
+    /// An upper bound of the speed at distance `x`.
+    fn at(&self, x: f64) -> f64 {
+        // The first node whose distance exceeds x bounds the speed there.
+        let i = self.dist.partition_point(|&d| d <= x);
+        if i >= self.speed.len() {
+            *self.speed.last().unwrap_or(&0.0)
+        } else {
+            self.speed[i]
+        }
+    }
+}
+
+/// A lower bound of the time over `len` mm with the speed at distance `x`
+/// at most `start.at(x)` and `end.at(len - x)` (`None`: free, the feed).
+fn stretch_time(len: f64, f: f64, start: Option<&Envelope>, end: Option<&Envelope>) -> f64 {
+    if len <= 0.0 {
+        return 0.0;
+    }
+    let at = |e: Option<&Envelope>, x: f64| e.map_or(f, |e| e.at(x)).min(f);
+    // Nodes dense near both ends, where the envelopes change fastest.
+    let node = |k: usize| {
+        let t = k as f64 / TIME_STEPS as f64;
+        let cube = |z: f64| z * z * z;
+        let u = if t < 0.5 {
+            0.5 * cube(2.0 * t)
+        } else {
+            1.0 - 0.5 * cube(2.0 - 2.0 * t)
+        };
+        len * u
+    };
+    let mut time = 0.0;
+    let mut x0 = 0.0;
+    for k in 1..=TIME_STEPS {
+        let x1 = if k == TIME_STEPS { len } else { node(k) };
+        let v = at(start, x1).min(at(end, len - x0));
+        time += if v > 0.0 {
+            (x1 - x0) / v
+        } else {
+            f64::INFINITY
+        };
+        x0 = x1;
+    }
+    time
+}
+
+/// A gate: a point every band path passes within `radius` of, in order.
+#[derive(Clone, Copy, Debug)]
+struct Gate {
+    at: Vec3,
+    radius: f64,
+}
+
+/// The polyline of a run within `chord` of it, with arc lengths.
+fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>) {
+    let mut pts: Vec<Vec3> = Vec::new();
+    for p in pieces {
+        for t in flatten_params(&p.curve, chord) {
+            let q = p.curve.eval(t);
+            if pts.last().is_none_or(|l| l.dist(q) > 0.0) {
+                pts.push(q);
+            }
+        }
+    }
+    let mut s = Vec::with_capacity(pts.len());
+    let mut acc = 0.0;
+    for (i, q) in pts.iter().enumerate() {
+        if i > 0 {
+            acc += q.dist(pts[i - 1]);
+        }
+        s.push(acc);
+    }
+    (pts, s)
+}
+
+/// The point at arc length `x` of the polyline.
+fn point_at(pts: &[Vec3], s: &[f64], x: f64) -> Vec3 {
+    let i = s.partition_point(|&v| v <= x).clamp(1, pts.len() - 1);
+    let (a, b) = (s[i - 1], s[i]);
+    let t = if b > a {
+        ((x - a) / (b - a)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    pts[i - 1].lerp(pts[i], t)
+}
+
+/// For each arc length, the farthest arc length a bridge starting at or
+/// before it reaches (module docs, step 1): `(starts, reach)` sorted by
+/// start, `reach` a running maximum.
+fn bridges(pts: &[Vec3], s: &[f64], e: f64, r: f64) -> (Vec<f64>, Vec<f64>) {
+    let total = *s.last().unwrap_or(&0.0);
+    let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
+    let n = (total / step) as usize + 1;
+    let samples: Vec<(f64, Vec3)> = (0..=n)
+        .map(|i| {
+            let x = (i as f64 * step).min(total);
+            (x, point_at(pts, s, x))
+        })
+        .collect();
+    let reach_d = 2.0 * e + step;
+    let cell = reach_d;
+    let key = |p: Vec3| {
+        [
+            math::floor(p.x / cell) as i64,
+            math::floor(p.y / cell) as i64,
+            math::floor(p.z / cell) as i64,
+        ]
+    };
+    let mut order: Vec<([i64; 3], usize)> = samples
+        .iter()
+        .enumerate()
+        .map(|(i, (_, p))| (key(*p), i))
+        .collect();
+    order.sort_unstable();
+    let mut reach = alloc::vec![f64::NEG_INFINITY; samples.len()];
+    for (i, &(xi, pi)) in samples.iter().enumerate() {
+        let k = key(pi);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let kk = [k[0] + dx, k[1] + dy, k[2] + dz];
+                    let lo = order.partition_point(|(c, _)| *c < kk);
+                    for &(c, j) in &order[lo..] {
+                        if c != kk {
+                            break;
+                        }
+                        let (xj, pj) = samples[j];
+                        if xj - xi > r - step && pi.dist(pj) <= reach_d {
+                            reach[i] = reach[i].max(xj + 0.5 * step);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let starts: Vec<f64> = samples.iter().map(|(x, _)| x - 0.5 * step).collect();
+    let mut run = f64::NEG_INFINITY;
+    for v in reach.iter_mut() {
+        run = run.max(*v);
+        *v = run;
+    }
+    (starts, reach)
+}
+
+/// The gates of a run (module docs, step 1), run ends included.
+fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Gate> {
+    let tol = o.tolerance;
+    let total = *s.last().unwrap_or(&0.0);
+    let r = o.reach * tol;
+    let mut out = alloc::vec![Gate {
+        at: pts[0],
+        radius: 0.0
+    }];
+    let (starts, reach) = bridges(pts, s, e, r);
+    let spacing = o.gate_spacing * tol;
+    let mut x = r.max(spacing);
+    while x < total - r {
+        let bridged = {
+            let i = starts.partition_point(|&st| st <= x);
+            i > 0 && reach[i - 1] >= x
+        };
+        if !bridged {
+            if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
+                out.push(g);
+            }
+        }
+        x += spacing;
+    }
+    out.push(Gate {
+        at: *pts.last().unwrap_or(&pts[0]),
+        radius: 0.0,
+    });
+    out
+}
+
+/// A gate at arc length `x` if the polyline is straight enough around it.
+fn straight_gate(pts: &[Vec3], s: &[f64], x: f64, r: f64, e: f64, max_delta: f64) -> Option<Gate> {
+    let q = point_at(pts, s, x);
+    let a = point_at(pts, s, x - r);
+    let b = point_at(pts, s, x + r);
+    let d = (b - a).normalized(r * 1e-6)?;
+    let lo = s.partition_point(|&v| v <= x - r);
+    let hi = s.partition_point(|&v| v < x + r);
+    let mut chain = alloc::vec![a];
+    chain.extend_from_slice(&pts[lo..hi]);
+    chain.push(b);
+    let mut delta: f64 = 0.0;
+    let mut last = f64::NEG_INFINITY;
+    for p in chain {
+        let along = (p - q).dot(d);
+        if along < last {
+            return None;
+        }
+        last = along;
+        delta = delta.max(((p - q) - d * along).norm());
+    }
+    (delta <= max_delta).then_some(Gate {
+        at: q,
+        radius: e + delta,
+    })
+}
+
+/// The longest chain of gates from `a` to `b` (links of at most `max_link`
+/// gates), each link `|q_i - q_j| - rho_i - rho_j`: a lower bound of the
+/// length of any band path between passing gate `a` and gate `b`.
+fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) -> f64 {
+    if b <= a {
+        return 0.0;
+    }
+    let mut best = alloc::vec![f64::NEG_INFINITY; b - a + 1];
+    best[0] = 0.0;
+    for i in a..b {
+        let bi = best[i - a];
+        for j in (i + 1)..=(i + max_link).min(b) {
+            let link = (gates[j].at.dist(gates[i].at) - gates[i].radius - gates[j].radius).max(0.0);
+            let v = bi + link;
+            if v > best[j - a] {
+                best[j - a] = v;
+            }
+        }
+    }
+    best[b - a].max(0.0)
+}
+
+/// `asin(x)` for `x` in `[0, 1]`.
+fn asin(x: f64) -> f64 {
+    math::atan2(x, math::sqrt((1.0 - x * x).max(0.0)))
+}
+
+/// A lower bound of the time of any path within `opts.tolerance` of the
+/// run `pieces`, planned under `m` (module docs). `override_feed`: every
+/// move at the machine's maximum feed, as the planner's option.
+pub fn lower_bound_time(
+    pieces: &[Piece],
+    opts: &BoundOptions,
+    m: &MachineLimits,
+    override_feed: bool,
+) -> Result<LowerBound, BoundError> {
+    let tol = opts.tolerance;
+    if !(tol.is_finite() && tol > 0.0) {
+        return Err(BoundError::Tolerance(tol));
+    }
+    m.validate().map_err(|l| FeedError::BadLimit {
+        name: l.name,
+        value: l.value,
+    })?;
+    let mut f: f64 = 0.0;
+    for p in pieces {
+        let feed = if override_feed {
+            m.max_feed
+        } else {
+            p.feed
+                .map(|v| v / 60.0)
+                .unwrap_or(m.max_feed)
+                .min(m.max_feed)
+        };
+        f = f.max(feed);
+    }
+    if pieces.is_empty() || f <= 0.0 {
+        return Ok(LowerBound::default());
+    }
+    let chord = tol * opts.chord_share;
+    let e = tol + chord;
+    let (pts, s) = polyline(pieces, chord);
+    if pts.len() < 2 {
+        return Ok(LowerBound::default());
+    }
+    let gates = gates(&pts, &s, e, opts);
+    // Chords between consecutive gates: length lower bound, direction,
+    // angular slack.
+    let chords: Vec<(f64, Option<Vec3>, f64)> = gates
+        .windows(2)
+        .map(|w| {
+            let d = w[1].at - w[0].at;
+            let len = d.norm();
+            let rad = w[0].radius + w[1].radius;
+            let dir = if len > rad { d.normalized(0.0) } else { None };
+            (
+                (len - rad).max(0.0),
+                dir,
+                if len > rad { asin(rad / len) } else { 0.0 },
+            )
+        })
+        .collect();
+    // Turn windows: chord a to chord b, disjoint, in order.
+    let mut windows: Vec<(usize, usize, f64)> = Vec::new();
+    let mut i = 0;
+    while i < chords.len() {
+        let mut best: Option<(usize, f64)> = None;
+        if let (_, Some(ui), si) = chords[i] {
+            for (j, cj) in chords
+                .iter()
+                .enumerate()
+                .take((i + opts.max_window + 1).min(chords.len()))
+                .skip(i + 1)
+            {
+                if let (_, Some(uj), sj) = *cj {
+                    let alpha = ui.angle_to(uj) - si - sj;
+                    if alpha >= opts.min_turn && best.is_none_or(|(_, b)| alpha > b) {
+                        best = Some((j, alpha));
+                    }
+                }
+            }
+        }
+        match best {
+            Some((j, alpha)) => {
+                windows.push((i, j, alpha));
+                i = j + 1;
+            }
+            None => i += 1,
+        }
+    }
+    // Length between gate a and gate b: the longest chain of gates
+    // between them (each link `|q_i - q_j| - rho_i - rho_j`), which loses
+    // the gates' radii only where the chain turns.
+    let chord_sum = |a: usize, b: usize| chain_length(&gates, a, b, opts.max_chain);
+    let length = chord_sum(0, chords.len());
+    let rest = Envelope::new(0.0, true, f, m.acc, m.jerk);
+    let mut time = 0.0;
+    if windows.is_empty() {
+        time = stretch_time(length, f, Some(&rest), Some(&rest));
+    } else {
+        let cs: Vec<f64> = (0..=C_CELLS)
+            .map(|k| f * (k as f64 / C_CELLS as f64) * (k as f64 / C_CELLS as f64))
+            .collect();
+        let envs: Vec<Envelope> = cs
+            .iter()
+            .map(|&c| Envelope::new(c, false, f, m.acc, m.jerk))
+            .collect();
+        // Zone boundaries: the chord index where each zone starts.
+        let mut zone_start = 0;
+        for (w, &(a, b, alpha)) in windows.iter().enumerate() {
+            let zone_end = match windows.get(w + 1) {
+                Some(&(next_a, _, _)) => (b + 1 + next_a) / 2,
+                None => chords.len(),
+            };
+            let left = chord_sum(zone_start, a);
+            let win = chord_sum(a, b + 1);
+            let right = chord_sum(b + 1, zone_end);
+            let start_env = (zone_start == 0).then_some(&rest);
+            let end_env = (zone_end == chords.len()).then_some(&rest);
+            let p_time = |k: usize| {
+                let env = &envs[k];
+                (0..P_CELLS)
+                    .map(|pc| {
+                        let y0 = win * pc as f64 / P_CELLS as f64;
+                        let y1 = win * (pc + 1) as f64 / P_CELLS as f64;
+                        stretch_time(left + y0, f, start_env, Some(env))
+                            + stretch_time(right + win - y1, f, Some(env), end_env)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let rot = |c: f64| {
+                let mut per = c / m.normal_acc;
+                if m.jerk_on_curves {
+                    per = per.max(math::sqrt(c / m.jerk));
+                }
+                alpha * per + (left + right) / f
+            };
+            let zone = (0..C_CELLS)
+                .map(|k| p_time(k + 1).max(rot(cs[k])))
+                .fold(f64::INFINITY, f64::min);
+            time += zone;
+            zone_start = zone_end;
+        }
+    }
+    Ok(LowerBound {
+        time,
+        length,
+        turns: windows.len(),
+        gates: gates.len(),
+    })
+}
+
+/// [`lower_bound_time`] over a program's motions: every run bounded,
+/// every rapid timed as the planner times it (rest to rest at the
+/// machine's limits).
+pub fn program_lower_bound(
+    motions: &[Motion],
+    opts: &BoundOptions,
+    m: &MachineLimits,
+    override_feed: bool,
+) -> Result<LowerBound, BoundError> {
+    let mut total = LowerBound::default();
+    for mo in motions {
+        match mo {
+            Motion::Feed(run) => total += lower_bound_time(&run.pieces, opts, m, override_feed)?,
+            Motion::Rapid(p) => {
+                let len = p.curve.length(opts.tolerance * opts.chord_share);
+                if len > 0.0 && len.is_finite() {
+                    total.time += plan_rapid(len, m)?.duration();
+                }
+            }
+        }
+    }
+    Ok(total)
+}

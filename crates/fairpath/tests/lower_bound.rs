@@ -1,0 +1,125 @@
+//! The lower bound of `feed::lower_bound` never exceeds a planned time:
+//! of the original run, and of a smoothed run (every method through
+//! `auto`'s candidates is out of reach here, so `bspline-corner` and the
+//! original stand for them; the CLI test compares every method).
+
+mod common;
+use common::{polyline_run, v};
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::lower_bound::{lower_bound_time, BoundOptions};
+use fairpath::feed::plan::{plan_run, PlanOptions};
+use fairpath::geom::Vec3;
+use fairpath::path::Piece;
+use proptest::prelude::*;
+
+const TOL: f64 = 0.05;
+
+fn planned(pieces: &[Piece]) -> f64 {
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: true,
+        window: None,
+        ends: Default::default(),
+    };
+    plan_run(pieces, &opts).expect("plans").time
+}
+
+fn bound(pieces: &[Piece]) -> f64 {
+    lower_bound_time(
+        pieces,
+        &BoundOptions::new(TOL),
+        &MachineLimits::thesis(),
+        true,
+    )
+    .expect("bounds")
+    .time
+}
+
+/// A raster of `passes` passes of `len` mm, step-over `w`.
+fn raster(passes: usize, len: f64, w: f64) -> Vec<Vec3> {
+    let mut pts = Vec::new();
+    for i in 0..passes {
+        let y = i as f64 * w;
+        let (a, b) = if i % 2 == 0 { (0.0, len) } else { (len, 0.0) };
+        pts.push(v(a, y, 0.0));
+        pts.push(v(b, y, 0.0));
+    }
+    pts
+}
+
+#[test]
+fn a_straight_line_is_bounded_within_a_quarter() {
+    // Rest to rest over 100 mm (0.543 s planned, 0.411 s bound): the
+    // relaxation lets the acceleration change sign at the peak speed
+    // without passing through zero, which the double-S cannot.
+    let run = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
+    let (t, b) = (planned(&run.pieces), bound(&run.pieces));
+    assert!(b <= t, "bound {b} above the plan {t}");
+    assert!(b >= 0.75 * t, "bound {b} loose against the plan {t}");
+}
+
+#[test]
+fn a_right_angle_and_a_step_over_raise_the_bound_above_the_straight_one() {
+    let straight = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
+    let corner = polyline_run(&[v(0.0, 0.0, 0.0), v(50.0, 0.0, 0.0), v(50.0, 50.0, 0.0)]);
+    let b0 = bound(&straight.pieces);
+    let b1 = bound(&corner.pieces);
+    assert!(b1 > b0, "corner {b1} vs straight {b0}");
+    assert!(b1 <= planned(&corner.pieces));
+    // A raster step-over of 1 mm: two passes of 50 mm.
+    let step = polyline_run(&raster(2, 50.0, 1.0));
+    let b2 = bound(&step.pieces);
+    assert!(b2 > b0, "step-over {b2} vs straight {b0}");
+    assert!(b2 <= planned(&step.pieces));
+}
+
+#[test]
+fn seeded_zigzags_and_rasters_stay_below_their_plans() {
+    // A small LCG: the same programs on every run.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..40 {
+        let pts: Vec<Vec3> = if case % 2 == 0 {
+            let n = 3 + (next() * 20.0) as usize;
+            (0..n)
+                .map(|i| v(i as f64 * (0.2 + 5.0 * next()), 3.0 * next(), 0.5 * next()))
+                .collect()
+        } else {
+            raster(
+                2 + (next() * 6.0) as usize,
+                1.0 + 60.0 * next(),
+                0.02 + 2.0 * next(),
+            )
+        };
+        let run = polyline_run(&pts);
+        let (t, b) = (planned(&run.pieces), bound(&run.pieces));
+        assert!(b <= t, "case {case}: bound {b} above the plan {t}: {pts:?}");
+        assert!(b > 0.0);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn the_bound_never_exceeds_the_plan_of_a_zigzag(
+        pts in prop::collection::vec((0.0f64..20.0, 0.0f64..20.0, 0.0f64..2.0), 2..12)
+    ) {
+        let pts: Vec<Vec3> = pts.into_iter().map(|(x, y, z)| v(x, y, z)).collect();
+        prop_assume!(pts.windows(2).all(|w| w[0].dist(w[1]) > 10.0 * TOL));
+        let run = polyline_run(&pts);
+        let (t, b) = (planned(&run.pieces), bound(&run.pieces));
+        prop_assert!(b <= t, "bound {} above the plan {}", b, t);
+    }
+}
+
+#[test]
+fn bad_tolerance_is_an_error() {
+    let run = polyline_run(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)]);
+    let o = BoundOptions::new(0.0);
+    assert!(lower_bound_time(&run.pieces, &o, &MachineLimits::thesis(), true).is_err());
+}
