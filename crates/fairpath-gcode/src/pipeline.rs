@@ -273,7 +273,9 @@ pub type StepObserver = std::sync::Arc<dyn Fn(&'static str) + Send + Sync>;
 #[derive(Clone)]
 pub struct Phases {
     last: std::time::Instant,
-    done: Vec<(&'static str, std::time::Duration)>,
+    /// Each step: its name, its wall time and the process's peak resident
+    /// memory when it ended (where the system tells it).
+    done: Vec<(&'static str, std::time::Duration, Option<u64>)>,
     observer: Option<StepObserver>,
 }
 
@@ -290,6 +292,15 @@ impl Default for Phases {
     fn default() -> Self {
         Phases::new()
     }
+}
+
+/// The process's peak resident set size so far (bytes): `VmHWM` of
+/// `/proc/self/status` on Linux, `None` elsewhere or when unreadable.
+fn peak_rss() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
 
 impl Phases {
@@ -309,7 +320,7 @@ impl Phases {
     }
     pub fn mark(&mut self, name: &'static str) {
         let now = std::time::Instant::now();
-        self.done.push((name, now - self.last));
+        self.done.push((name, now - self.last, peak_rss()));
         self.last = now;
         if let Some(o) = &self.observer {
             o(name);
@@ -319,14 +330,24 @@ impl Phases {
     pub fn duration(&self, name: &str) -> std::time::Duration {
         self.done
             .iter()
-            .filter(|(n, _)| *n == name)
-            .map(|(_, d)| *d)
+            .filter(|(n, _, _)| *n == name)
+            .map(|(_, d, _)| *d)
             .sum()
     }
+    /// One line per step: its wall time and, where known, the peak
+    /// resident memory of the process when it ended (so the step that set
+    /// the peak is the first to show it).
     pub fn report(&self) -> String {
         self.done
             .iter()
-            .map(|(n, d)| format!("  {n:<22} {:>9.3} s\n", d.as_secs_f64()))
+            .map(|(n, d, rss)| match rss {
+                Some(b) => format!(
+                    "  {n:<22} {:>9.3} s   peak RSS {:>7.1} MB\n",
+                    d.as_secs_f64(),
+                    *b as f64 / (1u64 << 20) as f64
+                ),
+                None => format!("  {n:<22} {:>9.3} s\n", d.as_secs_f64()),
+            })
             .collect()
     }
 }
