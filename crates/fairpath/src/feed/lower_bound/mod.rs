@@ -67,6 +67,59 @@
 //!    less time (a profile over a longer stretch, scaled down in speed,
 //!    runs a shorter one in the same time within every limit), so the
 //!    length lower bounds may stand for the lengths.
+//! 6. **Rest to rest.** Whatever its turns, a run is a motion along its
+//!    arc length from rest to rest (zero acceleration at both ends) under
+//!    `v <= F`, `|dv/dt| <= A`, `|d2v/dt2| <= J`. The least time of such a
+//!    motion over a length `L` is the double-S with `v0 = v1 = 0` and the
+//!    largest peak speed (Biagiotti & Melchiorri, *Trajectory Planning for
+//!    Automatic Machines and Robots*, 2008, section 3.4; the bang-bang jerk
+//!    profile is time-optimal for rest-to-rest motion under velocity,
+//!    acceleration and jerk bounds), so the run's time is at least that of
+//!    [`super::DoubleS`] over the length lower bound (less a relative
+//!    rounding [`ROUNDING`] of its bisection). Step 4's envelopes let the
+//!    acceleration change sign at the peak speed without passing through
+//!    zero, so on a straight run this floor is the larger (100 mm at the
+//!    thesis machine: 0.543 s, where steps 4-5 give 0.411 s).
+//! 7. **The band's width at a turn** ([`width`]). Let the window run from
+//!    gate `a` to gate `b+1` with chord directions `u1` (chord `a`) and
+//!    `u2` (chord `b`), `n = (u1 - u2) / |u1 - u2|`, `T` the unit tangent,
+//!    `beta = pi/2 - angle(T, n)` (so `sin beta = n.T`) and `K` the
+//!    supremum of the curvature over the window. Take a ball `B` (centre
+//!    midway between the window's end gates, radius `r_B`) and `H` above
+//!    `n.y` for every polyline point `y` within `r_B + e` of its centre
+//!    (sampled, the sampling step added); then `h(x) = n.x - H <= e` on the
+//!    band inside `B`. *Case A*: the path leaves `B` in the window; then
+//!    its length there is at least `2 r_B` less the end gates' distances
+//!    from the centre and radii, and the zone is bounded as in step 5 with
+//!    that length. *Case B*: it stays in `B`. If
+//!    `n.(q_b+1 - q_b) + rho_b + rho_b+1 < 0`, some point `s1` of
+//!    `[tau_b, tau_b+1]` has `n.T < 0` (the mean of `n.T` there is
+//!    negative). (i) `beta` is `K`-Lipschitz in arc length (the angle to a
+//!    fixed point of the sphere is 1-Lipschitz, and `T` moves on it at
+//!    rate `k`). (ii) For `s < s1` with `beta(s) > 0`, let `s*` be the
+//!    first zero of `beta` after `s`; on `[s, s*]`,
+//!    `beta >= beta(s) - K (x - s)` and `beta <= pi/2`, so
+//!    `h(s*) - h(s) >= int_0^{beta(s)/K} sin(beta(s) - K t) dt =
+//!    (1 - cos beta(s)) / K`, and `h(s*) <= e`: hence
+//!    `sin beta(s) <= sqrt(2 K (e - h(s)))` (also when `beta(s) <= 0`).
+//!    (iii) So `w = sqrt(e - h)` falls at most at `sqrt(K / 2)` per unit of
+//!    arc length, at most `F sqrt(K / 2)` per second (a comparison
+//!    argument, `w >= 0`). (iv) For gates `a <= i < j <= b`, `w` at
+//!    `tau_i` is at least `sqrt(e - (n.q_i - H + rho_i))` and at `tau_j`
+//!    at most `sqrt(e - (n.q_j - H - rho_j))`; their difference `G` takes
+//!    at least `G / (F sqrt(K / 2))` s. (v) At the slowest point of the
+//!    window (least speed `c`), the caps give `K <= A_n / c^2` and, with
+//!    the jerk cap, `K <= sqrt(J / c^3)`; so the window takes at least
+//!    `G / (F sqrt(K(c) / 2))` plus its chain lengths outside `[i, j]` at
+//!    `F`, a bound increasing in `c`, used beside the rotation time of
+//!    step 3. Time reversal gives the same for gates
+//!    `a+1 <= i < j <= b+1` falling towards `q_j` when chord `a` rises.
+//!    The zone takes the least of the two cases, and the largest over the
+//!    balls. This argument bounds the window's time through its length at
+//!    the feed: a path that weaves between the gates is not excluded by
+//!    it, so it adds only some `G sqrt(2 / K) / F` (about 10 ms at a right
+//!    angle on the thesis machine) and does not reach the speed cap
+//!    `sqrt(A_n R)` of the largest radius that fits the band.
 //!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).
@@ -74,11 +127,14 @@
 use super::limits::MachineLimits;
 use super::plan::plan_rapid;
 use super::program::Motion;
-use super::FeedError;
+use super::{DoubleS, FeedError, Limits};
 use crate::geom::{flatten_params, ParamCurve, Vec3};
 use crate::math;
 use crate::path::Piece;
 use alloc::vec::Vec;
+
+mod width;
+use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
 /// How the bound is built; every length is a multiple of the tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,6 +155,8 @@ pub struct BoundOptions {
     pub max_window: usize,
     /// Longest link of the chains that bound lengths, in gates.
     pub max_chain: usize,
+    /// Radii of the balls of the width argument (step 7), in tolerances.
+    pub ball_radii: [f64; 2],
 }
 
 impl BoundOptions {
@@ -113,6 +171,7 @@ impl BoundOptions {
             min_turn: 0.05,
             max_window: 6,
             max_chain: 48,
+            ball_radii: [20.0, 100.0],
         }
     }
 }
@@ -156,6 +215,9 @@ const TIME_STEPS: usize = 32;
 const C_CELLS: usize = 24;
 /// Cells of the grid over the slow point's place in its window.
 const P_CELLS: usize = 4;
+/// Relative rounding of the double-S time of step 6: its peak speed is
+/// found by bisection to the last bit, the time a few ulps from exact.
+const ROUNDING: f64 = 1e-12;
 /// Most samples of the bridge check per run (longer runs are sampled more
 /// coarsely, the step added to the reach of a bridge).
 const MAX_SAMPLES: usize = 1 << 21;
@@ -472,6 +534,16 @@ pub fn lower_bound_time(
         return Ok(LowerBound::default());
     }
     let gates = gates(&pts, &s, e, opts);
+    let heights = {
+        let total = *s.last().unwrap_or(&0.0);
+        let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
+        let n = (total / step) as usize + 1;
+        let samples: Vec<Vec3> = (0..=n)
+            .map(|i| point_at(&pts, &s, (i as f64 * step).min(total)))
+            .collect();
+        let rmax = opts.ball_radii.iter().fold(0.0f64, |a, &b| a.max(b)) * tol;
+        Heights::new(&samples, step, rmax + e + step)
+    };
     // Chords between consecutive gates: length lower bound, direction,
     // angular slack.
     let chords: Vec<(f64, Option<Vec3>, f64)> = gates
@@ -545,30 +617,97 @@ pub fn lower_bound_time(
             let right = chord_sum(b + 1, zone_end);
             let start_env = (zone_start == 0).then_some(&rest);
             let end_env = (zone_end == chords.len()).then_some(&rest);
-            let p_time = |k: usize| {
-                let env = &envs[k];
-                (0..P_CELLS)
-                    .map(|pc| {
-                        let y0 = win * pc as f64 / P_CELLS as f64;
-                        let y1 = win * (pc + 1) as f64 / P_CELLS as f64;
-                        stretch_time(left + y0, f, start_env, Some(env))
-                            + stretch_time(right + win - y1, f, Some(env), end_env)
-                    })
+            let zone_time = |win: f64, cap: &dyn Fn(f64) -> f64| {
+                let p_time = |k: usize| {
+                    let env = &envs[k];
+                    (0..P_CELLS)
+                        .map(|pc| {
+                            let y0 = win * pc as f64 / P_CELLS as f64;
+                            let y1 = win * (pc + 1) as f64 / P_CELLS as f64;
+                            stretch_time(left + y0, f, start_env, Some(env))
+                                + stretch_time(right + win - y1, f, Some(env), end_env)
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                };
+                let rot = |c: f64| {
+                    let mut per = c / m.normal_acc;
+                    if m.jerk_on_curves {
+                        per = per.max(math::sqrt(c / m.jerk));
+                    }
+                    (alpha * per).max(cap(c)) + (left + right) / f
+                };
+                (0..C_CELLS)
+                    .map(|k| p_time(k + 1).max(rot(cs[k])))
                     .fold(f64::INFINITY, f64::min)
             };
-            let rot = |c: f64| {
-                let mut per = c / m.normal_acc;
-                if m.jerk_on_curves {
-                    per = per.max(math::sqrt(c / m.jerk));
-                }
-                alpha * per + (left + right) / f
+            let mut zone = zone_time(win, &|_| 0.0);
+            // Step 7: the band's width at the turn, in a ball of each
+            // radius; outside the ball the window is long (case A).
+            let (qa, qb) = (gates[a], gates[b + 1]);
+            let n = match (chords[a].1, chords[b].1) {
+                (Some(u1), Some(u2)) => (u1 - u2).normalized(tol * 1e-6),
+                _ => None,
             };
-            let zone = (0..C_CELLS)
-                .map(|k| p_time(k + 1).max(rot(cs[k])))
-                .fold(f64::INFINITY, f64::min);
+            if let Some(n) = n {
+                let mid = (qa.at + qb.at) * 0.5;
+                let goes_down =
+                    n.dot(gates[b + 1].at - gates[b].at) + gates[b].radius + gates[b + 1].radius
+                        < 0.0;
+                let comes_up =
+                    n.dot(gates[a + 1].at - gates[a].at) - gates[a].radius - gates[a + 1].radius
+                        > 0.0;
+                for &rb in &opts.ball_radii {
+                    let rb = rb * tol;
+                    let top = heights.top(mid, rb + e, n);
+                    let gh = |g: usize| GateHeight {
+                        height: n.dot(gates[g].at) - top,
+                        radius: gates[g].radius,
+                    };
+                    // (rise G, chain length of the window outside it).
+                    let mut rises: Vec<(f64, f64)> = Vec::new();
+                    for i in a..=b + 1 {
+                        for j in i + 1..=b + 1 {
+                            let g = if j <= b && goes_down {
+                                rise(e, gh(i), gh(j))
+                            } else {
+                                0.0
+                            };
+                            let g_rev = if i > a && comes_up {
+                                rise(e, gh(j), gh(i))
+                            } else {
+                                0.0
+                            };
+                            let g = g.max(g_rev);
+                            if g > 0.0 {
+                                rises.push((g, chord_sum(a, i) + chord_sum(j, b + 1)));
+                            }
+                        }
+                    }
+                    if rises.is_empty() {
+                        continue;
+                    }
+                    let jerk = m.jerk_on_curves.then_some(m.jerk);
+                    let cap = |c: f64| {
+                        let k = curvature_cap(c, m.normal_acc, jerk);
+                        rises
+                            .iter()
+                            .map(|&(g, rest)| rise_time(g, f, k) + rest / f)
+                            .fold(0.0, f64::max)
+                    };
+                    let inside = zone_time(win, &cap);
+                    let long = 2.0 * rb - qa.at.dist(mid) - qb.at.dist(mid) - qa.radius - qb.radius;
+                    let outside = zone_time(win.max(long), &|_| 0.0);
+                    zone = zone.max(inside.min(outside));
+                }
+            }
             time += zone;
             zone_start = zone_end;
         }
+    }
+    // Step 6: the rest-to-rest double-S over the run's length.
+    if length > 0.0 {
+        let ds = DoubleS::plan(length, 0.0, 0.0, &Limits::new(f, m.acc, m.jerk)?)?;
+        time = time.max(ds.duration() * (1.0 - ROUNDING));
     }
     Ok(LowerBound {
         time,
