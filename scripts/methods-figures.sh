@@ -191,7 +191,7 @@ DENSE = set(SURVEY[:1] + SURVEY[1:2] + SURVEY[6:19])
 
 
 def survey(model):
-    w("| program | original | `bspline-corner` | `auto` | auto / original | auto / bspline-corner | auto / original, feed moves | target (dense: <= 0.7 of both) | auto smoothing s (CPU) |")
+    w("| program | original | `bspline-corner` | `auto` | auto / original | auto / bspline-corner | auto / original, feed moves | target (dense: <= 0.7 of both) | auto smoothing s (wall) |")
     w("|---|---|---|---|---|---|---|---|---|")
     for p in SURVEY:
         progress(f"  {p}")
@@ -216,7 +216,7 @@ SURVEY_CMD = ("`fairpath compare P --tolerance 0.05mm --override-feed "
               "at the machine's maximum feed, rapids included (the same for every method); "
               "the original is planned with blended corners within 0.05 mm (fairpath's "
               "junction model). The last but one column is issue 5's target on the dense "
-              "programs; the last is `compare`'s smoothing time of `auto` (computing time, "
+              "programs; the last is `compare`'s smoothing time of `auto` (wall-clock computing time, "
               "s, which the load above affects).")
 if "survey" in SECTIONS:
     progress("survey (full model)")
