@@ -122,11 +122,19 @@ fn bench(c: &mut Criterion) {
             .iter()
             .map(|r| r.smoothed.pieces.clone())
             .collect();
+        let original = program.runs();
         let eo = opts.emit_options();
         g.bench_function(format!("render, write, check {method}"), |b| {
-            b.iter(|| emit(&program, &smoothed, &plans, &eo).unwrap().text.len())
+            b.iter(|| {
+                emit(&program, &original, &smoothed, &plans, &eo)
+                    .unwrap()
+                    .text
+                    .len()
+            })
         });
-        let text = emit(&program, &smoothed, &plans, &eo).unwrap().text;
+        let text = emit(&program, &original, &smoothed, &plans, &eo)
+            .unwrap()
+            .text;
         g.bench_function(format!("re-read and check {method}"), |b| {
             b.iter_batched(
                 || text.clone(),
