@@ -119,3 +119,27 @@ fn linuxcnc_defaults_to_arc_fit() {
     assert!(text.contains("(arc-fit, arcs for linuxcnc"), "{text}");
     assert!(feed_moves(&out) <= 6);
 }
+
+/// Regression, `synthetic/helix.ngc` with arc-fit: the summary said
+/// "6 arcs (0 helical)" for six helical G3 blocks (arcs that a method
+/// makes itself were counted as arcs only).
+#[test]
+fn helix_arcs_are_counted_as_helical() {
+    let Some(input) = shared("synthetic/helix.ngc") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let o = bin()
+        .args(["smooth", input.to_str().unwrap(), "--tolerance", "0.05mm"])
+        .args(["--method", "arc-fit", "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    let arcs = feed_moves(&out);
+    assert!(
+        text.contains(&format!("{arcs} arcs ({arcs} helical)")),
+        "{arcs} arcs written: {text}"
+    );
+}

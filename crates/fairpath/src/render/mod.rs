@@ -235,9 +235,12 @@ pub fn render_range(
                 curves.push(p.curve.clone());
                 out.stats.lines += 1;
             }
-            (Curve::Arc(_), CurveForm::Arcs | CurveForm::Nurbs(_)) => {
+            (Curve::Arc(a), CurveForm::Arcs | CurveForm::Nurbs(_)) => {
                 curves.push(p.curve.clone());
                 out.stats.arcs += 1;
+                if a.rise != 0.0 {
+                    out.stats.helical += 1;
+                }
             }
             (Curve::Nurbs(n), CurveForm::Nurbs(lim)) if nurbs_fits(n, &lim, opts.chord) => {
                 curves.push(p.curve.clone());
