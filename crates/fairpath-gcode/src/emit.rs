@@ -7,8 +7,7 @@
 //! slower than the program's own.
 
 use crate::pipeline::{
-    compare_runs, group_by_source, into_outline_and_runs, pair_runs, RunCountMismatch,
-    WrittenCheck, WrittenReading,
+    compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck, WrittenReading,
 };
 pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
 use crate::{
@@ -17,7 +16,7 @@ use crate::{
 };
 use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run_shaped, Corners, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
 use fairpath::geom::Nurbs;
@@ -92,6 +91,11 @@ const LINES_CANDIDATE_SHARE: f64 = 0.1;
 
 /// Pieces per part when a long run is rendered in parts side by side.
 const RENDER_PART_PIECES: usize = 4096;
+
+/// Parts rendered side by side before they are joined: enough to keep
+/// the cores busy, few enough that the parts waiting to be joined hold
+/// little beside the joined rendering.
+const RENDER_GROUP_PARTS: usize = 8;
 
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
@@ -224,18 +228,23 @@ pub fn emit(
             });
         }
         // A long run in parts side by side (each piece is rendered on its
-        // own: the same pieces as one call).
+        // own: the same pieces as one call), a group of parts at a time,
+        // so that the rendered parts waiting to be joined stay few.
         let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
-        let rendered = par_map(parts, |j| {
-            let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
-            render_range(pieces, j * RENDER_PART_PIECES..end, &speed, &ro)
-        });
         let mut choice = Choice::original(chord);
         choice.form = Some(form);
-        for r in rendered {
-            let r = r.map_err(error)?;
-            choice.pieces.extend(r.pieces);
-            choice.stats.add(&r.stats);
+        for group in (0..parts).step_by(RENDER_GROUP_PARTS) {
+            let in_group = RENDER_GROUP_PARTS.min(parts - group);
+            let rendered = par_map(in_group, |i| {
+                let j = group + i;
+                let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
+                render_range(pieces, j * RENDER_PART_PIECES..end, &speed, &ro)
+            });
+            for r in rendered {
+                let r = r.map_err(error)?;
+                choice.pieces.extend(r.pieces);
+                choice.stats.add(&r.stats);
+            }
         }
         Ok(choice)
     };
@@ -253,11 +262,7 @@ pub fn emit(
             window: None,
             ends: Default::default(),
         };
-        Ok(
-            plan_run_shaped(pieces, &po, &Shaping::none(), opts.judged_by)
-                .map_err(EmitError::Plan)?
-                .time,
-        )
+        plan_time_shaped(pieces, &po, &Shaping::none(), opts.judged_by).map_err(EmitError::Plan)
     };
     // A rendering's time: its G5.2 blocks as LinuxCNC runs them (as the
     // written text reads back).
@@ -376,11 +381,11 @@ pub fn emit(
         for c in &mut choices {
             c.pieces = Vec::new();
         }
-        let reread_program = crate::parse_motion(text.as_bytes()).map_err(EmitError::Reread)?;
-        // What planning the written program needs of it; the program
-        // itself is consumed (on long outputs it is the largest thing
-        // held).
-        let (reread_outline, reread) = into_outline_and_runs(reread_program);
+        // Read back for what checking and planning it need (its motions
+        // and runs' pieces; no lines held: on long outputs the reading is
+        // the largest thing held).
+        let (reread_outline, reread) =
+            crate::read_motion(text.as_bytes()).map_err(EmitError::Reread)?;
         let check = compare_runs(original, &reread, tolerance)?;
         #[allow(unused_mut)]
         let mut failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();

@@ -165,7 +165,7 @@ pub use entry::{
 };
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use format::{Controller, Format};
-pub use interp::{parse, parse_motion, parse_with};
+pub use interp::{parse, parse_motion, parse_with, read_motion};
 pub use motions::json_motions;
 pub use pipeline::{OptionsError, SmoothOptions};
 pub use program::{

@@ -327,3 +327,59 @@ impl Program {
         self.moves.is_empty()
     }
 }
+
+/// One motion of a program as `simulate` plans it, without the program.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MotionOutline {
+    /// Run `k` (in the order of [`Program::runs`]).
+    Run(usize),
+    Rapid(Piece),
+    /// A feed move that is a motion of its own (pinned).
+    Pinned(Piece),
+}
+
+/// [`crate::pipeline::outline`] and [`Program::runs`] of `program`, which is consumed: its
+/// lines are dropped first and its pieces moved, not copied (on a long
+/// written program the copies would double the largest thing held).
+pub fn into_outline_and_runs(program: Program) -> (Vec<MotionOutline>, Vec<Run>) {
+    let Program {
+        lines,
+        moves,
+        runs: spans,
+        ..
+    } = program;
+    drop(lines);
+    let mut outline = Vec::with_capacity(2 * spans.len() + 1);
+    let mut runs = Vec::with_capacity(spans.len());
+    let mut next_run = 0;
+    let mut current: Option<(usize, Vec<Piece>)> = None;
+    for (mi, m) in moves.into_iter().enumerate() {
+        if let Some((end, pieces)) = &mut current {
+            pieces.push(m.piece);
+            if mi + 1 == *end {
+                runs.push(Run::new(core::mem::take(pieces)));
+                current = None;
+            }
+            continue;
+        }
+        if next_run < spans.len() && spans[next_run].moves.start == mi {
+            let span = &spans[next_run];
+            outline.push(MotionOutline::Run(next_run));
+            next_run += 1;
+            let mut pieces = Vec::with_capacity(span.moves.len());
+            pieces.push(m.piece);
+            if span.moves.len() == 1 {
+                runs.push(Run::new(pieces));
+            } else {
+                current = Some((span.moves.end, pieces));
+            }
+            continue;
+        }
+        outline.push(if m.piece.rapid {
+            MotionOutline::Rapid(m.piece)
+        } else {
+            MotionOutline::Pinned(m.piece)
+        });
+    }
+    (outline, runs)
+}

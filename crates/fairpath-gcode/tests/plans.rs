@@ -118,3 +118,70 @@ fn a_long_run_is_timed_as_written() {
         plan_text(&output.text, &opts).unwrap()
     );
 }
+
+/// `read_motion` (the writer's check streams the written text with it,
+/// keeping no lines) gives what `parse` gives as motions and runs, on every
+/// shared program under 1 MB (expanded ones included, through its
+/// fallback), on programs with rapids, pinned moves, feed changes and text
+/// after the end, and on written outputs in every G-code format; and it
+/// refuses what `parse` refuses, at the same line.
+#[test]
+fn read_motion_streams_what_parse_reads() {
+    let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/paths");
+    let mut texts: Vec<(String, String)> = PROGRAMS
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (format!("example {i}"), t.to_string()))
+        .collect();
+    texts.push((
+        "rapids, pinned, feeds, after the end".into(),
+        "G0 X0 Y0\nG1 X1 F100\nG1 X2 Y1 M8\nG1 X3\nG1 X4 F200\n#1=2\nG1 X5\nG0 Z5\n\
+         G1 X4 Y4\nM2\nG1 X9\n"
+            .into(),
+    ));
+    for text in PROGRAMS {
+        for format in [Format::Arcs, Format::G1, Format::G5_2, Format::G6_2] {
+            let opts = SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic)
+                .unwrap();
+            let (output, _) = smooth_program(text, &opts).unwrap();
+            texts.push((format!("written {format:?}"), output.text));
+        }
+    }
+    let mut stack = vec![shared];
+    while let Some(dir) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let path = e.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if e.metadata().is_ok_and(|m| m.len() < 1 << 20) {
+                if let Ok(t) = std::fs::read_to_string(&path) {
+                    texts.push((path.display().to_string(), t));
+                }
+            }
+        }
+    }
+    let mut read = 0;
+    for (name, text) in &texts {
+        match fairpath_gcode::parse(text.as_bytes()) {
+            Ok(full) => {
+                let streamed = fairpath_gcode::read_motion(text.as_bytes())
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert_eq!(
+                    streamed,
+                    (fairpath_gcode::pipeline::outline(&full), full.runs()),
+                    "{name}"
+                );
+                read += 1;
+            }
+            Err(e) => {
+                let s = fairpath_gcode::read_motion(text.as_bytes())
+                    .expect_err(&format!("{name}: streamed but parse refused: {e}"));
+                assert_eq!(s.line, e.line, "{name}: {e} / {s}");
+            }
+        }
+    }
+    assert!(read >= PROGRAMS.len() * 5 + 1, "{read} programs read");
+}

@@ -36,7 +36,7 @@ mod runs;
 mod state;
 
 pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
-pub use reader::{parse, parse_motion, parse_with};
+pub use reader::{parse, parse_motion, parse_with, read_motion};
 pub(crate) use state::{FeedMode, State};
 
 use crate::error::{ErrorKind, GcodeError};

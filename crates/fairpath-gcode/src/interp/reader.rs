@@ -11,9 +11,12 @@ use crate::lang::{
     params::{Params, SystemView},
 };
 use crate::lexer::{line_slices, scan_line, split_lines, ItemKind, SourceLine};
-use crate::program::{Expansion, MotionMode, Move, Program, ProgramLine, Units};
+use crate::program::{
+    Expansion, MotionMode, MotionOutline, Move, MoveKind, Program, ProgramLine, Units,
+};
 use crate::spline::ParseOptions;
 use fairpath::controller::Plane;
+use fairpath::path::{Piece, Run};
 
 /// Reads a program with the default [`ParseOptions`]. See the crate
 /// documentation for what is accepted.
@@ -39,6 +42,77 @@ pub fn parse_motion(text: &[u8]) -> Result<Program, GcodeError> {
 /// each written out with literal values ([`Program::expansion`]).
 pub fn parse_with(text: &[u8], opts: &ParseOptions) -> Result<Program, GcodeError> {
     read(text, opts, false)
+}
+
+/// Reads a program for what planning and checking it needs, and nothing
+/// else: its motions in order and its runs' pieces, as
+/// [`crate::program::into_outline_and_runs`] makes them of
+/// [`parse_motion`]'s program. A program read in place is streamed: each
+/// line is interpreted, its moves go to their run or the outline, and the
+/// line is dropped, so the memory held grows with the pieces alone (a
+/// written program read back to be checked can be many times its input).
+/// A program with o-words is expanded as [`parse_motion`] reads it.
+pub fn read_motion(text: &[u8]) -> Result<(Vec<MotionOutline>, Vec<Run>), GcodeError> {
+    let mut oword = false;
+    for l in line_slices(text) {
+        oword |= lang::flow::looks_like_oword(l?.0);
+    }
+    if oword {
+        return Ok(crate::program::into_outline_and_runs(parse_motion(text)?));
+    }
+    let mut r = Reader::new(&ParseOptions::default());
+    r.motion_only = true;
+    r.sink = Some(MotionSink::default());
+    r.in_place(line_slices(text).map_while(Result::ok))?;
+    let n = r.lines.len() + 1;
+    r.st.spline
+        .check_closed()
+        .map_err(|e| to_source(e, n, n, &r.lines))?;
+    let mut sink = r.sink.take().unwrap_or_default();
+    sink.close_run();
+    Ok((sink.outline, sink.runs))
+}
+
+/// Where [`read_motion`] puts each line's moves: the run being read, or
+/// the outline (rapids and pinned moves, and each run where it starts).
+#[derive(Default)]
+struct MotionSink {
+    outline: Vec<MotionOutline>,
+    runs: Vec<Run>,
+    current: Vec<Piece>,
+}
+
+impl MotionSink {
+    fn close_run(&mut self) {
+        if !self.current.is_empty() {
+            self.outline.push(MotionOutline::Run(self.runs.len()));
+            self.runs.push(Run::new(core::mem::take(&mut self.current)));
+        }
+    }
+
+    /// The moves of one line, as `group_runs` groups them: a line that
+    /// breaks the run (or is not interpreted) ends it and its moves are
+    /// motions of their own; a feed change ends it too.
+    fn line(&mut self, breaks_run: bool, moves: impl Iterator<Item = Move>) {
+        if breaks_run {
+            self.close_run();
+            for m in moves {
+                self.outline.push(if m.piece.rapid {
+                    MotionOutline::Rapid(m.piece)
+                } else {
+                    MotionOutline::Pinned(m.piece)
+                });
+            }
+            return;
+        }
+        for m in moves {
+            debug_assert!(m.pinned.is_none() && m.kind != MoveKind::Rapid);
+            if self.current.last().is_some_and(|l| l.feed != m.piece.feed) {
+                self.close_run();
+            }
+            self.current.push(m.piece);
+        }
+    }
 }
 
 /// [`parse_with`], or with `motion_only` [`parse_motion`].
@@ -79,6 +153,9 @@ struct Reader {
     expansion: Option<Expansion>,
     /// Keep no texts, words or written coordinates ([`parse_motion`]).
     motion_only: bool,
+    /// Keep no lines or moves at all: each line's moves go here
+    /// ([`read_motion`]).
+    sink: Option<MotionSink>,
 }
 
 impl Reader {
@@ -91,6 +168,7 @@ impl Reader {
             start_units: None,
             expansion: None,
             motion_only: false,
+            sink: None,
         }
     }
 
@@ -146,6 +224,10 @@ impl Reader {
         text: String,
         ending: &'static str,
     ) {
+        if let Some(sink) = &mut self.sink {
+            sink.line(true, core::iter::empty());
+            return;
+        }
         let text = if self.motion_only {
             String::new()
         } else {
@@ -238,6 +320,11 @@ impl Reader {
             .map_err(|e| to_source(e, number, source_line, lines))?;
         if self.start_units.is_none() && self.moves.len() > first_move {
             self.start_units = Some(self.st.units);
+        }
+        if let Some(sink) = &mut self.sink {
+            let breaks_run = info.breaks_run || (ev.assigns && !expanded);
+            sink.line(breaks_run, self.moves.drain(first_move..));
+            return Ok(true);
         }
         let (text, words, path_control) = if self.motion_only {
             for m in &mut self.moves[first_move..] {

@@ -9,8 +9,9 @@
 use super::{PlanError, SmoothOptions, SmoothResult};
 use crate::Program;
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_rapid, plan_run, plan_time_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::program::{simulate, ProgramPlanError, Simulation};
+use fairpath::feed::shaping::Shaping;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 
@@ -44,15 +45,7 @@ pub struct JobTimes {
     pub written: Times,
 }
 
-/// One motion of a program as `simulate` plans it, without the program.
-#[derive(Clone, Debug, PartialEq)]
-pub enum MotionOutline {
-    /// Run `k` (in the order of [`Program::runs`]).
-    Run(usize),
-    Rapid(Piece),
-    /// A feed move that is a motion of its own (pinned).
-    Pinned(Piece),
-}
+pub use crate::program::{into_outline_and_runs, MotionOutline};
 
 /// The motions of `program` in order, as [`Program::motions`] makes them,
 /// with its runs by index: what planning it needs once the program itself
@@ -78,52 +71,6 @@ pub fn outline(program: &Program) -> Vec<MotionOutline> {
         mi += 1;
     }
     out
-}
-
-/// [`outline`] and [`Program::runs`] of `program`, which is consumed: its
-/// lines are dropped first and its pieces moved, not copied (on a long
-/// written program the copies would double the largest thing held).
-pub fn into_outline_and_runs(program: Program) -> (Vec<MotionOutline>, Vec<Run>) {
-    let Program {
-        lines,
-        moves,
-        runs: spans,
-        ..
-    } = program;
-    drop(lines);
-    let mut outline = Vec::with_capacity(2 * spans.len() + 1);
-    let mut runs = Vec::with_capacity(spans.len());
-    let mut next_run = 0;
-    let mut current: Option<(usize, Vec<Piece>)> = None;
-    for (mi, m) in moves.into_iter().enumerate() {
-        if let Some((end, pieces)) = &mut current {
-            pieces.push(m.piece);
-            if mi + 1 == *end {
-                runs.push(Run::new(core::mem::take(pieces)));
-                current = None;
-            }
-            continue;
-        }
-        if next_run < spans.len() && spans[next_run].moves.start == mi {
-            let span = &spans[next_run];
-            outline.push(MotionOutline::Run(next_run));
-            next_run += 1;
-            let mut pieces = Vec::with_capacity(span.moves.len());
-            pieces.push(m.piece);
-            if span.moves.len() == 1 {
-                runs.push(Run::new(pieces));
-            } else {
-                current = Some((span.moves.end, pieces));
-            }
-            continue;
-        }
-        outline.push(if m.piece.rapid {
-            MotionOutline::Rapid(m.piece)
-        } else {
-            MotionOutline::Pinned(m.piece)
-        });
-    }
-    (outline, runs)
 }
 
 /// What planning a program's motions gives: its times, and with
@@ -161,9 +108,19 @@ fn plan_outline(
                 return Ok((t, 0.0, None));
             }
             let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
-            let plan = plan_run(pieces, &po)
-                .map_err(|source| error(ProgramPlanError::Run { line, source }))?;
-            Ok((plan.time, 0.0, k.filter(|_| keep_plans).map(|k| (k, plan))))
+            let run_error = |source| error(ProgramPlanError::Run { line, source });
+            match k.filter(|_| keep_plans) {
+                Some(k) => {
+                    let plan = plan_run(pieces, &po).map_err(run_error)?;
+                    Ok((plan.time, 0.0, Some((k, plan))))
+                }
+                None => {
+                    let none = Shaping::none();
+                    let time = plan_time_shaped(pieces, &po, &none, Corners::Blended)
+                        .map_err(run_error)?;
+                    Ok((time, 0.0, None))
+                }
+            }
         };
         match &outline[j] {
             MotionOutline::Run(k) => feed_run(Some(*k), runs[*k]),
@@ -351,12 +308,11 @@ pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
             })?;
         return Ok(Times::of(&sim));
     }
-    let program = crate::parse_motion(text.as_bytes()).map_err(PlanError::ReadWritten)?;
-    let runs = program.runs();
+    let (outline, runs) = crate::read_motion(text.as_bytes()).map_err(PlanError::ReadWritten)?;
     let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
     let what = "the written program";
-    Ok(plan_outline(&outline(&program), &pieces, &[], m, o, false, what)?.times)
+    Ok(plan_outline(&outline, &pieces, &[], m, o, false, what)?.times)
 }
 
 /// The written G-code as the writer's check read it back: its motions,

@@ -220,6 +220,30 @@ pub fn plan_run_shaped(
     shaping: &Shaping,
     corners: Corners,
 ) -> Result<RunPlan, FeedError> {
+    plan(pieces, opts, shaping, corners, true)
+}
+
+/// The time (s) of [`plan_run_shaped`]'s plan, the same to the bit,
+/// without its segments (where only the time is wanted, as when
+/// candidates are compared: on a long run the segments' parts are a third
+/// of the plan's memory).
+pub fn plan_time_shaped(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    shaping: &Shaping,
+    corners: Corners,
+) -> Result<f64, FeedError> {
+    plan(pieces, opts, shaping, corners, false).map(|p| p.time)
+}
+
+/// [`plan_run_shaped`], with its segments only if `keep_segments`.
+fn plan(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    shaping: &Shaping,
+    corners: Corners,
+    keep_segments: bool,
+) -> Result<RunPlan, FeedError> {
     let m = &opts.limits;
     m.validate().map_err(|e| FeedError::BadLimit {
         name: e.name,
@@ -366,6 +390,9 @@ pub fn plan_run_shaped(
         let ph = profile.phases();
         if ph.tj1 > 0.0 || ph.tj2 > 0.0 {
             plan.max_jerk = plan.max_jerk.max(seg_limits(a, b).1);
+        }
+        if !keep_segments {
+            continue;
         }
         // The tightest constraint: the lowest cap among the stretches.
         let tight = st[a..b]
