@@ -141,8 +141,8 @@ fn read_motion_streams_what_parse_reads() {
     ));
     for text in PROGRAMS {
         for format in [Format::Arcs, Format::G1, Format::G5_2, Format::G6_2] {
-            let opts = SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic)
-                .unwrap();
+            let opts =
+                SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic).unwrap();
             let (output, _) = smooth_program(text, &opts).unwrap();
             texts.push((format!("written {format:?}"), output.text));
         }

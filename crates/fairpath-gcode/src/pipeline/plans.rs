@@ -80,6 +80,10 @@ struct Planned {
     plans: Vec<RunPlan>,
 }
 
+/// One motion's plan: feed time, rapid time, and the run's plan where kept
+/// (with the run's index).
+type Done = (f64, f64, Option<(usize, RunPlan)>);
+
 /// The times of the motions of `outline` with run `k`'s pieces taken from
 /// `runs[k]`, planned on all cores and added in order as `simulate` adds
 /// them; run `k`'s time is `known[k]` where that is `Some` (a plan with the
@@ -93,6 +97,34 @@ fn plan_outline(
     keep_plans: bool,
     what: &'static str,
 ) -> Result<Planned> {
+    let done = motion_times(
+        outline,
+        runs,
+        known,
+        &[],
+        machine,
+        override_feed,
+        keep_plans,
+        what,
+    )?;
+    Ok(add_up(
+        done.into_iter().map(|d| d.unwrap_or((0.0, 0.0, None))),
+    ))
+}
+
+/// Each motion's plan, as [`plan_outline`] makes them, in order; `None`
+/// for a run `k` with `skip[k]` (planned elsewhere).
+#[allow(clippy::too_many_arguments)]
+fn motion_times(
+    outline: &[MotionOutline],
+    runs: &[&[Piece]],
+    known: &[Option<f64>],
+    skip: &[bool],
+    machine: &MachineLimits,
+    override_feed: bool,
+    keep_plans: bool,
+    what: &'static str,
+) -> Result<Vec<Option<Done>>> {
     let error = |source| PlanError::Plan { what, source };
     let po = PlanOptions {
         limits: *machine,
@@ -100,25 +132,26 @@ fn plan_outline(
         window: None,
         ends: Default::default(),
     };
-    // (feed time, rapid time, the plan kept).
-    type Done = (f64, f64, Option<(usize, RunPlan)>);
-    let done: Vec<Result<Done>> = par_map(outline.len(), |j| {
-        let feed_run = |k: Option<usize>, pieces: &[Piece]| -> Result<Done> {
+    par_map(outline.len(), |j| {
+        let feed_run = |k: Option<usize>, pieces: &[Piece]| -> Result<Option<Done>> {
+            if k.is_some_and(|k| skip.get(k).copied().unwrap_or(false)) {
+                return Ok(None);
+            }
             if let Some(t) = k.and_then(|k| known.get(k).copied().flatten()) {
-                return Ok((t, 0.0, None));
+                return Ok(Some((t, 0.0, None)));
             }
             let line = pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
             let run_error = |source| error(ProgramPlanError::Run { line, source });
             match k.filter(|_| keep_plans) {
                 Some(k) => {
                     let plan = plan_run(pieces, &po).map_err(run_error)?;
-                    Ok((plan.time, 0.0, Some((k, plan))))
+                    Ok(Some((plan.time, 0.0, Some((k, plan)))))
                 }
                 None => {
                     let none = Shaping::none();
                     let time = plan_time_shaped(pieces, &po, &none, Corners::Blended)
                         .map_err(run_error)?;
-                    Ok((time, 0.0, None))
+                    Ok(Some((time, 0.0, None)))
                 }
             }
         };
@@ -128,18 +161,24 @@ fn plan_outline(
             MotionOutline::Rapid(p) => {
                 let len = p.curve.length(RAPID_LENGTH_ACCURACY_MM);
                 if len.is_nan() || len <= 0.0 {
-                    return Ok((0.0, 0.0, None));
+                    return Ok(Some((0.0, 0.0, None)));
                 }
                 let prof = plan_rapid(len, machine)
                     .map_err(|source| error(ProgramPlanError::Rapid(source)))?;
-                Ok((0.0, prof.duration(), None))
+                Ok(Some((0.0, prof.duration(), None)))
             }
         }
-    });
+    })
+    .into_iter()
+    .collect()
+}
+
+/// The motions' times added in order, as `simulate` adds them, and the
+/// plans kept.
+fn add_up(done: impl Iterator<Item = Done>) -> Planned {
     let (mut feed, mut rapid) = (0.0, 0.0);
-    let mut plans = Vec::with_capacity(if keep_plans { runs.len() } else { 0 });
-    for d in done {
-        let (f, r, plan) = d?;
+    let mut plans = Vec::new();
+    for (f, r, plan) in done {
         feed += f;
         rapid += r;
         if let Some((k, plan)) = plan {
@@ -147,13 +186,13 @@ fn plan_outline(
             plans.push(plan);
         }
     }
-    Ok(Planned {
+    Planned {
         times: Times {
             total: feed + rapid,
             feed,
         },
         plans,
-    })
+    }
 }
 
 /// The planned time of the input, as `fairpath simulate` plans the file.
@@ -246,7 +285,24 @@ fn plan_job(
         .into_iter()
         .collect()
     };
-    let done: Vec<Result<Planned>> = par_map(tasks.len(), |i| match tasks[i] {
+    // A run smoothed into itself (every run with `none`) is planned once,
+    // for the input, and its time counted for the curves too: the same
+    // pieces plan to the same bits. Not where the curves' plans are kept
+    // (feeds overridden: they are the renderer's).
+    let shared: Vec<bool> = if input && !override_feed {
+        result
+            .runs
+            .iter()
+            .map(|r| r.original.pieces == r.smoothed.pieces)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    enum Out {
+        Motions(Vec<Option<Done>>),
+        Plans(Vec<RunPlan>),
+    }
+    let done: Vec<Result<Out>> = par_map(tasks.len(), |i| match tasks[i] {
         Task::Input => {
             let runs: Vec<&[Piece]> = result
                 .runs
@@ -254,42 +310,51 @@ fn plan_job(
                 .map(|r| r.original.pieces.as_slice())
                 .collect();
             let what = "the input";
-            plan_outline(&outline, &runs, &[], m, override_feed, false, what)
+            motion_times(&outline, &runs, &[], &[], m, override_feed, false, what).map(Out::Motions)
         }
         Task::Exact => {
             let what = "the curves";
-            plan_outline(
+            let keep = override_feed;
+            motion_times(
                 &outline,
                 &curves,
                 &[],
+                &shared,
                 m,
                 override_feed,
-                override_feed,
+                keep,
                 what,
             )
+            .map(Out::Motions)
         }
-        Task::Plans => Ok(Planned {
-            times: Times {
-                total: 0.0,
-                feed: 0.0,
-            },
-            plans: renderer_plans()?,
-        }),
+        Task::Plans => renderer_plans().map(Out::Plans),
     });
-    let (mut input_times, mut exact, mut plans) = (None, None, Vec::new());
+    let (mut input_done, mut exact_done, mut plans) = (None, None, Vec::new());
     for (task, d) in tasks.into_iter().zip(done) {
-        let d = d?;
-        match task {
-            Task::Input => input_times = Some(d.times),
-            Task::Exact => {
-                exact = Some(d.times);
-                if override_feed {
-                    plans = d.plans;
-                }
-            }
-            Task::Plans => plans = d.plans,
+        match (task, d?) {
+            (Task::Input, Out::Motions(m)) => input_done = Some(m),
+            (Task::Exact, Out::Motions(m)) => exact_done = Some(m),
+            (_, Out::Plans(p)) => plans = p,
+            _ => unreachable!("each task gives its kind"),
         }
     }
+    let exact_done = exact_done.expect("the curves are planned");
+    // The curves' shared runs take the input's times, motion by motion.
+    let exact_planned = add_up(exact_done.into_iter().enumerate().map(|(j, d)| {
+        d.or_else(|| {
+            input_done
+                .as_ref()
+                .and_then(|i| i[j].as_ref())
+                .map(|(f, r, _)| (*f, *r, None))
+        })
+        .expect("a shared run is planned for the input")
+    }));
+    if override_feed {
+        plans = exact_planned.plans;
+    }
+    let input_times = input_done
+        .map(|d| add_up(d.into_iter().map(|x| x.expect("the input skips nothing"))).times);
+    let exact = Some(exact_planned.times);
     Ok((input_times, exact.expect("the curves are planned"), plans))
 }
 
