@@ -354,8 +354,8 @@ fn plan_job(
     }
     let input_times = input_done
         .map(|d| add_up(d.into_iter().map(|x| x.expect("the input skips nothing"))).times);
-    let exact = Some(exact_planned.times);
-    Ok((input_times, exact.expect("the curves are planned"), plans))
+    let exact = exact_planned.times;
+    Ok((input_times, exact, plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
