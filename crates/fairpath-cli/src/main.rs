@@ -229,11 +229,14 @@ enum Command {
         /// its paths at the maximum feed.
         #[arg(long, value_enum, default_value = "rest")]
         run_ends: RunEndsArg,
-        /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z).
+        /// Write the profile sampled every period as CSV (t,s,v,a,j,x,y,z);
+        /// `-` writes it to standard output (the summary then goes to
+        /// standard error).
         #[arg(long)]
         profile: Option<PathBuf>,
         /// Write one row per planned segment as CSV, with the constraint
-        /// that limits it (s0,length,cap,constraint,v_in,v_out,time).
+        /// that limits it (s0,length,cap,constraint,v_in,v_out,time); `-`
+        /// as for --profile.
         #[arg(long)]
         segments: Option<PathBuf>,
         #[arg(long, value_enum, default_value_t = TextOrJson::Text)]

@@ -96,7 +96,7 @@ pub fn run(
         let (csv, fmax, fmean) = sim.csv(m, profile.is_some());
         sim.fluctuation = Some((fmax, fmean));
         if let Some(p) = profile {
-            crate::output::write_atomically(p, csv.as_bytes())?;
+            crate::output::write_output(p, csv.as_bytes())?;
         }
     } else if profile.is_some() {
         bail!(
@@ -104,28 +104,37 @@ pub fn run(
         );
     }
     if let Some(p) = segments {
-        crate::output::write_atomically(p, sim.segments_csv().as_bytes())?;
+        crate::output::write_output(p, sim.segments_csv().as_bytes())?;
     }
+    // A CSV written to standard output (`-`) has it to itself: the
+    // summary goes to standard error.
+    let to_stdout = |p: Option<&Path>| p.is_some_and(crate::read::is_stdio);
+    let mut summary = String::new();
     if json {
-        println!("{}", simulation_json(&sim, curvature));
+        summary = format!("{}\n", simulation_json(&sim, curvature));
     } else {
-        print!(
+        summary.push_str(&format!(
             "fairpath simulate: {}\n{}",
             crate::read::name(path),
             sim.text(m)
-        );
-        print!(
+        ));
+        summary.push_str(&format!(
             "  feed moves:      {:.3} mm, average feed {:.1} mm/s",
             sim.feed_length,
             sim.average_feed()
-        );
+        ));
         match curvature {
-            Some(k) => println!(", average curvature {k:.6} 1/mm"),
-            None => println!(),
+            Some(k) => summary.push_str(&format!(", average curvature {k:.6} 1/mm\n")),
+            None => summary.push('\n'),
         }
         if ends == RunEnds::AtCap {
-            println!("  runs start and end at their speed cap (--run-ends cap)");
+            summary.push_str("  runs start and end at their speed cap (--run-ends cap)\n");
         }
+    }
+    if to_stdout(profile) || to_stdout(segments) {
+        eprint!("{summary}");
+    } else {
+        print!("{summary}");
     }
     Ok(())
 }

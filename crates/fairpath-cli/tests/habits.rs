@@ -170,6 +170,34 @@ fn dash_is_standard_input_and_output() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
 
+/// `simulate --profile -` and `--segments -` write their CSV to standard
+/// output, alone (the summary goes to standard error), and no file named
+/// `-` appears; both on standard output is a usage error.
+#[test]
+fn simulate_csv_to_standard_output() {
+    let zigzag = example("zigzag.ngc");
+    let z = path_str(&zigzag);
+    for (flag, header) in [("--profile", "t,s,v,a,j,x,y,z"), ("--segments", "s0,")] {
+        let dir = tempfile::tempdir().unwrap();
+        let o = bin()
+            .current_dir(dir.path())
+            .args(["simulate", z, flag, "-"])
+            .output()
+            .unwrap();
+        assert_ok(&o, flag);
+        let out = stdout(&o);
+        assert!(out.starts_with(header), "{flag}: {out}");
+        assert!(!out.contains("fairpath simulate:"), "{flag}: {out}");
+        assert!(stderr(&o).contains("fairpath simulate:"), "{}", stderr(&o));
+        assert!(
+            !dir.path().join("-").exists(),
+            "{flag} wrote a file named -"
+        );
+    }
+    let o = run(&["simulate", z, "--profile", "-", "--segments", "-"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
 #[test]
 fn default_output_is_beside_the_input_with_its_extension() {
     let dir = tempfile::tempdir().unwrap();
