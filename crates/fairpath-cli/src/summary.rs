@@ -64,6 +64,8 @@ pub struct Summary {
     pub length_before: f64,
     pub length_after: f64,
     pub peak_curvature: f64,
+    /// Cusps inside curves (reversals the path stops at).
+    pub cusps: usize,
     pub elapsed: Duration,
     /// Planned times of the input, the exact curves and the written
     /// program, on the same machine and feeds (`fairpath simulate`).
@@ -149,6 +151,7 @@ impl Summary {
                 .iter()
                 .map(|r| r.report.peak_curvature)
                 .fold(0.0, f64::max),
+            cusps: result.runs.iter().map(|r| r.report.cusps).sum(),
             elapsed: Duration::ZERO,
             times: report.times,
             planned_on,
@@ -324,13 +327,20 @@ impl Summary {
             "  length:          {:.4} mm -> {:.4} mm",
             self.length_before, self.length_after
         );
+        let cusps = match self.cusps {
+            0 => String::new(),
+            1 => "; 1 cusp, a reversal the path stops at inside a curve".to_string(),
+            n => format!("; {n} cusps, reversals the path stops at inside curves"),
+        };
         if self.peak_curvature > 0.0 {
             let _ = writeln!(
                 s,
-                "  peak curvature:  {:.4} 1/mm (radius {:.4} mm)",
+                "  peak curvature:  {:.4} 1/mm (radius {:.4} mm){cusps}",
                 self.peak_curvature,
                 1.0 / self.peak_curvature
             );
+        } else if self.cusps > 0 {
+            let _ = writeln!(s, "  peak curvature:  0{cusps}");
         } else {
             let _ = writeln!(s, "  peak curvature:  0 (no curves)");
         }
@@ -391,7 +401,7 @@ impl Summary {
             "max_deviation_written_mm": self.max_deviation_written,
             "joints": {"C2": self.joints[3], "C1": self.joints[2], "C0": self.joints[1], "gap": self.joints[0]},
             "length_before_mm": self.length_before, "length_after_mm": self.length_after,
-            "peak_curvature_per_mm": self.peak_curvature,
+            "peak_curvature_per_mm": self.peak_curvature, "cusps": self.cusps,
             "time_s": self.elapsed.as_secs_f64(),
             "input_time_s": self.times.input.total,
             "curves_time_s": self.times.exact.total,

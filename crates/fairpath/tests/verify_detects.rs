@@ -212,3 +212,60 @@ fn a_straight_output_of_a_bumped_original_spline_is_refused() {
     assert!(rep.deviation_bound > 0.1, "{rep:?}");
     assert!(!rep.within(0.05));
 }
+
+/// Regression, `Cereal.ngc` with `auto` at 0.05 mm (lines 1065-1068): a
+/// fit through a reversal of the program (out along a line and back)
+/// stops at its middle breakpoint, where the curvature of the formula is
+/// rounding noise (1.66e28 1/mm was reported). The verifier counts the
+/// cusp and leaves it out of the peak curvature.
+#[test]
+fn a_reversal_inside_a_curve_is_a_cusp_not_a_curvature() {
+    let out_and_back = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0],
+        vec![
+            v(0.0, 0.0, 0.0),
+            v(0.5, 0.5, 0.2),
+            v(1.0, 1.0, 0.4),
+            v(1.2, 1.2, 0.48),
+            v(1.0, 1.0, 0.4),
+            v(0.5, 0.5, 0.2),
+            v(0.0, 0.0, 0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(1.2, 1.2, 0.48), v(0.0, 0.0, 0.0)]);
+    let smoothed = vec![Piece {
+        curve: Curve::Nurbs(out_and_back),
+        rapid: false,
+        source_lines: (1, 2),
+        feed: None,
+    }];
+    let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05));
+    assert_eq!(rep.cusps, 1);
+    assert!(rep.peak_curvature < 1.0, "{}", rep.peak_curvature);
+    // A curve that turns without stopping has no cusp.
+    let corner = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 1.0, 0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0)]);
+    let smoothed = vec![Piece {
+        curve: Curve::Nurbs(corner),
+        rapid: false,
+        source_lines: (1, 2),
+        feed: None,
+    }];
+    let rep = verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.5));
+    assert_eq!(rep.cusps, 0);
+    assert!(rep.peak_curvature.is_finite() && rep.peak_curvature > 0.0);
+}

@@ -59,8 +59,14 @@ pub struct RunReport {
     /// Distance between the original and smoothed start points (0 = exact).
     pub start_gap: f64,
     pub end_gap: f64,
-    /// Largest curvature sampled on the smoothed run (1/mm).
+    /// Largest curvature sampled on the smoothed run (1/mm), cusps left
+    /// out.
     pub peak_curvature: f64,
+    /// Cusps found inside curves: points where a curve stops and turns
+    /// back (its derivative vanishes), as a fit through a reversal of the
+    /// program must. The path stops there, as at a kept corner; curvature
+    /// is not defined there (rounding makes it anything up to 1e28).
+    pub cusps: usize,
 }
 
 impl RunReport {
@@ -314,6 +320,11 @@ impl SecondDerivative {
     }
 }
 
+/// Share of the tolerance below which a curve's motion over its whole
+/// domain, at the parametric speed of a point, counts as stopped there (a
+/// cusp: [`RunReport::cusps`]).
+const CUSP_SHARE: f64 = 1e-6;
+
 /// Relative margin on a bound of `|C''|` computed in floating point.
 const D2_MARGIN: f64 = 1.0 + 1e-6;
 
@@ -374,6 +385,7 @@ pub fn report_without_deviation(
         start_gap: f64::INFINITY,
         end_gap: f64::INFINITY,
         peak_curvature: 0.0,
+        cusps: 0,
     };
     if let (Some(o0), Some(s0)) = (original.first(), smoothed.first()) {
         report.start_gap = o0.start().dist(s0.start());
@@ -409,17 +421,37 @@ pub fn report_without_deviation(
     for p in smoothed {
         if !matches!(p.curve, Curve::Line(_)) {
             let (t0, t1) = p.curve.domain();
+            // Below this parametric speed the curve moves less than a
+            // millionth of the tolerance over its whole domain: stopped.
+            let stopped = CUSP_SHARE * opts.tolerance / (t1 - t0);
+            let at = |t: f64, report: &mut RunReport| -> bool {
+                if p.curve.deriv1(t).norm() <= stopped {
+                    return true;
+                }
+                report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
+                false
+            };
             let n = sample_count(&p.curve, opts.tolerance);
+            let mut cusps: Vec<f64> = Vec::new();
             for k in 0..=n {
                 let t = t0 + (t1 - t0) * k as f64 / n as f64;
-                report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
-            }
-            // Curvature peaks of corner transitions sit on their knots.
-            if let Curve::Nurbs(nb) = &p.curve {
-                for t in nb.breakpoints() {
-                    report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
+                if at(t, &mut report) {
+                    cusps.push(t);
                 }
             }
+            // Curvature peaks of corner transitions sit on their knots,
+            // and a fit's cusps on its breakpoints.
+            if let Curve::Nurbs(nb) = &p.curve {
+                for t in nb.breakpoints() {
+                    if at(t, &mut report) {
+                        cusps.push(t);
+                    }
+                }
+            }
+            // One cusp per place (a sample and a breakpoint may both find it).
+            cusps.sort_by(f64::total_cmp);
+            cusps.dedup_by(|a, b| p.curve.eval(*a).dist(p.curve.eval(*b)) <= opts.tolerance);
+            report.cusps += cusps.len();
         }
     }
     if original.is_empty() {
