@@ -242,7 +242,8 @@ fn compare_plans_the_written_program_per_format() {
         .unwrap();
     let csv = ok(o, "compare csv");
     assert!(csv.lines().next().unwrap().ends_with(
-        "written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,written_g1_lines,written_g1_verified"
+        "lower_bound_s,x_bound,written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,\
+         written_g1_x_bound,written_g1_lines,written_g1_verified"
     ));
 }
 
