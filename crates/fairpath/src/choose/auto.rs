@@ -74,6 +74,7 @@ use super::candidates::{
     FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
+use super::same_pieces::same_pieces;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
@@ -278,16 +279,36 @@ impl Auto {
         cut_ends: (bool, bool),
     ) -> Result<Vec<Planned>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
-        map_candidates(list.len(), |i| {
+        let smoothed = map_candidates(list.len(), |i| {
             let mut cand = list[i]
                 .1
                 .smooth((run, tolerance), input.run(), tol, cut_ends)?;
             cand.chosen = alloc::vec![list[i].0];
-            let time = self.objective.cost(&cand.pieces);
-            Ok((time, cand))
+            Ok(cand)
         })
         .into_iter()
-        .collect()
+        .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
+        // Candidates that smoothed the run to the same pieces as an earlier
+        // one share its cost: the objective runs once per distinct result.
+        let first_same: Vec<usize> = (0..smoothed.len())
+            .map(|i| {
+                (0..i)
+                    .find(|&j| same_pieces(&smoothed[j].pieces, &smoothed[i].pieces))
+                    .unwrap_or(i)
+            })
+            .collect();
+        let distinct: Vec<usize> = (0..smoothed.len())
+            .filter(|&i| first_same[i] == i)
+            .collect();
+        let costs = map_candidates(distinct.len(), |k| {
+            self.objective.cost(&smoothed[distinct[k]].pieces)
+        });
+        let cost_of = |i: usize| {
+            let k = distinct.partition_point(|&d| d < first_same[i]);
+            costs[k]
+        };
+        let times: Vec<Option<f64>> = (0..smoothed.len()).map(cost_of).collect();
+        Ok(times.into_iter().zip(smoothed).collect())
     }
 
     /// The fastest of `cands` that `eligible` accepts, with its planned
