@@ -29,7 +29,7 @@
 //! optimization and statistical learning via the alternating direction
 //! method of multipliers", 2011, section 5.1, scaled form) with the
 //! splitting `z_i = C(t_i)`: the curve step is the banded least-squares fit
-//! to the targets `z_i - u_i` ([`FitSystem`], factored once per weight, so
+//! to the targets `z_i - u_i` ([`super::fit::FitSystem`], factored once per weight, so
 //! each step is one back-substitution), the `z` step projects `C(t_i) + u_i`
 //! onto the ball of `Q_i`, and `u` accumulates the residuals. ADMM converges
 //! for any ratio of the data weight to the energy weights, but slowly when
@@ -46,7 +46,7 @@
 //! `bspline-fit`'s smoothing from 2.08 to 1.53 s (`FAIRPATH_TIMING=1`),
 //! the same curves.
 
-use super::fit::{span_errors, with_spans_at_most, EndCondition, FitError, FitSystem};
+use super::fit::{span_errors, with_spans_at_most, EndCondition, FitData, FitError};
 use super::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
@@ -202,7 +202,10 @@ pub fn relax_in_band(
     let n = pts.len();
     let (first, last) = (pts[0], pts[n - 1]);
     let mut weights = (lambda * opts.weight_factor, mu * opts.weight_factor);
-    let mut system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
+    // The data term is the same at every weight: built once, the weights
+    // added to it at the start and after every stall.
+    let data = FitData::new(&params, &fit.knots, ends, (first, last))?;
+    let mut system = data.system(weights)?;
     // z starts on the fit, u at zero.
     let mut z = system.points_at_data(&fit);
     let mut u = alloc::vec![Vec3::ZERO; n];
@@ -256,7 +259,7 @@ pub fn relax_in_band(
                 for x in u.iter_mut() {
                     *x = *x * STALL_FACTOR;
                 }
-                system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
+                system = data.system(weights)?;
                 history.clear();
             }
         }

@@ -6,7 +6,7 @@
 //! The search for the control points at given weights is `fit_search.rs`.
 
 use super::fit_fill::fill_segments;
-use super::fit_search::{attempt, min_span, refine_knots, search};
+use super::fit_search::{attempt, min_span, refine_knots, search, DataCache};
 use crate::geom::band_fit::{relax_in_band, RelaxOptions};
 use crate::geom::fit::{chord_params, EndCondition};
 use crate::geom::{Nurbs, Vec3};
@@ -113,6 +113,7 @@ pub fn fit_polyline_faired(
     let pts = &dense[..];
     let params = chord_params(pts);
     let mut fits = 0;
+    let mut cache = DataCache::default();
     let ladder: &[(f64, f64)] = if lambda0 > 0.0 || mu0 > 0.0 {
         &[(lambda0, mu0), (lambda0 / 16.0, mu0 / 16.0), (0.0, 0.0)]
     } else {
@@ -120,7 +121,7 @@ pub fn fit_polyline_faired(
     };
     for (step, &(lambda, mu)) in ladder.iter().enumerate() {
         let Some((mut curve, mut bound)) =
-            search(pts, &params, start, end, target, (lambda, mu), &mut fits)
+            search(pts, &params, start, end, target, (lambda, mu), (&mut fits, &mut cache))
         else {
             continue;
         };
@@ -136,7 +137,14 @@ pub fn fit_polyline_faired(
                 let mut knots = curve.knots.clone();
                 let mut passed = None;
                 for _ in 0..RAISE_SOLVES {
-                    let Some(a) = attempt(pts, &params, &knots, (start, end), w, &mut fits) else {
+                    let Some(a) = attempt(
+                        pts,
+                        &params,
+                        &knots,
+                        (start, end),
+                        w,
+                        (&mut fits, &mut cache),
+                    ) else {
                         break;
                     };
                     if a.max <= target {
