@@ -40,6 +40,10 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
     // end of the previous one, since both are continuous across a simple
     // knot (re-evaluated after a multiple knot, where `C''` may jump).
     let mut at_a = eval_in_span(knots, &c.points, s, params[0]);
+    // Distances of `at_a`'s point to segments `g0..g0 + 3` (NaN: not
+    // known), kept from the piece before when `at_a` is its end: each
+    // point's distances are computed once, not once per piece it bounds.
+    let mut a_dists: Option<(usize, [f64; 3])> = None;
     let multiple = |s: usize| knots[s] == knots[s - 1];
     for i in 0..n - 1 {
         let (t0, t1) = (params[i], params[i + 1]);
@@ -47,25 +51,35 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
             s += 1;
             if multiple(s) {
                 at_a = eval_in_span(knots, &c.points, s, t0);
+                a_dists = None;
             }
         }
         // Data residual at t0.
         err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[i]));
         let mut a = t0;
+        let lo_g = i.saturating_sub(1);
+        let hi_g = (i + 1).min(n - 2);
         loop {
             let b = if s + 1 < h { knots[s + 1].min(t1) } else { t1 };
             let (ca, c2a) = at_a;
             let (cb, c2b) = eval_in_span(knots, &c.points, s, b);
             let sag = c2a.norm().max(c2b.norm()) * (b - a) * (b - a) / 8.0;
-            let lo_g = i.saturating_sub(1);
-            let hi_g = (i + 1).min(n - 2);
+            let known = |g: usize| match a_dists {
+                Some((g0, d)) if g >= g0 && g < g0 + 3 && !d[g - g0].is_nan() => Some(d[g - g0]),
+                _ => None,
+            };
+            let mut b_dists = [f64::NAN; 3];
             let mut best = f64::INFINITY;
             for g in lo_g..=hi_g {
-                best = best.min(seg_dist(g, ca).max(seg_dist(g, cb)));
+                let da = known(g).unwrap_or_else(|| seg_dist(g, ca));
+                let db = seg_dist(g, cb);
+                b_dists[g - lo_g] = db;
+                best = best.min(da.max(db));
             }
             let e = &mut err[s - FIT_DEGREE];
             *e = e.max(best + sag);
             at_a = (cb, c2b);
+            a_dists = Some((lo_g, b_dists));
             if b >= t1 || s + 1 >= h {
                 break;
             }
@@ -73,6 +87,7 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
             s += 1;
             if multiple(s) {
                 at_a = eval_in_span(knots, &c.points, s, a);
+                a_dists = None;
             }
         }
         if i == n - 2 {
