@@ -181,7 +181,11 @@ fn bits(c: &Nurbs) -> Vec<u64> {
     c.knots
         .iter()
         .map(|k| k.to_bits())
-        .chain(c.points.iter().flat_map(|p| [p.x, p.y, p.z].map(f64::to_bits)))
+        .chain(
+            c.points
+                .iter()
+                .flat_map(|p| [p.x, p.y, p.z].map(f64::to_bits)),
+        )
         .collect()
 }
 

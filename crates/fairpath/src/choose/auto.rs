@@ -78,7 +78,9 @@ use super::same_pieces::same_pieces;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
-use crate::smooth::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
+use crate::smooth::{
+    check_tolerance, require, FitMemo, OptionError, SmoothError, SmoothedRun, Smoother,
+};
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
@@ -237,9 +239,10 @@ impl Auto {
         tolerance: f64,
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        let memo = FitMemo::default();
         list.iter()
             .map(|(name, c)| {
-                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false))?;
+                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false), &memo)?;
                 Ok((*name, cand))
             })
             .collect()
@@ -271,18 +274,20 @@ fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
 pub(super) type Planned = (Option<f64>, SmoothedRun);
 
 impl Auto {
-    /// Every candidate for `run`, smoothed and planned.
+    /// Every candidate for `run`, smoothed (the fits shared through
+    /// `memo`) and planned.
     pub(super) fn planned_candidates(
         &self,
         run: &Run,
         tolerance: f64,
         cut_ends: (bool, bool),
+        memo: &FitMemo,
     ) -> Result<Vec<Planned>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         let smoothed = map_candidates(list.len(), |i| {
             let mut cand = list[i]
                 .1
-                .smooth((run, tolerance), input.run(), tol, cut_ends)?;
+                .smooth((run, tolerance), input.run(), tol, cut_ends, memo)?;
             cand.chosen = alloc::vec![list[i].0];
             Ok(cand)
         })
@@ -348,7 +353,10 @@ impl Smoother for Auto {
         check_tolerance(tolerance)?;
         self.options.validate()?;
         let lines = self.options.section_lines;
-        let cands = self.planned_candidates(run, tolerance, (false, false))?;
+        // The fits of the run and of its sections, shared between the
+        // candidates and the sections that cut a dense stretch alike.
+        let memo = FitMemo::default();
+        let cands = self.planned_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, mut best) =
             Self::fastest(cands, |_| true).ok_or(SmoothError::NoCandidate)?;
         if run.pieces.len() > SECTION_MAX_PIECES {
@@ -371,7 +379,7 @@ impl Smoother for Auto {
                     break;
                 }
                 let Some(mixed) =
-                    self.smooth_sections(&sections, tolerance, &mut cache, without_fair)?
+                    self.smooth_sections(&sections, tolerance, (&mut cache, &memo), without_fair)?
                 else {
                     // `fair` may have left a cut joint not G2: try without.
                     with_fair = true;

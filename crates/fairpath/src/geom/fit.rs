@@ -305,7 +305,14 @@ impl FitData {
                 // N'' is linear on the span: the Gauss points from its ends.
                 for x in [0.5 - g, 0.5 + g] {
                     let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
-                    add_term((&mut a, &mut fixed_rhs), &ctrl, (lo, hi), s, &b, lambda * 0.5 * len);
+                    add_term(
+                        (&mut a, &mut fixed_rhs),
+                        &ctrl,
+                        (lo, hi),
+                        s,
+                        &b,
+                        lambda * 0.5 * len,
+                    );
                 }
             }
         }

@@ -61,9 +61,8 @@ impl BandedSpd {
     /// `(w * b_j) * b_k`, as [`BandedSpd::add`] of that value would give.
     #[inline(always)]
     pub fn add_outer4(&mut self, i0: usize, b: &[f64; 4], w: f64) {
-        let rows: &mut [[f64; HALF_BAND + 1]; 4] = (&mut self.low[i0..i0 + 4])
-            .try_into()
-            .expect("four rows");
+        let rows: &mut [[f64; HALF_BAND + 1]; 4] =
+            (&mut self.low[i0..i0 + 4]).try_into().expect("four rows");
         for j in 0..4 {
             if b[j] == 0.0 {
                 continue;

@@ -10,6 +10,8 @@ use super::fit_search::{attempt, min_span, refine_knots, search, DataCache};
 use crate::geom::band_fit::{relax_in_band, RelaxOptions};
 use crate::geom::fit::{chord_params, EndCondition};
 use crate::geom::{Nurbs, Vec3};
+#[cfg(feature = "std")]
+use alloc::{collections::BTreeMap, vec::Vec};
 use core::f64::consts::PI;
 
 /// A fit of one section.
@@ -120,9 +122,15 @@ pub fn fit_polyline_faired(
         &[(0.0, 0.0)]
     };
     for (step, &(lambda, mu)) in ladder.iter().enumerate() {
-        let Some((mut curve, mut bound)) =
-            search(pts, &params, start, end, target, (lambda, mu), (&mut fits, &mut cache))
-        else {
+        let Some((mut curve, mut bound)) = search(
+            pts,
+            &params,
+            start,
+            end,
+            target,
+            (lambda, mu),
+            (&mut fits, &mut cache),
+        ) else {
             continue;
         };
         let mut lambda = lambda;
@@ -187,4 +195,94 @@ pub fn fit_polyline_faired(
         });
     }
     None
+}
+
+/// What a fit of [`fit_polyline_faired`] depends on, every number by its
+/// bits: the points, the end conditions, the target, the weights, the
+/// raises and the relaxation.
+#[cfg(feature = "std")]
+#[derive(Clone, Debug, PartialEq)]
+struct FitKey {
+    pts: Vec<[u64; 3]>,
+    ends: [Option<[u64; 3]>; 2],
+    numbers: [u64; 3],
+    raises: usize,
+    relax: Option<RelaxOptions>,
+}
+
+#[cfg(feature = "std")]
+fn vec_bits(p: Vec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+#[cfg(feature = "std")]
+fn end_bits(e: EndCondition) -> Option<[u64; 3]> {
+    match e {
+        EndCondition::Free => None,
+        EndCondition::Tangent(d) => Some(vec_bits(d)),
+    }
+}
+
+/// Fits already made for one run, shared by the candidates of `auto` that
+/// fit it (each on its thread) and by its sections: a dense section that
+/// two fit candidates (or a run and one of its sections) cut the same way,
+/// with the same ends and weights, is fitted once. [`fit_polyline_faired`]
+/// is a pure function of its arguments, so a fit found here is the one it
+/// would make. Without `std` the memo keeps nothing (the candidates then
+/// run one after the other, and no lock is at hand).
+#[derive(Debug, Default)]
+pub struct FitMemo {
+    /// By the points' count and first point, then the keys in full.
+    #[cfg(feature = "std")]
+    entries: std::sync::Mutex<BTreeMap<(usize, [u64; 3]), Vec<(FitKey, Option<SectionFit>)>>>,
+}
+
+impl FitMemo {
+    /// [`fit_polyline_faired`] with these arguments, from the memo when it
+    /// was made before.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn fit(
+        &self,
+        pts: &[Vec3],
+        start: EndCondition,
+        end: EndCondition,
+        target: f64,
+        weights: (f64, f64),
+        raises: usize,
+        relax: Option<&RelaxOptions>,
+    ) -> Option<SectionFit> {
+        #[cfg(feature = "std")]
+        {
+            let key = FitKey {
+                pts: pts.iter().map(|&p| vec_bits(p)).collect(),
+                ends: [end_bits(start), end_bits(end)],
+                numbers: [target.to_bits(), weights.0.to_bits(), weights.1.to_bits()],
+                raises,
+                relax: relax.copied(),
+            };
+            let first = key.pts.first().copied().unwrap_or_default();
+            let slot = (key.pts.len(), first);
+            let found = {
+                let entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
+                entries
+                    .get(&slot)
+                    .and_then(|v| v.iter().find(|(k, _)| *k == key))
+                    .map(|(_, fit)| fit.clone())
+            };
+            if let Some(fit) = found {
+                return fit;
+            }
+            let fit = fit_polyline_faired(pts, start, end, target, weights, raises, relax);
+            let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
+            let list = entries.entry(slot).or_default();
+            if !list.iter().any(|(k, _)| *k == key) {
+                list.push((key, fit.clone()));
+            }
+            fit
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            fit_polyline_faired(pts, start, end, target, weights, raises, relax)
+        }
+    }
 }

@@ -77,7 +77,9 @@ pub(super) fn attempt(
     let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
         return None;
     };
-    let system = cache.system(params, knots, ends, (first, last), weights).ok()?;
+    let system = cache
+        .system(params, knots, ends, (first, last), weights)
+        .ok()?;
     let curve = system.solve(pts).ok()?;
     let errs = span_errors(&curve, pts, params);
     let max = errs.iter().copied().fold(0.0, f64::max);
