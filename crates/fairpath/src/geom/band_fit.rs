@@ -218,12 +218,15 @@ pub fn relax_in_band(
     // wait and at the end.
     let mut snapshots: Vec<Nurbs> = Vec::new();
     let mut best = None;
+    // Buffers of every step: the right-hand side, the control points and
+    // the curve's points at the data.
+    let (mut rhs, mut ctrl, mut at) = (Vec::new(), Vec::new(), Vec::new());
     for step in 1..=opts.iterations {
         for i in 1..n - 1 {
             targets[i] = z[i] - u[i];
         }
-        let c = system.solve(&targets)?;
-        let at = system.points_at_data(&c);
+        system.solve_into(&targets, &mut rhs, &mut ctrl)?;
+        system.points_at_data_into(&ctrl, &mut at);
         let mut worst: f64 = 0.0;
         // Largest primal (C - z) and dual (change of z) residuals.
         let mut moved: f64 = 0.0;
@@ -243,7 +246,7 @@ pub fn relax_in_band(
         }
         let converged = moved <= opts.converged_share * target;
         if step % opts.check_every == 0 || step == opts.iterations || converged {
-            snapshots.push(c);
+            snapshots.push(system.curve(ctrl.clone()));
             if snapshots.len() >= PENDING_CHECKS {
                 best = last_passing(&mut snapshots, &pts, &params, target).or(best);
             }

@@ -355,23 +355,36 @@ impl FitSystem {
     /// B-spline on the system's knots (from the basis values the system
     /// keeps: a dot product per point).
     pub fn points_at_data(&self, c: &Nurbs) -> Vec<Vec3> {
-        self.basis
-            .iter()
-            .map(|(s, b)| {
-                let q = &c.points[s - 3..=*s];
-                q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]
-            })
-            .collect()
+        let mut out = Vec::new();
+        self.points_at_data_into(&c.points, &mut out);
+        out
     }
 
-    /// The fit to `pts` (one per parameter of the system; the end points
-    /// and end conditions are the system's, whatever `pts` holds there).
-    pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
+    /// [`FitSystem::points_at_data`] of the control points `ctrl`, into
+    /// `out` (its contents replaced).
+    pub fn points_at_data_into(&self, ctrl: &[Vec3], out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend(self.basis.iter().map(|(s, b)| {
+            let q = &ctrl[s - 3..=*s];
+            q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]
+        }));
+    }
+
+    /// The control points of [`FitSystem::solve`] into `ctrl`, with `rhs`
+    /// as room for the right-hand side (both reused by a caller that
+    /// solves many times: the relaxation's steps).
+    pub fn solve_into(
+        &self,
+        pts: &[Vec3],
+        rhs: &mut Vec<Vec3>,
+        ctrl: &mut Vec<Vec3>,
+    ) -> Result<(), FitError> {
         if pts.len() != self.basis.len() {
             return Err(FitError::BadInput);
         }
         let (lo, hi) = (self.lo, self.hi);
-        let mut rhs = self.fixed_rhs.clone();
+        rhs.clear();
+        rhs.extend_from_slice(&self.fixed_rhs);
         for (q, (s, b)) in pts.iter().zip(&self.basis) {
             for (j, &bj) in b.iter().enumerate() {
                 let gj = s - 3 + j;
@@ -380,18 +393,32 @@ impl FitSystem {
                 }
             }
         }
-        self.chol.solve(&mut rhs);
-        let mut ctrl = self.ctrl.clone();
-        ctrl[lo..hi].copy_from_slice(&rhs);
+        self.chol.solve(rhs);
+        ctrl.clear();
+        ctrl.extend_from_slice(&self.ctrl);
+        ctrl[lo..hi].copy_from_slice(rhs);
         if ctrl.iter().any(|p| !p.is_finite()) {
             return Err(FitError::Singular);
         }
-        Ok(Nurbs {
+        Ok(())
+    }
+
+    /// The curve of the system's knots with control points `ctrl`.
+    pub fn curve(&self, ctrl: Vec<Vec3>) -> Nurbs {
+        Nurbs {
             degree: FIT_DEGREE,
             knots: self.knots.clone(),
             points: ctrl,
             weights: None,
-        })
+        }
+    }
+
+    /// The fit to `pts` (one per parameter of the system; the end points
+    /// and end conditions are the system's, whatever `pts` holds there).
+    pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
+        let (mut rhs, mut ctrl) = (Vec::new(), Vec::new());
+        self.solve_into(pts, &mut rhs, &mut ctrl)?;
+        Ok(self.curve(ctrl))
     }
 }
 
