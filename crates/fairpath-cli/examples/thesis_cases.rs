@@ -251,10 +251,7 @@ fn sharp_bumps(spacing: f64) -> Vec<Vec3> {
     let mut pts = Vec::new();
     for i in 0..28 {
         let x = 100.0 * i as f64 / 27.0;
-        if [30.0, 70.0]
-            .iter()
-            .any(|b: &f64| (x - b).abs() < 50.0 / 27.0)
-        {
+        if [30.0, 70.0].iter().any(|b: &f64| (x - b).abs() < 50.0 / 27.0) {
             pts.push(Vec3::new(x - spacing, 0.0, 0.0));
             pts.push(Vec3::new(x, 0.2, 0.0));
             pts.push(Vec3::new(x + spacing, 0.0, 0.0));
