@@ -285,7 +285,10 @@ fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
             for (i, t) in done {
                 out[i] = Some(t);
             }
-            return out.into_iter().map(|t| t.expect("every index done")).collect();
+            return out
+                .into_iter()
+                .map(|t| t.expect("every index done"))
+                .collect();
         }
     }
     (0..n).map(f).collect()
@@ -424,5 +427,67 @@ impl Smoother for Auto {
             }
         }
         Ok(best)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use core::sync::atomic::{AtomicUsize, Ordering};
+
+    /// [`PlannedTime`], counting its calls.
+    #[derive(Debug, Default)]
+    struct Counted {
+        calls: AtomicUsize,
+        time: PlannedTime,
+    }
+
+    impl Objective for Counted {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.calls.fetch_add(1, Ordering::Relaxed);
+            self.time.cost(pieces)
+        }
+    }
+
+    /// A zigzag of long lines: no dense section, so every fit candidate
+    /// smooths it as `bspline-corner` does.
+    fn zigzag() -> Run {
+        let p = |i: usize| Vec3::new(10.0 * i as f64, if i % 2 == 0 { 0.0 } else { 8.0 }, 0.0);
+        let pieces = (1..8)
+            .map(|i| Piece {
+                curve: Curve::Line(Line::new(p(i - 1), p(i))),
+                rapid: false,
+                source_lines: (i, i),
+                feed: Some(3000.0),
+            })
+            .collect();
+        Run::new(pieces)
+    }
+
+    /// Every candidate gets the cost of its own pieces, while the
+    /// objective runs once per distinct result.
+    #[test]
+    fn candidates_with_the_same_pieces_share_one_cost() {
+        let counted = Arc::new(Counted::default());
+        let auto = Auto::new(AutoOptions::default(), counted.clone());
+        let run = zigzag();
+        let memo = FitMemo::default();
+        let planned = auto
+            .planned_candidates(&run, 0.05, (false, false), &memo)
+            .unwrap();
+        let plain = PlannedTime::default();
+        let mut distinct: Vec<&[Piece]> = Vec::new();
+        for (time, cand) in &planned {
+            assert_eq!(
+                time.map(f64::to_bits),
+                plain.cost(&cand.pieces).map(f64::to_bits)
+            );
+            if !distinct.iter().any(|d| same_pieces(d, &cand.pieces)) {
+                distinct.push(&cand.pieces);
+            }
+        }
+        assert!(distinct.len() < planned.len(), "no candidates alike");
+        assert_eq!(counted.calls.load(Ordering::Relaxed), distinct.len());
     }
 }

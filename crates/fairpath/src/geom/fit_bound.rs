@@ -129,7 +129,12 @@ impl<'a> SpanEval<'a> {
             return (c, (c2, c2.norm()));
         }
         let b = cubic_basis_values(u, s, t);
-        let q = [self.pts[s - 3], self.pts[s - 2], self.pts[s - 1], self.pts[s]];
+        let q = [
+            self.pts[s - 3],
+            self.pts[s - 2],
+            self.pts[s - 1],
+            self.pts[s],
+        ];
         let c = q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3];
         if self.span != Some(s) {
             // As `eval_in_span`: every denominator spans the non-empty span s.

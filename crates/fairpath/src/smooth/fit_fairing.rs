@@ -286,3 +286,78 @@ impl FitMemo {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alloc::vec::Vec;
+
+    /// A wavy polyline of 0.2 mm steps.
+    fn wave(n: usize, amp: f64) -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let x = 0.2 * i as f64;
+                Vec3::new(x, amp * libm::sin(x), 0.0)
+            })
+            .collect()
+    }
+
+    /// The memo gives what the fit gives, on a hit as on a miss, and keeps
+    /// fits whose arguments differ in one number apart.
+    #[test]
+    fn the_memo_gives_the_fit_and_tells_arguments_apart() {
+        let memo = FitMemo::default();
+        let relax = RelaxOptions::default();
+        let pts = wave(40, 0.3);
+        let d = EndCondition::Tangent(Vec3::new(1.0, 0.0, 0.0));
+        let cases = [
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 0.0),
+                6,
+                Some(&relax),
+            ),
+            (d, EndCondition::Free, 0.045, (1.0, 0.0), 6, Some(&relax)),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.04,
+                (1.0, 0.0),
+                6,
+                Some(&relax),
+            ),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 3.0),
+                6,
+                Some(&relax),
+            ),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 0.0),
+                0,
+                None,
+            ),
+        ];
+        for _ in 0..2 {
+            for &(start, end, target, w, raises, relax) in &cases {
+                let direct = fit_polyline_faired(&pts, start, end, target, w, raises, relax);
+                assert!(direct.is_some());
+                let memo_fit = memo.fit(&pts, start, end, target, w, raises, relax);
+                assert_eq!(memo_fit, direct);
+            }
+        }
+        // Other points (same count, same first point) are another fit.
+        let other = wave(40, 0.2);
+        let free = EndCondition::Free;
+        let direct = fit_polyline_faired(&other, free, free, 0.045, (1.0, 0.0), 6, Some(&relax));
+        let memo_fit = memo.fit(&other, free, free, 0.045, (1.0, 0.0), 6, Some(&relax));
+        assert_eq!(memo_fit, direct);
+    }
+}
