@@ -160,6 +160,10 @@ pub struct FitData {
     basis: Vec<(usize, [f64; 4])>,
 }
 
+/// A non-empty knot span: its index, its length and `N''` of its four
+/// basis functions at its ends.
+type SpanD2 = (usize, f64, ([f64; 4], [f64; 4]));
+
 /// Adds `w` times the outer product of the basis values `b` of span `s`
 /// to the normal equations: to `a` where both control points are free
 /// (`lo..hi`), to `fixed_rhs` (the fixed point's pull) where one is fixed.
@@ -287,7 +291,7 @@ impl FitData {
         let u = &knots;
         // Non-empty spans with their length and `N''` at their ends (once,
         // for both terms).
-        let spans: Vec<(usize, f64, ([f64; 4], [f64; 4]))> = if lambda > 0.0 || mu > 0.0 {
+        let spans: Vec<SpanD2> = if lambda > 0.0 || mu > 0.0 {
             (FIT_DEGREE..h)
                 .filter_map(|s| {
                     let len = u[s + 1] - u[s];

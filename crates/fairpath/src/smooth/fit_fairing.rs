@@ -223,6 +223,15 @@ fn end_bits(e: EndCondition) -> Option<[u64; 3]> {
     }
 }
 
+/// A fit's arguments and what it gave.
+#[cfg(feature = "std")]
+type MemoEntry = (FitKey, Option<SectionFit>);
+
+/// Where a [`MemoEntry`] is looked up first: the points' count and the
+/// first point's bits.
+#[cfg(feature = "std")]
+type MemoSlot = (usize, [u64; 3]);
+
 /// Fits already made for one run, shared by the candidates of `auto` that
 /// fit it (each on its thread) and by its sections: a dense section that
 /// two fit candidates (or a run and one of its sections) cut the same way,
@@ -234,7 +243,7 @@ fn end_bits(e: EndCondition) -> Option<[u64; 3]> {
 pub struct FitMemo {
     /// By the points' count and first point, then the keys in full.
     #[cfg(feature = "std")]
-    entries: std::sync::Mutex<BTreeMap<(usize, [u64; 3]), Vec<(FitKey, Option<SectionFit>)>>>,
+    entries: std::sync::Mutex<BTreeMap<MemoSlot, Vec<MemoEntry>>>,
 }
 
 impl FitMemo {
@@ -261,7 +270,7 @@ impl FitMemo {
                 relax: relax.copied(),
             };
             let first = key.pts.first().copied().unwrap_or_default();
-            let slot = (key.pts.len(), first);
+            let slot: MemoSlot = (key.pts.len(), first);
             let found = {
                 let entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
                 entries
