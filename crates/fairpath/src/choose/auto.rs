@@ -74,10 +74,13 @@ use super::candidates::{
     FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
+use super::same_pieces::same_pieces;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
-use crate::smooth::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
+use crate::smooth::{
+    check_tolerance, require, FitMemo, OptionError, SmoothError, SmoothedRun, Smoother,
+};
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
@@ -236,33 +239,66 @@ impl Auto {
         tolerance: f64,
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        let memo = FitMemo::default();
         list.iter()
             .map(|(name, c)| {
-                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false))?;
+                let cand = c.smooth((run, tolerance), input.run(), tol, (false, false), &memo)?;
                 Ok((*name, cand))
             })
             .collect()
     }
 }
 
-/// `f(i)` for `i in 0..n`, in order: on scoped threads with `std` (the
-/// candidates are independent, and a workstation has the cores), one
-/// after the other without.
+/// `f(i)` for `i in 0..n`, in order: with `std` on scoped threads, as many
+/// as the machine has cores (at most `n`), each taking the next index when
+/// done (the candidates are independent, and a workstation has the cores;
+/// a thread per candidate cost more in starting threads than it gained);
+/// one after the other without.
 fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     #[cfg(feature = "std")]
     {
-        if n > 1 {
-            let f = &f;
-            return std::thread::scope(|s| {
-                let handles: Vec<_> = (0..n).map(|i| s.spawn(move || f(i))).collect();
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let workers = cores().min(n);
+        if workers > 1 {
+            let (f, next) = (&f, &AtomicUsize::new(0));
+            let done: Vec<(usize, T)> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..workers)
+                    .map(|_| {
+                        s.spawn(move || {
+                            let mut mine = Vec::new();
+                            loop {
+                                let i = next.fetch_add(1, Ordering::Relaxed);
+                                if i >= n {
+                                    break mine;
+                                }
+                                mine.push((i, f(i)));
+                            }
+                        })
+                    })
+                    .collect();
                 handles
                     .into_iter()
-                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
                     .collect()
             });
+            let mut out: Vec<Option<T>> = (0..n).map(|_| None).collect();
+            for (i, t) in done {
+                out[i] = Some(t);
+            }
+            return out
+                .into_iter()
+                .map(|t| t.expect("every index done"))
+                .collect();
         }
     }
     (0..n).map(f).collect()
+}
+
+/// The machine's cores (asked once: the answer reads system files).
+#[cfg(feature = "std")]
+fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get()))
 }
 
 /// A candidate smoothed and its cost (`None`: the objective could not
@@ -270,24 +306,46 @@ fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
 pub(super) type Planned = (Option<f64>, SmoothedRun);
 
 impl Auto {
-    /// Every candidate for `run`, smoothed and planned.
+    /// Every candidate for `run`, smoothed (the fits shared through
+    /// `memo`) and planned.
     pub(super) fn planned_candidates(
         &self,
         run: &Run,
         tolerance: f64,
         cut_ends: (bool, bool),
+        memo: &FitMemo,
     ) -> Result<Vec<Planned>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
-        map_candidates(list.len(), |i| {
+        let smoothed = map_candidates(list.len(), |i| {
             let mut cand = list[i]
                 .1
-                .smooth((run, tolerance), input.run(), tol, cut_ends)?;
+                .smooth((run, tolerance), input.run(), tol, cut_ends, memo)?;
             cand.chosen = alloc::vec![list[i].0];
-            let time = self.objective.cost(&cand.pieces);
-            Ok((time, cand))
+            Ok(cand)
         })
         .into_iter()
-        .collect()
+        .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
+        // Candidates that smoothed the run to the same pieces as an earlier
+        // one share its cost: the objective runs once per distinct result.
+        let first_same: Vec<usize> = (0..smoothed.len())
+            .map(|i| {
+                (0..i)
+                    .find(|&j| same_pieces(&smoothed[j].pieces, &smoothed[i].pieces))
+                    .unwrap_or(i)
+            })
+            .collect();
+        let distinct: Vec<usize> = (0..smoothed.len())
+            .filter(|&i| first_same[i] == i)
+            .collect();
+        let costs = map_candidates(distinct.len(), |k| {
+            self.objective.cost(&smoothed[distinct[k]].pieces)
+        });
+        let cost_of = |i: usize| {
+            let k = distinct.partition_point(|&d| d < first_same[i]);
+            costs[k]
+        };
+        let times: Vec<Option<f64>> = (0..smoothed.len()).map(cost_of).collect();
+        Ok(times.into_iter().zip(smoothed).collect())
     }
 
     /// The fastest of `cands` that `eligible` accepts, with its planned
@@ -327,7 +385,10 @@ impl Smoother for Auto {
         check_tolerance(tolerance)?;
         self.options.validate()?;
         let lines = self.options.section_lines;
-        let cands = self.planned_candidates(run, tolerance, (false, false))?;
+        // The fits of the run and of its sections, shared between the
+        // candidates and the sections that cut a dense stretch alike.
+        let memo = FitMemo::default();
+        let cands = self.planned_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, mut best) =
             Self::fastest(cands, |_| true).ok_or(SmoothError::NoCandidate)?;
         if run.pieces.len() > SECTION_MAX_PIECES {
@@ -350,7 +411,7 @@ impl Smoother for Auto {
                     break;
                 }
                 let Some(mixed) =
-                    self.smooth_sections(&sections, tolerance, &mut cache, without_fair)?
+                    self.smooth_sections(&sections, tolerance, (&mut cache, &memo), without_fair)?
                 else {
                     // `fair` may have left a cut joint not G2: try without.
                     with_fair = true;
@@ -366,5 +427,67 @@ impl Smoother for Auto {
             }
         }
         Ok(best)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use core::sync::atomic::{AtomicUsize, Ordering};
+
+    /// [`PlannedTime`], counting its calls.
+    #[derive(Debug, Default)]
+    struct Counted {
+        calls: AtomicUsize,
+        time: PlannedTime,
+    }
+
+    impl Objective for Counted {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.calls.fetch_add(1, Ordering::Relaxed);
+            self.time.cost(pieces)
+        }
+    }
+
+    /// A zigzag of long lines: no dense section, so every fit candidate
+    /// smooths it as `bspline-corner` does.
+    fn zigzag() -> Run {
+        let p = |i: usize| Vec3::new(10.0 * i as f64, if i % 2 == 0 { 0.0 } else { 8.0 }, 0.0);
+        let pieces = (1..8)
+            .map(|i| Piece {
+                curve: Curve::Line(Line::new(p(i - 1), p(i))),
+                rapid: false,
+                source_lines: (i, i),
+                feed: Some(3000.0),
+            })
+            .collect();
+        Run::new(pieces)
+    }
+
+    /// Every candidate gets the cost of its own pieces, while the
+    /// objective runs once per distinct result.
+    #[test]
+    fn candidates_with_the_same_pieces_share_one_cost() {
+        let counted = Arc::new(Counted::default());
+        let auto = Auto::new(AutoOptions::default(), counted.clone());
+        let run = zigzag();
+        let memo = FitMemo::default();
+        let planned = auto
+            .planned_candidates(&run, 0.05, (false, false), &memo)
+            .unwrap();
+        let plain = PlannedTime::default();
+        let mut distinct: Vec<&[Piece]> = Vec::new();
+        for (time, cand) in &planned {
+            assert_eq!(
+                time.map(f64::to_bits),
+                plain.cost(&cand.pieces).map(f64::to_bits)
+            );
+            if !distinct.iter().any(|d| same_pieces(d, &cand.pieces)) {
+                distinct.push(&cand.pieces);
+            }
+        }
+        assert!(distinct.len() < planned.len(), "no candidates alike");
+        assert_eq!(counted.calls.load(Ordering::Relaxed), distinct.len());
     }
 }

@@ -6,7 +6,7 @@ use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, Lotm,
+    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, FitMemo, Lotm,
     SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
@@ -307,12 +307,14 @@ impl Candidate {
     /// where `auto` cut it into sections, so fits must keep that line.
     /// `original`: the run before its arcs were sampled into `input`,
     /// whose tolerance is `tolerance` (`input`'s is `tol`).
+    /// `memo`: the fits made for this run so far (by any candidate).
     pub(super) fn smooth(
         &self,
         (original, tolerance): (&Run, f64),
         input: &Run,
         tol: f64,
         cut_ends: (bool, bool),
+        memo: &FitMemo,
     ) -> Result<SmoothedRun, SmoothError> {
         match self {
             Candidate::AsIs => Ok(SmoothedRun {
@@ -326,7 +328,7 @@ impl Candidate {
                     ..*o
                 },
             }
-            .smooth_run(input, tol),
+            .smooth_run_with(input, tol, memo),
             Candidate::Corner(m) => m.smooth_run(input, tol),
             Candidate::Fair(o) => {
                 let fit = BsplineFitOptions {

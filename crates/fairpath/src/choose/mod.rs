@@ -10,6 +10,7 @@ mod auto;
 mod candidates;
 mod objective;
 mod registry;
+mod same_pieces;
 mod sections;
 
 pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};

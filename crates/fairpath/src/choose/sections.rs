@@ -6,7 +6,7 @@ use super::candidates::FAIR;
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
-use crate::smooth::{SmoothError, SmoothedRun};
+use crate::smooth::{FitMemo, SmoothError, SmoothedRun};
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
@@ -78,7 +78,8 @@ impl Auto {
     /// cut lines G2 (with `without_fair`, among those but `fair`); `None`
     /// when some section has no such candidate or a cut joint is not G2
     /// (the caller then chooses for the whole run). Sections found in
-    /// `cache` are not smoothed again.
+    /// `cache` are not smoothed again, and fits found in `memo` not made
+    /// again.
     ///
     /// Why the choice without `fair`: each section's choice is planned from
     /// rest to rest and the mix as one run, so a candidate that wins a
@@ -89,7 +90,7 @@ impl Auto {
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
         tolerance: f64,
-        cache: &mut SectionCache,
+        (cache, memo): (&mut SectionCache, &FitMemo),
         without_fair: bool,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let jt = JointTolerances::from_tolerance(tolerance);
@@ -100,7 +101,8 @@ impl Auto {
             let best = match cache.get(&section) {
                 Some(best) => best[k].clone(),
                 None => {
-                    let best = self.best_for_section(run, *before, *after, tolerance, jt)?;
+                    let ends = (*before, *after);
+                    let best = self.best_for_section(run, ends, tolerance, jt, memo)?;
                     let kept = best[k].clone();
                     cache.insert(section, best);
                     kept
@@ -132,12 +134,13 @@ impl Auto {
     fn best_for_section(
         &self,
         run: &Run,
-        before: Option<Vec3>,
-        after: Option<Vec3>,
+        (before, after): (Option<Vec3>, Option<Vec3>),
         tolerance: f64,
         jt: JointTolerances,
+        memo: &FitMemo,
     ) -> Result<Choices, SmoothError> {
-        let cands = self.planned_candidates(run, tolerance, (before.is_some(), after.is_some()))?;
+        let cut_ends = (before.is_some(), after.is_some());
+        let cands = self.planned_candidates(run, tolerance, cut_ends, memo)?;
         let eligible = |c: &SmoothedRun| {
             let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
                 return false;

@@ -29,7 +29,7 @@
 //! optimization and statistical learning via the alternating direction
 //! method of multipliers", 2011, section 5.1, scaled form) with the
 //! splitting `z_i = C(t_i)`: the curve step is the banded least-squares fit
-//! to the targets `z_i - u_i` ([`FitSystem`], factored once per weight, so
+//! to the targets `z_i - u_i` ([`super::fit::FitSystem`], factored once per weight, so
 //! each step is one back-substitution), the `z` step projects `C(t_i) + u_i`
 //! onto the ball of `Q_i`, and `u` accumulates the residuals. ADMM converges
 //! for any ratio of the data weight to the energy weights, but slowly when
@@ -46,7 +46,7 @@
 //! `bspline-fit`'s smoothing from 2.08 to 1.53 s (`FAIRPATH_TIMING=1`),
 //! the same curves.
 
-use super::fit::{span_errors, with_spans_at_most, EndCondition, FitError, FitSystem};
+use super::fit::{span_errors, with_spans_at_most, EndCondition, FitData, FitError};
 use super::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
@@ -202,7 +202,10 @@ pub fn relax_in_band(
     let n = pts.len();
     let (first, last) = (pts[0], pts[n - 1]);
     let mut weights = (lambda * opts.weight_factor, mu * opts.weight_factor);
-    let mut system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
+    // The data term is the same at every weight: built once, the weights
+    // added to it at the start and after every stall.
+    let data = FitData::new(&params, &fit.knots, ends, (first, last))?;
+    let mut system = data.system(weights)?;
     // z starts on the fit, u at zero.
     let mut z = system.points_at_data(&fit);
     let mut u = alloc::vec![Vec3::ZERO; n];
@@ -215,12 +218,15 @@ pub fn relax_in_band(
     // wait and at the end.
     let mut snapshots: Vec<Nurbs> = Vec::new();
     let mut best = None;
+    // Buffers of every step: the right-hand side, the control points and
+    // the curve's points at the data.
+    let (mut rhs, mut ctrl, mut at) = (Vec::new(), Vec::new(), Vec::new());
     for step in 1..=opts.iterations {
         for i in 1..n - 1 {
             targets[i] = z[i] - u[i];
         }
-        let c = system.solve(&targets)?;
-        let at = system.points_at_data(&c);
+        system.solve_into(&targets, &mut rhs, &mut ctrl)?;
+        system.points_at_data_into(&ctrl, &mut at);
         let mut worst: f64 = 0.0;
         // Largest primal (C - z) and dual (change of z) residuals.
         let mut moved: f64 = 0.0;
@@ -240,7 +246,7 @@ pub fn relax_in_band(
         }
         let converged = moved <= opts.converged_share * target;
         if step % opts.check_every == 0 || step == opts.iterations || converged {
-            snapshots.push(c);
+            snapshots.push(system.curve(ctrl.clone()));
             if snapshots.len() >= PENDING_CHECKS {
                 best = last_passing(&mut snapshots, &pts, &params, target).or(best);
             }
@@ -256,7 +262,7 @@ pub fn relax_in_band(
                 for x in u.iter_mut() {
                     *x = *x * STALL_FACTOR;
                 }
-                system = FitSystem::new(&params, &fit.knots, ends, (first, last), weights)?;
+                system = data.system(weights)?;
                 history.clear();
             }
         }

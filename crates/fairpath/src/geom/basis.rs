@@ -13,7 +13,59 @@ pub const BASIS_LEN: usize = MAX_DEGREE + 1;
 /// Piegl-Tiller A2.2: the `degree + 1` non-zero basis functions
 /// `N_{span-p..=span, p}` at `t` in span `span` of `knots`, with `0/0 = 0`
 /// (empty spans). `degree <= MAX_DEGREE`.
+///
+/// Degrees 1 to [`MAX_DEGREE`] run a copy of the algorithm compiled for
+/// that degree (loops unrolled, arrays of the degree's size): the same
+/// operations in the same order as the general one, so the same bits.
 pub fn basis_funs(knots: &[f64], degree: usize, span: usize, t: f64) -> [f64; BASIS_LEN] {
+    match degree {
+        1 => widen(basis_funs_n::<2>(knots, span, t)),
+        2 => widen(basis_funs_n::<3>(knots, span, t)),
+        3 => widen(basis_funs_n::<4>(knots, span, t)),
+        4 => widen(basis_funs_n::<5>(knots, span, t)),
+        5 => widen(basis_funs_n::<6>(knots, span, t)),
+        6 => widen(basis_funs_n::<7>(knots, span, t)),
+        7 => widen(basis_funs_n::<8>(knots, span, t)),
+        _ => basis_funs_any(knots, degree, span, t),
+    }
+}
+
+/// `x` in the first `N` entries of a basis array, zeros after.
+#[inline(always)]
+fn widen<const N: usize>(x: [f64; N]) -> [f64; BASIS_LEN] {
+    let mut out = [0.0f64; BASIS_LEN];
+    out[..N].copy_from_slice(&x);
+    out
+}
+
+/// [`basis_funs`] at degree `N - 1`.
+#[inline(always)]
+fn basis_funs_n<const N: usize>(knots: &[f64], span: usize, t: f64) -> [f64; N] {
+    let p = N - 1;
+    let u = &knots[span + 1 - p..=span + p];
+    // u[span + k] is u[k + p - 1] here.
+    let mut n = [0.0f64; N];
+    let mut left = [0.0f64; N];
+    let mut right = [0.0f64; N];
+    n[0] = 1.0;
+    for j in 1..=p {
+        left[j] = t - u[p - j];
+        right[j] = u[j + p - 1] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let den = right[r + 1] + left[j - r];
+            let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    n
+}
+
+/// [`basis_funs`] for any degree up to [`MAX_DEGREE`], the degree known at
+/// run time only.
+fn basis_funs_any(knots: &[f64], degree: usize, span: usize, t: f64) -> [f64; BASIS_LEN] {
     let p = degree;
     let u = knots;
     let mut n = [0.0f64; BASIS_LEN];
@@ -39,7 +91,129 @@ pub fn basis_funs(knots: &[f64], degree: usize, span: usize, t: f64) -> [f64; BA
 /// up to order `nd` (at most 2) at `t` in span `span` of `knots`;
 /// `ders[k][j]` is the k-th derivative of `N_{span-p+j, p}`, with `0/0 = 0`
 /// (empty spans). `degree <= MAX_DEGREE`.
+///
+/// As [`basis_funs`], degrees 1 to [`MAX_DEGREE`] run a copy compiled for
+/// the degree, bit for bit the general algorithm.
 pub fn ders_basis_funs(
+    knots: &[f64],
+    degree: usize,
+    span: usize,
+    t: f64,
+    nd: usize,
+) -> [[f64; BASIS_LEN]; 3] {
+    match degree {
+        1 => widen3(ders_basis_funs_n::<2>(knots, span, t, nd)),
+        2 => widen3(ders_basis_funs_n::<3>(knots, span, t, nd)),
+        3 => widen3(ders_basis_funs_n::<4>(knots, span, t, nd)),
+        4 => widen3(ders_basis_funs_n::<5>(knots, span, t, nd)),
+        5 => widen3(ders_basis_funs_n::<6>(knots, span, t, nd)),
+        6 => widen3(ders_basis_funs_n::<7>(knots, span, t, nd)),
+        7 => widen3(ders_basis_funs_n::<8>(knots, span, t, nd)),
+        _ => ders_basis_funs_any(knots, degree, span, t, nd),
+    }
+}
+
+#[inline(always)]
+fn widen3<const N: usize>(d: [[f64; N]; 3]) -> [[f64; BASIS_LEN]; 3] {
+    [widen(d[0]), widen(d[1]), widen(d[2])]
+}
+
+/// [`ders_basis_funs`] at degree `N - 1`.
+#[inline(always)]
+fn ders_basis_funs_n<const N: usize>(
+    knots: &[f64],
+    span: usize,
+    t: f64,
+    nd: usize,
+) -> [[f64; N]; 3] {
+    let p = N - 1;
+    let u = &knots[span + 1 - p..=span + p];
+    let mut ndu = [[0.0f64; N]; N];
+    let mut left = [0.0f64; N];
+    let mut right = [0.0f64; N];
+    ndu[0][0] = 1.0;
+    for j in 1..=p {
+        left[j] = t - u[p - j];
+        right[j] = u[j + p - 1] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            ndu[j][r] = right[r + 1] + left[j - r];
+            let temp = if ndu[j][r] != 0.0 {
+                ndu[r][j - 1] / ndu[j][r]
+            } else {
+                0.0
+            };
+            ndu[r][j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j][j] = saved;
+    }
+    let mut ders = [[0.0f64; N]; 3];
+    for j in 0..=p {
+        ders[0][j] = ndu[j][p];
+    }
+    let nd = nd.min(p).min(2);
+    if nd == 0 {
+        return ders;
+    }
+    let mut a = [[0.0f64; N]; 2];
+    for r in 0..=p {
+        let (mut s1, mut s2) = (0usize, 1usize);
+        a[0] = [0.0; N];
+        a[0][0] = 1.0;
+        for k in 1..=nd {
+            let mut d = 0.0;
+            let rk = r as isize - k as isize;
+            let pk = p - k;
+            if r >= k {
+                let rk = rk as usize;
+                a[s2][0] = if ndu[pk + 1][rk] != 0.0 {
+                    a[s1][0] / ndu[pk + 1][rk]
+                } else {
+                    0.0
+                };
+                d = a[s2][0] * ndu[rk][pk];
+            }
+            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+            let j2 = if (r as isize - 1) <= pk as isize {
+                k - 1
+            } else {
+                p - r
+            };
+            for j in j1..=j2 {
+                let idx = (rk + j as isize) as usize;
+                a[s2][j] = if ndu[pk + 1][idx] != 0.0 {
+                    (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx]
+                } else {
+                    0.0
+                };
+                d += a[s2][j] * ndu[idx][pk];
+            }
+            if r <= pk {
+                a[s2][k] = if ndu[pk + 1][r] != 0.0 {
+                    -a[s1][k - 1] / ndu[pk + 1][r]
+                } else {
+                    0.0
+                };
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k][r] = d;
+            core::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut f = p as f64;
+    for (k, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
+        for v in row.iter_mut().take(p + 1) {
+            *v *= f;
+        }
+        f *= (p - k) as f64;
+    }
+    ders
+}
+
+/// [`ders_basis_funs`] for any degree up to [`MAX_DEGREE`], the degree
+/// known at run time only.
+fn ders_basis_funs_any(
     knots: &[f64],
     degree: usize,
     span: usize,
@@ -129,4 +303,65 @@ pub fn ders_basis_funs(
         f *= (p - k) as f64;
     }
     ders
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A clamped knot vector of degree `p` from the gaps (some zero: empty
+    /// spans and multiple knots), with a span index and a parameter in it.
+    fn knots_span_t() -> impl Strategy<Value = (Vec<f64>, usize, usize, f64)> {
+        (0usize..=MAX_DEGREE, 1usize..12)
+            .prop_flat_map(|(p, inner)| {
+                let gaps = proptest::collection::vec(
+                    prop_oneof![3 => 0.001f64..10.0, 1 => Just(0.0)],
+                    inner + 1,
+                );
+                (Just(p), gaps, 0.0f64..=1.0, any::<prop::sample::Index>())
+            })
+            .prop_map(|(p, gaps, x, idx)| {
+                let mut k = alloc::vec![0.0; p + 1];
+                let mut at = 0.0;
+                for g in &gaps[..gaps.len() - 1] {
+                    at += g;
+                    k.push(at);
+                }
+                at += gaps[gaps.len() - 1].max(0.5);
+                k.extend(core::iter::repeat_n(at, p + 1));
+                // Spans p..k.len()-p-1; pick one, and t inside it (or at its ends).
+                let last = k.len() - p - 2;
+                let span = p + idx.index(last - p + 1);
+                let t = k[span] + x * (k[span + 1] - k[span]);
+                (k, p, span, t)
+            })
+    }
+
+    use alloc::vec::Vec;
+
+    fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
+        x.map(f64::to_bits)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4000))]
+        /// The copies compiled for each degree give the general algorithm's
+        /// bits, values and derivatives, on clamped knots with empty spans.
+        #[test]
+        fn per_degree_copies_equal_the_general_algorithm(
+            (k, p, span, t) in knots_span_t(),
+            nd in 0usize..=2,
+        ) {
+            prop_assert_eq!(
+                bits(&basis_funs(&k, p, span, t)),
+                bits(&basis_funs_any(&k, p, span, t))
+            );
+            let a = ders_basis_funs(&k, p, span, t, nd);
+            let b = ders_basis_funs_any(&k, p, span, t, nd);
+            for r in 0..3 {
+                prop_assert_eq!(bits(&a[r]), bits(&b[r]));
+            }
+        }
+    }
 }

@@ -138,18 +138,80 @@ pub struct FitSystem {
     basis: Vec<(usize, [f64; 4])>,
 }
 
-impl FitSystem {
-    /// The system of a clamped cubic fit with knot vector `knots` to data
-    /// at `params`, from `ends.0` to `ends.1` exactly (with the end
-    /// conditions `conds`), with weights `lambda` on `integral |C''|^2` and
-    /// `mu` on `integral |C'''|^2` (see [`fit_cubic_weighted`]).
+/// The part of a fit's normal equations that does not depend on the
+/// weights: the fixed control points, the basis at the data parameters and
+/// the data term (the sum over the data points, most of a fit's cost).
+/// [`FitData::system`] adds the weighted fairness terms and factors, so a
+/// fit tried at several weights on the same parameters and knots (the
+/// raises of the weights, the relaxation's lowered weights) builds this
+/// once. The terms are summed in the order of [`FitSystem::new`], so the
+/// system is the same to the bit.
+#[derive(Clone, Debug)]
+pub struct FitData {
+    knots: Vec<f64>,
+    ctrl: Vec<Vec3>,
+    lo: usize,
+    hi: usize,
+    /// The data term.
+    a: BandedSpd,
+    /// The data term's part of the right-hand side from the fixed control
+    /// points.
+    fixed_rhs: Vec<Vec3>,
+    basis: Vec<(usize, [f64; 4])>,
+}
+
+/// A non-empty knot span: its index, its length and `N''` of its four
+/// basis functions at its ends.
+type SpanD2 = (usize, f64, ([f64; 4], [f64; 4]));
+
+/// Adds `w` times the outer product of the basis values `b` of span `s`
+/// to the normal equations: to `a` where both control points are free
+/// (`lo..hi`), to `fixed_rhs` (the fixed point's pull) where one is fixed.
+#[inline(always)]
+fn add_term(
+    (a, fixed_rhs): (&mut BandedSpd, &mut [Vec3]),
+    ctrl: &[Vec3],
+    (lo, hi): (usize, usize),
+    s: usize,
+    b: &[f64; 4],
+    w: f64,
+) {
+    // All four control points free (every span but those next to the
+    // ends): the same sums without the checks.
+    if s - 3 >= lo && s < hi {
+        a.add_outer4(s - 3 - lo, b, w);
+        return;
+    }
+    let free = |i: usize| i >= lo && i < hi;
+    for j in 0..4 {
+        let gj = s - 3 + j;
+        if !free(gj) || b[j] == 0.0 {
+            continue;
+        }
+        for k in 0..4 {
+            let gk = s - 3 + k;
+            let v = w * b[j] * b[k];
+            if free(gk) {
+                if gk <= gj {
+                    a.add(gj - lo, gk - lo, v);
+                }
+            } else {
+                fixed_rhs[gj - lo] -= ctrl[gk] * v;
+            }
+        }
+    }
+}
+
+impl FitData {
+    /// The data part of the system of a clamped cubic fit with knot vector
+    /// `knots` to data at `params`, from `ends.0` to `ends.1` exactly (with
+    /// the end conditions `conds`): [`FitSystem::new`] without its weights.
     pub fn new(
         params: &[f64],
         knots: &[f64],
         (start, end): (EndCondition, EndCondition),
         ends: (Vec3, Vec3),
-        (lambda, mu): (f64, f64),
-    ) -> Result<FitSystem, FitError> {
+    ) -> Result<FitData, FitError> {
         let n = params.len();
         if n < 2 || knots.len() < 2 * (FIT_DEGREE + 1) {
             return Err(FitError::BadInput);
@@ -179,28 +241,8 @@ impl FitSystem {
                 *c = ends.1 - d * (ub - greville(i));
             }
         }
-        let free = |i: usize| i >= lo && i < hi;
         let mut a = BandedSpd::zeros(hi - lo);
         let mut fixed_rhs = vec![Vec3::ZERO; hi - lo];
-        let mut add_term = |s: usize, b: &[f64; 4], w: f64| {
-            for j in 0..4 {
-                let gj = s - 3 + j;
-                if !free(gj) || b[j] == 0.0 {
-                    continue;
-                }
-                for k in 0..4 {
-                    let gk = s - 3 + k;
-                    let v = w * b[j] * b[k];
-                    if free(gk) {
-                        if gk <= gj {
-                            a.add(gj - lo, gk - lo, v);
-                        }
-                    } else {
-                        fixed_rhs[gj - lo] -= ctrl[gk] * v;
-                    }
-                }
-            }
-        };
         // Data term.
         let mut basis = Vec::with_capacity(n);
         let mut s = FIT_DEGREE;
@@ -209,16 +251,57 @@ impl FitSystem {
                 s += 1;
             }
             let b = cubic_basis_values(knots, s, t);
-            add_term(s, &b, 1.0);
+            add_term((&mut a, &mut fixed_rhs), &ctrl, (lo, hi), s, &b, 1.0);
             basis.push((s, b));
         }
-        // Non-empty spans with their length and `N''` at their ends.
-        let spans = || {
-            (FIT_DEGREE..h).filter_map(|s| {
-                let len = knots[s + 1] - knots[s];
-                (len > 0.0).then(|| (s, len, cubic_basis_d2_at_ends(knots, s)))
-            })
+        Ok(FitData {
+            knots: knots.to_vec(),
+            ctrl,
+            lo,
+            hi,
+            a,
+            fixed_rhs,
+            basis,
+        })
+    }
+
+    /// The knot vector.
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// The factored system with weights `lambda` on `integral |C''|^2` and
+    /// `mu` on `integral |C'''|^2` (see [`fit_cubic_weighted`]).
+    pub fn system(&self, weights: (f64, f64)) -> Result<FitSystem, FitError> {
+        self.clone().into_system(weights)
+    }
+
+    /// [`FitData::system`], consuming the data part.
+    pub fn into_system(self, (lambda, mu): (f64, f64)) -> Result<FitSystem, FitError> {
+        let FitData {
+            knots,
+            ctrl,
+            lo,
+            hi,
+            mut a,
+            mut fixed_rhs,
+            basis,
+        } = self;
+        let h = ctrl.len();
+        let u = &knots;
+        // Non-empty spans with their length and `N''` at their ends (once,
+        // for both terms).
+        let spans: Vec<SpanD2> = if lambda > 0.0 || mu > 0.0 {
+            (FIT_DEGREE..h)
+                .filter_map(|s| {
+                    let len = u[s + 1] - u[s];
+                    (len > 0.0).then(|| (s, len, cubic_basis_d2_at_ends(u, s)))
+                })
+                .collect()
+        } else {
+            Vec::new()
         };
+        let spans = || spans.iter().copied();
         // Fairness term, exact by 2-point Gauss-Legendre per span.
         if lambda > 0.0 {
             let g = 0.5 / crate::math::sqrt(3.0);
@@ -226,7 +309,14 @@ impl FitSystem {
                 // N'' is linear on the span: the Gauss points from its ends.
                 for x in [0.5 - g, 0.5 + g] {
                     let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
-                    add_term(s, &b, lambda * 0.5 * len);
+                    add_term(
+                        (&mut a, &mut fixed_rhs),
+                        &ctrl,
+                        (lo, hi),
+                        s,
+                        &b,
+                        lambda * 0.5 * len,
+                    );
                 }
             }
         }
@@ -234,12 +324,12 @@ impl FitSystem {
         if mu > 0.0 {
             for (s, len, (e0, e1)) in spans() {
                 let d3: [f64; 4] = core::array::from_fn(|k| (e1[k] - e0[k]) / len);
-                add_term(s, &d3, mu * len);
+                add_term((&mut a, &mut fixed_rhs), &ctrl, (lo, hi), s, &d3, mu * len);
             }
         }
         let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;
         Ok(FitSystem {
-            knots: knots.to_vec(),
+            knots,
             ctrl,
             lo,
             hi,
@@ -248,28 +338,57 @@ impl FitSystem {
             basis,
         })
     }
+}
+
+impl FitSystem {
+    /// The system of a clamped cubic fit with knot vector `knots` to data
+    /// at `params`, from `ends.0` to `ends.1` exactly (with the end
+    /// conditions `conds`), with weights `lambda` on `integral |C''|^2` and
+    /// `mu` on `integral |C'''|^2` (see [`fit_cubic_weighted`]).
+    pub fn new(
+        params: &[f64],
+        knots: &[f64],
+        conds: (EndCondition, EndCondition),
+        ends: (Vec3, Vec3),
+        weights: (f64, f64),
+    ) -> Result<FitSystem, FitError> {
+        FitData::new(params, knots, conds, ends)?.into_system(weights)
+    }
 
     /// Points at the system's data parameters of `c`, a clamped cubic
     /// B-spline on the system's knots (from the basis values the system
     /// keeps: a dot product per point).
     pub fn points_at_data(&self, c: &Nurbs) -> Vec<Vec3> {
-        self.basis
-            .iter()
-            .map(|(s, b)| {
-                let q = &c.points[s - 3..=*s];
-                q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]
-            })
-            .collect()
+        let mut out = Vec::new();
+        self.points_at_data_into(&c.points, &mut out);
+        out
     }
 
-    /// The fit to `pts` (one per parameter of the system; the end points
-    /// and end conditions are the system's, whatever `pts` holds there).
-    pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
+    /// [`FitSystem::points_at_data`] of the control points `ctrl`, into
+    /// `out` (its contents replaced).
+    pub fn points_at_data_into(&self, ctrl: &[Vec3], out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend(self.basis.iter().map(|(s, b)| {
+            let q = &ctrl[s - 3..=*s];
+            q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]
+        }));
+    }
+
+    /// The control points of [`FitSystem::solve`] into `ctrl`, with `rhs`
+    /// as room for the right-hand side (both reused by a caller that
+    /// solves many times: the relaxation's steps).
+    pub fn solve_into(
+        &self,
+        pts: &[Vec3],
+        rhs: &mut Vec<Vec3>,
+        ctrl: &mut Vec<Vec3>,
+    ) -> Result<(), FitError> {
         if pts.len() != self.basis.len() {
             return Err(FitError::BadInput);
         }
         let (lo, hi) = (self.lo, self.hi);
-        let mut rhs = self.fixed_rhs.clone();
+        rhs.clear();
+        rhs.extend_from_slice(&self.fixed_rhs);
         for (q, (s, b)) in pts.iter().zip(&self.basis) {
             for (j, &bj) in b.iter().enumerate() {
                 let gj = s - 3 + j;
@@ -278,18 +397,32 @@ impl FitSystem {
                 }
             }
         }
-        self.chol.solve(&mut rhs);
-        let mut ctrl = self.ctrl.clone();
-        ctrl[lo..hi].copy_from_slice(&rhs);
+        self.chol.solve(rhs);
+        ctrl.clear();
+        ctrl.extend_from_slice(&self.ctrl);
+        ctrl[lo..hi].copy_from_slice(rhs);
         if ctrl.iter().any(|p| !p.is_finite()) {
             return Err(FitError::Singular);
         }
-        Ok(Nurbs {
+        Ok(())
+    }
+
+    /// The curve of the system's knots with control points `ctrl`.
+    pub fn curve(&self, ctrl: Vec<Vec3>) -> Nurbs {
+        Nurbs {
             degree: FIT_DEGREE,
             knots: self.knots.clone(),
             points: ctrl,
             weights: None,
-        })
+        }
+    }
+
+    /// The fit to `pts` (one per parameter of the system; the end points
+    /// and end conditions are the system's, whatever `pts` holds there).
+    pub fn solve(&self, pts: &[Vec3]) -> Result<Nurbs, FitError> {
+        let (mut rhs, mut ctrl) = (Vec::new(), Vec::new());
+        self.solve_into(pts, &mut rhs, &mut ctrl)?;
+        Ok(self.curve(ctrl))
     }
 }
 

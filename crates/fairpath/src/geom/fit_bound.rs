@@ -6,7 +6,7 @@
 //! curve was made: every fit and the band relaxation ([`super::band_fit`])
 //! are judged by it, so it is kept apart from the fit.
 
-use super::cubic_span::eval_in_span;
+use super::cubic_span::{cubic_basis_values, eval_in_span};
 use super::fit::FIT_DEGREE;
 use super::{point_segment_distance, Nurbs, Vec3};
 use alloc::vec;
@@ -39,40 +39,56 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
     // Value and second derivative at the start of the current piece: the
     // end of the previous one, since both are continuous across a simple
     // knot (re-evaluated after a multiple knot, where `C''` may jump).
-    let mut at_a = eval_in_span(knots, &c.points, s, params[0]);
+    let mut span = SpanEval::new(knots, &c.points);
+    let mut at_a = span.eval(s, params[0]);
+    // Distances of `at_a`'s point to segments `g0..g0 + 3` (NaN: not
+    // known), kept from the piece before when `at_a` is its end: each
+    // point's distances are computed once, not once per piece it bounds.
+    let mut a_dists: Option<(usize, [f64; 3])> = None;
     let multiple = |s: usize| knots[s] == knots[s - 1];
     for i in 0..n - 1 {
         let (t0, t1) = (params[i], params[i + 1]);
         while s + 1 < h && knots[s + 1] <= t0 {
             s += 1;
             if multiple(s) {
-                at_a = eval_in_span(knots, &c.points, s, t0);
+                at_a = span.eval(s, t0);
+                a_dists = None;
             }
         }
         // Data residual at t0.
         err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[i]));
         let mut a = t0;
+        let lo_g = i.saturating_sub(1);
+        let hi_g = (i + 1).min(n - 2);
         loop {
             let b = if s + 1 < h { knots[s + 1].min(t1) } else { t1 };
             let (ca, c2a) = at_a;
-            let (cb, c2b) = eval_in_span(knots, &c.points, s, b);
-            let sag = c2a.norm().max(c2b.norm()) * (b - a) * (b - a) / 8.0;
-            let lo_g = i.saturating_sub(1);
-            let hi_g = (i + 1).min(n - 2);
+            let (cb, c2b) = span.eval(s, b);
+            let sag = c2a.1.max(c2b.1) * (b - a) * (b - a) / 8.0;
+            let known = |g: usize| match a_dists {
+                Some((g0, d)) if g >= g0 && g < g0 + 3 && !d[g - g0].is_nan() => Some(d[g - g0]),
+                _ => None,
+            };
+            let mut b_dists = [f64::NAN; 3];
             let mut best = f64::INFINITY;
             for g in lo_g..=hi_g {
-                best = best.min(seg_dist(g, ca).max(seg_dist(g, cb)));
+                let da = known(g).unwrap_or_else(|| seg_dist(g, ca));
+                let db = seg_dist(g, cb);
+                b_dists[g - lo_g] = db;
+                best = best.min(da.max(db));
             }
             let e = &mut err[s - FIT_DEGREE];
             *e = e.max(best + sag);
             at_a = (cb, c2b);
+            a_dists = Some((lo_g, b_dists));
             if b >= t1 || s + 1 >= h {
                 break;
             }
             a = b;
             s += 1;
             if multiple(s) {
-                at_a = eval_in_span(knots, &c.points, s, a);
+                at_a = span.eval(s, a);
+                a_dists = None;
             }
         }
         if i == n - 2 {
@@ -80,4 +96,58 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
         }
     }
     err
+}
+
+/// Position and second derivative of a clamped cubic B-spline by
+/// [`eval_in_span`], to the bit, with `|C''|`, keeping the span's
+/// second-difference control points between calls on the same span (the
+/// bound evaluates each span at every data parameter inside it).
+struct SpanEval<'a> {
+    knots: &'a [f64],
+    pts: &'a [Vec3],
+    /// The span whose `C''` end values `ends` hold, if any.
+    span: Option<usize>,
+    ends: (Vec3, Vec3),
+}
+
+impl<'a> SpanEval<'a> {
+    fn new(knots: &'a [f64], pts: &'a [Vec3]) -> Self {
+        SpanEval {
+            knots,
+            pts,
+            span: None,
+            ends: (Vec3::ZERO, Vec3::ZERO),
+        }
+    }
+
+    /// `C(t)` and `(C''(t), |C''(t)|)` from the polynomial of span `s`.
+    fn eval(&mut self, s: usize, t: f64) -> (Vec3, (Vec3, f64)) {
+        let u = self.knots;
+        let h = u[s + 1] - u[s];
+        if h.is_nan() || h <= 0.0 {
+            let (c, c2) = eval_in_span(u, self.pts, s, t);
+            return (c, (c2, c2.norm()));
+        }
+        let b = cubic_basis_values(u, s, t);
+        let q = [
+            self.pts[s - 3],
+            self.pts[s - 2],
+            self.pts[s - 1],
+            self.pts[s],
+        ];
+        let c = q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3];
+        if self.span != Some(s) {
+            // As `eval_in_span`: every denominator spans the non-empty span s.
+            let p1 = |j: usize| (q[j + 1] - q[j]) * (3.0 / (u[s + j + 1] - u[s + j - 2]));
+            let (d0, d1, d2) = (p1(0), p1(1), p1(2));
+            let a0 = (d1 - d0) * (2.0 / (u[s + 1] - u[s - 1]));
+            let a1 = (d2 - d1) * (2.0 / (u[s + 2] - u[s]));
+            self.span = Some(s);
+            self.ends = (a0, a1);
+        }
+        let (a0, a1) = self.ends;
+        let w = (t - u[s]) / h;
+        let c2 = a0 * (1.0 - w) + a1 * w;
+        (c, (c2, c2.norm()))
+    }
 }

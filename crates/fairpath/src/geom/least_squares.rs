@@ -55,6 +55,25 @@ impl BandedSpd {
         self.low[r][r - c] += v;
     }
 
+    /// Adds `w b_j b_k` to `a[i0 + j][i0 + k]` (and its mirror) for every
+    /// `k <= j < 4` with `b_j != 0`: the outer product of four basis values
+    /// whose rows are all in the matrix (`i0 + 4 <= len`). Each entry gets
+    /// `(w * b_j) * b_k`, as [`BandedSpd::add`] of that value would give.
+    #[inline(always)]
+    pub fn add_outer4(&mut self, i0: usize, b: &[f64; 4], w: f64) {
+        let rows: &mut [[f64; HALF_BAND + 1]; 4] =
+            (&mut self.low[i0..i0 + 4]).try_into().expect("four rows");
+        for j in 0..4 {
+            if b[j] == 0.0 {
+                continue;
+            }
+            let wb = w * b[j];
+            for k in 0..=j {
+                rows[j][j - k] += wb * b[k];
+            }
+        }
+    }
+
     /// `a[i][j]`.
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (r, c) = if i >= j { (i, j) } else { (j, i) };

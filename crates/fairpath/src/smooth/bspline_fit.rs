@@ -92,7 +92,7 @@ use crate::path::Run;
 use crate::smooth::{require, OptionError};
 
 pub use super::fit_fairing::{
-    fit_polyline, fit_polyline_faired, fit_polyline_weighted, SectionFit, FAIRNESS_RAISE,
+    fit_polyline, fit_polyline_faired, fit_polyline_weighted, FitMemo, SectionFit, FAIRNESS_RAISE,
     FAIRNESS_RAISES,
 };
 
@@ -210,6 +210,30 @@ impl Smoother for BsplineFit {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_memo(run, tolerance, None)
+    }
+}
+
+impl BsplineFit {
+    /// [`Smoother::smooth_run`], taking the fits of its sections from
+    /// `memo` where they were made before (and leaving its own there): the
+    /// same result, for callers that fit the same run several ways
+    /// (`auto`'s candidates and sections).
+    pub fn smooth_run_with(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        memo: &FitMemo,
+    ) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_memo(run, tolerance, Some(memo))
+    }
+
+    fn smooth_run_memo(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        memo: Option<&FitMemo>,
+    ) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.check_options()?;
         // The corner options are checked by the method that uses them.
@@ -224,7 +248,7 @@ impl Smoother for BsplineFit {
                 self.options.line_at_start && at(start, chain.pts.first()),
                 self.options.line_at_end && at(end, chain.pts.last()),
             );
-            self.smooth_chain(chain, tolerance, keep, out)
+            self.smooth_chain(chain, tolerance, keep, memo, out)
         })
     }
 }

@@ -16,7 +16,7 @@
 //! `test_12mmflat.ngc` 0.71 -> 0.67 and `Cereal.ngc` 0.68 -> 0.65.
 
 use super::bspline_corner::{BsplineCorner, BAND_USE};
-use super::bspline_fit::{fit_polyline_faired, BsplineFit};
+use super::bspline_fit::{fit_polyline_faired, BsplineFit, FitMemo};
 use super::chains::{min_feed, LineChain};
 use super::corner_engine::Band;
 use super::fit_sections::dense_sections;
@@ -163,6 +163,7 @@ impl BsplineFit {
         chain: &LineChain,
         tolerance: f64,
         keep_ends: (bool, bool),
+        memo: Option<&FitMemo>,
         out: &mut SmoothedRun,
     ) {
         let o = &self.options;
@@ -237,15 +238,15 @@ impl BsplineFit {
             let from = lead_in.map_or((k, q[k]), |p| (k - 1, p));
             let to = lead_out.map_or((m, q[m]), |p| (m, p));
             let section = sub_chain(chain, from, to);
-            let Some(fit) = fit_polyline_faired(
-                &section.pts,
-                start,
-                end,
-                tolerance * o.band_use,
-                (o.fairness, o.jerk_fairness),
-                o.fairness_raises,
-                o.relax.as_ref(),
-            ) else {
+            let (target, weights) = (tolerance * o.band_use, (o.fairness, o.jerk_fairness));
+            let (raises, relax) = (o.fairness_raises, o.relax.as_ref());
+            let fit = match memo {
+                Some(m) => m.fit(&section.pts, start, end, target, weights, raises, relax),
+                None => {
+                    fit_polyline_faired(&section.pts, start, end, target, weights, raises, relax)
+                }
+            };
+            let Some(fit) = fit else {
                 let min = o.sections.min_points;
                 let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
                 let sharpest =

@@ -6,10 +6,12 @@
 //! The search for the control points at given weights is `fit_search.rs`.
 
 use super::fit_fill::fill_segments;
-use super::fit_search::{attempt, min_span, refine_knots, search};
+use super::fit_search::{attempt, min_span, refine_knots, search, DataCache};
 use crate::geom::band_fit::{relax_in_band, RelaxOptions};
 use crate::geom::fit::{chord_params, EndCondition};
 use crate::geom::{Nurbs, Vec3};
+#[cfg(feature = "std")]
+use alloc::{collections::BTreeMap, vec::Vec};
 use core::f64::consts::PI;
 
 /// A fit of one section.
@@ -113,15 +115,22 @@ pub fn fit_polyline_faired(
     let pts = &dense[..];
     let params = chord_params(pts);
     let mut fits = 0;
+    let mut cache = DataCache::default();
     let ladder: &[(f64, f64)] = if lambda0 > 0.0 || mu0 > 0.0 {
         &[(lambda0, mu0), (lambda0 / 16.0, mu0 / 16.0), (0.0, 0.0)]
     } else {
         &[(0.0, 0.0)]
     };
     for (step, &(lambda, mu)) in ladder.iter().enumerate() {
-        let Some((mut curve, mut bound)) =
-            search(pts, &params, start, end, target, (lambda, mu), &mut fits)
-        else {
+        let Some((mut curve, mut bound)) = search(
+            pts,
+            &params,
+            start,
+            end,
+            target,
+            (lambda, mu),
+            (&mut fits, &mut cache),
+        ) else {
             continue;
         };
         let mut lambda = lambda;
@@ -136,7 +145,14 @@ pub fn fit_polyline_faired(
                 let mut knots = curve.knots.clone();
                 let mut passed = None;
                 for _ in 0..RAISE_SOLVES {
-                    let Some(a) = attempt(pts, &params, &knots, (start, end), w, &mut fits) else {
+                    let Some(a) = attempt(
+                        pts,
+                        &params,
+                        &knots,
+                        (start, end),
+                        w,
+                        (&mut fits, &mut cache),
+                    ) else {
                         break;
                     };
                     if a.max <= target {
@@ -179,4 +195,178 @@ pub fn fit_polyline_faired(
         });
     }
     None
+}
+
+/// What a fit of [`fit_polyline_faired`] depends on, every number by its
+/// bits: the points, the end conditions, the target, the weights, the
+/// raises and the relaxation.
+#[cfg(feature = "std")]
+#[derive(Clone, Debug, PartialEq)]
+struct FitKey {
+    pts: Vec<[u64; 3]>,
+    ends: [Option<[u64; 3]>; 2],
+    numbers: [u64; 3],
+    raises: usize,
+    relax: Option<RelaxOptions>,
+}
+
+#[cfg(feature = "std")]
+fn vec_bits(p: Vec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+#[cfg(feature = "std")]
+fn end_bits(e: EndCondition) -> Option<[u64; 3]> {
+    match e {
+        EndCondition::Free => None,
+        EndCondition::Tangent(d) => Some(vec_bits(d)),
+    }
+}
+
+/// A fit's arguments and what it gave.
+#[cfg(feature = "std")]
+type MemoEntry = (FitKey, Option<SectionFit>);
+
+/// Where a [`MemoEntry`] is looked up first: the points' count and the
+/// first point's bits.
+#[cfg(feature = "std")]
+type MemoSlot = (usize, [u64; 3]);
+
+/// Fits already made for one run, shared by the candidates of `auto` that
+/// fit it (each on its thread) and by its sections: a dense section that
+/// two fit candidates (or a run and one of its sections) cut the same way,
+/// with the same ends and weights, is fitted once. [`fit_polyline_faired`]
+/// is a pure function of its arguments, so a fit found here is the one it
+/// would make. Without `std` the memo keeps nothing (the candidates then
+/// run one after the other, and no lock is at hand).
+#[derive(Debug, Default)]
+pub struct FitMemo {
+    /// By the points' count and first point, then the keys in full.
+    #[cfg(feature = "std")]
+    entries: std::sync::Mutex<BTreeMap<MemoSlot, Vec<MemoEntry>>>,
+}
+
+impl FitMemo {
+    /// [`fit_polyline_faired`] with these arguments, from the memo when it
+    /// was made before.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn fit(
+        &self,
+        pts: &[Vec3],
+        start: EndCondition,
+        end: EndCondition,
+        target: f64,
+        weights: (f64, f64),
+        raises: usize,
+        relax: Option<&RelaxOptions>,
+    ) -> Option<SectionFit> {
+        #[cfg(feature = "std")]
+        {
+            let key = FitKey {
+                pts: pts.iter().map(|&p| vec_bits(p)).collect(),
+                ends: [end_bits(start), end_bits(end)],
+                numbers: [target.to_bits(), weights.0.to_bits(), weights.1.to_bits()],
+                raises,
+                relax: relax.copied(),
+            };
+            let first = key.pts.first().copied().unwrap_or_default();
+            let slot: MemoSlot = (key.pts.len(), first);
+            let found = {
+                let entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
+                entries
+                    .get(&slot)
+                    .and_then(|v| v.iter().find(|(k, _)| *k == key))
+                    .map(|(_, fit)| fit.clone())
+            };
+            if let Some(fit) = found {
+                return fit;
+            }
+            let fit = fit_polyline_faired(pts, start, end, target, weights, raises, relax);
+            let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
+            let list = entries.entry(slot).or_default();
+            if !list.iter().any(|(k, _)| *k == key) {
+                list.push((key, fit.clone()));
+            }
+            fit
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            fit_polyline_faired(pts, start, end, target, weights, raises, relax)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alloc::vec::Vec;
+
+    /// A wavy polyline of 0.2 mm steps.
+    fn wave(n: usize, amp: f64) -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let x = 0.2 * i as f64;
+                Vec3::new(x, amp * libm::sin(x), 0.0)
+            })
+            .collect()
+    }
+
+    /// The memo gives what the fit gives, on a hit as on a miss, and keeps
+    /// fits whose arguments differ in one number apart.
+    #[test]
+    fn the_memo_gives_the_fit_and_tells_arguments_apart() {
+        let memo = FitMemo::default();
+        let relax = RelaxOptions::default();
+        let pts = wave(40, 0.3);
+        let d = EndCondition::Tangent(Vec3::new(1.0, 0.0, 0.0));
+        let cases = [
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 0.0),
+                6,
+                Some(&relax),
+            ),
+            (d, EndCondition::Free, 0.045, (1.0, 0.0), 6, Some(&relax)),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.04,
+                (1.0, 0.0),
+                6,
+                Some(&relax),
+            ),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 3.0),
+                6,
+                Some(&relax),
+            ),
+            (
+                EndCondition::Free,
+                EndCondition::Free,
+                0.045,
+                (1.0, 0.0),
+                0,
+                None,
+            ),
+        ];
+        for _ in 0..2 {
+            for &(start, end, target, w, raises, relax) in &cases {
+                let direct = fit_polyline_faired(&pts, start, end, target, w, raises, relax);
+                assert!(direct.is_some());
+                let memo_fit = memo.fit(&pts, start, end, target, w, raises, relax);
+                assert_eq!(memo_fit, direct);
+            }
+        }
+        // Other points (same count, same first point) are another fit.
+        let other = wave(40, 0.2);
+        let free = EndCondition::Free;
+        let direct = fit_polyline_faired(&other, free, free, 0.045, (1.0, 0.0), 6, Some(&relax));
+        let memo_fit = memo.fit(&other, free, free, 0.045, (1.0, 0.0), 6, Some(&relax));
+        assert_eq!(memo_fit, direct);
+    }
 }

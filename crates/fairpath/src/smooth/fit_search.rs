@@ -4,9 +4,56 @@
 //! span bounds, the control-point count by doubling and bisection, then
 //! knots inserted where the bound fails.
 
-use crate::geom::fit::{averaged_knots, fit_cubic_weighted, span_errors, EndCondition};
+use crate::geom::fit::{averaged_knots, span_errors, EndCondition, FitData, FitError, FitSystem};
 use crate::geom::{Nurbs, Vec3};
 use alloc::vec::Vec;
+
+/// Most data parts a [`DataCache`] keeps.
+const CACHED_DATA: usize = 8;
+
+/// The data parts ([`FitData`]) of the latest fits of one section (one set
+/// of points, parameters and end conditions), by knot vector: the raises
+/// of the weights start on the knots of the fit before, and the weights
+/// of the ladder retry the knot counts of the search before, so their data
+/// terms are built once. The systems are the same to the bit as built
+/// afresh ([`FitData`]).
+#[derive(Default)]
+pub(super) struct DataCache {
+    /// Latest used last.
+    entries: Vec<FitData>,
+}
+
+impl DataCache {
+    /// The system of a fit to data at `params` with `knots`, end
+    /// conditions `conds`, end points `ends` and `weights`. Every call on
+    /// one cache must pass the same `params`, `conds` and `ends`.
+    fn system(
+        &mut self,
+        params: &[f64],
+        knots: &[f64],
+        conds: (EndCondition, EndCondition),
+        ends: (Vec3, Vec3),
+        weights: (f64, f64),
+    ) -> Result<FitSystem, FitError> {
+        let same = |d: &FitData| {
+            let k = d.knots();
+            k.len() == knots.len() && k.iter().zip(knots).all(|(a, b)| a.to_bits() == b.to_bits())
+        };
+        if let Some(i) = self.entries.iter().rposition(same) {
+            let d = self.entries.remove(i);
+            let system = d.system(weights);
+            self.entries.push(d);
+            return system;
+        }
+        let d = FitData::new(params, knots, conds, ends)?;
+        let system = d.system(weights);
+        if self.entries.len() >= CACHED_DATA {
+            self.entries.remove(0);
+        }
+        self.entries.push(d);
+        system
+    }
+}
 
 /// Rounds of knot insertion from the largest failing count.
 const REFINE_ROUNDS: usize = 12;
@@ -23,11 +70,17 @@ pub(super) fn attempt(
     params: &[f64],
     knots: &[f64],
     ends: (EndCondition, EndCondition),
-    (lambda, mu): (f64, f64),
-    fits: &mut usize,
+    weights: (f64, f64),
+    (fits, cache): (&mut usize, &mut DataCache),
 ) -> Option<Attempt> {
     *fits += 1;
-    let curve = fit_cubic_weighted(pts, params, knots, ends.0, ends.1, lambda, mu).ok()?;
+    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
+        return None;
+    };
+    let system = cache
+        .system(params, knots, ends, (first, last), weights)
+        .ok()?;
+    let curve = system.solve(pts).ok()?;
     let errs = span_errors(&curve, pts, params);
     let max = errs.iter().copied().fold(0.0, f64::max);
     max.is_finite().then_some(Attempt { curve, errs, max })
@@ -42,7 +95,7 @@ pub(super) fn search(
     end: EndCondition,
     target: f64,
     weights: (f64, f64),
-    fits: &mut usize,
+    (fits, cache): (&mut usize, &mut DataCache),
 ) -> Option<(Nurbs, f64)> {
     let smoothed = weights.0 > 0.0 || weights.1 > 0.0;
     let n = pts.len() - 1;
@@ -55,9 +108,9 @@ pub(super) fn search(
     // (Schoenberg-Whitney); with it, up to two per segment.
     let h_max = if smoothed { 2 * n + 8 } else { n + 1 }.max(h_min);
     let ends = (start, end);
-    let try_count = |h: usize, fits: &mut usize| {
+    let mut try_count = |h: usize, fits: &mut usize| {
         let knots = averaged_knots(params, h);
-        attempt(pts, params, &knots, ends, weights, fits)
+        attempt(pts, params, &knots, ends, weights, (fits, &mut *cache))
     };
     let mut lo: Option<(usize, Attempt)> = None;
     let mut hi: Option<(usize, Attempt)> = None;
@@ -105,7 +158,7 @@ pub(super) fn search(
             if knots.len() - 4 >= limit || knots.len() == a.curve.knots.len() {
                 break;
             }
-            match attempt(pts, params, &knots, ends, weights, fits) {
+            match attempt(pts, params, &knots, ends, weights, (fits, &mut *cache)) {
                 Some(b) if b.max <= target => {
                     refined = Some(b);
                     break;

@@ -44,7 +44,7 @@ pub use bspline_corner::{
 };
 pub use bspline_fit::{
     fit_polyline, fit_polyline_faired, fit_polyline_weighted, BsplineFit, BsplineFitOptions,
-    SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
+    FitMemo, SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
 pub use fair::{Fair, FairOptions};
