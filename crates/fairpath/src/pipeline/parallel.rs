@@ -63,7 +63,7 @@ fn threaded<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
 /// its run, so at most one per thread is held at a time: a short run is
 /// one job that prepares, measures and drops its original; a long run is
 /// prepared once and its smoothed pieces are measured in chunks of
-/// [`CHUNK`] on all threads, one long run after the other.
+/// `CHUNK` pieces on all threads, one long run after the other.
 pub fn verify_runs(pairs: &[(&[Piece], &[Piece])], opts: &VerifyOptions) -> Vec<RunReport> {
     let is_long = |i: usize| pairs[i].1.len() > CHUNK;
     let short: Vec<usize> = (0..pairs.len()).filter(|&i| !is_long(i)).collect();

@@ -55,7 +55,7 @@
 //!    `a <= sqrt(2 J v)` (and the same towards the end at rest). With
 //!    `|a| <= A`, `d v / d x = a / v <= g(v) / v`: the speed at distance `x`
 //!    from a point of speed `<= c` is at most the solution of that
-//!    equation (tabulated conservatively, [`Envelope`]).
+//!    equation (tabulated conservatively, `Envelope`).
 //! 5. **Zones.** Turns with disjoint windows split the run at gates between
 //!    them into zones, whose times add up. In a zone with a turn, let `c`
 //!    be the least speed in its window. Its time is at least the time over
@@ -76,11 +76,11 @@
 //!    profile is time-optimal for rest-to-rest motion under velocity,
 //!    acceleration and jerk bounds), so the run's time is at least that of
 //!    [`super::DoubleS`] over the length lower bound (less a relative
-//!    rounding [`ROUNDING`] of its bisection). Step 4's envelopes let the
+//!    rounding `ROUNDING` of its bisection). Step 4's envelopes let the
 //!    acceleration change sign at the peak speed without passing through
 //!    zero, so on a straight run this floor is the larger (100 mm at the
 //!    thesis machine: 0.543 s, where steps 4-5 give 0.411 s).
-//! 7. **The band's width at a turn** ([`width`]). Let the window run from
+//! 7. **The band's width at a turn** (`width.rs`). Let the window run from
 //!    gate `a` to gate `b+1` with chord directions `u1` (chord `a`) and
 //!    `u2` (chord `b`), `n = (u1 - u2) / |u1 - u2|`, `T` the unit tangent,
 //!    `beta = pi/2 - angle(T, n)` (so `sin beta = n.T`) and `K` the
