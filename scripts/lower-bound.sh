@@ -19,20 +19,23 @@ OUT=docs/lower-bound.md
 {
   echo "# auto against the lower bound"
   echo
-  echo "Generated on $(date -u '+%Y-%m-%d') at commit $(git rev-parse --short HEAD) by \`scripts/lower-bound.sh $ARGS\` (programs under $SHARED; \`fairpath compare --tolerance $TOL --format json\`, default machine). Times in s; the bound is \`feed::lower_bound\` (its module docs give the argument)."
+  echo "Generated on $(date -u '+%Y-%m-%d') at commit $(git rev-parse --short HEAD) by \`scripts/lower-bound.sh $ARGS\` (programs under $SHARED; \`fairpath compare --tolerance $TOL --formats arcs --format json\`, default machine). Times in s, of the program each method writes (arcs, the default format), planned as \`simulate\` plans it; the bound is \`feed::lower_bound\` (its module docs give the argument)."
   echo
-  echo "| program | bound | input | auto | auto/bound | best single method/bound |"
+  echo "| program | bound | input | auto written | auto/bound | best single method written/bound |"
   echo "|---|---|---|---|---|---|"
   for p in "$@"; do
-    json=$(timeout 600 "$BIN" compare "$p" --tolerance "$TOL" --format json 2>/dev/null) || { echo "| ${p#$SHARED/} | failed | | | | |"; continue; }
+    json=$(timeout 600 "$BIN" compare "$p" --tolerance "$TOL" --formats arcs --format json 2>/dev/null) || { echo "| ${p#$SHARED/} | failed | | | | |"; continue; }
     echo "$json" | python3 -c '
 import json,sys
 rows=json.load(sys.stdin); name=sys.argv[1]
 b=rows[0]["lower_bound_s"]; by={r["method"]:r for r in rows}
-singles=[r for r in rows if r["method"] not in ("original","auto") and r["verified"]]
-best=min(singles,key=lambda r:r["time_s"]) if singles else None
-a=by.get("auto"); o=by["original"]
-bs="%.2f (%s)" % (best["x_bound"], best["method"]) if best else ""
+def written(r):
+    w=[x for x in r.get("written",[]) if x["format"]=="arcs" and x["verified"]]
+    return w[0] if w else None
+singles=[r for r in rows if r["method"] not in ("original","auto") and written(r)]
+best=min(singles,key=lambda r:written(r)["time_s"]) if singles else None
+a=written(by["auto"]); o=by["original"]
+bs="%.2f (%s)" % (written(best)["x_bound"], best["method"]) if best else ""
 print("| %s | %.3f | %.3f | %.3f | %.2f | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs))
 ' "${p#$SHARED/}"
   done
