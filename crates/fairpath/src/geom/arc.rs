@@ -181,4 +181,27 @@ impl ParamCurve for Arc {
         tang * (2.0 * (self.r1 - self.r0) * self.sweep)
             - radial * (self.radius(t) * self.sweep * self.sweep)
     }
+    /// The midpoint rule on the speed `g(t) = |C'(t)| = sqrt(K + (s r(t))^2)`
+    /// (`s` the sweep, `K = (r1 - r0)^2 + rise^2`): exact for a circular or
+    /// helical arc, where `g` is constant; on a spiral (as an arc read back
+    /// from rounded coordinates, whose end radius differs from its start
+    /// radius by the rounding) within `(b - a)^3 / 24 max g''`, with
+    /// `g'' = (s (r1 - r0))^2 K / g^3` and `g >= max(sqrt(K), s r_min)`.
+    /// `None` where that bound exceeds `accuracy`.
+    fn closed_length(&self, a: f64, b: f64, accuracy: f64) -> Option<f64> {
+        let dr = self.r1 - self.r0;
+        let s = self.sweep;
+        let k = dr * dr + self.rise * self.rise;
+        let g = |t: f64| math::sqrt(k + (s * self.radius(t)) * (s * self.radius(t)));
+        let h = b - a;
+        if dr != 0.0 {
+            let r_min = self.radius(a).min(self.radius(b)).max(0.0);
+            let g_min = math::sqrt(k).max(s * r_min);
+            let bound = h * h * h / 24.0 * (s * dr) * (s * dr) * k / (g_min * g_min * g_min);
+            if !(bound <= accuracy) {
+                return None;
+            }
+        }
+        Some(g(0.5 * (a + b)) * h)
+    }
 }

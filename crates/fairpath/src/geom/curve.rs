@@ -56,6 +56,12 @@ pub trait ParamCurve {
             .filter(|&t| t > a && t < b)
             .collect()
     }
+    /// The length over `[a, b]` (`a < b`) within `accuracy` mm from a
+    /// closed form, where the curve has one (lines, arcs); `None`: the
+    /// caller integrates `|C'|`.
+    fn closed_length(&self, _a: f64, _b: f64, _accuracy: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// The intervals of `c`'s smooth pieces ([`ParamCurve::breaks`]) within
@@ -129,8 +135,14 @@ const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
 /// whole-interval and two-halves estimates agree within the share of
 /// `accuracy` that interval owns (or within `LENGTH_ROUNDING_FLOOR` of
 /// the length). Bisection stops at a non-finite estimate (it would not
-/// converge) and after `MAX_LENGTH_INTERVALS` intervals.
+/// converge) and after `MAX_LENGTH_INTERVALS` intervals. A curve with a
+/// [`ParamCurve::closed_length`] needs no quadrature.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
+    if b > a {
+        if let Some(length) = c.closed_length(a, b, accuracy) {
+            return length;
+        }
+    }
     integrate_pieces(c, &|t| c.deriv1(t).norm(), a, b, accuracy)
 }
 

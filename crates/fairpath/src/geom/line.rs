@@ -34,4 +34,7 @@ impl ParamCurve for Line {
     fn deriv2(&self, _t: f64) -> Vec3 {
         Vec3::ZERO
     }
+    fn closed_length(&self, a: f64, b: f64, _accuracy: f64) -> Option<f64> {
+        Some(self.length() * (b - a))
+    }
 }

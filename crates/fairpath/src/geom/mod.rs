@@ -105,6 +105,13 @@ impl ParamCurve for Curve {
             _ => alloc::vec::Vec::new(),
         }
     }
+    fn closed_length(&self, a: f64, b: f64, accuracy: f64) -> Option<f64> {
+        match self {
+            Curve::Line(c) => c.closed_length(a, b, accuracy),
+            Curve::Arc(c) => c.closed_length(a, b, accuracy),
+            Curve::Nurbs(_) => None,
+        }
+    }
     fn curvature(&self, t: f64) -> f64 {
         match self {
             Curve::Line(_) => 0.0,
