@@ -198,7 +198,8 @@ impl ParamCurve for Arc {
             let r_min = self.radius(a).min(self.radius(b)).max(0.0);
             let g_min = math::sqrt(k).max(s * r_min);
             let bound = h * h * h / 24.0 * (s * dr) * (s * dr) * k / (g_min * g_min * g_min);
-            if !(bound <= accuracy) {
+            // A NaN bound (a degenerate spiral) integrates too.
+            if bound.is_nan() || bound > accuracy {
                 return None;
             }
         }
