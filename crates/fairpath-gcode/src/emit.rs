@@ -23,8 +23,8 @@ use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 use fairpath::render::{
-    render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError, RenderOptions,
-    RenderStats,
+    absorb_lines, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError,
+    RenderOptions, RenderStats, Rendered,
 };
 
 /// Why the curves could not be written.
@@ -246,6 +246,15 @@ pub fn emit(
                 choice.stats.add(&r.stats);
             }
         }
+        // The parts joined: their short lines merged as render_run merges
+        // a whole run's.
+        let mut joined = Rendered {
+            pieces: core::mem::take(&mut choice.pieces),
+            stats: choice.stats,
+        };
+        absorb_lines(&mut joined, &ro);
+        choice.pieces = joined.pieces;
+        choice.stats = joined.stats;
         Ok(choice)
     };
     let feeds: Vec<bool> = if opts.override_feed {

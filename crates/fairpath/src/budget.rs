@@ -39,7 +39,9 @@
 //! |- output (OUTPUT_SHARE of total by default)
 //! |    |- rounding: ROUNDING_SHARE of it for the decimals written
 //! |    '- render: the rest, for chords, arcs or spline blocks; arcs aim at
-//! |             DEVIATION_USE of it, G1 spacing at CHORD_USE
+//! |             DEVIATION_USE of it, G1 spacing at CHORD_USE; lines up to
+//! |             SHORT_LINE_SHARE of it long merged into the piece before
+//! |             them within ABSORB_SHIFT_SHARE of it (out of the rest)
 //! '- blend: LinuxCNC's G64 P, taken out of the output share by the writer
 //!          (BLEND_SHARE_G1 of it for G1 output, BLEND_SHARE_CURVES else)
 //! ```
@@ -64,6 +66,16 @@ pub const DEVIATION_USE: f64 = 0.9;
 /// Share of the render share the spacing rule of G1 output aims at (the
 /// chord error is checked at each move's middle afterwards).
 pub const CHORD_USE: f64 = 0.9;
+
+/// Lines of a rendered run no longer than this share of the render share
+/// are merged into the piece before them (`render::absorb`): written, the
+/// rounding of their ends turns their direction into corners with no room
+/// to blend.
+pub const SHORT_LINE_SHARE: f64 = 0.25;
+
+/// Share of the render share a merged short line may move the path by:
+/// out of what [`DEVIATION_USE`] and [`CHORD_USE`] leave.
+pub const ABSORB_SHIFT_SHARE: f64 = 1e-3;
 
 /// Share of the output share LinuxCNC's blending (`G64 P`) gets for G1
 /// output, where every vertex is blended.

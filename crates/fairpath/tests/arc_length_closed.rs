@@ -23,8 +23,16 @@ fn arc(r: f64, sweep: f64, rise: f64, dr: f64) -> Arc {
     let start = Vec3::new(r, 0.0, 0.0);
     let end_r = r + dr;
     let end = Vec3::new(end_r * sweep.cos(), end_r * sweep.sin(), rise);
-    Arc::from_center(start, end, Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0), false, 1, 1e-12)
-        .expect("a valid arc")
+    Arc::from_center(
+        start,
+        end,
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, 1.0),
+        false,
+        1,
+        1e-12,
+    )
+    .expect("a valid arc")
 }
 
 proptest! {

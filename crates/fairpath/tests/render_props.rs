@@ -10,7 +10,8 @@ use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Arc, Curve, Nurbs, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 use fairpath::render::{
-    nurbs_fits, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderOptions,
+    absorb_lines, nurbs_fits, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed,
+    RenderOptions,
 };
 use fairpath::verify::{verify_run, VerifyOptions};
 use proptest::prelude::*;
@@ -361,8 +362,8 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 
     /// A long run is rendered in parts side by side (`render_range`): the
-    /// parts, concatenated, must be the rendering of the whole run, in
-    /// every form.
+    /// parts, concatenated and their short lines merged (`absorb_lines`),
+    /// must be the rendering of the whole run, in every form.
     #[test]
     fn a_run_rendered_in_parts_is_the_run_rendered_whole(
         pts in prop::collection::vec(pt2(20.0), 9..18),
@@ -385,8 +386,11 @@ proptest! {
         let cut = cut.min(pieces.len());
         let a = render_range(&pieces, 0..cut, &speed, &o).unwrap();
         let b = render_range(&pieces, cut..pieces.len(), &speed, &o).unwrap();
-        let mut parts = a.pieces;
-        parts.extend(b.pieces);
-        prop_assert_eq!(parts, whole.pieces);
+        let mut joined = a;
+        joined.pieces.extend(b.pieces);
+        joined.stats.add(&b.stats);
+        absorb_lines(&mut joined, &o);
+        prop_assert_eq!(joined.pieces, whole.pieces);
+        prop_assert_eq!(joined.stats, whole.stats);
     }
 }

@@ -16,10 +16,12 @@
 //! Lines of the run stay lines; arcs of the input stay arcs (except in
 //! [`CurveForm::Lines`]); NURBS stay NURBS in [`CurveForm::Nurbs`].
 
+pub mod absorb;
 pub mod arcs;
 pub mod lines;
 pub mod speed;
 
+pub use absorb::absorb_short_lines;
 pub use speed::PlannedSpeed;
 
 use crate::feed::limits::MachineLimits;
@@ -137,6 +139,9 @@ pub struct RenderStats {
     /// NURBS pieces a spline format could not say (degree, not in a
     /// plane, LinuxCNC's G5.2 biarcs off the curve), written as arcs.
     pub nurbs_as_arcs: usize,
+    /// Short lines merged into the piece before them ([`absorb`]; not in
+    /// `lines`).
+    pub absorbed_lines: usize,
 }
 
 impl RenderStats {
@@ -148,6 +153,7 @@ impl RenderStats {
         self.fallback_lines += o.fallback_lines;
         self.nurbs += o.nurbs;
         self.nurbs_as_arcs += o.nurbs_as_arcs;
+        self.absorbed_lines += o.absorbed_lines;
     }
 }
 
@@ -209,14 +215,33 @@ pub fn render_run(
     speed: &PlannedSpeed,
     opts: &RenderOptions,
 ) -> Result<Rendered, RenderError> {
-    render_range(pieces, 0..pieces.len(), speed, opts)
+    let mut r = render_range(pieces, 0..pieces.len(), speed, opts)?;
+    absorb_lines(&mut r, opts);
+    Ok(r)
+}
+
+/// Merges the short lines of a whole rendered run into the pieces before
+/// them ([`absorb`], [`SHORT_LINE_SHARE`], [`ABSORB_SHIFT_SHARE`] of the
+/// chord): [`render_run`] does it; a caller that joins [`render_range`]s
+/// does it once they are joined.
+///
+/// [`SHORT_LINE_SHARE`]: crate::budget::SHORT_LINE_SHARE
+/// [`ABSORB_SHIFT_SHARE`]: crate::budget::ABSORB_SHIFT_SHARE
+pub fn absorb_lines(r: &mut Rendered, opts: &RenderOptions) {
+    let merged = absorb_short_lines(
+        &mut r.pieces,
+        crate::budget::SHORT_LINE_SHARE * opts.chord,
+        crate::budget::ABSORB_SHIFT_SHARE * opts.chord,
+    );
+    r.stats.lines -= merged;
+    r.stats.absorbed_lines += merged;
 }
 
 /// [`render_run`] of the pieces `range` of the run `pieces` only. Each
 /// piece is rendered on its own (from its curve and the planned speed
 /// along it), so the renderings of consecutive ranges, concatenated, are
-/// the rendering of the whole run: a long run can be rendered in parts
-/// side by side.
+/// the rendering of the whole run before its short lines are merged
+/// ([`absorb_lines`]): a long run can be rendered in parts side by side.
 pub fn render_range(
     pieces: &[Piece],
     range: core::ops::Range<usize>,

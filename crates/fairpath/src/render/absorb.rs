@@ -1,0 +1,208 @@
+//! Lines too short to say where they point, absorbed into the piece
+//! before them.
+//!
+//! A smoothed run can hold a line far shorter than anything the machine
+//! notices: what a corner transition leaves of a segment between its own
+//! end and the next transition's start (0.29 um between two transitions
+//! of `LHchips4.ngc`), or a tiny move of the program kept as it is. Exact,
+//! it is tangent to its neighbours and costs nothing. Written, its ends
+//! are rounded to the last decimal (`eps`, half a unit), so its direction
+//! turns by up to about `2 sqrt(3) eps / L`, and the joints on both sides
+//! become corners with no room to blend them in (half of `L` at most): a
+//! jerk-limited controller slows almost to a stop there. Merging the line
+//! into the piece before it removes both joints; what the merged piece
+//! moves the path by is bounded below and must stay within `max_shift`.
+//!
+//! * A line before it: the line from the first's start to the short
+//!   line's end. It moves the path by at most the distance of the joint
+//!   from that chord, `<= L sin(angle)` for an angle between the two.
+//! * An arc before it (radius `r0` to `r1`, sweep `s`, rise `h`): the arc
+//!   about the same centre and axis from its start to the short line's
+//!   end (`r1'`, `s'`, `h'`). At an angle `phi <= s` the radii differ by
+//!   at most `|r1' - r0| + |r1 - r0|` and the heights by
+//!   `s |h'/s' - h/s|`; past `s`, the new arc and the line both leave the
+//!   old arc's end within that over the length `L`, and a curve of radius
+//!   `r` leaves its tangent by `L^2 / (2 r)`. Bound: the sum of the three,
+//!   with `L^2 / min(r0, r1)`. A line after a NURBS or at the start of
+//!   the run is left as it is.
+//!
+//! A line is absorbed only where its feed is the piece before's (a
+//! programmed feed is never moved); the merged piece takes the line's
+//! last source line, so the writer still places the lines between them.
+
+use crate::geom::{Arc, Curve, Line, ParamCurve};
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// Merges every line of `pieces` no longer than `max_len` (mm) into the
+/// piece before it where the path moves by at most `max_shift` (mm);
+/// returns how many were merged.
+pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64) -> usize {
+    if !(max_len > 0.0 && max_shift > 0.0) || pieces.len() < 2 {
+        return 0;
+    }
+    let mut merged = 0;
+    let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
+    for p in pieces.drain(..) {
+        let short = match &p.curve {
+            Curve::Line(l) => {
+                let len = l.length();
+                len > 0.0 && len <= max_len
+            }
+            _ => false,
+        };
+        if let (true, Some(prev)) = (short, out.last()) {
+            if let Some(curve) = merged_with(prev, &p, max_shift) {
+                let prev = out.last_mut().expect("checked above");
+                prev.curve = curve;
+                prev.source_lines.1 = prev.source_lines.1.max(p.source_lines.1);
+                merged += 1;
+                continue;
+            }
+        }
+        out.push(p);
+    }
+    *pieces = out;
+    merged
+}
+
+/// The curve of `prev` with the line `short` after it, moving the path
+/// by at most `max_shift`, or `None`.
+fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<Curve> {
+    let Curve::Line(line) = &short.curve else {
+        return None;
+    };
+    if prev.rapid || short.rapid || prev.feed != short.feed || prev.curve.end() != line.p0 {
+        return None;
+    }
+    let l = line.length();
+    match &prev.curve {
+        Curve::Line(a) => {
+            let chord = Line::new(a.p0, line.p1);
+            let shift = crate::geom::point_segment_distance(a.p1, chord.p0, chord.p1);
+            (shift <= max_shift).then_some(Curve::Line(chord))
+        }
+        Curve::Arc(a) => {
+            let coincident = 0.0;
+            let new =
+                Arc::from_center(a.p0, line.p1, a.center, a.normal, false, 1, coincident).ok()?;
+            let r_min = a.r0.min(a.r1);
+            // A turn past a full circle (the line runs back over the
+            // arc's start) is not a small extension.
+            if new.sweep < a.sweep || new.sweep > a.sweep + 2.0 * l / r_min + f64::EPSILON {
+                return None;
+            }
+            let radial = crate::math::abs(new.r1 - a.r0) + crate::math::abs(a.r1 - a.r0);
+            let height = a.sweep * crate::math::abs(new.rise / new.sweep - a.rise / a.sweep);
+            let shift = radial + height + l * l / r_min;
+            (shift <= max_shift).then_some(Curve::Arc(new))
+        }
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+
+    fn piece(curve: Curve, lines: (usize, usize)) -> Piece {
+        Piece {
+            curve,
+            rapid: false,
+            source_lines: lines,
+            feed: Some(1000.0),
+        }
+    }
+
+    #[test]
+    fn a_short_line_after_a_collinear_line_is_merged() {
+        let mut ps = alloc::vec![
+            piece(
+                Curve::Line(Line::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
+                (1, 1)
+            ),
+            piece(
+                Curve::Line(Line::new(
+                    Vec3::new(1.0, 0.0, 0.0),
+                    Vec3::new(1.0003, 0.0, 0.0)
+                )),
+                (2, 2),
+            ),
+        ];
+        assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-9), 1);
+        assert_eq!(ps.len(), 1);
+        assert_eq!(ps[0].curve.end(), Vec3::new(1.0003, 0.0, 0.0));
+        assert_eq!(ps[0].source_lines, (1, 2));
+    }
+
+    #[test]
+    fn a_short_line_at_a_corner_or_with_another_feed_stays() {
+        let corner = alloc::vec![
+            piece(
+                Curve::Line(Line::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
+                (1, 1)
+            ),
+            piece(
+                Curve::Line(Line::new(
+                    Vec3::new(1.0, 0.0, 0.0),
+                    Vec3::new(1.0, 3e-4, 0.0)
+                )),
+                (2, 2),
+            ),
+        ];
+        let mut ps = corner.clone();
+        assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-6), 0);
+        assert_eq!(ps, corner);
+        let mut other_feed = alloc::vec![
+            corner[0].clone(),
+            Piece {
+                curve: Curve::Line(Line::new(
+                    Vec3::new(1.0, 0.0, 0.0),
+                    Vec3::new(1.0003, 0.0, 0.0)
+                )),
+                feed: Some(500.0),
+                ..corner[1].clone()
+            },
+        ];
+        assert_eq!(absorb_short_lines(&mut other_feed, 1e-3, 1e-6), 0);
+    }
+
+    #[test]
+    fn a_short_tangent_line_after_an_arc_extends_the_arc_within_the_bound() {
+        // A quarter circle of radius 2 about the origin, then 0.3 um along
+        // its end tangent (-X at (0, 2)).
+        let arc = Arc::from_center(
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.0, 1.0),
+            false,
+            1,
+            0.0,
+        )
+        .unwrap();
+        let end = Vec3::new(-3e-4, 2.0, 0.0);
+        let mut ps = alloc::vec![
+            piece(Curve::Arc(arc), (1, 1)),
+            piece(Curve::Line(Line::new(arc.p1, end)), (2, 2)),
+        ];
+        assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-6), 1);
+        let Curve::Arc(new) = ps[0].curve else {
+            panic!("an arc")
+        };
+        assert_eq!(new.p1, end);
+        // Every point of the new arc within the bound of the old path.
+        for k in 0..=200 {
+            let q = new.eval(k as f64 / 200.0);
+            let to_arc = crate::math::abs(q.norm() - 2.0);
+            let on_old_arc = q.x >= 0.0;
+            let d = if on_old_arc {
+                to_arc
+            } else {
+                crate::geom::point_segment_distance(q, arc.p1, end)
+            };
+            assert!(d <= 1e-6, "{d} at {k}");
+        }
+    }
+}
