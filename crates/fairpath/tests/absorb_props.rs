@@ -23,7 +23,7 @@ proptest! {
     #[test]
     fn a_merged_line_moves_the_path_within_max_shift(
         r in 0.001f64..500.0,
-        start in 0.0f64..6.28,
+        start in 0.0f64..std::f64::consts::TAU,
         sweep in 0.001f64..3.0,
         pitch in prop_oneof![Just(0.0), -0.5f64..0.5],
         len in 1e-8f64..1e-3,
