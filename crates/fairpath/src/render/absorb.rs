@@ -41,28 +41,32 @@ pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64)
     if !(max_len > 0.0 && max_shift > 0.0) || pieces.len() < 2 {
         return 0;
     }
+    // Compacted in place (a long run's rendering is among the largest
+    // things held): `pieces[..kept]` is the output so far.
     let mut merged = 0;
-    let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
-    for p in pieces.drain(..) {
-        let short = match &p.curve {
+    let mut kept = 0;
+    for i in 0..pieces.len() {
+        let short = match &pieces[i].curve {
             Curve::Line(l) => {
                 let len = l.length();
                 len > 0.0 && len <= max_len
             }
             _ => false,
         };
-        if let (true, Some(prev)) = (short, out.last()) {
-            if let Some(curve) = merged_with(prev, &p, max_shift) {
-                let prev = out.last_mut().expect("checked above");
+        if short && kept > 0 {
+            if let Some(curve) = merged_with(&pieces[kept - 1], &pieces[i], max_shift) {
+                let last = pieces[i].source_lines.1;
+                let prev = &mut pieces[kept - 1];
                 prev.curve = curve;
-                prev.source_lines.1 = prev.source_lines.1.max(p.source_lines.1);
+                prev.source_lines.1 = prev.source_lines.1.max(last);
                 merged += 1;
                 continue;
             }
         }
-        out.push(p);
+        pieces.swap(kept, i);
+        kept += 1;
     }
-    *pieces = out;
+    pieces.truncate(kept);
     merged
 }
 
