@@ -39,6 +39,7 @@ use crate::error::{ErrorKind, GcodeError};
 use crate::lang::error::LangError;
 use crate::lang::expr::{self, Expr, Tok};
 use crate::lang::{self, OCommand, OName, OWord};
+use crate::short_text::ShortText;
 use std::ops::Range;
 
 /// Largest magnitude of a word's value (program units, or whatever the
@@ -56,7 +57,7 @@ pub const MAX_WORD_MAGNITUDE: f64 = 1e9;
 pub struct Word {
     pub letter: char,
     pub value: f64,
-    pub text: String,
+    pub text: ShortText,
     pub column: usize,
 }
 

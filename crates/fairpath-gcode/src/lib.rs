@@ -154,6 +154,7 @@ pub mod lexer;
 mod motions;
 pub mod pipeline;
 pub mod program;
+pub mod short_text;
 pub mod spline;
 pub mod write_gcode;
 pub mod write_json;

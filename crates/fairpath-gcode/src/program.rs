@@ -207,7 +207,7 @@ pub struct Move {
     /// Text of the absolute coordinate of each axis at the end of the move as
     /// last written in the program (in the line's units), when known: lets
     /// writers reproduce run endpoints exactly.
-    pub end_text: [Option<String>; 3],
+    pub end_text: [Option<crate::short_text::ShortText>; 3],
 }
 
 /// Where a run sits in the program.

@@ -178,7 +178,11 @@ impl<'a> LineCodes<'a> {
                     let tenths = w.value * 10.0;
                     let code = tenths.round();
                     if (tenths - code).abs() > 1e-6 || !(0.0..=9999.0).contains(&code) {
-                        return Err(err(ln, w.column, ErrorKind::UnknownGCode(w.text.clone())));
+                        return Err(err(
+                            ln,
+                            w.column,
+                            ErrorKind::UnknownGCode(w.text.to_string()),
+                        ));
                     }
                     let g = classify_g(code as u16, &w.text).map_err(|k| err(ln, w.column, k))?;
                     // G80 beside another motion code (`G0 G80`, common in

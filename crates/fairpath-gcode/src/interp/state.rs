@@ -21,7 +21,7 @@ pub(crate) struct State {
     /// Whether each axis of `pos` is known (see the crate docs).
     pub(crate) known: [bool; 3],
     /// Text of the absolute coordinate last written for each axis.
-    pub(crate) axis_text: [Option<String>; 3],
+    pub(crate) axis_text: [Option<crate::short_text::ShortText>; 3],
     pub(crate) units: Units,
     pub(crate) incremental: bool,
     pub(super) arc_incremental: bool,

@@ -103,7 +103,7 @@ pub fn evaluate(
                 out.lexed.words.push(Word {
                     letter: *letter,
                     value: v,
-                    text,
+                    text: text.into(),
                     column: item.column,
                 });
                 out.spans.push(item.column - 1..item.span.end);

@@ -164,7 +164,7 @@ pub fn resolve(ev: &mut Evaluated, view: &SystemView, ln: usize) -> Result<(), G
             Word {
                 letter,
                 value,
-                text,
+                text: text.into(),
                 column: col,
             },
         );

@@ -97,7 +97,7 @@ pub(super) fn emit(
                 st.axis_text[a] = None;
             } else {
                 st.known[a] = true;
-                st.axis_text[a] = Some(t.clone());
+                st.axis_text[a] = Some(t.into());
             }
         }
     }

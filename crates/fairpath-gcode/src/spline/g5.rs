@@ -54,7 +54,7 @@ pub(super) fn g5(
     for a in [a1, a2] {
         if let Some(w) = lx.word(AXES[a]) {
             (e_prog[a], end[a]) = coord(st, w, a, start, ln)?;
-            words[a] = Some(w.text.clone());
+            words[a] = Some(w.text.to_string());
         }
     }
     let end = Vec3::from_array(end);

@@ -63,8 +63,8 @@ pub(super) fn g5_2_point(ctx: &LineCtx, st: &mut State) -> Result<(), GcodeError
             );
             block.weights.push(w);
             block.last_words = [None, None, None];
-            block.last_words[i1] = Some(a.text.clone());
-            block.last_words[i2] = Some(b.text.clone());
+            block.last_words[i1] = Some(a.text.to_string());
+            block.last_words[i2] = Some(b.text.to_string());
         }
         None if !opening && (ctx.code.is_some() || p.is_some() || l.is_some()) => {
             let (a, b, _) = st.plane.axes();

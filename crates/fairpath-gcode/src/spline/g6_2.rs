@@ -104,7 +104,7 @@ pub(super) fn g6_2_line(
         for a in 0..3 {
             if let Some(wd) = lx.word(AXES[a]) {
                 c[a] = coord(st, wd, a, block.start, ln)?.1;
-                words[a] = Some(wd.text.clone());
+                words[a] = Some(wd.text.to_string());
             }
         }
         block.pts.push(Vec3::from_array(c));

@@ -78,7 +78,7 @@ impl RunWriter<'_> {
                         if v == now {
                             continue;
                         }
-                        t
+                        t.to_string()
                     }
                     None => {
                         let t = fmt_fixed(tv / self.scale, self.decimals);
