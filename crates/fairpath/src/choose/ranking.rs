@@ -1,0 +1,124 @@
+//! `auto`'s candidates for one run (or section) ranked by its
+//! [`Objective`]: each distinct result costed at most once, and, where the
+//! objective has a cheap lower bound ([`Objective::bound`]), only the
+//! candidates that bound leaves in the race.
+//!
+//! With a bound, a choice among some candidates costs the one with the
+//! least bound first, then every other whose bound is at most that cost:
+//! a candidate whose bound exceeds a cost already found cannot be cheaper
+//! while the bound holds. Which candidates are costed depends only on the
+//! bounds and costs (not on threads or timing), so the choice is
+//! deterministic.
+
+use super::auto::map_candidates;
+use super::objective::Objective;
+use super::same_pieces::same_pieces;
+use crate::smooth::SmoothedRun;
+use alloc::vec::Vec;
+
+/// Smoothed candidates and what is known of their costs.
+pub(super) struct Ranking<'o> {
+    objective: &'o dyn Objective,
+    /// The candidates, in the table's order (a tie goes to the earlier).
+    pub(super) cands: Vec<SmoothedRun>,
+    /// For each candidate, the first with the same pieces: only that one
+    /// is bounded and costed.
+    first_same: Vec<usize>,
+    /// The bound of each first-of-its-pieces candidate (`None` elsewhere
+    /// and where the objective has none).
+    bounds: Vec<Option<f64>>,
+    /// The cost of each first-of-its-pieces candidate, once computed
+    /// (`Some(None)`: the objective could not cost it).
+    costs: Vec<Option<Option<f64>>>,
+}
+
+impl<'o> Ranking<'o> {
+    /// `cands` to be ranked by `objective`; the bounds of the distinct
+    /// ones are computed here (side by side with `std`).
+    pub(super) fn new(objective: &'o dyn Objective, cands: Vec<SmoothedRun>) -> Self {
+        let n = cands.len();
+        let first_same: Vec<usize> = (0..n)
+            .map(|i| {
+                (0..i)
+                    .find(|&j| same_pieces(&cands[j].pieces, &cands[i].pieces))
+                    .unwrap_or(i)
+            })
+            .collect();
+        let distinct: Vec<usize> = (0..n).filter(|&i| first_same[i] == i).collect();
+        let found = map_candidates(distinct.len(), |k| {
+            objective.bound(&cands[distinct[k]].pieces)
+        });
+        let mut bounds = alloc::vec![None; n];
+        for (&i, b) in distinct.iter().zip(found) {
+            bounds[i] = b;
+        }
+        Ranking {
+            objective,
+            cands,
+            first_same,
+            bounds,
+            costs: alloc::vec![None; n],
+        }
+    }
+
+    /// Costs the candidates `which` (first of their pieces) not costed yet,
+    /// side by side.
+    fn cost(&mut self, which: &[usize]) {
+        let todo: Vec<usize> = which
+            .iter()
+            .copied()
+            .filter(|&i| self.costs[i].is_none())
+            .collect();
+        let (objective, cands) = (self.objective, &self.cands);
+        let found = map_candidates(todo.len(), |k| objective.cost(&cands[todo[k]].pieces));
+        for (i, c) in todo.into_iter().zip(found) {
+            self.costs[i] = Some(c);
+        }
+    }
+
+    /// The cost of candidate `i` where it was computed (`Some(None)`: the
+    /// objective could not cost it).
+    #[cfg(test)]
+    pub(super) fn cost_of(&self, i: usize) -> Option<Option<f64>> {
+        self.costs[self.first_same[i]]
+    }
+
+    /// The cheapest of the candidates that `eligible` accepts, by index,
+    /// with its cost (a tie goes to the earlier); failing any that could be
+    /// costed, the first accepted that could not (cost `None`). Costs only
+    /// what the bounds leave in the race (see the module documentation).
+    pub(super) fn fastest(
+        &mut self,
+        eligible: impl Fn(&SmoothedRun) -> bool,
+    ) -> Option<(Option<f64>, usize)> {
+        let accepted: Vec<usize> = (0..self.cands.len())
+            .filter(|&i| eligible(&self.cands[i]))
+            .collect();
+        let mut reps: Vec<usize> = accepted.iter().map(|&i| self.first_same[i]).collect();
+        reps.sort_unstable();
+        reps.dedup();
+        let lead = reps
+            .iter()
+            .copied()
+            .filter_map(|i| self.bounds[i].map(|b| (b, i)))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        if let Some((_, lead)) = lead {
+            self.cost(&[lead]);
+            if let Some(Some(c0)) = self.costs[lead] {
+                reps.retain(|&i| self.bounds[i].is_none_or(|b| b <= c0));
+            }
+        }
+        self.cost(&reps);
+        let mut best: Option<(f64, usize)> = None;
+        let mut fallback = None;
+        for i in accepted {
+            match self.costs[self.first_same[i]] {
+                Some(Some(t)) if best.is_none_or(|(b, _)| t < b) => best = Some((t, i)),
+                Some(None) if fallback.is_none() => fallback = Some(i),
+                _ => {}
+            }
+        }
+        best.map(|(t, i)| (Some(t), i))
+            .or(fallback.map(|i| (None, i)))
+    }
+}
