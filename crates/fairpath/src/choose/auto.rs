@@ -445,7 +445,7 @@ mod tests {
 
     /// [`PlannedTime`] as the cost, and as its own bound plus the
     /// candidate's place in the table (seconds): only the candidates whose
-    /// bound is at most the cost of the one with the least bound are costed.
+    /// bound is at most the least cost found before them are costed.
     #[derive(Debug, Default)]
     struct Bounded {
         calls: AtomicUsize,
@@ -467,7 +467,7 @@ mod tests {
     }
 
     #[test]
-    fn a_bound_above_the_leading_cost_leaves_a_candidate_uncosted() {
+    fn a_candidate_whose_bound_exceeds_a_cost_found_is_not_costed() {
         let bounded = Arc::new(Bounded::default());
         let auto = Auto::new(AutoOptions::default(), bounded.clone());
         let run = Run::new(

@@ -3,12 +3,15 @@
 //! objective has a cheap lower bound ([`Objective::bound`]), only the
 //! candidates that bound leaves in the race.
 //!
-//! With a bound, a choice among some candidates costs the one with the
-//! least bound first, then every other whose bound is at most that cost:
-//! a candidate whose bound exceeds a cost already found cannot be cheaper
-//! while the bound holds. Which candidates are costed depends only on the
-//! bounds and costs (not on threads or timing), so the choice is
-//! deterministic.
+//! With a bound, a choice among some candidates costs them one after the
+//! other in the order of their bounds (branch and bound), and stops at
+//! the first whose bound exceeds the least cost found so far: neither it
+//! nor any after it can be cheaper while the bound holds. Which candidates
+//! are costed depends only on the bounds and costs (not on threads or
+//! timing), so the choice is deterministic. One at a time, not side by
+//! side: the costs of a batch would be computed before knowing whether
+//! the first of them ends the race, and the runs of a program are
+//! smoothed side by side already.
 
 use super::auto::map_candidates;
 use super::objective::Objective;
@@ -97,17 +100,25 @@ impl<'o> Ranking<'o> {
         let mut reps: Vec<usize> = accepted.iter().map(|&i| self.first_same[i]).collect();
         reps.sort_unstable();
         reps.dedup();
-        let lead = reps
+        // In the order of the bounds (then of the table) while the bound is
+        // at most the least cost found so far; those without a bound are
+        // all costed.
+        let mut bounded: Vec<(f64, usize)> = reps
             .iter()
-            .copied()
-            .filter_map(|i| self.bounds[i].map(|b| (b, i)))
-            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        if let Some((_, lead)) = lead {
-            self.cost(&[lead]);
-            if let Some(Some(c0)) = self.costs[lead] {
-                reps.retain(|&i| self.bounds[i].is_none_or(|b| b <= c0));
+            .filter_map(|&i| self.bounds[i].map(|b| (b, i)))
+            .collect();
+        bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut least = f64::INFINITY;
+        for (b, i) in bounded {
+            if b > least {
+                break;
+            }
+            self.cost(&[i]);
+            if let Some(Some(c)) = self.costs[i] {
+                least = least.min(c);
             }
         }
+        reps.retain(|&i| self.bounds[i].is_none());
         self.cost(&reps);
         let mut best: Option<(f64, usize)> = None;
         let mut fallback = None;
