@@ -242,7 +242,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
                     .with_context(|| format!("{name}: planning"))?;
                 Curves {
                     result,
-                    input: curves.input.clone(),
+                    input: curves.input,
                     exact,
                     plans,
                 }

@@ -26,9 +26,9 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
 
     /// A lower bound of [`Objective::cost`] that is cheaper to compute, or
     /// `None` (the default) when there is none: then every candidate is
-    /// costed. With a bound, `auto` costs only the candidates whose bound
-    /// is at most the cost of the candidate with the least bound, which
-    /// keeps the cheapest whenever the bound holds.
+    /// costed. With a bound, `auto` costs the candidates in the order of
+    /// their bounds and stops where a bound exceeds the least cost found,
+    /// which keeps the cheapest wherever the bound holds.
     fn bound(&self, _pieces: &[Piece]) -> Option<f64> {
         None
     }
@@ -82,10 +82,17 @@ impl Objective for PlannedTime {
 ///
 /// What the user runs is the written program, not the exact curves: a
 /// candidate whose curves plan fastest can render into more, shorter
-/// pieces with curvature steps at their joints and run slower as written
-/// than another. The exact curves' time at the same feeds is the cheap
-/// lower bound ([`Objective::bound`]): the renderer keeps each written
-/// piece's speed at or below the speed planned for the curves it replaces.
+/// pieces with curvature steps at their joints, or into G1 lines where
+/// arcs cannot follow it, and run slower as written than another. The
+/// exact curves' time at the same feeds is the cheap bound
+/// ([`Objective::bound`]): the renderer aims to keep the speed of the
+/// curves, not to pass it, so a rendering plans no faster than its curves
+/// but for small differences of the planner's segments (where it does,
+/// `auto` may pass over a candidate that was slightly cheaper as written).
+///
+/// The writer also keeps a run as the program wrote it where every
+/// rendering plans slower than that; this is the same for every candidate
+/// of a run, so it is not part of the cost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WrittenTime {
     /// The plan whose speed the renderer reads: the writer plans the
