@@ -27,17 +27,16 @@ pub(super) struct Ranking<'o> {
     /// For each candidate, the first with the same pieces: only that one
     /// is bounded and costed.
     first_same: Vec<usize>,
-    /// The bound of each first-of-its-pieces candidate (`None` elsewhere
-    /// and where the objective has none).
-    bounds: Vec<Option<f64>>,
+    /// The bound of each first-of-its-pieces candidate, once computed
+    /// (`Some(None)`: the objective has none for it).
+    bounds: Vec<Option<Option<f64>>>,
     /// The cost of each first-of-its-pieces candidate, once computed
     /// (`Some(None)`: the objective could not cost it).
     costs: Vec<Option<Option<f64>>>,
 }
 
 impl<'o> Ranking<'o> {
-    /// `cands` to be ranked by `objective`; the bounds of the distinct
-    /// ones are computed here (side by side with `std`).
+    /// `cands` to be ranked by `objective` (nothing is costed yet).
     pub(super) fn new(objective: &'o dyn Objective, cands: Vec<SmoothedRun>) -> Self {
         let n = cands.len();
         let first_same: Vec<usize> = (0..n)
@@ -47,20 +46,27 @@ impl<'o> Ranking<'o> {
                     .unwrap_or(i)
             })
             .collect();
-        let distinct: Vec<usize> = (0..n).filter(|&i| first_same[i] == i).collect();
-        let found = map_candidates(distinct.len(), |k| {
-            objective.bound(&cands[distinct[k]].pieces)
-        });
-        let mut bounds = alloc::vec![None; n];
-        for (&i, b) in distinct.iter().zip(found) {
-            bounds[i] = b;
-        }
         Ranking {
             objective,
             cands,
             first_same,
-            bounds,
+            bounds: alloc::vec![None; n],
             costs: alloc::vec![None; n],
+        }
+    }
+
+    /// Bounds the candidates `which` (first of their pieces) not bounded
+    /// yet, side by side.
+    fn bound(&mut self, which: &[usize]) {
+        let todo: Vec<usize> = which
+            .iter()
+            .copied()
+            .filter(|&i| self.bounds[i].is_none())
+            .collect();
+        let (objective, cands) = (self.objective, &self.cands);
+        let found = map_candidates(todo.len(), |k| objective.bound(&cands[todo[k]].pieces));
+        for (i, b) in todo.into_iter().zip(found) {
+            self.bounds[i] = Some(b);
         }
     }
 
@@ -86,6 +92,22 @@ impl<'o> Ranking<'o> {
         self.costs[self.first_same[i]]
     }
 
+    /// [`Ranking::fastest`], by index only: where `eligible` accepts
+    /// candidates of one result only, the first of them, costed by nothing.
+    pub(super) fn cheapest(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {
+        let accepted: Vec<usize> = (0..self.cands.len())
+            .filter(|&i| eligible(&self.cands[i]))
+            .collect();
+        let first = *accepted.first()?;
+        if accepted
+            .iter()
+            .all(|&i| self.first_same[i] == self.first_same[first])
+        {
+            return Some(first);
+        }
+        self.fastest(|c| eligible(c)).map(|(_, i)| i)
+    }
+
     /// The cheapest of the candidates that `eligible` accepts, by index,
     /// with its cost (a tie goes to the earlier); failing any that could be
     /// costed, the first accepted that could not (cost `None`). Costs only
@@ -103,9 +125,10 @@ impl<'o> Ranking<'o> {
         // In the order of the bounds (then of the table) while the bound is
         // at most the least cost found so far; those without a bound are
         // all costed.
+        self.bound(&reps);
         let mut bounded: Vec<(f64, usize)> = reps
             .iter()
-            .filter_map(|&i| self.bounds[i].map(|b| (b, i)))
+            .filter_map(|&i| self.bounds[i].flatten().map(|b| (b, i)))
             .collect();
         bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut least = f64::INFINITY;
@@ -118,7 +141,7 @@ impl<'o> Ranking<'o> {
                 least = least.min(c);
             }
         }
-        reps.retain(|&i| self.bounds[i].is_none());
+        reps.retain(|&i| self.bounds[i].flatten().is_none());
         self.cost(&reps);
         let mut best: Option<(f64, usize)> = None;
         let mut fallback = None;

@@ -157,10 +157,8 @@ impl Auto {
             });
             starts_straight && ends_straight
         };
-        let all = ranking.fastest(eligible).map(|(_, i)| i);
-        let others = ranking
-            .fastest(|c| c.chosen != [FAIR] && eligible(c))
-            .map(|(_, i)| i);
+        let all = ranking.cheapest(eligible);
+        let others = ranking.cheapest(|c| c.chosen != [FAIR] && eligible(c));
         Ok([all, others].map(|i| i.map(|i| ranking.cands[i].clone())))
     }
 }
