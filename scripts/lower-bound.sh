@@ -42,7 +42,8 @@ bs="%.2f (%s)" % (written(best)["x_bound"], best["method"]) if best else ""
 c2=[r for r in singles if r["method"] in ("bspline-corner","ctm","lotm","bspline-fit","fair")]
 bc=min(c2,key=lambda r:written(r)["time_s"]) if c2 else None
 cs="%.2f (%s, %.3f s)" % (written(bc)["x_bound"], bc["method"], written(bc)["time_s"]) if bc else ""
-ok=("yes" if a["time_s"]<=written(bc)["time_s"] else "no (%+.1f%%)" % (100*(a["time_s"]/written(bc)["time_s"]-1))) if bc else ""
+d=a["time_s"]-written(bc)["time_s"] if bc else 0.0
+ok=("yes" if d<=0 else "no (%+.2g s, %+.2g%%)" % (d, 100*d/written(bc)["time_s"])) if bc else ""
 print("| %s | %.3f | %.3f | %.3f | %.2f | %s | %s | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs, cs, ok))
 ' "${p#$SHARED/}"
   done

@@ -49,11 +49,16 @@
 //! the constants are in `docs/tuning.md`, not here.
 //!
 //! Each candidate is ranked by the [`Objective`] the caller injects
-//! ([`Auto::new`]): the CLI's is the planned time on the user's machine
-//! ([`PlannedTime`], programmed feeds overridden to the machine's maximum
-//! so that the choice depends on the geometry, not on a feed the program
-//! may set low). The cheapest is kept; a tie goes to the earlier candidate.
-//! A candidate the objective cannot cost is kept only when none can.
+//! ([`Auto::new`]): for a G-code output the time of the program as written
+//! on the user's machine ([`super::WrittenTime`]: the curves rendered as
+//! the writer renders them), for output of the exact curves their planned
+//! time ([`PlannedTime`], programmed feeds overridden to the machine's
+//! maximum so that the choice depends on the geometry, not on a feed the
+//! program may set low). The cheapest is kept; a tie goes to the earlier
+//! candidate. A candidate the objective cannot cost is kept only when none
+//! can. Where the objective has a cheap lower bound, candidates are costed
+//! in its order and only while they can still win
+//! ([`super::ranking`]).
 //!
 //! **Sections.** A run of up to [`SECTION_MAX_PIECES`] pieces is also cut
 //! at the middle of every line longer than a length
