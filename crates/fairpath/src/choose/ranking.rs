@@ -156,3 +156,87 @@ impl<'o> Ranking<'o> {
             .or(fallback.map(|i| (None, i)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{Curve, Line, ParamCurve, Vec3};
+    use crate::path::Piece;
+    use proptest::prelude::*;
+
+    /// Costs and bounds by result: a candidate's result is the end x of
+    /// its one line.
+    #[derive(Debug)]
+    struct Table {
+        costs: Vec<Option<f64>>,
+        bounds: Vec<Option<f64>>,
+    }
+
+    fn result(pieces: &[Piece]) -> usize {
+        pieces[0].curve.end().x as usize
+    }
+
+    impl Objective for Table {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.costs[result(pieces)]
+        }
+        fn bound(&self, pieces: &[Piece]) -> Option<f64> {
+            self.bounds[result(pieces)]
+        }
+    }
+
+    fn candidate(r: usize) -> SmoothedRun {
+        SmoothedRun {
+            pieces: alloc::vec![Piece {
+                curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(r as f64, 1.0, 0.0))),
+                rapid: false,
+                source_lines: (1, 1),
+                feed: None,
+            }],
+            ..SmoothedRun::default()
+        }
+    }
+
+    proptest! {
+        /// Where the bounds hold (each at most its cost), branch and bound
+        /// keeps what costing every candidate keeps: the cheapest accepted
+        /// (the earlier on a tie), else the first accepted that cannot be
+        /// costed.
+        #[test]
+        fn with_bounds_that_hold_the_choice_is_the_cheapest(
+            results in proptest::collection::vec(0usize..6, 1..10),
+            costs in proptest::collection::vec(proptest::option::weighted(0.9, 0u32..8), 6),
+            slack in proptest::collection::vec(proptest::option::weighted(0.8, 0u32..4), 6),
+            accepted in proptest::collection::vec(any::<bool>(), 10),
+        ) {
+            let costs: Vec<Option<f64>> = costs.iter().map(|c| c.map(f64::from)).collect();
+            let bounds = costs
+                .iter()
+                .zip(&slack)
+                .map(|(c, s)| match (c, s) {
+                    (Some(c), Some(s)) => Some(c - f64::from(*s)),
+                    // A candidate that cannot be costed has no bound.
+                    _ => None,
+                })
+                .collect();
+            let table = Table { costs: costs.clone(), bounds };
+            let cands: Vec<SmoothedRun> = results.iter().map(|&r| candidate(r)).collect();
+            let eligible = |c: &SmoothedRun| accepted[result(&c.pieces) % accepted.len()];
+            let mut want: Option<(f64, usize)> = None;
+            let mut fallback = None;
+            for (i, c) in cands.iter().enumerate() {
+                if !eligible(c) {
+                    continue;
+                }
+                match costs[result(&c.pieces)] {
+                    Some(t) if want.is_none_or(|(b, _)| t < b) => want = Some((t, i)),
+                    None if fallback.is_none() => fallback = Some(i),
+                    _ => {}
+                }
+            }
+            let want = want.map(|(t, i)| (Some(t), i)).or(fallback.map(|i| (None, i)));
+            let mut ranking = Ranking::new(&table, cands);
+            prop_assert_eq!(ranking.fastest(eligible), want);
+        }
+    }
+}
