@@ -3,8 +3,11 @@
 # compare over the dense reference programs (default: the synthetic
 # programs but the surface rasters, about 10 minutes on 2 cores; name
 # more programs to survey them) and writes docs/lower-bound.md:
-# the lower bound, the input's and auto's time, auto/bound, and the best
-# single method over the bound. Build first: cargo build --release.
+# the lower bound, the input's and auto's time, auto/bound, the best
+# single method over the bound, and the best curvature-continuous single
+# method (bspline-corner, ctm, lotm, bspline-fit, fair: not arc-fit) with
+# whether auto is no slower than it (issue 21). Build first: cargo build
+# --release.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOL="${1:-0.05mm}"; shift || true
@@ -21,10 +24,10 @@ OUT=docs/lower-bound.md
   echo
   echo "Generated on $(date -u '+%Y-%m-%d') at commit $(git rev-parse --short HEAD) by \`scripts/lower-bound.sh $ARGS\` (programs under $SHARED; \`fairpath compare --tolerance $TOL --formats arcs --format json\`, default machine). Times in s, of the program each method writes (arcs, the default format), planned as \`simulate\` plans it; the bound is \`feed::lower_bound\` (its module docs give the argument)."
   echo
-  echo "| program | bound | input | auto written | auto/bound | best single method written/bound |"
-  echo "|---|---|---|---|---|---|"
+  echo "| program | bound | input | auto written | auto/bound | best single method written/bound | best C2 method written/bound | auto <= best C2 |"
+  echo "|---|---|---|---|---|---|---|---|"
   for p in "$@"; do
-    json=$(timeout 600 "$BIN" compare "$p" --tolerance "$TOL" --formats arcs --format json 2>/dev/null) || { echo "| ${p#$SHARED/} | failed | | | | |"; continue; }
+    json=$(timeout 600 "$BIN" compare "$p" --tolerance "$TOL" --formats arcs --format json 2>/dev/null) || { echo "| ${p#$SHARED/} | failed | | | | | | |"; continue; }
     echo "$json" | python3 -c '
 import json,sys
 rows=json.load(sys.stdin); name=sys.argv[1]
@@ -36,7 +39,12 @@ singles=[r for r in rows if r["method"] not in ("original","auto") and written(r
 best=min(singles,key=lambda r:written(r)["time_s"]) if singles else None
 a=written(by["auto"]); o=by["original"]
 bs="%.2f (%s)" % (written(best)["x_bound"], best["method"]) if best else ""
-print("| %s | %.3f | %.3f | %.3f | %.2f | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs))
+c2=[r for r in singles if r["method"] in ("bspline-corner","ctm","lotm","bspline-fit","fair")]
+bc=min(c2,key=lambda r:written(r)["time_s"]) if c2 else None
+cs="%.2f (%s, %.3f s)" % (written(bc)["x_bound"], bc["method"], written(bc)["time_s"]) if bc else ""
+d=a["time_s"]-written(bc)["time_s"] if bc else 0.0
+ok=("yes" if d<=0 else "no (%+.2g s, %+.2g%%)" % (d, 100*d/written(bc)["time_s"])) if bc else ""
+print("| %s | %.3f | %.3f | %.3f | %.2f | %s | %s | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs, cs, ok))
 ' "${p#$SHARED/}"
   done
 } > "$OUT"

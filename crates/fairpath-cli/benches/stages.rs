@@ -91,11 +91,15 @@ fn bench(c: &mut Criterion) {
     for &method in METHODS {
         let opts = options(method);
         let runs = program.runs();
+        // `auto` as `smooth` builds it for this program (ranking by what
+        // is written); the others as named.
+        let for_program = opts.method_for(&program);
+        let smoother = for_program.as_deref().unwrap_or(opts.method());
         g.bench_function(format!("smooth {method}"), |b| {
             b.iter(|| {
                 runs.iter()
                     .map(|r| {
-                        opts.method()
+                        smoother
                             .smooth_within(r, &opts.budget())
                             .unwrap()
                             .pieces

@@ -231,9 +231,27 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
         };
         for &format in opts.formats.iter().filter(|_| verified) {
             let fo = options(name, format)?;
+            // `auto` ranks by what is written in the format: smoothed again
+            // for it, as `smooth` would.
+            let curves = if fo.smooths_for_format() {
+                let result =
+                    smooth_curves(program, &fo, &mut Phases::new()).with_context(|| {
+                        format!("{name}: smoothing for the {} output", format.name())
+                    })?;
+                let (exact, plans) = plan_curves(program, &result, &fo)
+                    .with_context(|| format!("{name}: planning"))?;
+                Curves {
+                    result,
+                    input: curves.input,
+                    exact,
+                    plans,
+                }
+            } else {
+                curves.clone()
+            };
             // Written, read back, verified and planned as `smooth` does;
             // a written program that does not verify is a row that says so.
-            let report = match write_curves(program, curves.clone(), &fo, Phases::new()) {
+            let report = match write_curves(program, curves, &fo, Phases::new()) {
                 Ok((_, report)) => report,
                 Err(SmoothProgramError::OutputNotVerified { report, .. }) => *report,
                 Err(e @ SmoothProgramError::Plan(_)) => {

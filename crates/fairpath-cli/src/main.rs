@@ -448,9 +448,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             opts.set_machine(limits, machine.override_feed)
                 .map_err(smooth::option_error)?;
             if let Some(m) = method_with_options(&method, options.as_deref(), band, lambda)? {
-                let objective =
-                    std::sync::Arc::new(fairpath::choose::PlannedTime::new(limits, true));
-                opts.set_method(m.smoother(objective));
+                opts.set_method_options(m);
             }
             let summary = smooth::smooth_read(
                 &input,

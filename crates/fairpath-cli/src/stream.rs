@@ -164,8 +164,15 @@ pub fn run(a: &StreamArgs) -> Result<()> {
                 // that share of the tolerance goes to them and the rest to
                 // the smoothing.
                 let chord = a.machine.chord_error.min(0.5 * tol);
-                let mut opts =
-                    crate::smooth::options(tol, Some(chord), "auto", None, Controller::Generic)?;
+                // The stream runs the exact curves (no G-code is written):
+                // `auto` ranks its candidates by their time, as for JSON.
+                let mut opts = crate::smooth::options(
+                    tol,
+                    Some(chord),
+                    "auto",
+                    Some(fairpath_gcode::Format::Json),
+                    Controller::Generic,
+                )?;
                 opts.set_machine(a.machine, a.override_feed)
                     .map_err(crate::smooth::option_error)?;
                 let mut phases = fairpath_gcode::pipeline::Phases::new();

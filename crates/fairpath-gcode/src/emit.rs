@@ -6,25 +6,24 @@
 //! times, then kept as the program wrote them; so are runs that read back
 //! slower than the program's own.
 
+pub use crate::pipeline::written::{
+    forms, render_options, resolution, write_options, FANUC_MAX_DEGREE, MIN_ARC_RADIUS_MM,
+    MIN_ARC_UNITS, MIN_BLOCK_PERIODS, PLANAR_MM,
+};
 use crate::pipeline::{
     compare_runs, group_by_source, pair_runs, RunCountMismatch, WrittenCheck, WrittenReading,
 };
 pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
-use crate::{
-    ArcWords, Controller, Format, GcodeError, GcodeWriteOptions, JsonError, NurbsBlocks, Program,
-    RunOutput, WriteError, ROUNDING_SHARE,
-};
+use crate::{ArcWords, Format, GcodeError, JsonError, Program, RunOutput, WriteError};
 use fairpath::budget::{BudgetError, ToleranceBudget};
-use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
-use fairpath::geom::Nurbs;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 use fairpath::render::{
-    absorb_lines, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed, RenderError,
-    RenderOptions, RenderStats, Rendered,
+    absorb_lines, linuxcnc_g5_2_motion, render_range, render_run, CurveForm, PlannedSpeed,
+    RenderError, RenderStats, Rendered,
 };
 
 /// Why the curves could not be written.
@@ -57,19 +56,6 @@ pub enum EmitError {
 }
 
 type Result<T, E = EmitError> = core::result::Result<T, E>;
-
-/// LinuxCNC spends at least this many servo periods on a block
-/// (`TP_MIN_SEGMENT_CYCLES`, tp.c): shorter blocks cap the speed.
-pub const MIN_BLOCK_PERIODS: f64 = 1.02;
-
-/// Smallest arc radius written (mm): LinuxCNC refuses radii below
-/// 0.00127 mm (`RADIUS_TOLERANCE_INCH` = 0.00005 in, interp_internal.hh);
-/// twice that leaves room for the rounding of the written centre.
-pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
-
-/// Shortest arc written, in units of the last written decimal: the rounded
-/// ends of a shorter one could coincide (a full circle in G-code).
-pub const MIN_ARC_UNITS: f64 = 4.0;
 
 /// Runs of at least this many pieces are planned at both feeds side by
 /// side (shorter ones run side by side with other runs).
@@ -169,47 +155,21 @@ pub fn emit(
         ..*opts
     };
     let tolerance = opts.budget.written();
-    let forms: &[CurveForm] = match opts.format {
-        Format::Json => {
-            let text = crate::write_json(program, smoothed).map_err(EmitError::WriteJson)?;
-            let pieces = crate::read_json(&text).map_err(EmitError::ReadJson)?;
-            let check = compare_runs(original, &group_by_source(original, &pieces), tolerance)?;
-            return Ok(Emitted {
-                budget: opts.budget,
-                text,
-                stats: RenderStats::default(),
-                check,
-                retried_runs: 0,
-                kept_runs: 0,
-                reading: None,
-            });
-        }
-        Format::G1 => &[CurveForm::Lines],
-        Format::Arcs => &[CurveForm::Arcs, CurveForm::Lines],
-        Format::G5_2 => &[
-            CurveForm::Nurbs(NurbsLimits {
-                max_degree: Nurbs::MAX_DEGREE,
-                planar_mm: Some(PLANAR_MM),
-                xy_only: true,
-                linuxcnc_g5_2: true,
-            }),
-            CurveForm::Arcs,
-        ],
-        Format::G6_2 if opts.controller == Controller::Linuxcnc => {
-            &[CurveForm::Nurbs(NurbsLimits {
-                max_degree: Nurbs::MAX_DEGREE,
-                planar_mm: Some(PLANAR_MM),
-                xy_only: false,
-                linuxcnc_g5_2: false,
-            })]
-        }
-        Format::G6_2 => &[CurveForm::Nurbs(NurbsLimits {
-            max_degree: FANUC_MAX_DEGREE,
-            planar_mm: None,
-            xy_only: false,
-            linuxcnc_g5_2: false,
-        })],
-    };
+    if opts.format == Format::Json {
+        let text = crate::write_json(program, smoothed).map_err(EmitError::WriteJson)?;
+        let pieces = crate::read_json(&text).map_err(EmitError::ReadJson)?;
+        let check = compare_runs(original, &group_by_source(original, &pieces), tolerance)?;
+        return Ok(Emitted {
+            budget: opts.budget,
+            text,
+            stats: RenderStats::default(),
+            check,
+            retried_runs: 0,
+            kept_runs: 0,
+            reading: None,
+        });
+    }
+    let forms = forms(opts.format, opts.controller);
     let mut wo = write_options(opts);
     wo.arcs = wo.arcs.map(|_| arc_words_of(program));
     let render = |k: usize, form: CurveForm, chord: f64| -> Result<Choice> {
@@ -277,7 +237,7 @@ pub fn emit(
     // written text reads back).
     let rendered_time = |c: &Choice, override_feed: bool| -> Result<f64> {
         if opts.format == Format::G5_2 && matches!(c.form, Some(CurveForm::Nurbs(_))) {
-            time(&linuxcnc_motion(&c.pieces), override_feed)
+            time(&linuxcnc_g5_2_motion(&c.pieces, PLANAR_MM), override_feed)
         } else {
             time(&c.pieces, override_feed)
         }
@@ -491,35 +451,6 @@ pub fn emit(
     }
 }
 
-/// Spread (mm) along a plane's normal below which a NURBS counts as in the
-/// plane for LinuxCNC's spline blocks: well below any written decimal.
-pub const PLANAR_MM: f64 = 1e-9;
-
-/// Highest degree of Fanuc's G6.2 (order 4).
-pub const FANUC_MAX_DEGREE: usize = 3;
-
-/// `pieces` with each NURBS replaced by what LinuxCNC runs for it as G5.2
-/// blocks.
-fn linuxcnc_motion(pieces: &[Piece]) -> Vec<Piece> {
-    let mut out = Vec::with_capacity(pieces.len());
-    for p in pieces {
-        match &p.curve {
-            fairpath::Curve::Nurbs(n) => {
-                let plane = fairpath::geom::Plane::of_points(&n.points, PLANAR_MM)
-                    .unwrap_or(fairpath::geom::Plane::Xy);
-                match fairpath::controller::linuxcnc::g5_2_motion_of(n, plane) {
-                    Ok(curves) => {
-                        out.extend(curves.into_iter().map(|curve| Piece { curve, ..p.clone() }))
-                    }
-                    Err(_) => out.push(p.clone()),
-                }
-            }
-            _ => out.push(p.clone()),
-        }
-    }
-    out
-}
-
 /// The arc form of `program`: R when any of its arcs is written with R,
 /// IJK otherwise (what the machinist reads, and the safe form near half
 /// circles).
@@ -535,71 +466,6 @@ pub fn arc_words_of(program: &Program) -> ArcWords {
     }
 }
 
-/// The writer's options for `opts` (arcs in IJK form; [`emit`] writes R
-/// when the program does).
-pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
-    let blend = opts.budget.blend;
-    GcodeWriteOptions {
-        chord_mm: opts.budget.output,
-        arcs: (opts.format != Format::G1).then_some(ArcWords::Ijk),
-        nurbs: match (opts.format, opts.controller) {
-            (Format::G5_2, _) => Some(NurbsBlocks::G5_2),
-            (Format::G6_2, Controller::Linuxcnc) => Some(NurbsBlocks::G6_2Linuxcnc),
-            (Format::G6_2, _) => Some(NurbsBlocks::G6_2Fanuc),
-            _ => None,
-        },
-        // The input's own style adds to this (NumberStyle::of).
-        decimal_point: opts.controller == Controller::Fanuc,
-        // Written around every run for LinuxCNC, and for any controller
-        // around runs where the program's own G64 blends beyond the share
-        // (EmitOptions::budget_for gives one then).
-        g64_blend_mm: (blend > 0.0).then_some(blend),
-        g64_always: opts.controller == Controller::Linuxcnc,
-        // For every controller: a Fanuc control reads these decimals only
-        // with a fine increment system (IS-D/IS-E); with IS-C (4 decimals
-        // in mm) the rounded control points of G6.2 blocks break curvature
-        // continuity at every knot (butterfly-80: 10.40 s against 6.77 s).
-        resolution_mm: Some(resolution(&opts.machine)),
-        ..Default::default()
-    }
-}
-
-/// Largest rounding (mm) of a written point for `m`: `J Ts^3 / 40` (see
-/// [`GcodeWriteOptions::resolution_mm`]; a tenth of what keeps block-long
-/// pieces at their speed, because at the slow, tight places of a path the
-/// kinks rounding leaves cost the most time: 7 decimals in mm on the
-/// default machine, where 6 planned `surface-raster.ngc` 7% slower than
-/// its rendering).
-pub fn resolution(m: &MachineLimits) -> f64 {
-    0.025 * m.jerk * m.period * m.period * m.period
-}
-
-/// The renderer's options for a run in `units` with output share `chord`.
-fn render_options(
-    opts: &EmitOptions,
-    form: CurveForm,
-    chord: f64,
-    units: crate::Units,
-    wo: &GcodeWriteOptions,
-) -> RenderOptions {
-    let scale = units.mm_per_unit();
-    let min_decimals = match units {
-        crate::Units::Mm => wo.decimals_mm,
-        crate::Units::Inch => wo.decimals_inch,
-    };
-    let (decimals, _) = crate::output_decimals(wo, scale, min_decimals);
-    RenderOptions {
-        form,
-        // The writer's rounding takes at most ROUNDING_SHARE of it.
-        chord: chord * (1.0 - ROUNDING_SHARE),
-        limits: opts.machine,
-        min_block_periods: MIN_BLOCK_PERIODS,
-        min_radius: MIN_ARC_RADIUS_MM,
-        step_share: opts.step_share,
-        min_arc_length: MIN_ARC_UNITS * 10f64.powi(-(decimals as i32)) * scale,
-    }
-}
-
 /// The pieces of `runs` (for the summary's counts).
 pub fn pieces_of(runs: &[Run]) -> usize {
     runs.iter().map(|r| r.pieces.len()).sum()
@@ -608,6 +474,8 @@ pub fn pieces_of(runs: &[Run]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Controller;
+    use fairpath::feed::limits::MachineLimits;
     use std::cell::Cell;
 
     thread_local! {

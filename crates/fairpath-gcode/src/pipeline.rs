@@ -12,7 +12,7 @@
 
 use crate::{Controller, Format, Program};
 use fairpath::budget::{BudgetError, ToleranceBudget};
-use fairpath::choose::{self, PlannedTime};
+use fairpath::choose::{self, Method, PlannedTime};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::Corners;
 use fairpath::geom::Curve;
@@ -21,9 +21,11 @@ use fairpath::pipeline::{verify_runs, PipelineError, Stage};
 use fairpath::render::arcs::STEP_SHARE;
 use fairpath::smooth::{self, Smoother};
 use fairpath::verify::{RunReport, VerifyOptions};
+use std::sync::Arc;
 
 mod error;
 mod plans;
+pub mod written;
 
 pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
@@ -43,9 +45,10 @@ pub struct SmoothOptions {
     budget: ToleranceBudget,
     method_name: String,
     method: Box<dyn Smoother>,
-    /// Whether `method` was given by [`SmoothOptions::set_method`] (kept
-    /// by [`SmoothOptions::set_machine`]).
-    custom_method: bool,
+    /// The method with its options, from which [`SmoothOptions::method_for`]
+    /// builds `auto` ranking by what will be written for a program; `None`
+    /// for a method given by [`SmoothOptions::set_method`] (used as it is).
+    spec: Option<Method>,
     format: Format,
     controller: Controller,
     /// The machine the times are planned for, and the render shaped for.
@@ -87,25 +90,25 @@ impl SmoothOptions {
             output,
             left: inner,
         })?;
-        let m = choose::by_name(method)
-            .ok_or_else(|| OptionsError::UnknownMethod(method.to_string()))?;
+        let spec =
+            Method::named(method).ok_or_else(|| OptionsError::UnknownMethod(method.to_string()))?;
+        let machine = MachineLimits::thesis();
         Ok(SmoothOptions {
             budget,
             method_name: method.to_string(),
-            method: m,
-            custom_method: false,
+            method: spec.smoother(Arc::new(PlannedTime::new(machine, true))),
+            spec: Some(spec),
             format,
             controller,
-            machine: MachineLimits::thesis(),
+            machine,
             override_feed: false,
             step_share: STEP_SHARE,
         })
     }
 
     /// Plans on `machine` (at the programmed feeds unless `override_feed`),
-    /// and has `auto` rank its candidates by the time planned on it (at
-    /// the machine's maximum feed, so that the choice depends on the
-    /// geometry, not on a feed the program may set low).
+    /// and has `auto` rank its candidates by times planned on it (see
+    /// [`SmoothOptions::method_for`]).
     pub fn set_machine(
         &mut self,
         machine: MachineLimits,
@@ -114,21 +117,48 @@ impl SmoothOptions {
         machine.validate().map_err(OptionsError::Machine)?;
         self.machine = machine;
         self.override_feed = override_feed;
-        let objective = std::sync::Arc::new(PlannedTime::new(machine, true));
-        if let Some(m) =
-            choose::method(&self.method_name, objective).filter(|_| !self.custom_method)
-        {
-            self.method = m;
+        if let Some(spec) = &self.spec {
+            self.method = spec.smoother(Arc::new(PlannedTime::new(machine, true)));
         }
         Ok(())
     }
 
-    /// Smooths with `method` (a method with options of its own, or one of
-    /// the caller's) instead of the one named; the name stays for the
-    /// report.
+    /// Smooths with `method`, one of the caller's, instead of the one named
+    /// (used as it is: an `auto` of the caller's ranks by the objective it
+    /// was given); the name stays for the report.
     pub fn set_method(&mut self, method: Box<dyn Smoother>) {
         self.method = method;
-        self.custom_method = true;
+        self.spec = None;
+    }
+
+    /// Smooths with `method`, a method of the registry with options of its
+    /// own (`auto` then ranks as [`SmoothOptions::method_for`] says); the
+    /// name stays for the report.
+    pub fn set_method_options(&mut self, method: Method) {
+        self.method = method.smoother(Arc::new(PlannedTime::new(self.machine, true)));
+        self.spec = Some(method);
+    }
+
+    /// The method that smooths `program` where it is not
+    /// [`SmoothOptions::method`] (`None`): `auto` ranking its candidates by
+    /// the time of what these options write for `program`
+    /// ([`written::objective_for`]: the written program's time at the
+    /// user's feeds for a G-code format, the exact curves' time at the
+    /// machine's maximum feed for JSON).
+    pub fn method_for(&self, program: &Program) -> Option<Box<dyn Smoother>> {
+        match &self.spec {
+            Some(m @ Method::Auto(_)) => {
+                Some(m.smoother(written::objective_for(&self.emit_options(), program)))
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether the curves [`SmoothOptions::method_for`] smooths depend on
+    /// the output format (`auto` ranks by what is written): a caller that
+    /// writes one smoothing in several formats must smooth again for each.
+    pub fn smooths_for_format(&self) -> bool {
+        matches!(self.spec, Some(Method::Auto(_)))
     }
 
     /// See [`fairpath::render::RenderOptions::step_share`]: positive, or
@@ -354,16 +384,18 @@ impl Phases {
 
 /// Smooths every run with the budget left by the chord tolerance and
 /// verifies the curves against that budget (the library's
-/// [`fairpath::pipeline::smooth_runs`]): curves that fail are an error.
-/// `phases` gets `smooth` and `verify curves`.
+/// [`fairpath::pipeline::smooth_runs`]), with the method
+/// [`SmoothOptions::method_for`] gives `program`: curves that fail are an
+/// error. `phases` gets `smooth` and `verify curves`.
 pub fn smooth_curves(
     program: &Program,
     opts: &SmoothOptions,
     phases: &mut Phases,
 ) -> Result<SmoothResult, PipelineError> {
+    let for_program = opts.method_for(program);
     fairpath::pipeline::smooth_runs_observed(
         program.runs(),
-        opts.method.as_ref(),
+        for_program.as_deref().unwrap_or(opts.method.as_ref()),
         &opts.budget,
         &mut |stage| {
             phases.mark(match stage {

@@ -49,11 +49,16 @@
 //! the constants are in `docs/tuning.md`, not here.
 //!
 //! Each candidate is ranked by the [`Objective`] the caller injects
-//! ([`Auto::new`]): the CLI's is the planned time on the user's machine
-//! ([`PlannedTime`], programmed feeds overridden to the machine's maximum
-//! so that the choice depends on the geometry, not on a feed the program
-//! may set low). The cheapest is kept; a tie goes to the earlier candidate.
-//! A candidate the objective cannot cost is kept only when none can.
+//! ([`Auto::new`]): for a G-code output the time of the program as written
+//! on the user's machine ([`super::WrittenTime`]: the curves rendered as
+//! the writer renders them), for output of the exact curves their planned
+//! time ([`PlannedTime`], programmed feeds overridden to the machine's
+//! maximum so that the choice depends on the geometry, not on a feed the
+//! program may set low). The cheapest is kept; a tie goes to the earlier
+//! candidate. A candidate the objective cannot cost is kept only when none
+//! can. Where the objective has a cheap lower bound, candidates are costed
+//! in its order and only while they can still win
+//! ([`super::ranking`]).
 //!
 //! **Sections.** A run of up to [`SECTION_MAX_PIECES`] pieces is also cut
 //! at the middle of every line longer than a length
@@ -74,7 +79,7 @@ use super::candidates::{
     FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime};
-use super::same_pieces::same_pieces;
+use super::ranking::Ranking;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
@@ -254,7 +259,7 @@ impl Auto {
 /// done (the candidates are independent, and a workstation has the cores;
 /// a thread per candidate cost more in starting threads than it gained);
 /// one after the other without.
-fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+pub(super) fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     #[cfg(feature = "std")]
     {
         use std::sync::atomic::{AtomicUsize, Ordering};
@@ -301,20 +306,16 @@ fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get()))
 }
 
-/// A candidate smoothed and its cost (`None`: the objective could not
-/// cost it).
-pub(super) type Planned = (Option<f64>, SmoothedRun);
-
 impl Auto {
     /// Every candidate for `run`, smoothed (the fits shared through
-    /// `memo`) and planned.
-    pub(super) fn planned_candidates(
+    /// `memo`), to be ranked by the objective.
+    pub(super) fn ranked_candidates(
         &self,
         run: &Run,
         tolerance: f64,
         cut_ends: (bool, bool),
         memo: &FitMemo,
-    ) -> Result<Vec<Planned>, SmoothError> {
+    ) -> Result<Ranking<'_>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         let smoothed = map_candidates(list.len(), |i| {
             let mut cand = list[i]
@@ -325,54 +326,7 @@ impl Auto {
         })
         .into_iter()
         .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
-        // Candidates that smoothed the run to the same pieces as an earlier
-        // one share its cost: the objective runs once per distinct result.
-        let first_same: Vec<usize> = (0..smoothed.len())
-            .map(|i| {
-                (0..i)
-                    .find(|&j| same_pieces(&smoothed[j].pieces, &smoothed[i].pieces))
-                    .unwrap_or(i)
-            })
-            .collect();
-        let distinct: Vec<usize> = (0..smoothed.len())
-            .filter(|&i| first_same[i] == i)
-            .collect();
-        let costs = map_candidates(distinct.len(), |k| {
-            self.objective.cost(&smoothed[distinct[k]].pieces)
-        });
-        let cost_of = |i: usize| {
-            let k = distinct.partition_point(|&d| d < first_same[i]);
-            costs[k]
-        };
-        let times: Vec<Option<f64>> = (0..smoothed.len()).map(cost_of).collect();
-        Ok(times.into_iter().zip(smoothed).collect())
-    }
-
-    /// The fastest of `cands` that `eligible` accepts, with its planned
-    /// time (a tie goes to the earlier); failing any that planned, the
-    /// first accepted that the planner rejected (time `None`).
-    pub(super) fn fastest(
-        cands: Vec<Planned>,
-        eligible: impl Fn(&SmoothedRun) -> bool,
-    ) -> Option<Planned> {
-        let mut best: Option<(f64, SmoothedRun)> = None;
-        let mut fallback = None;
-        for (time, cand) in cands {
-            if !eligible(&cand) {
-                continue;
-            }
-            match time {
-                Some(t) if best.as_ref().is_none_or(|(b, _)| t < *b) => best = Some((t, cand)),
-                Some(_) => {}
-                None => {
-                    if fallback.is_none() {
-                        fallback = Some(cand);
-                    }
-                }
-            }
-        }
-        best.map(|(t, c)| (Some(t), c))
-            .or(fallback.map(|c| (None, c)))
+        Ok(Ranking::new(self.objective.as_ref(), smoothed))
     }
 }
 
@@ -388,9 +342,10 @@ impl Smoother for Auto {
         // The fits of the run and of its sections, shared between the
         // candidates and the sections that cut a dense stretch alike.
         let memo = FitMemo::default();
-        let cands = self.planned_candidates(run, tolerance, (false, false), &memo)?;
-        let (mut time, mut best) =
-            Self::fastest(cands, |_| true).ok_or(SmoothError::NoCandidate)?;
+        let mut ranking = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
+        let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
+        let mut best = core::mem::take(&mut ranking.cands[i]);
+        drop(ranking);
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(best);
         }
@@ -432,6 +387,7 @@ impl Smoother for Auto {
 
 #[cfg(test)]
 mod tests {
+    use super::super::same_pieces::same_pieces;
     use super::*;
     use crate::geom::Vec3;
     use core::sync::atomic::{AtomicUsize, Ordering};
@@ -473,21 +429,93 @@ mod tests {
         let auto = Auto::new(AutoOptions::default(), counted.clone());
         let run = zigzag();
         let memo = FitMemo::default();
-        let planned = auto
-            .planned_candidates(&run, 0.05, (false, false), &memo)
+        let mut ranking = auto
+            .ranked_candidates(&run, 0.05, (false, false), &memo)
             .unwrap();
+        ranking.fastest(|_| true).unwrap();
         let plain = PlannedTime::default();
         let mut distinct: Vec<&[Piece]> = Vec::new();
-        for (time, cand) in &planned {
+        for (i, cand) in ranking.cands.iter().enumerate() {
             assert_eq!(
-                time.map(f64::to_bits),
+                ranking.cost_of(i).flatten().map(f64::to_bits),
                 plain.cost(&cand.pieces).map(f64::to_bits)
             );
             if !distinct.iter().any(|d| same_pieces(d, &cand.pieces)) {
                 distinct.push(&cand.pieces);
             }
         }
-        assert!(distinct.len() < planned.len(), "no candidates alike");
+        assert!(distinct.len() < ranking.cands.len(), "no candidates alike");
         assert_eq!(counted.calls.load(Ordering::Relaxed), distinct.len());
+    }
+
+    /// [`PlannedTime`] as the cost, and as its own bound plus the
+    /// candidate's place in the table (seconds): only the candidates whose
+    /// bound is at most the least cost found before them are costed.
+    #[derive(Debug, Default)]
+    struct Bounded {
+        calls: AtomicUsize,
+        time: PlannedTime,
+    }
+
+    impl Objective for Bounded {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.calls.fetch_add(1, Ordering::Relaxed);
+            self.time.cost(pieces)
+        }
+        fn bound(&self, pieces: &[Piece]) -> Option<f64> {
+            // Corner transitions have more pieces than fits: a bound far
+            // above any cost for all but the fewest pieces.
+            self.time
+                .cost(pieces)
+                .map(|t| t + if pieces.len() > 20 { 1e3 } else { 0.0 })
+        }
+    }
+
+    #[test]
+    fn a_candidate_whose_bound_exceeds_a_cost_found_is_not_costed() {
+        let bounded = Arc::new(Bounded::default());
+        let auto = Auto::new(AutoOptions::default(), bounded.clone());
+        let run = Run::new(
+            (0..40)
+                .map(|i| {
+                    let p = |k: usize| {
+                        let a = 0.05 * k as f64;
+                        Vec3::new(20.0 * a.cos(), 20.0 * a.sin(), 0.0)
+                    };
+                    Piece {
+                        curve: Curve::Line(Line::new(p(i), p(i + 1))),
+                        rapid: false,
+                        source_lines: (i + 1, i + 1),
+                        feed: Some(3000.0),
+                    }
+                })
+                .collect(),
+        );
+        let memo = FitMemo::default();
+        let mut ranking = auto
+            .ranked_candidates(&run, 0.05, (false, false), &memo)
+            .unwrap();
+        let (_, i) = ranking.fastest(|_| true).unwrap();
+        assert!(ranking.cands[i].pieces.len() <= 20);
+        let costed = (0..ranking.cands.len())
+            .filter(|&k| ranking.cost_of(k).is_some())
+            .count();
+        assert!(costed < ranking.cands.len(), "every candidate costed");
+        // The corner methods' many pieces: bounded, never costed.
+        for (k, c) in ranking.cands.iter().enumerate() {
+            if c.pieces.len() > 20 {
+                assert_eq!(ranking.cost_of(k), None, "{:?}", c.chosen);
+            }
+        }
+        assert_eq!(bounded.calls.load(Ordering::Relaxed), {
+            let mut d: Vec<&[Piece]> = Vec::new();
+            for k in 0..ranking.cands.len() {
+                let p = &ranking.cands[k].pieces;
+                if ranking.cost_of(k).is_some() && !d.iter().any(|x| same_pieces(x, p)) {
+                    d.push(p);
+                }
+            }
+            d.len()
+        });
     }
 }

@@ -9,6 +9,7 @@
 mod auto;
 mod candidates;
 mod objective;
+mod ranking;
 mod registry;
 mod same_pieces;
 mod sections;
@@ -19,6 +20,6 @@ pub use candidates::{
     FAIR_MAX_PIECES, JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
     WIDE_WIGGLE_PER_TOL,
 };
-pub use objective::{Objective, PlannedTime};
+pub use objective::{Objective, PlannedTime, WrittenTime};
 pub use registry::{by_name, method, Method, METHODS};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};

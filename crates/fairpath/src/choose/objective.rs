@@ -4,10 +4,18 @@
 //! "cheapest" means is not the method's business. A CAM system ranks by
 //! the planned time on the machine that will cut the part, a researcher
 //! perhaps by peak curvature. The method only asks an [`Objective`].
+//!
+//! Two are given here: [`PlannedTime`], the time of the exact curves (what
+//! a program of exact curves, the JSON output, carries), and
+//! [`WrittenTime`], the time of the curves as a G-code writer will render
+//! them (what a G-code program carries).
 
 use crate::feed::limits::MachineLimits;
-use crate::feed::plan::{plan_run, PlanOptions};
+use crate::feed::plan::{plan_run, plan_time_shaped, Corners, PlanOptions};
+use crate::feed::shaping::Shaping;
 use crate::path::Piece;
+use crate::render::{linuxcnc_g5_2_motion, render_run, CurveForm, PlannedSpeed, RenderOptions};
+use alloc::vec::Vec;
 
 /// A cost of running a smoothed run (lower is better).
 pub trait Objective: core::fmt::Debug + Send + Sync {
@@ -15,6 +23,15 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     /// be run at all (the planner rejects it); such candidates are kept only
     /// when no other can be run.
     fn cost(&self, pieces: &[Piece]) -> Option<f64>;
+
+    /// A lower bound of [`Objective::cost`] that is cheaper to compute, or
+    /// `None` (the default) when there is none: then every candidate is
+    /// costed. With a bound, `auto` costs the candidates in the order of
+    /// their bounds and stops where a bound exceeds the least cost found,
+    /// which keeps the cheapest wherever the bound holds.
+    fn bound(&self, _pieces: &[Piece]) -> Option<f64> {
+        None
+    }
 }
 
 /// The machining time (s) planned by the jerk-limited look-ahead planner
@@ -53,5 +70,95 @@ impl Default for PlannedTime {
 impl Objective for PlannedTime {
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         plan_run(pieces, &self.plan).ok().map(|p| p.time)
+    }
+}
+
+/// The time (s) of the program a G-code writer will write for the run:
+/// the exact curves planned at the machine's maximum feed ([`plan_run`],
+/// the speed the writer's renderer shapes the written pieces by), rendered
+/// in each form the output format allows ([`render_run`]), and the fastest
+/// rendering planned at the user's feeds as the writer judges it
+/// ([`plan_time_shaped`] with [`WrittenTime::corners`]).
+///
+/// What the user runs is the written program, not the exact curves: a
+/// candidate whose curves plan fastest can render into more, shorter
+/// pieces with curvature steps at their joints, or into G1 lines where
+/// arcs cannot follow it, and run slower as written than another. The
+/// exact curves' time at the same feeds is the cheap bound
+/// ([`Objective::bound`]): the renderer aims to keep the speed of the
+/// curves, not to pass it, so a rendering plans no faster than its curves
+/// but for small differences of the planner's segments (where it does,
+/// `auto` may pass over a candidate that was slightly cheaper as written).
+///
+/// The writer also keeps a run as the program wrote it where every
+/// rendering plans slower than that; this is the same for every candidate
+/// of a run, so it is not part of the cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WrittenTime {
+    /// The plan whose speed the renderer reads: the writer plans the
+    /// curves at the machine's maximum feed.
+    pub shape: PlanOptions,
+    /// The plan of the renderings (and of the bound): the user's machine
+    /// and feeds.
+    pub plan: PlanOptions,
+    /// The renderings the format allows, in the writer's order. A
+    /// [`CurveForm::Lines`] rendering after another is tried only where
+    /// an earlier one fell back to lines (as the writer does).
+    pub renders: Vec<RenderOptions>,
+    /// How the writer's judge passes the corners of a rendering.
+    pub corners: Corners,
+}
+
+impl WrittenTime {
+    /// The written time on `limits`, at the machine's maximum feed when
+    /// `override_feed` or at the programmed feeds, of the renderings
+    /// `renders` judged with blended corners.
+    pub fn new(limits: MachineLimits, override_feed: bool, renders: Vec<RenderOptions>) -> Self {
+        WrittenTime {
+            shape: PlannedTime::new(limits, true).plan,
+            plan: PlannedTime::new(limits, override_feed).plan,
+            renders,
+            corners: Corners::Blended,
+        }
+    }
+
+    /// The planned time of a rendering (LinuxCNC's G5.2 blocks as
+    /// LinuxCNC runs them).
+    fn rendered_time(&self, pieces: &[Piece], form: CurveForm) -> Option<f64> {
+        let time =
+            |p: &[Piece]| plan_time_shaped(p, &self.plan, &Shaping::none(), self.corners).ok();
+        match form {
+            CurveForm::Nurbs(lim) if lim.linuxcnc_g5_2 => {
+                time(&linuxcnc_g5_2_motion(pieces, lim.planar_mm.unwrap_or(0.0)))
+            }
+            _ => time(pieces),
+        }
+    }
+}
+
+impl Objective for WrittenTime {
+    fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+        let plan = plan_run(pieces, &self.shape).ok()?;
+        let speed = PlannedSpeed::new(pieces.len(), &plan, self.shape.limits.period);
+        drop(plan);
+        let mut best: Option<f64> = None;
+        let mut fell_back = false;
+        for (i, ro) in self.renders.iter().enumerate() {
+            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
+                continue;
+            }
+            let r = render_run(pieces, &speed, ro).ok()?;
+            fell_back |= r.stats.fallback_lines > 0;
+            if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
+                if best.is_none_or(|b| t < b) {
+                    best = Some(t);
+                }
+            }
+        }
+        best
+    }
+
+    fn bound(&self, pieces: &[Piece]) -> Option<f64> {
+        plan_time_shaped(pieces, &self.plan, &Shaping::none(), Corners::Blended).ok()
     }
 }

@@ -1,7 +1,7 @@
 //! The sections of `auto` (see [`super::auto`]): a run cut at the middle
 //! of its long lines, each section smoothed by its own fastest candidate.
 
-use super::auto::{Auto, Planned};
+use super::auto::Auto;
 use super::candidates::FAIR;
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
@@ -140,7 +140,7 @@ impl Auto {
         memo: &FitMemo,
     ) -> Result<Choices, SmoothError> {
         let cut_ends = (before.is_some(), after.is_some());
-        let cands = self.planned_candidates(run, tolerance, cut_ends, memo)?;
+        let mut ranking = self.ranked_candidates(run, tolerance, cut_ends, memo)?;
         let eligible = |c: &SmoothedRun| {
             let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
                 return false;
@@ -157,15 +157,9 @@ impl Auto {
             });
             starts_straight && ends_straight
         };
-        let others: Vec<Planned> = cands
-            .iter()
-            .filter(|(_, c)| c.chosen != [FAIR])
-            .cloned()
-            .collect();
-        Ok([
-            Self::fastest(cands, eligible).map(|(_, best)| best),
-            Self::fastest(others, eligible).map(|(_, best)| best),
-        ])
+        let all = ranking.cheapest(eligible);
+        let others = ranking.cheapest(|c| c.chosen != [FAIR] && eligible(c));
+        Ok([all, others].map(|i| i.map(|i| ranking.cands[i].clone())))
     }
 }
 

@@ -290,3 +290,27 @@ pub fn render_range(
     }
     Ok(out)
 }
+
+/// `pieces` with each NURBS replaced by what LinuxCNC runs for it written
+/// as G5.2 blocks ([`crate::controller::linuxcnc::g5_2_motion_of`]) in the
+/// principal plane its control points lie in within `planar_mm` (XY when
+/// none); a NURBS LinuxCNC cannot run stays as it is.
+pub fn linuxcnc_g5_2_motion(pieces: &[Piece], planar_mm: f64) -> Vec<Piece> {
+    let mut out = Vec::with_capacity(pieces.len());
+    for p in pieces {
+        match &p.curve {
+            Curve::Nurbs(n) => {
+                let plane = crate::geom::Plane::of_points(&n.points, planar_mm)
+                    .unwrap_or(crate::geom::Plane::Xy);
+                match crate::controller::linuxcnc::g5_2_motion_of(n, plane) {
+                    Ok(curves) => {
+                        out.extend(curves.into_iter().map(|curve| Piece { curve, ..p.clone() }))
+                    }
+                    Err(_) => out.push(p.clone()),
+                }
+            }
+            _ => out.push(p.clone()),
+        }
+    }
+    out
+}

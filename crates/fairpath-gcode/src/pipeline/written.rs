@@ -1,0 +1,163 @@
+//! What the writer does with the curves of a run, below the writing
+//! itself: the forms a format can say ([`forms`]), the renderer's and the
+//! writer's options ([`render_options`], [`write_options`]), and the
+//! objective that ranks `auto`'s candidates by the time of what will be
+//! written ([`objective_for`]). [`crate::emit`] renders and writes with
+//! them; [`super::SmoothOptions`] builds `auto` with the objective.
+
+use super::EmitOptions;
+use crate::{
+    ArcWords, Controller, Format, GcodeWriteOptions, NurbsBlocks, Program, ROUNDING_SHARE,
+};
+use fairpath::choose::{Objective, PlannedTime, WrittenTime};
+use fairpath::feed::limits::MachineLimits;
+use fairpath::geom::Nurbs;
+use fairpath::render::{CurveForm, NurbsLimits, RenderOptions};
+use std::sync::Arc;
+
+/// LinuxCNC spends at least this many servo periods on a block
+/// (`TP_MIN_SEGMENT_CYCLES`, tp.c): shorter blocks cap the speed.
+pub const MIN_BLOCK_PERIODS: f64 = 1.02;
+
+/// Smallest arc radius written (mm): LinuxCNC refuses radii below
+/// 0.00127 mm (`RADIUS_TOLERANCE_INCH` = 0.00005 in, interp_internal.hh);
+/// twice that leaves room for the rounding of the written centre.
+pub const MIN_ARC_RADIUS_MM: f64 = 0.00254;
+
+/// Shortest arc written, in units of the last written decimal: the rounded
+/// ends of a shorter one could coincide (a full circle in G-code).
+pub const MIN_ARC_UNITS: f64 = 4.0;
+
+/// Spread (mm) along a plane's normal below which a NURBS counts as in the
+/// plane for LinuxCNC's spline blocks: well below any written decimal.
+pub const PLANAR_MM: f64 = 1e-9;
+
+/// Highest degree of Fanuc's G6.2 (order 4).
+pub const FANUC_MAX_DEGREE: usize = 3;
+
+/// The forms a run's curves can be rendered in for `format` on
+/// `controller`, in the order the writer tries them (none for JSON, which
+/// writes the curves as they are).
+pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
+    match format {
+        Format::Json => &[],
+        Format::G1 => &[CurveForm::Lines],
+        Format::Arcs => &[CurveForm::Arcs, CurveForm::Lines],
+        Format::G5_2 => &[
+            CurveForm::Nurbs(NurbsLimits {
+                max_degree: Nurbs::MAX_DEGREE,
+                planar_mm: Some(PLANAR_MM),
+                xy_only: true,
+                linuxcnc_g5_2: true,
+            }),
+            CurveForm::Arcs,
+        ],
+        Format::G6_2 if controller == Controller::Linuxcnc => &[CurveForm::Nurbs(NurbsLimits {
+            max_degree: Nurbs::MAX_DEGREE,
+            planar_mm: Some(PLANAR_MM),
+            xy_only: false,
+            linuxcnc_g5_2: false,
+        })],
+        Format::G6_2 => &[CurveForm::Nurbs(NurbsLimits {
+            max_degree: FANUC_MAX_DEGREE,
+            planar_mm: None,
+            xy_only: false,
+            linuxcnc_g5_2: false,
+        })],
+    }
+}
+
+/// What `auto` ranks its candidates by when `opts` writes `program`:
+/// for a G-code format, the time of the program as it will be written
+/// ([`WrittenTime`]: the curves rendered as [`crate::emit::emit`] renders
+/// them, with the budget [`EmitOptions::budget_for`] gives `program`, at
+/// the user's feeds); for JSON, which writes the exact curves, their
+/// planned time ([`PlannedTime`], at the machine's maximum feed).
+pub fn objective_for(opts: &EmitOptions, program: &Program) -> Arc<dyn Objective> {
+    let exact = || Arc::new(PlannedTime::new(opts.machine, true)) as Arc<dyn Objective>;
+    let forms = forms(opts.format, opts.controller);
+    let Ok(budget) = opts.budget_for(program) else {
+        return exact();
+    };
+    if forms.is_empty() {
+        return exact();
+    }
+    let opts = &EmitOptions { budget, ..*opts };
+    let wo = write_options(opts);
+    let units = program
+        .run_spans()
+        .first()
+        .map_or(program.units(), |r| r.units);
+    let renders = forms
+        .iter()
+        .map(|&form| render_options(opts, form, budget.output, units, &wo))
+        .collect();
+    let mut written = WrittenTime::new(opts.machine, opts.override_feed, renders);
+    written.corners = opts.judged_by;
+    Arc::new(written)
+}
+
+/// The writer's options for `opts` (arcs in IJK form; [`crate::emit::emit`] writes R
+/// when the program does).
+pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
+    let blend = opts.budget.blend;
+    GcodeWriteOptions {
+        chord_mm: opts.budget.output,
+        arcs: (opts.format != Format::G1).then_some(ArcWords::Ijk),
+        nurbs: match (opts.format, opts.controller) {
+            (Format::G5_2, _) => Some(NurbsBlocks::G5_2),
+            (Format::G6_2, Controller::Linuxcnc) => Some(NurbsBlocks::G6_2Linuxcnc),
+            (Format::G6_2, _) => Some(NurbsBlocks::G6_2Fanuc),
+            _ => None,
+        },
+        // The input's own style adds to this (NumberStyle::of).
+        decimal_point: opts.controller == Controller::Fanuc,
+        // Written around every run for LinuxCNC, and for any controller
+        // around runs where the program's own G64 blends beyond the share
+        // (EmitOptions::budget_for gives one then).
+        g64_blend_mm: (blend > 0.0).then_some(blend),
+        g64_always: opts.controller == Controller::Linuxcnc,
+        // For every controller: a Fanuc control reads these decimals only
+        // with a fine increment system (IS-D/IS-E); with IS-C (4 decimals
+        // in mm) the rounded control points of G6.2 blocks break curvature
+        // continuity at every knot (butterfly-80: 10.40 s against 6.77 s).
+        resolution_mm: Some(resolution(&opts.machine)),
+        ..Default::default()
+    }
+}
+
+/// Largest rounding (mm) of a written point for `m`: `J Ts^3 / 40` (see
+/// [`GcodeWriteOptions::resolution_mm`]; a tenth of what keeps block-long
+/// pieces at their speed, because at the slow, tight places of a path the
+/// kinks rounding leaves cost the most time: 7 decimals in mm on the
+/// default machine, where 6 planned `surface-raster.ngc` 7% slower than
+/// its rendering).
+pub fn resolution(m: &MachineLimits) -> f64 {
+    0.025 * m.jerk * m.period * m.period * m.period
+}
+
+/// The renderer's options for a run in `units` with output share `chord`.
+pub fn render_options(
+    opts: &EmitOptions,
+    form: CurveForm,
+    chord: f64,
+    units: crate::Units,
+    wo: &GcodeWriteOptions,
+) -> RenderOptions {
+    let scale = units.mm_per_unit();
+    let min_decimals = match units {
+        crate::Units::Mm => wo.decimals_mm,
+        crate::Units::Inch => wo.decimals_inch,
+    };
+    let (decimals, _) = crate::output_decimals(wo, scale, min_decimals);
+    RenderOptions {
+        form,
+        // The writer's rounding takes at most ROUNDING_SHARE of it.
+        chord: chord * (1.0 - ROUNDING_SHARE),
+        limits: opts.machine,
+        min_block_periods: MIN_BLOCK_PERIODS,
+        min_radius: MIN_ARC_RADIUS_MM,
+        step_share: opts.step_share,
+        min_arc_length: MIN_ARC_UNITS * 10f64.powi(-(decimals as i32)) * scale,
+    }
+}

@@ -1,0 +1,242 @@
+//! `auto`'s candidates for one run (or section) ranked by its
+//! [`Objective`]: each distinct result costed at most once, and, where the
+//! objective has a cheap lower bound ([`Objective::bound`]), only the
+//! candidates that bound leaves in the race.
+//!
+//! With a bound, a choice among some candidates costs them one after the
+//! other in the order of their bounds (branch and bound), and stops at
+//! the first whose bound exceeds the least cost found so far: neither it
+//! nor any after it can be cheaper while the bound holds. Which candidates
+//! are costed depends only on the bounds and costs (not on threads or
+//! timing), so the choice is deterministic. One at a time, not side by
+//! side: the costs of a batch would be computed before knowing whether
+//! the first of them ends the race, and the runs of a program are
+//! smoothed side by side already.
+
+use super::auto::map_candidates;
+use super::objective::Objective;
+use super::same_pieces::same_pieces;
+use crate::smooth::SmoothedRun;
+use alloc::vec::Vec;
+
+/// Smoothed candidates and what is known of their costs.
+pub(super) struct Ranking<'o> {
+    objective: &'o dyn Objective,
+    /// The candidates, in the table's order (a tie goes to the earlier).
+    pub(super) cands: Vec<SmoothedRun>,
+    /// For each candidate, the first with the same pieces: only that one
+    /// is bounded and costed.
+    first_same: Vec<usize>,
+    /// The bound of each first-of-its-pieces candidate, once computed
+    /// (`Some(None)`: the objective has none for it).
+    bounds: Vec<Option<Option<f64>>>,
+    /// The cost of each first-of-its-pieces candidate, once computed
+    /// (`Some(None)`: the objective could not cost it).
+    costs: Vec<Option<Option<f64>>>,
+}
+
+impl<'o> Ranking<'o> {
+    /// `cands` to be ranked by `objective` (nothing is costed yet).
+    pub(super) fn new(objective: &'o dyn Objective, cands: Vec<SmoothedRun>) -> Self {
+        let n = cands.len();
+        let first_same: Vec<usize> = (0..n)
+            .map(|i| {
+                (0..i)
+                    .find(|&j| same_pieces(&cands[j].pieces, &cands[i].pieces))
+                    .unwrap_or(i)
+            })
+            .collect();
+        Ranking {
+            objective,
+            cands,
+            first_same,
+            bounds: alloc::vec![None; n],
+            costs: alloc::vec![None; n],
+        }
+    }
+
+    /// Bounds the candidates `which` (first of their pieces) not bounded
+    /// yet, side by side.
+    fn bound(&mut self, which: &[usize]) {
+        let todo: Vec<usize> = which
+            .iter()
+            .copied()
+            .filter(|&i| self.bounds[i].is_none())
+            .collect();
+        let (objective, cands) = (self.objective, &self.cands);
+        let found = map_candidates(todo.len(), |k| objective.bound(&cands[todo[k]].pieces));
+        for (i, b) in todo.into_iter().zip(found) {
+            self.bounds[i] = Some(b);
+        }
+    }
+
+    /// Costs the candidates `which` (first of their pieces) not costed yet,
+    /// side by side.
+    fn cost(&mut self, which: &[usize]) {
+        let todo: Vec<usize> = which
+            .iter()
+            .copied()
+            .filter(|&i| self.costs[i].is_none())
+            .collect();
+        let (objective, cands) = (self.objective, &self.cands);
+        let found = map_candidates(todo.len(), |k| objective.cost(&cands[todo[k]].pieces));
+        for (i, c) in todo.into_iter().zip(found) {
+            self.costs[i] = Some(c);
+        }
+    }
+
+    /// The cost of candidate `i` where it was computed (`Some(None)`: the
+    /// objective could not cost it).
+    #[cfg(test)]
+    pub(super) fn cost_of(&self, i: usize) -> Option<Option<f64>> {
+        self.costs[self.first_same[i]]
+    }
+
+    /// [`Ranking::fastest`], by index only: where `eligible` accepts
+    /// candidates of one result only, the first of them, costed by nothing.
+    pub(super) fn cheapest(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {
+        let accepted: Vec<usize> = (0..self.cands.len())
+            .filter(|&i| eligible(&self.cands[i]))
+            .collect();
+        let first = *accepted.first()?;
+        if accepted
+            .iter()
+            .all(|&i| self.first_same[i] == self.first_same[first])
+        {
+            return Some(first);
+        }
+        self.fastest(|c| eligible(c)).map(|(_, i)| i)
+    }
+
+    /// The cheapest of the candidates that `eligible` accepts, by index,
+    /// with its cost (a tie goes to the earlier); failing any that could be
+    /// costed, the first accepted that could not (cost `None`). Costs only
+    /// what the bounds leave in the race (see the module documentation).
+    pub(super) fn fastest(
+        &mut self,
+        eligible: impl Fn(&SmoothedRun) -> bool,
+    ) -> Option<(Option<f64>, usize)> {
+        let accepted: Vec<usize> = (0..self.cands.len())
+            .filter(|&i| eligible(&self.cands[i]))
+            .collect();
+        let mut reps: Vec<usize> = accepted.iter().map(|&i| self.first_same[i]).collect();
+        reps.sort_unstable();
+        reps.dedup();
+        // In the order of the bounds (then of the table) while the bound is
+        // at most the least cost found so far; those without a bound are
+        // all costed.
+        self.bound(&reps);
+        let mut bounded: Vec<(f64, usize)> = reps
+            .iter()
+            .filter_map(|&i| self.bounds[i].flatten().map(|b| (b, i)))
+            .collect();
+        bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut least = f64::INFINITY;
+        for (b, i) in bounded {
+            if b > least {
+                break;
+            }
+            self.cost(&[i]);
+            if let Some(Some(c)) = self.costs[i] {
+                least = least.min(c);
+            }
+        }
+        reps.retain(|&i| self.bounds[i].flatten().is_none());
+        self.cost(&reps);
+        let mut best: Option<(f64, usize)> = None;
+        let mut fallback = None;
+        for i in accepted {
+            match self.costs[self.first_same[i]] {
+                Some(Some(t)) if best.is_none_or(|(b, _)| t < b) => best = Some((t, i)),
+                Some(None) if fallback.is_none() => fallback = Some(i),
+                _ => {}
+            }
+        }
+        best.map(|(t, i)| (Some(t), i))
+            .or(fallback.map(|i| (None, i)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{Curve, Line, ParamCurve, Vec3};
+    use crate::path::Piece;
+    use proptest::prelude::*;
+
+    /// Costs and bounds by result: a candidate's result is the end x of
+    /// its one line.
+    #[derive(Debug)]
+    struct Table {
+        costs: Vec<Option<f64>>,
+        bounds: Vec<Option<f64>>,
+    }
+
+    fn result(pieces: &[Piece]) -> usize {
+        pieces[0].curve.end().x as usize
+    }
+
+    impl Objective for Table {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.costs[result(pieces)]
+        }
+        fn bound(&self, pieces: &[Piece]) -> Option<f64> {
+            self.bounds[result(pieces)]
+        }
+    }
+
+    fn candidate(r: usize) -> SmoothedRun {
+        SmoothedRun {
+            pieces: alloc::vec![Piece {
+                curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(r as f64, 1.0, 0.0))),
+                rapid: false,
+                source_lines: (1, 1),
+                feed: None,
+            }],
+            ..SmoothedRun::default()
+        }
+    }
+
+    proptest! {
+        /// Where the bounds hold (each at most its cost), branch and bound
+        /// keeps what costing every candidate keeps: the cheapest accepted
+        /// (the earlier on a tie), else the first accepted that cannot be
+        /// costed.
+        #[test]
+        fn with_bounds_that_hold_the_choice_is_the_cheapest(
+            results in proptest::collection::vec(0usize..6, 1..10),
+            costs in proptest::collection::vec(proptest::option::weighted(0.9, 0u32..8), 6),
+            slack in proptest::collection::vec(proptest::option::weighted(0.8, 0u32..4), 6),
+            accepted in proptest::collection::vec(any::<bool>(), 10),
+        ) {
+            let costs: Vec<Option<f64>> = costs.iter().map(|c| c.map(f64::from)).collect();
+            let bounds = costs
+                .iter()
+                .zip(&slack)
+                .map(|(c, s)| match (c, s) {
+                    (Some(c), Some(s)) => Some(c - f64::from(*s)),
+                    // A candidate that cannot be costed has no bound.
+                    _ => None,
+                })
+                .collect();
+            let table = Table { costs: costs.clone(), bounds };
+            let cands: Vec<SmoothedRun> = results.iter().map(|&r| candidate(r)).collect();
+            let eligible = |c: &SmoothedRun| accepted[result(&c.pieces) % accepted.len()];
+            let mut want: Option<(f64, usize)> = None;
+            let mut fallback = None;
+            for (i, c) in cands.iter().enumerate() {
+                if !eligible(c) {
+                    continue;
+                }
+                match costs[result(&c.pieces)] {
+                    Some(t) if want.is_none_or(|(b, _)| t < b) => want = Some((t, i)),
+                    None if fallback.is_none() => fallback = Some(i),
+                    _ => {}
+                }
+            }
+            let want = want.map(|(t, i)| (Some(t), i)).or(fallback.map(|i| (None, i)));
+            let mut ranking = Ranking::new(&table, cands);
+            prop_assert_eq!(ranking.fastest(eligible), want);
+        }
+    }
+}
