@@ -70,9 +70,11 @@ pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
 /// What `auto` ranks its candidates by when `opts` writes `program`:
 /// for a G-code format, the time of the program as it will be written
 /// ([`WrittenTime`]: the curves rendered as [`crate::emit::emit`] renders
-/// them, with the budget [`EmitOptions::budget_for`] gives `program`, at
-/// the user's feeds); for JSON, which writes the exact curves, their
-/// planned time ([`PlannedTime`], at the machine's maximum feed).
+/// them, in the format's forms but the all-G1 alternative to arcs, with
+/// the budget [`EmitOptions::budget_for`] gives `program` and the units
+/// of its first run, at the user's feeds); for JSON, which writes the
+/// exact curves, their planned time ([`PlannedTime`], at the machine's
+/// maximum feed).
 pub fn objective_for(opts: &EmitOptions, program: &Program) -> Arc<dyn Objective> {
     let exact = || Arc::new(PlannedTime::new(opts.machine, true)) as Arc<dyn Objective>;
     let forms = forms(opts.format, opts.controller);
@@ -88,9 +90,14 @@ pub fn objective_for(opts: &EmitOptions, program: &Program) -> Arc<dyn Objective
         .run_spans()
         .first()
         .map_or(program.units(), |r| r.units);
+    // Not the all-G1 alternative the writer also tries where arcs fell
+    // back to lines: it rarely wins (`docs/tuning.md`) and would double
+    // the cost of ranking such candidates.
     let renders = forms
         .iter()
-        .map(|&form| render_options(opts, form, budget.output, units, &wo))
+        .enumerate()
+        .filter(|&(i, &form)| i == 0 || form != CurveForm::Lines)
+        .map(|(_, &form)| render_options(opts, form, budget.output, units, &wo))
         .collect();
     let mut written = WrittenTime::new(opts.machine, opts.override_feed, renders);
     written.corners = opts.judged_by;
