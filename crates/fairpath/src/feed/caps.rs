@@ -305,13 +305,6 @@ pub(super) fn stretches(
                 ts.push(1.0);
                 (ts, caps)
             }
-            // An arc's curvature is constant (or, for a spiral, monotone
-            // along it) and only the axis limits see its turning tangent:
-            // where they never bind, the caps at its ends and middle are
-            // those of all of it, and the splitting below refines a
-            // spiral where they differ. Other curves are sampled at the
-            // interpolator's chord error.
-            Curve::Arc(_) if m.axes_never_bind() => (alloc::vec![0.0, 1.0], Vec::new()),
             _ => (flatten_params(c, m.chord_error), Vec::new()),
         };
         let mut blend_caps = blend_caps.into_iter();

@@ -85,15 +85,6 @@ impl MachineLimits {
         }
     }
 
-    /// No axis limit is below what the path limits already ask of every
-    /// axis (each axis' velocity and acceleration are at most the path's):
-    /// the caps of [`speed_cap`] then do not depend on the direction of
-    /// motion.
-    pub fn axes_never_bind(&self) -> bool {
-        self.axis_vel.iter().all(|&v| v >= self.max_feed)
-            && self.axis_acc.iter().all(|&a| a >= self.normal_acc)
-    }
-
     /// Checks every limit, naming the first bad one.
     pub fn validate(&self) -> Result<(), LimitError> {
         let named = [
