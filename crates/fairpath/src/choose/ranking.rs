@@ -58,31 +58,15 @@ impl<'o> Ranking<'o> {
     /// Bounds the candidates `which` (first of their pieces) not bounded
     /// yet, side by side.
     fn bound(&mut self, which: &[usize]) {
-        let todo: Vec<usize> = which
-            .iter()
-            .copied()
-            .filter(|&i| self.bounds[i].is_none())
-            .collect();
-        let (objective, cands) = (self.objective, &self.cands);
-        let found = map_candidates(todo.len(), |k| objective.bound(&cands[todo[k]].pieces));
-        for (i, b) in todo.into_iter().zip(found) {
-            self.bounds[i] = Some(b);
-        }
+        let objective = self.objective;
+        fill(&mut self.bounds, &self.cands, which, |p| objective.bound(p));
     }
 
     /// Costs the candidates `which` (first of their pieces) not costed yet,
     /// side by side.
     fn cost(&mut self, which: &[usize]) {
-        let todo: Vec<usize> = which
-            .iter()
-            .copied()
-            .filter(|&i| self.costs[i].is_none())
-            .collect();
-        let (objective, cands) = (self.objective, &self.cands);
-        let found = map_candidates(todo.len(), |k| objective.cost(&cands[todo[k]].pieces));
-        for (i, c) in todo.into_iter().zip(found) {
-            self.costs[i] = Some(c);
-        }
+        let objective = self.objective;
+        fill(&mut self.costs, &self.cands, which, |p| objective.cost(p));
     }
 
     /// The cost of candidate `i` where it was computed (`Some(None)`: the
@@ -154,6 +138,25 @@ impl<'o> Ranking<'o> {
         }
         best.map(|(t, i)| (Some(t), i))
             .or(fallback.map(|i| (None, i)))
+    }
+}
+
+/// Fills the slots `which` of `slots` still empty with `f` of their
+/// candidates' pieces, side by side.
+fn fill(
+    slots: &mut [Option<Option<f64>>],
+    cands: &[SmoothedRun],
+    which: &[usize],
+    f: impl Fn(&[crate::path::Piece]) -> Option<f64> + Sync,
+) {
+    let todo: Vec<usize> = which
+        .iter()
+        .copied()
+        .filter(|&i| slots[i].is_none())
+        .collect();
+    let found = map_candidates(todo.len(), |k| f(&cands[todo[k]].pieces));
+    for (i, v) in todo.into_iter().zip(found) {
+        slots[i] = Some(v);
     }
 }
 

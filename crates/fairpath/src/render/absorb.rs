@@ -119,20 +119,17 @@ mod tests {
         }
     }
 
+    /// The line from `a` to `b` (XY), from source line `n`.
+    fn line(a: (f64, f64), b: (f64, f64), n: usize) -> Piece {
+        let (p, q) = (Vec3::new(a.0, a.1, 0.0), Vec3::new(b.0, b.1, 0.0));
+        piece(Curve::Line(Line::new(p, q)), (n, n))
+    }
+
     #[test]
     fn a_short_line_after_a_collinear_line_is_merged() {
         let mut ps = alloc::vec![
-            piece(
-                Curve::Line(Line::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
-                (1, 1)
-            ),
-            piece(
-                Curve::Line(Line::new(
-                    Vec3::new(1.0, 0.0, 0.0),
-                    Vec3::new(1.0003, 0.0, 0.0)
-                )),
-                (2, 2),
-            ),
+            line((0.0, 0.0), (1.0, 0.0), 1),
+            line((1.0, 0.0), (1.0003, 0.0), 2),
         ];
         assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-9), 1);
         assert_eq!(ps.len(), 1);
@@ -143,17 +140,8 @@ mod tests {
     #[test]
     fn a_short_line_at_a_corner_or_with_another_feed_stays() {
         let corner = alloc::vec![
-            piece(
-                Curve::Line(Line::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))),
-                (1, 1)
-            ),
-            piece(
-                Curve::Line(Line::new(
-                    Vec3::new(1.0, 0.0, 0.0),
-                    Vec3::new(1.0, 3e-4, 0.0)
-                )),
-                (2, 2),
-            ),
+            line((0.0, 0.0), (1.0, 0.0), 1),
+            line((1.0, 0.0), (1.0, 3e-4), 2),
         ];
         let mut ps = corner.clone();
         assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-6), 0);
@@ -161,12 +149,8 @@ mod tests {
         let mut other_feed = alloc::vec![
             corner[0].clone(),
             Piece {
-                curve: Curve::Line(Line::new(
-                    Vec3::new(1.0, 0.0, 0.0),
-                    Vec3::new(1.0003, 0.0, 0.0)
-                )),
                 feed: Some(500.0),
-                ..corner[1].clone()
+                ..line((1.0, 0.0), (1.0003, 0.0), 2)
             },
         ];
         assert_eq!(absorb_short_lines(&mut other_feed, 1e-3, 1e-6), 0);
