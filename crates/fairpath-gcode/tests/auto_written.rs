@@ -44,6 +44,18 @@ fn xz_dome_raster(passes: usize, points: usize, radius: f64, step: f64) -> Strin
     out + "G0 Z25.\nM2\n"
 }
 
+/// `auto`'s program in `format` plans no slower than any C2 method's.
+fn assert_auto_no_slower(text: &str, format: Format) {
+    let auto = written_time(text, "auto", format);
+    for m in C2_METHODS {
+        let t = written_time(text, m, format);
+        assert!(
+            auto <= t,
+            "auto {auto:.4} s slower as written ({format:?}) than {m} {t:.4} s"
+        );
+    }
+}
+
 /// Regression (`xz_dome_raster(3, 45, 25.0, 1.19)`): ranked by the exact
 /// curves, `auto` took the fit through the corners, whose exact curves
 /// plan 0.02% faster than `bspline-fit`'s but whose rendering falls back
@@ -52,14 +64,7 @@ fn xz_dome_raster(passes: usize, points: usize, radius: f64, step: f64) -> Strin
 #[test]
 fn auto_is_no_slower_as_written_than_any_c2_method_on_an_xz_dome_raster() {
     let text = xz_dome_raster(3, 45, 25.0, 1.19);
-    let auto = written_time(&text, "auto", Format::Arcs);
-    for m in C2_METHODS {
-        let t = written_time(&text, m, Format::Arcs);
-        assert!(
-            auto <= t,
-            "auto {auto:.4} s slower as written than {m} {t:.4} s"
-        );
-    }
+    assert_auto_no_slower(&text, Format::Arcs);
 }
 
 /// JSON writes the exact curves: there `auto` still ranks by their time,
@@ -67,11 +72,7 @@ fn auto_is_no_slower_as_written_than_any_c2_method_on_an_xz_dome_raster() {
 #[test]
 fn auto_ranks_the_exact_curves_for_json() {
     let text = xz_dome_raster(3, 45, 25.0, 1.19);
-    let auto = written_time(&text, "auto", Format::Json);
-    for m in C2_METHODS {
-        let t = written_time(&text, m, Format::Json);
-        assert!(auto <= t, "auto {auto:.4} s slower than {m} {t:.4} s");
-    }
+    assert_auto_no_slower(&text, Format::Json);
 }
 
 /// LinuxCNC's `line-contouring-xz.ngc` (1,403 lines), where `auto` was 17%
@@ -84,12 +85,5 @@ fn line_contouring_xz_auto_is_no_slower_as_written_than_any_c2_method() {
     };
     let path = dir.join("linuxcnc/performance/line-contouring-xz.ngc");
     let text = std::fs::read_to_string(path).unwrap();
-    let auto = written_time(&text, "auto", Format::Arcs);
-    for m in C2_METHODS {
-        let t = written_time(&text, m, Format::Arcs);
-        assert!(
-            auto <= t,
-            "auto {auto:.4} s slower as written than {m} {t:.4} s"
-        );
-    }
+    assert_auto_no_slower(&text, Format::Arcs);
 }
