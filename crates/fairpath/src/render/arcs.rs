@@ -196,26 +196,46 @@ impl Fitter<'_> {
                 }
             }
         }
+        // Three tests decide the outcome, in this order: deviation
+        // (`fail`), kinks (`PieceLines`), curvature steps (`Split`, where
+        // the interval may be split for speed). The deviation test is by
+        // far the dearest, and its answer does not matter where there is
+        // no kink and the steps are too large: a failed deviation test
+        // splits the interval too (`fail` is `Split` wherever
+        // `split_for_speed`). So the steps are tested first.
+        let kinked = self.kinked(&b, ua, ub, v);
+        if split_for_speed && !kinked && self.steps_too_far(&b, ta, tb, v) {
+            return Outcome::Split;
+        }
         if !self.within(&b, &samples) {
             return fail;
         }
-        // Kinks against the curve's tangent at the ends (helical arcs whose
-        // rise rate differs from the curve's): the blend curvature they
-        // cost, about `2 theta / L`, does not shrink when the interval is
-        // halved (it is the curve's curvature out of the plane), so a
-        // stretch that fails here is written as G1.
+        if kinked {
+            return Outcome::PieceLines;
+        }
+        Outcome::Accept(Box::new(b))
+    }
+
+    /// Kinks against the curve's tangent at the ends (helical arcs whose
+    /// rise rate differs from the curve's): the blend curvature they cost,
+    /// about `2 theta / L`, does not shrink when the interval is halved (it
+    /// is the curve's curvature out of the plane), so a stretch with one is
+    /// written as G1.
+    fn kinked(&self, b: &Biarc, ua: Vec3, ub: Vec3, v: f64) -> bool {
         let step = self.step(v) * self.opts.step_share;
         let len1 = b.first.length(self.opts.chord * 1e-3);
         let len2 = b.second.length(self.opts.chord * 1e-3);
         let ka = b.first.unit_tangent(0.0).map_or(0.0, |t| t.angle_to(ua));
         let kb = b.second.unit_tangent(1.0).map_or(0.0, |t| t.angle_to(ub));
-        if 2.0 * ka > step * len1 || 2.0 * kb > step * len2 {
-            return Outcome::PieceLines;
-        }
-        if !split_for_speed {
-            return Outcome::Accept(Box::new(b));
-        }
-        // Curvature steps at the two ends and the joint.
+        2.0 * ka > step * len1 || 2.0 * kb > step * len2
+    }
+
+    /// Whether the curvature steps of biarc `b` against the curve at the
+    /// interval's ends, or at its own joint, exceed what the planned speed
+    /// `v` passes ([`Fitter::step`] times the step share).
+    fn steps_too_far(&self, b: &Biarc, ta: f64, tb: f64, v: f64) -> bool {
+        let step = self.step(v) * self.opts.step_share;
+        let c = self.c;
         let kc_a = c.curvature_vector(ta);
         let kc_b = c.curvature_vector(tb);
         let (k1a, k1b) = (b.first.curvature_vector(0.0), b.first.curvature_vector(1.0));
@@ -223,13 +243,7 @@ impl Fitter<'_> {
             b.second.curvature_vector(0.0),
             b.second.curvature_vector(1.0),
         );
-        if (k1a - kc_a).norm() > step
-            || (k2b - kc_b).norm() > step
-            || (k2a - k1b).norm() > 2.0 * step
-        {
-            return Outcome::Split;
-        }
-        Outcome::Accept(Box::new(b))
+        (k1a - kc_a).norm() > step || (k2b - kc_b).norm() > step || (k2a - k1b).norm() > 2.0 * step
     }
 
     /// The interval's end points and [`SAMPLES`] points between, in order.
