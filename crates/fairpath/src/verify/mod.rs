@@ -222,7 +222,7 @@ impl Verifier {
         };
         // First pass: a coarse sample of every piece, to start the bound high.
         // Each span carries the bound of |C''| that holds on it.
-        let mut spans: Vec<(usize, f64, f64, f64, f64, Option<f64>)> = Vec::new();
+        let mut spans: Vec<(usize, Sample, Sample, Option<f64>)> = Vec::new();
         for (pi, p) in pieces.iter().enumerate() {
             if reference.contains(&p.curve) {
                 continue;
@@ -230,9 +230,8 @@ impl Verifier {
             let (t0, t1) = p.curve.domain();
             let n = sample_count(&p.curve, opts.tolerance);
             let bounds = SecondDerivative::of(&p.curve);
-            let mut prev_t = t0;
-            let mut prev_f = reference.dist(p.curve.eval(t0)).0;
-            note(&mut best, prev_f, p.curve.eval(t0));
+            let mut prev = Sample::at(reference, &p.curve, t0);
+            note(&mut best, prev.f, prev.q);
             let mut span = 0;
             let mut k = 1;
             while k <= n {
@@ -242,40 +241,30 @@ impl Verifier {
                 let (t, d2) = match &bounds {
                     SecondDerivative::Whole(d2) => (uniform, *d2),
                     SecondDerivative::PerSpan(v) => {
-                        while span + 1 < v.len() && v[span].0 <= prev_t {
+                        while span + 1 < v.len() && v[span].0 <= prev.t {
                             span += 1;
                         }
                         (uniform.min(v[span].0), v[span].1)
                     }
                 };
-                if t <= prev_t {
+                if t <= prev.t {
                     k += 1;
                     continue;
                 }
                 if t >= uniform {
                     k += 1;
                 }
-                let q = p.curve.eval(t);
-                let f = reference.dist(q).0;
-                note(&mut best, f, q);
-                spans.push((pi, prev_t, t, prev_f, f, d2));
-                prev_t = t;
-                prev_f = f;
+                let s = Sample::at(reference, &p.curve, t);
+                note(&mut best, s.f, s.q);
+                spans.push((pi, prev, s, d2));
+                prev = s;
             }
         }
         // Second pass: refine each span.
-        for &(pi, ta, tb, fa, fb, d2max) in &spans {
+        for &(pi, a, b, d2max) in &spans {
             let c = &pieces[pi].curve;
             ctx.refined = 0;
-            ctx.refine(
-                c,
-                matches!(c, Curve::Line(_)),
-                d2max,
-                (ta, tb),
-                (fa, fb),
-                &mut best,
-                0,
-            );
+            ctx.refine(c, matches!(c, Curve::Line(_)), d2max, (a, b), &mut best, 0);
         }
         Deviation {
             found: best.0,
@@ -516,68 +505,78 @@ struct Refine<'a> {
 /// `linuxcnc/spindle/straight_spindleon.ngc` needs more than 4,096).
 pub const MAX_SPLITS_PER_SPAN: usize = 1 << 12;
 
+/// A point of a smoothed piece with its distance to the original and the
+/// original segment nearest to it: found once, read by both spans it ends.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    t: f64,
+    q: Vec3,
+    f: f64,
+    seg: usize,
+}
+
+impl Sample {
+    fn at(r: &Reference, c: &Curve, t: f64) -> Sample {
+        let q = c.eval(t);
+        let (f, seg) = r.dist(q);
+        Sample { t, q, f, seg }
+    }
+}
+
 impl Refine<'_> {
-    #[allow(clippy::too_many_arguments)]
     fn refine(
         &mut self,
         c: &Curve,
         straight: bool,
         d2max: Option<f64>,
-        t: (f64, f64),
-        f: (f64, f64),
+        (a, b): (Sample, Sample),
         best: &mut (f64, Vec3),
         depth: u32,
     ) {
-        let ((ta, tb), (fa, fb)) = (t, f);
         let r = self.r;
-        let (qa, qb) = (c.eval(ta), c.eval(tb));
-        let chord = qa.dist(qb);
+        let chord = a.q.dist(b.q);
+        // The distance to one fixed segment of the original is convex along
+        // a line: its values at the ends, to the segments nearest to each
+        // end, bound it in between.
+        let convex = || {
+            let ba = r.dist_to(a.q, a.seg).max(r.dist_to(b.q, a.seg));
+            let bb = r.dist_to(a.q, b.seg).max(r.dist_to(b.q, b.seg));
+            ba.min(bb)
+        };
         let bound = if straight {
-            // Convexity of the distance to one segment along a line: try
-            // the segments nearest to each end.
-            let (_, ia) = r.dist(qa);
-            let (_, ib) = r.dist(qb);
-            let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
-            let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
-            ba.min(bb).min(0.5 * (fa + fb + chord))
+            convex().min(0.5 * (a.f + b.f + chord))
         } else {
             // Arc length over the span: chord times a margin that covers the
             // arc/chord ratio of spans short enough to be refined
             // (1 + k^2 s^2 / 24).
-            let lipschitz = 0.5 * (fa + fb + chord * 1.05);
+            let lipschitz = 0.5 * (a.f + b.f + chord * 1.05);
             // Second order: the curve is within h = max|C''| dt^2 / 8 of its
             // chord, and the distance to one segment is convex along the
             // chord, so it is at most max(g(qa), g(qb)) + h.
             match d2max {
                 Some(d2) => {
-                    let h = d2 * (tb - ta) * (tb - ta) / 8.0;
-                    let (_, ia) = r.dist(qa);
-                    let (_, ib) = r.dist(qb);
-                    let ba = r.dist_to(qa, ia).max(r.dist_to(qb, ia));
-                    let bb = r.dist_to(qa, ib).max(r.dist_to(qb, ib));
-                    lipschitz.min(ba.min(bb) + h)
+                    let h = d2 * (b.t - a.t) * (b.t - a.t) / 8.0;
+                    lipschitz.min(convex() + h)
                 }
                 None => lipschitz,
             }
         };
         if !bound.is_finite() {
-            note(best, bound, qa);
+            note(best, bound, a.q);
             return;
         }
         if bound <= best.0.max(self.floor) + self.acc
             || depth >= 48
             || (!straight && self.refined >= MAX_SPLITS_PER_SPAN)
-            || (straight && bound <= fa.max(fb) + self.acc)
+            || (straight && bound <= a.f.max(b.f) + self.acc)
         {
             self.pruned_max = self.pruned_max.max(bound);
             return;
         }
         self.refined += 1;
-        let tm = 0.5 * (ta + tb);
-        let qm = c.eval(tm);
-        let fm = r.dist(qm).0;
-        note(best, fm, qm);
-        self.refine(c, straight, d2max, (ta, tm), (fa, fm), best, depth + 1);
-        self.refine(c, straight, d2max, (tm, tb), (fm, fb), best, depth + 1);
+        let m = Sample::at(r, c, 0.5 * (a.t + b.t));
+        note(best, m.f, m.q);
+        self.refine(c, straight, d2max, (a, m), best, depth + 1);
+        self.refine(c, straight, d2max, (m, b), best, depth + 1);
     }
 }
