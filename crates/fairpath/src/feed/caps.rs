@@ -58,8 +58,7 @@ pub fn followed_corner_cap(m: &MachineLimits, ta: Vec3, tb: Vec3) -> f64 {
 }
 
 fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
-    let d1 = c.deriv1(t);
-    let d2 = c.deriv2(t);
+    let (d1, d2) = c.derivs12(t);
     let tangent = d1.normalized(0.0).unwrap_or(crate::geom::Vec3::X);
     let k = crate::geom::curvature_vector_from(d1, d2);
     (

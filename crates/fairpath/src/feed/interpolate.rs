@@ -72,8 +72,7 @@ pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> In
             while ds > 0.0 {
                 let c = &pieces[pi].curve;
                 let (_, u1) = c.domain();
-                let d1 = c.deriv1(u);
-                let d2 = c.deriv2(u);
+                let (d1, d2) = c.derivs12(u);
                 let speed = d1.norm();
                 if speed == 0.0 {
                     break;

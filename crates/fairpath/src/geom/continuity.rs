@@ -73,8 +73,8 @@ pub fn classify_joint(a: &Curve, b: &Curve, jt: &JointTolerances) -> Continuity 
     if at.dist(b.start()) > jt.position {
         return Continuity::Gap;
     }
-    let (da1, da2) = (a.deriv1(ta), a.deriv2(ta));
-    let (db1, db2) = (b.deriv1(tb), b.deriv2(tb));
+    let (da1, da2) = a.derivs12(ta);
+    let (db1, db2) = b.derivs12(tb);
     let (Some(ua), Some(ub)) = (da1.normalized(0.0), db1.normalized(0.0)) else {
         return Continuity::G0;
     };

@@ -15,6 +15,12 @@ pub trait ParamCurve {
     fn deriv1(&self, t: f64) -> Vec3;
     /// Second derivative `C''(t)`.
     fn deriv2(&self, t: f64) -> Vec3;
+    /// `(C'(t), C''(t))`, the same values as [`ParamCurve::deriv1`] and
+    /// [`ParamCurve::deriv2`]; curves that find both in one evaluation (a
+    /// NURBS's basis derivatives) override it.
+    fn derivs12(&self, t: f64) -> (Vec3, Vec3) {
+        (self.deriv1(t), self.deriv2(t))
+    }
 
     fn start(&self) -> Vec3 {
         self.eval(self.domain().0)
@@ -24,13 +30,15 @@ pub trait ParamCurve {
     }
     /// Curvature `|C' x C''| / |C'|^3` (1/mm); 0 where `C'` vanishes.
     fn curvature(&self, t: f64) -> f64 {
-        curvature_from(self.deriv1(t), self.deriv2(t))
+        let (d1, d2) = self.derivs12(t);
+        curvature_from(d1, d2)
     }
     /// Curvature vector `kappa * N` (1/mm): the part of `C''` normal to
     /// `C'`, divided by `|C'|^2`. Equal curvature vectors on both sides of a
     /// joint with equal unit tangents make the joint G2.
     fn curvature_vector(&self, t: f64) -> Vec3 {
-        curvature_vector_from(self.deriv1(t), self.deriv2(t))
+        let (d1, d2) = self.derivs12(t);
+        curvature_vector_from(d1, d2)
     }
     /// Unit tangent, or `None` where the curve is singular.
     fn unit_tangent(&self, t: f64) -> Option<Vec3> {
@@ -215,10 +223,10 @@ pub fn total_curvature<C: ParamCurve + ?Sized>(c: &C, accuracy: f64) -> f64 {
     integrate_pieces(
         c,
         &|t| {
-            let d1 = c.deriv1(t);
+            let (d1, d2) = c.derivs12(t);
             let n2 = d1.dot(d1);
             if n2 > 0.0 {
-                d1.cross(c.deriv2(t)).norm() / n2
+                d1.cross(d2).norm() / n2
             } else {
                 0.0
             }
@@ -308,8 +316,7 @@ fn flatten_rec<C: ParamCurve + ?Sized>(
     let dt = t1 - t0;
     let tm = 0.5 * (t0 + t1);
     let normal_d2 = |t: f64| {
-        let d1 = c.deriv1(t);
-        let d2 = c.deriv2(t);
+        let (d1, d2) = c.derivs12(t);
         let s = d1.norm();
         if s > 0.0 {
             d1.cross(d2).norm() / s

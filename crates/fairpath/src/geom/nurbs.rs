@@ -455,6 +455,13 @@ impl ParamCurve for Nurbs {
     fn deriv2(&self, t: f64) -> Vec3 {
         self.derivs(t)[2]
     }
+    /// One basis evaluation for both (the first derivative's arithmetic
+    /// does not depend on how many derivatives are asked for, so the values
+    /// are those of [`Nurbs::deriv1`] to the bit).
+    fn derivs12(&self, t: f64) -> (Vec3, Vec3) {
+        let [_, d1, d2] = self.derivs(t);
+        (d1, d2)
+    }
     fn curvature(&self, t: f64) -> f64 {
         let [_, d1, d2] = self.derivs(t);
         super::curvature_from(d1, d2)
