@@ -432,8 +432,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let started = std::time::Instant::now();
             let mut progress = fairpath_cli::progress::Progress::start("reading", quiet);
             let bytes = read::read_bytes(&input)?;
-            let program = read::parse_program(&input, &bytes)?;
-            let units = program.units();
+            let prepared = smooth::prepare(
+                &input,
+                &bytes,
+                format.unwrap_or_else(|| controller.default_format()),
+            )?;
+            let units = prepared.units();
             let method = method.unwrap_or_else(|| controller.default_method().to_string());
             let mut opts = smooth::options(
                 tolerance.mm(units),
@@ -450,10 +454,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
             if let Some(m) = method_with_options(&method, options.as_deref(), band, lambda)? {
                 opts.set_method_options(m);
             }
-            let summary = smooth::smooth_read(
+            let summary = smooth::smooth_prepared(
                 &input,
                 &bytes,
-                &program,
+                prepared,
                 started,
                 &output,
                 &opts,

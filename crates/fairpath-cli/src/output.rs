@@ -24,34 +24,139 @@ pub const NEW_FILE_MODE: u32 = 0o666;
 /// attributes are those of a new file; a hard-linked file's other names
 /// keep the old contents (the rename makes a new file).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let target = resolve_link(path)?;
-    let dir = match target.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let existing = std::fs::metadata(&target).ok().map(|m| m.permissions());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".fairpath-");
-    #[cfg(unix)]
-    if existing.is_none() {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(NEW_FILE_MODE));
-    }
-    let mut tmp = builder
-        .tempfile_in(dir)
-        .with_context(|| format!("cannot create a temporary file in {}", dir.display()))?;
-    tmp.write_all(bytes)
-        .and_then(|_| tmp.flush())
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(bytes)
         .with_context(|| format!("cannot write {}", path.display()))?;
-    if let Some(perms) = existing {
-        tmp.as_file()
-            .set_permissions(perms)
-            .with_context(|| format!("cannot set the permissions of {}", path.display()))?;
+    file.commit()
+}
+
+/// A file written beside `path` that becomes `path` only when committed
+/// ([`AtomicFile::commit`], as [`write_atomically`] writes it): dropped
+/// uncommitted, it leaves nothing behind. Writes are buffered.
+pub struct AtomicFile {
+    tmp: tempfile::NamedTempFile,
+    buf: std::io::BufWriter<std::fs::File>,
+    target: PathBuf,
+    path: PathBuf,
+    existing: Option<std::fs::Permissions>,
+}
+
+impl AtomicFile {
+    /// A new temporary file beside `path` (beside the file it links to).
+    pub fn create(path: &Path) -> Result<AtomicFile> {
+        let target = resolve_link(path)?;
+        let dir = match target.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let existing = std::fs::metadata(&target).ok().map(|m| m.permissions());
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".fairpath-");
+        #[cfg(unix)]
+        if existing.is_none() {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(NEW_FILE_MODE));
+        }
+        let tmp = builder
+            .tempfile_in(&dir)
+            .with_context(|| format!("cannot create a temporary file in {}", dir.display()))?;
+        let file = tmp
+            .as_file()
+            .try_clone()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(AtomicFile {
+            tmp,
+            buf: std::io::BufWriter::new(file),
+            target,
+            path: path.to_path_buf(),
+            existing,
+        })
     }
-    tmp.persist(&target)
-        .map_err(|e| e.error)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+
+    /// Renames the file written over `path`, with the permissions of the
+    /// file it replaces (see [`write_atomically`]).
+    pub fn commit(mut self) -> Result<()> {
+        let path = self.path.clone();
+        self.buf
+            .flush()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        if let Some(perms) = self.existing.take() {
+            self.tmp
+                .as_file()
+                .set_permissions(perms)
+                .with_context(|| format!("cannot set the permissions of {}", path.display()))?;
+        }
+        let AtomicFile {
+            tmp, buf, target, ..
+        } = self;
+        drop(buf);
+        tmp.persist(&target)
+            .map_err(|e| e.error)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(())
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.buf.write(b)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.buf.flush()
+    }
+}
+
+/// Where a program being written goes: a file, written atomically
+/// ([`AtomicFile`]), or standard output (`-`), which gets the text only
+/// when it is committed (held in an anonymous temporary file until then:
+/// a job that fails part-way writes nothing).
+pub enum OutputSink {
+    File(AtomicFile),
+    Stdout(std::io::BufWriter<std::fs::File>),
+}
+
+impl OutputSink {
+    /// The sink for `path` (`-`: standard output).
+    pub fn create(path: &Path) -> Result<OutputSink> {
+        if crate::read::is_stdio(path) {
+            let f = tempfile::tempfile().context("cannot create a temporary file")?;
+            Ok(OutputSink::Stdout(std::io::BufWriter::new(f)))
+        } else {
+            AtomicFile::create(path).map(OutputSink::File)
+        }
+    }
+
+    /// The text written becomes the output.
+    pub fn commit(self) -> Result<()> {
+        match self {
+            OutputSink::File(f) => f.commit(),
+            OutputSink::Stdout(buf) => {
+                use std::io::Seek;
+                let mut f = buf.into_inner().map_err(|e| e.into_error())?;
+                f.rewind()?;
+                let mut out = std::io::stdout().lock();
+                std::io::copy(&mut f, &mut out)
+                    .and_then(|_| out.flush())
+                    .context("cannot write standard output")?;
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Write for OutputSink {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        match self {
+            OutputSink::File(f) => f.write(b),
+            OutputSink::Stdout(w) => w.write(b),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            OutputSink::File(f) => f.flush(),
+            OutputSink::Stdout(w) => w.flush(),
+        }
+    }
 }
 
 /// Writes `bytes` to `path` atomically ([`write_atomically`]), or to

@@ -27,7 +27,8 @@ pub fn next_step(done: &str) -> &'static str {
         "smooth" => "verifying the curves",
         "verify curves" => "planning the input and the curves",
         "plan input and curves" => "writing the program, reading it back and checking it",
-        "render, write, check" => "planning the written program",
+        "render" => "writing the program, reading it back and checking it",
+        "render, write, check" | "write, check" => "planning the written program",
         _ => "saving",
     }
 }

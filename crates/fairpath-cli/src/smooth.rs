@@ -3,13 +3,15 @@
 //! passed through, write the output atomically only when it verified, and
 //! the summary. Option errors name the command line's flags.
 
-use crate::read::{parse_program, read_bytes};
+use crate::read::read_bytes;
 use crate::summary::Summary;
 use crate::usage::usage;
 use crate::{Controller, Format};
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 use fairpath::pipeline::PipelineError;
-use fairpath_gcode::{OptionsError, Program, SmoothOptions, SmoothProgramError};
+use fairpath_gcode::{
+    Evidence, OptionsError, PartsError, Prepared, SmoothOptions, SmoothProgramError, PART_LINES,
+};
 use std::path::Path;
 
 /// [`SmoothOptions::new`] with errors naming the flags (`--tolerance`,
@@ -56,25 +58,43 @@ pub fn option_error(e: OptionsError) -> anyhow::Error {
 
 /// The whole `fairpath smooth` job: read `input`, smooth, verify, plan,
 /// render, write, verify the written text, plan it (the library's
-/// [`fairpath_gcode::smooth_parsed`]), and write `output` only if it
+/// [`fairpath_gcode::smooth_in_parts`]), and write `output` only if it
 /// passes (through a temporary file renamed over `output`). Returns the
 /// summary; on a verification failure prints it to stderr and returns an
 /// error, leaving no output file.
 pub fn smooth_file(input: &Path, output: &Path, opts: &SmoothOptions) -> Result<Summary> {
     let started = std::time::Instant::now();
     let bytes = read_bytes(input)?;
-    let program = parse_program(input, &bytes)?;
-    smooth_read(input, &bytes, &program, started, output, opts, None)
+    let prepared = prepare(input, &bytes, opts.format())?;
+    smooth_prepared(input, &bytes, prepared, started, output, opts, None)
 }
 
-/// [`smooth_file`] of a program read already: `bytes` is the text of
-/// `input` (`-`: standard input), `program` its reading, begun at
-/// `started`; `output` `-` writes to standard output. `progress`, if any,
-/// follows the steps and is erased before anything is printed.
-pub fn smooth_read(
+/// What the job needs read before it starts ([`Prepared::read`]: the
+/// facts of a program processed in parts, or the whole program), with
+/// reader errors as `file:line:column` with the line and a caret.
+pub fn prepare(input: &Path, bytes: &[u8], format: Format) -> Result<Prepared> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        bail!("{}: empty program", crate::read::name(input));
+    }
+    Prepared::read(bytes, format).map_err(|e| {
+        anyhow!(crate::source_error::SourceError::new(
+            &crate::read::name(input),
+            bytes,
+            &e
+        ))
+    })
+}
+
+/// [`smooth_file`] of a program prepared already: `bytes` is the text of
+/// `input` (`-`: standard input), `prepared` what was read of it, begun at
+/// `started`; `output` `-` writes to standard output. The written text
+/// goes to a temporary file part after part and becomes `output` only when
+/// every part verified. `progress`, if any, follows the steps and is
+/// erased before anything is printed.
+pub fn smooth_prepared(
     input: &Path,
     bytes: &[u8],
-    program: &Program,
+    prepared: Prepared,
     started: std::time::Instant,
     output: &Path,
     opts: &SmoothOptions,
@@ -88,43 +108,63 @@ pub fn smooth_read(
     let mut phases = clock();
     phases.mark("read");
     let job = clock();
-    warn_passthrough(input, program);
+    let units = prepared.units();
+    warn_passthrough(input, prepared.passthrough());
     let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
-    let done = fairpath_gcode::smooth_parsed_with(program, opts, job);
+    let mut sink = crate::output::OutputSink::create(output)?;
+    let done = fairpath_gcode::smooth_in_parts(bytes, prepared, opts, PART_LINES, &mut sink, job);
     if let Some(p) = progress.as_mut() {
         p.finish();
     }
-    let (written, report) = match done {
+    let summary = |e: &Evidence| {
+        let mut summary = Summary::new(input, output, opts, e);
+        summary.units = units;
+        summary.elapsed = started.elapsed();
+        summary
+    };
+    let (evidence, job) = match done {
         Ok(done) => done,
         Err(e) => {
-            if let SmoothProgramError::OutputNotVerified { report, .. } = &e {
-                let mut summary = Summary::new(input, output, opts, report);
-                summary.units = program.units();
-                summary.elapsed = started.elapsed();
-                if timing {
-                    eprint!("{}{}", phases.report(), report.phases.report());
-                }
-                eprint!("{}", summary.text());
-            }
+            drop(sink);
+            let refuse = |e: &dyn std::fmt::Display| {
+                anyhow!(
+                    "refusing to write {}: {e}",
+                    crate::summary::output_name(output)
+                )
+            };
             return Err(match e {
-                e @ (SmoothProgramError::OutputNotVerified { .. }
-                | SmoothProgramError::Curves(PipelineError::NotVerified { .. })) => {
-                    anyhow!(
-                        "refusing to write {}: {e}",
-                        crate::summary::output_name(output)
-                    )
+                PartsError::NotVerified { ref evidence, .. } => {
+                    if timing {
+                        eprint!("{}", phases.report());
+                    }
+                    eprint!("{}", summary(evidence).text());
+                    refuse(&e)
+                }
+                PartsError::Job(
+                    e @ SmoothProgramError::Curves(PipelineError::NotVerified { .. }),
+                ) => refuse(&e),
+                PartsError::Job(SmoothProgramError::OutputNotVerified { report, .. }) => {
+                    // (a program read whole)
+                    let accuracy = opts.tolerance() * fairpath_gcode::entry::LENGTH_ACCURACY_SHARE;
+                    let evidence = Evidence::of(&report, accuracy);
+                    eprint!("{}", summary(&evidence).text());
+                    refuse(&format!(
+                        "the output leaves the tolerance ({:.6} mm > {} mm) or moves a run \
+                         endpoint",
+                        report.written.max_deviation,
+                        report.budget.written()
+                    ))
                 }
                 e => e.into(),
             });
         }
     };
-    let mut summary = Summary::new(input, output, opts, &report);
-    summary.units = program.units();
-    summary.elapsed = started.elapsed();
+    sink.commit()?;
+    let mut summary = summary(&evidence);
     if timing {
-        eprint!("{}{}", phases.report(), report.phases.report());
+        eprint!("{}{}", phases.report(), job.report());
     }
-    if report.no_moves {
+    if evidence.no_moves {
         // Nothing to smooth (tool changes, coolant ...): the program as it
         // is, byte for byte.
         eprintln!(
@@ -132,10 +172,8 @@ pub fn smooth_read(
             crate::read::name(input)
         );
         summary.lines_out = summary.lines_in;
-        crate::output::write_output(output, bytes)?;
-        return Ok(summary);
     }
-    crate::output::write_output(output, written.text.as_bytes())?;
+    summary.elapsed = started.elapsed();
     Ok(summary)
 }
 
@@ -144,8 +182,7 @@ const PASSTHROUGH_LISTED: usize = 8;
 
 /// Warns on stderr about the lines passed through verbatim (canned cycles,
 /// other dialects' words): they are run as written, not smoothed.
-fn warn_passthrough(input: &Path, program: &Program) {
-    let notes = program.passthrough();
+fn warn_passthrough(input: &Path, notes: &[fairpath_gcode::Passthrough]) {
     if notes.is_empty() {
         return;
     }

@@ -3,7 +3,7 @@
 use fairpath::render::RenderStats;
 use fairpath::smooth::{CornerReason, UnfairedReason};
 use fairpath_gcode::pipeline::JobTimes;
-use fairpath_gcode::{Report, SmoothOptions};
+use fairpath_gcode::{Evidence, SmoothOptions};
 use serde_json::json;
 use std::fmt::Write;
 use std::path::Path;
@@ -88,8 +88,7 @@ pub struct Summary {
 }
 
 impl Summary {
-    pub fn new(input: &Path, output: &Path, opts: &SmoothOptions, report: &Report) -> Summary {
-        let result = &report.result;
+    pub fn new(input: &Path, output: &Path, opts: &SmoothOptions, e: &Evidence) -> Summary {
         let m = opts.machine();
         let planned_on = format!(
             "V {} mm/s, A {} mm/s^2, J {} mm/s^3, Ts {} ms, junction deviation {} mm, {}",
@@ -104,7 +103,6 @@ impl Summary {
                 "programmed feeds"
             }
         );
-        let acc = opts.tolerance() * 1e-4;
         Summary {
             input: crate::read::name(input),
             output: output_name(output),
@@ -115,52 +113,35 @@ impl Summary {
             units: fairpath_gcode::Units::Mm,
             // The budget the writer used: a program's own looser G64 takes
             // a blending share out of the output share (`budget_for`).
-            shares: report.shares(),
-            feed_moves_in: result.runs.iter().map(|r| r.original.pieces.len()).sum(),
-            rapids: report.rapids,
-            runs: result.runs.len(),
-            pieces_out: result.runs.iter().map(|r| r.smoothed.pieces.len()).sum(),
-            curves_out: report.curves_out(),
-            transitions: result.runs.iter().map(|r| r.smoothed.transitions).sum(),
-            kept_corners: report.kept_corners(),
-            chosen: report.auto_chose(),
-            unfaired: report.unfaired(),
-            dropped_zero_length: result
-                .runs
-                .iter()
-                .map(|r| r.smoothed.dropped_zero_length)
-                .sum(),
-            merged_collinear: result
-                .runs
-                .iter()
-                .map(|r| r.smoothed.merged_collinear)
-                .sum(),
-            absorbed_jogs: result.runs.iter().map(|r| r.smoothed.absorbed_jogs).sum(),
-            max_deviation_curves: report.max_deviation_curves(),
-            max_deviation_written: report.max_deviation_written(),
-            joints: report.joints(),
-            length_before: result.runs.iter().map(|r| r.original.length(acc)).sum(),
-            length_after: result
-                .runs
-                .iter()
-                .flat_map(|r| &r.smoothed.pieces)
-                .map(|p| p.curve.length(acc))
-                .sum(),
-            peak_curvature: result
-                .runs
-                .iter()
-                .map(|r| r.report.peak_curvature)
-                .fold(0.0, f64::max),
-            cusps: result.runs.iter().map(|r| r.report.cusps).sum(),
+            shares: (e.budget.smoothing(), e.budget.output, e.budget.blend),
+            feed_moves_in: e.feed_moves_in,
+            rapids: e.rapids,
+            runs: e.runs,
+            pieces_out: e.pieces_out,
+            curves_out: e.curves_out,
+            transitions: e.transitions,
+            kept_corners: e.kept_corners.clone(),
+            chosen: e.chosen.clone(),
+            unfaired: e.unfaired.clone(),
+            dropped_zero_length: e.dropped_zero_length,
+            merged_collinear: e.merged_collinear,
+            absorbed_jogs: e.absorbed_jogs,
+            max_deviation_curves: e.max_deviation_curves,
+            max_deviation_written: e.written.max_deviation,
+            joints: e.joints,
+            length_before: e.length_before,
+            length_after: e.length_after,
+            peak_curvature: e.peak_curvature,
+            cusps: e.cusps,
             elapsed: Duration::ZERO,
-            times: report.times,
+            times: e.times,
             planned_on,
-            rendered: report.stats,
-            lines_in: report.lines_in,
-            lines_out: report.lines_out,
-            retried_runs: report.retried_runs,
-            kept_runs: report.kept_runs,
-            block_capped: report.block_capped,
+            rendered: e.rendered,
+            lines_in: e.lines_in,
+            lines_out: e.lines_out,
+            retried_runs: e.retried_runs,
+            kept_runs: e.kept_runs,
+            block_capped: e.block_capped,
         }
     }
 

@@ -55,6 +55,7 @@ pub(crate) enum Spindle {
 
 /// The canned-cycle part of the modal state (LinuxCNC's `cycle_*`
 /// settings), in program units.
+#[derive(Clone)]
 pub(crate) struct CycleState {
     /// G99 (retract to R, LinuxCNC's default) rather than G98.
     pub(crate) retract_to_r: bool,

@@ -5,21 +5,29 @@
 //! [`crate::emit`].
 
 mod error;
+mod evidence;
+mod parts;
 mod report;
 
 pub use error::SmoothProgramError;
+pub use evidence::Evidence;
+pub use parts::{smooth_in_parts, PartsError, Prepared, PART_LINES};
 pub use report::Report;
 
-use crate::emit::emit;
+use crate::emit::{choose_part, emit_part, write_chosen_part, Chosen, PartContext};
 use crate::pipeline::{
-    plan_input_and_curves, plan_text, plan_written, smooth_curves, JobTimes, Phases, SmoothOptions,
-    SmoothResult, Times,
+    plan_input_and_curves, plan_text, plan_written_from, smooth_curves, JobTimes, Phases,
+    SmoothOptions, SmoothResult, TimeSums, Times,
 };
 use crate::{Format, Program};
 use fairpath::feed::plan::RunPlan;
 use fairpath::path::{Piece, Run};
 
 type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
+
+/// Lengths in the [`Evidence`] are measured to this share of the
+/// tolerance (the verifier's accuracy).
+pub const LENGTH_ACCURACY_SHARE: f64 = 1e-4;
 
 /// The smoothed runs of a program and the plans [`write_curves`] needs.
 #[derive(Clone, Debug)]
@@ -64,7 +72,7 @@ pub struct Output {
 }
 
 /// Writes the program with `curves` in its runs in `opts`' format for its
-/// controller ([`emit`]: each run in the form that plans fastest, or as
+/// controller ([`crate::emit::emit`]: each run in the form that plans fastest, or as
 /// the program wrote it), reads the text back, verifies it against the
 /// original within [`ToleranceBudget::written`] and plans it. A text that
 /// does not verify is [`SmoothProgramError::OutputNotVerified`]. `phases`
@@ -76,17 +84,19 @@ pub fn write_curves(
     program: &Program,
     curves: Curves,
     opts: &SmoothOptions,
-    mut phases: Phases,
+    phases: Phases,
 ) -> Result<(Output, Report)> {
-    // The original and smoothed pieces lent to the writer and put back for the report
-    // (no copy), the plans dropped once written.
-    let Curves {
-        mut result,
-        input,
-        exact,
-        plans,
-    } = curves;
-    let (original, smoothed): (Vec<Run>, Vec<Vec<Piece>>) = result
+    let mut ctx = PartContext::whole(program);
+    let start = TimeSums::default();
+    let (output, report, _) =
+        write_curves_part(program, curves, None, opts, phases, &mut ctx, start)?;
+    Ok((output, report))
+}
+
+/// The original and smoothed pieces of every run of `result`, taken out
+/// of it to be lent as slices (no copy); [`put_back`] returns them.
+fn lend(result: &mut SmoothResult) -> (Vec<Run>, Vec<Vec<Piece>>) {
+    result
         .runs
         .iter_mut()
         .map(|r| {
@@ -95,19 +105,86 @@ pub fn write_curves(
                 core::mem::take(&mut r.smoothed.pieces),
             )
         })
-        .unzip();
-    let emitted = emit(program, &original, &smoothed, &plans, &opts.emit_options());
-    drop(plans);
+        .unzip()
+}
+
+/// Puts what [`lend`] took back into `result`.
+fn put_back(result: &mut SmoothResult, original: Vec<Run>, smoothed: Vec<Vec<Piece>>) {
     for ((r, run), pieces) in result.runs.iter_mut().zip(original).zip(smoothed) {
         r.original = run;
         r.smoothed.pieces = pieces;
     }
+}
+
+/// The renderings of `program`'s runs (a part of a program whose whole has
+/// `facts`) chosen from `curves` ([`crate::emit::choose_part`]): the half
+/// of writing that needs nothing of the parts before.
+pub(crate) fn choose_renderings(
+    program: &Program,
+    facts: &crate::ProgramFacts,
+    curves: &mut Curves,
+    opts: &SmoothOptions,
+) -> Result<Option<Chosen>> {
+    let (original, smoothed) = lend(&mut curves.result);
+    let chosen = choose_part(
+        program,
+        facts,
+        &original,
+        &smoothed,
+        &curves.plans,
+        &opts.emit_options(),
+    );
+    put_back(&mut curves.result, original, smoothed);
+    Ok(chosen?)
+}
+
+/// [`write_curves`] of `program`, a part of a program (or a whole one),
+/// from where `ctx` stands (left standing after it), with the written
+/// program's times so far, `written_from`; also returns them with the
+/// part's added. The report's written times are those sums.
+///
+/// `chosen`: the renderings [`choose_renderings`] chose for these curves,
+/// or `None` to choose them here.
+pub(crate) fn write_curves_part(
+    program: &Program,
+    curves: Curves,
+    chosen: Option<Option<Chosen>>,
+    opts: &SmoothOptions,
+    mut phases: Phases,
+    ctx: &mut PartContext,
+    written_from: TimeSums,
+) -> Result<(Output, Report, TimeSums)> {
+    // The original and smoothed pieces lent to the writer and put back for the report
+    // (no copy), the plans dropped once written.
+    let Curves {
+        mut result,
+        input,
+        exact,
+        plans,
+    } = curves;
+    let (original, smoothed) = lend(&mut result);
+    let eo = opts.emit_options();
+    let step = if chosen.is_some() {
+        "write, check"
+    } else {
+        "render, write, check"
+    };
+    let emitted = match chosen {
+        None => emit_part(program, ctx, &original, &smoothed, &plans, &eo),
+        Some(c) => write_chosen_part(program, ctx, &original, &smoothed, &plans, &eo, c),
+    };
+    drop(plans);
+    put_back(&mut result, original, smoothed);
     let mut emitted = emitted?;
-    phases.mark("render, write, check");
+    phases.mark(step);
     // From the reading the check made, or the text (JSON).
-    let written_times = match emitted.reading.take() {
-        Some(reading) => plan_written(&reading, opts)?,
-        None => plan_text(&emitted.text, opts)?,
+    // (JSON is written whole: its sums go nowhere.)
+    let (written_times, written_sums) = match emitted.reading.take() {
+        Some(reading) => {
+            let sums = plan_written_from(&reading, opts, written_from)?;
+            (sums.times(), sums)
+        }
+        None => (plan_text(&emitted.text, opts)?, TimeSums::default()),
     };
     phases.mark("plan written");
     let report = Report {
@@ -125,7 +202,7 @@ pub fn write_curves(
         method: opts.method_name().to_string(),
         block_capped: opts.method().writes_for_block_capped_planner(),
         lines_in: program.lines().len(),
-        lines_out: emitted.text.lines().count(),
+        lines_out: lines_of(&emitted.text),
         rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
         no_moves: program.is_empty(),
         phases,
@@ -142,7 +219,12 @@ pub fn write_curves(
             report: Box::new(report),
         });
     }
-    Ok((output, report))
+    Ok((output, report, written_sums))
+}
+
+/// Lines of a written text, as `str::lines` counts them.
+fn lines_of(text: &str) -> usize {
+    text.lines().count()
 }
 
 /// [`smooth_program`] of a program already read.

@@ -147,6 +147,7 @@ mod cycles;
 pub mod emit;
 pub mod entry;
 pub mod error;
+pub mod facts;
 pub mod format;
 pub mod interp;
 pub mod lang;
@@ -161,10 +162,12 @@ pub mod write_json;
 pub mod write_spline;
 
 pub use entry::{
-    smooth_and_plan, smooth_parsed, smooth_parsed_with, smooth_program, write_curves, Curves,
-    Output, Report, SmoothProgramError,
+    smooth_and_plan, smooth_in_parts, smooth_parsed, smooth_parsed_with, smooth_program,
+    write_curves, Curves, Evidence, Output, PartsError, Prepared, Report, SmoothProgramError,
+    PART_LINES,
 };
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
+pub use facts::ProgramFacts;
 pub use format::{Controller, Format};
 pub use interp::{parse, parse_motion, parse_with, read_motion};
 pub use motions::json_motions;

@@ -30,8 +30,9 @@ pub mod written;
 pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
 pub use plans::{
-    into_outline_and_runs, outline, plan_curves, plan_input, plan_input_and_curves, plan_text,
-    plan_written, JobTimes, MotionOutline, Times, WrittenReading,
+    into_outline_and_runs, outline, plan_curves, plan_input, plan_input_and_curves,
+    plan_input_and_curves_from, plan_text, plan_written, plan_written_from, JobTimes,
+    MotionOutline, TimeSums, Times, WrittenReading,
 };
 
 /// What the user asked for.
@@ -146,9 +147,15 @@ impl SmoothOptions {
     /// user's feeds for a G-code format, the exact curves' time at the
     /// machine's maximum feed for JSON).
     pub fn method_for(&self, program: &Program) -> Option<Box<dyn Smoother>> {
+        self.method_for_facts(&crate::ProgramFacts::of(program))
+    }
+
+    /// [`SmoothOptions::method_for`] a program whose whole has `facts`
+    /// (the same for each of its parts).
+    pub fn method_for_facts(&self, facts: &crate::ProgramFacts) -> Option<Box<dyn Smoother>> {
         match &self.spec {
             Some(m @ Method::Auto(_)) => {
-                Some(m.smoother(written::objective_for(&self.emit_options(), program)))
+                Some(m.smoother(written::objective_for(&self.emit_options(), facts)))
             }
             _ => None,
         }
@@ -278,16 +285,18 @@ impl EmitOptions {
     /// smoother used it, and smoothing + output + blending is still the
     /// tolerance.
     pub fn budget_for(&self, program: &Program) -> Result<ToleranceBudget, BudgetError> {
+        self.budget_for_blending(&crate::write_gcode::PathBlending::of(program))
+    }
+
+    /// [`EmitOptions::budget_for`] of a program whose path controls at its
+    /// runs are `blending` ([`crate::ProgramFacts::blending`]).
+    pub fn budget_for_blending(
+        &self,
+        blending: &crate::write_gcode::PathBlending,
+    ) -> Result<ToleranceBudget, BudgetError> {
         let b = self.budget;
         let blend = Self::blend_share(Controller::Linuxcnc, self.format, b.output);
-        if b.blend > 0.0 || blend <= 0.0 {
-            return Ok(b);
-        }
-        let blends = crate::write_gcode::path_control_before_runs(program)
-            .iter()
-            .flatten()
-            .any(|p| p.exceeds(blend));
-        if !blends {
+        if b.blend > 0.0 || blend <= 0.0 || !blending.exceeds(blend) {
             return Ok(b);
         }
         ToleranceBudget::new(b.total, Some(b.output - blend), blend)
@@ -348,6 +357,26 @@ impl Phases {
             ..Phases::new()
         }
     }
+    /// A clock of its own for steps run beside these (on another thread),
+    /// telling the same observer; [`Phases::merge`] puts them together.
+    pub fn sibling(&self) -> Phases {
+        Phases {
+            observer: self.observer.clone(),
+            ..Phases::new()
+        }
+    }
+
+    /// The next step starts now (the time since the last mark was not
+    /// this clock's: waiting for another thread).
+    pub fn restart(&mut self) {
+        self.last = std::time::Instant::now();
+    }
+
+    /// Adds `other`'s steps after these.
+    pub fn merge(&mut self, other: Phases) {
+        self.done.extend(other.done);
+    }
+
     pub fn mark(&mut self, name: &'static str) {
         let now = std::time::Instant::now();
         self.done.push((name, now - self.last, peak_rss()));
@@ -366,9 +395,21 @@ impl Phases {
     }
     /// One line per step: its wall time and, where known, the peak
     /// resident memory of the process when it ended (so the step that set
-    /// the peak is the first to show it).
+    /// the peak is the first to show it). A step marked several times (once
+    /// per part of a program processed in parts) is one line: its times
+    /// added, the peak when it last ended.
     pub fn report(&self) -> String {
-        self.done
+        let mut steps: Vec<(&'static str, std::time::Duration, Option<u64>)> = Vec::new();
+        for &(n, d, rss) in &self.done {
+            match steps.iter_mut().find(|s| s.0 == n) {
+                Some(s) => {
+                    s.1 += d;
+                    s.2 = rss.or(s.2);
+                }
+                None => steps.push((n, d, rss)),
+            }
+        }
+        steps
             .iter()
             .map(|(n, d, rss)| match rss {
                 Some(b) => format!(
@@ -392,7 +433,18 @@ pub fn smooth_curves(
     opts: &SmoothOptions,
     phases: &mut Phases,
 ) -> Result<SmoothResult, PipelineError> {
-    let for_program = opts.method_for(program);
+    smooth_curves_with(program, &crate::ProgramFacts::of(program), opts, phases)
+}
+
+/// [`smooth_curves`] of `program`, a part of a program whose whole has
+/// `facts`, or a whole one.
+pub fn smooth_curves_with(
+    program: &Program,
+    facts: &crate::ProgramFacts,
+    opts: &SmoothOptions,
+    phases: &mut Phases,
+) -> Result<SmoothResult, PipelineError> {
+    let for_program = opts.method_for_facts(facts);
     fairpath::pipeline::smooth_runs_observed(
         program.runs(),
         for_program.as_deref().unwrap_or(opts.method.as_ref()),

@@ -156,6 +156,9 @@ pub struct ProgramLine {
     pub interpreted: bool,
     /// Modal motion mode before this line.
     pub motion_before: MotionMode,
+    /// Modal motion mode after this line (the next line's
+    /// [`ProgramLine::motion_before`]).
+    pub motion_after: MotionMode,
     /// The line has an explicit motion G word (group 1).
     pub sets_motion: bool,
     /// The line has axis words that move in the modal motion mode (no G word
@@ -246,6 +249,14 @@ pub struct Program {
     pub(crate) start_units: Units,
     pub(crate) expansion: Option<Expansion>,
     pub(crate) passthrough: Vec<Passthrough>,
+    /// [`ProgramLine::number`] of the first line: 1 for a whole program,
+    /// more for a part of one read by [`crate::interp::PartReader`] (its
+    /// lines keep their numbers in the whole program).
+    pub(crate) first_number: usize,
+    /// For a part of a program: the arc plane and arc distance mode in
+    /// force before its first line (what a run starting there is written
+    /// in); `None` for a whole program.
+    pub(crate) before: Option<(fairpath::geom::Plane, bool)>,
 }
 
 /// How an expanded program (one with LinuxCNC o-word control flow) was
@@ -297,6 +308,35 @@ impl Program {
     /// The lines of the program with their interpretation.
     pub fn lines(&self) -> &[ProgramLine] {
         &self.lines
+    }
+
+    /// The line numbered `number` ([`ProgramLine::number`]). Panics when the
+    /// program (or this part of one) has no such line.
+    pub fn line(&self, number: usize) -> &ProgramLine {
+        &self.lines[number - self.first_number]
+    }
+
+    /// The lines numbered `first` to `last`, both included.
+    pub fn lines_between(&self, first: usize, last: usize) -> &[ProgramLine] {
+        &self.lines[first - self.first_number..=last - self.first_number]
+    }
+
+    /// [`ProgramLine::number`] of the first line: 1, but for a part of a
+    /// program ([`crate::interp::PartReader`]).
+    pub fn first_number(&self) -> usize {
+        self.first_number
+    }
+
+    /// The arc plane and arc distance mode (incremental centres) in force
+    /// before line `number`: after the line before it, or as a part of a
+    /// program starts, or the program's defaults (XY, incremental).
+    pub(crate) fn arc_modes_before(&self, number: usize) -> (fairpath::geom::Plane, bool) {
+        if number > self.first_number {
+            let l = self.line(number - 1);
+            (l.plane_after, l.arc_incremental_after)
+        } else {
+            self.before.unwrap_or((fairpath::geom::Plane::Xy, true))
+        }
     }
 
     /// Every move with its line and pinning.

@@ -29,7 +29,7 @@ use fairpath::feed::program::{simulate, Motion, Simulation};
 use fairpath::geom::{flatten_params, ParamCurve, Vec3};
 use fairpath::path::Piece;
 use fairpath_gcode::pipeline::Phases;
-use fairpath_gcode::SmoothOptions;
+use fairpath_gcode::{Evidence, SmoothOptions};
 use std::path::Path;
 use view::{Layer, Markers};
 
@@ -206,7 +206,8 @@ fn smooth_one(
         .iter()
         .flat_map(|r| r.smoothed.kept_corners.iter().map(|k| k.at))
         .collect();
-    let summary = Summary::new(path, written_name, so, &report);
+    let accuracy = so.tolerance() * fairpath_gcode::entry::LENGTH_ACCURACY_SHARE;
+    let summary = Summary::new(path, written_name, so, &Evidence::of(&report, accuracy));
     let energy = report
         .result
         .runs

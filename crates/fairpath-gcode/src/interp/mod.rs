@@ -27,15 +27,21 @@
 
 mod arc;
 mod codes;
+mod facts;
 mod line;
 mod modal;
 mod motion;
+mod motion_sink;
 mod nonmodal;
+mod parts;
 mod reader;
 mod runs;
 mod state;
 
 pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
+pub use facts::read_facts;
+pub use motion_sink::MotionReader;
+pub use parts::PartReader;
 pub use reader::{parse, parse_motion, parse_with, read_motion};
 pub(crate) use state::{FeedMode, State};
 

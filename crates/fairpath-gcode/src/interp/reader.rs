@@ -1,7 +1,9 @@
 //! The `Reader`: a program read in place (one line per source line) or
 //! expanded (the lines its o-word control flow executes), line by line.
 
+use super::facts::FactsAcc;
 use super::line::interpret_line;
+use super::motion_sink::{MotionReader, MotionSink};
 use super::runs::group_runs;
 use super::{FeedMode, State};
 use crate::error::{ErrorKind, GcodeError};
@@ -11,12 +13,10 @@ use crate::lang::{
     params::{Params, SystemView},
 };
 use crate::lexer::{line_slices, scan_line, split_lines, ItemKind, SourceLine};
-use crate::program::{
-    Expansion, MotionMode, MotionOutline, Move, MoveKind, Program, ProgramLine, Units,
-};
+use crate::program::{Expansion, MotionMode, MotionOutline, Move, Program, ProgramLine, Units};
 use crate::spline::ParseOptions;
 use fairpath::controller::Plane;
-use fairpath::path::{Piece, Run};
+use fairpath::path::Run;
 
 /// Reads a program with the default [`ParseOptions`]. See the crate
 /// documentation for what is accepted.
@@ -60,59 +60,8 @@ pub fn read_motion(text: &[u8]) -> Result<(Vec<MotionOutline>, Vec<Run>), GcodeE
     if oword {
         return Ok(crate::program::into_outline_and_runs(parse_motion(text)?));
     }
-    let mut r = Reader::new(&ParseOptions::default());
-    r.motion_only = true;
-    r.sink = Some(MotionSink::default());
-    r.in_place(line_slices(text).map_while(Result::ok))?;
-    let n = r.lines.len() + 1;
-    r.st.spline
-        .check_closed()
-        .map_err(|e| to_source(e, n, n, &r.lines))?;
-    let mut sink = r.sink.take().unwrap_or_default();
-    sink.close_run();
-    Ok((sink.outline, sink.runs))
-}
-
-/// Where [`read_motion`] puts each line's moves: the run being read, or
-/// the outline (rapids and pinned moves, and each run where it starts).
-#[derive(Default)]
-struct MotionSink {
-    outline: Vec<MotionOutline>,
-    runs: Vec<Run>,
-    current: Vec<Piece>,
-}
-
-impl MotionSink {
-    fn close_run(&mut self) {
-        if !self.current.is_empty() {
-            self.outline.push(MotionOutline::Run(self.runs.len()));
-            self.runs.push(Run::new(core::mem::take(&mut self.current)));
-        }
-    }
-
-    /// The moves of one line, as `group_runs` groups them: a line that
-    /// breaks the run (or is not interpreted) ends it and its moves are
-    /// motions of their own; a feed change ends it too.
-    fn line(&mut self, breaks_run: bool, moves: impl Iterator<Item = Move>) {
-        if breaks_run {
-            self.close_run();
-            for m in moves {
-                self.outline.push(if m.piece.rapid {
-                    MotionOutline::Rapid(m.piece)
-                } else {
-                    MotionOutline::Pinned(m.piece)
-                });
-            }
-            return;
-        }
-        for m in moves {
-            debug_assert!(m.pinned.is_none() && m.kind != MoveKind::Rapid);
-            if self.current.last().is_some_and(|l| l.feed != m.piece.feed) {
-                self.close_run();
-            }
-            self.current.push(m.piece);
-        }
-    }
+    let (_, outline, runs) = MotionReader::new().read_part(text)?;
+    Ok((outline, runs))
 }
 
 /// [`parse_with`], or with `motion_only` [`parse_motion`].
@@ -144,22 +93,29 @@ fn read(text: &[u8], opts: &ParseOptions, motion_only: bool) -> Result<Program, 
 }
 
 /// The state of reading one program.
-struct Reader {
-    st: State,
+#[derive(Clone)]
+pub(super) struct Reader {
+    pub(super) st: State,
     params: Params,
-    lines: Vec<ProgramLine>,
-    moves: Vec<Move>,
-    start_units: Option<Units>,
+    pub(super) lines: Vec<ProgramLine>,
+    pub(super) moves: Vec<Move>,
+    pub(super) start_units: Option<Units>,
     expansion: Option<Expansion>,
     /// Keep no texts, words or written coordinates ([`parse_motion`]).
-    motion_only: bool,
+    pub(super) motion_only: bool,
     /// Keep no lines or moves at all: each line's moves go here
     /// ([`read_motion`]).
-    sink: Option<MotionSink>,
+    pub(super) sink: Option<MotionSink>,
+    /// Keep no lines or moves at all: each line only adds to these
+    /// ([`super::read_facts`]).
+    pub(super) facts: Option<Box<FactsAcc>>,
+    /// [`ProgramLine::number`] of `lines[0]`: lines before it were handed
+    /// out as parts ([`super::PartReader`]).
+    pub(super) first_number: usize,
 }
 
 impl Reader {
-    fn new(opts: &ParseOptions) -> Reader {
+    pub(super) fn new(opts: &ParseOptions) -> Reader {
         Reader {
             st: State::new(opts),
             params: Params::new(),
@@ -169,6 +125,8 @@ impl Reader {
             expansion: None,
             motion_only: false,
             sink: None,
+            facts: None,
+            first_number: 1,
         }
     }
 
@@ -224,6 +182,10 @@ impl Reader {
         text: String,
         ending: &'static str,
     ) {
+        if let Some(f) = &mut self.facts {
+            f.ending(ending);
+            return;
+        }
         if let Some(sink) = &mut self.sink {
             sink.line(true, core::iter::empty());
             return;
@@ -246,6 +208,7 @@ impl Reader {
             moves: self.moves.len()..self.moves.len(),
             interpreted: false,
             motion_before: st.motion,
+            motion_after: st.motion,
             sets_motion: false,
             uses_modal_motion: false,
             feed_after: st.feed.clone(),
@@ -315,14 +278,26 @@ impl Reader {
         }
         let motion_before = self.st.motion;
         let first_move = self.moves.len();
-        let lines = &self.lines;
+        let (lines, first) = (&self.lines, self.first_number);
         let info = interpret_line(&ev.lexed, number, &mut self.st, &mut self.moves)
-            .map_err(|e| to_source(e, number, source_line, lines))?;
+            .map_err(|e| to_source(e, number, source_line, lines, first))?;
         if self.start_units.is_none() && self.moves.len() > first_move {
             self.start_units = Some(self.st.units);
         }
+        let breaks_run = info.breaks_run || (ev.assigns && !expanded);
+        if let Some(f) = &mut self.facts {
+            f.ending(ending);
+            f.line(
+                &text,
+                &ev.lexed.words,
+                &self.moves[first_move..],
+                breaks_run,
+                &self.st,
+            );
+            self.moves.truncate(first_move);
+            return Ok(true);
+        }
         if let Some(sink) = &mut self.sink {
-            let breaks_run = info.breaks_run || (ev.assigns && !expanded);
             sink.line(breaks_run, self.moves.drain(first_move..));
             return Ok(true);
         }
@@ -344,10 +319,11 @@ impl Reader {
             incremental: st.incremental,
             words,
             // An assignment written back verbatim must stay where it is.
-            breaks_run: info.breaks_run || (ev.assigns && !expanded),
+            breaks_run,
             moves: first_move..self.moves.len(),
             interpreted: true,
             motion_before,
+            motion_after: st.motion,
             sets_motion: info.sets_motion,
             uses_modal_motion: info.uses_modal_motion,
             feed_after: st.feed.clone(),
@@ -366,26 +342,45 @@ impl Reader {
         raw: impl Iterator<Item = (&'t str, &'static str)>,
     ) -> Result<(), GcodeError> {
         for (i, (text, ending)) in raw.enumerate() {
-            let number = i + 1;
-            if self.st.ended {
-                self.pass_through(number, number, text.to_string(), ending);
-                continue;
-            }
-            let src = scan_line(text, number)?;
-            if let Some(o) = &src.oword {
-                // looks_like_oword chose this mode; it must see every
-                // statement the scanner reads.
-                return Err(GcodeError::new(
-                    number,
-                    o.column,
-                    ErrorKind::Language(LangError::OWordSyntax(
-                        "o-word statement in an unexpected form",
-                    )),
-                ));
-            }
-            self.line(number, number, &src, text.to_string(), ending, false)?;
+            self.step_in_place(i + 1, text, ending)?;
         }
         Ok(())
+    }
+
+    /// Reads source line `number` of a program without o-words.
+    pub(super) fn step_in_place(
+        &mut self,
+        number: usize,
+        text: &str,
+        ending: &'static str,
+    ) -> Result<(), GcodeError> {
+        if self.st.ended {
+            self.pass_through(number, number, text.to_string(), ending);
+            return Ok(());
+        }
+        let src = scan_line(text, number)?;
+        if let Some(o) = &src.oword {
+            // looks_like_oword chose this mode; it must see every
+            // statement the scanner reads.
+            return Err(GcodeError::new(
+                number,
+                o.column,
+                ErrorKind::Language(LangError::OWordSyntax(
+                    "o-word statement in an unexpected form",
+                )),
+            ));
+        }
+        self.line(number, number, &src, text.to_string(), ending, false)?;
+        Ok(())
+    }
+
+    /// The error for a spline block still open after the lines read.
+    pub(super) fn check_closed(&self) -> Result<(), GcodeError> {
+        let n = self.first_number + self.lines.len();
+        self.st
+            .spline
+            .check_closed()
+            .map_err(|e| to_source(e, n, n, &self.lines, self.first_number))
     }
 
     /// Reads a program with o-words: the executed lines, in order.
@@ -439,22 +434,19 @@ impl Reader {
     }
 
     fn finish(self) -> Result<Program, GcodeError> {
-        let lines = self.lines;
-        let n = lines.len() + 1;
-        self.st
-            .spline
-            .check_closed()
-            .map_err(|e| to_source(e, n, n, &lines))?;
-        let runs = group_runs(&lines, &self.moves);
+        self.check_closed()?;
+        let runs = group_runs(&self.lines, &self.moves, 1, None);
         let mut moves = self.moves;
         moves.shrink_to_fit();
         Ok(Program {
-            lines,
+            lines: self.lines,
             moves,
             runs,
             start_units: self.start_units.unwrap_or(self.st.units),
             expansion: self.expansion,
             passthrough: self.st.passthrough,
+            first_number: 1,
+            before: None,
         })
     }
 }
@@ -467,10 +459,11 @@ fn to_source(
     number: usize,
     source_line: usize,
     lines: &[ProgramLine],
+    first_number: usize,
 ) -> GcodeError {
     if e.line == number {
         e.line = source_line;
-    } else if let Some(l) = lines.get(e.line.wrapping_sub(1)) {
+    } else if let Some(l) = lines.get(e.line.wrapping_sub(first_number)) {
         e.line = l.source_line;
     }
     e

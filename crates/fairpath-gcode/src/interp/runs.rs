@@ -13,10 +13,17 @@ use crate::program::{Feed, Move, MoveKind, ProgramLine, RunSpan};
 /// would make one feed apply to a stretch of path programmed at the other
 /// (`linuxcnc/diagnostic/feed-tracking-test.ngc`: `X2 F1000`, `X2.001
 /// F10`, `X5 F1000` became one move at F10, 1.03 s -> 42 s).
-pub(super) fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> {
+///
+/// `lines` may be a part of a program: `first_number` is the number of
+/// its first line, `feed_before` the feed in force before it.
+pub(super) fn group_runs(
+    lines: &[ProgramLine],
+    moves: &[Move],
+    first_number: usize,
+    mut feed_before: Option<Feed>,
+) -> Vec<RunSpan> {
     let mut runs = Vec::new();
     let mut cur: Option<RunSpan> = None;
-    let mut feed_before: Option<Feed> = None;
     for line in lines {
         if line.breaks_run || !line.interpreted {
             if let Some(r) = cur.take() {
@@ -44,8 +51,8 @@ pub(super) fn group_runs(lines: &[ProgramLine], moves: &[Move]) -> Vec<RunSpan> 
                         let before = if first == line.number {
                             feed_before.clone()
                         } else {
-                            first
-                                .checked_sub(2)
+                            (first - 1)
+                                .checked_sub(first_number)
                                 .and_then(|i| lines[i].feed_after.clone())
                         };
                         cur = Some(RunSpan {

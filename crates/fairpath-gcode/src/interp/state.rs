@@ -15,6 +15,7 @@ pub(crate) enum FeedMode {
 }
 
 /// The modal state of the interpreter.
+#[derive(Clone)]
 pub(crate) struct State {
     /// Current position, mm, program coordinates.
     pub(crate) pos: Vec3,

@@ -36,6 +36,26 @@ impl Times {
     }
 }
 
+/// Planned times of the motions of a program so far (s), feed moves and
+/// rapids apart, added motion by motion in program order as `simulate`
+/// adds them: the sums a program planned part by part carries from one
+/// part to the next, so that its times are those of the whole to the bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimeSums {
+    pub feed: f64,
+    pub rapid: f64,
+}
+
+impl TimeSums {
+    /// The times these sums make.
+    pub fn times(&self) -> Times {
+        Times {
+            total: self.feed + self.rapid,
+            feed: self.feed,
+        }
+    }
+}
+
 /// The three plans of a job: the input, the exact curves and the written
 /// program, on the same machine with the same feeds.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,7 +96,7 @@ pub fn outline(program: &Program) -> Vec<MotionOutline> {
 /// What planning a program's motions gives: its times, and with
 /// `keep_plans` the plan of each run (in run order).
 struct Planned {
-    times: Times,
+    sums: TimeSums,
     plans: Vec<RunPlan>,
 }
 
@@ -88,7 +108,9 @@ type Done = (f64, f64, Option<(usize, RunPlan)>);
 /// `runs[k]`, planned on all cores and added in order as `simulate` adds
 /// them; run `k`'s time is `known[k]` where that is `Some` (a plan with the
 /// same options, already made). `what` names the step in errors.
+#[allow(clippy::too_many_arguments)]
 fn plan_outline(
+    start: TimeSums,
     outline: &[MotionOutline],
     runs: &[&[Piece]],
     known: &[Option<f64>],
@@ -108,6 +130,7 @@ fn plan_outline(
         what,
     )?;
     Ok(add_up(
+        start,
         done.into_iter().map(|d| d.unwrap_or((0.0, 0.0, None))),
     ))
 }
@@ -175,8 +198,11 @@ fn motion_times(
 
 /// The motions' times added in order, as `simulate` adds them, and the
 /// plans kept.
-fn add_up(done: impl Iterator<Item = Done>) -> Planned {
-    let (mut feed, mut rapid) = (0.0, 0.0);
+fn add_up(start: TimeSums, done: impl Iterator<Item = Done>) -> Planned {
+    let TimeSums {
+        mut feed,
+        mut rapid,
+    } = start;
     let mut plans = Vec::new();
     for (f, r, plan) in done {
         feed += f;
@@ -187,10 +213,7 @@ fn add_up(done: impl Iterator<Item = Done>) -> Planned {
         }
     }
     Planned {
-        times: Times {
-            total: feed + rapid,
-            feed,
-        },
+        sums: TimeSums { feed, rapid },
         plans,
     }
 }
@@ -201,7 +224,12 @@ pub fn plan_input(program: &Program, opts: &SmoothOptions) -> Result<Times> {
     let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
     let what = "the input";
-    Ok(plan_outline(&outline(program), &pieces, &[], m, o, false, what)?.times)
+    let start = TimeSums::default();
+    Ok(
+        plan_outline(start, &outline(program), &pieces, &[], m, o, false, what)?
+            .sums
+            .times(),
+    )
 }
 
 /// The planned time of the exact curves in the program, and the plan of
@@ -216,8 +244,9 @@ pub fn plan_curves(
     result: &SmoothResult,
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<RunPlan>)> {
-    let (_, exact, plans) = plan_job(program, result, opts, false)?;
-    Ok((exact, plans))
+    let none = TimeSums::default();
+    let (_, exact, plans) = plan_job(program, result, opts, None, none)?;
+    Ok((exact.times(), plans))
 }
 
 /// [`plan_input`] (from the runs already read) and [`plan_curves`], made
@@ -227,7 +256,22 @@ pub fn plan_input_and_curves(
     result: &SmoothResult,
     opts: &SmoothOptions,
 ) -> Result<(Times, Times, Vec<RunPlan>)> {
-    let (input, exact, plans) = plan_job(program, result, opts, true)?;
+    let none = TimeSums::default();
+    let (input, exact, plans) = plan_input_and_curves_from(program, result, opts, none, none)?;
+    Ok((input.times(), exact.times(), plans))
+}
+
+/// [`plan_input_and_curves`] of `program`, a part of a program, with the
+/// times of the parts before it: the sums of the input and of the curves
+/// so far ([`TimeSums`]), which it returns with its own added.
+pub fn plan_input_and_curves_from(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+    input: TimeSums,
+    exact: TimeSums,
+) -> Result<(TimeSums, TimeSums, Vec<RunPlan>)> {
+    let (input, exact, plans) = plan_job(program, result, opts, Some(input), exact)?;
     Ok((input.expect("the input is planned"), exact, plans))
 }
 
@@ -239,8 +283,10 @@ fn plan_job(
     program: &Program,
     result: &SmoothResult,
     opts: &SmoothOptions,
-    input: bool,
-) -> Result<(Option<Times>, Times, Vec<RunPlan>)> {
+    input_from: Option<TimeSums>,
+    exact_from: TimeSums,
+) -> Result<(Option<TimeSums>, TimeSums, Vec<RunPlan>)> {
+    let input = input_from.is_some();
     #[derive(Clone, Copy)]
     enum Task {
         Input,
@@ -340,22 +386,30 @@ fn plan_job(
     }
     let exact_done = exact_done.expect("the curves are planned");
     // The curves' shared runs take the input's times, motion by motion.
-    let exact_planned = add_up(exact_done.into_iter().enumerate().map(|(j, d)| {
-        d.or_else(|| {
-            input_done
-                .as_ref()
-                .and_then(|i| i[j].as_ref())
-                .map(|(f, r, _)| (*f, *r, None))
-        })
-        .expect("a shared run is planned for the input")
-    }));
+    let exact_planned = add_up(
+        exact_from,
+        exact_done.into_iter().enumerate().map(|(j, d)| {
+            d.or_else(|| {
+                input_done
+                    .as_ref()
+                    .and_then(|i| i[j].as_ref())
+                    .map(|(f, r, _)| (*f, *r, None))
+            })
+            .expect("a shared run is planned for the input")
+        }),
+    );
     if override_feed {
         plans = exact_planned.plans;
     }
-    let input_times = input_done
-        .map(|d| add_up(d.into_iter().map(|x| x.expect("the input skips nothing"))).times);
-    let exact = exact_planned.times;
-    Ok((input_times, exact, plans))
+    let input_sums = input_done.map(|d| {
+        let start = input_from.unwrap_or_default();
+        add_up(
+            start,
+            d.into_iter().map(|x| x.expect("the input skips nothing")),
+        )
+        .sums
+    });
+    Ok((input_sums, exact_planned.sums, plans))
 }
 
 /// The planned time of a written program's text, exactly as `fairpath
@@ -377,7 +431,12 @@ pub fn plan_text(text: &str, opts: &SmoothOptions) -> Result<Times> {
     let pieces: Vec<&[Piece]> = runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
     let what = "the written program";
-    Ok(plan_outline(&outline, &pieces, &[], m, o, false, what)?.times)
+    let start = TimeSums::default();
+    Ok(
+        plan_outline(start, &outline, &pieces, &[], m, o, false, what)?
+            .sums
+            .times(),
+    )
 }
 
 /// The written G-code as the writer's check read it back: its motions,
@@ -395,9 +454,20 @@ pub struct WrittenReading {
 /// text, and the runs the check planned at the user's feeds not planned
 /// again. The same figures as [`plan_text`].
 pub fn plan_written(reading: &WrittenReading, opts: &SmoothOptions) -> Result<Times> {
+    Ok(plan_written_from(reading, opts, TimeSums::default())?.times())
+}
+
+/// [`plan_written`] of the reading of a written part of a program, with
+/// the sums of the parts before it ([`TimeSums`]); returns them with its
+/// own added.
+pub fn plan_written_from(
+    reading: &WrittenReading,
+    opts: &SmoothOptions,
+    start: TimeSums,
+) -> Result<TimeSums> {
     let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
     let what = "the written program";
     let known = &reading.run_times;
-    Ok(plan_outline(&reading.outline, &pieces, known, m, o, false, what)?.times)
+    Ok(plan_outline(start, &reading.outline, &pieces, known, m, o, false, what)?.sums)
 }

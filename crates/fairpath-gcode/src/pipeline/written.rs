@@ -7,7 +7,7 @@
 
 use super::EmitOptions;
 use crate::{
-    ArcWords, Controller, Format, GcodeWriteOptions, NurbsBlocks, Program, ROUNDING_SHARE,
+    ArcWords, Controller, Format, GcodeWriteOptions, NurbsBlocks, ProgramFacts, ROUNDING_SHARE,
 };
 use fairpath::choose::{Objective, PlannedTime, WrittenTime};
 use fairpath::feed::limits::MachineLimits;
@@ -75,10 +75,10 @@ pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
 /// of its first run, at the user's feeds); for JSON, which writes the
 /// exact curves, their planned time ([`PlannedTime`], at the machine's
 /// maximum feed).
-pub fn objective_for(opts: &EmitOptions, program: &Program) -> Arc<dyn Objective> {
+pub fn objective_for(opts: &EmitOptions, facts: &ProgramFacts) -> Arc<dyn Objective> {
     let exact = || Arc::new(PlannedTime::new(opts.machine, true)) as Arc<dyn Objective>;
     let forms = forms(opts.format, opts.controller);
-    let Ok(budget) = opts.budget_for(program) else {
+    let Ok(budget) = opts.budget_for_blending(&facts.blending) else {
         return exact();
     };
     if forms.is_empty() {
@@ -86,10 +86,7 @@ pub fn objective_for(opts: &EmitOptions, program: &Program) -> Arc<dyn Objective
     }
     let opts = &EmitOptions { budget, ..*opts };
     let wo = write_options(opts);
-    let units = program
-        .run_spans()
-        .first()
-        .map_or(program.units(), |r| r.units);
+    let units = facts.render_units();
     // Not the all-G1 alternative the writer also tries where arcs fell
     // back to lines: it rarely wins (`docs/tuning.md`) and would double
     // the cost of ranking such candidates.

@@ -148,6 +148,7 @@ const MAX_ORDER: usize = Nurbs::MAX_DEGREE + 1;
 
 /// Spline reading state: the open multi-line block, and the tangent a G5
 /// without I J continues.
+#[derive(Clone)]
 pub(crate) struct SplineState {
     reading: SplineReading,
     open: Option<Block>,
@@ -156,6 +157,7 @@ pub(crate) struct SplineState {
 }
 
 /// An open G5.2 or G6.2 block.
+#[derive(Clone)]
 struct Block {
     g6: bool,
     first_line: usize,

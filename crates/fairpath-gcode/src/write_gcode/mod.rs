@@ -28,6 +28,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::error::WriteError;
+use crate::facts::ProgramFacts;
 use crate::program::{MotionMode, Program, RunSpan};
 use fairpath::path::Piece;
 
@@ -39,12 +40,13 @@ mod options;
 mod run;
 mod style;
 
-pub use blend::{before_runs as path_control_before_runs, PathControl};
+pub(crate) use blend::{before_runs, has_path_control};
+pub use blend::{before_runs as path_control_before_runs, PathBlending, PathControl};
 pub use carry::MAX_COMMENT_CHARS;
 pub(crate) use numbers::fmt_fixed;
 pub use numbers::{output_decimals, write_decimals, ARC_ROUNDING_FACTOR, ROUNDING_SHARE};
 pub use options::{ArcWords, GcodeWriteOptions, NurbsBlocks};
-pub use style::NumberStyle;
+pub use style::{NumberStyle, StyleCount};
 
 use run::RunWriter;
 
@@ -128,6 +130,53 @@ pub fn write_gcode_with(
     smoothed: &[RunOutput],
     opts: &GcodeWriteOptions,
 ) -> Result<String, WriteError> {
+    let facts = ProgramFacts::of(program);
+    write_part(program, smoothed, opts, &facts, &mut WriterCarry::new())
+}
+
+/// What writing one part of a program ([`crate::interp::PartReader`])
+/// leaves to the next: the state of the written program that the writer
+/// follows. [`WriterCarry::new`] is the start of a program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WriterCarry {
+    /// The part is the program's first (it gets the headers).
+    first: bool,
+    /// The motion mode and path control the written program has in force.
+    motion: MotionMode,
+    path: Option<String>,
+    /// The input's path control in force ([`blend::before_runs`]).
+    path_in_force: Option<PathControl>,
+}
+
+impl Default for WriterCarry {
+    fn default() -> Self {
+        WriterCarry::new()
+    }
+}
+
+impl WriterCarry {
+    /// Before the first line of a program.
+    pub fn new() -> WriterCarry {
+        WriterCarry {
+            first: true,
+            motion: MotionMode::None,
+            path: None,
+            path_in_force: None,
+        }
+    }
+}
+
+/// [`write_gcode_with`] of a part of a program (or a whole one), whose
+/// whole has `facts`, from the state `carry` leaves it in, which it then
+/// holds for the next part. The parts written one after the other make the
+/// text [`write_gcode_with`] makes of the whole program.
+pub fn write_part(
+    program: &Program,
+    smoothed: &[RunOutput],
+    opts: &GcodeWriteOptions,
+    facts: &ProgramFacts,
+    carry: &mut WriterCarry,
+) -> Result<String, WriteError> {
     let runs = program.run_spans();
     if smoothed.len() != runs.len() {
         return Err(WriteError::RunCount {
@@ -139,34 +188,31 @@ pub fn write_gcode_with(
         return Err(WriteError::BadChord(opts.chord_mm));
     }
     let lines = program.lines();
-    let eol = lines
-        .iter()
-        .map(|l| l.ending)
-        .find(|e| !e.is_empty())
-        .unwrap_or("\n");
+    let eol = facts.eol;
     // The lines the output keeps are most of it for a comment-heavy
     // program: reserved once, the text is not copied as it grows.
     let kept: usize = lines.iter().map(|l| l.text.len() + l.ending.len()).sum();
     let mut out = String::with_capacity(kept + 256);
     // An expanded program says so first (after a leading `%`, which must
     // stay the first line).
-    let leading_percent = matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));
-    if program.expanded() && !leading_percent {
+    let leading_percent =
+        carry.first && matches!(lines.first(), Some(l) if l.text.trim_start().starts_with('%'));
+    if carry.first && program.expanded() && !leading_percent {
         out.push_str(EXPANDED_HEADER);
         out.push_str(eol);
     }
-    let mut header_pending = opts.header;
+    let mut header_pending = opts.header && carry.first;
     if header_pending && !leading_percent {
         out.push_str("(smoothed by fairpath)");
         out.push_str(eol);
         header_pending = false;
     }
-    let mut style = NumberStyle::of(program);
+    let mut style = facts.style;
     style.decimal_point |= opts.decimal_point;
-    let path_before = blend::before_runs(program);
+    let (path_before, path_after) = blend::before_runs_from(program, carry.path_in_force.take());
     // Modal state as the written program leaves it.
-    let mut written_motion = MotionMode::None;
-    let mut written_path: Option<String> = None;
+    let mut written_motion = carry.motion;
+    let mut written_path: Option<String> = carry.path.take();
     let mut i = 0;
     let mut run_idx = 0;
     while i < lines.len() {
@@ -194,11 +240,11 @@ pub fn write_gcode_with(
             written_motion =
                 restore_motion_before_block_delete(program, run, written_motion, eol, &mut out);
             // The last line of the span may be the last line of the file.
-            let last = &lines[run.last_line - 1];
-            if last.ending.is_empty() && run.last_line == lines.len() && out.ends_with(eol) {
+            let last = program.line(run.last_line);
+            i = run.last_line + 1 - program.first_number();
+            if last.ending.is_empty() && i == lines.len() && out.ends_with(eol) {
                 out.truncate(out.len() - eol.len());
             }
-            i = run.last_line;
             run_idx += 1;
             continue;
         }
@@ -222,10 +268,7 @@ pub fn write_gcode_with(
             }
         }
         if line.interpreted && line.sets_motion {
-            written_motion = program
-                .lines()
-                .get(i + 1)
-                .map_or(written_motion, |n| n.motion_before);
+            written_motion = line.motion_after;
         }
         if blend::sets_path_control(line) {
             written_path = line.path_control_after.clone();
@@ -243,6 +286,12 @@ pub fn write_gcode_with(
         }
         i += 1;
     }
+    *carry = WriterCarry {
+        first: false,
+        motion: written_motion,
+        path: written_path,
+        path_in_force: path_after,
+    };
     Ok(out)
 }
 
@@ -259,13 +308,15 @@ fn restore_motion_before_block_delete(
     out: &mut String,
 ) -> MotionMode {
     let lines = program.lines();
-    let Some(next) = lines.get(run.last_line) else {
+    // Index of the line after the run.
+    let after = run.last_line + 1 - program.first_number();
+    let Some(next) = lines.get(after) else {
         return written;
     };
     let wanted = next.motion_before;
     let deleted = |l: &crate::program::ProgramLine| l.text.trim_start().starts_with('/');
     // Up to the next motion word that runs either way.
-    let slash_first = lines[run.last_line..]
+    let slash_first = lines[after..]
         .iter()
         .take_while(|l| !l.sets_motion || deleted(l))
         .any(|l| l.interpreted && deleted(l));

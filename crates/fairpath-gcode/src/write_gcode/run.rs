@@ -57,7 +57,6 @@ impl<'a> RunWriter<'a> {
         eol: &'static str,
         out: &'a mut String,
     ) -> Result<RunWriter<'a>, WriteError> {
-        let lines = program.lines();
         let scale = run.units.mm_per_unit();
         let min_decimals = match run.units {
             Units::Mm => opts.decimals_mm,
@@ -75,10 +74,10 @@ impl<'a> RunWriter<'a> {
         }
         let mut feed_texts: Vec<Feed> = Vec::new();
         feed_texts.extend(run.feed_before.iter().cloned());
-        for l in &lines[run.first_line - 1..run.last_line] {
+        for l in program.lines_between(run.first_line, run.last_line) {
             feed_texts.extend(l.feed_after.iter().cloned());
         }
-        let before = run.first_line.checked_sub(2).map(|k| &lines[k]);
+        let (plane, arc_incremental) = program.arc_modes_before(run.first_line);
         let first_move = &program.moves()[run.moves.start];
         Ok(RunWriter {
             program,
@@ -92,7 +91,7 @@ impl<'a> RunWriter<'a> {
             feed_texts,
             cur: first_move.piece.start(),
             cur_feed: run.feed_before.as_ref().map(|f| f.mm_per_min),
-            plane: before.map_or(Plane::Xy, |l| l.plane_after),
+            plane,
             motion: None,
             path: None,
             path_before: None,
@@ -100,7 +99,7 @@ impl<'a> RunWriter<'a> {
             pending_n: None,
             merged_n: Vec::new(),
             first_move: true,
-            arc_incremental: before.is_none_or(|l| l.arc_incremental_after),
+            arc_incremental,
         })
     }
 
@@ -186,9 +185,9 @@ impl<'a> RunWriter<'a> {
     /// `end` are copied, replaced lines up to `end` give their comments (a
     /// line) and N words (the next block's, or merged into it).
     pub(super) fn reach(&mut self, next: &mut usize, end: usize) {
-        let lines = self.program.lines();
+        let program = self.program;
         while *next <= self.run.last_line {
-            let l = &lines[*next - 1];
+            let l = program.line(*next);
             // Lines of a multi-line spline block carry part of its move:
             // they are replaced with it.
             let replaced = !l.moves.is_empty() || l.in_block;
@@ -239,7 +238,7 @@ impl<'a> RunWriter<'a> {
     }
 
     pub(super) fn copy_interior(&mut self, n: usize) {
-        let l = &self.program.lines()[n - 1];
+        let l = self.program.line(n);
         self.out.push_str(&l.text);
         self.out.push_str(l.ending);
         if l.words.iter().any(|w| w.letter == 'F') {
@@ -253,8 +252,7 @@ impl<'a> RunWriter<'a> {
     /// After the run: the feed, plane and path control the original has
     /// in force there.
     pub(super) fn restore_state(&mut self) {
-        let lines = self.program.lines();
-        let last = &lines[self.run.last_line - 1];
+        let last = self.program.line(self.run.last_line);
         if let Some(f) = &self.run.feed_after {
             if self.cur_feed != Some(f.mm_per_min) {
                 let text = if f.units == self.run.units {

@@ -6,6 +6,7 @@
 //! one with a decimal point in every dimension word must get one in every
 //! number written for it.
 
+use crate::lexer::Word;
 use crate::program::Program;
 
 /// Letters of dimension words: lengths and angles, whose integers a control
@@ -33,6 +34,52 @@ impl Default for NumberStyle {
     }
 }
 
+/// The counts [`NumberStyle::of`] decides by, gathered line by line (a
+/// program read as a stream gives its interpreted lines' words here).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StyleCount {
+    /// Whole numbers in dimension words written with a decimal point.
+    with_point: usize,
+    /// Nonzero whole numbers in dimension words written without one.
+    integer: usize,
+    /// Numbers below 1 written `0.5`, and written `.5`.
+    zero_first: usize,
+    point_first: usize,
+}
+
+impl StyleCount {
+    /// Counts the words of one interpreted line.
+    pub fn add(&mut self, words: &[Word]) {
+        for w in words {
+            let dimension = DIMENSION_LETTERS.contains(w.letter);
+            if !(dimension || w.letter == 'F') {
+                continue;
+            }
+            let digits = w.text.trim_start_matches(['+', '-']);
+            if dimension && w.value.fract() == 0.0 {
+                if digits.contains('.') {
+                    self.with_point += 1;
+                } else if w.value != 0.0 {
+                    self.integer += 1;
+                }
+            }
+            if digits.starts_with('.') && digits.len() > 1 {
+                self.point_first += 1;
+            } else if digits.starts_with("0.") && digits.len() > 2 {
+                self.zero_first += 1;
+            }
+        }
+    }
+
+    /// The style these counts show ([`NumberStyle::of`]).
+    pub fn style(&self) -> NumberStyle {
+        NumberStyle {
+            decimal_point: self.with_point > 0 && self.integer == 0,
+            leading_zero: self.point_first <= self.zero_first,
+        }
+    }
+}
+
 impl NumberStyle {
     /// The style of `program`'s own words (of the lines it interprets):
     ///
@@ -47,34 +94,11 @@ impl NumberStyle {
     ///   magnitude below 1 (dimension words and F) do; on a tie, or without
     ///   such numbers, on.
     pub fn of(program: &Program) -> NumberStyle {
-        let mut with_point = 0usize;
-        let mut integer = 0usize;
-        let (mut zero_first, mut point_first) = (0usize, 0usize);
+        let mut count = StyleCount::default();
         for line in program.lines().iter().filter(|l| l.interpreted) {
-            for w in &line.words {
-                let dimension = DIMENSION_LETTERS.contains(w.letter);
-                if !(dimension || w.letter == 'F') {
-                    continue;
-                }
-                let digits = w.text.trim_start_matches(['+', '-']);
-                if dimension && w.value.fract() == 0.0 {
-                    if digits.contains('.') {
-                        with_point += 1;
-                    } else if w.value != 0.0 {
-                        integer += 1;
-                    }
-                }
-                if digits.starts_with('.') && digits.len() > 1 {
-                    point_first += 1;
-                } else if digits.starts_with("0.") && digits.len() > 2 {
-                    zero_first += 1;
-                }
-            }
+            count.add(&line.words);
         }
-        NumberStyle {
-            decimal_point: with_point > 0 && integer == 0,
-            leading_zero: point_first <= zero_first,
-        }
+        count.style()
     }
 
     /// `t` (a number as `fmt_fixed` writes it: no trailing point,

@@ -1,0 +1,102 @@
+//! The first half of writing a part: for each run, the rendering that
+//! plans fastest among the forms the format allows, or the run as the
+//! program wrote it when none is faster than it at every feed. It needs
+//! nothing of the parts before, so it can run while they are written
+//! ([`super::write`]).
+
+use super::emitter::{Choice, Emitter};
+use super::{Result, KEEP_MARGIN, LONG_RUN_PIECES};
+use fairpath::path::Run;
+use fairpath::pipeline::par_map;
+use fairpath::render::CurveForm;
+
+/// The renderings chosen for a part's runs ([`super::choose_part`]), and the planned
+/// times of the program's own runs that they were judged against.
+pub struct Chosen {
+    pub(super) choices: Vec<Choice>,
+    /// Each run's own time at each of [`Emitter::feeds`] (infinite for a
+    /// run smoothed into itself, which is written as it is).
+    pub(super) own: Vec<Vec<f64>>,
+}
+
+/// The renderings of `em`'s runs (`original` the program's own).
+pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
+    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
+    let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
+    let render = |k: usize, form: CurveForm, chord: f64| em.render(k, form, chord);
+    let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
+    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
+    // A run smoothed into itself (method `none`) is written as the program
+    // wrote it: no rendering could say it more exactly, and its own times
+    // are not needed.
+    let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
+    let nf = feeds.len();
+    // The planned time of each of the program's own runs, at each feed:
+    // side by side by run, each run's feeds one after the other (two plans
+    // of one long run at once hold twice the memory for little time).
+    let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
+        if itself[k] {
+            return Ok(vec![f64::INFINITY; nf]);
+        }
+        feeds
+            .iter()
+            .map(|&f| time(&original[k].pieces, f))
+            .collect::<Result<Vec<f64>>>()
+    })
+    .into_iter()
+    .collect::<Result<_>>()?;
+    let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
+        let own = &own[k];
+        if itself[k] {
+            return Ok(Choice::original(opts.budget.output));
+        }
+        let mut best: Option<(f64, Choice)> = None;
+        // A long run whose arcs fell back to G1 on few blocks.
+        let long_with_few_lines = |c: &Choice| em.long_with_few_lines(k, c);
+        for (i, &form) in forms.iter().enumerate() {
+            // G1 is the other candidate for curves that arcs could not
+            // follow: where they all became arcs, it is not tried; nor on
+            // a long run where few did.
+            if i > 0
+                && form == CurveForm::Lines
+                && best
+                    .as_ref()
+                    .is_some_and(|(_, b)| b.stats.fallback_lines == 0 || long_with_few_lines(b))
+            {
+                continue;
+            }
+            let c = render(k, form, opts.budget.output)?;
+            // A long run's only candidate is timed once, as written (the
+            // check below plans what reads back at every feed and keeps the
+            // run as the program wrote it where that is slower).
+            let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
+            if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
+                return Ok(c);
+            }
+            // Where a rendering is already chosen, a candidate that does
+            // not beat it at the first feed loses whatever its other
+            // times: they are planned only when it does.
+            if let Some((b, _)) = &best {
+                let t0 = rendered_time(&c, feeds[0])?;
+                if t0 >= *b || t0 * (1.0 + KEEP_MARGIN) > own[0] {
+                    continue;
+                }
+            }
+            let ts = at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?;
+            // Faster than the program's own run at every feed.
+            if ts
+                .iter()
+                .zip(own)
+                .any(|(t, o)| *t * (1.0 + KEEP_MARGIN) > *o)
+            {
+                continue;
+            }
+            if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
+                best = Some((ts[0], c));
+            }
+        }
+        Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
+    });
+    let choices: Vec<Choice> = chosen.into_iter().collect::<Result<_>>()?;
+    Ok(Chosen { choices, own })
+}

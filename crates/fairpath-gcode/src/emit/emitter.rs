@@ -1,0 +1,190 @@
+//! What choosing the renderings of a part ([`super::choose`]) and writing
+//! them ([`super::write`]) share: the part, its curves and their plans,
+//! the options with the budget the whole program is written with, and how
+//! a run is rendered and timed.
+
+use super::{
+    EmitError, Result, LINES_CANDIDATE_SHARE, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES,
+    RENDER_GROUP_PARTS, RENDER_PART_PIECES,
+};
+use crate::facts::ProgramFacts;
+use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
+use crate::pipeline::EmitOptions;
+use crate::{Format, GcodeWriteOptions, Program};
+use fairpath::feed::plan::{plan_time_shaped, PlanOptions, RunPlan};
+use fairpath::feed::shaping::Shaping;
+use fairpath::path::Piece;
+use fairpath::pipeline::par_map;
+use fairpath::render::{
+    absorb_lines, linuxcnc_g5_2_motion, render_range, render_run, CurveForm, PlannedSpeed,
+    RenderStats, Rendered,
+};
+
+/// What is written for one run.
+#[derive(Clone, Debug)]
+pub(super) struct Choice {
+    /// The form rendered, or `None`: the original lines.
+    pub(super) form: Option<CurveForm>,
+    pub(super) chord: f64,
+    /// The rendered pieces; emptied once written (the text holds them),
+    /// rendered again from `form` and `chord` if the text is written again.
+    pub(super) pieces: Vec<Piece>,
+    pub(super) stats: RenderStats,
+}
+
+impl Choice {
+    /// The run as the program wrote it.
+    pub(super) fn original(chord: f64) -> Choice {
+        Choice {
+            form: None,
+            chord,
+            pieces: Vec::new(),
+            stats: RenderStats::default(),
+        }
+    }
+}
+
+/// A part's curves, what they are written with and for, and how a run is
+/// rendered and timed.
+pub(super) struct Emitter<'a> {
+    pub(super) program: &'a Program,
+    pub(super) smoothed: &'a [Vec<Piece>],
+    pub(super) plans: &'a [RunPlan],
+    /// The options, with the budget the program is written with
+    /// ([`EmitOptions::budget_for_blending`]).
+    pub(super) opts: EmitOptions,
+    pub(super) wo: GcodeWriteOptions,
+    /// The forms the format can say, in the order they are tried.
+    pub(super) forms: &'static [CurveForm],
+    /// The feeds a rendering must be faster at than the program's own run:
+    /// the machine's maximum (`true`), then the programmed ones unless
+    /// feeds are overridden.
+    pub(super) feeds: Vec<bool>,
+}
+
+impl<'a> Emitter<'a> {
+    /// For G-code formats (JSON writes the curves as they are).
+    pub(super) fn new(
+        program: &'a Program,
+        facts: &ProgramFacts,
+        smoothed: &'a [Vec<Piece>],
+        plans: &'a [RunPlan],
+        opts: &EmitOptions,
+    ) -> Result<Emitter<'a>> {
+        let opts = EmitOptions {
+            budget: opts
+                .budget_for_blending(&facts.blending)
+                .map_err(EmitError::Blend)?,
+            ..*opts
+        };
+        let mut wo = write_options(&opts);
+        wo.arcs = wo.arcs.map(|_| facts.arc_words);
+        Ok(Emitter {
+            program,
+            smoothed,
+            plans,
+            forms: forms(opts.format, opts.controller),
+            feeds: if opts.override_feed {
+                vec![true]
+            } else {
+                vec![true, false]
+            },
+            opts,
+            wo,
+        })
+    }
+
+    /// Run `k` rendered in `form` with output share `chord`.
+    pub(super) fn render(&self, k: usize, form: CurveForm, chord: f64) -> Result<Choice> {
+        let (program, smoothed, plans) = (self.program, self.smoothed, self.plans);
+        let (opts, wo) = (&self.opts, &self.wo);
+        let units = program.run_spans()[k].units;
+        let ro = render_options(opts, form, chord, units, wo);
+        let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
+        let pieces = &smoothed[k];
+        let error = |source| EmitError::Render { run: k, source };
+        if pieces.len() < PARALLEL_FEEDS_PIECES {
+            let r = render_run(pieces, &speed, &ro).map_err(error)?;
+            return Ok(Choice {
+                form: Some(form),
+                chord,
+                pieces: r.pieces,
+                stats: r.stats,
+            });
+        }
+        // A long run in parts side by side (each piece is rendered on its
+        // own: the same pieces as one call), a group of parts at a time,
+        // so that the rendered parts waiting to be joined stay few.
+        let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
+        let mut choice = Choice::original(chord);
+        choice.form = Some(form);
+        for group in (0..parts).step_by(RENDER_GROUP_PARTS) {
+            let in_group = RENDER_GROUP_PARTS.min(parts - group);
+            let rendered = par_map(in_group, |i| {
+                let j = group + i;
+                let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
+                render_range(pieces, j * RENDER_PART_PIECES..end, &speed, &ro)
+            });
+            for r in rendered {
+                let r = r.map_err(error)?;
+                choice.pieces.extend(r.pieces);
+                choice.stats.add(&r.stats);
+            }
+        }
+        // The parts joined: their short lines merged as render_run merges
+        // a whole run's.
+        let mut joined = Rendered {
+            pieces: core::mem::take(&mut choice.pieces),
+            stats: choice.stats,
+        };
+        absorb_lines(&mut joined, &ro);
+        choice.pieces = joined.pieces;
+        choice.stats = joined.stats;
+        Ok(choice)
+    }
+
+    /// The planned time of a run's pieces at the maximum feed (`true`) or
+    /// the programmed ones.
+    pub(super) fn time(&self, pieces: &[Piece], override_feed: bool) -> Result<f64> {
+        let opts = &self.opts;
+        let po = PlanOptions {
+            limits: opts.machine,
+            override_feed,
+            window: None,
+            ends: Default::default(),
+        };
+        plan_time_shaped(pieces, &po, &Shaping::none(), opts.judged_by).map_err(EmitError::Plan)
+    }
+
+    /// A rendering's time: its G5.2 blocks as LinuxCNC runs them (as the
+    /// written text reads back).
+    pub(super) fn rendered_time(&self, c: &Choice, override_feed: bool) -> Result<f64> {
+        if self.opts.format == Format::G5_2 && matches!(c.form, Some(CurveForm::Nurbs(_))) {
+            self.time(&linuxcnc_g5_2_motion(&c.pieces, PLANAR_MM), override_feed)
+        } else {
+            self.time(&c.pieces, override_feed)
+        }
+    }
+
+    /// A run's times at each feed (`t(feed)`), side by side for a long run
+    /// of `len` pieces.
+    pub(super) fn at_feeds(
+        &self,
+        len: usize,
+        t: &(dyn Fn(bool) -> Result<f64> + Sync),
+    ) -> Result<Vec<f64>> {
+        let feeds = &self.feeds;
+        if len >= PARALLEL_FEEDS_PIECES && feeds.len() > 1 {
+            par_map(feeds.len(), |i| t(feeds[i])).into_iter().collect()
+        } else {
+            feeds.iter().map(|&f| t(f)).collect()
+        }
+    }
+
+    /// Whether a rendering of run `k` is a long run's whose arcs fell back
+    /// to G1 on few blocks (the all-G1 candidate is not tried on it).
+    pub(super) fn long_with_few_lines(&self, k: usize, c: &Choice) -> bool {
+        self.smoothed[k].len() >= LONG_RUN_PIECES
+            && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.pieces.len() as f64
+    }
+}

@@ -1,0 +1,370 @@
+//! From smoothed curves to the written program: each run rendered as the
+//! output format can say it (shaped by the plan of the exact curves, so
+//! that the controller keeps their speed), written in the controller's
+//! dialect, read back, verified against the original and timed. Runs whose
+//! written text fails are rendered again with half the chord share, a few
+//! times, then kept as the program wrote them; so are runs that read back
+//! slower than the program's own.
+
+mod choose;
+mod emitter;
+mod write;
+
+use crate::facts::ProgramFacts;
+use crate::interp::MotionReader;
+pub use crate::pipeline::written::{
+    forms, render_options, resolution, write_options, FANUC_MAX_DEGREE, MIN_ARC_RADIUS_MM,
+    MIN_ARC_UNITS, MIN_BLOCK_PERIODS, PLANAR_MM,
+};
+use crate::pipeline::{
+    compare_runs, group_by_source, RunCountMismatch, WrittenCheck, WrittenReading,
+};
+pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
+use crate::write_gcode::WriterCarry;
+use crate::{ArcWords, Format, GcodeError, JsonError, Program, WriteError};
+pub use choose::Chosen;
+use fairpath::budget::{BudgetError, ToleranceBudget};
+use fairpath::feed::plan::RunPlan;
+use fairpath::feed::FeedError;
+use fairpath::path::{Piece, Run};
+use fairpath::render::{RenderError, RenderStats};
+
+/// Why the curves could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum EmitError {
+    /// The blending share a program's own `G64` asks for does not fit
+    /// ([`EmitOptions::budget_for`]).
+    #[error("the blending share for the program's own G64")]
+    Blend(#[source] BudgetError),
+    #[error("writing JSON")]
+    WriteJson(#[source] WriteError),
+    #[error("the written JSON does not read back")]
+    ReadJson(#[source] JsonError),
+    #[error("rendering run {run}")]
+    Render {
+        /// Index of the run in the program's runs.
+        run: usize,
+        #[source]
+        source: RenderError,
+    },
+    #[error("planning")]
+    Plan(#[source] FeedError),
+    #[error("writing G-code")]
+    WriteGcode(#[source] WriteError),
+    #[error("the written G-code does not read back")]
+    Reread(#[source] GcodeError),
+    /// The text read back has other runs than the program.
+    #[error(transparent)]
+    Runs(#[from] RunCountMismatch),
+}
+
+type Result<T, E = EmitError> = core::result::Result<T, E>;
+
+/// Runs of at least this many pieces are planned at both feeds side by
+/// side (shorter ones run side by side with other runs).
+const PARALLEL_FEEDS_PIECES: usize = 10_000;
+
+/// A run of at least this many curves is long: its only candidate
+/// rendering is not planned before it is written (the written text is), and
+/// the all-G1 candidate is not tried where the arcs fell back to lines on
+/// fewer than [`LINES_CANDIDATE_SHARE`] of their blocks. Each plan of such a
+/// run costs seconds (`docs/scale.md`).
+const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
+
+/// Share of a long run's arc rendering that fell back to G1 below which
+/// the all-G1 rendering is not tried: where arcs follow nearly all of a
+/// long run, G1 throughout plans slower (on the reference programs it won
+/// on 24 of 300 runs under 1,000 curves and on none of the 6 longer ones,
+/// `docs/tuning.md`).
+const LINES_CANDIDATE_SHARE: f64 = 0.1;
+
+/// Pieces per part when a long run is rendered in parts side by side.
+const RENDER_PART_PIECES: usize = 4096;
+
+/// Parts rendered side by side before they are joined: enough to keep
+/// the cores busy, few enough that the parts waiting to be joined hold
+/// little beside the joined rendering.
+const RENDER_GROUP_PARTS: usize = 8;
+
+/// Times a failing run is rendered again with half the chord.
+pub const RETRIES: usize = 3;
+
+/// A run is rewritten only if its rendering plans at least this much
+/// faster than the run as the program wrote it (rounding of the written
+/// coordinates can cost a few parts in ten thousand).
+pub const KEEP_MARGIN: f64 = 1e-3;
+
+/// The written program.
+#[derive(Clone, Debug)]
+pub struct Emitted {
+    pub text: String,
+    /// The budget the text was written with ([`EmitOptions::budget_for`]:
+    /// a blending share where the program's own G64 needs one).
+    pub budget: ToleranceBudget,
+    pub stats: RenderStats,
+    /// The verdict on the text read back.
+    pub check: WrittenCheck,
+    /// Runs rendered again with a finer chord.
+    pub retried_runs: usize,
+    /// Runs kept as the program wrote them: their rendering planned no
+    /// faster (or did not verify).
+    pub kept_runs: usize,
+    /// The written G-code as read back for the check (`None` for JSON),
+    /// for planning it without reading it again
+    /// ([`crate::pipeline::plan_written`]).
+    pub reading: Option<WrittenReading>,
+}
+
+/// Where a part of a program ([`crate::interp::PartReader`]) is written
+/// from: what the whole program is ([`ProgramFacts`]), the state the
+/// written text before the part leaves the writer in, and the reading of
+/// that text, from which the part's text is read back. [`emit_part`]
+/// leaves it as the next part needs it.
+#[derive(Clone)]
+pub struct PartContext {
+    pub facts: ProgramFacts,
+    pub carry: WriterCarry,
+    pub reading: MotionReader,
+}
+
+impl PartContext {
+    /// At the start of a program whose whole has `facts`.
+    pub fn new(facts: ProgramFacts) -> PartContext {
+        PartContext {
+            facts,
+            carry: WriterCarry::new(),
+            reading: MotionReader::new(),
+        }
+    }
+
+    /// For `program` written whole.
+    pub fn whole(program: &Program) -> PartContext {
+        PartContext::new(ProgramFacts::of(program))
+    }
+}
+
+/// Renders, writes and verifies. `smoothed` and `plans` are per run of
+/// `program` (the plan of exactly those pieces on `opts.machine` at its
+/// maximum feed). Each run is written in the form that plans fastest among
+/// those the format allows (arcs or, for curves arcs cannot follow, G1),
+/// or as the program wrote it when none is faster, both at the machine's
+/// maximum feed and at the programmed feeds. `original` is
+/// `program.runs()` (lent by the caller, which holds it already).
+pub fn emit(
+    program: &Program,
+    original: &[Run],
+    smoothed: &[Vec<Piece>],
+    plans: &[RunPlan],
+    opts: &EmitOptions,
+) -> Result<Emitted> {
+    let mut ctx = PartContext::whole(program);
+    emit_part(program, &mut ctx, original, smoothed, plans, opts)
+}
+
+/// [`emit`] of `program`, a part of a program or a whole one, from where
+/// `ctx` stands; on success `ctx` stands after it. The parts emitted one
+/// after the other write, check and time the text [`emit`] makes of the
+/// whole program.
+pub fn emit_part(
+    program: &Program,
+    ctx: &mut PartContext,
+    original: &[Run],
+    smoothed: &[Vec<Piece>],
+    plans: &[RunPlan],
+    opts: &EmitOptions,
+) -> Result<Emitted> {
+    if opts.format == Format::Json {
+        return emit_json(program, &ctx.facts, original, smoothed, opts);
+    }
+    let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+    let chosen = choose::choose(&em, original)?;
+    write::write_chosen(&em, ctx, original, chosen)
+}
+
+/// The first half of [`emit_part`]: the rendering of each run of
+/// `program`, a part of a program whose whole has `facts`, chosen (it
+/// needs nothing of the parts before, so it can run while they are
+/// written); `None` for JSON, which writes the curves as they are.
+pub fn choose_part(
+    program: &Program,
+    facts: &ProgramFacts,
+    original: &[Run],
+    smoothed: &[Vec<Piece>],
+    plans: &[RunPlan],
+    opts: &EmitOptions,
+) -> Result<Option<Chosen>> {
+    if opts.format == Format::Json {
+        return Ok(None);
+    }
+    let em = emitter::Emitter::new(program, facts, smoothed, plans, opts)?;
+    choose::choose(&em, original).map(Some)
+}
+
+/// The second half of [`emit_part`]: `chosen` ([`choose_part`] of the
+/// same part, curves and plans) written from where `ctx` stands.
+pub fn write_chosen_part(
+    program: &Program,
+    ctx: &mut PartContext,
+    original: &[Run],
+    smoothed: &[Vec<Piece>],
+    plans: &[RunPlan],
+    opts: &EmitOptions,
+    chosen: Option<Chosen>,
+) -> Result<Emitted> {
+    match chosen {
+        None => emit_json(program, &ctx.facts, original, smoothed, opts),
+        Some(chosen) => {
+            let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+            write::write_chosen(&em, ctx, original, chosen)
+        }
+    }
+}
+
+/// [`emit`] in JSON: the curves as they are, read back and verified.
+fn emit_json(
+    program: &Program,
+    facts: &ProgramFacts,
+    original: &[Run],
+    smoothed: &[Vec<Piece>],
+    opts: &EmitOptions,
+) -> Result<Emitted> {
+    let budget = opts
+        .budget_for_blending(&facts.blending)
+        .map_err(EmitError::Blend)?;
+    let text = crate::write_json(program, smoothed).map_err(EmitError::WriteJson)?;
+    let pieces = crate::read_json(&text).map_err(EmitError::ReadJson)?;
+    let check = compare_runs(
+        original,
+        &group_by_source(original, &pieces),
+        budget.written(),
+    )?;
+    Ok(Emitted {
+        budget,
+        text,
+        stats: RenderStats::default(),
+        check,
+        retried_runs: 0,
+        kept_runs: 0,
+        reading: None,
+    })
+}
+
+/// The arc form of `program`: R when any of its arcs is written with R,
+/// IJK otherwise (what the machinist reads, and the safe form near half
+/// circles).
+pub fn arc_words_of(program: &Program) -> ArcWords {
+    let uses_r = program.moves().iter().any(|m| {
+        m.kind == crate::MoveKind::Arc && program.line(m.line).words.iter().any(|w| w.letter == 'R')
+    });
+    if uses_r {
+        ArcWords::R
+    } else {
+        ArcWords::Ijk
+    }
+}
+
+/// The pieces of `runs` (for the summary's counts).
+pub fn pieces_of(runs: &[Run]) -> usize {
+    runs.iter().map(|r| r.pieces.len()).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Controller;
+    use fairpath::feed::limits::MachineLimits;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// A run that the first check counts as failed (whatever it
+        /// measured): the retry path, which real renderings never take.
+        pub(super) static FAIL_FIRST_CHECK: Cell<Option<usize>> = const { Cell::new(None) };
+    }
+
+    #[test]
+    fn a_retry_renders_the_failed_run_finer_and_every_other_run_again() {
+        // Two runs (a rapid between them), each a zigzag of sharp corners.
+        let text = "G21 G90\nG0 X0 Y0\nG1 X10 F3000\nG1 X10 Y10\nG1 X20 Y10\nG1 X20 Y0\n\
+                    G0 X0 Y20\nG1 X10 Y20\nG1 X10 Y30\nG1 X20 Y30\nG1 X20 Y20\nM30\n";
+        let opts = crate::SmoothOptions::new(
+            0.05,
+            None,
+            "bspline-corner",
+            None,
+            crate::Controller::Generic,
+        )
+        .unwrap();
+        let (plain, plain_report) = crate::smooth_program(text, &opts).unwrap();
+        assert_eq!(plain_report.retried_runs, 0);
+        FAIL_FIRST_CHECK.with(|f| f.set(Some(0)));
+        let (retried, report) = crate::smooth_program(text, &opts).unwrap();
+        assert_eq!(report.retried_runs, 1);
+        assert!(report.written.within);
+        // The second run's text (from the second rapid on) is written again
+        // from its rendering again, the same; the first is finer.
+        let second = |t: &str| t[t.find("G0 X0 Y20").unwrap()..].to_string();
+        assert_eq!(second(&retried.text), second(&plain.text));
+        let first = |t: &str| t[..t.find("G0 X0 Y20").unwrap()].lines().count();
+        assert!(first(&retried.text) >= first(&plain.text));
+    }
+
+    fn options(controller: Controller, format: Format) -> EmitOptions {
+        let total = 0.05;
+        let output = fairpath::budget::OUTPUT_SHARE * total;
+        let blend = EmitOptions::blend_share(controller, format, output);
+        EmitOptions {
+            format,
+            controller,
+            budget: ToleranceBudget::new(total, Some(output - blend), blend).unwrap(),
+            machine: MachineLimits::thesis(),
+            step_share: fairpath::render::arcs::STEP_SHARE,
+            override_feed: false,
+            judged_by: fairpath::feed::plan::Corners::Blended,
+        }
+    }
+
+    fn program(head: &str) -> Program {
+        let text = format!("G20 G90 {head}\nG0 X0 Y0\nG1 X1 F10\nG1 X2 Y1\nM30\n");
+        crate::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn a_program_whose_g64_blends_beyond_the_share_gets_one_for_every_controller() {
+        // tolerance_parabolic_check.ngc's G64 P0.02 Q0.0 (inch).
+        let p = program("G64 P0.02 Q0.0");
+        for controller in [Controller::Generic, Controller::Fanuc] {
+            for format in [Format::Arcs, Format::G1, Format::G6_2] {
+                let o = options(controller, format);
+                let b = o.budget_for(&p).unwrap();
+                let want = EmitOptions::blend_share(Controller::Linuxcnc, format, o.budget.output);
+                assert_eq!(b.blend, want);
+                assert!(b.blend > 0.0);
+                assert_eq!(b.smoothing(), o.budget.smoothing());
+                assert!((b.output + b.blend - o.budget.output).abs() < 1e-15);
+                assert_eq!(
+                    write_options(&EmitOptions { budget: b, ..o }).g64_blend_mm,
+                    Some(b.blend)
+                );
+            }
+        }
+        // JSON has no blending; LinuxCNC has its share already.
+        for (c, f) in [
+            (Controller::Generic, Format::Json),
+            (Controller::Linuxcnc, Format::Arcs),
+        ] {
+            let o = options(c, f);
+            assert_eq!(o.budget_for(&p).unwrap(), o.budget);
+        }
+    }
+
+    #[test]
+    fn a_program_without_a_looser_g64_keeps_the_budget() {
+        let o = options(Controller::Generic, Format::Arcs);
+        for head in ["", "G61", "G64 P0.00001"] {
+            assert_eq!(o.budget_for(&program(head)).unwrap(), o.budget, "{head}");
+        }
+        for head in ["G64", "G64 P0"] {
+            assert!(o.budget_for(&program(head)).unwrap().blend > 0.0, "{head}");
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! The evidence of a job in figures: what the summary prints, gathered
+//! from the report of a whole program ([`Evidence::of`]) or added up part
+//! by part ([`Evidence::add`]) when a long program is processed a part at
+//! a time and no report of all its runs is ever held.
+
+use super::Report;
+use crate::pipeline::{JobTimes, Times, WrittenCheck};
+use fairpath::budget::ToleranceBudget;
+use fairpath::geom::Curve;
+use fairpath::render::RenderStats;
+use fairpath::smooth::{CornerReason, UnfairedReason};
+
+/// The evidence of a job in figures (see the module docs). Sums over the
+/// runs are added run by run in program order, so a program processed in
+/// parts gives the figures of the whole to the bit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evidence {
+    /// The method's name.
+    pub method: String,
+    /// The budget the text was written with ([`Report::budget`]).
+    pub budget: ToleranceBudget,
+    /// Feed moves of the input's runs, its rapids (untouched), its runs.
+    pub feed_moves_in: usize,
+    pub rapids: usize,
+    pub runs: usize,
+    /// Pieces of the curves, and those that are not lines.
+    pub pieces_out: usize,
+    pub curves_out: usize,
+    pub transitions: usize,
+    /// Corners kept as corners, by reason.
+    pub kept_corners: Vec<(CornerReason, usize)>,
+    /// `auto`'s choices: candidate and number of sections, most first.
+    pub chosen: Vec<(&'static str, usize)>,
+    /// Curves left as written although the method smooths their kind: the
+    /// reason, how many, the first input line.
+    pub unfaired: Vec<(UnfairedReason, usize, usize)>,
+    pub dropped_zero_length: usize,
+    pub merged_collinear: usize,
+    pub absorbed_jogs: usize,
+    /// Largest deviation of the curves from the original (as found, mm).
+    pub max_deviation_curves: f64,
+    /// Joints of the curves by class: gaps, C0 (corners), C1, C2.
+    pub joints: [usize; 4],
+    /// Length of the input's runs and of the curves (mm).
+    pub length_before: f64,
+    pub length_after: f64,
+    pub peak_curvature: f64,
+    /// Cusps inside curves (reversals the path stops at).
+    pub cusps: usize,
+    /// Planned times of the input, the exact curves and the written text.
+    pub times: JobTimes,
+    /// The verdict on the written text read back.
+    pub written: WrittenCheck,
+    /// What the written runs hold.
+    pub rendered: RenderStats,
+    /// Lines of the input and of the written program.
+    pub lines_in: usize,
+    pub lines_out: usize,
+    /// Runs rendered again with a finer chord, and runs written as the
+    /// program had them.
+    pub retried_runs: usize,
+    pub kept_runs: usize,
+    /// See [`Report::block_capped`].
+    pub block_capped: bool,
+    /// The program has no moves: nothing was smoothed.
+    pub no_moves: bool,
+    /// Parts the program was processed in ([`super::smooth_in_parts`]; 1
+    /// for a program read whole).
+    pub parts: usize,
+}
+
+impl Evidence {
+    /// Before any part: no runs, no lines, the budget and method of the
+    /// job.
+    pub fn new(method: &str, budget: ToleranceBudget, block_capped: bool) -> Evidence {
+        let zero = Times {
+            total: 0.0,
+            feed: 0.0,
+        };
+        Evidence {
+            method: method.to_string(),
+            budget,
+            feed_moves_in: 0,
+            rapids: 0,
+            runs: 0,
+            pieces_out: 0,
+            curves_out: 0,
+            transitions: 0,
+            kept_corners: [
+                CornerReason::Reversal,
+                CornerReason::NoRoom,
+                CornerReason::ArcJoint,
+            ]
+            .into_iter()
+            .map(|r| (r, 0))
+            .collect(),
+            chosen: Vec::new(),
+            unfaired: Vec::new(),
+            dropped_zero_length: 0,
+            merged_collinear: 0,
+            absorbed_jogs: 0,
+            max_deviation_curves: 0.0,
+            joints: [0; 4],
+            length_before: 0.0,
+            length_after: 0.0,
+            peak_curvature: 0.0,
+            cusps: 0,
+            times: JobTimes {
+                input: zero,
+                exact: zero,
+                written: zero,
+            },
+            written: WrittenCheck {
+                within: true,
+                max_deviation: 0.0,
+                endpoint_failures: 0,
+                runs_checked: 0,
+                failed_runs: Vec::new(),
+            },
+            rendered: RenderStats::default(),
+            lines_in: 0,
+            lines_out: 0,
+            retried_runs: 0,
+            kept_runs: 0,
+            block_capped,
+            no_moves: true,
+            parts: 0,
+        }
+    }
+
+    /// The evidence of a whole program's report; lengths measured to
+    /// `length_accuracy` mm.
+    pub fn of(report: &Report, length_accuracy: f64) -> Evidence {
+        let mut e = Evidence::new(&report.method, report.budget, report.block_capped);
+        e.add(report, length_accuracy);
+        e
+    }
+
+    /// Adds the report of the next part of the program (its times are
+    /// those of the program up to the part's end: they replace these).
+    pub fn add(&mut self, report: &Report, length_accuracy: f64) {
+        let runs_before = self.runs;
+        self.budget = report.budget;
+        for r in &report.result.runs {
+            self.feed_moves_in += r.original.pieces.len();
+            self.runs += 1;
+            self.pieces_out += r.smoothed.pieces.len();
+            self.curves_out += r
+                .smoothed
+                .pieces
+                .iter()
+                .filter(|p| !matches!(p.curve, Curve::Line(_)))
+                .count();
+            self.transitions += r.smoothed.transitions;
+            for k in &r.smoothed.kept_corners {
+                if let Some(c) = self.kept_corners.iter_mut().find(|c| c.0 == k.reason) {
+                    c.1 += 1;
+                }
+            }
+            for &name in &r.smoothed.chosen {
+                match self.chosen.iter_mut().find(|c| c.0 == name) {
+                    Some(c) => c.1 += 1,
+                    None => self.chosen.push((name, 1)),
+                }
+            }
+            for u in &r.smoothed.unfaired {
+                let line = u.source_lines.0;
+                match self.unfaired.iter_mut().find(|e| e.0 == u.reason) {
+                    Some(e) => {
+                        e.1 += 1;
+                        e.2 = e.2.min(line);
+                    }
+                    None => self.unfaired.push((u.reason, 1, line)),
+                }
+            }
+            self.dropped_zero_length += r.smoothed.dropped_zero_length;
+            self.merged_collinear += r.smoothed.merged_collinear;
+            self.absorbed_jogs += r.smoothed.absorbed_jogs;
+            self.max_deviation_curves = self.max_deviation_curves.max(r.report.max_deviation);
+            for (j, c) in self.joints.iter_mut().zip(r.report.joint_counts()) {
+                *j += c;
+            }
+            self.length_before += r.original.length(length_accuracy);
+            for p in &r.smoothed.pieces {
+                self.length_after += p.curve.length(length_accuracy);
+            }
+            self.peak_curvature = self.peak_curvature.max(r.report.peak_curvature);
+            self.cusps += r.report.cusps;
+        }
+        self.chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        self.unfaired.sort();
+        self.times = report.times;
+        let w = &report.written;
+        self.written.within &= w.within;
+        self.written.max_deviation = self.written.max_deviation.max(w.max_deviation);
+        self.written.endpoint_failures += w.endpoint_failures;
+        self.written.runs_checked += w.runs_checked;
+        self.written
+            .failed_runs
+            .extend(w.failed_runs.iter().map(|f| f.map(|k| k + runs_before)));
+        self.rendered.add(&report.stats);
+        self.lines_in += report.lines_in;
+        self.lines_out += report.lines_out;
+        self.retried_runs += report.retried_runs;
+        self.kept_runs += report.kept_runs;
+        self.rapids += report.rapids;
+        self.no_moves &= report.no_moves;
+        self.parts += 1;
+    }
+
+    /// True when the written program plans slower than the input.
+    pub fn slower_than_input(&self) -> bool {
+        self.times.written.total > self.times.input.total
+    }
+}

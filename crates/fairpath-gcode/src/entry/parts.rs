@@ -1,0 +1,267 @@
+//! The job on a program a part at a time, writing as it goes: memory
+//! grows with the largest part (at least [`PART_LINES`] lines, cut where
+//! nothing but the interpreter's state carries across, before a rapid:
+//! [`PartReader`]), not with the file. Each part is smoothed, planned,
+//! written, read back and checked as [`super::smooth_parsed`] does the
+//! whole program, from the state the parts before it leave (the written
+//! text's reading, the writer's state, the running sums of the times), and
+//! with what the writer needs of the whole program read first
+//! ([`crate::interp::read_facts`]): the text written is the one
+//! [`super::smooth_parsed`] writes, and the times and figures are the
+//! same to the bit.
+
+use super::{write_curves_part, Curves, Evidence, SmoothProgramError};
+use crate::emit::PartContext;
+use crate::interp::PartReader;
+use crate::pipeline::{plan_input_and_curves_from, smooth_curves_with, Phases, TimeSums};
+use crate::{Format, GcodeError, ParseOptions, Program, ProgramFacts, SmoothOptions, Units};
+use std::io::Write;
+
+/// Lines a part holds at least. Each part's runs are smoothed, verified
+/// and planned on all cores, so a part must hold enough runs to keep them
+/// busy between its steps; what a part holds while it is written and
+/// checked (its curves, renderings and written text) is many times its
+/// input, so it must stay a small share of a long program.
+pub const PART_LINES: usize = 1024;
+
+/// How a program is read for the job: a program without o-words in parts
+/// (with the facts of the whole, read first as a stream), or whole (a
+/// program with o-words is expanded as it is read; JSON output is written
+/// as one document).
+pub enum Prepared {
+    Parts(ProgramFacts),
+    Whole(Box<Program>),
+}
+
+impl Prepared {
+    /// Reads `text` as the job on it in `format` needs: see [`Prepared`].
+    pub fn read(text: &[u8], format: Format) -> Result<Prepared, GcodeError> {
+        let opts = ParseOptions::default();
+        if format != Format::Json {
+            if let Some(facts) = crate::interp::read_facts(text, &opts)? {
+                return Ok(Prepared::Parts(facts));
+            }
+        }
+        Ok(Prepared::Whole(Box::new(crate::parse_with(text, &opts)?)))
+    }
+
+    /// The program's units ([`Program::units`]).
+    pub fn units(&self) -> Units {
+        match self {
+            Prepared::Parts(f) => f.units,
+            Prepared::Whole(p) => p.units(),
+        }
+    }
+
+    /// Lines passed through verbatim ([`Program::passthrough`]).
+    pub fn passthrough(&self) -> &[crate::Passthrough] {
+        match self {
+            Prepared::Parts(f) => &f.passthrough,
+            Prepared::Whole(p) => p.passthrough(),
+        }
+    }
+}
+
+/// Why the job on a program in parts wrote no output.
+#[derive(Debug, thiserror::Error)]
+pub enum PartsError {
+    /// Reading, smoothing, planning or writing a part (a written part
+    /// that does not verify is [`PartsError::NotVerified`]).
+    #[error(transparent)]
+    Job(#[from] SmoothProgramError),
+    /// The written text of a part, read back, leaves the tolerance or
+    /// moves a run end point. The evidence is that of the parts so far,
+    /// this one included.
+    #[error(
+        "the output leaves the tolerance ({deviation:.6} mm > {tolerance} mm) or moves a run \
+         endpoint"
+    )]
+    NotVerified {
+        deviation: f64,
+        tolerance: f64,
+        evidence: Box<Evidence>,
+    },
+    /// `out` refused the text.
+    #[error("writing the output")]
+    Write(#[source] std::io::Error),
+}
+
+/// The whole job ([`super::smooth_parsed_with`]) on `text`, read as
+/// `prepared` says (whole, or in parts of at least `part_lines` lines),
+/// its written text given to `out` part after part. A program without
+/// moves is given to `out` as it is. On an error, what `out` got is not an
+/// output (the caller drops it). Returns the evidence and the clock,
+/// which marks each step of each part (step names repeat).
+pub fn smooth_in_parts(
+    text: &[u8],
+    prepared: Prepared,
+    opts: &SmoothOptions,
+    part_lines: usize,
+    out: &mut dyn Write,
+    mut phases: Phases,
+) -> Result<(Evidence, Phases), PartsError> {
+    let accuracy = opts.tolerance() * super::LENGTH_ACCURACY_SHARE;
+    let facts = match prepared {
+        Prepared::Whole(program) => {
+            if program.is_empty() {
+                return unchanged(text, program.lines().len(), opts, out, phases);
+            }
+            let (output, mut report) = super::smooth_parsed_with(&program, opts, phases)?;
+            out.write_all(output.text.as_bytes())
+                .map_err(PartsError::Write)?;
+            let phases = core::mem::take(&mut report.phases);
+            return Ok((Evidence::of(&report, accuracy), phases));
+        }
+        Prepared::Parts(facts) => facts,
+    };
+    if facts.moves == 0 {
+        return unchanged(text, facts.lines, opts, out, phases);
+    }
+    let emit = opts.emit_options();
+    let budget = emit
+        .budget_for_blending(&facts.blending)
+        .map_err(|e| SmoothProgramError::Emit(crate::emit::EmitError::Blend(e)))?;
+    let block_capped = opts.method().writes_for_block_capped_planner();
+    let mut evidence = Evidence::new(opts.method_name(), budget, block_capped);
+    let block_delete = facts.block_delete;
+    let reader = PartReader::new(text, &ParseOptions::default(), part_lines, block_delete);
+    let mut ctx = PartContext::new(facts);
+    let front_phases = phases.sibling();
+    // The front (reading, smoothing, verifying and planning each part, in
+    // order) runs a part ahead of the back (writing, checking and timing
+    // it, which goes on from the part before): both keep the cores busy
+    // where one part's steps would leave one idle, and at most three parts
+    // are held (one in each, one waiting).
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Result<Front, SmoothProgramError>>(1);
+    let facts = ctx.facts.clone();
+    std::thread::scope(|s| {
+        let front = s.spawn(move || fronts(reader, &facts, opts, front_phases, tx));
+        let mut written = TimeSums::default();
+        let mut back = Ok(());
+        for front in rx {
+            let Front {
+                part,
+                curves,
+                chosen,
+            } = match front {
+                Ok(f) => f,
+                Err(e) => {
+                    back = Err(e.into());
+                    break;
+                }
+            };
+            let mut clock = core::mem::take(&mut phases);
+            clock.restart();
+            let chosen = Some(chosen);
+            match write_curves_part(&part, curves, chosen, opts, clock, &mut ctx, written) {
+                Ok((output, mut report, w)) => {
+                    phases = core::mem::take(&mut report.phases);
+                    if let Err(e) = out.write_all(output.text.as_bytes()) {
+                        back = Err(PartsError::Write(e));
+                        break;
+                    }
+                    written = w;
+                    evidence.add(&report, accuracy);
+                }
+                Err(SmoothProgramError::OutputNotVerified {
+                    deviation,
+                    tolerance,
+                    mut report,
+                    ..
+                }) => {
+                    phases = core::mem::take(&mut report.phases);
+                    evidence.add(&report, accuracy);
+                    back = Err(PartsError::NotVerified {
+                        deviation,
+                        tolerance,
+                        evidence: Box::new(evidence.clone()),
+                    });
+                    break;
+                }
+                Err(e) => {
+                    back = Err(e.into());
+                    break;
+                }
+            }
+        }
+        // On an error the channel is dropped: the front stops at its next
+        // part.
+        let front_phases = front.join().expect("the front does not panic");
+        back?;
+        let mut all = front_phases;
+        all.merge(phases);
+        Ok((evidence, all))
+    })
+}
+
+/// A part smoothed, verified and planned, and its renderings chosen: what
+/// the back writes.
+struct Front {
+    part: Program,
+    curves: Curves,
+    chosen: Option<crate::emit::Chosen>,
+}
+
+/// The front of [`smooth_in_parts`]: each part of `reader` smoothed,
+/// verified and planned (the input's and the curves' times going on from
+/// the parts before), sent in order until the reader ends, a step fails
+/// (the error is sent) or the back stops listening. Returns its clock.
+fn fronts(
+    mut reader: PartReader<'_>,
+    facts: &ProgramFacts,
+    opts: &SmoothOptions,
+    mut phases: Phases,
+    tx: std::sync::mpsc::SyncSender<Result<Front, SmoothProgramError>>,
+) -> Phases {
+    let (mut input, mut exact) = <(TimeSums, TimeSums)>::default();
+    loop {
+        phases.restart();
+        let front = (|| -> Result<Option<Front>, SmoothProgramError> {
+            let Some(part) = reader.next_part()? else {
+                return Ok(None);
+            };
+            let result = smooth_curves_with(&part, facts, opts, &mut phases)?;
+            let (i, e, plans) = plan_input_and_curves_from(&part, &result, opts, input, exact)?;
+            phases.mark("plan input and curves");
+            (input, exact) = (i, e);
+            let mut curves = Curves {
+                result,
+                input: i.times(),
+                exact: e.times(),
+                plans,
+            };
+            let chosen = super::choose_renderings(&part, facts, &mut curves, opts)?;
+            phases.mark("render");
+            Ok(Some(Front {
+                part,
+                curves,
+                chosen,
+            }))
+        })();
+        let stop = !matches!(front, Ok(Some(_)));
+        let sent = match front {
+            Ok(None) => true,
+            Ok(Some(f)) => tx.send(Ok(f)).is_ok(),
+            Err(e) => tx.send(Err(e)).is_ok(),
+        };
+        if stop || !sent {
+            return phases;
+        }
+    }
+}
+
+/// A program without moves: given to `out` as it is (nothing to smooth).
+fn unchanged(
+    text: &[u8],
+    lines: usize,
+    opts: &SmoothOptions,
+    out: &mut dyn Write,
+    phases: Phases,
+) -> Result<(Evidence, Phases), PartsError> {
+    out.write_all(text).map_err(PartsError::Write)?;
+    let block_capped = opts.method().writes_for_block_capped_planner();
+    let mut e = Evidence::new(opts.method_name(), opts.budget(), block_capped);
+    e.lines_in = lines;
+    e.lines_out = lines;
+    Ok((e, phases))
+}
