@@ -102,7 +102,7 @@ pub fn smooth_prepared(
 ) -> Result<Summary> {
     use fairpath_gcode::pipeline::Phases;
     let clock = || match &progress {
-        Some(p) => Phases::observed(p.observer("")),
+        Some(p) => Phases::observed_with_lines(p.observer(""), p.lines_observer()),
         None => Phases::new(),
     };
     let mut phases = clock();

@@ -19,12 +19,17 @@ fn have_script() -> bool {
 /// under a pseudo-terminal when `tty`; returns everything it printed.
 fn run(tty: bool, extra: &str) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    run_on(&root.join("examples/zigzag.ngc"), tty, extra)
+}
+
+/// [`run`] on `program`.
+fn run_on(program: &Path, tty: bool, extra: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
     let cmd = format!(
         "{} smooth {} -t 0.05mm -m bspline-corner -o {} {extra}",
         env!("CARGO_BIN_EXE_fairpath"),
-        root.join("examples/zigzag.ngc").display(),
+        program.display(),
         out.display()
     );
     let o = if tty {
@@ -59,4 +64,30 @@ fn progress_shows_on_a_terminal_only_and_not_when_quiet() {
     assert!(shown, "no progress line on a terminal");
     assert!(!run(true, "--quiet").contains(ERASE));
     assert!(!run(false, "").contains(ERASE));
+}
+
+/// A program processed in several parts gets a bar with the share of its
+/// lines written.
+#[test]
+fn a_long_program_shows_a_bar_of_the_lines_written() {
+    if !have_script() {
+        eprintln!("script (util-linux) not installed: skipped");
+        return;
+    }
+    // 300 passes of 20 moves, a rapid before each: about 6,600 lines,
+    // several parts of fairpath_gcode::PART_LINES.
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("passes.ngc");
+    let mut text = String::from("G21 G90\n");
+    for pass in 0..300 {
+        let y = pass as f64 * 0.5;
+        text += &format!("G0 X0 Y{y}\nG1 X0.5 F3000\n");
+        for k in 1..20 {
+            text += &format!("G1 X{} Y{:.3}\n", k as f64 * 2.0, y + 0.2 * (k % 2) as f64);
+        }
+    }
+    text += "M2\n";
+    std::fs::write(&program, text).unwrap();
+    let shown = (0..5).any(|_| run_on(&program, true, "").contains("% of 6302 lines"));
+    assert!(shown, "no bar on a terminal");
 }

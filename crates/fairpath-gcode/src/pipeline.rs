@@ -307,6 +307,11 @@ impl EmitOptions {
 /// display's hook).
 pub type StepObserver = std::sync::Arc<dyn Fn(&'static str) + Send + Sync>;
 
+/// Called with the lines of the program done and its lines in all, as a
+/// job processed in parts ([`crate::smooth_in_parts`]) writes each part (a
+/// progress bar's hook).
+pub type LinesObserver = std::sync::Arc<dyn Fn(usize, usize) + Send + Sync>;
+
 /// Wall-clock time of each step (printed with `FAIRPATH_TIMING=1`), and
 /// an observer told of each step as it ends.
 #[derive(Clone)]
@@ -316,6 +321,7 @@ pub struct Phases {
     /// memory when it ended (where the system tells it).
     done: Vec<(&'static str, std::time::Duration, Option<u64>)>,
     observer: Option<StepObserver>,
+    lines: Option<LinesObserver>,
 }
 
 impl core::fmt::Debug for Phases {
@@ -348,6 +354,24 @@ impl Phases {
             last: std::time::Instant::now(),
             done: Vec::new(),
             observer: None,
+            lines: None,
+        }
+    }
+
+    /// [`Phases::observed`], also telling `lines` how many of the
+    /// program's lines are done ([`Phases::lines_done`]).
+    pub fn observed_with_lines(observer: StepObserver, lines: LinesObserver) -> Phases {
+        Phases {
+            lines: Some(lines),
+            ..Phases::observed(observer)
+        }
+    }
+
+    /// Tells the observer of lines that `done` of the program's `total`
+    /// lines are done.
+    pub fn lines_done(&self, done: usize, total: usize) {
+        if let Some(o) = &self.lines {
+            o(done, total);
         }
     }
     /// A clock that tells `observer` of each step as it ends.
@@ -362,6 +386,7 @@ impl Phases {
     pub fn sibling(&self) -> Phases {
         Phases {
             observer: self.observer.clone(),
+            lines: self.lines.clone(),
             ..Phases::new()
         }
     }

@@ -124,6 +124,7 @@ pub fn smooth_in_parts(
     let block_capped = opts.method().writes_for_block_capped_planner();
     let mut evidence = Evidence::new(opts.method_name(), budget, block_capped);
     let block_delete = facts.block_delete;
+    let total_lines = facts.lines;
     let reader = PartReader::new(text, &ParseOptions::default(), part_lines, block_delete);
     let mut ctx = PartContext::new(facts);
     let front_phases = phases.sibling();
@@ -153,6 +154,7 @@ pub fn smooth_in_parts(
             let mut clock = core::mem::take(&mut phases);
             clock.restart();
             let chosen = Some(chosen);
+            let last_line = part.first_number() + part.lines().len() - 1;
             match write_curves_part(&part, curves, chosen, opts, clock, &mut ctx, written) {
                 Ok((output, mut report, w)) => {
                     phases = core::mem::take(&mut report.phases);
@@ -162,6 +164,7 @@ pub fn smooth_in_parts(
                     }
                     written = w;
                     evidence.add(&report, accuracy);
+                    phases.lines_done(last_line, total_lines);
                 }
                 Err(SmoothProgramError::OutputNotVerified {
                     deviation,
