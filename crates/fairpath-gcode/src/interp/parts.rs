@@ -95,8 +95,13 @@ impl<'t> PartReader<'t> {
     fn cut(&mut self, k: usize) -> Program {
         let r = &mut self.r;
         let m = r.lines.get(k).map_or(r.moves.len(), |l| l.moves.start);
-        let mut lines: Vec<ProgramLine> = r.lines.drain(..k).collect();
-        let moves: Vec<_> = r.moves.drain(..m).collect();
+        // All that is held (the last part, or a program of one part): the
+        // vectors themselves, not a copy of them beside them.
+        let (mut lines, mut moves): (Vec<ProgramLine>, Vec<_>) = if k == r.lines.len() {
+            (core::mem::take(&mut r.lines), core::mem::take(&mut r.moves))
+        } else {
+            (r.lines.drain(..k).collect(), r.moves.drain(..m).collect())
+        };
         for l in &mut r.lines {
             l.moves = l.moves.start - m..l.moves.end - m;
         }
@@ -113,6 +118,7 @@ impl<'t> PartReader<'t> {
         );
         let runs = group_runs(&lines, &moves, first_number, feed_before);
         lines.shrink_to_fit();
+        moves.shrink_to_fit();
         Program {
             lines,
             moves,
