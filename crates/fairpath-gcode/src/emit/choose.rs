@@ -5,7 +5,7 @@
 //! ([`super::write`]).
 
 use super::emitter::{Choice, Emitter};
-use super::{Result, KEEP_MARGIN, LONG_RUN_PIECES};
+use super::{Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES};
 use fairpath::path::Run;
 use fairpath::pipeline::par_map;
 use fairpath::render::CurveForm;
@@ -73,22 +73,33 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
                 return Ok(c);
             }
-            // Where a rendering is already chosen, a candidate that does
-            // not beat it at the first feed loses whatever its other
-            // times: they are planned only when it does.
-            if let Some((b, _)) = &best {
-                let t0 = rendered_time(&c, feeds[0])?;
-                if t0 >= *b || t0 * (1.0 + KEEP_MARGIN) > own[0] {
+            // A candidate must be faster than the program's own run at every
+            // feed, and than a rendering already chosen at the first: it
+            // loses at the first feed where it is not, and its times at the
+            // feeds after that are not planned. A long run is planned at
+            // every feed side by side (once it beats the chosen one at the
+            // first).
+            let loses = |fi: usize, t: f64| {
+                t * (1.0 + KEEP_MARGIN) > own[fi]
+                    || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
+            };
+            let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {
+                if best.is_some() && loses(0, rendered_time(&c, feeds[0])?) {
                     continue;
                 }
-            }
-            let ts = at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?;
-            // Faster than the program's own run at every feed.
-            if ts
-                .iter()
-                .zip(own)
-                .any(|(t, o)| *t * (1.0 + KEEP_MARGIN) > *o)
-            {
+                at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?
+            } else {
+                let mut ts = Vec::with_capacity(feeds.len());
+                for &f in feeds.iter() {
+                    let t = rendered_time(&c, f)?;
+                    if loses(ts.len(), t) {
+                        break;
+                    }
+                    ts.push(t);
+                }
+                ts
+            };
+            if ts.len() < feeds.len() || ts.iter().enumerate().any(|(fi, &t)| loses(fi, t)) {
                 continue;
             }
             if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
