@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build -q --release -p fairpath-cli
-bin=target/release/fairpath
+bin=${FAIRPATH_BIN:-target/release/fairpath}
 shared=${SHARED:-../shared/paths}
 files=(examples/*.ngc)
 for f in synthetic/butterfly-80.ngc synthetic/noisy-line.ngc synthetic/helix.ngc \
