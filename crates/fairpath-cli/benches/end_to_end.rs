@@ -33,7 +33,7 @@ fn bench(c: &mut Criterion) {
                             .unwrap();
                     let out = dir.path().join("out.ngc");
                     let summary = smooth::smooth_file(&path, &out, &opts).unwrap();
-                    summary.lines_out
+                    summary.e.lines_out
                 })
             },
         );

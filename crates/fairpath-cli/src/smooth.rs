@@ -171,7 +171,7 @@ pub fn smooth_prepared(
             "note: {}: the program has no moves: copied unchanged",
             crate::read::name(input)
         );
-        summary.lines_out = summary.lines_in;
+        summary.e.lines_out = summary.e.lines_in;
     }
     summary.elapsed = started.elapsed();
     Ok(summary)

@@ -1,8 +1,5 @@
 //! The evidence printed after smoothing.
 
-use fairpath::render::RenderStats;
-use fairpath::smooth::{CornerReason, UnfairedReason};
-use fairpath_gcode::pipeline::JobTimes;
 use fairpath_gcode::{Evidence, SmoothOptions};
 use serde_json::json;
 use std::fmt::Write;
@@ -27,7 +24,9 @@ pub fn output_name(path: &Path) -> String {
     }
 }
 
-/// Figures for one smoothing job.
+/// Figures for one smoothing job: the library's [`Evidence`] and what the
+/// command adds (names, the tolerance in the program's units, the time
+/// taken, the machine in words).
 #[derive(Debug)]
 pub struct Summary {
     pub input: String,
@@ -39,52 +38,11 @@ pub struct Summary {
     /// The program's units (G20/G21 at its first move): the tolerance is
     /// printed in them too where they are not mm.
     pub units: fairpath_gcode::Units,
-    /// Shares of the tolerance: smoothing, output, the controller's
-    /// blending (mm).
-    pub shares: (f64, f64, f64),
-    pub feed_moves_in: usize,
-    pub rapids: usize,
-    pub runs: usize,
-    pub pieces_out: usize,
-    pub curves_out: usize,
-    pub transitions: usize,
-    pub kept_corners: Vec<(CornerReason, usize)>,
-    /// `auto`'s choices: candidate and number of runs, most runs first.
-    pub chosen: Vec<(&'static str, usize)>,
-    /// Curves left as written although the method smooths their kind: the
-    /// reason, how many, the first input line.
-    pub unfaired: Vec<(UnfairedReason, usize, usize)>,
-    pub dropped_zero_length: usize,
-    pub merged_collinear: usize,
-    /// Jogs and short moves absorbed into their neighbours.
-    pub absorbed_jogs: usize,
-    pub max_deviation_curves: f64,
-    pub max_deviation_written: f64,
-    pub joints: [usize; 4],
-    pub length_before: f64,
-    pub length_after: f64,
-    pub peak_curvature: f64,
-    /// Cusps inside curves (reversals the path stops at).
-    pub cusps: usize,
     pub elapsed: Duration,
-    /// Planned times of the input, the exact curves and the written
-    /// program, on the same machine and feeds (`fairpath simulate`).
-    pub times: JobTimes,
-    /// The machine and feeds they were planned with, in words.
+    /// The machine and feeds the times were planned with, in words.
     pub planned_on: String,
-    /// What the written runs hold.
-    pub rendered: RenderStats,
-    /// Lines of the input and of the written program.
-    pub lines_in: usize,
-    pub lines_out: usize,
-    /// Runs rendered again with a finer chord before they verified.
-    pub retried_runs: usize,
-    /// Runs written as the program had them (no rendering planned faster).
-    pub kept_runs: usize,
-    /// The runs were judged by a planner that caps the speed at every block
-    /// end (LinuxCNC's S-curve planner, for `arc-fit`), not by the blending
-    /// model of the times above.
-    pub block_capped: bool,
+    /// The job's figures (runs, curves, deviations, joints, times ...).
+    pub e: Evidence,
 }
 
 impl Summary {
@@ -111,47 +69,28 @@ impl Summary {
             controller: opts.controller().name(),
             tolerance: opts.tolerance(),
             units: fairpath_gcode::Units::Mm,
-            // The budget the writer used: a program's own looser G64 takes
-            // a blending share out of the output share (`budget_for`).
-            shares: (e.budget.smoothing(), e.budget.output, e.budget.blend),
-            feed_moves_in: e.feed_moves_in,
-            rapids: e.rapids,
-            runs: e.runs,
-            pieces_out: e.pieces_out,
-            curves_out: e.curves_out,
-            transitions: e.transitions,
-            kept_corners: e.kept_corners.clone(),
-            chosen: e.chosen.clone(),
-            unfaired: e.unfaired.clone(),
-            dropped_zero_length: e.dropped_zero_length,
-            merged_collinear: e.merged_collinear,
-            absorbed_jogs: e.absorbed_jogs,
-            max_deviation_curves: e.max_deviation_curves,
-            max_deviation_written: e.written.max_deviation,
-            joints: e.joints,
-            length_before: e.length_before,
-            length_after: e.length_after,
-            peak_curvature: e.peak_curvature,
-            cusps: e.cusps,
             elapsed: Duration::ZERO,
-            times: e.times,
             planned_on,
-            rendered: e.rendered,
-            lines_in: e.lines_in,
-            lines_out: e.lines_out,
-            retried_runs: e.retried_runs,
-            kept_runs: e.kept_runs,
-            block_capped: e.block_capped,
+            e: e.clone(),
         }
     }
 
     /// True when the written program plans slower than the input.
     pub fn slower_than_input(&self) -> bool {
-        self.times.written.total > self.times.input.total
+        self.e.times.written.total > self.e.times.input.total
+    }
+
+    /// Shares of the tolerance the text was written with: smoothing,
+    /// output, the controller's blending (mm). The budget the writer used:
+    /// a program's own looser G64 takes a blending share out of the output
+    /// share (`budget_for`).
+    pub fn shares(&self) -> (f64, f64, f64) {
+        let b = &self.e.budget;
+        (b.smoothing(), b.output, b.blend)
     }
 
     pub fn kept_total(&self) -> usize {
-        self.kept_corners.iter().map(|k| k.1).sum()
+        self.e.kept_corners.iter().map(|k| k.1).sum()
     }
 
     /// The tolerance in the program's units (`None` for mm programs).
@@ -174,7 +113,7 @@ impl Summary {
 
     pub fn text(&self) -> String {
         let mut s = String::new();
-        let (sm, out, blend) = self.shares;
+        let (sm, out, blend) = self.shares();
         let _ = writeln!(
             s,
             "fairpath smooth: {} -> {} ({}, {} for {}, tolerance {})",
@@ -197,24 +136,26 @@ impl Summary {
         let _ = writeln!(
             s,
             "  moves in:        {} feed moves in {} runs, {} rapids (untouched)",
-            self.feed_moves_in, self.runs, self.rapids
+            self.e.feed_moves_in, self.e.runs, self.e.rapids
         );
         let _ = writeln!(
             s,
             "  curves:          {} pieces ({} curves; {} corners replaced by transitions or fits)",
-            self.pieces_out, self.curves_out, self.transitions
+            self.e.pieces_out, self.e.curves_out, self.e.transitions
         );
-        if !self.chosen.is_empty() {
+        if !self.e.chosen.is_empty() {
             let list: Vec<String> = self
+                .e
                 .chosen
                 .iter()
                 .map(|(name, n)| format!("{n} x {name}"))
                 .collect();
             let _ = writeln!(s, "  auto chose:      {} (sections)", list.join("; "));
         }
-        if !self.unfaired.is_empty() {
-            let n: usize = self.unfaired.iter().map(|u| u.1).sum();
+        if !self.e.unfaired.is_empty() {
+            let n: usize = self.e.unfaired.iter().map(|u| u.1).sum();
             let list: Vec<String> = self
+                .e
                 .unfaired
                 .iter()
                 .map(|(reason, n, line)| format!("{n} {reason}, first at line {line}"))
@@ -226,7 +167,7 @@ impl Summary {
                 list.join("; ")
             );
         }
-        let r = &self.rendered;
+        let r = &self.e.rendered;
         let mut held = Vec::new();
         if r.arcs > 0 {
             held.push(format!("{} arcs ({} helical)", r.arcs, r.helical));
@@ -253,41 +194,42 @@ impl Summary {
         let _ = writeln!(
             s,
             "  written:         {} lines (input {}){}{}",
-            self.lines_out,
-            self.lines_in,
+            self.e.lines_out,
+            self.e.lines_in,
             if held.is_empty() {
                 String::new()
             } else {
                 format!("; runs hold {}", held.join(", "))
             },
-            if self.retried_runs > 0 {
+            if self.e.retried_runs > 0 {
                 format!(
                     "; {} runs rendered again with a finer chord",
-                    self.retried_runs
+                    self.e.retried_runs
                 )
             } else {
                 String::new()
             }
         );
-        if self.kept_runs > 0 {
+        if self.e.kept_runs > 0 {
             let _ = writeln!(
                 s,
                 "                   {} of {} runs kept as the program wrote them (no faster when written)",
-                self.kept_runs, self.runs
+                self.e.kept_runs, self.e.runs
             );
         }
         let _ = writeln!(
             s,
             "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged, {} tiny moves absorbed",
-            self.dropped_zero_length, self.merged_collinear, self.absorbed_jogs
+            self.e.dropped_zero_length, self.e.merged_collinear, self.e.absorbed_jogs
         );
         let _ = writeln!(
             s,
             "  max deviation:   {:.6} mm (curves), {:.6} mm (written output, bound)",
-            self.max_deviation_curves, self.max_deviation_written
+            self.e.max_deviation_curves, self.e.written.max_deviation
         );
-        let _ = writeln!(s, "  joints:          {}", joints_text(self.joints));
+        let _ = writeln!(s, "  joints:          {}", joints_text(self.e.joints));
         let kept: Vec<String> = self
+            .e
             .kept_corners
             .iter()
             .filter(|k| k.1 > 0)
@@ -306,26 +248,26 @@ impl Summary {
         let _ = writeln!(
             s,
             "  length:          {:.4} mm -> {:.4} mm",
-            self.length_before, self.length_after
+            self.e.length_before, self.e.length_after
         );
-        let cusps = match self.cusps {
+        let cusps = match self.e.cusps {
             0 => String::new(),
             1 => "; 1 cusp, a reversal the path stops at inside a curve".to_string(),
             n => format!("; {n} cusps, reversals the path stops at inside curves"),
         };
-        if self.peak_curvature > 0.0 {
+        if self.e.peak_curvature > 0.0 {
             let _ = writeln!(
                 s,
                 "  peak curvature:  {:.4} 1/mm (radius {:.4} mm){cusps}",
-                self.peak_curvature,
-                1.0 / self.peak_curvature
+                self.e.peak_curvature,
+                1.0 / self.e.peak_curvature
             );
-        } else if self.cusps > 0 {
+        } else if self.e.cusps > 0 {
             let _ = writeln!(s, "  peak curvature:  0{cusps}");
         } else {
             let _ = writeln!(s, "  peak curvature:  0 (no curves)");
         }
-        let t = &self.times;
+        let t = &self.e.times;
         let _ = writeln!(
             s,
             "  planned time:    input {:.3} s, curves {:.3} s, written {:.3} s ({:.3} of the input)",
@@ -339,7 +281,7 @@ impl Summary {
             "                   (feed moves: {:.3} s, {:.3} s, {:.3} s; {})",
             t.input.feed, t.exact.feed, t.written.feed, self.planned_on
         );
-        if self.block_capped {
+        if self.e.block_capped {
             let _ = writeln!(
                 s,
                 "  note:            {} writes for LinuxCNC's S-curve planner, which caps the speed at every block end; runs were kept or rewritten by that model (fewer, longer blocks), while the times above are a blending controller's",
@@ -359,6 +301,7 @@ impl Summary {
 
     pub fn json(&self) -> String {
         let kept: serde_json::Map<String, serde_json::Value> = self
+            .e
             .kept_corners
             .iter()
             .map(|(r, n)| (r.as_str().to_string(), json!(n)))
@@ -369,35 +312,35 @@ impl Summary {
             "tolerance_mm": self.tolerance,
             "program_units": crate::length::unit_name(self.units),
             "tolerance_program_units": self.tolerance / self.units.mm_per_unit(),
-            "smoothing_share_mm": self.shares.0,
-            "output_share_mm": self.shares.1, "blend_share_mm": self.shares.2,
-            "feed_moves_in": self.feed_moves_in, "runs": self.runs, "rapids": self.rapids,
-            "pieces_out": self.pieces_out, "curves_out": self.curves_out, "transitions": self.transitions,
-            "kept_corners": kept, "dropped_zero_length": self.dropped_zero_length,
-            "auto_chose": self.chosen.iter().map(|(n, c)| json!({"candidate": n, "sections": c})).collect::<Vec<_>>(),
-            "not_faired": self.unfaired.iter().map(|(r, n, l)| json!({"reason": r.to_string(), "curves": n, "first_line": l})).collect::<Vec<_>>(),
-            "merged_collinear": self.merged_collinear,
-            "absorbed_jogs": self.absorbed_jogs,
-            "max_deviation_curves_mm": self.max_deviation_curves,
-            "max_deviation_written_mm": self.max_deviation_written,
-            "joints": {"C2": self.joints[3], "C1": self.joints[2], "C0": self.joints[1], "gap": self.joints[0]},
-            "length_before_mm": self.length_before, "length_after_mm": self.length_after,
-            "peak_curvature_per_mm": self.peak_curvature, "cusps": self.cusps,
+            "smoothing_share_mm": self.shares().0,
+            "output_share_mm": self.shares().1, "blend_share_mm": self.shares().2,
+            "feed_moves_in": self.e.feed_moves_in, "runs": self.e.runs, "rapids": self.e.rapids,
+            "pieces_out": self.e.pieces_out, "curves_out": self.e.curves_out, "transitions": self.e.transitions,
+            "kept_corners": kept, "dropped_zero_length": self.e.dropped_zero_length,
+            "auto_chose": self.e.chosen.iter().map(|(n, c)| json!({"candidate": n, "sections": c})).collect::<Vec<_>>(),
+            "not_faired": self.e.unfaired.iter().map(|(r, n, l)| json!({"reason": r.to_string(), "curves": n, "first_line": l})).collect::<Vec<_>>(),
+            "merged_collinear": self.e.merged_collinear,
+            "absorbed_jogs": self.e.absorbed_jogs,
+            "max_deviation_curves_mm": self.e.max_deviation_curves,
+            "max_deviation_written_mm": self.e.written.max_deviation,
+            "joints": {"C2": self.e.joints[3], "C1": self.e.joints[2], "C0": self.e.joints[1], "gap": self.e.joints[0]},
+            "length_before_mm": self.e.length_before, "length_after_mm": self.e.length_after,
+            "peak_curvature_per_mm": self.e.peak_curvature, "cusps": self.e.cusps,
             "time_s": self.elapsed.as_secs_f64(),
-            "input_time_s": self.times.input.total,
-            "curves_time_s": self.times.exact.total,
-            "written_time_s": self.times.written.total,
-            "input_feed_time_s": self.times.input.feed,
-            "curves_feed_time_s": self.times.exact.feed,
-            "written_feed_time_s": self.times.written.feed,
+            "input_time_s": self.e.times.input.total,
+            "curves_time_s": self.e.times.exact.total,
+            "written_time_s": self.e.times.written.total,
+            "input_feed_time_s": self.e.times.input.feed,
+            "curves_feed_time_s": self.e.times.exact.feed,
+            "written_feed_time_s": self.e.times.written.feed,
             "written_slower_than_input": self.slower_than_input(),
             "planned_on": self.planned_on,
-            "lines_in": self.lines_in, "lines_out": self.lines_out,
-            "written_arcs": self.rendered.arcs, "written_helical_arcs": self.rendered.helical,
-            "written_lines": self.rendered.lines, "written_fallback_lines": self.rendered.fallback_lines,
-            "written_nurbs": self.rendered.nurbs, "retried_runs": self.retried_runs,
-            "nurbs_written_as_arcs": self.rendered.nurbs_as_arcs,
-            "kept_runs": self.kept_runs,
+            "lines_in": self.e.lines_in, "lines_out": self.e.lines_out,
+            "written_arcs": self.e.rendered.arcs, "written_helical_arcs": self.e.rendered.helical,
+            "written_lines": self.e.rendered.lines, "written_fallback_lines": self.e.rendered.fallback_lines,
+            "written_nurbs": self.e.rendered.nurbs, "retried_runs": self.e.retried_runs,
+            "nurbs_written_as_arcs": self.e.rendered.nurbs_as_arcs,
+            "kept_runs": self.e.kept_runs,
         })
         .to_string()
     }

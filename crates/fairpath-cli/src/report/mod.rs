@@ -246,22 +246,22 @@ fn table(results: &[MethodResult], original: &Simulation) -> String {
         match &r.outcome {
             Ok(w) => {
                 let s = &w.summary;
-                let kept: usize = s.kept_corners.iter().map(|(_, n)| n).sum();
+                let kept: usize = s.e.kept_corners.iter().map(|(_, n)| n).sum();
                 o.push_str(&format!(
                     "<tr><td>{}</td><td>{:.6}</td><td>{} / {} / {}</td><td>{kept}</td>\
                      <td>{:.3}</td><td>{:.4}</td><td>{:.4e}</td><td>{}</td><td>{:.3}</td>\
                      <td>{:.3}</td><td>{:.3}</td></tr>",
                     esc(&r.name),
-                    s.max_deviation_written,
-                    s.joints[3],
-                    s.joints[2],
-                    s.joints[1],
-                    s.length_after,
-                    s.peak_curvature,
+                    s.e.written.max_deviation,
+                    s.e.joints[3],
+                    s.e.joints[2],
+                    s.e.joints[1],
+                    s.e.length_after,
+                    s.e.peak_curvature,
                     w.energy,
-                    s.lines_out,
-                    s.times.written.total,
-                    s.times.written.total / s.times.input.total,
+                    s.e.lines_out,
+                    s.e.times.written.total,
+                    s.e.times.written.total / s.e.times.input.total,
                     w.smoothing_s,
                 ));
             }
