@@ -228,16 +228,24 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
             },
             exact,
             plans,
+            memo: None,
         };
         for &format in opts.formats.iter().filter(|_| verified) {
             let fo = options(name, format)?;
             // `auto` ranks by what is written in the format: smoothed again
             // for it, as `smooth` would.
             let curves = if fo.smooths_for_format() {
-                let result =
-                    smooth_curves(program, &fo, &mut Phases::new()).with_context(|| {
-                        format!("{name}: smoothing for the {} output", format.name())
-                    })?;
+                // (its objective's renderings kept for the writer)
+                let memo = std::sync::Arc::new(fairpath_gcode::pipeline::RenderMemo::default());
+                let facts = fairpath_gcode::ProgramFacts::of(program);
+                let result = fairpath_gcode::pipeline::smooth_curves_memo(
+                    program,
+                    &facts,
+                    &fo,
+                    &mut Phases::new(),
+                    Some(memo.clone()),
+                )
+                .with_context(|| format!("{name}: smoothing for the {} output", format.name()))?;
                 let (exact, plans) = plan_curves(program, &result, &fo)
                     .with_context(|| format!("{name}: planning"))?;
                 Curves {
@@ -245,6 +253,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
                     input: curves.input,
                     exact,
                     plans,
+                    memo: Some(memo),
                 }
             } else {
                 curves.clone()

@@ -16,8 +16,8 @@ pub use report::Report;
 
 use crate::emit::{choose_part, emit_part, write_chosen_part, Chosen, PartContext};
 use crate::pipeline::{
-    plan_input_and_curves, plan_text, plan_written_from, smooth_curves, JobTimes, Phases,
-    SmoothOptions, SmoothResult, TimeSums, Times,
+    plan_input_and_curves_from, plan_text, plan_written_from, smooth_curves_memo, JobTimes, Phases,
+    RenderMemo, SmoothOptions, SmoothResult, TimeSums, Times,
 };
 use crate::{Format, Program};
 use fairpath::feed::plan::RunPlan;
@@ -42,6 +42,9 @@ pub struct Curves {
     /// renderer shapes the written pieces by
     /// ([`crate::pipeline::plan_curves`]).
     pub plans: Vec<RunPlan>,
+    /// The renderings `auto`'s objective made, for the writer to take the
+    /// chosen candidates' ([`RenderMemo`]); `None` where there are none.
+    pub memo: Option<std::sync::Arc<RenderMemo>>,
 }
 
 /// Smooths and verifies every run ([`smooth_curves`]) and plans the input
@@ -51,14 +54,22 @@ pub fn smooth_and_plan(
     opts: &SmoothOptions,
     phases: &mut Phases,
 ) -> Result<Curves> {
-    let result = smooth_curves(program, opts, phases)?;
-    let (input, exact, plans) = plan_input_and_curves(program, &result, opts)?;
+    let memo = opts
+        .smooths_for_format()
+        .then(|| std::sync::Arc::new(RenderMemo::default()));
+    let facts = crate::ProgramFacts::of(program);
+    let result = smooth_curves_memo(program, &facts, opts, phases, memo.clone())?;
+    let none = TimeSums::default();
+    let (input, exact, plans) =
+        plan_input_and_curves_from(program, &result, opts, none, none, memo.as_deref())?;
+    let (input, exact) = (input.times(), exact.times());
     phases.mark("plan input and curves");
     Ok(Curves {
         result,
         input,
         exact,
         plans,
+        memo,
     })
 }
 
@@ -133,6 +144,7 @@ pub(crate) fn choose_renderings(
         &smoothed,
         &curves.plans,
         &opts.emit_options(),
+        curves.memo.as_deref(),
     );
     put_back(&mut curves.result, original, smoothed);
     Ok(chosen?)
@@ -161,6 +173,7 @@ pub(crate) fn write_curves_part(
         input,
         exact,
         plans,
+        memo,
     } = curves;
     let (original, smoothed) = lend(&mut result);
     let eo = opts.emit_options();
@@ -170,7 +183,15 @@ pub(crate) fn write_curves_part(
         "render, write, check"
     };
     let emitted = match chosen {
-        None => emit_part(program, ctx, &original, &smoothed, &plans, &eo),
+        None => emit_part(
+            program,
+            ctx,
+            &original,
+            &smoothed,
+            &plans,
+            &eo,
+            memo.as_deref(),
+        ),
         Some(c) => write_chosen_part(program, ctx, &original, &smoothed, &plans, &eo, c),
     };
     drop(plans);

@@ -25,7 +25,10 @@ use std::sync::Arc;
 
 mod error;
 mod plans;
+mod render_memo;
 pub mod written;
+
+pub use render_memo::RenderMemo;
 
 pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
@@ -153,9 +156,20 @@ impl SmoothOptions {
     /// [`SmoothOptions::method_for`] a program whose whole has `facts`
     /// (the same for each of its parts).
     pub fn method_for_facts(&self, facts: &crate::ProgramFacts) -> Option<Box<dyn Smoother>> {
+        self.method_with_memo(facts, None)
+    }
+
+    /// [`SmoothOptions::method_for_facts`], its objective telling `memo`
+    /// of the renderings it makes (for the writer to take the chosen
+    /// candidate's).
+    pub fn method_with_memo(
+        &self,
+        facts: &crate::ProgramFacts,
+        memo: Option<Arc<RenderMemo>>,
+    ) -> Option<Box<dyn Smoother>> {
         match &self.spec {
             Some(m @ Method::Auto(_)) => {
-                Some(m.smoother(written::objective_for(&self.emit_options(), facts)))
+                Some(m.smoother(written::objective_for(&self.emit_options(), facts, memo)))
             }
             _ => None,
         }
@@ -469,7 +483,19 @@ pub fn smooth_curves_with(
     opts: &SmoothOptions,
     phases: &mut Phases,
 ) -> Result<SmoothResult, PipelineError> {
-    let for_program = opts.method_for_facts(facts);
+    smooth_curves_memo(program, facts, opts, phases, None)
+}
+
+/// [`smooth_curves_with`], `auto`'s objective telling `memo` of the
+/// renderings it makes ([`RenderMemo`]).
+pub fn smooth_curves_memo(
+    program: &Program,
+    facts: &crate::ProgramFacts,
+    opts: &SmoothOptions,
+    phases: &mut Phases,
+    memo: Option<Arc<RenderMemo>>,
+) -> Result<SmoothResult, PipelineError> {
+    let for_program = opts.method_with_memo(facts, memo);
     fairpath::pipeline::smooth_runs_observed(
         program.runs(),
         for_program.as_deref().unwrap_or(opts.method.as_ref()),

@@ -23,7 +23,6 @@ pub struct Chosen {
 pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
     let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
-    let render = |k: usize, form: CurveForm, chord: f64| em.render(k, form, chord);
     let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     // A run smoothed into itself (method `none`) is written as the program
@@ -65,7 +64,13 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             {
                 continue;
             }
-            let c = render(k, form, opts.budget.output)?;
+            // (The time at the user's feeds where `auto`'s objective made
+            // this rendering.)
+            let (c, known) = em.first_render(k, i)?;
+            let rendered_time = |c: &Choice, f: bool| match known {
+                Some(t) if f == opts.override_feed => Ok(t),
+                _ => rendered_time(c, f),
+            };
             // A long run's only candidate is timed once, as written (the
             // check below plans what reads back at every feed and keeps the
             // run as the program wrote it where that is slower).

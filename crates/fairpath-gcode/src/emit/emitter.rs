@@ -9,16 +9,18 @@ use super::{
 };
 use crate::facts::ProgramFacts;
 use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
-use crate::pipeline::EmitOptions;
-use crate::{Format, GcodeWriteOptions, Program};
-use fairpath::feed::plan::{plan_time_shaped, PlanOptions, RunPlan};
+use crate::pipeline::{EmitOptions, RenderMemo};
+use crate::{Format, GcodeWriteOptions, Program, Units};
+use fairpath::feed::plan::{plan_run, plan_time_shaped, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
+use fairpath::feed::FeedError;
 use fairpath::path::Piece;
 use fairpath::pipeline::par_map;
 use fairpath::render::{
     absorb_lines, linuxcnc_g5_2_motion, render_range, render_run, CurveForm, PlannedSpeed,
     RenderStats, Rendered,
 };
+use std::sync::OnceLock;
 
 /// What is written for one run.
 #[derive(Clone, Debug)]
@@ -60,6 +62,12 @@ pub(super) struct Emitter<'a> {
     /// the machine's maximum (`true`), then the programmed ones unless
     /// feeds are overridden.
     pub(super) feeds: Vec<bool>,
+    /// The renderings `auto`'s objective made ([`RenderMemo`]), and the
+    /// units it rendered in (those of the program's first run).
+    pub(super) memo: Option<&'a RenderMemo>,
+    pub(super) memo_units: Units,
+    /// Plans made here where none was given ([`Emitter::plan`]).
+    lazy: Vec<OnceLock<core::result::Result<RunPlan, FeedError>>>,
 }
 
 impl<'a> Emitter<'a> {
@@ -83,6 +91,9 @@ impl<'a> Emitter<'a> {
             program,
             smoothed,
             plans,
+            memo: None,
+            memo_units: facts.render_units(),
+            lazy: (0..smoothed.len()).map(|_| OnceLock::new()).collect(),
             forms: forms(opts.format, opts.controller),
             feeds: if opts.override_feed {
                 vec![true]
@@ -96,11 +107,11 @@ impl<'a> Emitter<'a> {
 
     /// Run `k` rendered in `form` with output share `chord`.
     pub(super) fn render(&self, k: usize, form: CurveForm, chord: f64) -> Result<Choice> {
-        let (program, smoothed, plans) = (self.program, self.smoothed, self.plans);
+        let (program, smoothed) = (self.program, self.smoothed);
         let (opts, wo) = (&self.opts, &self.wo);
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, wo);
-        let speed = PlannedSpeed::new(smoothed[k].len(), &plans[k], opts.machine.period);
+        let speed = PlannedSpeed::new(smoothed[k].len(), self.plan(k)?, opts.machine.period);
         let pieces = &smoothed[k];
         let error = |source| EmitError::Render { run: k, source };
         if pieces.len() < PARALLEL_FEEDS_PIECES {
@@ -179,6 +190,49 @@ impl<'a> Emitter<'a> {
         } else {
             feeds.iter().map(|&f| t(f)).collect()
         }
+    }
+
+    /// The plan the renderer shapes run `k` by: the one given, or where
+    /// none was made (its rendering was to come from [`Emitter::memo`]:
+    /// [`crate::pipeline::plan_input_and_curves_from`]) made here, once.
+    fn plan(&self, k: usize) -> Result<&RunPlan> {
+        if !self.plans[k].segments.is_empty() {
+            return Ok(&self.plans[k]);
+        }
+        let made = self.lazy[k].get_or_init(|| {
+            let po = PlanOptions {
+                limits: self.opts.machine,
+                override_feed: true,
+                window: None,
+                ends: Default::default(),
+            };
+            plan_run(&self.smoothed[k], &po)
+        });
+        made.as_ref().map_err(|e| EmitError::Plan(e.clone()))
+    }
+
+    /// Run `k` rendered in the `i`-th of [`Emitter::forms`] at the output
+    /// share, as `auto`'s objective rendered it if it kept that rendering
+    /// ([`RenderMemo::take`]: the same pieces, options and plan, so the same
+    /// rendering), with its time at the user's feeds; else rendered here.
+    pub(super) fn first_render(&self, k: usize, i: usize) -> Result<(Choice, Option<f64>)> {
+        let form = self.forms[i];
+        let chord = self.opts.budget.output;
+        let same_units = self.program.run_spans()[k].units == self.memo_units;
+        if let Some((r, t)) = self
+            .memo
+            .filter(|_| same_units)
+            .and_then(|m| m.take(&self.smoothed[k], i))
+        {
+            let choice = Choice {
+                form: Some(form),
+                chord,
+                pieces: r.pieces,
+                stats: r.stats,
+            };
+            return Ok((choice, Some(t)));
+        }
+        Ok((self.render(k, form, chord)?, None))
     }
 
     /// Whether a rendering of run `k` is a long run's whose arcs fell back

@@ -19,7 +19,7 @@ pub use crate::pipeline::written::{
 use crate::pipeline::{
     compare_runs, group_by_source, RunCountMismatch, WrittenCheck, WrittenReading,
 };
-pub use crate::pipeline::{EmitOptions, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
+pub use crate::pipeline::{EmitOptions, RenderMemo, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
 use crate::write_gcode::WriterCarry;
 use crate::{ArcWords, Format, GcodeError, JsonError, Program, WriteError};
 pub use choose::Chosen;
@@ -158,13 +158,16 @@ pub fn emit(
     opts: &EmitOptions,
 ) -> Result<Emitted> {
     let mut ctx = PartContext::whole(program);
-    emit_part(program, &mut ctx, original, smoothed, plans, opts)
+    emit_part(program, &mut ctx, original, smoothed, plans, opts, None)
 }
 
 /// [`emit`] of `program`, a part of a program or a whole one, from where
 /// `ctx` stands; on success `ctx` stands after it. The parts emitted one
 /// after the other write, check and time the text [`emit`] makes of the
 /// whole program.
+///
+/// `memo`: the renderings `auto`'s objective made of these curves, if any
+/// ([`RenderMemo`]).
 pub fn emit_part(
     program: &Program,
     ctx: &mut PartContext,
@@ -172,11 +175,13 @@ pub fn emit_part(
     smoothed: &[Vec<Piece>],
     plans: &[RunPlan],
     opts: &EmitOptions,
+    memo: Option<&RenderMemo>,
 ) -> Result<Emitted> {
     if opts.format == Format::Json {
         return emit_json(program, &ctx.facts, original, smoothed, opts);
     }
-    let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+    let mut em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+    em.memo = memo;
     let chosen = choose::choose(&em, original)?;
     write::write_chosen(&em, ctx, original, chosen)
 }
@@ -192,11 +197,13 @@ pub fn choose_part(
     smoothed: &[Vec<Piece>],
     plans: &[RunPlan],
     opts: &EmitOptions,
+    memo: Option<&RenderMemo>,
 ) -> Result<Option<Chosen>> {
     if opts.format == Format::Json {
         return Ok(None);
     }
-    let em = emitter::Emitter::new(program, facts, smoothed, plans, opts)?;
+    let mut em = emitter::Emitter::new(program, facts, smoothed, plans, opts)?;
+    em.memo = memo;
     choose::choose(&em, original).map(Some)
 }
 

@@ -13,9 +13,12 @@
 use super::{write_curves_part, Curves, Evidence, SmoothProgramError};
 use crate::emit::PartContext;
 use crate::interp::PartReader;
-use crate::pipeline::{plan_input_and_curves_from, smooth_curves_with, Phases, TimeSums};
+use crate::pipeline::{
+    plan_input_and_curves_from, smooth_curves_memo, Phases, RenderMemo, TimeSums,
+};
 use crate::{Format, GcodeError, ParseOptions, Program, ProgramFacts, SmoothOptions, Units};
 use std::io::Write;
+use std::sync::Arc;
 
 /// Lines a part holds at least. Each part's runs are smoothed, verified
 /// and planned on all cores, so a part must hold enough runs to keep them
@@ -223,8 +226,12 @@ fn fronts(
             let Some(part) = reader.next_part()? else {
                 return Ok(None);
             };
-            let result = smooth_curves_with(&part, facts, opts, &mut phases)?;
-            let (i, e, plans) = plan_input_and_curves_from(&part, &result, opts, input, exact)?;
+            let memo = opts
+                .smooths_for_format()
+                .then(|| Arc::new(RenderMemo::default()));
+            let result = smooth_curves_memo(&part, facts, opts, &mut phases, memo.clone())?;
+            let (i, e, plans) =
+                plan_input_and_curves_from(&part, &result, opts, input, exact, memo.as_deref())?;
             phases.mark("plan input and curves");
             (input, exact) = (i, e);
             let mut curves = Curves {
@@ -232,8 +239,11 @@ fn fronts(
                 input: i.times(),
                 exact: e.times(),
                 plans,
+                memo,
             };
             let chosen = super::choose_renderings(&part, facts, &mut curves, opts)?;
+            // The renderings not chosen are not needed any more.
+            curves.memo = None;
             phases.mark("render");
             Ok(Some(Front {
                 part,

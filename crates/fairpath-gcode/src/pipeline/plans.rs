@@ -245,7 +245,7 @@ pub fn plan_curves(
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<RunPlan>)> {
     let none = TimeSums::default();
-    let (_, exact, plans) = plan_job(program, result, opts, None, none)?;
+    let (_, exact, plans) = plan_job(program, result, opts, None, none, None)?;
     Ok((exact.times(), plans))
 }
 
@@ -257,21 +257,26 @@ pub fn plan_input_and_curves(
     opts: &SmoothOptions,
 ) -> Result<(Times, Times, Vec<RunPlan>)> {
     let none = TimeSums::default();
-    let (input, exact, plans) = plan_input_and_curves_from(program, result, opts, none, none)?;
+    let (input, exact, plans) =
+        plan_input_and_curves_from(program, result, opts, none, none, None)?;
     Ok((input.times(), exact.times(), plans))
 }
 
 /// [`plan_input_and_curves`] of `program`, a part of a program, with the
 /// times of the parts before it: the sums of the input and of the curves
-/// so far ([`TimeSums`]), which it returns with its own added.
+/// so far ([`TimeSums`]), which it returns with its own added. A run whose
+/// rendering `memo` holds gets no renderer's plan (an empty one: the
+/// writer takes the rendering, and plans the run itself if it must
+/// render it after all).
 pub fn plan_input_and_curves_from(
     program: &Program,
     result: &SmoothResult,
     opts: &SmoothOptions,
     input: TimeSums,
     exact: TimeSums,
+    memo: Option<&super::RenderMemo>,
 ) -> Result<(TimeSums, TimeSums, Vec<RunPlan>)> {
-    let (input, exact, plans) = plan_job(program, result, opts, Some(input), exact)?;
+    let (input, exact, plans) = plan_job(program, result, opts, Some(input), exact, memo)?;
     Ok((input.expect("the input is planned"), exact, plans))
 }
 
@@ -285,6 +290,7 @@ fn plan_job(
     opts: &SmoothOptions,
     input_from: Option<TimeSums>,
     exact_from: TimeSums,
+    memo: Option<&super::RenderMemo>,
 ) -> Result<(Option<TimeSums>, TimeSums, Vec<RunPlan>)> {
     let input = input_from.is_some();
     #[derive(Clone, Copy)]
@@ -319,7 +325,12 @@ fn plan_job(
             ends: Default::default(),
         };
         par_map(curves.len(), |k| {
-            if result.runs[k].original.pieces == curves[k] {
+            // Not rendered (smoothed into itself), or rendered already by
+            // `auto`'s objective (the writer plans it if it must render it
+            // after all).
+            if result.runs[k].original.pieces == curves[k]
+                || memo.is_some_and(|m| m.holds(curves[k], 0))
+            {
                 return Ok(RunPlan::default());
             }
             let line = curves[k].first().map(|p| p.source_lines.0).unwrap_or(0);

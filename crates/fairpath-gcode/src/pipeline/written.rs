@@ -75,7 +75,14 @@ pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
 /// of its first run, at the user's feeds); for JSON, which writes the
 /// exact curves, their planned time ([`PlannedTime`], at the machine's
 /// maximum feed).
-pub fn objective_for(opts: &EmitOptions, facts: &ProgramFacts) -> Arc<dyn Objective> {
+///
+/// `memo`, if any, is told of every rendering the objective costs
+/// ([`super::RenderMemo`]).
+pub fn objective_for(
+    opts: &EmitOptions,
+    facts: &ProgramFacts,
+    memo: Option<Arc<super::RenderMemo>>,
+) -> Arc<dyn Objective> {
     let exact = || Arc::new(PlannedTime::new(opts.machine, true)) as Arc<dyn Objective>;
     let forms = forms(opts.format, opts.controller);
     let Ok(budget) = opts.budget_for_blending(&facts.blending) else {
@@ -98,6 +105,7 @@ pub fn objective_for(opts: &EmitOptions, facts: &ProgramFacts) -> Arc<dyn Object
         .collect();
     let mut written = WrittenTime::new(opts.machine, opts.override_feed, renders);
     written.corners = opts.judged_by;
+    written.observer = memo.map(|m| m as Arc<dyn fairpath::choose::RenderObserver>);
     Arc::new(written)
 }
 

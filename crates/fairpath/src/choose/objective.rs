@@ -14,7 +14,10 @@ use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, plan_time_shaped, Corners, PlanOptions};
 use crate::feed::shaping::Shaping;
 use crate::path::Piece;
-use crate::render::{linuxcnc_g5_2_motion, render_run, CurveForm, PlannedSpeed, RenderOptions};
+use crate::render::{
+    linuxcnc_g5_2_motion, render_run, CurveForm, PlannedSpeed, RenderOptions, Rendered,
+};
+use alloc::sync::Arc;
 use alloc::vec::Vec;
 
 /// A cost of running a smoothed run (lower is better).
@@ -93,7 +96,7 @@ impl Objective for PlannedTime {
 /// The writer also keeps a run as the program wrote it where every
 /// rendering plans slower than that; this is the same for every candidate
 /// of a run, so it is not part of the cost.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct WrittenTime {
     /// The plan whose speed the renderer reads: the writer plans the
     /// curves at the machine's maximum feed.
@@ -107,6 +110,33 @@ pub struct WrittenTime {
     pub renders: Vec<RenderOptions>,
     /// How the writer's judge passes the corners of a rendering.
     pub corners: Corners,
+    /// Told of every rendering costed, with its time: a writer that
+    /// renders the chosen candidate with the same options can take it
+    /// from there instead of rendering and planning it again.
+    pub observer: Option<Arc<dyn RenderObserver>>,
+}
+
+impl PartialEq for WrittenTime {
+    /// The same options (and the same observer, if any).
+    fn eq(&self, o: &Self) -> bool {
+        self.shape == o.shape
+            && self.plan == o.plan
+            && self.renders == o.renders
+            && self.corners == o.corners
+            && match (&self.observer, &o.observer) {
+                (None, None) => true,
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                _ => false,
+            }
+    }
+}
+
+/// What [`WrittenTime`] tells of each rendering it costs: the candidate's
+/// pieces, the index of the rendering's options in
+/// [`WrittenTime::renders`], the rendering itself (given away: the cost
+/// needs only its time) and its time on [`WrittenTime::plan`].
+pub trait RenderObserver: Send + Sync + core::fmt::Debug {
+    fn rendered(&self, pieces: &[Piece], render: usize, rendering: Rendered, time: f64);
 }
 
 impl WrittenTime {
@@ -119,6 +149,7 @@ impl WrittenTime {
             plan: PlannedTime::new(limits, override_feed).plan,
             renders,
             corners: Corners::Blended,
+            observer: None,
         }
     }
 
@@ -152,6 +183,9 @@ impl Objective for WrittenTime {
             if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
                 if best.is_none_or(|b| t < b) {
                     best = Some(t);
+                }
+                if let Some(o) = &self.observer {
+                    o.rendered(pieces, i, r, t);
                 }
             }
         }

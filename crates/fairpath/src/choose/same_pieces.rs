@@ -86,8 +86,73 @@ fn piece(a: &Piece, b: &Piece) -> bool {
 }
 
 /// Whether `a` and `b` are the same pieces, every number bit for bit.
-pub(super) fn same_pieces(a: &[Piece], b: &[Piece]) -> bool {
+pub fn same_pieces(a: &[Piece], b: &[Piece]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(p, q)| piece(p, q))
+}
+
+/// A 128-bit digest of `pieces`, every number bit for bit (what
+/// [`same_pieces`] compares): pieces that differ have different digests
+/// but with a chance of about 2^-128, so a cache keyed by it can stand
+/// for [`same_pieces`] where holding the pieces themselves would cost.
+pub fn pieces_digest(pieces: &[Piece]) -> [u64; 2] {
+    let mut d = Digest([0x243f_6a88_85a3_08d3, 0x1319_8a2e_0370_7344]);
+    d.word(pieces.len() as u64);
+    for p in pieces {
+        match &p.curve {
+            Curve::Line(l) => {
+                d.word(1);
+                d.vec(l.p0);
+                d.vec(l.p1);
+            }
+            Curve::Arc(a) => {
+                d.word(2);
+                for v in [a.center, a.normal, a.u, a.p0, a.p1] {
+                    d.vec(v);
+                }
+                for x in [a.r0, a.r1, a.sweep, a.rise] {
+                    d.word(x.to_bits());
+                }
+            }
+            Curve::Nurbs(n) => {
+                d.word(3);
+                d.word(n.degree as u64);
+                d.word(n.knots.len() as u64);
+                for k in &n.knots {
+                    d.word(k.to_bits());
+                }
+                d.word(n.points.len() as u64);
+                for q in &n.points {
+                    d.vec(*q);
+                }
+                for w in n.weights.iter().flatten() {
+                    d.word(w.to_bits());
+                }
+            }
+        }
+        d.word(u64::from(p.rapid));
+        d.word(p.source_lines.0 as u64);
+        d.word(p.source_lines.1 as u64);
+        d.word(p.feed.map_or(u64::MAX, f64::to_bits));
+    }
+    d.0
+}
+
+/// Two independent 64-bit mixes (multiply-rotate, as in wyhash and
+/// splitmix64) of the words fed to them.
+struct Digest([u64; 2]);
+
+impl Digest {
+    fn word(&mut self, w: u64) {
+        let [a, b] = &mut self.0;
+        *a = (*a ^ w).wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(27);
+        *b = (b.wrapping_add(w) ^ (*b >> 31)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    }
+
+    fn vec(&mut self, v: Vec3) {
+        for x in [v.x, v.y, v.z] {
+            self.word(x.to_bits());
+        }
+    }
 }
 
 #[cfg(test)]

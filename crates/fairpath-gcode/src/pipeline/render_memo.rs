@@ -1,0 +1,96 @@
+//! The renderings `auto`'s objective made while it ranked its candidates
+//! ([`fairpath::choose::WrittenTime`]), kept for the writer: the
+//! candidate `auto` chooses for a run is the one whose rendering planned
+//! fastest, rendered with the options the writer renders with, so the
+//! writer takes that rendering and its time instead of rendering and
+//! planning the same pieces again ([`crate::emit`]).
+//!
+//! Per run (named by its first and last input lines and its end points)
+//! and rendering options, only the fastest rendering seen is kept, with a
+//! digest of the candidate's pieces ([`pieces_digest`]); the writer takes
+//! it only for pieces with the same digest, so what it writes is what it
+//! would have rendered itself, bit for bit.
+
+use fairpath::choose::{pieces_digest, RenderObserver};
+use fairpath::path::Piece;
+use fairpath::render::Rendered;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// A run: its first and last input lines and its end points, bit for bit.
+type RunKey = (usize, usize, [u64; 6]);
+
+/// The fastest rendering seen of each run (see the module docs).
+#[derive(Debug, Default)]
+pub struct RenderMemo {
+    kept: Mutex<HashMap<(RunKey, usize), Kept>>,
+    /// Renderings taken by the writer so far.
+    taken: AtomicUsize,
+}
+
+#[derive(Debug)]
+struct Kept {
+    digest: [u64; 2],
+    time: f64,
+    rendering: Rendered,
+}
+
+fn run_key(pieces: &[Piece]) -> Option<RunKey> {
+    let (first, last) = (pieces.first()?, pieces.last()?);
+    let (a, b) = (first.start(), last.end());
+    let bits = [a.x, a.y, a.z, b.x, b.y, b.z].map(f64::to_bits);
+    Some((first.source_lines.0, last.source_lines.1, bits))
+}
+
+impl RenderObserver for RenderMemo {
+    fn rendered(&self, pieces: &[Piece], render: usize, rendering: Rendered, time: f64) {
+        let Some(key) = run_key(pieces) else {
+            return;
+        };
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        if kept.get(&(key, render)).is_some_and(|k| k.time <= time) {
+            return;
+        }
+        let digest = pieces_digest(pieces);
+        kept.insert(
+            (key, render),
+            Kept {
+                digest,
+                time,
+                rendering,
+            },
+        );
+    }
+}
+
+impl RenderMemo {
+    /// The rendering of exactly `pieces` with the objective's rendering
+    /// options `render` and its planned time, if it was kept; taken out.
+    pub fn take(&self, pieces: &[Piece], render: usize) -> Option<(Rendered, f64)> {
+        let key = (run_key(pieces)?, render);
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        if kept.get(&key)?.digest != pieces_digest(pieces) {
+            return None;
+        }
+        self.taken.fetch_add(1, Ordering::Relaxed);
+        kept.remove(&key).map(|k| (k.rendering, k.time))
+    }
+
+    /// Whether it holds the rendering of exactly `pieces` with the
+    /// objective's rendering options `render` ([`RenderMemo::take`] would
+    /// give it).
+    pub fn holds(&self, pieces: &[Piece], render: usize) -> bool {
+        let Some(key) = run_key(pieces) else {
+            return false;
+        };
+        let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        kept.get(&(key, render))
+            .is_some_and(|k| k.digest == pieces_digest(pieces))
+    }
+
+    /// How many renderings the writer took ([`RenderMemo::take`]).
+    pub fn taken(&self) -> usize {
+        self.taken.load(Ordering::Relaxed)
+    }
+}

@@ -1,0 +1,53 @@
+//! `auto`'s objective renders every candidate as the writer will; the
+//! writer takes the chosen candidate's rendering from it
+//! (`pipeline::RenderMemo`) instead of rendering it again, and writes the
+//! same text as without it, byte for byte.
+
+use fairpath_gcode::pipeline::{plan_input_and_curves, smooth_curves_memo, Phases, RenderMemo};
+use fairpath_gcode::{
+    parse, write_curves, Controller, Curves, Format, ProgramFacts, SmoothOptions,
+};
+use std::sync::Arc;
+
+/// The job's text and the renderings the writer took, with or without a memo.
+fn written(text: &str, format: Format, memo: bool) -> (String, usize) {
+    let program = parse(text.as_bytes()).unwrap();
+    let opts = SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic).unwrap();
+    let memo = memo.then(|| Arc::new(RenderMemo::default()));
+    let facts = ProgramFacts::of(&program);
+    let mut phases = Phases::new();
+    let result = smooth_curves_memo(&program, &facts, &opts, &mut phases, memo.clone()).unwrap();
+    let (input, exact, plans) = plan_input_and_curves(&program, &result, &opts).unwrap();
+    let curves = Curves {
+        result,
+        input,
+        exact,
+        plans,
+        memo: memo.clone(),
+    };
+    let (output, _) = write_curves(&program, curves, &opts, phases).unwrap();
+    (output.text, memo.map_or(0, |m| m.taken()))
+}
+
+#[test]
+fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
+    for text in [
+        include_str!("../../../examples/pocket-corners.ngc"),
+        include_str!("../../../examples/rhombus.ngc"),
+        include_str!("../../../examples/zigzag.ngc"),
+    ] {
+        for format in [Format::Arcs, Format::G1, Format::G6_2, Format::G5_2] {
+            let (with, taken) = written(text, format, true);
+            let (without, none) = written(text, format, false);
+            assert_eq!(none, 0);
+            assert!(taken > 0, "{format:?}: no rendering taken");
+            assert_eq!(with, without, "{format:?}");
+            // The whole job, whose writer also plans no run it takes the
+            // rendering of (and plans a run it must render after all).
+            let opts =
+                SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic).unwrap();
+            let (job, _) = fairpath_gcode::smooth_program(text, &opts).unwrap();
+            assert_eq!(job.text, without, "{format:?}");
+        }
+    }
+}
