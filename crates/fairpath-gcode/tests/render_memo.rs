@@ -3,14 +3,17 @@
 //! (`pipeline::RenderMemo`) instead of rendering it again, and writes the
 //! same text as without it, byte for byte.
 
-use fairpath_gcode::pipeline::{plan_input_and_curves, smooth_curves_memo, Phases, RenderMemo};
+use fairpath_gcode::pipeline::{
+    plan_input_and_curves, smooth_curves_memo, JobTimes, Phases, RenderMemo,
+};
 use fairpath_gcode::{
     parse, write_curves, Controller, Curves, Format, ProgramFacts, SmoothOptions,
 };
 use std::sync::Arc;
 
-/// The job's text and the renderings the writer took, with or without a memo.
-fn written(text: &str, format: Format, memo: bool) -> (String, usize) {
+/// The job's text, its times and the renderings the writer took, with or
+/// without a memo.
+fn written(text: &str, format: Format, memo: bool) -> (String, JobTimes, usize) {
     let program = parse(text.as_bytes()).unwrap();
     let opts = SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic).unwrap();
     let memo = memo.then(|| Arc::new(RenderMemo::default()));
@@ -25,8 +28,8 @@ fn written(text: &str, format: Format, memo: bool) -> (String, usize) {
         plans,
         memo: memo.clone(),
     };
-    let (output, _) = write_curves(&program, curves, &opts, phases).unwrap();
-    (output.text, memo.map_or(0, |m| m.taken()))
+    let (output, report) = write_curves(&program, curves, &opts, phases).unwrap();
+    (output.text, report.times, memo.map_or(0, |m| m.taken()))
 }
 
 #[test]
@@ -37,8 +40,8 @@ fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
         include_str!("../../../examples/zigzag.ngc"),
     ] {
         for format in [Format::Arcs, Format::G1, Format::G6_2, Format::G5_2] {
-            let (with, taken) = written(text, format, true);
-            let (without, none) = written(text, format, false);
+            let (with, _, taken) = written(text, format, true);
+            let (without, times, none) = written(text, format, false);
             assert_eq!(none, 0);
             assert!(taken > 0, "{format:?}: no rendering taken");
             assert_eq!(with, without, "{format:?}");
@@ -46,8 +49,11 @@ fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
             // rendering of (and plans a run it must render after all).
             let opts =
                 SmoothOptions::new(0.05, None, "auto", Some(format), Controller::Generic).unwrap();
-            let (job, _) = fairpath_gcode::smooth_program(text, &opts).unwrap();
+            let (job, report) = fairpath_gcode::smooth_program(text, &opts).unwrap();
             assert_eq!(job.text, without, "{format:?}");
+            // The curves' time taken from the objective's bounds: the same
+            // to the bit.
+            assert_eq!(report.times, times, "{format:?}");
         }
     }
 }

@@ -372,10 +372,16 @@ fn plan_job(
         Task::Exact => {
             let what = "the curves";
             let keep = override_feed;
+            // The curves `auto`'s objective planned already (at the same
+            // feeds, with the same options: not where the plans are kept).
+            let known: Vec<Option<f64>> = match memo.filter(|_| !keep) {
+                Some(m) => curves.iter().map(|c| m.bound_of(c)).collect(),
+                None => Vec::new(),
+            };
             motion_times(
                 &outline,
                 &curves,
-                &[],
+                &known,
                 &shared,
                 m,
                 override_feed,

@@ -25,6 +25,8 @@ type RunKey = (usize, usize, [u64; 6]);
 #[derive(Debug, Default)]
 pub struct RenderMemo {
     kept: Mutex<HashMap<(RunKey, usize), Kept>>,
+    /// The candidates' curves planned at the user's feeds, by digest.
+    bounds: Mutex<HashMap<[u64; 2], f64>>,
     /// Renderings taken by the writer so far.
     taken: AtomicUsize,
 }
@@ -62,6 +64,12 @@ impl RenderObserver for RenderMemo {
             },
         );
     }
+
+    fn bounded(&self, pieces: &[Piece], time: f64) {
+        let digest = pieces_digest(pieces);
+        let mut bounds = self.bounds.lock().unwrap_or_else(|e| e.into_inner());
+        bounds.insert(digest, time);
+    }
 }
 
 impl RenderMemo {
@@ -87,6 +95,14 @@ impl RenderMemo {
         let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
         kept.get(&(key, render))
             .is_some_and(|k| k.digest == pieces_digest(pieces))
+    }
+
+    /// The time of exactly `pieces` planned at the user's feeds with
+    /// blended corners, where the objective planned it (as the curves'
+    /// time of a job is planned: `plan_input_and_curves_from` takes it).
+    pub fn bound_of(&self, pieces: &[Piece]) -> Option<f64> {
+        let bounds = self.bounds.lock().unwrap_or_else(|e| e.into_inner());
+        bounds.get(&pieces_digest(pieces)).copied()
     }
 
     /// How many renderings the writer took ([`RenderMemo::take`]).

@@ -134,9 +134,12 @@ impl PartialEq for WrittenTime {
 /// What [`WrittenTime`] tells of each rendering it costs: the candidate's
 /// pieces, the index of the rendering's options in
 /// [`WrittenTime::renders`], the rendering itself (given away: the cost
-/// needs only its time) and its time on [`WrittenTime::plan`].
+/// needs only its time) and its time on [`WrittenTime::plan`]; and of each
+/// bound it computes (the candidate's curves planned on
+/// [`WrittenTime::plan`], [`Objective::bound`]).
 pub trait RenderObserver: Send + Sync + core::fmt::Debug {
     fn rendered(&self, pieces: &[Piece], render: usize, rendering: Rendered, time: f64);
+    fn bounded(&self, _pieces: &[Piece], _time: f64) {}
 }
 
 impl WrittenTime {
@@ -193,6 +196,10 @@ impl Objective for WrittenTime {
     }
 
     fn bound(&self, pieces: &[Piece]) -> Option<f64> {
-        plan_time_shaped(pieces, &self.plan, &Shaping::none(), Corners::Blended).ok()
+        let time = plan_time_shaped(pieces, &self.plan, &Shaping::none(), Corners::Blended).ok()?;
+        if let Some(o) = &self.observer {
+            o.bounded(pieces, time);
+        }
+        Some(time)
     }
 }
