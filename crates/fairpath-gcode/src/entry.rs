@@ -47,8 +47,8 @@ pub struct Curves {
     pub memo: Option<std::sync::Arc<RenderMemo>>,
 }
 
-/// Smooths and verifies every run ([`smooth_curves`]) and plans the input
-/// and the curves side by side ([`plan_input_and_curves`]).
+/// Smooths and verifies every run ([`crate::pipeline::smooth_curves`]) and plans the input
+/// and the curves side by side ([`crate::pipeline::plan_input_and_curves`]).
 pub fn smooth_and_plan(
     program: &Program,
     opts: &SmoothOptions,
