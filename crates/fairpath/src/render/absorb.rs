@@ -26,6 +26,13 @@
 //!   with `L^2 / min(r0, r1)`. A line after a NURBS or at the start of
 //!   the run is left as it is.
 //!
+//! A piece that absorbs several lines in a row moves the path by the sum
+//! of the merges' shifts (each merge moves the path as merged so far by
+//! its own shift, and distances add along the chain: the triangle
+//! inequality), and that sum must stay within `max_shift`: checking each
+//! merge alone let a chain of a thousand short lines along a gentle curve
+//! become one chord far outside the share.
+//!
 //! A line is absorbed only where its feed is the piece before's (a
 //! programmed feed is never moved); the merged piece takes the line's
 //! last source line, so the writer still places the lines between them.
@@ -35,8 +42,8 @@ use crate::path::Piece;
 use alloc::vec::Vec;
 
 /// Merges every line of `pieces` no longer than `max_len` (mm) into the
-/// piece before it where the path moves by at most `max_shift` (mm);
-/// returns how many were merged.
+/// piece before it where the path moves by at most `max_shift` (mm, all
+/// the merges into one piece together); returns how many were merged.
 pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64) -> usize {
     if !(max_len > 0.0 && max_shift > 0.0) || pieces.len() < 2 {
         return 0;
@@ -45,6 +52,8 @@ pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64)
     // things held): `pieces[..kept]` is the output so far.
     let mut merged = 0;
     let mut kept = 0;
+    // What the merges into `pieces[kept - 1]` have moved the path by.
+    let mut used = 0.0;
     for i in 0..pieces.len() {
         let short = match &pieces[i].curve {
             Curve::Line(l) => {
@@ -54,7 +63,10 @@ pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64)
             _ => false,
         };
         if short && kept > 0 {
-            if let Some(curve) = merged_with(&pieces[kept - 1], &pieces[i], max_shift) {
+            if let Some((curve, shift)) =
+                merged_with(&pieces[kept - 1], &pieces[i], max_shift - used)
+            {
+                used += shift;
                 let last = pieces[i].source_lines.1;
                 let prev = &mut pieces[kept - 1];
                 prev.curve = curve;
@@ -65,14 +77,15 @@ pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64)
         }
         pieces.swap(kept, i);
         kept += 1;
+        used = 0.0;
     }
     pieces.truncate(kept);
     merged
 }
 
-/// The curve of `prev` with the line `short` after it, moving the path
-/// by at most `max_shift`, or `None`.
-fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<Curve> {
+/// The curve of `prev` with the line `short` after it and the bound of
+/// what it moves the path by, if that is at most `max_shift`; or `None`.
+fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<(Curve, f64)> {
     let Curve::Line(line) = &short.curve else {
         return None;
     };
@@ -84,7 +97,7 @@ fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<Curve> {
         Curve::Line(a) => {
             let chord = Line::new(a.p0, line.p1);
             let shift = crate::geom::point_segment_distance(a.p1, chord.p0, chord.p1);
-            (shift <= max_shift).then_some(Curve::Line(chord))
+            (shift <= max_shift).then_some((Curve::Line(chord), shift))
         }
         Curve::Arc(a) => {
             let coincident = 0.0;
@@ -99,7 +112,7 @@ fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<Curve> {
             let radial = crate::math::abs(new.r1 - a.r0) + crate::math::abs(a.r1 - a.r0);
             let height = a.sweep * crate::math::abs(new.rise / new.sweep - a.rise / a.sweep);
             let shift = radial + height + l * l / r_min;
-            (shift <= max_shift).then_some(Curve::Arc(new))
+            (shift <= max_shift).then_some((Curve::Arc(new), shift))
         }
         _ => None,
     }
