@@ -77,6 +77,15 @@ pub const SHORT_LINE_SHARE: f64 = 0.25;
 /// out of what [`DEVIATION_USE`] and [`CHORD_USE`] leave.
 pub const ABSORB_SHIFT_SHARE: f64 = 1e-3;
 
+/// Largest turn (rad) of an arc's start tangent that extending it over a
+/// merged short line may make (`render::absorb`): extended to a new end
+/// about the same centre, a spiral's radius law changes and its start
+/// tangent swings (by `(r1' - r1) / (r sweep)` about), which would turn
+/// the tangent joint before it into a corner. The angle the
+/// verifier counts as tangent (`geom::JointTolerances`), on top of
+/// what rounding the written arc turns it by anyway.
+pub const ABSORB_TURN: f64 = 1e-6;
+
 /// Share of the output share LinuxCNC's blending (`G64 P`) gets for G1
 /// output, where every vertex is blended.
 pub const BLEND_SHARE_G1: f64 = 0.5;

@@ -2,7 +2,8 @@
 //! more than it is allowed to, measured independently of the bound it
 //! uses (points of the merged arc against the old arc at the same angle,
 //! and against the line past it), and a chain of short lines merged into
-//! one piece moves the path by no more than one merge may.
+//! one piece moves the path by no more than one merge may; an arc
+//! extended over a line keeps its start tangent.
 
 use fairpath::geom::{point_segment_distance, Arc, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::Piece;
@@ -48,6 +49,9 @@ proptest! {
         prop_assert_eq!(ps.last().unwrap().curve.end(), line.p1);
         if merged == 1 {
             let Curve::Arc(new) = ps[0].curve else { panic!("an arc") };
+            // The joint before keeps its tangent.
+            let turn = new.unit_tangent(0.0).unwrap().angle_to(arc.unit_tangent(0.0).unwrap());
+            prop_assert!(turn <= fairpath::budget::ABSORB_TURN, "start tangent turned by {}", turn);
             let scale = 1e-12 * (1.0 + r);
             for k in 0..=400 {
                 let u = k as f64 / 400.0;

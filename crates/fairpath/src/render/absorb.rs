@@ -23,8 +23,11 @@
 //!   `s |h'/s' - h/s|`; past `s`, the new arc and the line both leave the
 //!   old arc's end within that over the length `L`, and a curve of radius
 //!   `r` leaves its tangent by `L^2 / (2 r)`. Bound: the sum of the three,
-//!   with `L^2 / min(r0, r1)`. A line after a NURBS or at the start of
-//!   the run is left as it is.
+//!   with `L^2 / min(r0, r1)`. The new arc's radius law differs from the
+//!   old one's, so its start tangent swings (by about `(r1' - r1) / (r s)`,
+//!   large for a short arc): the merge is refused where that turns the
+//!   joint before by more than [`crate::budget::ABSORB_TURN`]. A line after
+//!   a NURBS or at the start of the run is left as it is.
 //!
 //! A piece that absorbs several lines in a row moves the path by the sum
 //! of the merges' shifts (each merge moves the path as merged so far by
@@ -112,7 +115,13 @@ fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<(Curve, f6
             let radial = crate::math::abs(new.r1 - a.r0) + crate::math::abs(a.r1 - a.r0);
             let height = a.sweep * crate::math::abs(new.rise / new.sweep - a.rise / a.sweep);
             let shift = radial + height + l * l / r_min;
-            (shift <= max_shift).then_some((Curve::Arc(new), shift))
+            // The joint before stays as tangent as it was (module docs).
+            let turn = match (a.unit_tangent(0.0), new.unit_tangent(0.0)) {
+                (Some(t0), Some(t1)) => t0.angle_to(t1),
+                _ => return None,
+            };
+            (shift <= max_shift && turn <= crate::budget::ABSORB_TURN)
+                .then_some((Curve::Arc(new), shift))
         }
         _ => None,
     }
