@@ -7,7 +7,7 @@
 
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
-use fairpath::geom::{Arc, Curve, Nurbs, ParamCurve, Plane, Vec3};
+use fairpath::geom::{Arc, Curve, Line, Nurbs, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 use fairpath::render::{
     absorb_lines, nurbs_fits, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed,
@@ -393,4 +393,74 @@ proptest! {
         prop_assert_eq!(joined.pieces, whole.pieces);
         prop_assert_eq!(joined.stats, whole.stats);
     }
+}
+
+/// Issue 21, `surface-raster.ngc`'s step-overs: a corner transition out of
+/// every principal plane (a pass rising along X, then a step along Y) is
+/// written as G1, and its spacing changes only where the curvature step
+/// that leaves is passed at the planned speed (`kappa v^2 <= step_share J
+/// Ts`, `render/lines.rs`): none in the slow middle of the turn, where
+/// every change of spacing once slowed the machine to 2.5 mm/s.
+#[test]
+fn a_step_over_written_as_g1_changes_spacing_only_where_the_speed_passes() {
+    let corner = Vec3::new(80.0, 0.0, 3.471);
+    let a = Vec3::new(-0.925, 0.0, -0.38).normalized(0.0).unwrap();
+    let b = Vec3::new(0.0, 1.0, -0.0065).normalized(0.0).unwrap();
+    let theta = 0.5 * a.angle_to(b);
+    let l = fairpath::smooth::edge_for_deviation(0.045, theta);
+    let p = |d: Vec3, k: f64| corner + d * (k * l);
+    let transition =
+        fairpath::smooth::transition_curve([p(a, 2.0), p(a, 1.0), corner, p(b, 1.0), p(b, 2.0)]);
+    let pieces = vec![
+        piece(Curve::Line(Line::new(p(a, 40.0), p(a, 2.0)))),
+        piece(Curve::Nurbs(transition.clone())),
+        piece(Curve::Line(Line::new(p(b, 2.0), p(b, 4.0)))),
+    ];
+    let o = opts(CurveForm::Arcs, 0.0045);
+    let plan = plan_run(&pieces, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(pieces.len(), &plan, o.limits.period);
+    let out = render_run(&pieces, &speed, &o).unwrap().pieces;
+    // The transition's moves: all but the two lines.
+    let moves = &out[1..out.len() - 1];
+    assert!(moves.len() > 20, "{} moves", moves.len());
+    assert!(moves.iter().all(|m| matches!(m.curve, Curve::Line(_))));
+    let samples: Vec<(f64, Vec3)> = (0..=4000)
+        .map(|i| {
+            let t = i as f64 / 4000.0;
+            (t, transition.eval(t))
+        })
+        .collect();
+    let m = &o.limits;
+    let mut changes = 0usize;
+    for w in moves.windows(2) {
+        let (l1, l2) = (w[0].start().dist(w[0].end()), w[1].start().dist(w[1].end()));
+        let q = w[0].end();
+        let (t, _) = samples
+            .iter()
+            .min_by(|x, y| x.1.dist(q).total_cmp(&y.1.dist(q)))
+            .unwrap();
+        let kappa = transition.curvature(*t);
+        let v = speed.at(1, *t);
+        // Moves of one stretch are equal along the fine polyline, which
+        // differs from their chords by up to `(kappa d)^2 / 24` (about
+        // 1e-3 in the middle of this turn): a change of stretch is a
+        // change of spacing by more than 1%.
+        if (l1 - l2).abs() <= 1e-2 * l1.max(l2) {
+            continue;
+        }
+        changes += 1;
+        // The curvature steps by `kappa (1 + rho) / 2` at a change of
+        // spacing by the ratio `rho` (module docs of `render/lines.rs`):
+        // the planned speed passes it where that times `v^2` is at most
+        // `J Ts`; the renderer ends its stretches at half of that
+        // (`step_share`).
+        let rho = l1.max(l2) / l1.min(l2);
+        assert!(
+            kappa * (1.0 + rho) / 2.0 * v * v <= m.jerk * m.period,
+            "spacing {l1} -> {l2} at t = {t}: kappa {kappa}, v {v}"
+        );
+    }
+    // Here the whole turn is one stretch: its ends are straight enough
+    // that the spacing changes where the lines begin.
+    eprintln!("{} moves, {changes} changes of spacing", moves.len());
 }

@@ -11,7 +11,27 @@
 //! only meet (and stand for the curve) when the moves are of equal length.
 //! So the curve is cut into stretches over which the spacing needed varies
 //! by at most [`SPACING_RATIO`], each into moves of equal length at the
-//! smallest spacing needed in it, which is
+//! smallest spacing needed in it.
+//!
+//! Where two stretches meet, the vertex between moves `l1 < l2` takes only
+//! `l1 / 2` of the longer move, so its circle and the next one do not meet:
+//! a straight gap is left between them, and the curvature steps by a whole
+//! circle's, about the curve's `kappa` (by `kappa (1 + l2/l1) / 2` on the
+//! shorter side). The machine passes that at the planned speed `v` only
+//! where `kappa v^2` is below `J Ts`; so a stretch ends only at a sample
+//! where `kappa v^2 <= step_share J Ts` (half the speed-safe step with
+//! [`super::arcs::STEP_SHARE`], leaving room for the shorter side's
+//! `(1 + l2/l1) / 2` up to a ratio of 3): the last such sample before the
+//! spacing ratio is exceeded, or, where there is none, the first one after
+//! it (the stretch goes on at its smallest spacing). In the middle of a
+//! corner transition, where the machine is slow because the curvature is
+//! high, no spacing changes then: on `surface-raster.ngc` at 0.05 mm the
+//! step-overs' transitions, written as G1 (they are not in a principal
+//! plane), were planned to a crawl at each change of spacing, and `auto`
+//! wrote it 8% slower (64.8 against 59.6 s; `docs/lower-bound.md`, made by
+//! `scripts/lower-bound.sh`, has every surveyed program). Moves of one
+//! stretch are placed at equal distances along the curve (`at_length`),
+//! so that the spacing does not change inside a stretch either. The spacing needed is
 //!
 //! * at most `sqrt(8 e / kappa)`: the chord error `kappa h^2 / 8` within
 //!   the share `e` (a hard limit);
@@ -28,7 +48,8 @@ use super::{RenderOptions, RenderStats};
 use crate::geom::{flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Vec3};
 use alloc::vec::Vec;
 
-/// Largest ratio of the spacings needed within one stretch of equal moves.
+/// Largest ratio of the spacings needed within one stretch of equal moves
+/// (exceeded only where no sample lets the spacing change: module docs).
 pub const SPACING_RATIO: f64 = 2.0;
 
 pub use crate::budget::CHORD_USE;
@@ -92,6 +113,7 @@ pub(crate) fn lines_between(
         return;
     }
     let mut h = alloc::vec![total; n];
+    let mut free = alloc::vec![false; n];
     for i in 0..n {
         let kappa = ks[i].norm();
         let chord_h = if kappa > 0.0 {
@@ -113,6 +135,8 @@ pub(crate) fn lines_between(
             total
         };
         let block_h = opts.min_block_periods * m.period * v;
+        // Whether the spacing may change here (module docs).
+        free[i] = kappa * v * v <= opts.step_share * m.jerk * m.period;
         h[i] = chord_h
             .min(step_h.max(block_h))
             .min(total)
@@ -120,24 +144,34 @@ pub(crate) fn lines_between(
     }
     // Stretches over which the needed spacing varies by at most a factor
     // SPACING_RATIO, each cut into moves of equal length at its smallest
-    // spacing (see the module docs).
+    // spacing, ending only where the spacing may change (`free`; `lo` is
+    // the smallest spacing up to the last such sample; see the module docs).
     let mut params = Vec::new();
     params.push(ts[0]);
     let mut a = 0;
     while a + 1 < n {
-        let mut lo = h[a];
-        let mut hi = h[a];
         let mut b = a + 1;
+        let mut lo = h[a].min(h[b]);
+        let mut hi = h[a].max(h[b]);
+        // The last sample of the stretch so far where the spacing may
+        // change, with the smallest spacing up to it.
+        let mut last_free: Option<(usize, f64)> = None;
         while b + 1 < n {
-            let (l2, h2) = (lo.min(h[b]), hi.max(h[b]));
+            if free[b] {
+                last_free = Some((b, lo));
+            }
+            let (l2, h2) = (lo.min(h[b + 1]), hi.max(h[b + 1]));
             if h2 > SPACING_RATIO * l2 {
-                break;
+                if let Some((c, l)) = last_free {
+                    b = c;
+                    lo = l;
+                    break;
+                }
             }
             lo = l2;
             hi = h2;
             b += 1;
         }
-        let lo = lo.min(h[b]);
         let len = s[b] - s[a];
         let moves = crate::math::ceil(len / lo).max(1.0) as usize;
         let mut j = a;
@@ -146,13 +180,7 @@ pub(crate) fn lines_between(
             while j + 1 < b && s[j + 1] < target {
                 j += 1;
             }
-            let (s0, s1) = (s[j], s[j + 1]);
-            let f = if s1 > s0 {
-                (target - s0) / (s1 - s0)
-            } else {
-                0.0
-            };
-            params.push(ts[j] + (ts[j + 1] - ts[j]) * f);
+            params.push(at_length(c, (ts[j], ts[j + 1]), pts[j], target - s[j]));
         }
         params.push(ts[b]);
         a = b;
@@ -163,15 +191,54 @@ pub(crate) fn lines_between(
     let last = params.len() - 1;
     for (i, &t) in params.iter().enumerate().skip(1) {
         let q = if i == last { p.1 } else { c.eval(t) };
-        emit(c, prev_t, t, prev, q, e / CHORD_USE, out, stats, 0);
+        let fine = (&ts[..], &pts[..]);
+        emit(c, fine, prev_t, t, prev, q, e / CHORD_USE, out, stats, 0);
         prev_t = t;
         prev = q;
     }
 }
 
+/// The parameter in `t = (t0, t1)` (a fine segment, flat within
+/// `FINE_CHORD` of the chord share) where the curve is `d` from its point
+/// `p0 = c(t0)`, by Newton steps on `|c(t) - p0| = d` from the linear
+/// guess. Moves of a stretch are then equal to a few parts per million;
+/// the linear guess alone, where the parameter's speed varies along a
+/// long flat segment, made them differ by about 1% from one to the next,
+/// and every change of spacing is a curvature step (module docs).
+fn at_length(c: &Curve, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
+    let (t0, t1) = t;
+    let span = c.eval(t1).dist(p0);
+    if span.is_nan() || span <= 0.0 {
+        return t0;
+    }
+    let mut x = t0 + (t1 - t0) * (d / span).clamp(0.0, 1.0);
+    for _ in 0..3 {
+        let q = c.eval(x);
+        let (d1, _) = c.derivs12(x);
+        let r = q - p0;
+        let dist = r.norm();
+        // d|c(t) - p0|/dt = (c(t) - p0) . c'(t) / |c(t) - p0|
+        let slope = if dist > 0.0 {
+            r.dot(d1) / dist
+        } else {
+            d1.norm()
+        };
+        if slope.is_nan() || slope <= 0.0 {
+            break;
+        }
+        let next = (x - (dist - d) / slope).clamp(t0, t1);
+        if next == x {
+            break;
+        }
+        x = next;
+    }
+    x
+}
+
 #[allow(clippy::too_many_arguments)]
 fn emit(
     c: &Curve,
+    fine: (&[f64], &[Vec3]),
     ta: f64,
     tb: f64,
     pa: Vec3,
@@ -190,9 +257,19 @@ fn emit(
         .iter()
         .map(|f| point_segment_distance(c.eval(ta + (tb - ta) * f), pa, pb))
         .fold(0.0, f64::max);
+    // The samples of the curve inside the move too: spaced along the curve,
+    // they see a bulge that a parameter far from arc length hides from the
+    // three points above.
+    let (fts, fpts) = fine;
+    let from = fts.partition_point(|&t| t <= ta);
+    let to = fts.partition_point(|&t| t < tb);
+    let off = fpts[from..to.max(from)]
+        .iter()
+        .map(|&q| point_segment_distance(q, pa, pb))
+        .fold(off, f64::max);
     if off > chord && depth < 24 {
-        emit(c, ta, tm, pa, pm, chord, out, stats, depth + 1);
-        emit(c, tm, tb, pm, pb, chord, out, stats, depth + 1);
+        emit(c, fine, ta, tm, pa, pm, chord, out, stats, depth + 1);
+        emit(c, fine, tm, tb, pm, pb, chord, out, stats, depth + 1);
         return;
     }
     out.push(Curve::Line(Line::new(pa, pb)));
