@@ -80,11 +80,14 @@ pub const ABSORB_SHIFT_SHARE: f64 = 1e-3;
 /// Largest turn (rad) of an arc's start tangent that extending it over a
 /// merged short line may make (`render::absorb`): extended to a new end
 /// about the same centre, a spiral's radius law changes and its start
-/// tangent swings (by `(r1' - r1) / (r sweep)` about), which would turn
-/// the tangent joint before it into a corner. The angle the
-/// verifier counts as tangent (`geom::JointTolerances`), on top of
-/// what rounding the written arc turns it by anyway.
-pub const ABSORB_TURN: f64 = 1e-6;
+/// tangent swings (by `(r1' - r1) / (r sweep)` about), which turns the
+/// joint before it. Kept, the short line would turn its own joints by
+/// about `2 sqrt(3) eps / L` once its ends are rounded to `eps` (1.6e-4
+/// rad for a 1.1 um line, the longest absorbed at 0.05 mm, at 5e-8 mm):
+/// a swing below 1e-4 rad costs less than the line it removes (on
+/// `LHchips4.ngc` the largest is 1.1e-6), and a short arc's swing of
+/// 6e-3 rad, which the renderer's proptest found, is refused.
+pub const ABSORB_TURN: f64 = 1e-4;
 
 /// Share of the output share LinuxCNC's blending (`G64 P`) gets for G1
 /// output, where every vertex is blended.

@@ -215,4 +215,41 @@ mod tests {
             assert!(d <= 1e-6, "{d} at {k}");
         }
     }
+
+    /// The renderer's proptest (3000 cases): a short arc extended over a
+    /// line that leaves it slightly outwards becomes a spiral whose start
+    /// tangent swings by `(r1' - r1) / (r sweep)`, a kink at the joint
+    /// before it, though the path moves by less than the allowance.
+    #[test]
+    fn a_short_arc_is_not_extended_where_its_start_tangent_would_swing() {
+        let r = 2.4;
+        let sweep: f64 = 5e-4;
+        let arc = Arc::from_center(
+            Vec3::new(r, 0.0, 0.0),
+            Vec3::new(
+                r * crate::math::cos(sweep),
+                r * crate::math::sin(sweep),
+                0.0,
+            ),
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.0, 1.0),
+            false,
+            1,
+            0.0,
+        )
+        .unwrap();
+        let t = arc.unit_tangent(1.0).unwrap();
+        let out = Vec3::new(crate::math::cos(sweep), crate::math::sin(sweep), 0.0);
+        let with_line = |off: f64| {
+            let dir = (t + out * off).normalized(0.0).unwrap();
+            alloc::vec![
+                piece(Curve::Arc(arc), (1, 1)),
+                piece(Curve::Line(Line::new(arc.p1, arc.p1 + dir * 1e-4)), (2, 2)),
+            ]
+        };
+        // Tangent: merged (the swing is about 1.6e-6 rad).
+        assert_eq!(absorb_short_lines(&mut with_line(0.0), 1e-3, 1e-6), 1);
+        // 5 mrad outwards: r1' - r1 = 5e-7 mm, a swing of about 4e-4 rad.
+        assert_eq!(absorb_short_lines(&mut with_line(5e-3), 1e-3, 1e-6), 0);
+    }
 }
