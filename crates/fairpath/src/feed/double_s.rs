@@ -302,17 +302,7 @@ impl DoubleS {
         // dist(lo) <= h (feasibility, and h > direct distance), dist(hi) > h.
         let (mut lo, mut hi) = (v0.max(v1), vmax);
         narrow_peak(&dist, &slope, h, &mut lo, &mut hi);
-        for _ in 0..2100 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if dist(mid) <= h {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
+        let lo = bisect_peak(&dist, h, lo, hi);
         let rest = h - dist(lo);
         let tv = if lo > 0.0 && rest > 0.0 {
             rest / lo
@@ -543,6 +533,24 @@ impl DoubleS {
     }
 }
 
+/// The largest `v` in `[lo, hi]` with `dist(v) <= h` found by bisection
+/// down to adjacent floats, given `dist(lo) <= h < dist(hi)` (`dist`
+/// increasing): the peak velocity of a case-2 profile.
+fn bisect_peak(dist: &impl Fn(f64) -> f64, h: f64, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..2100 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if dist(mid) <= h {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// Narrows `[lo, hi]`, with `dist(lo) <= h < dist(hi)` and `dist`
 /// nondecreasing (of slope `slope`), about the largest `v` with
 /// `dist(v) <= h`, keeping that property ([`DoubleS::fastest_case2`]).
@@ -632,19 +640,7 @@ mod tests {
             change_unchecked(v0, v, l.amax, l.jmax).distance
                 + change_unchecked(v, v1, l.amax, l.jmax).distance
         };
-        let (mut lo, mut hi) = (v0.max(v1), l.vmax);
-        for _ in 0..2100 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if dist(mid) <= h {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        lo
+        bisect_peak(&dist, h, v0.max(v1), l.vmax)
     }
 
     proptest! {
