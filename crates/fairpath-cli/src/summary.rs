@@ -10,6 +10,10 @@ use std::time::Duration;
 /// `RunReport::joint_counts`) in words: `C2` curvature continuous, `C1`
 /// tangent continuous, `C0` a corner. Not G2/G1/G0, which in a G-code tool
 /// read as arc, line and rapid.
+/// How the summary names the corners of runs written as the program had
+/// them (text and JSON key).
+pub const KEPT_RUN_CORNERS: &str = "in runs kept as written";
+
 pub fn joints_text(joints: [usize; 4]) -> String {
     let [gap, c0, c1, c2] = joints;
     format!("{c2} C2 (curvature continuous), {c1} C1 (tangent continuous), {c0} C0 (corner), {gap} gaps")
@@ -90,7 +94,7 @@ impl Summary {
     }
 
     pub fn kept_total(&self) -> usize {
-        self.e.kept_corners.iter().map(|k| k.1).sum()
+        self.e.kept_corners.iter().map(|k| k.1).sum::<usize>() + self.e.corners_in_kept_runs
     }
 
     /// The tolerance in the program's units (`None` for mm programs).
@@ -228,13 +232,19 @@ impl Summary {
             self.e.max_deviation_curves, self.e.written.max_deviation
         );
         let _ = writeln!(s, "  joints:          {}", joints_text(self.e.joints));
-        let kept: Vec<String> = self
+        let mut kept: Vec<String> = self
             .e
             .kept_corners
             .iter()
             .filter(|k| k.1 > 0)
             .map(|(r, n)| format!("{n} {}", r.as_str()))
             .collect();
+        if self.e.corners_in_kept_runs > 0 {
+            kept.push(format!(
+                "{} {KEPT_RUN_CORNERS}",
+                self.e.corners_in_kept_runs
+            ));
+        }
         let _ = writeln!(
             s,
             "  kept corners:    {}{}",
@@ -300,12 +310,16 @@ impl Summary {
     }
 
     pub fn json(&self) -> String {
-        let kept: serde_json::Map<String, serde_json::Value> = self
+        let mut kept: serde_json::Map<String, serde_json::Value> = self
             .e
             .kept_corners
             .iter()
             .map(|(r, n)| (r.as_str().to_string(), json!(n)))
             .collect();
+        kept.insert(
+            KEPT_RUN_CORNERS.to_string(),
+            json!(self.e.corners_in_kept_runs),
+        );
         json!({
             "input": self.input, "output": self.output, "method": self.method,
             "format": self.format, "controller": self.controller,

@@ -220,6 +220,7 @@ pub(crate) fn write_curves_part(
         stats: emitted.stats,
         retried_runs: emitted.retried_runs,
         kept_runs: emitted.kept_runs,
+        kept: emitted.kept,
         method: opts.method_name().to_string(),
         block_capped: opts.method().writes_for_block_capped_planner(),
         lines_in: program.lines().len(),

@@ -200,11 +200,28 @@ fn smooth_one(
     let motions = motions_of(written_name, output.text.as_bytes())?;
     let sim = simulate(&motions, so.machine(), so.override_feed(), None)
         .map_err(|e| anyhow!("planning what {name} wrote: {e}"))?;
+    // What was written: a run kept as the program had it shows its own
+    // corners and has no curves.
+    let is_kept = |i: usize| report.kept.get(i).copied().unwrap_or(false);
+    let verify = fairpath::verify::VerifyOptions::new(report.budget.smoothing());
     let kept = report
         .result
         .runs
         .iter()
-        .flat_map(|r| r.smoothed.kept_corners.iter().map(|k| k.at))
+        .enumerate()
+        .flat_map(|(i, r)| -> Vec<fairpath::geom::Vec3> {
+            if is_kept(i) {
+                let p = &r.original.pieces;
+                let (own, _) = fairpath::verify::report_without_deviation(p, p, &verify);
+                own.joints
+                    .iter()
+                    .filter(|j| j.class == fairpath::geom::Continuity::G0)
+                    .map(|j| j.at)
+                    .collect()
+            } else {
+                r.smoothed.kept_corners.iter().map(|k| k.at).collect()
+            }
+        })
         .collect();
     let accuracy = so.tolerance() * fairpath_gcode::entry::LENGTH_ACCURACY_SHARE;
     let summary = Summary::new(path, written_name, so, &Evidence::of(&report, accuracy));
@@ -212,7 +229,9 @@ fn smooth_one(
         .result
         .runs
         .iter()
-        .flat_map(|r| &r.smoothed.pieces)
+        .enumerate()
+        .filter(|&(i, _)| !is_kept(i))
+        .flat_map(|(_, r)| &r.smoothed.pieces)
         .filter(|p| !matches!(p.curve, fairpath::geom::Curve::Line(_)))
         .map(|p| fairpath::geom::curvature_variation_energy(&p.curve, ENERGY_ACCURACY))
         .sum();
@@ -246,7 +265,7 @@ fn table(results: &[MethodResult], original: &Simulation) -> String {
         match &r.outcome {
             Ok(w) => {
                 let s = &w.summary;
-                let kept: usize = s.e.kept_corners.iter().map(|(_, n)| n).sum();
+                let kept = s.kept_total();
                 o.push_str(&format!(
                     "<tr><td>{}</td><td>{:.6}</td><td>{} / {} / {}</td><td>{kept}</td>\
                      <td>{:.3}</td><td>{:.4}</td><td>{:.4e}</td><td>{}</td><td>{:.3}</td>\

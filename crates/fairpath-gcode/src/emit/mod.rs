@@ -109,6 +109,9 @@ pub struct Emitted {
     /// Runs kept as the program wrote them: their rendering planned no
     /// faster (or did not verify).
     pub kept_runs: usize,
+    /// Per run, in the program's order: true where the run is written as
+    /// the program had it (what the evidence then describes).
+    pub kept: Vec<bool>,
     /// The written G-code as read back for the check (`None` for JSON),
     /// for planning it without reading it again
     /// ([`crate::pipeline::plan_written`]).
@@ -252,6 +255,7 @@ fn emit_json(
         check,
         retried_runs: 0,
         kept_runs: 0,
+        kept: vec![false; original.len()],
         reading: None,
     })
 }

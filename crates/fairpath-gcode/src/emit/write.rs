@@ -119,7 +119,8 @@ pub(super) fn write_chosen(
             for c in &choices {
                 stats.add(&c.stats);
             }
-            let kept_runs = choices.iter().filter(|c| c.form.is_none()).count();
+            let kept: Vec<bool> = choices.iter().map(|c| c.form.is_none()).collect();
+            let kept_runs = kept.iter().filter(|&&k| k).count();
             let mut run_times = vec![None; reread.len()];
             for (&(_, c), j) in pairs.iter().zip(&judged) {
                 run_times[c] = j.1;
@@ -133,6 +134,7 @@ pub(super) fn write_chosen(
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
                 kept_runs,
+                kept,
                 reading: Some(WrittenReading {
                     outline: reread_outline,
                     runs: reread,

@@ -2,13 +2,19 @@
 //! from the report of a whole program ([`Evidence::of`]) or added up part
 //! by part ([`Evidence::add`]) when a long program is processed a part at
 //! a time and no report of all its runs is ever held.
+//!
+//! The figures describe what was written: a run the writer kept as the
+//! program had it ([`Report::kept`]) counts with its own pieces, joints,
+//! length and curvature, not with the curves that were not written.
 
 use super::Report;
 use crate::pipeline::{JobTimes, Times, WrittenCheck};
 use fairpath::budget::ToleranceBudget;
 use fairpath::geom::Curve;
+use fairpath::path::Run;
 use fairpath::render::RenderStats;
 use fairpath::smooth::{CornerReason, UnfairedReason};
+use fairpath::verify::{report_without_deviation, VerifyOptions};
 
 /// The evidence of a job in figures (see the module docs). Sums over the
 /// runs are added run by run in program order, so a program processed in
@@ -29,6 +35,8 @@ pub struct Evidence {
     pub transitions: usize,
     /// Corners kept as corners, by reason.
     pub kept_corners: Vec<(CornerReason, usize)>,
+    /// Corners of the runs written as the program had them.
+    pub corners_in_kept_runs: usize,
     /// `auto`'s choices: candidate and number of sections, most first.
     pub chosen: Vec<(&'static str, usize)>,
     /// Curves left as written although the method smooths their kind: the
@@ -94,6 +102,7 @@ impl Evidence {
             .into_iter()
             .map(|r| (r, 0))
             .collect(),
+            corners_in_kept_runs: 0,
             chosen: Vec::new(),
             unfaired: Vec::new(),
             dropped_zero_length: 0,
@@ -141,9 +150,15 @@ impl Evidence {
     pub fn add(&mut self, report: &Report, length_accuracy: f64) {
         let runs_before = self.runs;
         self.budget = report.budget;
-        for r in &report.result.runs {
+        let verify = VerifyOptions::new(report.budget.smoothing());
+        for (i, r) in report.result.runs.iter().enumerate() {
             self.feed_moves_in += r.original.pieces.len();
             self.runs += 1;
+            self.length_before += r.original.length(length_accuracy);
+            if report.kept.get(i).copied().unwrap_or(false) {
+                self.add_kept_run(&r.original, &verify, length_accuracy);
+                continue;
+            }
             self.pieces_out += r.smoothed.pieces.len();
             self.curves_out += r
                 .smoothed
@@ -180,7 +195,6 @@ impl Evidence {
             for (j, c) in self.joints.iter_mut().zip(r.report.joint_counts()) {
                 *j += c;
             }
-            self.length_before += r.original.length(length_accuracy);
             for p in &r.smoothed.pieces {
                 self.length_after += p.curve.length(length_accuracy);
             }
@@ -206,6 +220,27 @@ impl Evidence {
         self.rapids += report.rapids;
         self.no_moves &= report.no_moves;
         self.parts += 1;
+    }
+
+    /// Adds a run written as the program had it: its own pieces, joints
+    /// (classified by the verifier's thresholds, `verify`), curvature and
+    /// length.
+    fn add_kept_run(&mut self, run: &Run, verify: &VerifyOptions, length_accuracy: f64) {
+        let pieces = &run.pieces;
+        self.pieces_out += pieces.len();
+        self.curves_out += pieces
+            .iter()
+            .filter(|p| !matches!(p.curve, Curve::Line(_)))
+            .count();
+        let (own, _) = report_without_deviation(pieces, pieces, verify);
+        let joints = own.joint_counts();
+        for (j, c) in self.joints.iter_mut().zip(joints) {
+            *j += c;
+        }
+        self.corners_in_kept_runs += joints[1];
+        self.length_after += run.length(length_accuracy);
+        self.peak_curvature = self.peak_curvature.max(own.peak_curvature);
+        self.cusps += own.cusps;
     }
 
     /// True when the written program plans slower than the input.

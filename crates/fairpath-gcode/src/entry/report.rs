@@ -27,6 +27,9 @@ pub struct Report {
     pub retried_runs: usize,
     /// Runs written as the program had them (no rendering planned faster).
     pub kept_runs: usize,
+    /// Per run of `result`, in order: true where the run is written as the
+    /// program had it, so that its curves are not what was written.
+    pub kept: Vec<bool>,
     /// The method's name.
     pub method: String,
     /// The runs were judged by a planner that caps the speed at every block
