@@ -155,6 +155,17 @@ impl Evidence {
             self.feed_moves_in += r.original.pieces.len();
             self.runs += 1;
             self.length_before += r.original.length(length_accuracy);
+            // (Curves the method leaves as written are so in either case.)
+            for u in &r.smoothed.unfaired {
+                let line = u.source_lines.0;
+                match self.unfaired.iter_mut().find(|e| e.0 == u.reason) {
+                    Some(e) => {
+                        e.1 += 1;
+                        e.2 = e.2.min(line);
+                    }
+                    None => self.unfaired.push((u.reason, 1, line)),
+                }
+            }
             if report.kept.get(i).copied().unwrap_or(false) {
                 self.add_kept_run(&r.original, &verify, length_accuracy);
                 continue;
@@ -176,16 +187,6 @@ impl Evidence {
                 match self.chosen.iter_mut().find(|c| c.0 == name) {
                     Some(c) => c.1 += 1,
                     None => self.chosen.push((name, 1)),
-                }
-            }
-            for u in &r.smoothed.unfaired {
-                let line = u.source_lines.0;
-                match self.unfaired.iter_mut().find(|e| e.0 == u.reason) {
-                    Some(e) => {
-                        e.1 += 1;
-                        e.2 = e.2.min(line);
-                    }
-                    None => self.unfaired.push((u.reason, 1, line)),
                 }
             }
             self.dropped_zero_length += r.smoothed.dropped_zero_length;
