@@ -173,28 +173,36 @@ fn cases() -> Vec<Case> {
         ]),
     });
     // The thesis' case 6: a square whose 90-degree corners a spline
-    // interpolation turned into ripples: 28 points around a square of
-    // side 30.8 mm (7 a side, the corners among them), from the middle
-    // of one side round to the same point.
-    let side = 30.8;
+    // interpolation turned into ripples: 28 points around a square (7 a
+    // side, the corners among them), from the middle of one side round to
+    // the same point. The thesis gives the case as a figure and its
+    // figures of the original (average curvature 0.175172 1/mm, length
+    // 123.277 mm); the points next to each corner, a share `NEAR` of the
+    // side from it, make the interpolation overshoot there, and the side
+    // and `NEAR` were chosen, on a grid (side 29.9 to 30.7 mm, `NEAR` 0.03
+    // to 0.06), as those whose original comes nearest both: 0.1765 1/mm
+    // and 123.296 mm. (Seven points evenly spaced on a side of 30.8 mm
+    // gave the thesis' length but half its curvature.)
+    const SIDE: f64 = 30.0;
+    const NEAR: f64 = 0.037;
     let corners = [
         Vec3::new(0.0, 0.0, 0.0),
-        Vec3::new(side, 0.0, 0.0),
-        Vec3::new(side, side, 0.0),
-        Vec3::new(0.0, side, 0.0),
+        Vec3::new(SIDE, 0.0, 0.0),
+        Vec3::new(SIDE, SIDE, 0.0),
+        Vec3::new(0.0, SIDE, 0.0),
     ];
     let mut square = Vec::new();
     for k in 0..4 {
         let (a, b) = (corners[k], corners[(k + 1) % 4]);
-        for i in 0..7 {
-            square.push(a + (b - a) * (i as f64 / 7.0));
+        for f in [0.0, NEAR, 0.2, 0.4, 0.6, 0.8, 1.0 - NEAR] {
+            square.push(a + (b - a) * f);
         }
     }
     square.rotate_left(3);
     square.push(square[0]);
     out.push(Case {
         name: "square-ripples",
-        what: "square of side 30.8 mm, its corners interpolated by a spline through 29 points (thesis case 6)",
+        what: "square of side 30 mm, its corners interpolated by a spline through 29 points, two of them 1.11 mm from each corner (thesis case 6)",
         curve: interpolate(&square),
         published: Some([
             [0.175172, 0.168204, 0.143115, 0.131753],
