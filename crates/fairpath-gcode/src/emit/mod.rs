@@ -91,7 +91,9 @@ pub const RETRIES: usize = 3;
 
 /// A run is rewritten only if its rendering plans at least this much
 /// faster than the run as the program wrote it (rounding of the written
-/// coordinates can cost a few parts in ten thousand).
+/// coordinates can cost a few parts in ten thousand). A run of splines
+/// needs only to plan no slower (the written text is then checked to be no
+/// slower): see `choose`.
 pub const KEEP_MARGIN: f64 = 1e-3;
 
 /// The written program.
