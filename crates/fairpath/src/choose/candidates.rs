@@ -6,8 +6,8 @@ use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, FitMemo, Lotm,
-    SectionOptions, SmoothError, SmoothedRun, Smoother,
+    BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair, FairOptions, FitMemo,
+    LineFit, Lotm, SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
 
@@ -61,31 +61,7 @@ pub(super) fn widens_sections(run: &Run, tol: f64, wide: &SectionOptions) -> boo
         .any(|i| wide.is_dense(&pts, i, tol) && !narrow.is_dense(&pts, i, tol))
 }
 
-/// Sharpest turn (rad, about 143 degrees) that the through-corners
-/// candidate fits across; sharper vertices (reversals) stay corners.
-///
-/// A corner transition (seed 000) ends with zero curvature on its lines.
-/// Next to a sampled arc, the fit of the arc must then ramp its curvature
-/// from zero to `1/R` after the corner and back before the next one: on
-/// short arcs between corners (LinuxCNC's `line-arc-burnin.ngc`,
-/// `linearc.ngc`) the ramps slowed `auto` below the program as it is. The
-/// through-corners candidate makes every vertex of the sampled run up to
-/// this turn dense, whatever its segment lengths, so one fit runs through
-/// the corner (knots are added where it misses the band) and each arc's
-/// curvature runs into the next piece's. Where such a fit fails, the
-/// section is split around its sharpest vertex as usual.
-pub const THROUGH_MAX_TURN: f64 = 2.5;
-
-/// The run detection of the through-corners candidates: every vertex up
-/// to [`THROUGH_MAX_TURN`] is dense, whatever its segment lengths.
-pub fn through_corners_sections() -> SectionOptions {
-    SectionOptions {
-        max_segment: 1e6,
-        max_turn: THROUGH_MAX_TURN,
-        chord_error_per_tol: 1e6,
-        ..SectionOptions::default()
-    }
-}
+pub use crate::smooth::{through_corners_sections, THROUGH_MAX_TURN};
 
 /// Largest run (pieces after sampling) for which the through-corners and
 /// jerk-faired candidates are tried: fits across many sharp corners fail
@@ -285,7 +261,14 @@ impl Kind {
                 ..BsplineFitOptions::default()
             }),
             Kind::Corner(m) => Candidate::Corner(m),
-            Kind::Fair => Candidate::Fair(FairOptions::default()),
+            // With `bspline-fit`'s sections only: the fits through the
+            // corners are candidates of their own here, and faired again
+            // they tripled `auto`'s time on `makerblock_tinycnc.gcode`
+            // (CPU 30 -> 88 s) for the same written program.
+            Kind::Fair => Candidate::Fair(FairOptions {
+                lines: LineFit::Sections,
+                ..FairOptions::default()
+            }),
             Kind::AsIs => Candidate::AsIs,
         }
     }

@@ -89,6 +89,32 @@ impl Default for SectionOptions {
     }
 }
 
+/// Sharpest turn (rad, about 143 degrees) that the through-corners
+/// candidate fits across; sharper vertices (reversals) stay corners.
+///
+/// A corner transition (seed 000) ends with zero curvature on its lines.
+/// Next to a sampled arc, the fit of the arc must then ramp its curvature
+/// from zero to `1/R` after the corner and back before the next one: on
+/// short arcs between corners (LinuxCNC's `line-arc-burnin.ngc`,
+/// `linearc.ngc`) the ramps slowed `auto` below the program as it is. The
+/// through-corners candidate makes every vertex of the sampled run up to
+/// this turn dense, whatever its segment lengths, so one fit runs through
+/// the corner (knots are added where it misses the band) and each arc's
+/// curvature runs into the next piece's. Where such a fit fails, the
+/// section is split around its sharpest vertex as usual.
+pub const THROUGH_MAX_TURN: f64 = 2.5;
+
+/// The run detection of the through-corners candidates: every vertex up
+/// to [`THROUGH_MAX_TURN`] is dense, whatever its segment lengths.
+pub fn through_corners_sections() -> SectionOptions {
+    SectionOptions {
+        max_segment: 1e6,
+        max_turn: THROUGH_MAX_TURN,
+        chord_error_per_tol: 1e6,
+        ..SectionOptions::default()
+    }
+}
+
 impl SectionOptions {
     /// Checks the ranges of the options, naming `method` in the error.
     pub fn validate_for(&self, method: &'static str) -> Result<(), OptionError> {

@@ -47,8 +47,10 @@ pub use bspline_fit::{
     FitMemo, SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
-pub use fair::{Fair, FairOptions};
-pub use fit_sections::{dense_sections, SectionOptions};
+pub use fair::{run_peak_curvature, Fair, FairOptions, LineFit};
+pub use fit_sections::{
+    dense_sections, through_corners_sections, SectionOptions, THROUGH_MAX_TURN,
+};
 pub use lotm::{
     curvature_variation_energy, lotm_coefficient, lotm_coefficient_fit, optimal_coefficient,
     split_shared_segment, Lotm, LotmOptions, LOTM_COEFFICIENT_FIT, LOTM_MIN_COEFFICIENT,
