@@ -47,7 +47,10 @@ pub use bspline_fit::{
     FitMemo, SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
-pub use fair::{run_peak_curvature, Fair, FairOptions, LineFit};
+pub use fair::{
+    run_peak_curvature, run_turning, shallow_corner_sections, Fair, FairOptions, LineFit,
+    TURNING_ACCURACY,
+};
 pub use fit_sections::{
     dense_sections, through_corners_sections, SectionOptions, THROUGH_MAX_TURN,
 };
