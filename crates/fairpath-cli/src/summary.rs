@@ -6,14 +6,14 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Duration;
 
-/// Joints by continuity class (`[gaps, C0, C1, C2]`, as
-/// `RunReport::joint_counts`) in words: `C2` curvature continuous, `C1`
-/// tangent continuous, `C0` a corner. Not G2/G1/G0, which in a G-code tool
-/// read as arc, line and rapid.
 /// How the summary names the corners of runs written as the program had
 /// them (text and JSON key).
 pub const KEPT_RUN_CORNERS: &str = "in runs kept as written";
 
+/// Joints by continuity class (`[gaps, C0, C1, C2]`, as
+/// `RunReport::joint_counts`) in words: `C2` curvature continuous, `C1`
+/// tangent continuous, `C0` a corner. Not G2/G1/G0, which in a G-code tool
+/// read as arc, line and rapid.
 pub fn joints_text(joints: [usize; 4]) -> String {
     let [gap, c0, c1, c2] = joints;
     format!("{c2} C2 (curvature continuous), {c1} C1 (tangent continuous), {c0} C0 (corner), {gap} gaps")

@@ -14,7 +14,7 @@ use fairpath::geom::Curve;
 use fairpath::path::Run;
 use fairpath::render::RenderStats;
 use fairpath::smooth::{CornerReason, UnfairedReason};
-use fairpath::verify::{report_without_deviation, VerifyOptions};
+use fairpath::verify::{report_without_deviation, RunReport, VerifyOptions};
 
 /// The evidence of a job in figures (see the module docs). Sums over the
 /// runs are added run by run in program order, so a program processed in
@@ -167,7 +167,9 @@ impl Evidence {
                 }
             }
             if report.kept.get(i).copied().unwrap_or(false) {
-                self.add_kept_run(&r.original, &verify, length_accuracy);
+                // (A run smoothed into itself, by `none`, has its report.)
+                let own = (r.smoothed.pieces == r.original.pieces).then_some(&r.report);
+                self.add_kept_run(&r.original, own, &verify, length_accuracy);
                 continue;
             }
             self.pieces_out += r.smoothed.pieces.len();
@@ -225,15 +227,28 @@ impl Evidence {
 
     /// Adds a run written as the program had it: its own pieces, joints
     /// (classified by the verifier's thresholds, `verify`), curvature and
-    /// length.
-    fn add_kept_run(&mut self, run: &Run, verify: &VerifyOptions, length_accuracy: f64) {
+    /// length; `own` is the verifier's report on it when there is one.
+    fn add_kept_run(
+        &mut self,
+        run: &Run,
+        own: Option<&RunReport>,
+        verify: &VerifyOptions,
+        length_accuracy: f64,
+    ) {
         let pieces = &run.pieces;
         self.pieces_out += pieces.len();
         self.curves_out += pieces
             .iter()
             .filter(|p| !matches!(p.curve, Curve::Line(_)))
             .count();
-        let (own, _) = report_without_deviation(pieces, pieces, verify);
+        let measured;
+        let own = match own {
+            Some(r) => r,
+            None => {
+                measured = report_without_deviation(pieces, pieces, verify).0;
+                &measured
+            }
+        };
         let joints = own.joint_counts();
         for (j, c) in self.joints.iter_mut().zip(joints) {
             *j += c;
