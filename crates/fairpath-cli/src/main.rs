@@ -174,7 +174,8 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
         controller: Controller,
         /// Output format (default: the controller's: arcs for generic and
-        /// linuxcnc, g6.2 for fanuc).
+        /// linuxcnc, g6.2 for fanuc; g6.2 for generic too when the program
+        /// holds G6.2 NURBS).
         #[arg(short, long, value_enum)]
         format: Option<Format>,
         /// Share of the tolerance for writing the curves in the output
@@ -455,11 +456,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
             )?;
             let units = prepared.units();
             let method = method.unwrap_or_else(|| controller.default_method().to_string());
+            let format =
+                format.unwrap_or_else(|| controller.default_format_for(prepared.holds_nurbs()));
             let mut opts = smooth::options(
                 tolerance.mm(units),
                 chord.map(|c| c.mm(units)),
                 &method,
-                format,
+                Some(format),
                 controller,
             )?;
             opts.set_step_share(step_share)

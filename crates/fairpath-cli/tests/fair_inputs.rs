@@ -225,3 +225,29 @@ fn an_unclamped_cubic_from_json_is_faired() {
     );
     assert_eq!(out.pieces, run.pieces);
 }
+
+/// A program that holds G6.2 NURBS is written in G6.2 when no format is
+/// asked (on a generic controller), each run in the form that plans
+/// fastest: a controller that runs the program runs G6.2, and a faired
+/// spline written as arcs plans slower than the spline it replaces
+/// (`Curva_Stella_p1.ngc` at 0.25 mm was kept as written). Asked for arcs,
+/// it gets arcs; a program of lines still gets arcs.
+#[test]
+fn a_g6_2_program_is_written_in_g6_2_unless_a_format_is_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cubic.ngc");
+    std::fs::write(&input, g6_2(4, |_| 1.0)).unwrap();
+    let out = dir.path().join("out.ngc");
+    let s = smooth_checked(&input, &out, "0.25mm", "fair", &[]);
+    assert!(s.contains("(fair, g6.2 for generic"), "{s}");
+    let s = smooth_checked(&input, &out, "0.25mm", "fair", &["-f", "arcs"]);
+    assert!(s.contains("(fair, arcs for generic"), "{s}");
+    let lines = dir.path().join("lines.ngc");
+    std::fs::write(
+        &lines,
+        "G21 G90\nG0 X0 Y0\nG1 X10 F600\nX10 Y10\nX0 Y10\nM2\n",
+    )
+    .unwrap();
+    let s = smooth_checked(&lines, &out, "0.05mm", "auto", &[]);
+    assert!(s.contains("(auto, arcs for generic"), "{s}");
+}

@@ -35,6 +35,9 @@ pub struct ProgramFacts {
     pub passthrough: Vec<Passthrough>,
     /// Some interpreted line starts with the block-delete `/`.
     pub block_delete: bool,
+    /// Some feed move is a NURBS (a G6.2 block, read exactly): the program
+    /// is for a controller that runs them.
+    pub nurbs: bool,
 }
 
 impl ProgramFacts {
@@ -73,6 +76,7 @@ impl ProgramFacts {
                 .lines()
                 .iter()
                 .any(|l| l.interpreted && is_block_delete(&l.text)),
+            nurbs: program.moves().iter().any(is_nurbs_feed),
         }
     }
 
@@ -81,6 +85,11 @@ impl ProgramFacts {
     pub fn render_units(&self) -> Units {
         self.first_run_units.unwrap_or(self.units)
     }
+}
+
+/// Whether a move is a feed move along a NURBS ([`ProgramFacts::nurbs`]).
+pub(crate) fn is_nurbs_feed(m: &crate::Move) -> bool {
+    !m.piece.rapid && matches!(m.piece.curve, fairpath::geom::Curve::Nurbs(_))
 }
 
 /// Whether a line's text starts with the block-delete `/`.

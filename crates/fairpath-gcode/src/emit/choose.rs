@@ -65,6 +65,16 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             {
                 continue;
             }
+            // Where a NURBS rendering won, the curves are written as the
+            // spline they are: arcs and lines are the other candidates
+            // where it loses (their written coordinates round by parts in
+            // ten thousand, which a NURBS's control points barely do).
+            if best
+                .as_ref()
+                .is_some_and(|(_, b)| matches!(b.form, Some(CurveForm::Nurbs(_))))
+            {
+                continue;
+            }
             // (The time at the user's feeds where `auto`'s objective made
             // this rendering.)
             let (c, known) = em.first_render(k, i)?;

@@ -58,6 +58,14 @@ impl Prepared {
         }
     }
 
+    /// Whether some feed move is a NURBS ([`ProgramFacts::nurbs`]).
+    pub fn holds_nurbs(&self) -> bool {
+        match self {
+            Prepared::Parts(f) => f.nurbs,
+            Prepared::Whole(p) => p.moves().iter().any(crate::facts::is_nurbs_feed),
+        }
+    }
+
     /// Lines passed through verbatim ([`Program::passthrough`]).
     pub fn passthrough(&self) -> &[crate::Passthrough] {
         match self {

@@ -28,6 +28,7 @@ pub(super) struct FactsAcc {
     moves: usize,
     rapids: usize,
     block_delete: bool,
+    nurbs: bool,
 }
 
 impl FactsAcc {
@@ -54,6 +55,7 @@ impl FactsAcc {
         self.count.add(words);
         self.moves += moves.len();
         self.rapids += moves.iter().filter(|m| m.piece.rapid).count();
+        self.nurbs |= moves.iter().any(crate::facts::is_nurbs_feed);
         self.uses_r |=
             moves.iter().any(|m| m.kind == MoveKind::Arc) && words.iter().any(|w| w.letter == 'R');
         if breaks_run {
@@ -114,5 +116,6 @@ pub fn read_facts(text: &[u8], opts: &ParseOptions) -> Result<Option<ProgramFact
         rapids: f.rapids,
         passthrough: core::mem::take(&mut r.st.passthrough),
         block_delete: f.block_delete,
+        nurbs: f.nurbs,
     }))
 }

@@ -35,6 +35,14 @@ pub const PLANAR_MM: f64 = 1e-9;
 /// Highest degree of Fanuc's G6.2 (order 4).
 pub const FANUC_MAX_DEGREE: usize = 3;
 
+/// G6.2 as Fanuc reads it: up to cubics, in any plane or in 3D.
+const FANUC_NURBS: NurbsLimits = NurbsLimits {
+    max_degree: FANUC_MAX_DEGREE,
+    planar_mm: None,
+    xy_only: false,
+    linuxcnc_g5_2: false,
+};
+
 /// The forms a run's curves can be rendered in for `format` on
 /// `controller`, in the order the writer tries them (none for JSON, which
 /// writes the curves as they are).
@@ -58,12 +66,15 @@ pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
             xy_only: false,
             linuxcnc_g5_2: false,
         })],
-        Format::G6_2 => &[CurveForm::Nurbs(NurbsLimits {
-            max_degree: FANUC_MAX_DEGREE,
-            planar_mm: None,
-            xy_only: false,
-            linuxcnc_g5_2: false,
-        })],
+        Format::G6_2 if controller == Controller::Fanuc => &[CurveForm::Nurbs(FANUC_NURBS)],
+        // A generic control that runs G6.2 runs arcs and lines too: each
+        // run gets the form that plans fastest (a fairing of a zigzag of
+        // lines written as a degree-1 G6.2 plans faster as G1).
+        Format::G6_2 => &[
+            CurveForm::Nurbs(FANUC_NURBS),
+            CurveForm::Arcs,
+            CurveForm::Lines,
+        ],
     }
 }
 
