@@ -286,7 +286,8 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
         controller: Controller,
         /// Formats to write and plan for each method, comma-separated
-        /// (default: the controller's default format).
+        /// (default: the format `smooth` writes by default: the
+        /// controller's, g6.2 on generic for a program that holds G6.2).
         #[arg(long, value_enum, value_delimiter = ',')]
         formats: Option<Vec<Format>>,
         #[arg(long, value_enum, default_value_t = TableFormat::Text)]
@@ -312,8 +313,9 @@ enum Command {
         /// The controller whose dialect the written programs use.
         #[arg(long, value_enum, default_value_t = Controller::Generic)]
         controller: Controller,
-        /// Output format of the written programs (default: the
-        /// controller's).
+        /// Output format of the written programs (default: the format
+        /// `smooth` writes by default: the controller's, g6.2 on generic
+        /// for a program that holds G6.2).
         #[arg(short, long, value_enum)]
         format: Option<Format>,
         /// The HTML file to write (- : standard output).
@@ -585,7 +587,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     machine: m,
                     methods,
                     override_feed: machine.override_feed,
-                    formats: formats.unwrap_or_else(|| vec![controller.default_format()]),
+                    formats: formats.unwrap_or_else(|| {
+                        let nurbs = fairpath_gcode::ProgramFacts::of(&parsed).nurbs;
+                        vec![controller.default_format_for(nurbs)]
+                    }),
                     controller,
                 },
             )?;

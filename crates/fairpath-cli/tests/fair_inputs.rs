@@ -231,7 +231,8 @@ fn an_unclamped_cubic_from_json_is_faired() {
 /// fastest: a controller that runs the program runs G6.2, and a faired
 /// spline written as arcs plans slower than the spline it replaces
 /// (`Curva_Stella_p1.ngc` at 0.25 mm was kept as written). Asked for arcs,
-/// it gets arcs; a program of lines still gets arcs.
+/// it gets arcs; a program of lines still gets arcs; `compare` plans the
+/// same default.
 #[test]
 fn a_g6_2_program_is_written_in_g6_2_unless_a_format_is_asked() {
     let dir = tempfile::tempdir().unwrap();
@@ -242,6 +243,14 @@ fn a_g6_2_program_is_written_in_g6_2_unless_a_format_is_asked() {
     assert!(s.contains("(fair, g6.2 for generic"), "{s}");
     let s = smooth_checked(&input, &out, "0.25mm", "fair", &["-f", "arcs"]);
     assert!(s.contains("(fair, arcs for generic"), "{s}");
+    // `compare` writes what `smooth` writes by default.
+    let i = input.to_str().unwrap();
+    let c = run(&["compare", i, "--tolerance", "0.25mm", "--methods", "fair"]);
+    assert!(
+        c.status.success() && text(&c).contains("g6.2 s"),
+        "{}",
+        text(&c)
+    );
     let lines = dir.path().join("lines.ngc");
     std::fs::write(
         &lines,

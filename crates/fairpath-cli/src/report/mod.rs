@@ -123,9 +123,14 @@ pub fn report_program(
     // Options checked for every method before any runs; a method whose
     // output fails (does not verify, cannot be planned) gets a row that
     // says why.
+    // (The format `smooth` writes by default when none is asked.)
+    let format = opts.format.unwrap_or_else(|| {
+        let nurbs = fairpath_gcode::ProgramFacts::of(program).nurbs;
+        opts.controller.default_format_for(nurbs)
+    });
     let mut smooth_opts = Vec::new();
     for name in &opts.methods {
-        let mut so = smooth_options(opts.tolerance, None, name, opts.format, opts.controller)?;
+        let mut so = smooth_options(opts.tolerance, None, name, Some(format), opts.controller)?;
         so.set_machine(opts.machine, opts.override_feed)
             .map_err(option_error)?;
         smooth_opts.push(so);
