@@ -207,24 +207,19 @@ fn smooth_one(
         .map_err(|e| anyhow!("planning what {name} wrote: {e}"))?;
     // What was written: a run kept as the program had it shows its own
     // corners and has no curves.
-    let is_kept = |i: usize| report.kept.get(i).copied().unwrap_or(false);
-    let verify = fairpath::verify::VerifyOptions::new(report.budget.smoothing());
-    let kept = report
-        .result
-        .runs
-        .iter()
-        .enumerate()
-        .flat_map(|(i, r)| -> Vec<fairpath::geom::Vec3> {
-            if is_kept(i) {
-                let p = &r.original.pieces;
-                let (own, _) = fairpath::verify::report_without_deviation(p, p, &verify);
-                own.joints
+    let kept = (0..report.result.runs.len())
+        .flat_map(|i| -> Vec<fairpath::geom::Vec3> {
+            match report.kept_run_report(i) {
+                Some(own) => own
+                    .joints
                     .iter()
                     .filter(|j| j.class == fairpath::geom::Continuity::G0)
                     .map(|j| j.at)
-                    .collect()
-            } else {
-                r.smoothed.kept_corners.iter().map(|k| k.at).collect()
+                    .collect(),
+                None => {
+                    let kept = &report.result.runs[i].smoothed.kept_corners;
+                    kept.iter().map(|k| k.at).collect()
+                }
             }
         })
         .collect();
@@ -235,7 +230,7 @@ fn smooth_one(
         .runs
         .iter()
         .enumerate()
-        .filter(|&(i, _)| !is_kept(i))
+        .filter(|&(i, _)| !report.kept.get(i).copied().unwrap_or(false))
         .flat_map(|(_, r)| &r.smoothed.pieces)
         .filter(|p| !matches!(p.curve, fairpath::geom::Curve::Line(_)))
         .map(|p| fairpath::geom::curvature_variation_energy(&p.curve, ENERGY_ACCURACY))

@@ -14,7 +14,7 @@ use fairpath::geom::Curve;
 use fairpath::path::Run;
 use fairpath::render::RenderStats;
 use fairpath::smooth::{CornerReason, UnfairedReason};
-use fairpath::verify::{report_without_deviation, RunReport, VerifyOptions};
+use fairpath::verify::RunReport;
 
 /// The evidence of a job in figures (see the module docs). Sums over the
 /// runs are added run by run in program order, so a program processed in
@@ -150,7 +150,6 @@ impl Evidence {
     pub fn add(&mut self, report: &Report, length_accuracy: f64) {
         let runs_before = self.runs;
         self.budget = report.budget;
-        let verify = VerifyOptions::new(report.budget.smoothing());
         for (i, r) in report.result.runs.iter().enumerate() {
             self.feed_moves_in += r.original.pieces.len();
             self.runs += 1;
@@ -166,10 +165,8 @@ impl Evidence {
                     None => self.unfaired.push((u.reason, 1, line)),
                 }
             }
-            if report.kept.get(i).copied().unwrap_or(false) {
-                // (A run smoothed into itself, by `none`, has its report.)
-                let own = (r.smoothed.pieces == r.original.pieces).then_some(&r.report);
-                self.add_kept_run(&r.original, own, &verify, length_accuracy);
+            if let Some(own) = report.kept_run_report(i) {
+                self.add_kept_run(&r.original, &own, length_accuracy);
                 continue;
             }
             self.pieces_out += r.smoothed.pieces.len();
@@ -225,30 +222,16 @@ impl Evidence {
         self.parts += 1;
     }
 
-    /// Adds a run written as the program had it: its own pieces, joints
-    /// (classified by the verifier's thresholds, `verify`), curvature and
-    /// length; `own` is the verifier's report on it when there is one.
-    fn add_kept_run(
-        &mut self,
-        run: &Run,
-        own: Option<&RunReport>,
-        verify: &VerifyOptions,
-        length_accuracy: f64,
-    ) {
+    /// Adds a run written as the program had it: its own pieces, and the
+    /// verifier's figures of it as written, `own`
+    /// ([`Report::kept_run_report`]).
+    fn add_kept_run(&mut self, run: &Run, own: &RunReport, length_accuracy: f64) {
         let pieces = &run.pieces;
         self.pieces_out += pieces.len();
         self.curves_out += pieces
             .iter()
             .filter(|p| !matches!(p.curve, Curve::Line(_)))
             .count();
-        let measured;
-        let own = match own {
-            Some(r) => r,
-            None => {
-                measured = report_without_deviation(pieces, pieces, verify).0;
-                &measured
-            }
-        };
         let joints = own.joint_counts();
         for (j, c) in self.joints.iter_mut().zip(joints) {
             *j += c;

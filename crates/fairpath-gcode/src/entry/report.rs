@@ -5,6 +5,8 @@ use fairpath::budget::ToleranceBudget;
 use fairpath::geom::Curve;
 use fairpath::render::RenderStats;
 use fairpath::smooth::{CornerReason, UnfairedReason};
+use fairpath::verify::{report_without_deviation, RunReport, VerifyOptions};
+use std::borrow::Cow;
 
 /// The evidence of a smoothing job.
 #[derive(Clone, Debug)]
@@ -49,6 +51,24 @@ pub struct Report {
 }
 
 impl Report {
+    /// For run `i` written as the program had it ([`Report::kept`]), the
+    /// verifier's figures of that run as written: joints (classified at the
+    /// smoothing share, as the curves'), peak curvature, cusps; `None` for
+    /// a run written smoothed. A run smoothed into itself (`none`) has its
+    /// report already.
+    pub fn kept_run_report(&self, i: usize) -> Option<Cow<'_, RunReport>> {
+        if !self.kept.get(i).copied().unwrap_or(false) {
+            return None;
+        }
+        let r = &self.result.runs[i];
+        if r.smoothed.pieces == r.original.pieces {
+            return Some(Cow::Borrowed(&r.report));
+        }
+        let verify = VerifyOptions::new(self.budget.smoothing());
+        let p = &r.original.pieces;
+        Some(Cow::Owned(report_without_deviation(p, p, &verify).0))
+    }
+
     /// Shares of the tolerance the text was written with: smoothing,
     /// output, the controller's blending (mm).
     pub fn shares(&self) -> (f64, f64, f64) {
