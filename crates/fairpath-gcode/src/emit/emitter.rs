@@ -20,7 +20,7 @@ use fairpath::render::{
     absorb_lines, linuxcnc_g5_2_motion, render_range, render_run, CurveForm, PlannedSpeed,
     RenderStats, Rendered,
 };
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// What is written for one run.
 #[derive(Clone, Debug)]
@@ -111,7 +111,16 @@ impl<'a> Emitter<'a> {
         let (opts, wo) = (&self.opts, &self.wo);
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, wo);
-        let speed = PlannedSpeed::new(smoothed[k].len(), self.plan(k)?, opts.machine.period);
+        // The speed `auto`'s objective rendered these pieces by, where it
+        // kept a rendering of them; else their plan's.
+        let speed = match self.memo.and_then(|m| m.speed_of(&smoothed[k])) {
+            Some(s) => s,
+            None => Arc::new(PlannedSpeed::new(
+                smoothed[k].len(),
+                self.plan(k)?,
+                opts.machine.period,
+            )),
+        };
         let pieces = &smoothed[k];
         let error = |source| EmitError::Render { run: k, source };
         if pieces.len() < PARALLEL_FEEDS_PIECES {

@@ -9,17 +9,25 @@
 //! and rendering options, only the fastest rendering seen is kept, with a
 //! digest of the candidate's pieces ([`pieces_digest`]); the writer takes
 //! it only for pieces with the same digest, so what it writes is what it
-//! would have rendered itself, bit for bit.
+//! would have rendered itself, bit for bit. With each rendering kept, the
+//! speed it was rendered by ([`PlannedSpeed`], the candidate's curves
+//! planned at the machine's maximum feed) stays for the writer's other
+//! renderings of the same pieces (another form, a finer chord), which
+//! then need no plan of their own.
 
 use fairpath::choose::{pieces_digest, RenderObserver};
 use fairpath::path::Piece;
-use fairpath::render::Rendered;
+use fairpath::render::{PlannedSpeed, Rendered};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::sync::Mutex;
 
 /// A run: its first and last input lines and its end points, bit for bit.
 type RunKey = (usize, usize, [u64; 6]);
+
+/// A candidate's digest and the speed its renderings were rendered by.
+type DigestSpeed = ([u64; 2], Arc<PlannedSpeed>);
 
 /// The fastest rendering seen of each run (see the module docs).
 #[derive(Debug, Default)]
@@ -27,6 +35,9 @@ pub struct RenderMemo {
     kept: Mutex<HashMap<(RunKey, usize), Kept>>,
     /// The candidates' curves planned at the user's feeds, by digest.
     bounds: Mutex<HashMap<[u64; 2], f64>>,
+    /// The speed each kept rendering was rendered by, by run and digest
+    /// (not taken with the rendering).
+    speeds: Mutex<HashMap<RunKey, Vec<DigestSpeed>>>,
     /// Renderings taken by the writer so far.
     taken: AtomicUsize,
 }
@@ -46,7 +57,14 @@ fn run_key(pieces: &[Piece]) -> Option<RunKey> {
 }
 
 impl RenderObserver for RenderMemo {
-    fn rendered(&self, pieces: &[Piece], render: usize, rendering: Rendered, time: f64) {
+    fn rendered(
+        &self,
+        pieces: &[Piece],
+        render: usize,
+        rendering: Rendered,
+        time: f64,
+        speed: &Arc<PlannedSpeed>,
+    ) {
         let Some(key) = run_key(pieces) else {
             return;
         };
@@ -55,6 +73,13 @@ impl RenderObserver for RenderMemo {
             return;
         }
         let digest = pieces_digest(pieces);
+        {
+            let mut speeds = self.speeds.lock().unwrap_or_else(|e| e.into_inner());
+            let of_run = speeds.entry(key).or_default();
+            if !of_run.iter().any(|(d, _)| *d == digest) {
+                of_run.push((digest, speed.clone()));
+            }
+        }
         kept.insert(
             (key, render),
             Kept {
@@ -103,6 +128,19 @@ impl RenderMemo {
     pub fn bound_of(&self, pieces: &[Piece]) -> Option<f64> {
         let bounds = self.bounds.lock().unwrap_or_else(|e| e.into_inner());
         bounds.get(&pieces_digest(pieces)).copied()
+    }
+
+    /// The speed a kept rendering of exactly `pieces` was rendered by, if
+    /// one was kept (taken or not).
+    pub fn speed_of(&self, pieces: &[Piece]) -> Option<Arc<PlannedSpeed>> {
+        let key = run_key(pieces)?;
+        let digest = pieces_digest(pieces);
+        let speeds = self.speeds.lock().unwrap_or_else(|e| e.into_inner());
+        speeds
+            .get(&key)?
+            .iter()
+            .find(|(d, _)| *d == digest)
+            .map(|(_, s)| s.clone())
     }
 
     /// How many renderings the writer took ([`RenderMemo::take`]).

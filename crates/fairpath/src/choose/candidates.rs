@@ -90,13 +90,16 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
 /// Largest run (pieces after sampling) of lines on which `fair` is a
-/// candidate, as for the through-corners fits: it fits the lines (the
-/// plain least-squares fit) and fairs every fit by the thesis' iteration,
-/// work that grows with the run; the evidence for the cap (where it won,
-/// what it costs, what it gives on long runs) is in `docs/auto-fair.md`. Runs
-/// with B-spline pieces get it whatever their length: there it fairs the
-/// splines in place, which no other candidate does.
-pub const FAIR_MAX_PIECES: usize = THROUGH_MAX_PIECES;
+/// candidate: it fits the lines (the plain least-squares fit) and fairs
+/// every fit by the thesis' iteration, work that grows with the run; the
+/// evidence for the cap (where it won, what it costs, what it gives on
+/// long runs) is in `docs/auto-fair.md`. 10,000 takes in the raster of
+/// `surface-raster.ngc` (one run of 2,979 lines, where `fair` writes the
+/// fastest program: 0.5 s of smoothing) and leaves out the 138,804 of
+/// `surface-raster-large.ngc`. Runs with B-spline pieces get it whatever
+/// their length: there it fairs the splines in place, which no other
+/// candidate does.
+pub const FAIR_MAX_PIECES: usize = 10_000;
 
 /// The name of the `fair` candidate (`auto` also plans its section mixes
 /// without it: [`super::auto::Auto`]).

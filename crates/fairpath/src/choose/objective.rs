@@ -87,11 +87,14 @@ impl Objective for PlannedTime {
 /// candidate whose curves plan fastest can render into more, shorter
 /// pieces with curvature steps at their joints, or into G1 lines where
 /// arcs cannot follow it, and run slower as written than another. The
-/// exact curves' time at the same feeds is the cheap bound
-/// ([`Objective::bound`]): the renderer aims to keep the speed of the
-/// curves, not to pass it, so a rendering plans no faster than its curves
-/// but for small differences of the planner's segments (where it does,
-/// `auto` may pass over a candidate that was slightly cheaper as written).
+/// exact curves' time at the same feeds, less [`WrittenTime::render_gain`]
+/// of it, is the cheap bound ([`Objective::bound`]): the renderer aims to
+/// keep the speed of the curves, not to pass it, but an arc through a
+/// curvature peak has the mean curvature of its stretch, below the peak,
+/// and is passed a little faster (`surface-raster.ngc`: `bspline-fit`'s
+/// curves plan 59.864 s, its arcs 59.497 s). Where a rendering gains more
+/// than that share, `auto` may pass over a candidate that was slightly
+/// cheaper as written.
 ///
 /// The writer also keeps a run as the program wrote it where every
 /// rendering plans slower than that; this is the same for every candidate
@@ -114,13 +117,28 @@ pub struct WrittenTime {
     /// renders the chosen candidate with the same options can take it
     /// from there instead of rendering and planning it again.
     pub observer: Option<Arc<dyn RenderObserver>>,
+    /// Largest share of its curves' time a rendering is taken to gain
+    /// (in `[0, 1)`): the bound is the curves' time times `1 -
+    /// render_gain`. Larger keeps more candidates in the race (more
+    /// rendering and planning); [`RENDER_GAIN`] by default.
+    pub render_gain: f64,
 }
+
+/// The default [`WrittenTime::render_gain`]: 3%, above the largest gain of
+/// a written program over its curves that `scripts/render-gain.sh` finds
+/// on the reference programs (`docs/render-gain.md`: 2.5%, `fair` on
+/// LinuxCNC's `zigzag_0.002_0.0005.ngc`). What it costs: the candidates
+/// whose curves plan within 3% of the fastest rendering are rendered and
+/// planned too (`auto` on `surface-raster-large.ngc`: two renderings of
+/// about 9,000 pieces instead of one).
+pub const RENDER_GAIN: f64 = 0.03;
 
 impl PartialEq for WrittenTime {
     /// The same options (and the same observer, if any).
     fn eq(&self, o: &Self) -> bool {
         self.shape == o.shape
             && self.plan == o.plan
+            && self.render_gain == o.render_gain
             && self.renders == o.renders
             && self.corners == o.corners
             && match (&self.observer, &o.observer) {
@@ -134,11 +152,21 @@ impl PartialEq for WrittenTime {
 /// What [`WrittenTime`] tells of each rendering it costs: the candidate's
 /// pieces, the index of the rendering's options in
 /// [`WrittenTime::renders`], the rendering itself (given away: the cost
-/// needs only its time) and its time on [`WrittenTime::plan`]; and of each
+/// needs only its time), its time on [`WrittenTime::plan`] and the speed
+/// it was rendered by (the curves planned on [`WrittenTime::shape`]: a
+/// writer that renders the pieces again, with another form or chord, can
+/// take it instead of planning them again); and of each
 /// bound it computes (the candidate's curves planned on
 /// [`WrittenTime::plan`], [`Objective::bound`]).
 pub trait RenderObserver: Send + Sync + core::fmt::Debug {
-    fn rendered(&self, pieces: &[Piece], render: usize, rendering: Rendered, time: f64);
+    fn rendered(
+        &self,
+        pieces: &[Piece],
+        render: usize,
+        rendering: Rendered,
+        time: f64,
+        speed: &Arc<PlannedSpeed>,
+    );
     fn bounded(&self, _pieces: &[Piece], _time: f64) {}
 }
 
@@ -153,6 +181,7 @@ impl WrittenTime {
             renders,
             corners: Corners::Blended,
             observer: None,
+            render_gain: RENDER_GAIN,
         }
     }
 
@@ -173,7 +202,11 @@ impl WrittenTime {
 impl Objective for WrittenTime {
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         let plan = plan_run(pieces, &self.shape).ok()?;
-        let speed = PlannedSpeed::new(pieces.len(), &plan, self.shape.limits.period);
+        let speed = Arc::new(PlannedSpeed::new(
+            pieces.len(),
+            &plan,
+            self.shape.limits.period,
+        ));
         drop(plan);
         let mut best: Option<f64> = None;
         let mut fell_back = false;
@@ -188,7 +221,7 @@ impl Objective for WrittenTime {
                     best = Some(t);
                 }
                 if let Some(o) = &self.observer {
-                    o.rendered(pieces, i, r, t);
+                    o.rendered(pieces, i, r, t, &speed);
                 }
             }
         }
@@ -200,6 +233,6 @@ impl Objective for WrittenTime {
         if let Some(o) = &self.observer {
             o.bounded(pieces, time);
         }
-        Some(time)
+        Some(time * (1.0 - self.render_gain))
     }
 }

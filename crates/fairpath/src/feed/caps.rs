@@ -310,8 +310,17 @@ pub(super) fn stretches(
         // Intervals to do, last first; each is cut in two while the caps
         // at its ends and middle differ by more than CAP_SPLIT_RATIO and it
         // is longer than one period of travel at its cap.
-        let mut todo: Vec<(f64, f64, u32)> = ts.windows(2).rev().map(|w| (w[0], w[1], 0)).collect();
-        while let Some((t0, t1, depth)) = todo.pop() {
+        // Each with its end points where they are known (a split's halves
+        // share its ends and middle; an interval starts where the one
+        // before it ended): each point is evaluated once.
+        type Known = Option<(PathPoint, f64)>;
+        let mut todo: Vec<(f64, f64, u32, Known, Known)> = ts
+            .windows(2)
+            .rev()
+            .map(|w| (w[0], w[1], 0, None, None))
+            .collect();
+        let mut last_end: Option<(f64, (PathPoint, f64))> = None;
+        while let Some((t0, t1, depth, known0, known1)) = todo.pop() {
             let (blend_cap, blend_len, entry) =
                 blend_caps
                     .next()
@@ -327,9 +336,15 @@ pub(super) fn stretches(
             if len.is_nan() || len <= 0.0 {
                 continue;
             }
-            let (p0, k0) = point(c, t0);
+            let at = |t: f64, known: Known, last: &Option<(f64, (PathPoint, f64))>| {
+                known
+                    .or_else(|| last.filter(|l| l.0 == t).map(|l| l.1))
+                    .unwrap_or_else(|| point(c, t))
+            };
+            let (p0, k0) = at(t0, known0, &last_end);
             let (pm, km) = point(c, 0.5 * (t0 + t1));
-            let (p1, k1) = point(c, t1);
+            let (p1, k1) = at(t1, known1, &None);
+            last_end = Some((t1, (p1, k1)));
             let dk = (k1 - k0) / len;
             let dk_mid = crate::math::abs(k1 - km).max(crate::math::abs(km - k0)) * 2.0 / len;
             let mut cap = (f64::INFINITY, Constraint::Feed);
@@ -352,8 +367,8 @@ pub(super) fn stretches(
                 && !matches!(c, Curve::Line(_))
             {
                 let tm = 0.5 * (t0 + t1);
-                todo.push((tm, t1, depth + 1));
-                todo.push((t0, tm, depth + 1));
+                todo.push((tm, t1, depth + 1, Some((pm, km)), Some((p1, k1))));
+                todo.push((t0, tm, depth + 1, Some((p0, k0)), Some((pm, km))));
                 continue;
             }
             let j = core::mem::replace(&mut jcap, f64::INFINITY) * cap_factor;
