@@ -35,6 +35,15 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     fn bound(&self, _pieces: &[Piece]) -> Option<f64> {
         None
     }
+
+    /// The share of a candidate's cost its [`Objective::bound`] may lie
+    /// below it by design (0, the default, for a bound close to the
+    /// cost): candidates whose bounds lie within it of the least bound
+    /// still in the race are most likely all costed, so `auto` costs them
+    /// side by side.
+    fn bound_slack(&self) -> f64 {
+        0.0
+    }
 }
 
 /// The machining time (s) planned by the jerk-limited look-ahead planner
@@ -234,5 +243,9 @@ impl Objective for WrittenTime {
             o.bounded(pieces, time);
         }
         Some(time * (1.0 - self.render_gain))
+    }
+
+    fn bound_slack(&self) -> f64 {
+        self.render_gain
     }
 }
