@@ -125,7 +125,7 @@ with open(out, "w") as o:
     o.write("\n\n## Long runs of lines\n\n")
     o.write("`auto` on the large raster (one run of 138,803 lines: `fair` is not offered there), and\n"
             "the two methods that fit lines, alone, on it and on `makerblock_tinycnc.gcode` (two runs\n"
-            "of 8,465 lines in all; `auto` offers `fair` on its sections of at most 2,000 pieces).\n\n")
+            "of 8,465 lines in all; `auto` offers `fair` on runs and sections of at most 10,000 pieces, `FAIR_MAX_PIECES`).\n\n")
     o.write("| program | method | curves s | written s | wall s | CPU s |\n|---|---|---|---|---|---|\n")
     o.write("\n".join(long_rows) + "\n")
 print(open(out).read())
