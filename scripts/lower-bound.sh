@@ -10,7 +10,7 @@
 # at most a millionth: the same geometry with its coordinates rounded
 # differently, e.g. square-wave.ngc, where auto writes bspline-corner's
 # program and ctm the same transitions). Build first: cargo build
-# --release.
+# --release. OUT=FILE writes the table there instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOL="${1:-0.05mm}"; shift || true
@@ -21,7 +21,7 @@ if [ $# -eq 0 ]; then
 fi
 ARGS="$TOL"
 for p in "$@"; do ARGS="$ARGS ${p#$SHARED/}"; done
-OUT=docs/lower-bound.md
+OUT=${OUT:-docs/lower-bound.md}
 {
   echo "# auto against the lower bound"
   echo
@@ -38,17 +38,21 @@ b=rows[0]["lower_bound_s"]; by={r["method"]:r for r in rows}
 def written(r):
     w=[x for x in r.get("written",[]) if x["format"]=="arcs" and x["verified"]]
     return w[0] if w else None
+def xb(x):
+    # x_bound is null where the bound is 0 (a program of rapids, or of
+    # moves too short to bound).
+    return "n/a" if x is None else "%.2f" % x
 singles=[r for r in rows if r["method"] not in ("original","auto") and written(r)]
 best=min(singles,key=lambda r:written(r)["time_s"]) if singles else None
 a=written(by["auto"]); o=by["original"]
-bs="%.2f (%s)" % (written(best)["x_bound"], best["method"]) if best else ""
+bs="%s (%s)" % (xb(written(best)["x_bound"]), best["method"]) if best else ""
 c2=[r for r in singles if r["method"] in ("bspline-corner","ctm","lotm","bspline-fit","fair")]
 bc=min(c2,key=lambda r:written(r)["time_s"]) if c2 else None
-cs="%.2f (%s, %.3f s)" % (written(bc)["x_bound"], bc["method"], written(bc)["time_s"]) if bc else ""
+cs="%s (%s, %.3f s)" % (xb(written(bc)["x_bound"]), bc["method"], written(bc)["time_s"]) if bc else ""
 d=a["time_s"]-written(bc)["time_s"] if bc else 0.0
 tb=written(bc)["time_s"] if bc else 0.0
 ok=("yes" if d<=0 else "tie (%+.2g s)" % d if d<=1e-6*tb else "no (%+.2g s, %+.2g%%)" % (d, 100*d/tb)) if bc else ""
-print("| %s | %.3f | %.3f | %.3f | %.2f | %s | %s | %s |" % (name, b, o["time_s"], a["time_s"], a["x_bound"], bs, cs, ok))
+print("| %s | %.3f | %.3f | %.3f | %s | %s | %s | %s |" % (name, b, o["time_s"], a["time_s"], xb(a["x_bound"]), bs, cs, ok))
 ' "${p#$SHARED/}"
   done
 } > "$OUT"
