@@ -336,14 +336,11 @@ pub(super) fn stretches(
             if len.is_nan() || len <= 0.0 {
                 continue;
             }
-            let at = |t: f64, known: Known, last: &Option<(f64, (PathPoint, f64))>| {
-                known
-                    .or_else(|| last.filter(|l| l.0 == t).map(|l| l.1))
-                    .unwrap_or_else(|| point(c, t))
-            };
-            let (p0, k0) = at(t0, known0, &last_end);
+            let (p0, k0) = known0
+                .or_else(|| last_end.filter(|l| l.0 == t0).map(|l| l.1))
+                .unwrap_or_else(|| point(c, t0));
             let (pm, km) = point(c, 0.5 * (t0 + t1));
-            let (p1, k1) = at(t1, known1, &None);
+            let (p1, k1) = known1.unwrap_or_else(|| point(c, t1));
             last_end = Some((t1, (p1, k1)));
             let dk = (k1 - k0) / len;
             let dk_mid = crate::math::abs(k1 - km).max(crate::math::abs(km - k0)) * 2.0 / len;
