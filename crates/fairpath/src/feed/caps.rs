@@ -109,37 +109,81 @@ const SMOOTH_JOINT: JointCap = JointCap {
     meets_next: false,
 };
 
+/// How a joint between two consecutive pieces is passed, before its
+/// neighbours are known.
+#[derive(Clone, Copy)]
+enum Joint {
+    Smooth,
+    Tangent(f64),
+    Corner(Blend, Vec3, Vec3),
+}
+
 /// How each joint between consecutive pieces of `valid` (indices of
-/// pieces with positive length, and their lengths) is passed: G2 joints
-/// freely, tangent joints at the cap of their curvature jump, corners on
-/// blend circles that may meet each other on short moves (see
-/// [`super::junction`]).
-fn joint_caps(
-    pieces: &[Piece],
-    valid: &[(usize, f64)],
-    m: &MachineLimits,
+/// pieces with positive length, and their lengths) is passed, joint after
+/// joint: G2 joints freely, tangent joints at the cap of their curvature
+/// jump, corners on blend circles that may meet each other on short moves
+/// (see [`super::junction`]). A joint's cap depends on its neighbours
+/// only, so three joints are held at a time, not one per piece: on a
+/// rendering of millions of pieces the table of joints was the largest
+/// thing a plan held.
+struct JointCaps<'a> {
+    pieces: &'a [Piece],
+    valid: &'a [(usize, f64)],
+    m: &'a MachineLimits,
     corners: Corners,
-) -> Vec<JointCap> {
-    let jt = JointTolerances::from_tolerance(m.chord_error);
-    enum Joint {
-        Smooth,
-        Tangent(f64),
-        Corner(Blend, Vec3, Vec3),
+    jt: JointTolerances,
+    /// Index of the joint [`JointCaps::next_cap`] returns next.
+    next: usize,
+    /// Joints `next - 1`, `next` and `next + 1` (`None` outside the run).
+    window: [Option<Joint>; 3],
+}
+
+impl<'a> JointCaps<'a> {
+    fn new(
+        pieces: &'a [Piece],
+        valid: &'a [(usize, f64)],
+        m: &'a MachineLimits,
+        corners: Corners,
+    ) -> JointCaps<'a> {
+        let mut caps = JointCaps {
+            pieces,
+            valid,
+            m,
+            corners,
+            jt: JointTolerances::from_tolerance(m.chord_error),
+            next: 0,
+            window: [None; 3],
+        };
+        caps.window = [None, caps.joint(0), caps.joint(1)];
+        caps
     }
-    let is_line = |k: usize| matches!(pieces[valid[k].0].curve, Curve::Line(_));
-    let joints: Vec<Joint> = valid
-        .windows(2)
-        .map(|w| {
-            let ((qa, la), (qb, lb)) = (w[0], w[1]);
-            let (a, c) = (&pieces[qa].curve, &pieces[qb].curve);
-            let class = classify_joint(a, c, &jt);
-            if class == Continuity::G2 {
-                return Joint::Smooth;
-            }
-            let (pa, _) = point(a, a.domain().1);
-            let (pb, _) = point(c, c.domain().0);
-            // Tangent within the joint tolerances (and rounding): a
-            // curvature jump, not a corner of a microradian.
+
+    /// Number of joints.
+    fn len(&self) -> usize {
+        self.valid.len().saturating_sub(1)
+    }
+
+    fn is_line(&self, k: usize) -> bool {
+        matches!(self.pieces[self.valid[k].0].curve, Curve::Line(_))
+    }
+
+    /// Joint `j` on its own (`None` past the last joint).
+    fn joint(&self, j: usize) -> Option<Joint> {
+        if j >= self.len() {
+            return None;
+        }
+        let (m, corners) = (self.m, self.corners);
+        let ((qa, la), (qb, lb)) = (self.valid[j], self.valid[j + 1]);
+        let (a, c) = (&self.pieces[qa].curve, &self.pieces[qb].curve);
+        let class = classify_joint(a, c, &self.jt);
+        if class == Continuity::G2 {
+            return Some(Joint::Smooth);
+        }
+        let (pa, _) = point(a, a.domain().1);
+        let (pb, _) = point(c, c.domain().0);
+        // Tangent within the joint tolerances (and rounding): a
+        // curvature jump, not a corner of a microradian.
+        Some(
             if class != Continuity::G1
                 && pa.tangent.angle_to(pb.tangent) > 0.0
                 && corners == Corners::Followed
@@ -159,52 +203,85 @@ fn joint_caps(
                 }
             } else {
                 Joint::Tangent(jump_cap(m, (pb.curvature - pa.curvature).norm()))
-            }
-        })
-        .collect();
-    let blend_of = |j: usize| match joints.get(j) {
-        Some(Joint::Corner(b, _, _)) => Some(*b),
-        _ => None,
-    };
-    // Whether the circles of joints j and j + 1 fill the line between.
-    let meet = |j: usize| -> bool {
-        let (Some(a), Some(b)) = (blend_of(j), blend_of(j + 1)) else {
+            },
+        )
+    }
+
+    /// The cap of the next joint (in order from the first), or `None`
+    /// after the last.
+    fn next_cap(&mut self) -> Option<JointCap> {
+        let j = self.next;
+        if j >= self.len() {
+            return None;
+        }
+        let cap = self.cap(j);
+        self.next += 1;
+        self.window = [self.window[1], self.window[2], self.joint(j + 2)];
+        if self.corners == Corners::BlockCapped {
+            let m = self.m;
+            let block = block_cap(m, self.valid[j].1).min(block_cap(m, self.valid[j + 1].1));
+            return Some(JointCap {
+                point: cap.point.min(block),
+                arc: cap.arc.min(block),
+                entry: cap.entry.min(block),
+                exit: cap.exit.min(block),
+                ..cap
+            });
+        }
+        Some(cap)
+    }
+
+    /// The blend circle of joint `j`, one of the window's.
+    fn blend_of(&self, j: usize) -> Option<Blend> {
+        let slot = (j + 1).checked_sub(self.next)?;
+        match self.window.get(slot).copied().flatten() {
+            Some(Joint::Corner(b, _, _)) => Some(b),
+            _ => None,
+        }
+    }
+
+    /// Whether the circles of joints `j` and `j + 1` fill the line between.
+    fn meet(&self, j: usize) -> bool {
+        let (Some(a), Some(b)) = (self.blend_of(j), self.blend_of(j + 1)) else {
             return false;
         };
-        let len = valid[j + 1].1;
+        let len = self.valid[j + 1].1;
         let rest = len - a.tangent_length - b.tangent_length;
-        is_line(j + 1) && rest <= m.chord_error.max(len * MEET_REL)
-    };
-    (0..joints.len())
-        .map(|j| match &joints[j] {
-            Joint::Smooth => SMOOTH_JOINT,
-            Joint::Tangent(cap) => JointCap {
-                point: *cap,
+        self.is_line(j + 1) && rest <= self.m.chord_error.max(len * MEET_REL)
+    }
+
+    /// The cap of joint `j` = `self.next`, from the window.
+    fn cap(&self, j: usize) -> JointCap {
+        let m = self.m;
+        match self.window[1] {
+            None | Some(Joint::Smooth) => SMOOTH_JOINT,
+            Some(Joint::Tangent(cap)) => JointCap {
+                point: cap,
                 ..SMOOTH_JOINT
             },
-            Joint::Corner(bl, k_in, k_out) => {
+            Some(Joint::Corner(bl, k_in, k_out)) => {
                 // What the circle meets: the neighbouring circle when both
                 // fill the line between them, else the piece itself.
-                let k_before = if j > 0 && meet(j - 1) {
-                    blend_of(j - 1).map_or(*k_in, |b| b.curvature)
+                let k_before = if j > 0 && self.meet(j - 1) {
+                    self.blend_of(j - 1).map_or(k_in, |b| b.curvature)
                 } else {
-                    *k_in
+                    k_in
                 };
-                let meets_next = meet(j);
+                let meets_next = self.meet(j);
                 let k_after = if meets_next {
-                    blend_of(j + 1).map_or(*k_out, |b| b.curvature)
+                    self.blend_of(j + 1).map_or(k_out, |b| b.curvature)
                 } else {
-                    *k_out
+                    k_out
                 };
-                let arc = blend_cap(m, bl, 0.0);
+                let arc = blend_cap(m, &bl, 0.0);
                 let entry = jump_cap(m, (bl.curvature - k_before).norm());
                 let exit = jump_cap(m, (k_after - bl.curvature).norm());
                 // Next to an arc or curve the circle's ends are not
                 // modelled as stretches: all of its caps at the joint, the
                 // curvature change across it as one jump.
-                let lines = is_line(j) && is_line(j + 1);
-                let circle = bl.curvature - (*k_in + *k_out) * 0.5;
-                let across = jump_cap(m, corner_jump(circle, *k_in, *k_out));
+                let lines = self.is_line(j) && self.is_line(j + 1);
+                let circle = bl.curvature - (k_in + k_out) * 0.5;
+                let across = jump_cap(m, corner_jump(circle, k_in, k_out));
                 JointCap {
                     point: if lines { arc } else { arc.min(across) },
                     tangent_length: if lines { bl.tangent_length } else { 0.0 },
@@ -215,8 +292,8 @@ fn joint_caps(
                     meets_next: meets_next && lines,
                 }
             }
-        })
-        .collect()
+        }
+    }
 }
 
 /// Cuts the run into stretches with caps; `junction[k]` caps the speed at
@@ -236,16 +313,9 @@ pub(super) fn stretches(
             valid.push((pi, len));
         }
     }
-    let mut jcaps = joint_caps(pieces, &valid, m, corners);
-    if corners == Corners::BlockCapped {
-        for (j, jc) in jcaps.iter_mut().enumerate() {
-            let cap = block_cap(m, valid[j].1).min(block_cap(m, valid[j + 1].1));
-            jc.point = jc.point.min(cap);
-            jc.arc = jc.arc.min(cap);
-            jc.entry = jc.entry.min(cap);
-            jc.exit = jc.exit.min(cap);
-        }
-    }
+    let mut jcaps = JointCaps::new(pieces, &valid, m, corners);
+    // The caps of the joints before and after the current piece.
+    let mut jout = SMOOTH_JOINT;
     let mut out: Vec<Stretch> = Vec::new();
     let mut junction: Vec<f64> = Vec::new();
     // Arc length of the run before the current stretch.
@@ -265,8 +335,8 @@ pub(super) fn stretches(
         }
         let c = &p.curve;
         // The joint's cap goes to the first stretch of the piece.
-        let jin = if vi > 0 { jcaps[vi - 1] } else { SMOOTH_JOINT };
-        let jout = jcaps.get(vi).copied().unwrap_or(SMOOTH_JOINT);
+        let jin = if vi > 0 { jout } else { SMOOTH_JOINT };
+        jout = jcaps.next_cap().unwrap_or(SMOOTH_JOINT);
         // The cap at the start of the piece.
         let mut jcap = jin.point;
         // A line with a corner at an end: the end stretch of the line that
