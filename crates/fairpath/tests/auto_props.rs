@@ -5,7 +5,7 @@
 
 mod common;
 use common::polyline_run;
-use fairpath::choose::{sample_curves, Auto};
+use fairpath::choose::{keeps_arc_joints, sample_curves, Auto, AutoOptions, CURVES_AS_WRITTEN};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Arc, Curve, Line, Vec3};
@@ -53,6 +53,17 @@ fn filleted(pts: &[Vec3], r: f64) -> Run {
     Run::new(pieces)
 }
 
+/// `auto` with the corner methods on the curves as written.
+fn with_curves_as_written() -> Auto {
+    Auto {
+        options: AutoOptions {
+            curves_as_written: true,
+            ..AutoOptions::default()
+        },
+        ..Auto::default()
+    }
+}
+
 fn check(run: &Run, out: &SmoothedRun, tol: f64) {
     let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
     assert!(
@@ -63,12 +74,16 @@ fn check(run: &Run, out: &SmoothedRun, tol: f64) {
         rep.start_gap,
         rep.end_gap
     );
+    // Only the corner methods on the curves as written keep the corners
+    // next to arcs.
+    let arc_joints = keeps_arc_joints(out);
     for j in &rep.joints {
         if j.class != Continuity::G2 {
             assert!(
                 out.kept_corners
                     .iter()
-                    .any(|k| k.at.dist(j.at) <= tol * 1e-6 && k.reason != CornerReason::ArcJoint),
+                    .any(|k| k.at.dist(j.at) <= tol * 1e-6
+                        && (arc_joints || k.reason != CornerReason::ArcJoint)),
                 "{:?} joint at {:?} is not a kept reversal: {:?}",
                 j.class,
                 j.at,
@@ -318,6 +333,20 @@ proptest! {
         let run = filleted(&pts, r);
         let out = Auto::default().smooth_run(&run, tol).unwrap();
         check(&run, &out, tol);
+        // By default G2 at every joint next to an arc.
+        prop_assert!(!keeps_arc_joints(&out));
+        prop_assert!(out.kept_corners.iter().all(|k| k.reason != CornerReason::ArcJoint));
+        // With the corner methods on the curves as written: no slower than
+        // those methods alone, which keep the arcs.
+        let fast = with_curves_as_written().smooth_run(&run, tol).unwrap();
+        check(&run, &fast, tol);
+        let t = planned(&fast.pieces);
+        for other in [
+            BsplineCorner::default().smooth_run(&run, tol).unwrap(),
+            Lotm::default().smooth_run(&run, tol).unwrap(),
+        ] {
+            prop_assert!(t <= planned(&other.pieces) * (1.0 + 1e-12));
+        }
     }
 
     /// Random polylines (lines only): within tolerance, G2 but reversals,
@@ -643,8 +672,12 @@ fn no_candidate_keeps_a_joint_next_to_a_spline() {
         piece(Curve::Line(Line::new(end, end + tangent * 2.0)), 6),
     ]);
     let tol = 0.05;
-    for (name, c) in Auto::default().candidates(&run, tol).unwrap() {
+    for (name, mut c) in with_curves_as_written().candidates(&run, tol).unwrap() {
+        c.chosen = vec![name];
         check(&run, &c, tol);
+        if CURVES_AS_WRITTEN.contains(&name) {
+            continue;
+        }
         assert!(
             c.kept_corners
                 .iter()
@@ -655,4 +688,44 @@ fn no_candidate_keeps_a_joint_next_to_a_spline() {
     }
     let out = Auto::default().smooth_run(&run, tol).unwrap();
     check(&run, &out, tol);
+}
+
+/// Regression, LinuxCNC `performance/tort.ngc` lines 83-90 (moved to end
+/// the first arc at the origin): a 270-degree arc of radius 8 mm, two
+/// lines with a corner between them, a 120-degree arc of radius 6 mm,
+/// meeting at corners. Every G2 candidate samples the arcs, and the corner
+/// methods then put a transition on every chord: `auto` planned slower
+/// than `bspline-corner` alone, which keeps the arcs and replaces only the
+/// corner between the lines. With the corner methods on the curves as
+/// written among the candidates it is not; by default `auto` stays G2.
+#[test]
+fn tort_arcs_and_lines_are_no_slower_than_the_corner_methods() {
+    let p = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+    let (a0, a1) = (p(9.657, -12.585, 2.0), p(0.0, 0.0, 0.0));
+    let arc1 = Arc::from_center(a0, a1, p(4.0, -6.928203, 1.0), Vec3::Z, false, 0, 1e-5).unwrap();
+    let (l1, l2) = (p(4.5, 4.5, 3.5), p(3.0, 9.5, 4.5));
+    let a3 = p(-4.242641, 8.546488, 7.5);
+    let arc2 = Arc::from_center(l2, a3, p(0.0, 4.303848, 6.0), Vec3::Z, true, 0, 1e-5).unwrap();
+    let run = Run::new(vec![
+        piece(Curve::Arc(arc1), 1),
+        piece(Curve::Line(Line::new(a1, l1)), 2),
+        piece(Curve::Line(Line::new(l1, l2)), 3),
+        piece(Curve::Arc(arc2), 4),
+    ]);
+    let tol = 0.05;
+    let out = with_curves_as_written().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    let t = planned(&out.pieces);
+    let corner = |o: SmoothedRun| planned(&o.pieces);
+    let tb = corner(BsplineCorner::default().smooth_run(&run, tol).unwrap());
+    let tl = corner(Lotm::default().smooth_run(&run, tol).unwrap());
+    println!("tort's arcs and lines: auto {t:.4} s, bspline-corner {tb:.4} s, lotm {tl:.4} s");
+    assert!(t <= tb.min(tl) * (1.0 + 1e-12), "{t} s");
+    let g2 = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &g2, tol);
+    println!("by default (G2): {:.4} s", planned(&g2.pieces));
+    assert!(g2
+        .kept_corners
+        .iter()
+        .all(|k| k.reason != CornerReason::ArcJoint));
 }

@@ -1,5 +1,8 @@
 //! Method `auto` (the default): for each run, the smoothing that the feed
-//! planner runs fastest, always within the tolerance and G2.
+//! planner runs fastest, always within the tolerance and G2 (with
+//! [`AutoOptions::curves_as_written`], G2 unless a corner method that
+//! keeps the corners next to arcs plans faster: the last two candidates
+//! below).
 //!
 //! Candidates for a run:
 //!
@@ -43,6 +46,16 @@
 //!   (one arc between two `S` words of a plasma program, say): sampled and
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the
 //!   list, so it wins only when strictly faster.
+//! * **bspline-corner, curves as written** and **lotm, curves as
+//!   written**, with [`AutoOptions::curves_as_written`] (not by default),
+//!   on runs with an arc or curve: the corner method on the run
+//!   as it is, with the whole tolerance, as the method alone writes it:
+//!   the arcs kept, the corners between lines replaced, the corners next
+//!   to an arc kept (not G2). On a run of tight arcs and short lines the
+//!   sampled arcs get a transition at every chord and plan far slower
+//!   (LinuxCNC's `tort.ngc`, lines 83-90: 1.97 s against 0.50 s), and
+//!   `auto` is slower than `bspline-corner` alone. After the others, so
+//!   they win only when strictly faster.
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
@@ -109,6 +122,16 @@ pub struct AutoOptions {
     /// kept ([`SECTION_LINES`]; an infinite length cuts nothing, all
     /// infinite: one choice per run).
     pub section_lines: [f64; 3],
+    /// Offer the corner methods on the curves as written
+    /// ([`super::CURVES_AS_WRITTEN`]), which keep the corners next to arcs:
+    /// `auto` is then no slower than `bspline-corner` or `lotm` alone. False
+    /// by default: `auto` makes every joint G2 but reversals (issue 5), and
+    /// on a run of tight arcs and lines between corners, where every G2
+    /// path plans slower than the run as written, the writer keeps the run
+    /// as written while a corner method alone would replace the corners
+    /// between its lines (LinuxCNC's `tort.ngc`: 0.0039 s, 0.005%, slower
+    /// than `bspline-corner`).
+    pub curves_as_written: bool,
 }
 
 impl AutoOptions {
@@ -138,6 +161,7 @@ impl Default for AutoOptions {
         AutoOptions {
             arc_share: ARC_SHARE,
             section_lines: SECTION_LINES,
+            curves_as_written: false,
         }
     }
 }
@@ -225,6 +249,7 @@ impl Auto {
                 Offered::WhenItWidens => widens_sections(input.run(), tol, &wide),
                 Offered::OnShortRuns => input.run().pieces.len() <= THROUGH_MAX_PIECES,
                 Offered::AlreadyG2 => is_g2(run, tolerance),
+                Offered::OnCurves => has_curves && self.options.curves_as_written,
                 Offered::OnSplinesOrShortRuns => {
                     has_splines(run) || input.run().pieces.len() <= FAIR_MAX_PIECES
                 }

@@ -105,6 +105,19 @@ pub const FAIR_MAX_PIECES: usize = 10_000;
 /// without it: [`super::auto::Auto`]).
 pub const FAIR: &str = "fair";
 
+/// The candidates that keep the corners next to arcs as the corner
+/// methods do ([`Kind::CornerInPlace`]), last in [`CANDIDATES`].
+pub const CURVES_AS_WRITTEN: [&str; 2] = [
+    "bspline-corner, curves as written",
+    "lotm, curves as written",
+];
+
+/// Whether `c` is (or holds a section of) a [`CURVES_AS_WRITTEN`]
+/// candidate.
+pub fn keeps_arc_joints(c: &SmoothedRun) -> bool {
+    c.chosen.iter().any(|n| CURVES_AS_WRITTEN.contains(n))
+}
+
 /// How a candidate smooths a run.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Candidate {
@@ -116,6 +129,8 @@ pub(super) enum Candidate {
     Fair(FairOptions),
     /// A corner method with its default options.
     Corner(CornerMethod),
+    /// A corner method on the run as it is, arcs and curves kept.
+    CornerInPlace(CornerMethod),
     /// The run as it is ([`Offered::AlreadyG2`]).
     AsIs,
 }
@@ -140,8 +155,18 @@ pub enum Kind {
         sections: SectionRule,
         jerk_fairness: f64,
     },
-    /// A corner method.
+    /// A corner method, on the run with its arcs and curves sampled as
+    /// the fits are (every joint it leaves is G2).
     Corner(CornerMethod),
+    /// A corner method on the run as it is: its arcs and curves kept, and
+    /// the corners between them and lines kept where the method keeps
+    /// them ([`CornerReason::ArcJoint`]), as the method itself writes the
+    /// run. On a run of tight arcs and lines, corners sampled into chords
+    /// each get a transition and the run plans far slower than the method
+    /// alone, which only replaces the corners between lines (LinuxCNC's
+    /// `tort.ngc`, lines 83-90: 1.97 s against 0.50 s); `auto` must not be
+    /// slower than any single method, so it plans this one too.
+    CornerInPlace(CornerMethod),
     /// Method `fair` (seed 003) with its default options.
     Fair,
     /// The run untouched.
@@ -160,6 +185,9 @@ pub enum Offered {
     OnShortRuns,
     /// When every joint of the run is already G2.
     AlreadyG2,
+    /// When the run has an arc or curve (else it is the corner method on
+    /// the sampled run again).
+    OnCurves,
     /// On runs with a B-spline piece, and on runs of at most
     /// [`FAIR_MAX_PIECES`] pieces (after sampling).
     OnSplinesOrShortRuns,
@@ -237,6 +265,16 @@ pub const CANDIDATES: &[CandidateRow] = &[
         kind: Kind::AsIs,
         offered: Offered::AlreadyG2,
     },
+    CandidateRow {
+        name: CURVES_AS_WRITTEN[0],
+        kind: Kind::CornerInPlace(CornerMethod::BsplineCorner),
+        offered: Offered::OnCurves,
+    },
+    CandidateRow {
+        name: CURVES_AS_WRITTEN[1],
+        kind: Kind::CornerInPlace(CornerMethod::Lotm),
+        offered: Offered::OnCurves,
+    },
 ];
 
 impl SectionRule {
@@ -264,6 +302,7 @@ impl Kind {
                 ..BsplineFitOptions::default()
             }),
             Kind::Corner(m) => Candidate::Corner(m),
+            Kind::CornerInPlace(m) => Candidate::CornerInPlace(m),
             // With `bspline-fit`'s sections only: the fits through the
             // corners are candidates of their own here, and faired again
             // they tripled `auto`'s time on `makerblock_tinycnc.gcode`
@@ -316,6 +355,7 @@ impl Candidate {
             }
             .smooth_run_with(input, tol, memo),
             Candidate::Corner(m) => m.smooth_run(input, tol),
+            Candidate::CornerInPlace(m) => m.smooth_run(original, tolerance),
             Candidate::Fair(o) => {
                 let fit = BsplineFitOptions {
                     line_at_start: cut_ends.0,
@@ -326,8 +366,9 @@ impl Candidate {
                     options: FairOptions { fit, ..*o },
                 };
                 // In place, unless that keeps a joint next to an arc or a
-                // spline that is not G2 (every candidate of `auto` leaves
-                // none): then on the sampled run, as the others.
+                // spline that is not G2 (only the corner methods on the
+                // curves as written leave one): then on the sampled run,
+                // as the others.
                 if has_splines(original) {
                     let out = fair.smooth_run(original, tolerance)?;
                     if out

@@ -16,9 +16,9 @@ mod sections;
 
 pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
 pub use candidates::{
-    through_corners_sections, CandidateRow, CornerMethod, Kind, Offered, SectionRule, CANDIDATES,
-    FAIR_MAX_PIECES, JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
-    WIDE_WIGGLE_PER_TOL,
+    keeps_arc_joints, through_corners_sections, CandidateRow, CornerMethod, Kind, Offered,
+    SectionRule, CANDIDATES, CURVES_AS_WRITTEN, FAIR_MAX_PIECES, JERK_FAIRNESS,
+    THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{Objective, PlannedTime, RenderObserver, WrittenTime, RENDER_GAIN};
 pub use registry::{by_name, method, Method, METHODS};
