@@ -296,15 +296,15 @@ impl<'a> JointCaps<'a> {
     }
 }
 
-/// Cuts the run into stretches with caps; `junction[k]` caps the speed at
-/// the start of stretch `k` (INFINITY inside pieces and at G2 joints).
+/// Cuts the run into stretches with caps; the `entry_cap` of each caps the
+/// speed at its start (INFINITY inside pieces and at G2 joints).
 /// `shaping` lowers caps and tangential limits by arc length along the run.
 pub(super) fn stretches(
     pieces: &[Piece],
     opts: &PlanOptions,
     shaping: &Shaping,
     corners: Corners,
-) -> Result<(Vec<Stretch>, Vec<f64>), FeedError> {
+) -> Result<Vec<Stretch>, FeedError> {
     let m = &opts.limits;
     let mut valid: Vec<(usize, f64)> = Vec::with_capacity(pieces.len());
     for (pi, p) in pieces.iter().enumerate() {
@@ -317,7 +317,6 @@ pub(super) fn stretches(
     // The caps of the joints before and after the current piece.
     let mut jout = SMOOTH_JOINT;
     let mut out: Vec<Stretch> = Vec::new();
-    let mut junction: Vec<f64> = Vec::new();
     // Arc length of the run before the current stretch.
     let mut s_run = 0.0f64;
     for (vi, &(pi, len_total)) in valid.iter().enumerate() {
@@ -466,8 +465,7 @@ pub(super) fn stretches(
                 constraint: cap.1,
                 tangential,
             });
-            junction.push(j);
         }
     }
-    Ok((out, junction))
+    Ok(out)
 }

@@ -249,7 +249,10 @@ fn plan(
         name: e.name,
         value: e.value,
     })?;
-    let (st, junction) = stretches(pieces, opts, shaping, corners)?;
+    let st = stretches(pieces, opts, shaping, corners)?;
+    // The cap at the start of each stretch (INFINITY inside pieces and at
+    // G2 joints).
+    let junction = |i: usize| st[i].part.entry_cap;
     let n = st.len();
     let mut plan = RunPlan::default();
     if n == 0 {
@@ -259,7 +262,7 @@ fn plan(
     // end stretch) and what sets it.
     let mut bcap = alloc::vec![0.0f64; n + 1];
     for i in 1..n {
-        bcap[i] = st[i - 1].part.cap.min(st[i].part.cap).min(junction[i]);
+        bcap[i] = st[i - 1].part.cap.min(st[i].part.cap).min(junction(i));
     }
     if opts.ends == RunEnds::AtCap {
         bcap[0] = st[0].part.cap;
@@ -401,8 +404,8 @@ fn plan(
             .expect("a segment has stretches");
         let (mut constraint, mut low) = (tight.constraint, tight.part.cap);
         for i in [a, b] {
-            if i != 0 && i != n && junction[i] < low {
-                low = junction[i];
+            if i != 0 && i != n && junction(i) < low {
+                low = junction(i);
                 constraint = Constraint::Junction;
             }
         }
