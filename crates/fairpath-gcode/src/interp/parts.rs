@@ -95,12 +95,17 @@ impl<'t> PartReader<'t> {
     fn cut(&mut self, k: usize) -> Program {
         let r = &mut self.r;
         let m = r.lines.get(k).map_or(r.moves.len(), |l| l.moves.start);
-        // All that is held (the last part, or a program of one part): the
-        // vectors themselves, not a copy of them beside them.
-        let (mut lines, mut moves): (Vec<ProgramLine>, Vec<_>) = if k == r.lines.len() {
-            (core::mem::take(&mut r.lines), core::mem::take(&mut r.moves))
-        } else {
-            (r.lines.drain(..k).collect(), r.moves.drain(..m).collect())
+        // The vectors themselves, not a copy of them beside them: the held
+        // lines after the part (the one that starts the next, at most a
+        // few) are split off instead. A part is cut when the line after it
+        // is read, so a program of one long run (a raster) and the rapid
+        // after it was copied whole here, beside itself, at its peak.
+        let (mut lines, mut moves): (Vec<ProgramLine>, Vec<_>) = {
+            let (rest_lines, rest_moves) = (r.lines.split_off(k), r.moves.split_off(m));
+            (
+                core::mem::replace(&mut r.lines, rest_lines),
+                core::mem::replace(&mut r.moves, rest_moves),
+            )
         };
         for l in &mut r.lines {
             l.moves = l.moves.start - m..l.moves.end - m;
