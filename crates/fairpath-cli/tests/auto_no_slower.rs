@@ -19,30 +19,24 @@
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod common;
 
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/paths")
-        .join(rel);
-    p.is_file().then_some(p)
+/// `f` on the shared program `rel`, read in place; skipped without it.
+fn with_shared(rel: &str, f: impl FnOnce(&Path)) {
+    match common::shared(rel) {
+        Some(p) => f(&p),
+        None => eprintln!("{rel} not found: skipped"),
+    }
 }
 
 /// Two times of written programs count as equal within this share: the
 /// same geometry, its coordinates rounded differently.
 const TIE: f64 = 1e-6;
 
-fn check(rel: &str) {
-    let Some(p) = shared(rel) else {
-        eprintln!("{rel} not found: skipped");
-        return;
-    };
-    check_path(rel, &p);
-}
-
-fn check_path(rel: &str, p: &Path) {
+/// `auto` writes `p` no slower than each curvature-continuous method.
+fn check(rel: &str, p: &Path) {
     let methods = [
         "auto",
         "bspline-corner",
@@ -79,13 +73,15 @@ fn check_path(rel: &str, p: &Path) {
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn surface_raster_auto_is_no_slower_than_fair_or_bspline_fit() {
-    check("synthetic/surface-raster.ngc");
+    with_shared("synthetic/surface-raster.ngc", |p| {
+        check("surface-raster", p)
+    });
 }
 
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn square_wave_auto_ties_ctm() {
-    check("synthetic/square-wave.ngc");
+    with_shared("synthetic/square-wave.ngc", |p| check("square-wave", p));
 }
 
 /// The written time (s) of `fairpath smooth --method METHOD` on `path` at
@@ -137,12 +133,9 @@ fn check_curves_as_written(rel: &str, p: &Path) {
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn tort_auto_with_curves_as_written_is_no_slower_than_the_corner_methods() {
-    let rel = "linuxcnc/performance/tort.ngc";
-    let Some(p) = shared(rel) else {
-        eprintln!("{rel} not found: skipped");
-        return;
-    };
-    check_curves_as_written(rel, &p);
+    with_shared("linuxcnc/performance/tort.ngc", |p| {
+        check_curves_as_written("tort", p)
+    });
 }
 
 /// The run of `tort.ngc` at lines 83-90, moved to end its first arc at

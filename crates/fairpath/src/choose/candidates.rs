@@ -158,14 +158,10 @@ pub enum Kind {
     /// A corner method, on the run with its arcs and curves sampled as
     /// the fits are (every joint it leaves is G2).
     Corner(CornerMethod),
-    /// A corner method on the run as it is: its arcs and curves kept, and
-    /// the corners between them and lines kept where the method keeps
-    /// them ([`CornerReason::ArcJoint`]), as the method itself writes the
-    /// run. On a run of tight arcs and lines, corners sampled into chords
-    /// each get a transition and the run plans far slower than the method
-    /// alone, which only replaces the corners between lines (LinuxCNC's
-    /// `tort.ngc`, lines 83-90: 1.97 s against 0.50 s); `auto` must not be
-    /// slower than any single method, so it plans this one too.
+    /// A corner method on the run as it is, as the method itself writes
+    /// it: arcs and curves kept, the corners next to them kept
+    /// ([`CornerReason::ArcJoint`]). Offered only with
+    /// [`super::AutoOptions::curves_as_written`], which says why.
     CornerInPlace(CornerMethod),
     /// Method `fair` (seed 003) with its default options.
     Fair,
