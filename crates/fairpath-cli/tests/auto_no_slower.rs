@@ -15,7 +15,9 @@
 //! against 0.50 s): `auto` kept the run as written, 0.0039 s slower over
 //! the program. By default `auto` stays G2 and is still that much slower
 //! there; with `curves_as_written = true` it is not (the same run, moved,
-//! in `tort_arcs_and_lines_auto_with_curves_as_written`).
+//! in `tort_arcs_and_lines_auto_with_curves_as_written`). Moved, the run
+//! also showed why `auto`'s fit was not written: rounded to 7 decimals,
+//! its micrometre lines read back kinked (`tort_arcs_and_lines_auto_writes_its_fit`).
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
@@ -141,18 +143,16 @@ fn tort_auto_with_curves_as_written_is_no_slower_than_the_corner_methods() {
 /// The run of `tort.ngc` at lines 83-90, moved to end its first arc at
 /// the origin: a 270-degree arc of radius 8 mm, two lines with a corner
 /// between them, an arc of radius 6 mm, at a feed the machine caps.
+const TORT_ARCS_AND_LINES: &str = "G21 G90 G17\nG0 X0 Y0 Z20\nG0 X9.657 Y-12.585 Z2\n\
+     G3 X0 Y0 Z0 I-5.656854 J5.656854 F99630\nG1 X4.5 Y4.5 Z3.5\n\
+     G1 X3 Y9.5 Z4.5\nG2 X-4.242641 Y8.546488 Z7.5 I-3 J-5.196152\n\
+     G0 Z20\nM2\n";
+
 #[test]
 fn tort_arcs_and_lines_auto_with_curves_as_written() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("arcs-lines.ngc");
-    std::fs::write(
-        &p,
-        "G21 G90 G17\nG0 X0 Y0 Z20\nG0 X9.657 Y-12.585 Z2\n\
-         G3 X0 Y0 Z0 I-5.656854 J5.656854 F99630\nG1 X4.5 Y4.5 Z3.5\n\
-         G1 X3 Y9.5 Z4.5\nG2 X-4.242641 Y8.546488 Z7.5 I-3 J-5.196152\n\
-         G0 Z20\nM2\n",
-    )
-    .unwrap();
+    std::fs::write(&p, TORT_ARCS_AND_LINES).unwrap();
     check_curves_as_written("tort's arcs and lines", &p);
     // The corner methods keep the corners next to the arcs; `auto` keeps
     // them only with the option (by default it keeps the run as written).
@@ -160,4 +160,43 @@ fn tort_arcs_and_lines_auto_with_curves_as_written() {
     let (_, without) = written(&p, "auto", None);
     let (_, corner) = written(&p, "bspline-corner", None);
     assert_eq!((with, without, corner), (2, 0, 2));
+}
+
+/// The same run with `auto` by default: its fit reaches 198 1/mm at a
+/// near-reversal and is rendered there as G1 lines about 1 um long, on
+/// into the faster stretch around it. Written with the run's 7 decimals,
+/// rounding kinked those lines more than the curve turns them: the
+/// rendering planned 1.263 s, the text read back 1.321 s, slower than the
+/// run as written (1.290 s), so the writer kept it as written. With the
+/// pieces shorter than a few periods of travel at their speed written with
+/// more decimals (`fairpath_gcode::FINE_PERIODS`), the rendering reads
+/// back as it planned and is written.
+#[test]
+fn tort_arcs_and_lines_auto_writes_its_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("arcs-lines.ngc");
+    let out = dir.path().join("out.ngc");
+    std::fs::write(&p, TORT_ARCS_AND_LINES).unwrap();
+    let run = common::bin()
+        .args(["smooth", "-t", "0.05mm", "--json-summary", "-m", "auto"])
+        .arg(&p)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let (input, written) = (
+        v["input_time_s"].as_f64().unwrap(),
+        v["written_time_s"].as_f64().unwrap(),
+    );
+    assert_eq!(v["kept_runs"].as_u64(), Some(0), "run kept as written");
+    assert!(
+        written < input - 0.01,
+        "written {written:.6} s, input {input:.6} s"
+    );
 }

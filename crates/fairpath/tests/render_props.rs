@@ -388,10 +388,18 @@ proptest! {
         let b = render_range(&pieces, cut..pieces.len(), &speed, &o).unwrap();
         let mut joined = a;
         joined.pieces.extend(b.pieces);
+        joined.speeds.extend(b.speeds);
         joined.stats.add(&b.stats);
         absorb_lines(&mut joined, &o);
-        prop_assert_eq!(joined.pieces, whole.pieces);
+        prop_assert_eq!(&joined.pieces, &whole.pieces);
         prop_assert_eq!(joined.stats, whole.stats);
+        // One planned speed per piece, kept with it through the merges:
+        // positive, and no faster than the machine.
+        prop_assert_eq!(&joined.speeds, &whole.speeds);
+        prop_assert_eq!(whole.speeds.len(), whole.pieces.len());
+        for &v in &whole.speeds {
+            prop_assert!(v > 0.0 && v <= o.limits.max_feed * (1.0 + 1e-9), "speed {}", v);
+        }
     }
 }
 

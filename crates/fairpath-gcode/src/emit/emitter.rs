@@ -32,6 +32,8 @@ pub(super) struct Choice {
     /// rendered again from `form` and `chord` if the text is written again.
     pub(super) pieces: Vec<Piece>,
     pub(super) stats: RenderStats,
+    /// The planned speed of each rendered piece ([`Rendered::speeds`]).
+    pub(super) speeds: Vec<f64>,
 }
 
 impl Choice {
@@ -42,6 +44,18 @@ impl Choice {
             chord,
             pieces: Vec::new(),
             stats: RenderStats::default(),
+            speeds: Vec::new(),
+        }
+    }
+
+    /// The run rendered in `form` with output share `chord`.
+    fn rendered(form: CurveForm, chord: f64, r: Rendered) -> Choice {
+        Choice {
+            form: Some(form),
+            chord,
+            pieces: r.pieces,
+            stats: r.stats,
+            speeds: r.speeds,
         }
     }
 }
@@ -125,12 +139,7 @@ impl<'a> Emitter<'a> {
         let error = |source| EmitError::Render { run: k, source };
         if pieces.len() < PARALLEL_FEEDS_PIECES {
             let r = render_run(pieces, &speed, &ro).map_err(error)?;
-            return Ok(Choice {
-                form: Some(form),
-                chord,
-                pieces: r.pieces,
-                stats: r.stats,
-            });
+            return Ok(Choice::rendered(form, chord, r));
         }
         // A long run in parts side by side (each piece is rendered on its
         // own: the same pieces as one call), a group of parts at a time,
@@ -148,6 +157,7 @@ impl<'a> Emitter<'a> {
             for r in rendered {
                 let r = r.map_err(error)?;
                 choice.pieces.extend(r.pieces);
+                choice.speeds.extend(r.speeds);
                 choice.stats.add(&r.stats);
             }
         }
@@ -156,11 +166,10 @@ impl<'a> Emitter<'a> {
         let mut joined = Rendered {
             pieces: core::mem::take(&mut choice.pieces),
             stats: choice.stats,
+            speeds: core::mem::take(&mut choice.speeds),
         };
         absorb_lines(&mut joined, &ro);
-        choice.pieces = joined.pieces;
-        choice.stats = joined.stats;
-        Ok(choice)
+        Ok(Choice::rendered(form, chord, joined))
     }
 
     /// The planned time of a run's pieces at the maximum feed (`true`) or
@@ -233,13 +242,7 @@ impl<'a> Emitter<'a> {
             .filter(|_| same_units)
             .and_then(|m| m.take(&self.smoothed[k], i))
         {
-            let choice = Choice {
-                form: Some(form),
-                chord,
-                pieces: r.pieces,
-                stats: r.stats,
-            };
-            return Ok((choice, Some(t)));
+            return Ok((Choice::rendered(form, chord, r), Some(t)));
         }
         Ok((self.render(k, form, chord)?, None))
     }

@@ -42,7 +42,7 @@ pub(super) fn write_chosen(
         let outputs: Vec<RunOutput> = choices
             .iter()
             .map(|c| match c.form {
-                Some(_) => RunOutput::Pieces(&c.pieces),
+                Some(_) => RunOutput::Rendered(&c.pieces, &c.speeds),
                 None => RunOutput::Original,
             })
             .collect();
@@ -55,6 +55,7 @@ pub(super) fn write_chosen(
         drop(outputs);
         for c in &mut choices {
             c.pieces = Vec::new();
+            c.speeds = Vec::new();
         }
         // Read back for what checking and planning it need (its motions
         // and runs' pieces; no lines held: on long outputs the reading is

@@ -145,6 +145,7 @@ pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
         // in mm) the rounded control points of G6.2 blocks break curvature
         // continuity at every knot (butterfly-80: 10.40 s against 6.77 s).
         resolution_mm: Some(resolution(&opts.machine)),
+        period_s: Some(opts.machine.period),
         ..Default::default()
     }
 }

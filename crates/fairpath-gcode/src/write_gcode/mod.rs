@@ -42,6 +42,7 @@ mod style;
 
 pub(crate) use blend::{before_runs, has_path_control};
 pub use blend::{before_runs as path_control_before_runs, PathBlending, PathControl};
+pub use blocks::FINE_PERIODS;
 pub use carry::MAX_COMMENT_CHARS;
 pub(crate) use numbers::fmt_fixed;
 pub use numbers::{output_decimals, write_decimals, ARC_ROUNDING_FACTOR, ROUNDING_SHARE};
@@ -114,6 +115,11 @@ pub fn write_gcode(
 pub enum RunOutput<'a> {
     /// These pieces, as [`write_gcode`] writes them.
     Pieces(&'a [Piece]),
+    /// These pieces, each with the highest speed (mm/s) it is planned to
+    /// be passed at ([`fairpath::render::Rendered::speeds`]): those
+    /// shorter than a period of travel get more decimals
+    /// ([`GcodeWriteOptions::period_s`]).
+    Rendered(&'a [Piece], &'a [f64]),
     /// The run's own lines, as they are (a motion word inserted where a
     /// line relies on a modal motion that the written program changed).
     Original,
@@ -218,7 +224,12 @@ pub fn write_part(
     while i < lines.len() {
         let line = &lines[i];
         let smoothed_run = match smoothed.get(run_idx) {
-            Some(RunOutput::Pieces(p)) if runs[run_idx].first_line == line.number => Some(*p),
+            Some(RunOutput::Pieces(p)) if runs[run_idx].first_line == line.number => {
+                Some((*p, &[][..]))
+            }
+            Some(RunOutput::Rendered(p, v)) if runs[run_idx].first_line == line.number => {
+                Some((*p, *v))
+            }
             Some(RunOutput::Original) if runs[run_idx].first_line == line.number => {
                 // Copied line by line below.
                 run_idx += 1;
@@ -226,13 +237,13 @@ pub fn write_part(
             }
             _ => None,
         };
-        if let Some(pieces) = smoothed_run {
+        if let Some((pieces, speeds)) = smoothed_run {
             let run = &runs[run_idx];
             let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
             w.style = style;
             w.path_before = path_before[run_idx].clone();
             w.path = written_path.take();
-            w.write(pieces)?;
+            w.write(pieces, speeds)?;
             if let Some(m) = w.motion {
                 written_motion = m;
             }

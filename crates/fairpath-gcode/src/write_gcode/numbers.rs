@@ -57,13 +57,13 @@ pub fn output_decimals(opts: &GcodeWriteOptions, mm_per_unit: f64, min: usize) -
 /// The largest distance (mm) rounding coordinates in units of
 /// `mm_per_unit` mm to `decimals` decimals moves a point: each axis by at
 /// most half a unit of the last decimal.
-fn rounding_mm(decimals: usize, mm_per_unit: f64) -> f64 {
+pub(super) fn rounding_mm(decimals: usize, mm_per_unit: f64) -> f64 {
     0.5 * 3f64.sqrt() * 10f64.powi(-(decimals as i32)) * mm_per_unit
 }
 
 /// The fewest decimals from `min` on whose rounding ([`rounding_mm`]) is
 /// at most `limit_mm`, or [`MAX_DECIMALS`].
-fn decimals_within(min: usize, mm_per_unit: f64, limit_mm: f64) -> usize {
+pub(super) fn decimals_within(min: usize, mm_per_unit: f64, limit_mm: f64) -> usize {
     let mut d = min;
     while d < MAX_DECIMALS && rounding_mm(d, mm_per_unit) > limit_mm {
         d += 1;

@@ -81,6 +81,24 @@ pub struct GcodeWriteOptions {
     /// corner of butterfly-80 re-read with kinks of 0.05 rad and planned
     /// 2.6 times slower than the curves). `None`: the chord alone decides.
     pub resolution_mm: Option<f64>,
+    /// The controller's interpolation period `Ts` (s). A line of a
+    /// rendered run ([`super::RunOutput::Rendered`]) shorter than `k = `
+    /// [`super::FINE_PERIODS`] periods of travel at its planned speed `v`
+    /// gets more decimals than the run's (up to
+    /// [`super::numbers::MAX_DECIMALS`]): its rounding is scaled by
+    /// `(L / (k v Ts))^2` for a line `L` long. Rounding by `rho` bends the
+    /// blend circles at a short line's ends by up to `4 rho / L^2` of
+    /// curvature; so scaled, a short line is bent, against the curvature
+    /// step its speed allows, no more than a line `k` periods long with
+    /// the run's decimals ([`GcodeWriteOptions::resolution_mm`] is made
+    /// for lines one period long). Where a curve tightens to a crawl, the renderer
+    /// keeps lines a micrometre long well into the faster stretch around
+    /// it (equal lines until the spacing may change), and those need it.
+    /// An arc counts as a line the shorter of its chord and radius long:
+    /// rounding turns its tangents by about `rho / r`, and by about
+    /// `2 rho / chord` where the reader takes its rounded ends for a
+    /// spiral. `None`: every piece gets the run's decimals.
+    pub period_s: Option<f64>,
 }
 
 impl Default for GcodeWriteOptions {
@@ -96,6 +114,7 @@ impl Default for GcodeWriteOptions {
             g64_blend_mm: None,
             g64_always: false,
             resolution_mm: None,
+            period_s: None,
         }
     }
 }

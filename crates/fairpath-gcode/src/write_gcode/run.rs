@@ -47,6 +47,8 @@ pub(super) struct RunWriter<'a> {
     pub(super) first_move: bool,
     /// Arc centres relative to the start (G91.1) in this run.
     pub(super) arc_incremental: bool,
+    /// The planned speed (mm/s) of the piece being written, if known.
+    pub(super) speed: Option<f64>,
 }
 
 impl<'a> RunWriter<'a> {
@@ -100,6 +102,7 @@ impl<'a> RunWriter<'a> {
             merged_n: Vec::new(),
             first_move: true,
             arc_incremental,
+            speed: None,
         })
     }
 
@@ -143,8 +146,9 @@ impl<'a> RunWriter<'a> {
     }
 
     /// Writes the run's pieces with the span's lines without moves in
-    /// place.
-    pub(super) fn write(&mut self, pieces: &[Piece]) -> Result<(), WriteError> {
+    /// place; `speeds`, one per piece or none, say how fast each is passed
+    /// ([`RunOutput::Rendered`](super::RunOutput::Rendered)).
+    pub(super) fn write(&mut self, pieces: &[Piece], speeds: &[f64]) -> Result<(), WriteError> {
         let run = self.run;
         if self.tightens_blending() {
             if let Some(pc) = self.g64() {
@@ -161,6 +165,7 @@ impl<'a> RunWriter<'a> {
             self.reach(&mut next_line, piece.source_lines.1);
             self.write_merged_n("the next block");
             let last = pi + 1 == n_pieces;
+            self.speed = speeds.get(pi).copied();
             match &piece.curve {
                 Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
                 Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed)?,

@@ -48,9 +48,21 @@ use alloc::vec::Vec;
 /// piece before it where the path moves by at most `max_shift` (mm, all
 /// the merges into one piece together); returns how many were merged.
 pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64) -> usize {
+    absorb_with_speeds(pieces, &mut Vec::new(), max_len, max_shift)
+}
+
+/// [`absorb_short_lines`] with `speeds`, one per piece (or empty), kept
+/// with their pieces: a merged piece takes the higher of the two.
+pub(crate) fn absorb_with_speeds(
+    pieces: &mut Vec<Piece>,
+    speeds: &mut Vec<f64>,
+    max_len: f64,
+    max_shift: f64,
+) -> usize {
     if !(max_len > 0.0 && max_shift > 0.0) || pieces.len() < 2 {
         return 0;
     }
+    let with_speeds = speeds.len() == pieces.len();
     // Compacted in place (a long run's rendering is among the largest
     // things held): `pieces[..kept]` is the output so far.
     let mut merged = 0;
@@ -74,15 +86,24 @@ pub fn absorb_short_lines(pieces: &mut Vec<Piece>, max_len: f64, max_shift: f64)
                 let prev = &mut pieces[kept - 1];
                 prev.curve = curve;
                 prev.source_lines.1 = prev.source_lines.1.max(last);
+                if with_speeds {
+                    speeds[kept - 1] = speeds[kept - 1].max(speeds[i]);
+                }
                 merged += 1;
                 continue;
             }
         }
         pieces.swap(kept, i);
+        if with_speeds {
+            speeds.swap(kept, i);
+        }
         kept += 1;
         used = 0.0;
     }
     pieces.truncate(kept);
+    if with_speeds {
+        speeds.truncate(kept);
+    }
     merged
 }
 

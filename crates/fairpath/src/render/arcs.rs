@@ -43,7 +43,7 @@
 //! share (the machine nearly stops there).
 
 use super::speed::PlannedSpeed;
-use super::{RenderOptions, RenderStats};
+use super::{Emitted, RenderOptions, RenderStats};
 use crate::geom::biarc::{biarc, piece_distance_bound, Biarc};
 use crate::geom::{
     flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Plane, Vec3,
@@ -302,7 +302,7 @@ pub(crate) fn arcs_for_curve(
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
-    out: &mut Vec<Curve>,
+    out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
     let (t0, t1) = c.domain();
@@ -314,7 +314,7 @@ pub(crate) fn arcs_for_curve(
         straight: 1e-9 / opts.chord,
         planar: opts.chord * 1e-3,
     };
-    let mut arcs: Vec<Curve> = Vec::new();
+    let mut arcs = Emitted::default();
     let mut counts = RenderStats::default();
     // Intervals to do, the leftmost last (popped first). A closed curve
     // starts as its two halves.
@@ -333,6 +333,7 @@ pub(crate) fn arcs_for_curve(
         match f.try_interval(ta, tb, pa, pb, depth) {
             Outcome::Accept(b) => {
                 let b = *b;
+                let v = speed.max_over(piece, ta, tb);
                 for a in [b.first, b.second] {
                     match &a {
                         Curve::Arc(arc) => {
@@ -343,7 +344,7 @@ pub(crate) fn arcs_for_curve(
                         }
                         _ => counts.lines += 1,
                     }
-                    arcs.push(a);
+                    arcs.push(a, v);
                 }
             }
             Outcome::Split => {
@@ -353,13 +354,14 @@ pub(crate) fn arcs_for_curve(
                 todo.push((ta, tm, pa, pm, depth + 1));
             }
             Outcome::LocalLines => {
+                let v = speed.max_over(piece, ta, tb);
                 let ts = flatten_params_between(c, ta, tb, DEVIATION_USE * opts.chord);
                 let n = ts.len();
                 let mut prev = pa;
                 for (i, &t) in ts.iter().enumerate().skip(1) {
                     let q = if i + 1 == n { pb } else { c.eval(t) };
                     if q != prev {
-                        arcs.push(Curve::Line(Line::new(prev, q)));
+                        arcs.push(Curve::Line(Line::new(prev, q)), v);
                         counts.lines += 1;
                         counts.fallback_lines += 1;
                     }
@@ -374,6 +376,7 @@ pub(crate) fn arcs_for_curve(
             }
         }
     }
-    out.extend(arcs);
+    out.curves.extend(arcs.curves);
+    out.speeds.extend(arcs.speeds);
     stats.add(&counts);
 }

@@ -44,7 +44,7 @@
 //!   asks for it.
 
 use super::speed::PlannedSpeed;
-use super::{RenderOptions, RenderStats};
+use super::{Emitted, RenderOptions, RenderStats};
 use crate::geom::{flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Vec3};
 use alloc::vec::Vec;
 
@@ -65,7 +65,7 @@ pub(crate) fn lines_for_curve(
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
-    out: &mut Vec<Curve>,
+    out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
     let (t0, t1) = c.domain();
@@ -92,7 +92,7 @@ pub(crate) fn lines_between(
     p: (Vec3, Vec3),
     speed: &PlannedSpeed,
     opts: &RenderOptions,
-    out: &mut Vec<Curve>,
+    out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
     let m = &opts.limits;
@@ -192,7 +192,17 @@ pub(crate) fn lines_between(
     for (i, &t) in params.iter().enumerate().skip(1) {
         let q = if i == last { p.1 } else { c.eval(t) };
         let fine = (&ts[..], &pts[..]);
-        emit(c, fine, prev_t, t, prev, q, e / CHORD_USE, out, stats, 0);
+        let v = speed.max_over(piece, prev_t, t);
+        emit(
+            c,
+            fine,
+            (prev_t, t),
+            (prev, q),
+            e / CHORD_USE,
+            (out, v),
+            stats,
+            0,
+        );
         prev_t = t;
         prev = q;
     }
@@ -239,12 +249,10 @@ fn at_length(c: &Curve, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
 fn emit(
     c: &Curve,
     fine: (&[f64], &[Vec3]),
-    ta: f64,
-    tb: f64,
-    pa: Vec3,
-    pb: Vec3,
+    (ta, tb): (f64, f64),
+    (pa, pb): (Vec3, Vec3),
     chord: f64,
-    out: &mut Vec<Curve>,
+    (out, v): (&mut Emitted, f64),
     stats: &mut RenderStats,
     depth: u32,
 ) {
@@ -268,10 +276,28 @@ fn emit(
         .map(|&q| point_segment_distance(q, pa, pb))
         .fold(off, f64::max);
     if off > chord && depth < 24 {
-        emit(c, fine, ta, tm, pa, pm, chord, out, stats, depth + 1);
-        emit(c, fine, tm, tb, pm, pb, chord, out, stats, depth + 1);
+        emit(
+            c,
+            fine,
+            (ta, tm),
+            (pa, pm),
+            chord,
+            (out, v),
+            stats,
+            depth + 1,
+        );
+        emit(
+            c,
+            fine,
+            (tm, tb),
+            (pm, pb),
+            chord,
+            (out, v),
+            stats,
+            depth + 1,
+        );
         return;
     }
-    out.push(Curve::Line(Line::new(pa, pb)));
+    out.push(Curve::Line(Line::new(pa, pb)), v);
     stats.lines += 1;
 }

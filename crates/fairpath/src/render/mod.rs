@@ -164,6 +164,31 @@ pub struct Rendered {
     /// source lines and feed of the piece it renders.
     pub pieces: Vec<Piece>,
     pub stats: RenderStats,
+    /// For each piece, the highest planned speed (mm/s) over the stretch of
+    /// the curve it stands for: a writer gives a piece shorter than one
+    /// interpolation period of travel at it more decimals (rounding bends
+    /// a short piece more than the curve turns it: `fairpath-gcode`'s
+    /// `GcodeWriteOptions::period_s`). Empty where unknown.
+    pub speeds: Vec<f64>,
+}
+
+/// Rendered curves of one piece, each with its [`Rendered::speeds`] entry.
+#[derive(Default)]
+pub(crate) struct Emitted {
+    pub(crate) curves: Vec<Curve>,
+    pub(crate) speeds: Vec<f64>,
+}
+
+impl Emitted {
+    pub(crate) fn push(&mut self, curve: Curve, speed: f64) {
+        self.curves.push(curve);
+        self.speeds.push(speed);
+    }
+
+    fn clear(&mut self) {
+        self.curves.clear();
+        self.speeds.clear();
+    }
 }
 
 /// Whether `n` can be written as a spline block under `lim`, within
@@ -228,8 +253,9 @@ pub fn render_run(
 /// [`SHORT_LINE_SHARE`]: crate::budget::SHORT_LINE_SHARE
 /// [`ABSORB_SHIFT_SHARE`]: crate::budget::ABSORB_SHIFT_SHARE
 pub fn absorb_lines(r: &mut Rendered, opts: &RenderOptions) {
-    let merged = absorb_short_lines(
+    let merged = absorb::absorb_with_speeds(
         &mut r.pieces,
+        &mut r.speeds,
         crate::budget::SHORT_LINE_SHARE * opts.chord,
         crate::budget::ABSORB_SHIFT_SHARE * opts.chord,
     );
@@ -250,25 +276,29 @@ pub fn render_range(
 ) -> Result<Rendered, RenderError> {
     opts.validate()?;
     let mut out = Rendered::default();
-    let mut curves: Vec<Curve> = Vec::new();
+    let mut curves = Emitted::default();
     let start = range.start;
     for (j, p) in pieces[range].iter().enumerate() {
         let i = start + j;
         curves.clear();
+        let whole = || {
+            let (t0, t1) = p.curve.domain();
+            speed.max_over(i, t0, t1)
+        };
         match (&p.curve, opts.form) {
             (Curve::Line(_), _) => {
-                curves.push(p.curve.clone());
+                curves.push(p.curve.clone(), whole());
                 out.stats.lines += 1;
             }
             (Curve::Arc(a), CurveForm::Arcs | CurveForm::Nurbs(_)) => {
-                curves.push(p.curve.clone());
+                curves.push(p.curve.clone(), whole());
                 out.stats.arcs += 1;
                 if a.rise != 0.0 {
                     out.stats.helical += 1;
                 }
             }
             (Curve::Nurbs(n), CurveForm::Nurbs(lim)) if nurbs_fits(n, &lim, opts.chord) => {
-                curves.push(p.curve.clone());
+                curves.push(p.curve.clone(), whole());
                 out.stats.nurbs += 1;
             }
             (c, CurveForm::Arcs | CurveForm::Nurbs(_)) => {
@@ -281,12 +311,14 @@ pub fn render_range(
                 lines::lines_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
             }
         }
-        out.pieces.extend(curves.drain(..).map(|curve| Piece {
-            curve,
-            rapid: false,
-            source_lines: p.source_lines,
-            feed: p.feed,
-        }));
+        out.speeds.append(&mut curves.speeds);
+        out.pieces
+            .extend(curves.curves.drain(..).map(|curve| Piece {
+                curve,
+                rapid: false,
+                source_lines: p.source_lines,
+                feed: p.feed,
+            }));
     }
     Ok(out)
 }
