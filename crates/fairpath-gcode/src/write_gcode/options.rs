@@ -84,9 +84,8 @@ pub struct GcodeWriteOptions {
     /// The controller's interpolation period `Ts` (s). A line of a
     /// rendered run ([`super::RunOutput::Rendered`]) shorter than `k = `
     /// [`super::FINE_PERIODS`] periods of travel at its planned speed `v`
-    /// gets more decimals than the run's (up to
-    /// [`super::numbers::MAX_DECIMALS`]): its rounding is scaled by
-    /// `(L / (k v Ts))^2` for a line `L` long. Rounding by `rho` bends the
+    /// gets more decimals than the run's (up to 12): its rounding is scaled
+    /// by `(L / (k v Ts))^2` for a line `L` long. Rounding by `rho` bends the
     /// blend circles at a short line's ends by up to `4 rho / L^2` of
     /// curvature; so scaled, a short line is bent, against the curvature
     /// step its speed allows, no more than a line `k` periods long with
