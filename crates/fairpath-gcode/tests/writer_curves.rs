@@ -420,3 +420,99 @@ proptest! {
         }
     }
 }
+
+/// A short arc passed fast gets more decimals in its end and centre words
+/// (`FINE_PERIODS`, the shorter of its chord and radius as its length);
+/// passed slowly, the run's.
+#[test]
+fn a_small_arc_passed_fast_gets_more_decimals() {
+    let opts = GcodeWriteOptions {
+        period_s: Some(1e-3),
+        ..arcs_opts()
+    };
+    let (d0, _) = fairpath_gcode::output_decimals(&opts, 1.0, opts.decimals_mm);
+    // A quarter circle of radius 0.01 mm (chord 0.014 mm) about a centre
+    // whose coordinates need every decimal.
+    let c = Vec3::new(1.234567891234, 2.987654321987, 0.0);
+    let at = |phi: f64| c + Vec3::new(phi.cos(), phi.sin(), 0.0) * 0.01;
+    let (a0, a1) = (at(0.3), at(0.3 + std::f64::consts::FRAC_PI_2));
+    let arc = Arc::from_center(a0, a1, c, Vec3::new(0.0, 0.0, 1.0), false, 1, 0.0).unwrap();
+    let (s, e) = (a0 - Vec3::new(0.0, 1.0, 0.0), a1 - Vec3::new(1.0, 0.0, 0.0));
+    let lead = Line::new(s, arc.p0);
+    let tail = Line::new(arc.p1, e);
+    let pieces = vec![
+        piece(Curve::Line(lead)),
+        piece(Curve::Arc(arc)),
+        piece(Curve::Line(tail)),
+    ];
+    let text = format!(
+        "G21 G90\nG0 X{} Y{} Z0\nG1 X{} Y{} F600\nM2\n",
+        s.x, s.y, e.x, e.y
+    );
+    let prog = parse(text.as_bytes()).unwrap();
+    let decimals_of_arc = |speed: f64| {
+        let speeds = [speed; 3];
+        let out = write_gcode_with(&prog, &[RunOutput::Rendered(&pieces, &speeds)], &opts).unwrap();
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("G3"))
+            .unwrap()
+            .to_string();
+        let most = line
+            .split(' ')
+            .filter_map(|w| w.split_once('.').map(|(_, f)| f.len()))
+            .max()
+            .unwrap();
+        (most, line)
+    };
+    // 3 periods at 100 mm/s: 0.3 mm, far above the radius.
+    let (fast, line) = decimals_of_arc(100.0);
+    assert!(fast > d0, "{line}");
+    // At 1 mm/s, 0.003 mm: below the radius and the chord.
+    let (slow, line) = decimals_of_arc(1.0);
+    assert!(slow <= d0, "{line}");
+}
+
+proptest! {
+    /// In an incremental run, short pieces written with more decimals leave
+    /// the written position off the run's grid; the run still ends exactly
+    /// where the program's does (regression: the block-delete test's G91
+    /// zigzag, whose run end moved and was kept as written).
+    #[test]
+    fn an_incremental_run_with_finer_pieces_ends_on_the_programs_end(
+        steps in proptest::collection::vec((1e-4f64..0.5, 1.0f64..400.0), 2..20),
+        dy in -2.0f64..2.0,
+    ) {
+        let opts = GcodeWriteOptions { period_s: Some(1e-3), ..arcs_opts() };
+        let total: f64 = steps.iter().map(|s| s.0).sum();
+        let text = format!(
+            "G21 G91\nG0 X1 Y2 Z3\nG1 X{:.4} Y{:.4} F600\nM2\n",
+            total, dy
+        );
+        let prog = parse(text.as_bytes()).unwrap();
+        let (start, end) = (prog.runs()[0].start().unwrap(), prog.runs()[0].end().unwrap());
+        // Lines along a bow from the start to the end.
+        let mut pieces = Vec::new();
+        let mut speeds = Vec::new();
+        let mut s = 0.0;
+        let mut p = start;
+        for (k, &(len, v)) in steps.iter().enumerate() {
+            s += len;
+            let f = s / total;
+            let q = if k + 1 == steps.len() {
+                end
+            } else {
+                start.lerp(end, f) + Vec3::new(0.0, 0.01 * (std::f64::consts::PI * f).sin(), 0.0)
+            };
+            pieces.push(piece(Curve::Line(Line::new(p, q))));
+            speeds.push(v);
+            p = q;
+        }
+        let out = write_gcode_with(&prog, &[RunOutput::Rendered(&pieces, &speeds)], &opts).unwrap();
+        let back = parse(out.as_bytes()).unwrap().runs().remove(0);
+        // Exactly but for the float sums of the increments (the verifier
+        // allows a billionth of the tolerance).
+        let off = back.end().unwrap().dist(end);
+        prop_assert!(off <= 1e-12, "{} off: {}", off, out);
+    }
+}

@@ -76,6 +76,19 @@ impl RunWriter<'_> {
         }
     }
 
+    /// [`RunWriter::piece_decimals`] for a move, and in an incremental run
+    /// at least the finest used before it on the run's last move: the
+    /// written position is then on that finer grid, and only increments on
+    /// it land on the run's end exactly.
+    fn move_decimals(&mut self, length: f64, run_end: bool) -> usize {
+        let mut d = self.piece_decimals(length);
+        if self.run.incremental && run_end {
+            d = d.max(self.finest);
+        }
+        self.finest = self.finest.max(d);
+        d
+    }
+
     /// The coordinate words, with `decimals` decimals, that take the
     /// written position to `target` (the original text of the run's end
     /// point when `run_end` and it is that point), and the position they
@@ -143,7 +156,7 @@ impl RunWriter<'_> {
         if !p.is_finite() {
             return Err(WriteError::NotFinite);
         }
-        let decimals = self.piece_decimals(self.cur.dist(p));
+        let decimals = self.move_decimals(self.cur.dist(p), run_end);
         let (words, next) = self.coord_words(p, run_end, decimals);
         if words.is_empty() {
             return Ok(());
@@ -263,7 +276,7 @@ impl RunWriter<'_> {
         // ends' radii then differ by up to `2 rho`, which the reader takes
         // as a spiral whose tangents turn by about `2 rho / chord`: as a
         // line the shorter of the two long.
-        let decimals = self.piece_decimals(self.cur.dist(a.p1).min(a.r0.min(a.r1)));
+        let decimals = self.move_decimals(self.cur.dist(a.p1).min(a.r0.min(a.r1)), run_end);
         let (words, next) = self.coord_words(a.p1, run_end, decimals);
         let full_turn = a.sweep >= 2.0 * std::f64::consts::PI * (1.0 - 1e-12);
         let (s, e) = (plane.local(self.cur), plane.local(next));

@@ -49,6 +49,8 @@ pub(super) struct RunWriter<'a> {
     pub(super) arc_incremental: bool,
     /// The planned speed (mm/s) of the piece being written, if known.
     pub(super) speed: Option<f64>,
+    /// The most decimals a move of the run has been written with so far.
+    pub(super) finest: usize,
 }
 
 impl<'a> RunWriter<'a> {
@@ -103,6 +105,7 @@ impl<'a> RunWriter<'a> {
             first_move: true,
             arc_incremental,
             speed: None,
+            finest: decimals,
         })
     }
 
