@@ -86,10 +86,9 @@ fn square_wave_auto_ties_ctm() {
     with_shared("synthetic/square-wave.ngc", |p| check("square-wave", p));
 }
 
-/// The written time (s) of `fairpath smooth --method METHOD` on `path` at
-/// 0.05 mm, with the options file holding `options` if given; and the
-/// number of corners next to arcs it keeps.
-fn written(path: &Path, method: &str, options: Option<&str>) -> (f64, u64) {
+/// The JSON summary of `fairpath smooth --method METHOD` on `path` at
+/// 0.05 mm, with the options file holding `options` if given.
+fn summary(path: &Path, method: &str, options: Option<&str>) -> serde_json::Value {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
     let mut cmd = common::bin();
@@ -108,7 +107,13 @@ fn written(path: &Path, method: &str, options: Option<&str>) -> (f64, u64) {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    serde_json::from_slice(&run.stdout).unwrap()
+}
+
+/// The written time (s) of [`summary`]'s run, and the number of corners
+/// next to arcs it keeps.
+fn written(path: &Path, method: &str, options: Option<&str>) -> (f64, u64) {
+    let v = summary(path, method, options);
     let k = &v["kept_corners"];
     (
         v["written_time_s"].as_f64().unwrap(),
@@ -175,21 +180,8 @@ fn tort_arcs_and_lines_auto_with_curves_as_written() {
 fn tort_arcs_and_lines_auto_writes_its_fit() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("arcs-lines.ngc");
-    let out = dir.path().join("out.ngc");
     std::fs::write(&p, TORT_ARCS_AND_LINES).unwrap();
-    let run = common::bin()
-        .args(["smooth", "-t", "0.05mm", "--json-summary", "-m", "auto"])
-        .arg(&p)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let v = summary(&p, "auto", None);
     let (input, written) = (
         v["input_time_s"].as_f64().unwrap(),
         v["written_time_s"].as_f64().unwrap(),

@@ -117,7 +117,7 @@ pub enum RunOutput<'a> {
     Pieces(&'a [Piece]),
     /// These pieces, each with the highest speed (mm/s) it is planned to
     /// be passed at ([`fairpath::render::Rendered::speeds`]): those
-    /// shorter than a period of travel get more decimals
+    /// shorter than [`FINE_PERIODS`] periods of travel get more decimals
     /// ([`GcodeWriteOptions::period_s`]).
     Rendered(&'a [Piece], &'a [f64]),
     /// The run's own lines, as they are (a motion word inserted where a

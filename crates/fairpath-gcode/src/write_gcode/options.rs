@@ -90,9 +90,9 @@ pub struct GcodeWriteOptions {
     /// curvature; so scaled, a short line is bent, against the curvature
     /// step its speed allows, no more than a line `k` periods long with
     /// the run's decimals ([`GcodeWriteOptions::resolution_mm`] is made
-    /// for lines one period long). Where a curve tightens to a crawl, the renderer
-    /// keeps lines a micrometre long well into the faster stretch around
-    /// it (equal lines until the spacing may change), and those need it.
+    /// for lines one period long). Where a curve tightens to a crawl, the
+    /// renderer keeps lines a micrometre long well into the faster stretch
+    /// around it (equal lines until the spacing may change): those need it.
     /// An arc counts as a line the shorter of its chord and radius long:
     /// rounding turns its tangents by about `rho / r`, and by about
     /// `2 rho / chord` where the reader takes its rounded ends for a

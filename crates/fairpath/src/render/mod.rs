@@ -165,8 +165,8 @@ pub struct Rendered {
     pub pieces: Vec<Piece>,
     pub stats: RenderStats,
     /// For each piece, the highest planned speed (mm/s) over the stretch of
-    /// the curve it stands for: a writer gives a piece shorter than one
-    /// interpolation period of travel at it more decimals (rounding bends
+    /// the curve it stands for: a writer gives a piece shorter than a few
+    /// interpolation periods of travel at it more decimals (rounding bends
     /// a short piece more than the curve turns it: `fairpath-gcode`'s
     /// `GcodeWriteOptions::period_s`). Empty where unknown.
     pub speeds: Vec<f64>,
