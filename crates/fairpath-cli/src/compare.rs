@@ -14,20 +14,27 @@
 //! Every row also gives its time over the program's lower bound
 //! (`fairpath::feed::lower_bound`: the least time any path within the
 //! tolerance of the original can take under the same limits, rapids as
-//! planned): `x bound`.
+//! planned): `x bound`; and over the bound of the paths that follow the
+//! original in order within the tolerance (`BandPaths::InOrder`, which a
+//! closed contour or a raster of close passes needs: there a band path may
+//! cut across), where the row's path passes that bound's gates in order
+//! (`fairpath::verify::follows_in_order`, checked on the curves and on
+//! each written program read back): `x order`.
 
 use crate::read::read_program;
 use crate::smooth::{option_error, options as smooth_options};
 use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::lower_bound::{program_lower_bound, BoundOptions};
+use fairpath::feed::lower_bound::{
+    in_order_gates_of, program_lower_bound, BandPaths, BoundOptions,
+};
 use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
 use fairpath::pipeline::PipelineError;
-use fairpath::verify::{RunReport, VerifyOptions};
+use fairpath::verify::{follows_in_order, RunReport, VerifyOptions};
 use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases, SmoothOptions, Times};
 use fairpath_gcode::{write_curves, Curves, Program, SmoothProgramError};
 use serde_json::json;
@@ -68,6 +75,14 @@ pub struct Row {
     pub lower_bound: f64,
     /// `time` over `lower_bound`.
     pub x_bound: f64,
+    /// The bound of paths that follow the original in order (s), the same
+    /// on every row.
+    pub lower_bound_in_order: f64,
+    /// Whether the curves pass that bound's gates in order (`None`: not
+    /// checked, as for curves that failed verification).
+    pub in_order: Option<bool>,
+    /// `time` over `lower_bound_in_order` where `in_order`, else NaN.
+    pub x_bound_in_order: f64,
     /// The program written in each asked format (none for the baseline).
     pub written: Vec<WrittenRow>,
 }
@@ -83,6 +98,11 @@ pub struct WrittenRow {
     pub time_ratio: f64,
     /// `time` over the program's lower bound.
     pub x_bound: f64,
+    /// Whether the written program, read back, passes the in-order bound's
+    /// gates in order (`None`: it could not be read back here).
+    pub in_order: Option<bool>,
+    /// `time` over the in-order bound where `in_order`, else NaN.
+    pub x_bound_in_order: f64,
     /// Lines of the written program.
     pub lines: usize,
     /// Whether it read back within the tolerance.
@@ -145,6 +165,9 @@ fn row(
         smoothing_time,
         lower_bound: f64::NAN,
         x_bound: f64::NAN,
+        lower_bound_in_order: f64::NAN,
+        in_order: None,
+        x_bound_in_order: f64::NAN,
         written: Vec::new(),
     }
 }
@@ -180,6 +203,19 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
     )
     .context("the lower bound")?
     .time;
+    let in_order_opts = BoundOptions {
+        paths: BandPaths::InOrder,
+        ..BoundOptions::new(opts.tolerance)
+    };
+    let bound_in_order = program_lower_bound(
+        &program.motions(&runs),
+        &in_order_opts,
+        &opts.machine,
+        opts.override_feed,
+    )
+    .context("the in-order lower bound")?
+    .time;
+    let gates = InOrderGates::new(&runs, &in_order_opts);
     let options = |name: &str, format: Format| -> Result<SmoothOptions> {
         let mut so = smooth_options(opts.tolerance, None, name, Some(format), opts.controller)?;
         so.set_machine(opts.machine, opts.override_feed)
@@ -191,6 +227,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
         .smoothing();
     let reports = verify(&runs, &runs, budget0);
     rows.push(row("original", &runs, &reports, budget0, base_time, 0.0));
+    rows[0].in_order = gates.followed_by(&runs);
     for name in &opts.methods {
         let so = options(name, Format::Json)?;
         let budget = so.budget().smoothing();
@@ -220,6 +257,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
             (exact.total, exact.feed),
             smoothing_time,
         );
+        r.in_order = verified.then(|| gates.followed_by(&smoothed)).flatten();
         let curves = Curves {
             result,
             input: Times {
@@ -260,9 +298,9 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
             };
             // Written, read back, verified and planned as `smooth` does;
             // a written program that does not verify is a row that says so.
-            let report = match write_curves(program, curves, &fo, Phases::new()) {
-                Ok((_, report)) => report,
-                Err(SmoothProgramError::OutputNotVerified { report, .. }) => *report,
+            let (report, in_order) = match write_curves(program, curves, &fo, Phases::new()) {
+                Ok((output, report)) => (report, gates.followed_by_text(&output.text, format)),
+                Err(SmoothProgramError::OutputNotVerified { report, .. }) => (*report, None),
                 Err(e @ SmoothProgramError::Plan(_)) => {
                     return Err(anyhow::Error::new(e)
                         .context(format!("{name}: planning the {} output", format.name())))
@@ -280,6 +318,8 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
                 feed_time: t.feed,
                 time_ratio: 1.0,
                 x_bound: f64::NAN,
+                in_order,
+                x_bound_in_order: f64::NAN,
                 lines: report.lines_out,
                 verified: report.written.within,
             });
@@ -294,15 +334,71 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
         r.time_ratio = r.time / base_time;
         r.lower_bound = bound;
         r.x_bound = r.time / bound;
+        r.lower_bound_in_order = bound_in_order;
+        let over = |t: f64, ok: Option<bool>| {
+            if ok == Some(true) {
+                t / bound_in_order
+            } else {
+                f64::NAN
+            }
+        };
+        r.x_bound_in_order = over(r.time, r.in_order);
         for w in &mut r.written {
             w.time_ratio = w.time / base_time;
             w.x_bound = w.time / bound;
+            w.x_bound_in_order = over(w.time, w.in_order);
         }
     }
     Ok(rows)
 }
 
-const HEADER: [&str; 16] = [
+/// The in-order bound's gates of each run of the original, to check the
+/// rows' paths against.
+struct InOrderGates<'a> {
+    original: &'a [Run],
+    gates: Vec<Vec<(fairpath::geom::Vec3, f64)>>,
+    accuracy: f64,
+}
+
+impl<'a> InOrderGates<'a> {
+    fn new(original: &'a [Run], o: &BoundOptions) -> Self {
+        InOrderGates {
+            original,
+            gates: original
+                .iter()
+                .map(|r| in_order_gates_of(&r.pieces, o))
+                .collect(),
+            // The flattening of a path's curves for the check: far below
+            // the gates' radius.
+            accuracy: o.tolerance * 1e-4,
+        }
+    }
+
+    /// Whether every run of `path` (paired with the original's, zero-length
+    /// runs left out) passes its run's gates in order; `None` where the
+    /// runs do not pair.
+    fn followed_by(&self, path: &[Run]) -> Option<bool> {
+        let pairs = fairpath_gcode::pipeline::pair_runs(self.original, path).ok()?;
+        Some(
+            pairs
+                .iter()
+                .all(|&(o, c)| follows_in_order(&path[c].pieces, &self.gates[o], self.accuracy)),
+        )
+    }
+
+    /// [`InOrderGates::followed_by`] a written program, read back; `None`
+    /// where it cannot be read here (JSON keeps no runs: its curves are
+    /// the row's own, checked as such).
+    fn followed_by_text(&self, text: &str, format: Format) -> Option<bool> {
+        if format == Format::Json {
+            return None;
+        }
+        let runs = fairpath_gcode::read_motion(text.as_bytes()).ok()?.1;
+        self.followed_by(&runs)
+    }
+}
+
+const HEADER: [&str; 19] = [
     "method",
     "max_deviation_mm",
     "verified",
@@ -319,6 +415,9 @@ const HEADER: [&str; 16] = [
     "smoothing_s",
     "lower_bound_s",
     "x_bound",
+    "lower_bound_in_order_s",
+    "follows_in_order",
+    "x_bound_in_order",
 ];
 
 /// The formats written for the methods (the first method's list).
@@ -329,13 +428,28 @@ fn formats(rows: &[Row]) -> Vec<Format> {
         .unwrap_or_default()
 }
 
+/// The `x order` cell: the ratio, or whether the path was not checked or
+/// does not follow in order.
+fn x_order(x: f64, in_order: Option<bool>) -> String {
+    match in_order {
+        Some(true) => format!("{x:.3}"),
+        Some(false) => "no".to_string(),
+        None => "-".to_string(),
+    }
+}
+
+/// A CSV cell of an optional flag (empty where not checked).
+fn opt_bool(b: Option<bool>) -> String {
+    b.map(|b| b.to_string()).unwrap_or_default()
+}
+
 /// The table as aligned text.
 pub fn text(rows: &[Row]) -> String {
     let mut out = String::new();
     let fmts = formats(rows);
     let _ = write!(
         out,
-        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>7} {:>10}",
+        "{:<16} {:>11} {:>4} {:>22} {:>12} {:>12} {:>12} {:>10} {:>10} {:>7} {:>7} {:>7} {:>10}",
         "method",
         "max dev mm",
         "ok",
@@ -347,15 +461,17 @@ pub fn text(rows: &[Row]) -> String {
         "feed s",
         "ratio",
         "x bound",
+        "x order",
         "smooth s"
     );
     for f in &fmts {
         let _ = write!(
             out,
-            " {:>10} {:>7} {:>7} {:>8}",
+            " {:>10} {:>7} {:>7} {:>7} {:>8}",
             format!("{} s", f.name()),
             "ratio",
             "x bound",
+            "x order",
             "lines"
         );
     }
@@ -367,7 +483,7 @@ pub fn text(rows: &[Row]) -> String {
         );
         let _ = write!(
             out,
-            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>7.3} {:>10.4}",
+            "{:<16} {:>11.6} {:>4} {:>22} {:>12.4} {:>12.4} {:>12.4e} {:>10.3} {:>10.3} {:>7.3} {:>7.3} {:>7} {:>10.4}",
             r.method,
             r.max_deviation,
             if r.verified { "yes" } else { "NO" },
@@ -379,15 +495,17 @@ pub fn text(rows: &[Row]) -> String {
             r.feed_time,
             r.time_ratio,
             r.x_bound,
+            x_order(r.x_bound_in_order, r.in_order),
             r.smoothing_time
         );
         for w in &r.written {
             let _ = write!(
                 out,
-                " {:>10.3} {:>7.3} {:>7.3} {:>8}{}",
+                " {:>10.3} {:>7.3} {:>7.3} {:>7} {:>8}{}",
                 w.time,
                 w.time_ratio,
                 w.x_bound,
+                x_order(w.x_bound_in_order, w.in_order),
                 w.lines,
                 if w.verified { "" } else { " NOT VERIFIED" }
             );
@@ -399,6 +517,11 @@ pub fn text(rows: &[Row]) -> String {
             out,
             "(lower bound {:.3} s: the least time of any path within the tolerance under the same limits; x bound: time over it)",
             r.lower_bound
+        );
+        let _ = writeln!(
+            out,
+            "(in-order bound {:.3} s: the same for paths that follow the original in order; x order: time over it, \"no\" where the path does not pass its gates in order)",
+            r.lower_bound_in_order
         );
     }
     if !fmts.is_empty() {
@@ -424,6 +547,8 @@ pub fn csv(rows: &[Row]) -> String {
             "x_bound",
             "lines",
             "verified",
+            "follows_in_order",
+            "x_bound_in_order",
         ] {
             let _ = write!(out, ",written_{}_{c}", f.name());
         }
@@ -432,7 +557,7 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.method,
             r.max_deviation,
             r.verified,
@@ -448,18 +573,28 @@ pub fn csv(rows: &[Row]) -> String {
             r.time_ratio,
             r.smoothing_time,
             r.lower_bound,
-            r.x_bound
+            r.x_bound,
+            r.lower_bound_in_order,
+            opt_bool(r.in_order),
+            r.x_bound_in_order
         );
         for f in &fmts {
             match r.written.iter().find(|w| w.format == *f) {
                 Some(w) => {
                     let _ = write!(
                         out,
-                        ",{},{},{},{},{},{}",
-                        w.time, w.feed_time, w.time_ratio, w.x_bound, w.lines, w.verified
+                        ",{},{},{},{},{},{},{},{}",
+                        w.time,
+                        w.feed_time,
+                        w.time_ratio,
+                        w.x_bound,
+                        w.lines,
+                        w.verified,
+                        opt_bool(w.in_order),
+                        w.x_bound_in_order
                     );
                 }
-                None => out.push_str(",,,,,,"),
+                None => out.push_str(",,,,,,,,"),
             }
         }
         out.push('\n');
@@ -490,6 +625,9 @@ pub fn json(rows: &[Row]) -> String {
                 "smoothing_s": r.smoothing_time,
                 "lower_bound_s": r.lower_bound,
                 "x_bound": r.x_bound,
+                "lower_bound_in_order_s": r.lower_bound_in_order,
+                "follows_in_order": r.in_order,
+                "x_bound_in_order": r.x_bound_in_order,
                 "written": r.written.iter().map(|w| json!({
                     "format": w.format.name(),
                     "time_s": w.time,
@@ -498,6 +636,8 @@ pub fn json(rows: &[Row]) -> String {
                     "x_bound": w.x_bound,
                     "lines": w.lines,
                     "verified": w.verified,
+                    "follows_in_order": w.in_order,
+                    "x_bound_in_order": w.x_bound_in_order,
                 })).collect::<Vec<_>>(),
             })
         })

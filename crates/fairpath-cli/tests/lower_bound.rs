@@ -1,6 +1,9 @@
 //! `compare`'s lower bound: never above the time of the original or of
 //! any method's curves and written program, on the examples and on the
-//! shared synthetic programs (read in place; skipped when absent).
+//! shared synthetic programs (read in place; skipped when absent); and the
+//! bound of paths that follow the original in order, never above the time
+//! of a path that passes its gates in order (the original always does,
+//! and so does every method's written program on these).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -20,7 +23,30 @@ fn check(input: &Path) {
     let rows = rows.as_array().unwrap();
     let bound = rows[0]["lower_bound_s"].as_f64().unwrap();
     assert!(bound > 0.0, "{}: bound {bound}", input.display());
+    let ordered = rows[0]["lower_bound_in_order_s"].as_f64().unwrap();
+    assert!(
+        ordered > 0.0,
+        "{}: in-order bound {ordered}",
+        input.display()
+    );
+    assert_eq!(
+        rows[0]["follows_in_order"],
+        true,
+        "{}: the original",
+        input.display()
+    );
     for r in rows {
+        if r["follows_in_order"] == true {
+            let t = r["time_s"].as_f64().unwrap();
+            assert!(
+                ordered <= t,
+                "{} {}: in-order bound {ordered} > {t}",
+                input.display(),
+                r["method"]
+            );
+            let x = r["x_bound_in_order"].as_f64().unwrap();
+            assert!((x - t / ordered).abs() <= 1e-9 * x);
+        }
         let t = r["time_s"].as_f64().unwrap();
         let x = r["x_bound"].as_f64().unwrap();
         assert_eq!(r["lower_bound_s"].as_f64().unwrap(), bound);
@@ -33,6 +59,19 @@ fn check(input: &Path) {
         assert!((x - t / bound).abs() <= 1e-9 * x);
         for w in r["written"].as_array().unwrap() {
             let tw = w["time_s"].as_f64().unwrap();
+            assert_eq!(
+                w["follows_in_order"],
+                true,
+                "{} {} written",
+                input.display(),
+                r["method"]
+            );
+            assert!(
+                ordered <= tw,
+                "{} {} written: in-order bound {ordered} > {tw}",
+                input.display(),
+                r["method"]
+            );
             assert!(
                 bound <= tw,
                 "{} {} written: bound {bound} > {tw}",

@@ -6,10 +6,11 @@
 mod common;
 use common::{polyline_run, v};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::lower_bound::{lower_bound_time, BoundOptions};
+use fairpath::feed::lower_bound::{in_order_gates_of, lower_bound_time, BandPaths, BoundOptions};
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::Vec3;
 use fairpath::path::Piece;
+use fairpath::verify::follows_in_order;
 use proptest::prelude::*;
 
 const TOL: f64 = 0.05;
@@ -155,5 +156,140 @@ fn a_corner_rounded_inside_the_band_takes_at_least_the_bound() {
         let round = polyline_run(&rounded_corner(r, 90));
         let t = planned(&round.pieces);
         assert!(b <= t, "radius {r}: bound {b} above the plan {t}");
+    }
+}
+
+fn in_order(tol: f64) -> BoundOptions {
+    BoundOptions {
+        paths: BandPaths::InOrder,
+        ..BoundOptions::new(tol)
+    }
+}
+
+fn bound_in_order(pieces: &[Piece]) -> f64 {
+    lower_bound_time(pieces, &in_order(TOL), &MachineLimits::thesis(), true)
+        .expect("bounds")
+        .time
+}
+
+/// Whether `path` passes the in-order gates of `original` in order.
+fn follows(original: &[Piece], path: &[Piece]) -> bool {
+    let gates = in_order_gates_of(original, &in_order(TOL));
+    follows_in_order(path, &gates, 1e-4 * TOL)
+}
+
+/// A closed hexagon of radius 10 mm, up and down 3 mm in Z (the shape of
+/// `synthetic/hexagon-3d.ngc`).
+fn hexagon() -> Vec<Vec3> {
+    (0..=6)
+        .map(|k| {
+            let a = core::f64::consts::FRAC_PI_3 * k as f64;
+            v(
+                10.0 * a.cos(),
+                10.0 * a.sin(),
+                if k % 2 == 1 { 3.0 } else { 0.0 },
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_closed_contour_is_bounded_by_its_length_in_order_and_not_otherwise() {
+    // A path that never leaves the start point is within the band of a
+    // closed contour: the bound of every band path is the rest-to-rest
+    // floor of a run of no length (2e-6 s here). Paths that follow the
+    // contour in order must travel its 63 mm: the in-order bound is
+    // 0.461 s (the contour planned: 1.690 s).
+    let run = polyline_run(&hexagon());
+    let t = planned(&run.pieces);
+    let (any, ordered) = (bound(&run.pieces), bound_in_order(&run.pieces));
+    assert!(ordered <= t, "in-order bound {ordered} above the plan {t}");
+    assert!(
+        ordered >= 63.0 / 400.0,
+        "in-order bound {ordered} below the contour at the feed"
+    );
+    assert!(ordered > 2.0 * any, "in-order {ordered} vs any {any}");
+    assert!(follows(&run.pieces, &run.pieces));
+    // Stopping short of the contour does not follow it.
+    let pts = hexagon();
+    let half = polyline_run(&[pts[0], pts[1], pts[2], pts[3], pts[0]]);
+    assert!(!follows(&run.pieces, &half.pieces));
+}
+
+#[test]
+fn a_shortcut_across_a_raster_follows_it_only_where_the_passes_share_the_band() {
+    // Passes 1 mm apart: a path that crosses over at once and runs the
+    // second pass misses the first pass's gates.
+    let pts = raster(2, 20.0, 1.0);
+    let run = polyline_run(&pts);
+    assert!(follows(&run.pieces, &run.pieces));
+    let cut = polyline_run(&[pts[0], pts[3]]);
+    assert!(!follows(&run.pieces, &cut.pieces));
+    // Passes 0.06 mm apart share the band: a band path may cut across
+    // there, so no gate stands on them.
+    let close = polyline_run(&raster(2, 20.0, 0.06));
+    assert!(in_order_gates_of(&close.pieces, &in_order(TOL)).is_empty());
+}
+
+#[test]
+fn seeded_runs_stay_above_their_in_order_bound() {
+    // The original follows itself in order: its plan is one of the paths
+    // the in-order bound holds for. Zigzags, rasters (passes closer than
+    // the band included) and closed polygons.
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..45 {
+        let pts: Vec<Vec3> = match case % 3 {
+            0 => {
+                let n = 3 + (next() * 20.0) as usize;
+                (0..n)
+                    .map(|i| v(i as f64 * (0.2 + 5.0 * next()), 3.0 * next(), 0.5 * next()))
+                    .collect()
+            }
+            1 => raster(
+                2 + (next() * 6.0) as usize,
+                1.0 + 60.0 * next(),
+                0.02 + 2.0 * next(),
+            ),
+            _ => {
+                let n = 3 + (next() * 9.0) as usize;
+                let r = 0.5 + 20.0 * next();
+                let mut p: Vec<Vec3> = (0..n)
+                    .map(|k| {
+                        let a = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / n as f64;
+                        v(r * a.cos(), r * a.sin(), next())
+                    })
+                    .collect();
+                p.push(p[0]);
+                p
+            }
+        };
+        let run = polyline_run(&pts);
+        let (t, b) = (planned(&run.pieces), bound_in_order(&run.pieces));
+        assert!(
+            b <= t,
+            "case {case}: in-order bound {b} above the plan {t}: {pts:?}"
+        );
+        assert!(b > 0.0);
+        assert!(follows(&run.pieces, &run.pieces), "case {case}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn the_in_order_bound_never_exceeds_the_plan_of_a_zigzag(
+        pts in prop::collection::vec((0.0f64..20.0, 0.0f64..20.0, 0.0f64..2.0), 2..12)
+    ) {
+        let pts: Vec<Vec3> = pts.into_iter().map(|(x, y, z)| v(x, y, z)).collect();
+        prop_assume!(pts.windows(2).all(|w| w[0].dist(w[1]) > 10.0 * TOL));
+        let run = polyline_run(&pts);
+        let (t, b) = (planned(&run.pieces), bound_in_order(&run.pieces));
+        prop_assert!(b <= t, "in-order bound {} above the plan {}", b, t);
     }
 }

@@ -28,12 +28,15 @@
 //! **Joints** are classed by position gap, tangent angle and the difference
 //! of curvature vectors, with thresholds in [`JointTolerances`].
 
+mod order;
+
 pub use crate::geom::continuity::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{flatten_params, Curve, ParamCurve, SegmentGrid, Vec3};
 use crate::math;
 use crate::path::Piece;
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
+pub use order::follows_in_order;
 
 /// One joint of the smoothed run.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -35,7 +35,14 @@
 //!    triangle inequality). `tau` is nondecreasing in `s`, so gates are
 //!    passed in order, and the path's length between two gates is at least
 //!    `|q_i - q_j| - rho_i - rho_j` (`rho = e + delta`). The run's ends are
-//!    gates of radius 0 (kept exactly).
+//!    gates of radius 0 (kept exactly). Where the run comes back within
+//!    `2e` of itself (closed contours, passes closer than the band) no
+//!    gate can be placed, and a band path may cut across. For paths that
+//!    follow the run in order ([`BandPaths::InOrder`]: within `e` of
+//!    `c(s)` at a non-decreasing time `tau(s)`, Frechet distance at most
+//!    the tolerance) a gate of radius `e` stands at every point, and the
+//!    steps below hold as they are; [`crate::verify::follows_in_order`]
+//!    checks a path passes those gates in order.
 //! 2. **Turns.** Between the gates `a < a+1 <= b < b+1` the mean directions
 //!    of travel over `[tau_a, tau_a+1]` and `[tau_b, tau_b+1]` are within
 //!    `asin((rho_a + rho_a+1) / |q_a+1 - q_a|)` of the chords' directions.
@@ -136,11 +143,36 @@ use alloc::vec::Vec;
 mod width;
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
+/// Which paths the bound holds for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BandPaths {
+    /// Every path with each point within the tolerance of the run (the
+    /// one-sided deviation [`crate::verify`] checks), its ends on the
+    /// run's. Where the run comes back near itself (a closed contour, a
+    /// raster of passes closer than twice the tolerance) such a path may
+    /// cut across, and no gate can be placed there (step 1): on a closed
+    /// contour the bound falls to the rest-to-rest floor of a run of
+    /// length 0.
+    #[default]
+    Any,
+    /// Paths that follow the run in order within the tolerance: some
+    /// non-decreasing time `tau(s)` puts the path within the tolerance of
+    /// `c(s)` for every `s` (Frechet distance at most the tolerance), as a
+    /// tool that machines the whole contour does. Gates are then placed
+    /// everywhere with radius `e` (step 1 becomes this assumption), also
+    /// where the run comes back near itself.
+    /// [`crate::verify::follows_in_order`] checks a path passes these gates
+    /// in order, so the bound applies to it.
+    InOrder,
+}
+
 /// How the bound is built; every length is a multiple of the tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundOptions {
     /// The band's half-width, mm.
     pub tolerance: f64,
+    /// Which paths the bound holds for.
+    pub paths: BandPaths,
     /// Spacing of candidate gates along the run, in tolerances.
     pub gate_spacing: f64,
     /// Arc length `r` within which gate pairs are local, in tolerances.
@@ -164,6 +196,7 @@ impl BoundOptions {
     pub fn new(tolerance: f64) -> BoundOptions {
         BoundOptions {
             tolerance,
+            paths: BandPaths::Any,
             gate_spacing: 6.0,
             reach: 4.0,
             straightness: 0.5,
@@ -419,8 +452,16 @@ fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Gate> {
         at: pts[0],
         radius: 0.0
     }];
-    let (starts, reach) = bridges(pts, s, e, r);
     let spacing = o.gate_spacing * tol;
+    if o.paths == BandPaths::InOrder {
+        out.extend(in_order_gates(pts, s, e, o).into_iter().map(|(_, g)| g));
+        out.push(Gate {
+            at: *pts.last().unwrap_or(&pts[0]),
+            radius: 0.0,
+        });
+        return out;
+    }
+    let (starts, reach) = bridges(pts, s, e, r);
     let mut x = r.max(spacing);
     while x < total - r {
         let bridged = {
@@ -438,6 +479,76 @@ fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Gate> {
         at: *pts.last().unwrap_or(&pts[0]),
         radius: 0.0,
     });
+    out
+}
+
+/// The inner gates of [`BandPaths::InOrder`] on the polyline `pts` (arc
+/// lengths `s`), each with its arc length: the straight gates of step 1
+/// (every `gate_spacing` tolerances, radius `e + delta`) where no part of
+/// the run farther than the reach `r` along it comes within `2e` of the
+/// gate (sampled, the sampling step added). There the band is the one
+/// straight stretch's, and a path that follows the run in order crosses
+/// it once, through the gate.
+fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64, Gate)> {
+    let tol = o.tolerance;
+    let total = *s.last().unwrap_or(&0.0);
+    let r = o.reach * tol;
+    let spacing = (o.gate_spacing * tol).max(total / MAX_SAMPLES as f64);
+    let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
+    let n = (total / step) as usize + 1;
+    let samples: Vec<(f64, Vec3)> = (0..=n)
+        .map(|i| {
+            let x = (i as f64 * step).min(total);
+            (x, point_at(pts, s, x))
+        })
+        .collect();
+    let near = 2.0 * e + step;
+    let key = |p: Vec3| {
+        [
+            math::floor(p.x / near) as i64,
+            math::floor(p.y / near) as i64,
+            math::floor(p.z / near) as i64,
+        ]
+    };
+    let mut order: Vec<([i64; 3], usize)> = samples
+        .iter()
+        .enumerate()
+        .map(|(i, (_, p))| (key(*p), i))
+        .collect();
+    order.sort_unstable();
+    // Whether a sample farther than `r` along the run from `x` is within
+    // `near` of `q`.
+    let crowded = |x: f64, q: Vec3| {
+        let k = key(q);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let kk = [k[0] + dx, k[1] + dy, k[2] + dz];
+                    let lo = order.partition_point(|(c, _)| *c < kk);
+                    for &(c, j) in &order[lo..] {
+                        if c != kk {
+                            break;
+                        }
+                        let (xj, pj) = samples[j];
+                        if math::abs(xj - x) > r - step && q.dist(pj) <= near {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    };
+    let mut out = Vec::new();
+    let mut x = r.max(spacing);
+    while x < total - r {
+        if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
+            if !crowded(x, g.at) {
+                out.push((x, g));
+            }
+        }
+        x += spacing;
+    }
     out
 }
 
@@ -493,6 +604,23 @@ fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) -> f64 {
 /// `asin(x)` for `x` in `[0, 1]`.
 fn asin(x: f64) -> f64 {
     math::atan2(x, math::sqrt((1.0 - x * x).max(0.0)))
+}
+
+/// The inner gates [`BandPaths::InOrder`] puts on the run `pieces` (the
+/// run's ends left out: they are kept exactly), each a point and its
+/// radius: a path the bound holds for passes within the radius of each, in
+/// order ([`crate::verify::follows_in_order`] checks that).
+pub fn in_order_gates_of(pieces: &[Piece], opts: &BoundOptions) -> Vec<(Vec3, f64)> {
+    let chord = opts.tolerance * opts.chord_share;
+    let e = opts.tolerance + chord;
+    let (pts, s) = polyline(pieces, chord);
+    if pts.len() < 2 {
+        return Vec::new();
+    }
+    in_order_gates(&pts, &s, e, opts)
+        .into_iter()
+        .map(|(_, g)| (g.at, g.radius))
+        .collect()
 }
 
 /// A lower bound of the time of any path within `opts.tolerance` of the
