@@ -246,6 +246,8 @@ fn compare_plans_the_written_program_per_format() {
             assert!(x["time_s"].as_f64().unwrap() > 0.0 && x["lines"].as_u64().unwrap() > 0);
             // Never slower than the program as it was.
             assert!(x["time_ratio"].as_f64().unwrap() <= 1.0, "{x}");
+            // Read back (G6.2 too), it follows the original in order.
+            assert_eq!(x["follows_in_order"], true, "{x}");
         }
     }
     // The CSV has the same columns.
@@ -256,8 +258,10 @@ fn compare_plans_the_written_program_per_format() {
         .unwrap();
     let csv = ok(o, "compare csv");
     assert!(csv.lines().next().unwrap().ends_with(
-        "lower_bound_s,x_bound,written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,\
-         written_g1_x_bound,written_g1_lines,written_g1_verified"
+        "lower_bound_s,x_bound,lower_bound_in_order_s,follows_in_order,x_bound_in_order,\
+         written_g1_time_s,written_g1_feed_time_s,written_g1_time_ratio,written_g1_x_bound,\
+         written_g1_lines,written_g1_verified,written_g1_follows_in_order,\
+         written_g1_x_bound_in_order"
     ));
 }
 
