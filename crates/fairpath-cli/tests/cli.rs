@@ -679,3 +679,26 @@ fn fair_smooths_a_g6_2_spline_and_the_zigzag() {
     assert_ok(&o, "zigzag");
     assert_ok(&check(&zigzag, &out, "0.05mm"), "check zigzag");
 }
+
+#[test]
+fn a_written_program_that_plans_far_faster_than_its_curves_says_so() {
+    // The design wave faired in a 0.025 mm tube, written as about 3,860
+    // arcs: they plan 3.114 s against 3.922 s for the curves, because the
+    // planner holds one curvature step per period (docs/planning.md,
+    // known gap). The summary says so; the pocket program's does not.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let flag = "faster than the curves it renders";
+    let o = smooth(
+        &example("thesis/design-wave.ngc"),
+        &out,
+        "0.025mm",
+        &["--method", "fair"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(summary.contains(flag), "{summary}");
+    let o = smooth(&example("pocket-corners.ngc"), &out, "0.05mm", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains(flag));
+}
