@@ -77,28 +77,41 @@ fn a_right_angle_and_a_step_over_raise_the_bound_above_the_straight_one() {
     assert!(b2 <= planned(&step.pieces));
 }
 
-#[test]
-fn seeded_zigzags_and_rasters_stay_below_their_plans() {
-    // A small LCG: the same programs on every run.
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
+/// A small LCG from `state`: the same programs on every run.
+fn seeded(mut state: u64) -> impl FnMut() -> f64 {
+    move || {
         state = state
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    }
+}
+
+/// A zigzag of 3 to 22 points along X.
+fn random_zigzag(next: &mut impl FnMut() -> f64) -> Vec<Vec3> {
+    let n = 3 + (next() * 20.0) as usize;
+    (0..n)
+        .map(|i| v(i as f64 * (0.2 + 5.0 * next()), 3.0 * next(), 0.5 * next()))
+        .collect()
+}
+
+/// A raster of 2 to 7 passes, step-overs from 0.02 to 2 mm.
+fn random_raster(next: &mut impl FnMut() -> f64) -> Vec<Vec3> {
+    raster(
+        2 + (next() * 6.0) as usize,
+        1.0 + 60.0 * next(),
+        0.02 + 2.0 * next(),
+    )
+}
+
+#[test]
+fn seeded_zigzags_and_rasters_stay_below_their_plans() {
+    let mut next = seeded(0x2545_f491_4f6c_dd1d);
     for case in 0..40 {
         let pts: Vec<Vec3> = if case % 2 == 0 {
-            let n = 3 + (next() * 20.0) as usize;
-            (0..n)
-                .map(|i| v(i as f64 * (0.2 + 5.0 * next()), 3.0 * next(), 0.5 * next()))
-                .collect()
+            random_zigzag(&mut next)
         } else {
-            raster(
-                2 + (next() * 6.0) as usize,
-                1.0 + 60.0 * next(),
-                0.02 + 2.0 * next(),
-            )
+            random_raster(&mut next)
         };
         let run = polyline_run(&pts);
         let (t, b) = (planned(&run.pieces), bound(&run.pieces));
@@ -236,26 +249,11 @@ fn seeded_runs_stay_above_their_in_order_bound() {
     // The original follows itself in order: its plan is one of the paths
     // the in-order bound holds for. Zigzags, rasters (passes closer than
     // the band included) and closed polygons.
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = seeded(0x9e37_79b9_7f4a_7c15);
     for case in 0..45 {
         let pts: Vec<Vec3> = match case % 3 {
-            0 => {
-                let n = 3 + (next() * 20.0) as usize;
-                (0..n)
-                    .map(|i| v(i as f64 * (0.2 + 5.0 * next()), 3.0 * next(), 0.5 * next()))
-                    .collect()
-            }
-            1 => raster(
-                2 + (next() * 6.0) as usize,
-                1.0 + 60.0 * next(),
-                0.02 + 2.0 * next(),
-            ),
+            0 => random_zigzag(&mut next),
+            1 => random_raster(&mut next),
             _ => {
                 let n = 3 + (next() * 9.0) as usize;
                 let r = 0.5 + 20.0 * next();

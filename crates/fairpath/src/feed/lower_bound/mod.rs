@@ -141,9 +141,10 @@ use crate::path::Piece;
 use alloc::vec::Vec;
 
 mod gates;
+mod samples;
 mod width;
 pub use gates::in_order_gates_of;
-use gates::{chain_length, gates, point_at, polyline};
+use gates::{chain_length, gates, polyline};
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
 /// Which paths the bound holds for.
@@ -394,12 +395,8 @@ pub fn lower_bound_time(
     let heights = {
         let total = *s.last().unwrap_or(&0.0);
         let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
-        let n = (total / step) as usize + 1;
-        let samples: Vec<Vec3> = (0..=n)
-            .map(|i| point_at(&pts, &s, (i as f64 * step).min(total)))
-            .collect();
         let rmax = opts.ball_radii.iter().fold(0.0f64, |a, &b| a.max(b)) * tol;
-        Heights::new(&samples, step, rmax + e + step)
+        Heights::new(&pts, &s, step, rmax + e + step)
     };
     // Chords between consecutive gates: length lower bound, direction,
     // angular slack.

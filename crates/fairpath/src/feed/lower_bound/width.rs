@@ -3,27 +3,26 @@
 //! least time between two gates on either side of a turn for a given
 //! least speed of its window.
 
+use super::samples::SampleGrid;
 use crate::geom::Vec3;
 use crate::math;
-use alloc::vec::Vec;
 
 /// Samples of a polyline bucketed in a uniform grid, for the highest
 /// sample along a direction within a ball.
 pub(super) struct Heights {
-    cell: f64,
-    /// `(cell key, point)`, sorted by key.
-    order: Vec<([i64; 3], Vec3)>,
+    grid: SampleGrid,
     /// Spacing of the samples along the polyline.
     pub(super) step: f64,
 }
 
 impl Heights {
-    /// Samples spaced `step` along the polyline,
+    /// Samples spaced `step` along the polyline `pts` (arc lengths `s`),
     /// bucketed in cells of `cell` mm.
-    pub(super) fn new(samples: &[Vec3], step: f64, cell: f64) -> Heights {
-        let mut order: Vec<([i64; 3], Vec3)> = samples.iter().map(|&p| (key(p, cell), p)).collect();
-        order.sort_unstable_by_key(|a| a.0);
-        Heights { cell, order, step }
+    pub(super) fn new(pts: &[Vec3], s: &[f64], step: f64, cell: f64) -> Heights {
+        Heights {
+            grid: SampleGrid::new(pts, s, step, cell),
+            step,
+        }
     }
 
     /// An upper bound of `n . y` over the polyline points `y` within
@@ -32,34 +31,15 @@ impl Heights {
     /// `step / 2` of a sample).
     pub(super) fn top(&self, m: Vec3, radius: f64, n: Vec3) -> f64 {
         let reach = radius + 0.5 * self.step;
-        let k = key(m, self.cell);
         let mut top = f64::NEG_INFINITY;
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let kk = [k[0] + dx, k[1] + dy, k[2] + dz];
-                    let lo = self.order.partition_point(|(c, _)| *c < kk);
-                    for &(c, p) in &self.order[lo..] {
-                        if c != kk {
-                            break;
-                        }
-                        if p.dist(m) <= reach {
-                            top = top.max(n.dot(p));
-                        }
-                    }
-                }
+        self.grid.any_near(m, |_, p| {
+            if p.dist(m) <= reach {
+                top = top.max(n.dot(p));
             }
-        }
+            false
+        });
         top + 0.5 * self.step
     }
-}
-
-fn key(p: Vec3, cell: f64) -> [i64; 3] {
-    [
-        math::floor(p.x / cell) as i64,
-        math::floor(p.y / cell) as i64,
-        math::floor(p.z / cell) as i64,
-    ]
 }
 
 /// A gate as the width argument sees it: its centre's height `n . q`
