@@ -298,13 +298,6 @@ impl Summary {
                 self.method
             );
         }
-        if t.written.total < (1.0 - fairpath::choose::RENDER_GAIN) * t.exact.total {
-            let _ = writeln!(
-                s,
-                "  note:            the written program plans {:.1}% faster than the curves it renders; the planner holds one curvature step per period, and arcs shorter than a period of travel step more often (docs/planning.md, known gap): a controller may not run it faster than the curves",
-                100.0 * (1.0 - t.written.total / t.exact.total)
-            );
-        }
         if self.slower_than_input() {
             let _ = writeln!(
                 s,

@@ -681,24 +681,30 @@ fn fair_smooths_a_g6_2_spline_and_the_zigzag() {
 }
 
 #[test]
-fn a_written_program_that_plans_far_faster_than_its_curves_says_so() {
-    // The design wave faired in a 0.025 mm tube, written as about 3,860
-    // arcs: they plan 3.114 s against 3.922 s for the curves, because the
-    // planner holds one curvature step per period (docs/planning.md,
-    // known gap). The summary says so; the pocket program's does not.
+fn design_wave_faired_in_0_025_plans_no_faster_as_arcs_than_as_curves() {
+    // The design wave faired in a 0.025 mm tube renders as about 3,860
+    // arcs, many shorter than a period of travel. When the planner held
+    // one curvature step per period they planned 3.114 s against 3.922 s
+    // for the curves they render (`fairpath stream`, which samples the
+    // motion at the period, took 5.279 s). Capped by
+    // `feed::junction::step_cap`, the written program plans no faster than
+    // its curves.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
-    let flag = "faster than the curves it renders";
     let o = smooth(
         &example("thesis/design-wave.ngc"),
         &out,
         "0.025mm",
-        &["--method", "fair"],
+        &["--method", "fair", "--json-summary"],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary = String::from_utf8_lossy(&o.stdout);
-    assert!(summary.contains(flag), "{summary}");
-    let o = smooth(&example("pocket-corners.ngc"), &out, "0.05mm", &[]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(!String::from_utf8_lossy(&o.stdout).contains(flag));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (curves, written) = (
+        v["curves_time_s"].as_f64().unwrap(),
+        v["written_time_s"].as_f64().unwrap(),
+    );
+    assert!(
+        written >= (1.0 - fairpath::choose::RENDER_GAIN) * curves,
+        "written {written:.3} s, curves {curves:.3} s"
+    );
 }

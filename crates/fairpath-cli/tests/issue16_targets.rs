@@ -100,12 +100,16 @@ fn g6_2_output_plans_within_two_percent_of_the_curves() {
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn arcs_keep_the_gain_of_butterfly_80() {
     // butterfly-80: 80 G1 moves whose curves plan 0.39 of the input; the
-    // arcs written for them within 5% of the curves.
+    // arcs written for them within 10% of the curves (the issue asks 25%).
+    // Within 5% while the planner held one curvature step per period; an
+    // arc spline steps its curvature at every joint, and with the steps
+    // closer than a period capped (`feed::junction::step_cap`) the arcs
+    // plan 7.216 s against 6.762 s.
     let Some(p) = shared("synthetic/butterfly-80.ngc") else {
         return;
     };
     let (original, auto) = rows(&p, &[Format::Arcs]);
     let w = &auto.written[0];
-    assert!(w.time <= 1.05 * auto.time, "{} vs {}", w.time, auto.time);
+    assert!(w.time <= 1.10 * auto.time, "{} vs {}", w.time, auto.time);
     assert!(w.time <= 0.45 * original.time);
 }

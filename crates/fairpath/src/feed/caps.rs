@@ -17,7 +17,7 @@
 //! their caps and tangential factors, so it is kept apart from them.
 
 use super::junction::{
-    blend_cap, corner_blend, corner_jump, follow_neighbours, jump_cap, Blend, MEET_REL,
+    blend_cap, corner_blend, corner_jump, follow_neighbours, jump_cap, step_cap, Blend, MEET_REL,
 };
 use super::limits::{speed_cap, Constraint, MachineLimits, PathPoint};
 use super::plan::{Corners, Part, PlanOptions};
@@ -176,11 +176,19 @@ impl<'a> JointCaps<'a> {
         let ((qa, la), (qb, lb)) = (self.valid[j], self.valid[j + 1]);
         let (a, c) = (&self.pieces[qa].curve, &self.pieces[qb].curve);
         let class = classify_joint(a, c, &self.jt);
-        if class == Continuity::G2 {
-            return Some(Joint::Smooth);
-        }
         let (pa, _) = point(a, a.domain().1);
         let (pb, _) = point(c, c.domain().0);
+        if class == Continuity::G2 {
+            // A jump below the class threshold still steps the normal
+            // acceleration; on a chain of short arcs the steps add up
+            // (`step_cap`).
+            let cap = step_cap(m, (pb.curvature - pa.curvature).norm(), la.min(lb));
+            return Some(if cap.is_finite() {
+                Joint::Tangent(cap)
+            } else {
+                Joint::Smooth
+            });
+        }
         // Tangent within the joint tolerances (and rounding): a
         // curvature jump, not a corner of a microradian.
         Some(
@@ -202,7 +210,11 @@ impl<'a> JointCaps<'a> {
                     None => Joint::Tangent(0.0),
                 }
             } else {
-                Joint::Tangent(jump_cap(m, (pb.curvature - pa.curvature).norm()))
+                Joint::Tangent(step_cap(
+                    m,
+                    (pb.curvature - pa.curvature).norm(),
+                    la.min(lb),
+                ))
             },
         )
     }
@@ -274,8 +286,23 @@ impl<'a> JointCaps<'a> {
                     k_out
                 };
                 let arc = blend_cap(m, &bl, 0.0);
-                let entry = jump_cap(m, (bl.curvature - k_before).norm());
-                let exit = jump_cap(m, (k_after - bl.curvature).norm());
+                // Circles that meet (a chain of short moves sampling a
+                // curve) step the curvature every circle; a lone circle's
+                // two jumps have opposite signs and do not add up.
+                let before_len = if j > 0 && self.meet(j - 1) {
+                    self.blend_of(j - 1)
+                        .map_or(f64::INFINITY, |b| b.arc_length.min(bl.arc_length))
+                } else {
+                    f64::INFINITY
+                };
+                let after_len = if meets_next {
+                    self.blend_of(j + 1)
+                        .map_or(f64::INFINITY, |b| b.arc_length.min(bl.arc_length))
+                } else {
+                    f64::INFINITY
+                };
+                let entry = step_cap(m, (bl.curvature - k_before).norm(), before_len);
+                let exit = step_cap(m, (k_after - bl.curvature).norm(), after_len);
                 // Next to an arc or curve the circle's ends are not
                 // modelled as stretches: all of its caps at the joint, the
                 // curvature change across it as one jump.

@@ -124,6 +124,21 @@ pub fn blend_cap(m: &MachineLimits, blend: &Blend, jump: f64) -> f64 {
     speed_cap(m, m.max_feed, &p).0.min(jump_cap(m, jump))
 }
 
+/// The largest speed (mm/s) across jumps `dk` (1/mm) of the curvature
+/// vector that follow each other every `spacing` mm: one jump per period
+/// raises the normal acceleration by `v^2 dk` within it, `v^2 dk <= J Ts`;
+/// jumps closer than a period of travel (`spacing < v Ts`) raise it by
+/// `v^2 dk` every `spacing / v` s, `v^3 dk / spacing <= J` (the
+/// `|dkappa/ds| v^3 <= J` of the curve a chain of short arcs follows). So
+/// `min(sqrt(J Ts / dk), cbrt(J spacing / dk))`.
+pub fn step_cap(m: &MachineLimits, dk: f64, spacing: f64) -> f64 {
+    if dk > 0.0 {
+        jump_cap(m, dk).min(math::cbrt(m.jerk * spacing.max(0.0) / dk))
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// The largest speed (mm/s) across a jump `dk` (1/mm) of the curvature
 /// vector: `sqrt(J Ts / dk)`.
 pub fn jump_cap(m: &MachineLimits, dk: f64) -> f64 {
