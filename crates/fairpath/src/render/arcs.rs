@@ -273,16 +273,20 @@ impl Fitter<'_> {
         }
         // The biarc's points against the curve's polyline. The polyline is
         // within its own chord error of the curve, which the margin of
-        // DEVIATION_USE covers for intervals this short.
+        // DEVIATION_USE covers for intervals this short. Only whether some
+        // segment is within `lim` matters, and the points run along the
+        // polyline: the search starts at the segment the previous point
+        // found and goes forward first (the same answer as the nearest
+        // segment's, found in about one step instead of all of them).
+        let segments = poly.len() - 1;
+        let mut hint = 0;
         for a in [&b.first, &b.second] {
             for k in 1..8 {
                 let q = a.eval(k as f64 / 8.0);
-                let d = poly
-                    .windows(2)
-                    .map(|w| point_segment_distance(q, w[0], w[1]))
-                    .fold(f64::INFINITY, f64::min);
-                if d > lim {
-                    return false;
+                let near = |i: usize| point_segment_distance(q, poly[i], poly[i + 1]) <= lim;
+                match (hint..segments).chain(0..hint).find(|&i| near(i)) {
+                    Some(i) => hint = i,
+                    None => return false,
                 }
             }
         }
