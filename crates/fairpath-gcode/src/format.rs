@@ -75,10 +75,9 @@ impl Controller {
     /// G6.2; each run is still written in the form that plans fastest,
     /// NURBS, arcs or lines, see `emit::forms`), the controller's
     /// otherwise (LinuxCNC 2.9 has no G6.2; Fanuc's default is G6.2
-    /// already). Over the thesis' cases and LinuxCNC's non-rational G6.2
-    /// examples faired at 0.025 to 0.25 mm (84 cases), written as arcs 55
-    /// planned faster than the input, as G6.2 80: arcs step in curvature
-    /// where the exact spline does not.
+    /// already). Arcs step in curvature where the exact spline does not,
+    /// so a faired spline written as arcs plans faster than its input far
+    /// less often than written as G6.2 (`docs/fair-outputs.md`).
     pub fn default_format_for(self, nurbs: bool) -> Format {
         match self {
             Controller::Generic if nurbs => Format::G6_2,
