@@ -112,6 +112,9 @@ if "band" in SECTIONS:
             k[band] = s["peak_curvature_per_mm"] if s else None
         if None in k.values():
             w(f"| {p} | failed | failed | |")
+        elif k["full"] == 0.0:
+            # The run planned fastest as written (G1 lines, no curvature).
+            w(f"| {p} | 0 (kept as written) | {k['half']:.3f} | n/a |")
         else:
             w(f"| {p} | {k['full']:.3f} | {k['half']:.3f} | {k['half'] / k['full']:.2f} |")
     w("")
