@@ -32,8 +32,13 @@
 //!   and meet each other, and `dk` is the difference of their curvature
 //!   vectors: a finely sampled smooth curve is passed as the curve it
 //!   samples, as a blending controller passes it.
-//! * A **tangent joint** (G1) whose curvature vector jumps by `dk` has the
-//!   same cap `sqrt(J Ts / dk)`.
+//! * A **tangent joint** (G1, or G2 within the class thresholds) whose
+//!   curvature vector jumps by `dk` has the same cap `sqrt(J Ts / dk)`.
+//! * Jumps closer than a period of travel add up: a chain of arcs, or of
+//!   meeting circles, `L` mm long each steps the normal acceleration by
+//!   `v^2 dk` every `L / v` s, so such a joint (and a meeting circle's
+//!   ends) is also capped at `cbrt(J L / dk)`, the `|dkappa/ds| v^3 <= J`
+//!   of the curve the chain follows ([`step_cap`]).
 
 use super::limits::{speed_cap, MachineLimits, PathPoint};
 use crate::geom::Vec3;
