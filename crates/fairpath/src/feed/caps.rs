@@ -178,11 +178,13 @@ impl<'a> JointCaps<'a> {
         let class = classify_joint(a, c, &self.jt);
         let (pa, _) = point(a, a.domain().1);
         let (pb, _) = point(c, c.domain().0);
+        // The cap of the joint's curvature jump (`step_cap`: on a chain of
+        // short pieces the jumps add up).
+        let step = || step_cap(m, (pb.curvature - pa.curvature).norm(), la.min(lb));
         if class == Continuity::G2 {
             // A jump below the class threshold still steps the normal
-            // acceleration; on a chain of short arcs the steps add up
-            // (`step_cap`).
-            let cap = step_cap(m, (pb.curvature - pa.curvature).norm(), la.min(lb));
+            // acceleration.
+            let cap = step();
             return Some(if cap.is_finite() {
                 Joint::Tangent(cap)
             } else {
@@ -210,11 +212,7 @@ impl<'a> JointCaps<'a> {
                     None => Joint::Tangent(0.0),
                 }
             } else {
-                Joint::Tangent(step_cap(
-                    m,
-                    (pb.curvature - pa.curvature).norm(),
-                    la.min(lb),
-                ))
+                Joint::Tangent(step())
             },
         )
     }
@@ -274,35 +272,33 @@ impl<'a> JointCaps<'a> {
             Some(Joint::Corner(bl, k_in, k_out)) => {
                 // What the circle meets: the neighbouring circle when both
                 // fill the line between them, else the piece itself.
-                let k_before = if j > 0 && self.meet(j - 1) {
-                    self.blend_of(j - 1).map_or(k_in, |b| b.curvature)
+                let before = if j > 0 && self.meet(j - 1) {
+                    self.blend_of(j - 1)
                 } else {
-                    k_in
+                    None
                 };
                 let meets_next = self.meet(j);
-                let k_after = if meets_next {
-                    self.blend_of(j + 1).map_or(k_out, |b| b.curvature)
+                let after = if meets_next {
+                    self.blend_of(j + 1)
                 } else {
-                    k_out
+                    None
                 };
                 let arc = blend_cap(m, &bl, 0.0);
-                // Circles that meet (a chain of short moves sampling a
-                // curve) step the curvature every circle; a lone circle's
-                // two jumps have opposite signs and do not add up.
-                let before_len = if j > 0 && self.meet(j - 1) {
-                    self.blend_of(j - 1)
-                        .map_or(f64::INFINITY, |b| b.arc_length.min(bl.arc_length))
-                } else {
-                    f64::INFINITY
+                // The jump to what the circle meets. Circles that meet (a
+                // chain of short moves sampling a curve) step the
+                // curvature every circle, the shorter one's length apart;
+                // a lone circle's two jumps have opposite signs and do not
+                // add up.
+                let jump = |next: Option<Blend>, k_piece: Vec3| match next {
+                    Some(b) => step_cap(
+                        m,
+                        (bl.curvature - b.curvature).norm(),
+                        b.arc_length.min(bl.arc_length),
+                    ),
+                    None => step_cap(m, (bl.curvature - k_piece).norm(), f64::INFINITY),
                 };
-                let after_len = if meets_next {
-                    self.blend_of(j + 1)
-                        .map_or(f64::INFINITY, |b| b.arc_length.min(bl.arc_length))
-                } else {
-                    f64::INFINITY
-                };
-                let entry = step_cap(m, (bl.curvature - k_before).norm(), before_len);
-                let exit = step_cap(m, (k_after - bl.curvature).norm(), after_len);
+                let entry = jump(before, k_in);
+                let exit = jump(after, k_out);
                 // Next to an arc or curve the circle's ends are not
                 // modelled as stretches: all of its caps at the joint, the
                 // curvature change across it as one jump.
