@@ -168,3 +168,19 @@ proptest! {
         }
     }
 }
+
+/// The soup CI found (2026-11-28): bare `G3` words inside a run, then a
+/// zero-length `G1 Y0` and a `G17 X1` that reads as `G1` only because of
+/// that `G1`. The rewritten run must keep the mode the following line needs.
+#[test]
+fn regression_bare_g3_lines_then_a_zero_g1_inside_a_run() {
+    let text = "G1 F10 X0.5\nG19 \nG3 X3 J-1 \nG3 \nG3 \nG1 Y0 \nG17 X1";
+    let p = parse(text.as_bytes()).unwrap();
+    let runs: Vec<_> = p.runs().into_iter().map(|r| r.pieces).collect();
+    let opts = fairpath_gcode::GcodeWriteOptions::default();
+    let out = fairpath_gcode::write_gcode(&p, &runs, &opts).unwrap();
+    let q = parse(out.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{out}"));
+    let (a, b) = (p.pieces(), q.pieces());
+    let (a, b) = (a.last().unwrap(), b.last().unwrap());
+    assert!(a.end().dist(b.end()) < 1e-3, "{out}");
+}

@@ -254,6 +254,11 @@ impl<'a> RunWriter<'a> {
         }
         if l.interpreted {
             self.plane = l.plane_after;
+            // A bare motion word (`G3` alone) between the run's moves sets
+            // the mode the lines after the run see if no move follows it.
+            if l.sets_motion {
+                self.motion = Some(l.motion_after);
+            }
         }
     }
 
