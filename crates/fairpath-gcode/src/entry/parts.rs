@@ -236,6 +236,7 @@ fn fronts(
             let Some(part) = reader.next_part()? else {
                 return Ok(None);
             };
+            phases.mark("read part");
             let memo = opts
                 .smooths_for_format()
                 .then(|| Arc::new(RenderMemo::default()));
