@@ -651,3 +651,67 @@ fn runs_that_start_and_end_at_their_cap() {
     assert!((first.eval(0.0).v - m.max_feed).abs() < 1e-9);
     assert!((last.eval(last.duration()).v - m.max_feed).abs() < 1e-6);
 }
+
+/// An arc planned as one piece and cut into many arcs meeting at G2
+/// joints plans the same: the planner takes an arc's caps once for the
+/// whole arc (they are the same all along it), not per flattened span.
+#[test]
+fn an_arc_plans_as_the_arcs_it_is_cut_into() {
+    use fairpath::geom::Arc;
+    let mut rng = Rng(0x5eed_a4c5);
+    let m = MachineLimits::thesis();
+    for case in 0..40 {
+        let r = 0.5 + 50.0 * rng.next();
+        let sweep = 0.2 + 5.0 * rng.next();
+        let rise = if case % 2 == 0 {
+            0.0
+        } else {
+            10.0 * (rng.next() - 0.5)
+        };
+        let feed = 600.0 + 24000.0 * rng.next();
+        let at = |th: f64| Vec3::new(r * th.cos(), r * th.sin(), rise * th / sweep);
+        let arc = |a: f64, b: f64, line: usize| Piece {
+            curve: Curve::Arc(
+                Arc::from_center(
+                    at(a),
+                    at(b),
+                    Vec3::new(0.0, 0.0, at(a).z),
+                    Vec3::Z,
+                    false,
+                    1,
+                    1e-9,
+                )
+                .unwrap(),
+            ),
+            rapid: false,
+            source_lines: (line, line),
+            feed: Some(feed),
+        };
+        let cuts = 2 + (10.0 * rng.next()) as usize;
+        let whole = vec![arc(0.0, sweep, 1)];
+        let parts: Vec<Piece> = (0..cuts)
+            .map(|i| {
+                arc(
+                    sweep * i as f64 / cuts as f64,
+                    sweep * (i + 1) as f64 / cuts as f64,
+                    i + 1,
+                )
+            })
+            .collect();
+        let opts = PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+            ends: Default::default(),
+        };
+        let (a, b) = (
+            plan_run(&whole, &opts).unwrap().time,
+            plan_run(&parts, &opts).unwrap().time,
+        );
+        assert!(
+            (a - b).abs() <= 1e-6 * a,
+            "case {case}: r {r} sweep {sweep} rise {rise}: {a} vs {b}"
+        );
+        check_limits(&whole, &m);
+    }
+}

@@ -396,6 +396,11 @@ pub(super) fn stretches(
                 ts.push(1.0);
                 (ts, caps)
             }
+            // An arc's caps are the same all along it (one curvature, no
+            // change of it), so its flattened spans would merge into one
+            // stretch again; unless a shaping cuts it where its factors
+            // change.
+            Curve::Arc(_) if shaping.is_none() => (alloc::vec![0.0, 1.0], Vec::new()),
             _ => (flatten_params(c, m.chord_error), Vec::new()),
         };
         let mut blend_caps = blend_caps.into_iter();
