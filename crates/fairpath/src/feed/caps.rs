@@ -34,6 +34,15 @@ use alloc::vec::Vec;
 /// everywhere in it.
 pub const CAP_SPLIT_RATIO: f64 = 1.25;
 
+/// Largest change of radius along an arc, as a share of its smaller
+/// radius, for which the planner takes the arc as one stretch: its caps
+/// then differ along it by less than that share (the curvature caps go as
+/// `k^(-1/2)` and `k^(-2/3)`), and the least of them, at its ends and
+/// middle, holds for all of it. Arcs read back from rounded coordinates
+/// are such spirals; one that changes more is sampled at the chord error
+/// as curves are.
+pub const ARC_ONE_STRETCH_SPREAD: f64 = 1e-4;
+
 /// Most halvings of a stretch for [`CAP_SPLIT_RATIO`].
 const MAX_CAP_SPLITS: u32 = 24;
 
@@ -396,11 +405,19 @@ pub(super) fn stretches(
                 ts.push(1.0);
                 (ts, caps)
             }
-            // An arc's caps are the same all along it (one curvature, no
-            // change of it), so its flattened spans would merge into one
-            // stretch again; unless a shaping cuts it where its factors
-            // change.
-            Curve::Arc(_) if shaping.is_none() => (alloc::vec![0.0, 1.0], Vec::new()),
+            // A circular or helical arc's caps are the same all along it
+            // (one curvature, no change of it), so its flattened spans
+            // would merge into one stretch again; unless a shaping cuts it
+            // where its factors change. A spiral (an arc read back from
+            // rounded coordinates) is one stretch only while its radius
+            // changes by at most ARC_ONE_STRETCH_SPREAD, else its caps
+            // differ along it and it is flattened as curves are.
+            Curve::Arc(a)
+                if shaping.is_none()
+                    && crate::math::abs(a.r1 - a.r0) <= ARC_ONE_STRETCH_SPREAD * a.r0.min(a.r1) =>
+            {
+                (alloc::vec![0.0, 1.0], Vec::new())
+            }
             _ => (flatten_params(c, m.chord_error), Vec::new()),
         };
         let mut blend_caps = blend_caps.into_iter();
