@@ -652,14 +652,57 @@ fn runs_that_start_and_end_at_their_cap() {
     assert!((last.eval(last.duration()).v - m.max_feed).abs() < 1e-6);
 }
 
+/// The planned times of the arc of `at` from 0 to `sweep` (centre on the
+/// Z axis at its start's height, at `feed` mm/min) as one piece and cut
+/// into `cuts` arcs meeting end to end.
+fn whole_and_cut(at: impl Fn(f64) -> Vec3, sweep: f64, cuts: usize, feed: f64) -> (f64, f64) {
+    use fairpath::geom::Arc;
+    let arc = |a: f64, b: f64, line: usize| Piece {
+        curve: Curve::Arc(
+            Arc::from_center(
+                at(a),
+                at(b),
+                Vec3::new(0.0, 0.0, at(a).z),
+                Vec3::Z,
+                false,
+                1,
+                1e-9,
+            )
+            .unwrap(),
+        ),
+        rapid: false,
+        source_lines: (line, line),
+        feed: Some(feed),
+    };
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: false,
+        window: None,
+        ends: Default::default(),
+    };
+    let whole = vec![arc(0.0, sweep, 1)];
+    check_limits(&whole, &opts.limits);
+    let parts: Vec<Piece> = (0..cuts)
+        .map(|i| {
+            arc(
+                sweep * i as f64 / cuts as f64,
+                sweep * (i + 1) as f64 / cuts as f64,
+                i + 1,
+            )
+        })
+        .collect();
+    (
+        plan_run(&whole, &opts).unwrap().time,
+        plan_run(&parts, &opts).unwrap().time,
+    )
+}
+
 /// An arc planned as one piece and cut into many arcs meeting at G2
 /// joints plans the same: the planner takes an arc's caps once for the
 /// whole arc (they are the same all along it), not per flattened span.
 #[test]
 fn an_arc_plans_as_the_arcs_it_is_cut_into() {
-    use fairpath::geom::Arc;
     let mut rng = Rng(0x5eed_a4c5);
-    let m = MachineLimits::thesis();
     for case in 0..40 {
         let r = 0.5 + 50.0 * rng.next();
         let sweep = 0.2 + 5.0 * rng.next();
@@ -670,49 +713,12 @@ fn an_arc_plans_as_the_arcs_it_is_cut_into() {
         };
         let feed = 600.0 + 24000.0 * rng.next();
         let at = |th: f64| Vec3::new(r * th.cos(), r * th.sin(), rise * th / sweep);
-        let arc = |a: f64, b: f64, line: usize| Piece {
-            curve: Curve::Arc(
-                Arc::from_center(
-                    at(a),
-                    at(b),
-                    Vec3::new(0.0, 0.0, at(a).z),
-                    Vec3::Z,
-                    false,
-                    1,
-                    1e-9,
-                )
-                .unwrap(),
-            ),
-            rapid: false,
-            source_lines: (line, line),
-            feed: Some(feed),
-        };
         let cuts = 2 + (10.0 * rng.next()) as usize;
-        let whole = vec![arc(0.0, sweep, 1)];
-        let parts: Vec<Piece> = (0..cuts)
-            .map(|i| {
-                arc(
-                    sweep * i as f64 / cuts as f64,
-                    sweep * (i + 1) as f64 / cuts as f64,
-                    i + 1,
-                )
-            })
-            .collect();
-        let opts = PlanOptions {
-            limits: m,
-            override_feed: false,
-            window: None,
-            ends: Default::default(),
-        };
-        let (a, b) = (
-            plan_run(&whole, &opts).unwrap().time,
-            plan_run(&parts, &opts).unwrap().time,
-        );
+        let (a, b) = whole_and_cut(at, sweep, cuts, feed);
         assert!(
             (a - b).abs() <= 1e-6 * a,
             "case {case}: r {r} sweep {sweep} rise {rise}: {a} vs {b}"
         );
-        check_limits(&whole, &m);
     }
 }
 
@@ -724,37 +730,10 @@ fn an_arc_plans_as_the_arcs_it_is_cut_into() {
 /// (docs/planning.md), so the two ways must be the same way.
 #[test]
 fn a_spiral_plans_as_the_spirals_it_is_cut_into() {
-    use fairpath::geom::Arc;
-    let m = MachineLimits::thesis();
     for (r0, r1, sweep) in [(2.0, 2.2, 3.0), (5.0, 4.5, 2.0), (0.8, 0.88, 4.0)] {
         let rad = |th: f64| r0 + (r1 - r0) * th / sweep;
         let at = |th: f64| Vec3::new(rad(th) * th.cos(), rad(th) * th.sin(), 0.0);
-        let arc = |a: f64, b: f64, line: usize| Piece {
-            curve: Curve::Arc(
-                Arc::from_center(at(a), at(b), Vec3::ZERO, Vec3::Z, false, 1, 1e-9).unwrap(),
-            ),
-            rapid: false,
-            source_lines: (line, line),
-            feed: Some(24000.0),
-        };
-        let opts = PlanOptions {
-            limits: m,
-            override_feed: false,
-            window: None,
-            ends: Default::default(),
-        };
-        let whole = plan_run(&[arc(0.0, sweep, 1)], &opts).unwrap().time;
-        let cuts = 8;
-        let parts: Vec<Piece> = (0..cuts)
-            .map(|i| {
-                arc(
-                    sweep * i as f64 / cuts as f64,
-                    sweep * (i + 1) as f64 / cuts as f64,
-                    i + 1,
-                )
-            })
-            .collect();
-        let cut = plan_run(&parts, &opts).unwrap().time;
+        let (whole, cut) = whole_and_cut(at, sweep, 8, 24000.0);
         assert!(
             (whole - cut).abs() <= 5e-3 * cut,
             "r {r0} -> {r1}: whole {whole} vs cut {cut}"
