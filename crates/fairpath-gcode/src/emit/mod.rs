@@ -89,12 +89,11 @@ const RENDER_GROUP_PARTS: usize = 8;
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
 
-/// A run is rewritten only if its rendering plans at least this much
-/// faster than the run as the program wrote it (rounding of the written
-/// coordinates can cost a few parts in ten thousand). A run of splines
-/// needs only to plan no slower (the written text is then checked to be no
-/// slower): see `choose`.
-pub const KEEP_MARGIN: f64 = 1e-3;
+/// A run is rewritten only if its rendering plans at least this share
+/// faster than the run as the program wrote it (the library's rule, which
+/// `auto` also reads). A run of splines needs only to plan no slower (the
+/// written text is then checked to be no slower): see `choose`.
+pub use fairpath::choose::KEEP_MARGIN;
 
 /// The written program.
 #[derive(Clone, Debug)]

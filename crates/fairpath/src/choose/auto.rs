@@ -47,15 +47,25 @@
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the
 //!   list, so it wins only when strictly faster.
 //! * **bspline-corner, curves as written** and **lotm, curves as
-//!   written**, with [`AutoOptions::curves_as_written`] (not by default),
-//!   on runs with an arc or curve: the corner method on the run
+//!   written**, on runs with an arc or curve: the corner method on the run
 //!   as it is, with the whole tolerance, as the method alone writes it:
 //!   the arcs kept, the corners between lines replaced, the corners next
 //!   to an arc kept (not G2). On a run of tight arcs and short lines the
 //!   sampled arcs get a transition at every chord and plan far slower
-//!   (LinuxCNC's `tort.ngc`, lines 83-90: 1.97 s against 0.50 s), and
-//!   `auto` is slower than `bspline-corner` alone. After the others, so
-//!   they win only when strictly faster.
+//!   (LinuxCNC's `tort.ngc`, lines 83-90: 1.97 s against 0.50 s). Offered
+//!   with [`AutoOptions::curves_as_written`] beside the others (after
+//!   them, so they win only when strictly faster). By default only as a
+//!   fallback, where the best G2 candidate would leave the run as the
+//!   program wrote it, by the objective ([`Objective::as_written`]): its
+//!   rendering is not [`super::KEEP_MARGIN`] cheaper than the run as
+//!   written (the writer's rule), or its curves themselves are no cheaper
+//!   (then the rendering's gain is one the rounding of the written
+//!   coordinates can take away: the G2 fit of `tort.ngc`'s lines 83-90
+//!   renders 1.6% faster than the run, its curves plan 3.2% slower, and
+//!   its text read back 0.7% slower, so it was kept as written). The run
+//!   as written keeps every corner, these only those next to an arc:
+//!   where they are cheaper than the best G2 candidate they are kept, and
+//!   `auto` is no slower than `bspline-corner` or `lotm` alone.
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
@@ -88,10 +98,10 @@
 //! so `auto` stays no slower than any candidate.
 
 use super::candidates::{
-    has_splines, is_g2, widens_sections, CandidateList, Input, Offered, SectionRule, CANDIDATES,
-    FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    has_splines, is_g2, widens_sections, CandidateList, Input, Kind, Offered, SectionRule,
+    CANDIDATES, FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
-use super::objective::{Objective, PlannedTime};
+use super::objective::{Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::{flatten_params, Curve, Line, ParamCurve};
@@ -123,14 +133,11 @@ pub struct AutoOptions {
     /// infinite: one choice per run).
     pub section_lines: [f64; 3],
     /// Offer the corner methods on the curves as written
-    /// ([`super::CURVES_AS_WRITTEN`]), which keep the corners next to arcs:
-    /// `auto` is then no slower than `bspline-corner` or `lotm` alone. False
+    /// ([`super::CURVES_AS_WRITTEN`]), which keep the corners next to arcs,
+    /// beside the G2 candidates on every run with an arc or curve. False
     /// by default: `auto` makes every joint G2 but reversals (issue 5), and
-    /// on a run of tight arcs and lines between corners, where every G2
-    /// path plans slower than the run as written, the writer keeps the run
-    /// as written while a corner method alone would replace the corners
-    /// between its lines (LinuxCNC's `tort.ngc`: 0.0015 s, 0.002%, slower
-    /// than `bspline-corner`).
+    /// offers them only where every G2 candidate would leave the run as the
+    /// program wrote it (see the module documentation).
     pub curves_as_written: bool,
 }
 
@@ -406,12 +413,77 @@ impl Smoother for Auto {
                 }
             }
         }
+        if let Some(kept) = self.curves_as_written_fallback(run, tolerance, (&best, time), &memo)? {
+            best = kept;
+        }
         Ok(best)
+    }
+}
+
+impl Auto {
+    /// The corner methods on the curves as written ([`Kind::CornerInPlace`]
+    /// rows of [`CANDIDATES`]) for a run with an arc or curve, when they are
+    /// not offered beside the others and `best`, the best G2 candidate
+    /// costing `time`, would leave the run as the program wrote it (see
+    /// the module documentation); the cheapest of them if it costs less
+    /// than `time`. `None`: nothing to change.
+    fn curves_as_written_fallback(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        (best, time): (&SmoothedRun, Option<f64>),
+        memo: &FitMemo,
+    ) -> Result<Option<SmoothedRun>, SmoothError> {
+        let has_curves = run
+            .pieces
+            .iter()
+            .any(|p| !matches!(p.curve, Curve::Line(_)));
+        if self.options.curves_as_written || !has_curves {
+            return Ok(None);
+        }
+        let Some(own) = self.objective.as_written(&run.pieces) else {
+            return Ok(None);
+        };
+        let rendered_gains = time.is_some_and(|t| t * (1.0 + KEEP_MARGIN) <= own);
+        if rendered_gains
+            && self
+                .objective
+                .as_written(&best.pieces)
+                .is_some_and(|c| c < own)
+        {
+            return Ok(None);
+        }
+        let rows: Vec<_> = CANDIDATES
+            .iter()
+            .filter(|r| matches!(r.kind, Kind::CornerInPlace(_)))
+            .collect();
+        let smoothed = map_candidates(rows.len(), |i| {
+            let mut cand = rows[i].kind.candidate().smooth(
+                (run, tolerance),
+                run,
+                tolerance,
+                (false, false),
+                memo,
+            )?;
+            cand.chosen = alloc::vec![rows[i].name];
+            Ok(cand)
+        })
+        .into_iter()
+        .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
+        let mut ranking = Ranking::new(self.objective.as_ref(), smoothed);
+        let Some((Some(t), i)) = ranking.fastest(|_| true) else {
+            return Ok(None);
+        };
+        if time.is_some_and(|tw| t >= tw) {
+            return Ok(None);
+        }
+        Ok(Some(core::mem::take(&mut ranking.cands[i])))
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::candidates::CURVES_AS_WRITTEN;
     use super::super::same_pieces::same_pieces;
     use super::*;
     use crate::geom::Vec3;
@@ -542,5 +614,138 @@ mod tests {
             }
             d.len()
         });
+    }
+
+    /// An objective that prices a run with an arc at `with_arcs`, else at
+    /// `lines`, and says `as_written` of the pieces it is asked about:
+    /// `own` for pieces with an arc (the run as the program wrote it),
+    /// `curves` for others (a G2 candidate's curves).
+    #[derive(Debug)]
+    struct Priced {
+        with_arcs: f64,
+        lines: f64,
+        own: Option<f64>,
+        curves: f64,
+    }
+
+    fn has_arc(pieces: &[Piece]) -> bool {
+        pieces.iter().any(|p| matches!(p.curve, Curve::Arc(_)))
+    }
+
+    impl Objective for Priced {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            Some(if has_arc(pieces) {
+                self.with_arcs
+            } else {
+                self.lines
+            })
+        }
+        fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
+            if has_arc(pieces) {
+                self.own
+            } else {
+                Some(self.curves)
+            }
+        }
+    }
+
+    /// A quarter arc of radius 8 between two lines that meet it at
+    /// corners, and a corner between two lines after it.
+    fn arc_between_corners() -> Run {
+        let piece = |curve| Piece {
+            curve,
+            rapid: false,
+            source_lines: (1, 1),
+            feed: Some(3000.0),
+        };
+        let (a, b) = (Vec3::new(8.0, 0.0, 0.0), Vec3::new(0.0, 8.0, 0.0));
+        let arc = crate::geom::Arc::from_center(a, b, Vec3::ZERO, Vec3::Z, false, 1, 1e-9).unwrap();
+        Run::new(alloc::vec![
+            piece(Curve::Line(Line::new(
+                Vec3::new(8.0, -10.0, 0.0),
+                Vec3::new(4.0, -6.0, 0.0)
+            ))),
+            piece(Curve::Line(Line::new(Vec3::new(4.0, -6.0, 0.0), a))),
+            piece(Curve::Arc(arc)),
+            piece(Curve::Line(Line::new(b, Vec3::new(-5.0, 12.0, 0.0)))),
+            piece(Curve::Line(Line::new(
+                Vec3::new(-5.0, 12.0, 0.0),
+                Vec3::new(-15.0, 12.0, 0.0)
+            ))),
+        ])
+    }
+
+    fn chosen_with(objective: Priced) -> Vec<&'static str> {
+        let auto = Auto::new(AutoOptions::default(), Arc::new(objective));
+        auto.smooth_run(&arc_between_corners(), 0.05)
+            .unwrap()
+            .chosen
+    }
+
+    #[test]
+    fn curves_as_written_are_the_fallback_where_the_run_would_be_kept() {
+        // The G2 candidates (no arc left) cost more than the run as written:
+        // the corner methods on the curves as written, cheaper, are kept.
+        let chosen = chosen_with(Priced {
+            with_arcs: 1.0,
+            lines: 2.0,
+            own: Some(1.5),
+            curves: 1.0,
+        });
+        assert!(
+            chosen.iter().all(|c| CURVES_AS_WRITTEN.contains(c)),
+            "{chosen:?}"
+        );
+        // Rendered cheaper than the run, but curves that are not: the
+        // rendering's gain is not sure to survive the writing.
+        let chosen = chosen_with(Priced {
+            with_arcs: 1.0,
+            lines: 1.2,
+            own: Some(1.5),
+            curves: 1.6,
+        });
+        assert!(
+            chosen.iter().all(|c| CURVES_AS_WRITTEN.contains(c)),
+            "{chosen:?}"
+        );
+    }
+
+    #[test]
+    fn curves_as_written_are_no_fallback_where_a_g2_candidate_gains() {
+        let cases = [
+            // Rendering and curves both cheaper than the run as written.
+            Priced {
+                with_arcs: 1.0,
+                lines: 1.2,
+                own: Some(1.5),
+                curves: 1.2,
+            },
+            // The objective does not say what the run as written costs.
+            Priced {
+                with_arcs: 1.0,
+                lines: 2.0,
+                own: None,
+                curves: 1.0,
+            },
+        ];
+        for objective in cases {
+            let chosen = chosen_with(objective);
+            assert!(
+                !chosen.is_empty() && chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
+                "{chosen:?}"
+            );
+        }
+        // Where the run would be kept but the curves as written cost more
+        // than the best G2 candidate, that candidate stays.
+        let chosen = chosen_with(Priced {
+            with_arcs: 3.0,
+            lines: 2.0,
+            own: Some(1.5),
+            curves: 1.0,
+        });
+        assert!(
+            chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
+            "{chosen:?}"
+        );
     }
 }

@@ -20,7 +20,9 @@ pub use candidates::{
     SectionRule, CANDIDATES, CURVES_AS_WRITTEN, FAIR_MAX_PIECES, JERK_FAIRNESS,
     THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
-pub use objective::{Objective, PlannedTime, RenderObserver, WrittenTime, RENDER_GAIN};
+pub use objective::{
+    Objective, PlannedTime, RenderObserver, WrittenTime, KEEP_MARGIN, RENDER_GAIN,
+};
 pub use registry::{by_name, method, Method, METHODS};
 pub use same_pieces::{pieces_digest, same_pieces};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};

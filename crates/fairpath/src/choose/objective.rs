@@ -44,7 +44,25 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     fn bound_slack(&self) -> f64 {
         0.0
     }
+
+    /// The cost of `pieces` written exactly as they are (not rendered), or
+    /// `None` (the default) when the objective does not say. For a run as
+    /// the program wrote it, that is what a writer that keeps the run
+    /// costs; G-code writers keep a run whose rendering is not
+    /// [`KEEP_MARGIN`] cheaper. `auto` reads it to try the corner methods
+    /// on the curves as written where its curvature-continuous candidates
+    /// would be kept so (see [`super::Auto`]).
+    fn as_written(&self, _pieces: &[Piece]) -> Option<f64> {
+        None
+    }
 }
+
+/// A run is rewritten only if its smoothing costs at least this share less
+/// than the run as the program wrote it: the writers' rule (the rounding
+/// of written coordinates can cost a few parts in ten thousand, and at an
+/// equal time a rendering would trade the program's corners for more
+/// blocks, for nothing).
+pub const KEEP_MARGIN: f64 = 1e-3;
 
 /// The machining time (s) planned by the jerk-limited look-ahead planner
 /// ([`plan_run`]) on one machine: `auto`'s objective in the CLI, with the
@@ -82,6 +100,11 @@ impl Default for PlannedTime {
 impl Objective for PlannedTime {
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         plan_run(pieces, &self.plan).ok().map(|p| p.time)
+    }
+
+    /// The same plan: the run's pieces are what is run.
+    fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
+        self.cost(pieces)
     }
 }
 
@@ -247,5 +270,11 @@ impl Objective for WrittenTime {
 
     fn bound_slack(&self) -> f64 {
         self.render_gain
+    }
+
+    /// The pieces planned as they are, as the writer judges the run it
+    /// keeps as the program wrote it.
+    fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
+        plan_time_shaped(pieces, &self.plan, &Shaping::none(), self.corners).ok()
     }
 }
