@@ -121,6 +121,44 @@ impl Arc {
         self.r0 + t * (self.r1 - self.r0)
     }
 
+    /// An upper bound of `|C''(t)|` over the arc: `r_max sweep^2 + 2 |r1 -
+    /// r0| sweep`, from `C'' = 2 (r1 - r0) sweep T - r(t) sweep^2 R` (unit
+    /// tangential `T` and radial `R`; the rise is linear in `t` and adds
+    /// nothing).
+    pub fn second_derivative_bound(&self) -> f64 {
+        let r = self.r0.max(self.r1);
+        r * self.sweep * self.sweep + 2.0 * math::abs(self.r1 - self.r0) * self.sweep
+    }
+
+    /// Parameters `0 = t_0 < ... < t_n = 1`, evenly spaced, whose chords are
+    /// within `chord` (mm) of the arc both ways (every point of the arc
+    /// within `chord` of a chord and every point of a chord within `chord`
+    /// of the arc), in closed form: linear interpolation between parameters
+    /// `h` apart is within `h^2 M / 8` of a C2 curve with `|C''| <= M`
+    /// ([`Arc::second_derivative_bound`]; the remainder of linear
+    /// interpolation, de Boor, *A Practical Guide to Splines*, ch. II), and
+    /// the snapped ends ([`Arc::p0`], [`Arc::p1`]) move the end chords by at
+    /// most their distance from the formula's ends. `None` where that
+    /// distance leaves no room under `chord`, or more than `max_spans`
+    /// chords would be needed.
+    pub fn chord_params(&self, chord: f64, max_spans: usize) -> Option<Vec<f64>> {
+        let gap = self
+            .p0
+            .dist(self.eval_formula(0.0))
+            .max(self.p1.dist(self.eval_formula(1.0)));
+        let room = chord - gap;
+        // (NaN: not finite coordinates, no room either.)
+        if room.is_nan() || room <= 0.0 {
+            return None;
+        }
+        let spans = math::ceil(math::sqrt(self.second_derivative_bound() / (8.0 * room))).max(1.0);
+        if spans.is_nan() || spans > max_spans as f64 {
+            return None;
+        }
+        let n = spans as usize;
+        Some((0..=n).map(|i| i as f64 / n as f64).collect())
+    }
+
     /// The arc reversed (same points, opposite direction).
     pub fn reversed(&self) -> Arc {
         let end = self.eval_formula(1.0);

@@ -9,8 +9,9 @@
 //! value by at most `accuracy` plus the flattening error of original arcs
 //! (also `accuracy`):
 //! * the original run is a set of segments (arcs and curves flattened with
-//!   chord error `<= accuracy`, so distances to it over-estimate by at most
-//!   that) in a uniform grid;
+//!   chord error `<= accuracy`, so distances to it differ from those to
+//!   the original by at most that, either way: the bound adds it) in a
+//!   uniform grid;
 //! * on a straight piece, the distance to one fixed original segment is a
 //!   convex function of position, so its value at the two ends bounds it in
 //!   between: a span is certified when that bound is within `accuracy` of
@@ -51,10 +52,12 @@ pub struct Joint {
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunReport {
     /// Largest distance from the smoothed run to the original that was
-    /// found (mm); the true largest distance is at most `accuracy` more.
+    /// found (mm), to the original's segments (its arcs and curves
+    /// flattened within `accuracy`).
     pub max_deviation: f64,
     /// A bound the true deviation never exceeds: `max_deviation + accuracy`,
-    /// or 5% of the tolerance if that is more (see the module docs).
+    /// or 5% of the tolerance if that is more, plus `accuracy` where the
+    /// original has arcs or curves (the flattening; see the module docs).
     pub deviation_bound: f64,
     /// Where it was found.
     pub worst_at: Vec3,
@@ -115,6 +118,9 @@ struct Reference {
     grid: SegmentGrid,
     radius: f64,
     curves: BTreeMap<[u64; 3], Vec<Curve>>,
+    /// Largest distance of a point of the original from the segments
+    /// (the flattening's chord error; 0 for a run of lines).
+    flattening: f64,
 }
 
 fn point_key(p: Vec3) -> [u64; 3] {
@@ -133,7 +139,14 @@ impl Reference {
                         .entry(point_key(c.start()))
                         .or_default()
                         .push(c.clone());
-                    let ts = flatten_params(c, opts.accuracy);
+                    // Arcs (most of the curves of a program) in closed
+                    // form: the bisection samples every span it tries.
+                    let ts = match c {
+                        Curve::Arc(a) => a
+                            .chord_params(opts.accuracy, MAX_ARC_CHORDS)
+                            .unwrap_or_else(|| flatten_params(c, opts.accuracy)),
+                        _ => flatten_params(c, opts.accuracy),
+                    };
                     for w in ts.windows(2) {
                         segs.push((c.eval(w[0]), c.eval(w[1])));
                     }
@@ -141,10 +154,16 @@ impl Reference {
             }
         }
         let radius = 2.0 * opts.tolerance;
+        let flattening = if curves.is_empty() {
+            0.0
+        } else {
+            opts.accuracy
+        };
         Reference {
             grid: SegmentGrid::new(segs, radius),
             radius,
             curves,
+            flattening,
         }
     }
     /// True when `c` is one of the original's arcs or curves, exactly.
@@ -165,6 +184,12 @@ impl Reference {
         crate::geom::point_segment_distance(q, a, b)
     }
 }
+
+/// Most chords an original arc is flattened into in closed form
+/// ([`crate::geom::Arc::chord_params`]; beyond it the bisection of
+/// [`flatten_params`] does it, within its own cap): a 10 m circle at the
+/// accuracy of a 0.05 mm tolerance needs about 1e5.
+const MAX_ARC_CHORDS: usize = 1 << 20;
 
 /// The largest distance found from some pieces to the original run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -269,9 +294,11 @@ impl Verifier {
             ctx.refined = 0;
             ctx.refine(c, matches!(c, Curve::Line(_)), d2max, (a, b), &mut best, 0);
         }
+        // The bound holds for the distance to the segments; the original
+        // is within the flattening's chord error of them.
         Deviation {
             found: best.0,
-            bound: (best.0 + opts.accuracy).max(ctx.pruned_max),
+            bound: (best.0 + opts.accuracy).max(ctx.pruned_max) + reference.flattening,
             at: best.1,
         }
     }
@@ -328,10 +355,7 @@ const D2_MARGIN: f64 = 1.0 + 1e-6;
 fn second_derivative_bound(c: &Curve) -> Option<f64> {
     match c {
         Curve::Line(_) => Some(0.0),
-        Curve::Arc(a) => {
-            let r = a.r0.max(a.r1);
-            Some(r * a.sweep * a.sweep + 2.0 * math::abs(a.r1 - a.r0) * a.sweep)
-        }
+        Curve::Arc(a) => Some(a.second_derivative_bound()),
         Curve::Nurbs(n) if n.weights.is_none() && n.degree <= 3 && n.is_c1() => {
             let bps = n.breakpoints();
             let mut m: f64 = 0.0;
