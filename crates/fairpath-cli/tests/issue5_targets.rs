@@ -47,26 +47,57 @@ fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
     rows
 }
 
-/// Corners `auto` keeps on the program at `path`, all of which must be
-/// reversals; their number.
-fn reversals(path: &Path) -> usize {
-    use fairpath::choose::Auto;
+/// Corners `auto` keeps on the program at `path`: reversals, and corners
+/// next to arcs where it fell back to the corner methods on the curves as
+/// written (every G2 candidate planned no faster than the run as the
+/// program wrote it, which the writer would have kept); their numbers.
+fn kept_corners(path: &Path) -> (usize, usize) {
+    use fairpath::choose::{keeps_arc_joints, Auto, KEEP_MARGIN};
+    use fairpath::feed::plan::{plan_run, PlanOptions};
     use fairpath::smooth::{CornerReason, Smoother};
     let program = fairpath_cli::read::read_program(path).unwrap();
-    let mut n = 0;
+    let planned = |p: &[fairpath::path::Piece]| {
+        let opts = PlanOptions {
+            limits: MachineLimits::thesis(),
+            override_feed: true,
+            window: None,
+            ends: Default::default(),
+        };
+        plan_run(p, &opts).unwrap().time
+    };
+    let (mut reversals, mut arc_joints) = (0, 0);
     for run in program.runs() {
-        let out = Auto::default().smooth_run(&run, TOL * 0.9).unwrap();
+        let auto = Auto::default();
+        let out = auto.smooth_run(&run, TOL * 0.9).unwrap();
         for k in &out.kept_corners {
+            if k.reason == CornerReason::ArcJoint && keeps_arc_joints(&out) {
+                arc_joints += 1;
+                continue;
+            }
             assert_eq!(
                 k.reason,
                 CornerReason::Reversal,
                 "{}: {k:?}",
                 path.display()
             );
-            n += 1;
+            reversals += 1;
+        }
+        if keeps_arc_joints(&out) {
+            let g2 = auto
+                .candidates(&run, TOL * 0.9)
+                .unwrap()
+                .iter()
+                .map(|(_, c)| planned(&c.pieces))
+                .fold(f64::INFINITY, f64::min);
+            let own = planned(&run.pieces);
+            assert!(
+                g2 * (1.0 + KEEP_MARGIN) > own,
+                "{}: fell back where G2 plans {g2} s, the run {own} s",
+                path.display()
+            );
         }
     }
-    n
+    (reversals, arc_joints)
 }
 
 fn time(rows: &[Row], method: &str) -> f64 {
@@ -126,11 +157,18 @@ fn auto_meets_the_dense_targets() {
             auto / orig,
             auto / corner
         );
-        // G2: no G1 joint, and the only corners are reversals (a plunge
-        // straight back up: no curve turns there inside the band).
+        // G2: the only corners are reversals (a plunge straight back up:
+        // no curve turns there inside the band), and those next to arcs
+        // where `auto` fell back to the curves as written.
         let a = rows.iter().find(|r| r.method == "auto").unwrap();
-        assert_eq!(a.joints[2], 0, "{rel}: {:?}", a.joints);
-        assert_eq!(a.joints[1], reversals(path), "{rel}: {:?}", a.joints);
+        let (reversals, arc_joints) = kept_corners(path);
+        println!("{rel}: {reversals} reversals, {arc_joints} corners next to arcs");
+        assert!(a.joints[1] >= reversals, "{rel}: {:?}", a.joints);
+        assert!(
+            a.joints[1] + a.joints[2] <= reversals + arc_joints,
+            "{rel}: {:?}",
+            a.joints
+        );
         assert!(auto <= 0.7 * orig, "{rel}: {auto} vs original {orig}");
         assert!(
             auto <= 0.7 * corner,

@@ -64,8 +64,10 @@
 //!   renders 1.6% faster than the run, its curves plan 3.2% slower, and
 //!   its text read back 0.7% slower, so it was kept as written). The run
 //!   as written keeps every corner, these only those next to an arc:
-//!   where they are cheaper than the best G2 candidate they are kept, and
-//!   `auto` is no slower than `bspline-corner` or `lotm` alone.
+//!   where they are cheaper than the best G2 candidate, and would be
+//!   written (the writer's margin cheaper than the run as written), they
+//!   are kept, and `auto` is no slower than `bspline-corner` or `lotm`
+//!   alone.
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
@@ -426,7 +428,8 @@ impl Auto {
     /// not offered beside the others and `best`, the best G2 candidate
     /// costing `time`, would leave the run as the program wrote it (see
     /// the module documentation); the cheapest of them if it costs less
-    /// than `time`. `None`: nothing to change.
+    /// than `time` and would itself be written (is [`KEEP_MARGIN`] cheaper
+    /// than the run as written). `None`: nothing to change.
     fn curves_as_written_fallback(
         &self,
         run: &Run,
@@ -470,11 +473,27 @@ impl Auto {
         })
         .into_iter()
         .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
-        let mut ranking = Ranking::new(self.objective.as_ref(), smoothed);
+        // Those whose cheap bound already says they would not be kept are
+        // not costed.
+        let objective = self.objective.as_ref();
+        let could_win = |c: &SmoothedRun| {
+            objective
+                .bound(&c.pieces)
+                .is_none_or(|b| b * (1.0 + KEEP_MARGIN) <= own && time.is_none_or(|tw| b < tw))
+        };
+        let smoothed: Vec<SmoothedRun> = smoothed.into_iter().filter(could_win).collect();
+        if smoothed.is_empty() {
+            return Ok(None);
+        }
+        let mut ranking = Ranking::new(objective, smoothed);
         let Some((Some(t), i)) = ranking.fastest(|_| true) else {
             return Ok(None);
         };
-        if time.is_some_and(|tw| t >= tw) {
+        // Kept only where it would be written: cheaper than the best G2
+        // candidate, and than the run as written by the writer's margin
+        // (else the run is written as the program wrote it either way,
+        // and the G2 curves stay what `auto` reports).
+        if time.is_some_and(|tw| t >= tw) || t * (1.0 + KEEP_MARGIN) > own {
             return Ok(None);
         }
         Ok(Some(core::mem::take(&mut ranking.cands[i])))
@@ -736,16 +755,19 @@ mod tests {
             );
         }
         // Where the run would be kept but the curves as written cost more
-        // than the best G2 candidate, that candidate stays.
-        let chosen = chosen_with(Priced {
-            with_arcs: 3.0,
-            lines: 2.0,
-            own: Some(1.5),
-            curves: 1.0,
-        });
-        assert!(
-            chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
-            "{chosen:?}"
-        );
+        // than the best G2 candidate, or would be kept as well (not the
+        // writer's margin cheaper than the run), that candidate stays.
+        for with_arcs in [3.0, 1.5 * (1.0 - 0.5 * KEEP_MARGIN)] {
+            let chosen = chosen_with(Priced {
+                with_arcs,
+                lines: 2.0,
+                own: Some(1.5),
+                curves: 1.0,
+            });
+            assert!(
+                chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
+                "{with_arcs}: {chosen:?}"
+            );
+        }
     }
 }
