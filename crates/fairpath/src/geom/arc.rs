@@ -2,6 +2,7 @@
 
 use super::{ParamCurve, Vec3};
 use crate::math;
+use alloc::vec::Vec;
 use core::f64::consts::PI;
 
 /// An arc turning counter-clockwise about the unit `normal` through `sweep`
