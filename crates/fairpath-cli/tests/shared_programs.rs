@@ -37,6 +37,66 @@ fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Reads `f` and smooths every run of it by every method at 0.01 and 0.05
+/// mm, checking each result (panics on a failure); `Err` with the error
+/// where the program is refused (an error naming the line and column).
+fn check_program(f: &Path) -> Result<(), String> {
+    let bytes = std::fs::read(f).unwrap();
+    let program = match fairpath_gcode::parse(&bytes) {
+        Ok(p) => p,
+        Err(e) => {
+            // Unsupported features, or malformed bytes (one gcode-rs
+            // file holds a stray control character): either way an
+            // error naming the line and column.
+            assert!(e.line >= 1 && e.column >= 1, "{}: {e}", f.display());
+            return Err(format!("{}: {e}", f.display()));
+        }
+    };
+    for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
+        let method = by_name(name).unwrap();
+        for run in program.runs() {
+            let out = method
+                .smooth_run(&run, tol)
+                .unwrap_or_else(|e| panic!("{name}: {}: {e}", f.display()));
+            if name == "auto" {
+                assert!(
+                    keeps_arc_joints(&out)
+                        || out
+                            .kept_corners
+                            .iter()
+                            .all(|k| k.reason != CornerReason::ArcJoint),
+                    "{name}: {}: a joint next to an arc is kept",
+                    f.display()
+                );
+            }
+            let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+            assert!(
+                rep.within(tol),
+                "{name}: {} at {tol}: deviation {} at {:?}, start gap {}, end gap {}",
+                f.display(),
+                rep.deviation_bound,
+                rep.worst_at,
+                rep.start_gap,
+                rep.end_gap
+            );
+            for j in &rep.joints {
+                if j.class != Continuity::G2 {
+                    assert!(
+                        out.kept_corners
+                            .iter()
+                            .any(|k| k.at.dist(j.at) <= tol * 1e-6),
+                        "{name}: {} at {tol}: {:?} joint at {:?} is not a kept corner",
+                        f.display(),
+                        j.class,
+                        j.at
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn every_shared_program_reads_and_smooths_within_tolerance() {
@@ -51,68 +111,37 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
         "expected the shared corpus, found {} files",
         files.len()
     );
-    let mut smoothed_files = 0;
-    let mut rejected = Vec::new();
-    for f in &files {
-        if f.ends_with("surface-raster-large.ngc") {
-            continue; // the benchmark's input; the small raster covers the same shape
-        }
-        let bytes = std::fs::read(f).unwrap();
-        let program = match fairpath_gcode::parse(&bytes) {
-            Ok(p) => p,
-            Err(e) => {
-                // Unsupported features, or malformed bytes (one gcode-rs
-                // file holds a stray control character): either way an
-                // error naming the line and column.
-                assert!(e.line >= 1 && e.column >= 1, "{}: {e}", f.display());
-                rejected.push(format!("{}: {e}", f.display()));
-                continue;
-            }
-        };
-        smoothed_files += 1;
-        for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
-            let method = by_name(name).unwrap();
-            for run in program.runs() {
-                let out = method
-                    .smooth_run(&run, tol)
-                    .unwrap_or_else(|e| panic!("{name}: {}: {e}", f.display()));
-                if name == "auto" {
-                    assert!(
-                        keeps_arc_joints(&out)
-                            || out
-                                .kept_corners
-                                .iter()
-                                .all(|k| k.reason != CornerReason::ArcJoint),
-                        "{name}: {}: a joint next to an arc is kept",
-                        f.display()
-                    );
-                }
-                let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
-                assert!(
-                    rep.within(tol),
-                    "{name}: {} at {tol}: deviation {} at {:?}, start gap {}, end gap {}",
-                    f.display(),
-                    rep.deviation_bound,
-                    rep.worst_at,
-                    rep.start_gap,
-                    rep.end_gap
-                );
-                for j in &rep.joints {
-                    if j.class != Continuity::G2 {
-                        assert!(
-                            out.kept_corners
-                                .iter()
-                                .any(|k| k.at.dist(j.at) <= tol * 1e-6),
-                            "{name}: {} at {tol}: {:?} joint at {:?} is not a kept corner",
-                            f.display(),
-                            j.class,
-                            j.at
-                        );
+    // The programs on every core, one program at a time per worker
+    // (`auto` smooths its candidates side by side as well; the other
+    // methods use one core each).
+    let files: Vec<&PathBuf> = files
+        .iter()
+        .filter(|f| !f.ends_with("surface-raster-large.ngc")) // the benchmark's input; the small raster covers the same shape
+        .collect();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let results: Vec<Result<(), String>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(f) = files.get(i) else {
+                            break mine;
+                        };
+                        mine.push(check_program(f));
                     }
-                }
-            }
-        }
-    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    let smoothed_files = results.iter().filter(|r| r.is_ok()).count();
+    let rejected: Vec<String> = results.into_iter().filter_map(Result::err).collect();
     eprintln!(
         "smoothed {smoothed_files} programs; rejected {}:",
         rejected.len()
