@@ -81,6 +81,80 @@ fn has_splines(text: &str) -> bool {
     ["G5", "G6.2", "G06.2"].iter().any(|g| text.contains(g))
 }
 
+/// What [`check_program`] did with one program.
+#[derive(Default)]
+struct Checked {
+    /// Its motion as read was compared with rs274's.
+    compared: bool,
+    /// Outputs written and run by rs274.
+    written: usize,
+    /// Why it was skipped, where rs274 rejects it.
+    skipped: Option<String>,
+}
+
+/// The checks of [`linuxcnc_reads_what_we_read_and_runs_what_we_write`]
+/// on the program `p`, writing its outputs to `out` (panics on a failure).
+fn check_program(p: &Path, out: &Path) -> Checked {
+    let mut checked = Checked::default();
+    let bytes = std::fs::read(p).unwrap();
+    match fairpath_gcode::parse(&bytes) {
+        Ok(prog) if !prog.pieces().is_empty() => {}
+        _ => return checked, // rejected by our reader, or nothing to smooth
+    }
+    let name = p.display().to_string();
+    let reference = match rs274(p) {
+        Ok(r) => r,
+        Err(e) => {
+            checked.skipped = Some(format!("{name}: rs274 rejects the original: {e}"));
+            return checked;
+        }
+    };
+    // Programs that move in machine coordinates or change offsets are
+    // not modelled position by position by our reader (see its docs).
+    let text = String::from_utf8_lossy(&bytes).to_uppercase();
+    let offsets = [
+        "G28", "G30", "G53", "G92", "G10", "G54", "G55", "G43", "G41", "G42", "G33", "G38", "G76",
+    ]
+    .iter()
+    .any(|g| text.contains(g))
+        || has_splines(&text);
+    if !offsets {
+        same(&ours(&bytes), &reference)
+            .unwrap_or_else(|e| panic!("{name}: reader disagrees with rs274: {e}"));
+        checked.compared = true;
+    }
+    // What we write, LinuxCNC runs, and it sees the moves we meant: the
+    // default output at both tolerances, and the other G-code forms
+    // LinuxCNC reads on the smaller programs.
+    let small = bytes.len() < 20_000;
+    for (tol, extra) in CONFIGS {
+        if !extra.is_empty() && !small {
+            continue;
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
+            .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
+            .args(["--tolerance", tol])
+            .args(*extra)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{name} {tol} {extra:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let theirs = rs274(out)
+            .unwrap_or_else(|e| panic!("{name} {tol} {extra:?}: rs274 rejects our output: {e}"));
+        // G5.2 blocks print as NURBS_FEED (no end points) in rs274.
+        if !offsets && !extra.contains(&"g5.2") {
+            same(&ours(&std::fs::read(out).unwrap()), &theirs).unwrap_or_else(|e| {
+                panic!("{name} {tol} {extra:?}: rs274 reads our output differently: {e}")
+            });
+        }
+        checked.written += 1;
+    }
+    checked
+}
+
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
@@ -93,69 +167,35 @@ fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let (mut compared, mut written) = (0, 0);
-    let mut skipped = Vec::new();
-    for p in programs() {
-        let bytes = std::fs::read(&p).unwrap();
-        match fairpath_gcode::parse(&bytes) {
-            Ok(prog) if !prog.pieces().is_empty() => {}
-            _ => continue, // rejected by our reader, or nothing to smooth
-        }
-        let name = p.display().to_string();
-        let reference = match rs274(&p) {
-            Ok(r) => r,
-            Err(e) => {
-                skipped.push(format!("{name}: rs274 rejects the original: {e}"));
-                continue;
-            }
-        };
-        // Programs that move in machine coordinates or change offsets are
-        // not modelled position by position by our reader (see its docs).
-        let text = String::from_utf8_lossy(&bytes).to_uppercase();
-        let offsets = [
-            "G28", "G30", "G53", "G92", "G10", "G54", "G55", "G43", "G41", "G42", "G33", "G38",
-            "G76",
-        ]
-        .iter()
-        .any(|g| text.contains(g))
-            || has_splines(&text);
-        if !offsets {
-            same(&ours(&bytes), &reference)
-                .unwrap_or_else(|e| panic!("{name}: reader disagrees with rs274: {e}"));
-            compared += 1;
-        }
-        // What we write, LinuxCNC runs, and it sees the moves we meant: the
-        // default output at both tolerances, and the other G-code forms
-        // LinuxCNC reads on the smaller programs.
-        let small = bytes.len() < 20_000;
-        for (tol, extra) in CONFIGS {
-            if !extra.is_empty() && !small {
-                continue;
-            }
-            let out = dir.path().join("out.ngc");
-            let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
-                .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
-                .args(["--tolerance", tol])
-                .args(*extra)
-                .output()
-                .unwrap();
-            assert!(
-                o.status.success(),
-                "{name} {tol} {extra:?}: {}",
-                String::from_utf8_lossy(&o.stderr)
-            );
-            let theirs = rs274(&out).unwrap_or_else(|e| {
-                panic!("{name} {tol} {extra:?}: rs274 rejects our output: {e}")
-            });
-            // G5.2 blocks print as NURBS_FEED (no end points) in rs274.
-            if !offsets && !extra.contains(&"g5.2") {
-                same(&ours(&std::fs::read(&out).unwrap()), &theirs).unwrap_or_else(|e| {
-                    panic!("{name} {tol} {extra:?}: rs274 reads our output differently: {e}")
-                });
-            }
-            written += 1;
-        }
-    }
+    // The programs on every core, one at a time per worker, each writing
+    // its own output file.
+    let programs = programs();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let results: Vec<Checked> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(p) = programs.get(i) else {
+                            break mine;
+                        };
+                        let out = dir.path().join(format!("out-{i}.ngc"));
+                        mine.push(check_program(p, &out));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    let compared = results.iter().filter(|r| r.compared).count();
+    let written: usize = results.iter().map(|r| r.written).sum();
+    let skipped: Vec<&String> = results.iter().filter_map(|r| r.skipped.as_ref()).collect();
     eprintln!("compared {compared} programs with rs274, {written} outputs run by rs274; skipped:");
     for s in &skipped {
         eprintln!("  {s}");
