@@ -97,7 +97,8 @@
 //! and of arcs between corners, then gets the best of both. The mix is
 //! planned as one run and kept only when it is faster than the best
 //! candidate for the whole run (and than the mixes of the other lengths),
-//! so `auto` stays no slower than any candidate.
+//! so `auto` stays no slower than any candidate; a mix whose cheap bound
+//! ([`Objective::bound`]) is not below the best time found is not costed.
 
 use super::candidates::{
     has_splines, is_g2, widens_sections, CandidateList, Input, Kind, Offered, SectionRule,
@@ -407,6 +408,13 @@ impl Smoother for Auto {
                     continue;
                 };
                 with_fair = mixed.chosen.contains(&FAIR);
+                // A mix whose cheap bound is not below the best time found
+                // cannot be kept: not costed.
+                if let (Some(b), Some(tw)) = (self.objective.bound(&mixed.pieces), time) {
+                    if b >= tw {
+                        continue;
+                    }
+                }
                 let t = self.objective.cost(&mixed.pieces);
                 if let (Some(t), Some(tw)) = (t, time) {
                     if t < tw {
@@ -633,6 +641,79 @@ mod tests {
             }
             d.len()
         });
+    }
+
+    /// [`PlannedTime`] as the cost, with a bound (`tight`: the cost itself;
+    /// else `f64::MAX`, which no cost found lies above).
+    #[derive(Debug, Default)]
+    struct BoundedBy {
+        tight: bool,
+        time: PlannedTime,
+    }
+
+    impl Objective for BoundedBy {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.time.cost(pieces)
+        }
+        fn bound(&self, pieces: &[Piece]) -> Option<f64> {
+            if self.tight {
+                self.cost(pieces)
+            } else {
+                Some(f64::MAX)
+            }
+        }
+    }
+
+    /// A raster of wavy passes joined by short step-overs between long
+    /// lines: its sections want fits and corner transitions.
+    fn wavy_raster() -> Run {
+        let mut pts = Vec::new();
+        for pass in 0..4 {
+            let y = 2.0 * pass as f64;
+            let xs: Vec<f64> = (0..=60).map(|k| 0.5 * k as f64).collect();
+            let row: Vec<Vec3> = xs
+                .iter()
+                .map(|&x| Vec3::new(x, y + 0.3 * (0.8 * x).sin(), 0.0))
+                .collect();
+            if pass % 2 == 0 {
+                pts.extend(row);
+            } else {
+                pts.extend(row.into_iter().rev());
+            }
+        }
+        Run::new(
+            pts.windows(2)
+                .enumerate()
+                .map(|(i, w)| Piece {
+                    curve: Curve::Line(Line::new(w[0], w[1])),
+                    rapid: false,
+                    source_lines: (i + 1, i + 1),
+                    feed: Some(3000.0),
+                })
+                .collect(),
+        )
+    }
+
+    #[test]
+    fn a_mix_whose_bound_is_above_the_best_time_is_not_kept_nor_changes_the_choice() {
+        let run = wavy_raster();
+        let plain = Auto::default().smooth_run(&run, 0.05).unwrap();
+        assert!(plain.chosen.len() > 1, "no mix chosen: {:?}", plain.chosen);
+        // A tight bound prunes only what cannot win: the same choice.
+        let tight = Auto::new(
+            AutoOptions::default(),
+            Arc::new(BoundedBy {
+                tight: true,
+                ..Default::default()
+            }),
+        );
+        let t = tight.smooth_run(&run, 0.05).unwrap();
+        assert_eq!(t.chosen, plain.chosen);
+        assert!(same_pieces(&t.pieces, &plain.pieces));
+        // A bound above every cost: no mix is costed, so none is kept.
+        let high = Auto::new(AutoOptions::default(), Arc::new(BoundedBy::default()));
+        let h = high.smooth_run(&run, 0.05).unwrap();
+        assert_eq!(h.chosen.len(), 1, "{:?}", h.chosen);
     }
 
     /// An objective that prices a run with an arc at `with_arcs`, else at
