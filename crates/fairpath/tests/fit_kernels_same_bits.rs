@@ -7,7 +7,8 @@
 
 use fairpath::geom::fit::{
     averaged_knots, chord_params, cubic_basis_d2_at_ends, cubic_basis_values, eval_in_span,
-    fit_cubic_weighted, span_errors, EndCondition, FitData, FitSystem, FIT_DEGREE,
+    fit_cubic_weighted, span_errors, span_errors_within, EndCondition, FitData, FitSystem,
+    FIT_DEGREE,
 };
 use fairpath::geom::least_squares::BandedSpd;
 use fairpath::geom::{point_segment_distance, Nurbs, Vec3};
@@ -249,6 +250,40 @@ proptest! {
                 let a: Vec<u64> = span_errors(c, &pts, &params).iter().map(|e| e.to_bits()).collect();
                 let b: Vec<u64> = reference_span_errors(c, &pts, &params).iter().map(|e| e.to_bits()).collect();
                 prop_assert_eq!(a, b);
+            }
+        }
+    }
+
+    /// The span bounds judged against a limit: every bound, to the bit,
+    /// where none exceeds it; else a bound above the limit and at most the
+    /// largest (the same verdict as the largest bound's).
+    #[test]
+    fn span_bounds_judged_against_a_limit_give_the_same_verdict(
+        pts in polyline(),
+        extra in 0usize..40,
+        share in 0.0f64..1.2,
+    ) {
+        let n = pts.len();
+        let params = chord_params(&pts);
+        let h = (4 + extra).min(n + 1).max(4);
+        let knots = averaged_knots(&params, h);
+        let free = (EndCondition::Free, EndCondition::Free);
+        let Some(c) = reference_fit(&pts, &params, &knots, free, (0.0, 0.0)) else {
+            return Ok(());
+        };
+        let all = span_errors(&c, &pts, &params);
+        let max = all.iter().copied().fold(0.0, f64::max);
+        let limit = share * max;
+        match span_errors_within(&c, &pts, &params, limit) {
+            Ok(errs) => {
+                prop_assert!(max <= limit);
+                let a: Vec<u64> = errs.iter().map(|e| e.to_bits()).collect();
+                let b: Vec<u64> = all.iter().map(|e| e.to_bits()).collect();
+                prop_assert_eq!(a, b);
+            }
+            Err(e) => {
+                prop_assert!(max > limit);
+                prop_assert!(e > limit && e <= max, "{} not in ({}, {}]", e, limit, max);
             }
         }
     }

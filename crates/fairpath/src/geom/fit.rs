@@ -32,7 +32,7 @@
 pub use super::cubic_span::{
     cubic_basis, cubic_basis_d2_at_ends, cubic_basis_values, eval_in_span, span_of,
 };
-pub use super::fit_bound::span_errors;
+pub use super::fit_bound::{span_errors, span_errors_within};
 pub use super::fit_knots::{averaged_knots, chord_params};
 pub use super::knot_insertion::{split_at_knots, with_spans_at_most};
 

@@ -30,6 +30,29 @@ use alloc::vec::Vec;
 /// `dist(C(t), polyline) <= max(d_g(C(a)), d_g(C(b))) + M (b - a)^2 / 8`,
 /// and the smallest of the three is kept. Time linear in the data and spans.
 pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
+    // No bound exceeds an infinite limit: the bounds of every span.
+    bounds_up_to(c, pts, params, f64::INFINITY).0
+}
+
+/// [`span_errors`], or, as soon as one span's bound exceeds `limit`,
+/// `Err` with that bound (the bounds of the other spans not computed): a
+/// fit that fails its target is known to fail for the price of the spans
+/// up to the first that misses it.
+pub fn span_errors_within(
+    c: &Nurbs,
+    pts: &[Vec3],
+    params: &[f64],
+    limit: f64,
+) -> Result<Vec<f64>, f64> {
+    match bounds_up_to(c, pts, params, limit) {
+        (err, None) => Ok(err),
+        (_, Some(e)) => Err(e),
+    }
+}
+
+/// The span bounds of [`span_errors`] up to the first that exceeds
+/// `limit`, and that bound (`None`: none does, every span bounded).
+fn bounds_up_to(c: &Nurbs, pts: &[Vec3], params: &[f64], limit: f64) -> (Vec<f64>, Option<f64>) {
     let h = c.points.len();
     let knots = &c.knots;
     let mut err = vec![0.0f64; h - FIT_DEGREE];
@@ -57,6 +80,10 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
         }
         // Data residual at t0.
         err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[i]));
+        if err[s - FIT_DEGREE] > limit {
+            let e = err[s - FIT_DEGREE];
+            return (err, Some(e));
+        }
         let mut a = t0;
         let lo_g = i.saturating_sub(1);
         let hi_g = (i + 1).min(n - 2);
@@ -79,6 +106,10 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
             }
             let e = &mut err[s - FIT_DEGREE];
             *e = e.max(best + sag);
+            if *e > limit {
+                let e = *e;
+                return (err, Some(e));
+            }
             at_a = (cb, c2b);
             a_dists = Some((lo_g, b_dists));
             if b >= t1 || s + 1 >= h {
@@ -93,9 +124,13 @@ pub fn span_errors(c: &Nurbs, pts: &[Vec3], params: &[f64]) -> Vec<f64> {
         }
         if i == n - 2 {
             err[s - FIT_DEGREE] = err[s - FIT_DEGREE].max(at_a.0.dist(pts[n - 1]));
+            if err[s - FIT_DEGREE] > limit {
+                let e = err[s - FIT_DEGREE];
+                return (err, Some(e));
+            }
         }
     }
-    err
+    (err, None)
 }
 
 /// Position and second derivative of a clamped cubic B-spline by

@@ -4,7 +4,9 @@
 //! span bounds, the control-point count by doubling and bisection, then
 //! knots inserted where the bound fails.
 
-use crate::geom::fit::{averaged_knots, span_errors, EndCondition, FitData, FitError, FitSystem};
+use crate::geom::fit::{
+    averaged_knots, span_errors, span_errors_within, EndCondition, FitData, FitError, FitSystem,
+};
 use crate::geom::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
@@ -61,7 +63,11 @@ const REFINE_ROUNDS: usize = 12;
 /// One attempt: the curve and its largest span bound, with the span bounds.
 pub(super) struct Attempt {
     pub(super) curve: Nurbs,
+    /// The bound of every span; empty where the attempt was only judged
+    /// ([`judge`]) and failed.
     pub(super) errs: Vec<f64>,
+    /// The largest span bound; for a judged attempt that failed, the first
+    /// bound found above the target (the largest is at least that).
     pub(super) max: f64,
 }
 
@@ -86,6 +92,55 @@ pub(super) fn attempt(
     max.is_finite().then_some(Attempt { curve, errs, max })
 }
 
+/// [`attempt`] where only whether it passes `target` is wanted: a fit that
+/// fails is known to fail at the first span whose bound exceeds `target`,
+/// and comes without its span bounds (`errs` empty; [`with_bounds`] adds
+/// them). The same verdict as [`attempt`]: its control points are finite
+/// (else `None`, as [`attempt`], whose bound is then infinite), so every
+/// span's bound is finite and the largest exceeds `target` exactly when
+/// one does.
+fn judge(
+    pts: &[Vec3],
+    params: &[f64],
+    knots: &[f64],
+    ends: (EndCondition, EndCondition),
+    (weights, target): ((f64, f64), f64),
+    (fits, cache): (&mut usize, &mut DataCache),
+) -> Option<Attempt> {
+    *fits += 1;
+    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
+        return None;
+    };
+    let system = cache
+        .system(params, knots, ends, (first, last), weights)
+        .ok()?;
+    let curve = system.solve(pts).ok()?;
+    if !curve.points.iter().all(|p| p.is_finite()) {
+        return None;
+    }
+    match span_errors_within(&curve, pts, params, target) {
+        Ok(errs) => {
+            let max = errs.iter().copied().fold(0.0, f64::max);
+            max.is_finite().then_some(Attempt { curve, errs, max })
+        }
+        Err(max) => max.is_finite().then_some(Attempt {
+            curve,
+            errs: Vec::new(),
+            max,
+        }),
+    }
+}
+
+/// `a` with the bound of every span (computed where [`judge`] left them
+/// out).
+fn with_bounds(mut a: Attempt, pts: &[Vec3], params: &[f64]) -> Attempt {
+    if a.errs.is_empty() {
+        a.errs = span_errors(&a.curve, pts, params);
+        a.max = a.errs.iter().copied().fold(0.0, f64::max);
+    }
+    a
+}
+
 /// Doubling, bisection, then knot insertion where the bound fails (module
 /// docs, step 6). Returns the passing curve with fewest control points.
 pub(super) fn search(
@@ -108,9 +163,18 @@ pub(super) fn search(
     // (Schoenberg-Whitney); with it, up to two per segment.
     let h_max = if smoothed { 2 * n + 8 } else { n + 1 }.max(h_min);
     let ends = (start, end);
+    // Only judged: the bounds of the last failing count are computed
+    // where the knot insertion starts from it.
     let mut try_count = |h: usize, fits: &mut usize| {
         let knots = averaged_knots(params, h);
-        attempt(pts, params, &knots, ends, weights, (fits, &mut *cache))
+        judge(
+            pts,
+            params,
+            &knots,
+            ends,
+            (weights, target),
+            (fits, &mut *cache),
+        )
     };
     let mut lo: Option<(usize, Attempt)> = None;
     let mut hi: Option<(usize, Attempt)> = None;
@@ -152,7 +216,8 @@ pub(super) fn search(
     let limit = hi.as_ref().map_or(usize::MAX, |(u, _)| *u);
     let min_span = min_span(params);
     let mut refined: Option<Attempt> = None;
-    if let Some((_, mut a)) = lo {
+    if let Some((_, a)) = lo {
+        let mut a = with_bounds(a, pts, params);
         for _ in 0..REFINE_ROUNDS {
             let knots = refine_knots(&a.curve.knots, &a.errs, target, min_span);
             if knots.len() - 4 >= limit || knots.len() == a.curve.knots.len() {
@@ -208,4 +273,49 @@ pub(super) fn refine_knots(knots: &[f64], errs: &[f64], target: f64, min_span: f
     }
     out.extend_from_slice(&knots[knots.len() - 3..]);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::fit::chord_params;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// A judged attempt passes or fails (or cannot be made) exactly as
+        /// the full attempt, and where it passes it is the full attempt.
+        #[test]
+        fn a_judged_attempt_has_the_full_attempts_verdict(
+            ys in prop::collection::vec(-1.0f64..1.0, 4..40),
+            extra in 0usize..40,
+            weight in prop_oneof![Just(0.0), 1e-6f64..1.0],
+            target in 1e-4f64..0.5,
+        ) {
+            let pts: Vec<Vec3> = ys
+                .iter()
+                .enumerate()
+                .map(|(i, &y)| Vec3::new(i as f64, y, 0.0))
+                .collect();
+            let params = chord_params(&pts);
+            let h = (4 + extra).min(pts.len()).max(4);
+            let knots = averaged_knots(&params, h);
+            let free = (EndCondition::Free, EndCondition::Free);
+            let w = (weight, 0.0);
+            let full = attempt(&pts, &params, &knots, free, w, (&mut 0, &mut DataCache::default()));
+            let judged = judge(&pts, &params, &knots, free, (w, target), (&mut 0, &mut DataCache::default()));
+            prop_assert_eq!(full.is_some(), judged.is_some());
+            if let (Some(f), Some(j)) = (full, judged) {
+                prop_assert_eq!(f.max <= target, j.max <= target);
+                if f.max <= target {
+                    prop_assert_eq!(f.max.to_bits(), j.max.to_bits());
+                    prop_assert_eq!(f.errs, j.errs);
+                } else {
+                    let j = with_bounds(j, &pts, &params);
+                    prop_assert_eq!(f.max.to_bits(), j.max.to_bits());
+                }
+            }
+        }
+    }
 }
