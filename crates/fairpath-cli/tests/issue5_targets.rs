@@ -105,19 +105,24 @@ fn time(rows: &[Row], method: &str) -> f64 {
 }
 
 /// Compares `methods` on each of `programs` that is found under
-/// `../shared/paths` and hands its rows to `check`; prints how many were
-/// found.
-fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Path, &[Row])) {
-    let mut seen = 0;
-    for &rel in programs {
-        let Some(path) = shared(rel) else {
-            eprintln!("{rel} not found: skipped");
-            continue;
-        };
-        seen += 1;
-        check(rel, &path, &rows(&path, methods));
-    }
-    println!("{seen} of {} programs found", programs.len());
+/// `../shared/paths` and hands its rows to `check`, the programs on every
+/// core (`fairpath::pipeline::par_map`); prints how many were found.
+fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Path, &[Row]) + Sync) {
+    let found: Vec<(&str, PathBuf)> = programs
+        .iter()
+        .filter_map(|&rel| {
+            let path = shared(rel);
+            if path.is_none() {
+                eprintln!("{rel} not found: skipped");
+            }
+            path.map(|p| (rel, p))
+        })
+        .collect();
+    fairpath::pipeline::par_map(found.len(), |i| {
+        let (rel, path) = &found[i];
+        check(rel, path, &rows(path, methods));
+    });
+    println!("{} of {} programs found", found.len(), programs.len());
 }
 
 #[test]
