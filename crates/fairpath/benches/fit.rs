@@ -8,8 +8,8 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use fairpath::geom::fit::EndCondition;
-use fairpath::geom::{Curve, Line, Vec3};
-use fairpath::path::{Piece, Run};
+use fairpath::geom::Vec3;
+use fairpath::path::Run;
 use fairpath::smooth::{fit_polyline, BsplineFit, Smoother, BAND_USE};
 
 /// `n` points of a wavy 3D curve, 0.9 mm apart in x, rounded to 1 um.
@@ -26,17 +26,7 @@ fn wavy(n: usize) -> Vec<Vec3> {
 }
 
 fn run_of(pts: &[Vec3]) -> Run {
-    Run::new(
-        pts.windows(2)
-            .enumerate()
-            .map(|(i, w)| Piece {
-                curve: Curve::Line(Line::new(w[0], w[1])),
-                rapid: false,
-                source_lines: (i + 1, i + 1),
-                feed: Some(4000.0),
-            })
-            .collect(),
-    )
+    Run::polyline(pts, Some(4000.0))
 }
 
 fn bench(c: &mut Criterion) {

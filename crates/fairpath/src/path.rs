@@ -1,7 +1,7 @@
 //! Tool paths as the rest of the library sees them: pieces of geometry with
 //! the input lines they come from, grouped in runs of feed moves.
 
-use crate::geom::{Curve, ParamCurve, Vec3};
+use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use alloc::vec::Vec;
 
 /// One move of a tool path, in mm.
@@ -37,6 +37,22 @@ impl Run {
     pub fn new(pieces: Vec<Piece>) -> Run {
         Run { pieces }
     }
+    /// A run of feed moves along the lines through `pts` in order, every
+    /// move at `feed` (mm/min), move `i` from input line `i + 1` (a CAM
+    /// system's G1 program, as a caller without a reader builds it).
+    pub fn polyline(pts: &[Vec3], feed: Option<f64>) -> Run {
+        Run::new(
+            pts.windows(2)
+                .enumerate()
+                .map(|(i, w)| Piece {
+                    curve: Curve::Line(Line::new(w[0], w[1])),
+                    rapid: false,
+                    source_lines: (i + 1, i + 1),
+                    feed,
+                })
+                .collect(),
+        )
+    }
     pub fn start(&self) -> Option<Vec3> {
         self.pieces.first().map(|p| p.start())
     }
@@ -50,5 +66,28 @@ impl Run {
             .iter()
             .map(|p| p.curve.length(accuracy / n))
             .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_polyline_run_joins_its_points_in_order() {
+        let pts = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(3.0, 4.0, 0.0),
+            Vec3::new(3.0, 4.0, 2.0),
+        ];
+        let run = Run::polyline(&pts, Some(600.0));
+        assert_eq!(run.pieces.len(), 2);
+        assert_eq!(run.start(), Some(pts[0]));
+        assert_eq!(run.end(), Some(pts[2]));
+        assert_eq!(run.pieces[0].end(), run.pieces[1].start());
+        assert_eq!(run.pieces[1].source_lines, (2, 2));
+        assert!(run.pieces.iter().all(|p| p.feed == Some(600.0) && !p.rapid));
+        assert_eq!(run.length(1e-9), 7.0);
+        assert!(Run::polyline(&pts[..1], None).pieces.is_empty());
     }
 }

@@ -681,17 +681,7 @@ mod tests {
                 pts.extend(row.into_iter().rev());
             }
         }
-        Run::new(
-            pts.windows(2)
-                .enumerate()
-                .map(|(i, w)| Piece {
-                    curve: Curve::Line(Line::new(w[0], w[1])),
-                    rapid: false,
-                    source_lines: (i + 1, i + 1),
-                    feed: Some(3000.0),
-                })
-                .collect(),
-        )
+        Run::polyline(&pts, Some(3000.0))
     }
 
     #[test]

@@ -71,6 +71,26 @@ pub(super) struct Attempt {
     pub(super) max: f64,
 }
 
+/// The least-squares fit of one attempt (counted in `fits`), or `None`
+/// where its system cannot be built or solved.
+fn solve(
+    pts: &[Vec3],
+    params: &[f64],
+    knots: &[f64],
+    ends: (EndCondition, EndCondition),
+    weights: (f64, f64),
+    (fits, cache): (&mut usize, &mut DataCache),
+) -> Option<Nurbs> {
+    *fits += 1;
+    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
+        return None;
+    };
+    let system = cache
+        .system(params, knots, ends, (first, last), weights)
+        .ok()?;
+    system.solve(pts).ok()
+}
+
 pub(super) fn attempt(
     pts: &[Vec3],
     params: &[f64],
@@ -79,14 +99,7 @@ pub(super) fn attempt(
     weights: (f64, f64),
     (fits, cache): (&mut usize, &mut DataCache),
 ) -> Option<Attempt> {
-    *fits += 1;
-    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
-        return None;
-    };
-    let system = cache
-        .system(params, knots, ends, (first, last), weights)
-        .ok()?;
-    let curve = system.solve(pts).ok()?;
+    let curve = solve(pts, params, knots, ends, weights, (fits, cache))?;
     let errs = span_errors(&curve, pts, params);
     let max = errs.iter().copied().fold(0.0, f64::max);
     max.is_finite().then_some(Attempt { curve, errs, max })
@@ -107,14 +120,7 @@ fn judge(
     (weights, target): ((f64, f64), f64),
     (fits, cache): (&mut usize, &mut DataCache),
 ) -> Option<Attempt> {
-    *fits += 1;
-    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
-        return None;
-    };
-    let system = cache
-        .system(params, knots, ends, (first, last), weights)
-        .ok()?;
-    let curve = system.solve(pts).ok()?;
+    let curve = solve(pts, params, knots, ends, weights, (fits, cache))?;
     if !curve.points.iter().all(|p| p.is_finite()) {
         return None;
     }
