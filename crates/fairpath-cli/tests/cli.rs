@@ -617,6 +617,43 @@ fn method_options_are_checked_at_the_front_door() {
     assert_ok(&check(&input, &out, "0.05mm"), "check");
 }
 
+/// `fair`'s peak pass is an option of its own: off (the thesis' method
+/// alone) or on speed caps of the user's choosing; caps that are not
+/// positive numbers are refused at the front door, naming the option and
+/// leaving no output.
+#[test]
+fn fair_peak_pass_is_an_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("rippled.ngc");
+    std::fs::write(&input, rippled_g6_2()).unwrap();
+    let out = dir.path().join("out.ngc");
+    let file = dir.path().join("opts.toml");
+    let f = file.to_str().unwrap();
+    for ok in [
+        "peak_pass = \"off\"\n",
+        "peak_pass = \"curvature\"\n",
+        "[peak_pass.speed-caps]\nmax_feed = 200.0\nnormal_acc = 2000.0\njerk = 10000.0\n",
+    ] {
+        std::fs::write(&file, ok).unwrap();
+        let o = smooth(&input, &out, "0.125mm", &["-m", "fair", "--options", f]);
+        assert_ok(&o, ok);
+        assert_ok(&check(&input, &out, "0.125mm"), ok);
+        std::fs::remove_file(&out).unwrap();
+    }
+    std::fs::write(
+        &file,
+        "[peak_pass.speed-caps]\nmax_feed = -1.0\nnormal_acc = 2000.0\njerk = 10000.0\n",
+    )
+    .unwrap();
+    let o = smooth(&input, &out, "0.125mm", &["-m", "fair", "--options", f]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("peak_pass") && e.contains("-1"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
 /// A G6.2 program of the thesis' case 5 kind: a cubic NURBS (P4, unit
 /// weights) along a 100 mm line with two of its 32 control points
 /// displaced 0.2 mm.

@@ -304,6 +304,87 @@ fn a_closed_path_is_faired_round_its_seam() {
     }
 }
 
+/// A smooth design curve (the thesis' case 1 kind; `thesis_cases`'s
+/// `design-wave`: 62 control points on two harmonics, 640 mm). The
+/// thesis' iterations alone move each smooth group nearly as one and leave
+/// its peak curvature where it was; fairpath's full model planned them
+/// slower (3.921 -> 3.934 s at R = 0.25). With the peak pass, at every
+/// radius the peak and average curvature and the planned time under the
+/// full model fall, the curve stays in the tube, and the pass kept moves.
+#[test]
+fn design_wave_peak_curvature_average_curvature_and_time_fall_at_every_radius() {
+    use fairpath::feed::limits::MachineLimits;
+    use fairpath::feed::plan::{PlanOptions, RunEnds};
+    use fairpath::feed::program::{simulate_with, Motion};
+    use fairpath::geom::tube_fair::PeakPass;
+    let pts: Vec<Vec3> = (0..62)
+        .map(|i| {
+            let x = 640.0 * i as f64 / 61.0;
+            let tau = 2.0 * std::f64::consts::PI;
+            v(
+                x,
+                40.0 * (tau * x / 320.0).sin() + 8.0 * (tau * x / 80.0).sin(),
+                0.0,
+            )
+        })
+        .collect();
+    let c = spline(pts);
+    let time = |c: &Nurbs| {
+        let opts = PlanOptions {
+            limits: MachineLimits::thesis(),
+            override_feed: true,
+            window: None,
+            ends: RunEnds::AtRest,
+        };
+        let run = Run::new(vec![piece(c)]);
+        simulate_with(&[Motion::Feed(run)], &opts).unwrap().time()
+    };
+    let (k0, p0, _) = metrics(&c);
+    let t0 = time(&c);
+    for r in RADII {
+        let thesis_only = TubeFairOptions {
+            peak_pass: PeakPass::Off,
+            ..TubeFairOptions::new(r)
+        };
+        let bare = fair_in_tube(&c, &thesis_only).unwrap();
+        assert_eq!(bare.peak_pass.moves, 0);
+        let f = fair_in_tube(&c, &TubeFairOptions::new(r)).unwrap();
+        check_in_tube(&c, &f, r).unwrap();
+        assert!(f.peak_pass.moves > 0, "R {r}");
+        let (k, p, _) = metrics(&f.curve);
+        let t = time(&f.curve);
+        assert!(
+            k < k0 && p < p0 && t < t0,
+            "R {r}: {k} {p} {t} against {k0} {p0} {t0}"
+        );
+        assert!(
+            t < time(&bare.curve),
+            "R {r}: the pass gains over the thesis' iterations"
+        );
+    }
+}
+
+/// The pass's speed caps by default are the default machine's (the
+/// CLI's, `MachineLimits::thesis()`).
+#[test]
+fn the_peak_pass_defaults_to_the_default_machine() {
+    use fairpath::feed::limits::MachineLimits;
+    use fairpath::geom::tube_fair::PeakPass;
+    let m = MachineLimits::thesis();
+    assert_eq!(
+        TubeFairOptions::new(0.1).peak_pass,
+        PeakPass::SpeedCaps {
+            max_feed: m.max_feed,
+            normal_acc: m.normal_acc,
+            jerk: m.jerk
+        }
+    );
+    assert_eq!(
+        FairOptions::default().peak_pass,
+        TubeFairOptions::new(0.1).peak_pass
+    );
+}
+
 /// The thesis' reported failure (section 5.1): in a wide tube a U turns
 /// into a V with sharp corners. Without the guard the fairing does that
 /// (the peak curvature grows many times); with it, no span's peak rises

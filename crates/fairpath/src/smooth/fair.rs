@@ -61,8 +61,8 @@ use crate::budget::{BAND_USE, FAIR_FIT_SHARE};
 use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::guard::PEAK_SAMPLES;
 use crate::geom::tube_fair::{
-    as_fairable, fair_in_tube, EndRule, TubeFairError, TubeFairOptions, DEFAULT_MAX_ITERATIONS,
-    THESIS_ACCURACY, THESIS_PRECISION,
+    as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
+    DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
 use crate::geom::{total_curvature, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
@@ -98,6 +98,11 @@ pub struct FairOptions {
     /// Put back moves that raise the peak curvature locally (the thesis'
     /// U-to-V failure).
     pub peak_guard: bool,
+    /// After the thesis' iterations, lower the highest curvature peaks
+    /// with the room left in the tube (ours: the thesis' iterations stop
+    /// where the curve first touches the tube and carry the top of a wide
+    /// bend along unchanged; `geom::tube_fair::peak`).
+    pub peak_pass: PeakPass,
     /// How runs of lines are fitted before they are faired.
     pub lines: LineFit,
 }
@@ -154,6 +159,7 @@ impl Default for FairOptions {
             max_iterations: DEFAULT_MAX_ITERATIONS,
             ends: EndRule::Pinned,
             peak_guard: true,
+            peak_pass: PeakPass::DEFAULT_MACHINE,
             lines: LineFit::Fairer,
         }
     }
@@ -206,6 +212,7 @@ impl FairOptions {
             keep_g2_start: keep_start,
             keep_g2_end: keep_end,
             peak_guard: self.peak_guard,
+            peak_pass: self.peak_pass,
         }
     }
 }
@@ -360,7 +367,10 @@ impl Fair {
             } else {
                 (1.0 - o.fit_share) * tolerance
             };
-            let opts = o.tube(o.band_use * room, i > 0, i + 1 < n);
+            let mut opts = o.tube(o.band_use * room, i > 0, i + 1 < n);
+            // The peak pass works only where the shape, not the programmed
+            // feed (mm/min), limits the speed.
+            opts.peak_pass = opts.peak_pass.at_feed(piece.feed.map(|f| f / 60.0));
             match as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)) {
                 // Unmoved: the curve as written (not its cubic form).
                 Ok(f) if f.iterations.is_empty() => {}

@@ -74,12 +74,14 @@ pub mod categories;
 pub mod directions;
 pub mod guard;
 mod iterate;
+pub mod peak;
 pub mod polygon;
 pub mod sensitivity;
 mod spans;
 pub mod tube;
 
 pub use directions::{APEX_WEIGHT, MIN_END_LEG_SHARE, RIPPLE_REACH_SHARE, STILL_SHARE};
+pub use peak::PeakPass;
 
 use super::elevate::ElevateError;
 use super::{Nurbs, NurbsError};
@@ -157,11 +159,15 @@ pub struct TubeFairOptions {
     pub keep_g2_end: bool,
     /// Put back moves that raise the peak curvature locally ([`guard`]).
     pub peak_guard: bool,
+    /// After the thesis' iterations, lower the highest peaks of curvature
+    /// or of what it costs a planner with the room left in the tube
+    /// ([`peak`], ours); [`PeakPass::Off`] for the thesis' method alone.
+    pub peak_pass: PeakPass,
 }
 
 impl TubeFairOptions {
     /// The thesis' settings for a tube of radius `radius`, ends pinned,
-    /// the guard on.
+    /// the guard on, the peak pass on the default machine's speed caps.
     pub fn new(radius: f64) -> TubeFairOptions {
         TubeFairOptions {
             radius,
@@ -172,6 +178,7 @@ impl TubeFairOptions {
             keep_g2_start: false,
             keep_g2_end: false,
             peak_guard: true,
+            peak_pass: PeakPass::DEFAULT_MACHINE,
         }
     }
 
@@ -203,6 +210,13 @@ impl TubeFairOptions {
         let n = self.max_iterations;
         if !(1..=MAX_ITERATIONS).contains(&n) {
             return bad("max_iterations", format!("{n}"), "must be in 1..=100000");
+        }
+        if !self.peak_pass.is_valid() {
+            return bad(
+                "peak_pass",
+                format!("{:?}", self.peak_pass),
+                "its limits must be positive numbers",
+            );
         }
         Ok(())
     }
@@ -330,6 +344,8 @@ pub struct Faired {
     pub deviation_bound: f64,
     /// That distance sampled (mm).
     pub max_deviation: f64,
+    /// What the peak pass did (all zero when it is off).
+    pub peak_pass: peak::PeakPassRecord,
 }
 
 /// Fairs the clamped non-rational cubic B-spline `curve` inside a tube of
@@ -386,7 +402,39 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         legs,
         opts,
     };
-    let out = setup.run();
+    let mut out = setup.run();
+    let mut peak_pass = peak::PeakPassRecord::default();
+    if opts.peak_pass != PeakPass::Off {
+        let reference = guard::PeakReference::new(u, pts, opts.accuracy);
+        let movable = (0..m)
+            .map(|i| {
+                // Ring point of control point i (a closed path's last is
+                // the seam), and whether the end rule lets it turn the
+                // end tangent.
+                let ring = if closed && i == m - 1 { 0 } else { i };
+                let next_to_end = i == 1 || i + 2 == m;
+                let slides = next_to_end && opts.ends == EndRule::SlideAlongTangent;
+                !setup.pinned[ring] && !slides
+            })
+            .collect();
+        let pass = peak::Lowering {
+            knots: u,
+            orig: pts,
+            movable,
+            radius: opts.radius,
+            resolution: opts.resolution(),
+            reference: opts.peak_guard.then_some(&reference),
+            measure: opts.peak_pass,
+            floor: reference.floor,
+            bound: out.bound,
+        };
+        peak_pass = pass.run(&mut out.points);
+        if peak_pass.moves > 0 {
+            out.bound = peak_pass.deviation_bound;
+            let diff = tube::difference(&out.points, pts);
+            out.sampled = tube::sampled_deviation(&diff, u, opts.precision);
+        }
+    }
     let mut faired = curve.clone();
     faired.points = out.points;
     debug_assert!(faired.points[0] == pts[0] && faired.points[m - 1] == pts[m - 1]);
@@ -398,5 +446,6 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         undone: out.undone,
         deviation_bound: out.bound,
         max_deviation: out.sampled,
+        peak_pass,
     })
 }

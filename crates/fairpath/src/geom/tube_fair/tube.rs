@@ -70,11 +70,17 @@ pub fn hull_bound(diff: &[Vec3]) -> f64 {
 /// so far (at piece ends and middles) cannot hold a larger maximum than
 /// that bound, and is accepted; others are halved.
 pub fn deviation_bound(diff: &[Vec3], knots: &[f64], tol: f64) -> f64 {
+    deviation_bound_on(diff, knots, &nonempty_spans(knots, diff.len()), tol)
+}
+
+/// [`deviation_bound`] over the non-empty knot spans `spans` only (knot
+/// indices: span `s` runs from `knots[s]` to `knots[s + 1]`): a sure bound
+/// of `|D(t)|` there, within `tol` of the largest value on them.
+pub fn deviation_bound_on(diff: &[Vec3], knots: &[f64], spans: &[usize], tol: f64) -> f64 {
     let hull = |b: &[Vec3; 4]| b.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    let spans = nonempty_spans(knots, diff.len());
     let mut stack: Vec<([Vec3; 4], u32)> = Vec::with_capacity(spans.len());
     let mut found: f64 = 0.0;
-    for &s in &spans {
+    for &s in spans {
         let b = bezier_of_span(knots, diff, s);
         found = found
             .max(b[0].norm())

@@ -1,0 +1,548 @@
+//! The peak pass (ours, beyond the thesis): after the thesis' iterations
+//! stop, the highest curvature peaks are lowered one at a time with the
+//! room the tube still has around them.
+//!
+//! Why: the thesis' iterations move every point by one global allowance
+//! (eq. 3-39) and stop as soon as the curve touches the tube anywhere; and
+//! they move the points of a smooth group nearly as one (the 9.0 weight
+//! of eq. 3-31 sends each along its apex's direction), which lowers the
+//! curvature where groups meet but carries the top of a wide bend along
+//! unchanged. On a smooth design curve (the thesis' case 1) that leaves
+//! the peak curvature, which caps the feed at `sqrt(A / k)`, where it was:
+//! our design wave kept its 0.0570 1/mm at every radius, and planned
+//! slower under fairpath's full model. A machinist's fairing lowers the
+//! tightest bend first.
+//!
+//! One move: take the span with the highest sampled peak
+//! ([`PeakPass::span_shape`]); for each of its four control points that may move, try
+//! moving it towards the chord of its neighbours (its bisector, as the
+//! thesis moves a ripple point, eqs. 3-23 to 3-25) by [`TRIAL_STEPS`]
+//! distances, halving from [`RIPPLE_REACH_SHARE`] of the way to that chord
+//! (at most the radius); keep the trial whose four spans' highest peak is
+//! lowest, if it is below the peak being lowered, the spans are inside the
+//! tube on the sure bound ([`deviation_bound_on`], within `accuracy * R`),
+//! and (with the guard) no span rises over the original's peaks near it
+//! ([`PeakReference::is_rise`]). A span whose peak no trial lowers is
+//! left, and the next highest is taken. Each kept move lowers the highest
+//! peak of the spans it touches below the peak it was made for and changes
+//! no other span, so the curve's highest peak never rises, and falls
+//! wherever a move lowers the top one. The pass stops when no span is
+//! left above the floor (`accuracy` times the original's highest peak) or
+//! after [`MOVES_PER_POINT`] moves per control point.
+
+use super::directions::RIPPLE_REACH_SHARE;
+use super::guard::{PeakReference, PEAK_SAMPLES};
+use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
+use super::tube::deviation_bound_on;
+use crate::geom::{curvature_from, Vec3};
+use crate::math;
+use alloc::collections::BinaryHeap;
+use alloc::vec;
+use alloc::vec::Vec;
+
+/// Trial distances per candidate point: the largest, then halved (ours:
+/// four halvings reach a sixteenth of the way, enough to settle two
+/// neighbouring points against each other).
+pub const TRIAL_STEPS: usize = 5;
+
+/// Most moves per control point (ours): bounds the work by the size of
+/// the curve, whatever the radius.
+pub const MOVES_PER_POINT: usize = 4;
+
+/// Whether the peak pass runs, and what it lowers, span by span: the
+/// highest value of a demand sampled at [`PEAK_SAMPLES`] equal steps of
+/// each knot span.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case", deny_unknown_fields)
+)]
+pub enum PeakPass {
+    /// No peak pass: the thesis' iterations alone.
+    Off,
+    /// The curvature `k` (1/mm): the thesis' time model caps the speed at
+    /// `sqrt(A / k)` only (its section 4.5), so lowering the highest `k`
+    /// raises the lowest cap of that model, whatever the machine.
+    Curvature,
+    /// The inverse of the lowest speed cap that the curve's shape sets
+    /// under a jerk-limited planner (fairpath's full model,
+    /// `docs/planning.md`): `v <= sqrt(A / k)` (normal acceleration),
+    /// `v <= cbrt(J / k^2)` (normal jerk: `k^2 v^3 <= J` at a constant
+    /// speed) and `v <= cbrt(J / |dk/ds|)` (the jerk of a turning
+    /// curvature: `|dk/ds| v^3 <= J`), and `max_feed` above them all.
+    /// Lowering curvature alone can steepen `dk/ds` where it spreads a
+    /// bend, and slow such a planner; this measure weighs both.
+    SpeedCaps {
+        /// Largest feed (mm/s): where the shape allows more, it is not
+        /// the limit and the span is left alone.
+        max_feed: f64,
+        /// Normal acceleration limit `A` (mm/s^2).
+        normal_acc: f64,
+        /// Jerk limit `J` (mm/s^3).
+        jerk: f64,
+    },
+}
+
+impl PeakPass {
+    /// The speed caps of fairpath's default machine (the thesis' own:
+    /// 400 mm/s, 4000 mm/s^2, 20000 mm/s^3, its section 4.5), which
+    /// `feed::limits::MachineLimits::thesis()`, the CLI's default, also holds.
+    pub const DEFAULT_MACHINE: PeakPass = PeakPass::SpeedCaps {
+        max_feed: 400.0,
+        normal_acc: 4000.0,
+        jerk: 20000.0,
+    };
+
+    /// The pass for a curve programmed at `feed` (mm/s, if any): the speed
+    /// caps' `max_feed` lowered to that feed. Where the program asks for
+    /// less speed than the shape allows, lowering the shape's demand buys
+    /// nothing, and the moves (which may widen a bend) would only add
+    /// length, which costs time at such a feed.
+    pub fn at_feed(self, feed: Option<f64>) -> PeakPass {
+        match (self, feed) {
+            (
+                PeakPass::SpeedCaps {
+                    max_feed,
+                    normal_acc,
+                    jerk,
+                },
+                Some(f),
+            ) if f > 0.0 && f < max_feed => PeakPass::SpeedCaps {
+                max_feed: f,
+                normal_acc,
+                jerk,
+            },
+            (pass, _) => pass,
+        }
+    }
+
+    /// Whether every number is finite and positive.
+    pub fn is_valid(&self) -> bool {
+        match *self {
+            PeakPass::Off | PeakPass::Curvature => true,
+            PeakPass::SpeedCaps {
+                max_feed,
+                normal_acc,
+                jerk,
+            } => [max_feed, normal_acc, jerk]
+                .iter()
+                .all(|x| x.is_finite() && *x > 0.0),
+        }
+    }
+
+    /// The demand at a point of curvature `k` (1/mm) and curvature rate
+    /// `k_s = dk/ds` (1/mm^2).
+    fn demand(&self, k: f64, k_s: f64) -> f64 {
+        match *self {
+            PeakPass::Off | PeakPass::Curvature => k,
+            PeakPass::SpeedCaps {
+                max_feed,
+                normal_acc,
+                jerk,
+            } => (1.0 / max_feed)
+                .max(math::sqrt(k / normal_acc))
+                .max(math::cbrt(k * k / jerk))
+                .max(math::cbrt(math::abs(k_s) / jerk)),
+        }
+    }
+
+    /// The demand's floor: below it nothing is gained (the feed, not the
+    /// shape, is the limit; or, for curvature, `floor`).
+    fn floor(&self, curvature_floor: f64) -> f64 {
+        match *self {
+            PeakPass::Off | PeakPass::Curvature => curvature_floor,
+            PeakPass::SpeedCaps { max_feed, .. } => 1.0 / max_feed,
+        }
+    }
+
+    /// What the pass weighs on the non-empty span `s` of the clamped cubic
+    /// (`knots`, `pts`), sampled as [`super::guard::span_peak`] samples
+    /// curvature.
+    pub fn span_shape(&self, knots: &[f64], pts: &[Vec3], s: usize) -> SpanShape {
+        let b = bezier_of_span(knots, pts, s);
+        let d3 = (b[3] - b[2] * 3.0 + b[1] * 3.0 - b[0]) * 6.0;
+        let mut shape = SpanShape::default();
+        let h = 1.0 / PEAK_SAMPLES as f64;
+        for j in 0..=PEAK_SAMPLES {
+            let (d1, d2) = bezier_derivatives(&b, j as f64 * h);
+            let k = curvature_from(d1, d2);
+            let k_s = match self {
+                PeakPass::Off | PeakPass::Curvature => 0.0,
+                PeakPass::SpeedCaps { .. } => curvature_rate(d1, d2, d3),
+            };
+            shape.demand = shape.demand.max(self.demand(k, k_s));
+            shape.peak = shape.peak.max(k);
+            // Simpson's rule over the samples (an even number of steps).
+            let w = if j == 0 || j == PEAK_SAMPLES {
+                1.0
+            } else if j % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            shape.turning += w * h / 3.0 * k * d1.norm();
+        }
+        shape
+    }
+}
+
+/// What the peak pass weighs on one knot span.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpanShape {
+    /// Highest sampled demand ([`PeakPass`]).
+    pub demand: f64,
+    /// Highest sampled curvature (1/mm): what the guard compares.
+    pub peak: f64,
+    /// Turning `integral |k| ds` (radians, Simpson's rule on the samples):
+    /// a move may not add to the turning of the spans it changes, so the
+    /// pass never buys a lower peak with new wiggles (a bend widened
+    /// outwards turns as much as before; a ripple added turns more).
+    pub turning: f64,
+}
+
+/// `dk/ds` (1/mm^2) of a curve with derivatives `d1`, `d2`, `d3` in any
+/// parameter: with `c = d1 x d2`, `k = |c| / |d1|^3` and
+/// `dk/dt = (c . (d1 x d3)) / (|c| |d1|^3) - 3 |c| (d1 . d2) / |d1|^5`,
+/// divided by `|d1|` (the chain rule); at an inflection (`c = 0`) the
+/// one-sided `|d1 x d3| / |d1|^4`. 0 where the curve stops (`d1 = 0`).
+pub fn curvature_rate(d1: Vec3, d2: Vec3, d3: Vec3) -> f64 {
+    let s = d1.norm();
+    if s == 0.0 {
+        return 0.0;
+    }
+    let c = d1.cross(d2);
+    let cn = c.norm();
+    let s3 = s * s * s;
+    if cn == 0.0 {
+        return d1.cross(d3).norm() / (s3 * s);
+    }
+    (c.dot(d1.cross(d3)) / (cn * s3) - 3.0 * cn * d1.dot(d2) / (s3 * s * s)) / s
+}
+
+/// What the peak pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PeakPassRecord {
+    /// Moves kept.
+    pub moves: usize,
+    /// Highest span demand ([`PeakPass`]) before and after.
+    pub peak_before: f64,
+    pub peak_after: f64,
+    /// Sure bound of the result's distance from the original (mm, at
+    /// most the radius): the largest of the spans' bounds.
+    pub deviation_bound: f64,
+}
+
+/// The curve the pass works on and what bounds it.
+pub(super) struct Lowering<'a> {
+    pub knots: &'a [f64],
+    pub orig: &'a [Vec3],
+    /// Control points the pass may move.
+    pub movable: Vec<bool>,
+    pub radius: f64,
+    /// `accuracy * R`: the tightness of the sure bound.
+    pub resolution: f64,
+    /// The guard's reference, when the guard is on.
+    pub reference: Option<&'a PeakReference>,
+    /// What is lowered (not [`PeakPass::Off`]).
+    pub measure: PeakPass,
+    /// `accuracy` times the original's highest curvature peak: with
+    /// [`PeakPass::Curvature`], spans at or below it are left alone.
+    pub floor: f64,
+    /// Sure bound of the starting curve's distance from the original (mm).
+    pub bound: f64,
+}
+
+/// A span peak in the heap, ordered by its bits (peaks are finite and not
+/// negative, and such floats order as their bits do).
+type Entry = (u64, usize);
+
+impl Lowering<'_> {
+    /// The non-empty spans control point `j` belongs to.
+    fn spans_of(&self, j: usize) -> impl Iterator<Item = usize> + '_ {
+        let m = self.orig.len();
+        (j.max(DEGREE)..=(j + DEGREE).min(m - 1)).filter(|&s| self.knots[s] < self.knots[s + 1])
+    }
+
+    /// Lowers the peaks of `cur` (see the module documentation).
+    pub fn run(&self, cur: &mut [Vec3]) -> PeakPassRecord {
+        let (knots, m) = (self.knots, self.orig.len());
+        let spans = nonempty_spans(knots, m);
+        let floor = self.measure.floor(self.floor);
+        let mut peak = vec![0.0f64; m];
+        let mut heap: BinaryHeap<Entry> = BinaryHeap::with_capacity(spans.len());
+        for &s in &spans {
+            peak[s] = self.measure.span_shape(knots, cur, s).demand;
+            if peak[s].is_finite() && peak[s] > floor {
+                heap.push((peak[s].to_bits(), s));
+            }
+        }
+        let top = |peak: &[f64]| spans.iter().map(|&s| peak[s]).fold(0.0, f64::max);
+        let mut record = PeakPassRecord {
+            peak_before: top(&peak),
+            ..PeakPassRecord::default()
+        };
+        let mut diff: Vec<Vec3> = cur.iter().zip(self.orig).map(|(p, q)| *p - *q).collect();
+        // The sure bound of each span's distance: the curve's own to start
+        // with (each span is at most that), then the one that admitted the
+        // last move there.
+        let mut bound = vec![self.bound; m];
+        let max_moves = MOVES_PER_POINT * m;
+        while let Some((bits, s)) = heap.pop() {
+            if bits != peak[s].to_bits() {
+                continue; // stale: the span changed since it was pushed
+            }
+            if record.moves >= max_moves {
+                break;
+            }
+            let Some(mv) = self.best_move(cur, &mut diff, s, peak[s]) else {
+                continue; // this peak cannot be lowered: leave it
+            };
+            for &(j, p) in &mv.moved {
+                cur[j] = p;
+                diff[j] = p - self.orig[j];
+            }
+            record.moves += 1;
+            for (t, k, d) in mv.peaks {
+                bound[t] = d;
+                peak[t] = k;
+                if k > floor {
+                    heap.push((k.to_bits(), t));
+                }
+            }
+        }
+        record.peak_after = top(&peak);
+        record.deviation_bound = spans.iter().map(|&s| bound[s]).fold(0.0, f64::max);
+        record
+    }
+
+    /// The bisector of control point `j` of `cur` towards the chord of its
+    /// neighbours and [`RIPPLE_REACH_SHARE`] of the way to that chord (as
+    /// `directions::bisector`, eqs. 3-23 to 3-25); `None` where it may not
+    /// move or lies on the line of its neighbours.
+    fn bisector(&self, cur: &[Vec3], j: usize) -> Option<(Vec3, f64)> {
+        if !self.movable[j] || j == 0 || j + 1 >= cur.len() {
+            return None;
+        }
+        let (a, p, b) = (cur[j - 1], cur[j], cur[j + 1]);
+        let dv = ((a - p).normalized(0.0)? + (b - p).normalized(0.0)?).normalized(0.0)?;
+        let (la, lb) = (a.dist(p), b.dist(p));
+        let q = a + (b - a) * (la / (la + lb));
+        Some((dv, RIPPLE_REACH_SHARE * q.dist(p)))
+    }
+
+    /// The best trial move for span `s` of peak `target`: the points
+    /// moved, their new places and the new peaks of the spans they touch;
+    /// `None` if no trial lowers the peak within the tube (and the guard).
+    ///
+    /// The trials move one of the span's four control points, two
+    /// neighbouring ones, or all that may move, along their bisectors by
+    /// one distance (each at most its own reach), inwards (flattening the
+    /// points' own turns) or outwards (widening a bend whose top already
+    /// touches the tube, which flattens the turn next to them): a peak
+    /// shared by two points (the middle of a symmetric bend) falls only
+    /// when both move.
+    fn best_move(
+        &self,
+        cur: &mut [Vec3],
+        diff: &mut [Vec3],
+        s: usize,
+        target: f64,
+    ) -> Option<Move> {
+        let dirs: Vec<(usize, Vec3, f64)> = (s - DEGREE..=s)
+            .filter_map(|j| self.bisector(cur, j).map(|(dv, reach)| (j, dv, reach)))
+            .collect();
+        let mut sets: Vec<&[(usize, Vec3, f64)]> = Vec::new();
+        for k in 0..dirs.len() {
+            sets.push(&dirs[k..=k]);
+            if k + 1 < dirs.len() && dirs[k + 1].0 == dirs[k].0 + 1 {
+                sets.push(&dirs[k..=k + 1]);
+            }
+        }
+        if dirs.len() > 2 {
+            sets.push(&dirs[..]);
+        }
+        let mut best: Option<(f64, Move)> = None;
+        for (set, sign) in sets.iter().flat_map(|&set| [(set, 1.0), (set, -1.0)]) {
+            let mut spans: Vec<usize> =
+                set.iter().flat_map(|&(j, _, _)| self.spans_of(j)).collect();
+            spans.sort_unstable();
+            spans.dedup();
+            let turning = |cur: &[Vec3]| -> f64 {
+                spans
+                    .iter()
+                    .map(|&t| self.measure.span_shape(self.knots, cur, t).turning)
+                    .sum()
+            };
+            let turning_before = turning(cur);
+            let reach = set.iter().map(|d| d.2).fold(f64::INFINITY, f64::min);
+            let mut step = reach.min(self.radius);
+            for _ in 0..TRIAL_STEPS {
+                if step <= self.resolution {
+                    break;
+                }
+                let moved: Vec<(usize, Vec3)> = set
+                    .iter()
+                    .map(|&(j, dv, _)| (j, cur[j] + dv * (sign * step)))
+                    .collect();
+                step *= 0.5;
+                // The hull bound of the difference at the moved points.
+                if moved
+                    .iter()
+                    .any(|&(j, p)| (p - self.orig[j]).norm() > self.radius)
+                {
+                    continue;
+                }
+                let old: Vec<Vec3> = moved.iter().map(|&(j, _)| cur[j]).collect();
+                for &(j, p) in &moved {
+                    cur[j] = p;
+                }
+                let both: Vec<(usize, SpanShape)> = spans
+                    .iter()
+                    .map(|&t| (t, self.measure.span_shape(self.knots, cur, t)))
+                    .collect();
+                for (&(j, _), &p) in moved.iter().zip(&old) {
+                    cur[j] = p;
+                }
+                let high = both.iter().map(|(_, b)| b.demand).fold(0.0, f64::max);
+                // (A NaN demand never passes.)
+                let lower = high < target && best.as_ref().is_none_or(|b| high < b.0);
+                if !lower {
+                    continue;
+                }
+                if both.iter().map(|(_, b)| b.turning).sum::<f64>() > turning_before {
+                    continue;
+                }
+                if let Some(r) = self.reference {
+                    if both.iter().any(|&(t, b)| r.is_rise(t, b.peak)) {
+                        continue;
+                    }
+                }
+                for &(j, p) in &moved {
+                    diff[j] = p - self.orig[j];
+                }
+                // Span by span, so each span keeps the bound that admitted
+                // it (the curve's bound is their largest).
+                let bounds: Vec<f64> = spans
+                    .iter()
+                    .map(|&t| deviation_bound_on(diff, self.knots, &[t], self.resolution))
+                    .collect();
+                for (&(j, _), &p) in moved.iter().zip(&old) {
+                    diff[j] = p - self.orig[j];
+                }
+                if bounds.iter().all(|&b| b <= self.radius) {
+                    let peaks = both
+                        .iter()
+                        .zip(bounds)
+                        .map(|(&(t, b), d)| (t, b.demand, d))
+                        .collect();
+                    best = Some((high, Move { moved, peaks }));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+}
+
+/// A move the pass keeps: the points and their new places, and the new
+/// demands and deviation bounds of the spans they touch.
+struct Move {
+    moved: Vec<(usize, Vec3)>,
+    peaks: Vec<(usize, f64, f64)>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::tube_fair::tube::{deviation_bound, difference};
+
+    fn knots(m: usize) -> Vec<f64> {
+        let spans = m - 3;
+        let mut u = vec![0.0; 4];
+        u.extend((1..spans).map(|i| i as f64));
+        u.extend([spans as f64; 4]);
+        u
+    }
+
+    /// A bump on a line: its highest peak never rises, the curve stays in
+    /// the tube, its turning does not grow, the ends stay, and some move is
+    /// kept.
+    #[test]
+    fn a_bump_is_lowered_inside_the_tube() {
+        let orig: Vec<Vec3> = (0..12)
+            .map(|i| {
+                let x = i as f64;
+                Vec3::new(x, 3.0 * (-(x - 5.5) * (x - 5.5) / 4.0).exp(), 0.0)
+            })
+            .collect();
+        let u = knots(orig.len());
+        let m = orig.len();
+        let turning = |pts: &[Vec3]| -> f64 {
+            nonempty_spans(&u, m)
+                .into_iter()
+                .map(|s| PeakPass::Curvature.span_shape(&u, pts, s).turning)
+                .sum()
+        };
+        let mut moved = 0;
+        for (measure, r) in [
+            (PeakPass::Curvature, 0.1),
+            (PeakPass::Curvature, 0.5),
+            (PeakPass::DEFAULT_MACHINE, 0.5),
+        ] {
+            let mut movable = vec![true; m];
+            movable[0] = false;
+            movable[m - 1] = false;
+            let reference = PeakReference::new(&u, &orig, 0.01);
+            let pass = Lowering {
+                knots: &u,
+                orig: &orig,
+                movable,
+                radius: r,
+                resolution: 0.01 * r,
+                reference: Some(&reference),
+                measure,
+                floor: reference.floor,
+                bound: 0.0,
+            };
+            let mut cur = orig.clone();
+            let rec = pass.run(&mut cur);
+            assert!(
+                rec.peak_after <= rec.peak_before,
+                "{measure:?} {r}: {rec:?}"
+            );
+            assert!(turning(&cur) <= turning(&orig), "{measure:?} {r}");
+            let dense = deviation_bound(&difference(&cur, &orig), &u, 1e-9);
+            assert!(dense <= rec.deviation_bound + 1e-9 && rec.deviation_bound <= r);
+            assert_eq!((cur[0], cur[m - 1]), (orig[0], orig[m - 1]));
+            moved += rec.moves;
+        }
+        assert!(moved > 0);
+    }
+
+    /// `dk/ds` in closed form against a central difference of the
+    /// curvature along a cubic.
+    #[test]
+    fn the_curvature_rate_is_the_derivative_of_the_curvature() {
+        let b = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.3),
+            Vec3::new(3.0, -1.0, 0.5),
+            Vec3::new(4.0, 1.0, -0.2),
+        ];
+        let d3 = (b[3] - b[2] * 3.0 + b[1] * 3.0 - b[0]) * 6.0;
+        let k = |t: f64| {
+            let (d1, d2) = bezier_derivatives(&b, t);
+            curvature_from(d1, d2)
+        };
+        let h = 1e-6;
+        for t in [0.1, 0.3, 0.5, 0.8] {
+            let (d1, d2) = bezier_derivatives(&b, t);
+            let numeric = (k(t + h) - k(t - h)) / (2.0 * h) / d1.norm();
+            let exact = curvature_rate(d1, d2, d3);
+            assert!(
+                (numeric - exact).abs() <= 1e-6 * (1.0 + exact.abs()),
+                "{t}: {numeric} {exact}"
+            );
+        }
+    }
+}
