@@ -131,9 +131,12 @@ impl PeakPass {
         }
     }
 
-    /// The demand at a point of curvature `k` (1/mm) and curvature rate
-    /// `k_s = dk/ds` (1/mm^2).
-    fn demand(&self, k: f64, k_s: f64) -> f64 {
+    /// The demand of a span from its largest sampled curvature `k` (1/mm)
+    /// and largest `max(k^2, |dk/ds|)` (1/mm^2): the maximum over samples
+    /// of a maximum of increasing functions of these is that maximum of
+    /// the samples' maxima, so a span needs one square root and one cube
+    /// root, not two per sample.
+    fn demand(&self, k: f64, jerk_term: f64) -> f64 {
         match *self {
             PeakPass::Off | PeakPass::Curvature => k,
             PeakPass::SpeedCaps {
@@ -142,8 +145,7 @@ impl PeakPass {
                 jerk,
             } => (1.0 / max_feed)
                 .max(math::sqrt(k / normal_acc))
-                .max(math::cbrt(k * k / jerk))
-                .max(math::cbrt(math::abs(k_s) / jerk)),
+                .max(math::cbrt(jerk_term / jerk)),
         }
     }
 
@@ -160,19 +162,46 @@ impl PeakPass {
     /// (`knots`, `pts`), sampled as [`super::guard::span_peak`] samples
     /// curvature.
     pub fn span_shape(&self, knots: &[f64], pts: &[Vec3], s: usize) -> SpanShape {
+        self.span_shape_below(knots, pts, s, f64::INFINITY)
+            .unwrap_or_default()
+    }
+
+    /// [`PeakPass::span_shape`], or `None` as soon as a sample's demand is
+    /// not below `bar` (a trial that fails there needs no more samples).
+    fn span_shape_below(
+        &self,
+        knots: &[f64],
+        pts: &[Vec3],
+        s: usize,
+        bar: f64,
+    ) -> Option<SpanShape> {
         let b = bezier_of_span(knots, pts, s);
         let d3 = (b[3] - b[2] * 3.0 + b[1] * 3.0 - b[0]) * 6.0;
+        // What each sample is compared with instead of `bar`: `k < bar`,
+        // or `k / A < bar^2` and `max(k^2, |dk/ds|) / J < bar^3`.
+        let (k_bar, jerk_bar, rate) = match *self {
+            PeakPass::Off | PeakPass::Curvature => (bar, f64::INFINITY, false),
+            PeakPass::SpeedCaps {
+                normal_acc, jerk, ..
+            } => (bar * bar * normal_acc, bar * bar * bar * jerk, true),
+        };
         let mut shape = SpanShape::default();
+        let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
         let h = 1.0 / PEAK_SAMPLES as f64;
         for j in 0..=PEAK_SAMPLES {
             let (d1, d2) = bezier_derivatives(&b, j as f64 * h);
             let k = curvature_from(d1, d2);
-            let k_s = match self {
-                PeakPass::Off | PeakPass::Curvature => 0.0,
-                PeakPass::SpeedCaps { .. } => curvature_rate(d1, d2, d3),
+            let jerk_term = if rate {
+                (k * k).max(math::abs(curvature_rate(d1, d2, d3)))
+            } else {
+                0.0
             };
-            shape.demand = shape.demand.max(self.demand(k, k_s));
-            shape.peak = shape.peak.max(k);
+            // (A NaN is never below.)
+            if !(k < k_bar && jerk_term < jerk_bar) {
+                return None;
+            }
+            k_max = k_max.max(k);
+            jerk_max = jerk_max.max(jerk_term);
             // Simpson's rule over the samples (an even number of steps).
             let w = if j == 0 || j == PEAK_SAMPLES {
                 1.0
@@ -183,7 +212,10 @@ impl PeakPass {
             };
             shape.turning += w * h / 3.0 * k * d1.norm();
         }
-        shape
+        shape.peak = k_max;
+        shape.demand = self.demand(k_max, jerk_max);
+        // (The floor 1/F may be the demand; a bar at or below it fails.)
+        (shape.demand < bar).then_some(shape)
     }
 }
 
@@ -270,9 +302,11 @@ impl Lowering<'_> {
         let spans = nonempty_spans(knots, m);
         let floor = self.measure.floor(self.floor);
         let mut peak = vec![0.0f64; m];
+        let mut turning = vec![0.0f64; m];
         let mut heap: BinaryHeap<Entry> = BinaryHeap::with_capacity(spans.len());
         for &s in &spans {
-            peak[s] = self.measure.span_shape(knots, cur, s).demand;
+            let shape = self.measure.span_shape(knots, cur, s);
+            (peak[s], turning[s]) = (shape.demand, shape.turning);
             if peak[s].is_finite() && peak[s] > floor {
                 heap.push((peak[s].to_bits(), s));
             }
@@ -295,7 +329,7 @@ impl Lowering<'_> {
             if record.moves >= max_moves {
                 break;
             }
-            let Some(mv) = self.best_move(cur, &mut diff, s, peak[s]) else {
+            let Some(mv) = self.best_move(cur, &mut diff, &turning, s, peak[s]) else {
                 continue; // this peak cannot be lowered: leave it
             };
             for &(j, p) in &mv.moved {
@@ -303,9 +337,10 @@ impl Lowering<'_> {
                 diff[j] = p - self.orig[j];
             }
             record.moves += 1;
-            for (t, k, d) in mv.peaks {
+            for (t, shape, d) in mv.peaks {
                 bound[t] = d;
-                peak[t] = k;
+                (peak[t], turning[t]) = (shape.demand, shape.turning);
+                let k = shape.demand;
                 if k > floor {
                     heap.push((k.to_bits(), t));
                 }
@@ -346,6 +381,7 @@ impl Lowering<'_> {
         &self,
         cur: &mut [Vec3],
         diff: &mut [Vec3],
+        turning: &[f64],
         s: usize,
         target: f64,
     ) -> Option<Move> {
@@ -368,13 +404,12 @@ impl Lowering<'_> {
                 set.iter().flat_map(|&(j, _, _)| self.spans_of(j)).collect();
             spans.sort_unstable();
             spans.dedup();
-            let turning = |cur: &[Vec3]| -> f64 {
-                spans
-                    .iter()
-                    .map(|&t| self.measure.span_shape(self.knots, cur, t).turning)
-                    .sum()
-            };
-            let turning_before = turning(cur);
+            // The span being lowered first: most trials fail there, and
+            // need not shape the others.
+            if let Some(i) = spans.iter().position(|&t| t == s) {
+                spans.swap(0, i);
+            }
+            let turning_before: f64 = spans.iter().map(|&t| turning[t]).sum();
             let reach = set.iter().map(|d| d.2).fold(f64::INFINITY, f64::min);
             let mut step = reach.min(self.radius);
             for _ in 0..TRIAL_STEPS {
@@ -397,19 +432,26 @@ impl Lowering<'_> {
                 for &(j, p) in &moved {
                     cur[j] = p;
                 }
-                let both: Vec<(usize, SpanShape)> = spans
-                    .iter()
-                    .map(|&t| (t, self.measure.span_shape(self.knots, cur, t)))
-                    .collect();
+                // (A NaN demand never passes.)
+                let bar = best.as_ref().map_or(target, |b| b.0.min(target));
+                let mut both: Vec<(usize, SpanShape)> = Vec::with_capacity(spans.len());
+                let mut lower = true;
+                for &t in &spans {
+                    match self.measure.span_shape_below(self.knots, cur, t, bar) {
+                        Some(shape) => both.push((t, shape)),
+                        None => {
+                            lower = false;
+                            break;
+                        }
+                    }
+                }
                 for (&(j, _), &p) in moved.iter().zip(&old) {
                     cur[j] = p;
                 }
-                let high = both.iter().map(|(_, b)| b.demand).fold(0.0, f64::max);
-                // (A NaN demand never passes.)
-                let lower = high < target && best.as_ref().is_none_or(|b| high < b.0);
                 if !lower {
                     continue;
                 }
+                let high = both.iter().map(|(_, b)| b.demand).fold(0.0, f64::max);
                 if both.iter().map(|(_, b)| b.turning).sum::<f64>() > turning_before {
                     continue;
                 }
@@ -434,7 +476,7 @@ impl Lowering<'_> {
                     let peaks = both
                         .iter()
                         .zip(bounds)
-                        .map(|(&(t, b), d)| (t, b.demand, d))
+                        .map(|(&(t, b), d)| (t, b, d))
                         .collect();
                     best = Some((high, Move { moved, peaks }));
                 }
@@ -445,10 +487,10 @@ impl Lowering<'_> {
 }
 
 /// A move the pass keeps: the points and their new places, and the new
-/// demands and deviation bounds of the spans they touch.
+/// shapes and deviation bounds of the spans they touch.
 struct Move {
     moved: Vec<(usize, Vec3)>,
-    peaks: Vec<(usize, f64, f64)>,
+    peaks: Vec<(usize, SpanShape, f64)>,
 }
 
 #[cfg(test)]
