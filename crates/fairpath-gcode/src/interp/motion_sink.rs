@@ -25,7 +25,12 @@ impl MotionSink {
     pub(super) fn close_run(&mut self) {
         if !self.current.is_empty() {
             self.outline.push(MotionOutline::Run(self.runs.len()));
-            self.runs.push(Run::new(core::mem::take(&mut self.current)));
+            // The run's pieces at their own size: grown by doubling, a
+            // long run's vector holds up to twice its pieces, and a
+            // written text read back is among the largest things held.
+            let mut pieces = core::mem::take(&mut self.current);
+            pieces.shrink_to_fit();
+            self.runs.push(Run::new(pieces));
         }
     }
 
