@@ -7,8 +7,13 @@
 # program, computing time; beside the same figures from BASE_BIN (a build
 # of the commit before fair was a candidate), when given. Writes
 # docs/auto-fair.md.
-# Usage: [BASE_BIN=/path/to/old/fairpath] scripts/auto-fair.sh [TOLERANCE]
-#   (build first: cargo build --release -p fairpath-cli)
+# Usage: [BASE_BIN=/path/to/old/fairpath [BASE_WHAT="what it is"]
+#   [BASE_UNITS=1]] scripts/auto-fair.sh [TOLERANCE]
+#   (build first: cargo build --release -p fairpath-cli; BASE_WHAT says
+#   what the base build is, by default a build before `fair` was a
+#   candidate; BASE_UNITS=1 for a base that reads `0.05mm` as this build
+#   does, else it is given a bare number, which builds before units were
+#   read took as mm)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tol=${1:-0.05}
@@ -22,6 +27,7 @@ progs=(synthetic/surface-raster.ngc synthetic/helix.ngc synthetic/butterfly-80.n
 files=()
 for rel in "${progs[@]}"; do files+=("$P/$rel"); done
 files+=(examples/thesis/*.ngc "$P"/linuxcnc-nurbs/G5/*.ngc "$P"/linuxcnc-nurbs/G6/*.ngc)
+export BASE_WHAT="${BASE_WHAT:-\`fair\` not a candidate}" BASE_UNITS="${BASE_UNITS:-}"
 python3 - "$bin" "$base" "$tol" "$out" "$(git rev-parse --short HEAD)" "${files[@]}" <<'EOF'
 import json, os, resource, subprocess, sys, tempfile, time
 bin_, base, tol, out, commit = sys.argv[1:6]
@@ -34,7 +40,7 @@ def run(b, f, method="auto", extra=()):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     # The current build reads a bare tolerance in the program's units: mm
     # said (the base build, older, reads mm and no unit).
-    t = tol + "mm" if b == bin_ else tol
+    t = tol + "mm" if b == bin_ or os.environ.get("BASE_UNITS") else tol
     o = subprocess.run([b, "smooth", f, "--tolerance", t, "-o", os.path.join(tmp, "x.ngc"),
                         "-m", method, "--json-summary", *extra], capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -111,7 +117,7 @@ with open(out, "w") as o:
             "written (`not faired`), planned times in s of the exact curves and of the written program\n"
             "(arcs) at the programmed feeds and of the curves at the machine's maximum feed (`at V`,\n"
             "`--override-feed`: what `auto` ranks its candidates by), and the computing time of the\n"
-            "first (wall and CPU, s); `before`: the same with `fair` not a candidate (BASE_BIN"
+            f"first (wall and CPU, s); `before`: the same with {os.environ['BASE_WHAT']} (BASE_BIN"
             + (")" if base else ", not given here)") + ".\n\n")
     o.write("| program | auto chose | not faired | curves s | written s | curves at V s | wall s | CPU s "
             "| before: curves s | before: written s | before: curves at V s | before: wall s | before: CPU s |\n")

@@ -2,6 +2,7 @@
 //! ([`CANDIDATES`], a table), and the constants that shape them (the
 //! measurements that chose them are in `docs/tuning.md`).
 
+use crate::geom::tube_fair::PeakPass;
 use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
@@ -375,7 +376,18 @@ impl Candidate {
                         return Ok(out);
                     }
                 }
-                fair.smooth_run(input, tol)
+                // On lines (a run of them, or a run sampled) without the
+                // peak pass: it cost 5-11% of `auto`'s CPU on the dense
+                // reference programs (`LHchips4.ngc` 36.7 -> 40.9 s) and
+                // changed no written time there (`docs/auto-fair.md`);
+                // the jerk-faired fits already weigh what it lowers.
+                let lines = Fair {
+                    options: FairOptions {
+                        peak_pass: PeakPass::Off,
+                        ..fair.options
+                    },
+                };
+                lines.smooth_run(input, tol)
             }
         }
     }
