@@ -533,6 +533,72 @@ impl DoubleS {
     }
 }
 
+impl DoubleS {
+    /// The time (s) at which the speed first reaches `c` on the rising side
+    /// (`rising`: from `v0` up to the peak) or last leaves it on the
+    /// falling side (from the peak down to `v1`), in closed form: the
+    /// inverse of the speed of eqs. 3.30a-c (rising) or 3.30e-g (falling).
+    /// On the rising side 0 where `c <= v0` and the end of the
+    /// acceleration where `c >= vlim`; on the falling side the end of the
+    /// profile where `c <= v1` and the start of the deceleration where
+    /// `c >= vlim`. Exact up to rounding: the speed at the time returned
+    /// is `c` to a few ulps.
+    pub fn time_at_speed(&self, c: f64, rising: bool) -> f64 {
+        let Phases {
+            tj1,
+            ta,
+            tv,
+            tj2,
+            td,
+        } = self.phases;
+        let jm = self.jmax;
+        let vlim = self.vlim;
+        if rising {
+            let v0 = self.v0;
+            if c <= v0 || ta <= 0.0 {
+                return 0.0;
+            }
+            if c >= vlim {
+                return ta;
+            }
+            // (3.30a) up to the end of the first jerk phase.
+            let v_j = v0 + 0.5 * jm * tj1 * tj1;
+            let t = if c <= v_j {
+                crate::math::sqrt(2.0 * (c - v0) / jm)
+            } else if ta - tj1 > tj1 && c <= v0 + self.alim_a * (ta - 1.5 * tj1) {
+                // (3.30b): constant acceleration.
+                (c - v0) / self.alim_a + 0.5 * tj1
+            } else {
+                // (3.30c): the jerk phase into the peak.
+                ta - crate::math::sqrt(2.0 * (vlim - c) / jm)
+            };
+            t.clamp(0.0, ta)
+        } else {
+            let (v1, ad) = (self.v1, self.alim_d);
+            let total = ta + tv + td;
+            let start = ta + tv;
+            if c <= v1 || td <= 0.0 {
+                return total;
+            }
+            if c >= vlim {
+                return start;
+            }
+            // (3.30g) backwards from the end over the last jerk phase.
+            let v_j = v1 + 0.5 * jm * tj2 * tj2;
+            let t = if c <= v_j {
+                total - crate::math::sqrt(2.0 * (c - v1) / jm)
+            } else if td - tj2 > tj2 && c <= vlim + 0.5 * ad * tj2 {
+                // (3.30f): constant deceleration (`ad` < 0).
+                start + (c - vlim) / ad + 0.5 * tj2
+            } else {
+                // (3.30e): the jerk phase out of the peak.
+                start + crate::math::sqrt(2.0 * (vlim - c) / jm)
+            };
+            t.clamp(start, total)
+        }
+    }
+}
+
 /// The largest `v` in `[lo, hi]` with `dist(v) <= h` found by bisection
 /// down to adjacent floats, given `dist(lo) <= h < dist(hi)` (`dist`
 /// increasing): the peak velocity of a case-2 profile.
@@ -664,6 +730,41 @@ mod tests {
             prop_assume!(h > direct);
             let p = DoubleS::plan(h, v0, v1, &l).unwrap();
             prop_assert_eq!(p.vlim.to_bits(), bisected_peak(v0, v1, h, &l).to_bits());
+        }
+
+        /// `time_at_speed` inverts the speed on each side: the speed at the
+        /// time it returns is the speed asked for (to rounding), and the
+        /// speed before it (rising) or after it (falling) is below it.
+        #[test]
+        fn the_time_at_a_speed_inverts_the_speed(
+            v0 in 0.0f64..300.0,
+            v1 in 0.0f64..300.0,
+            h in 0.01f64..200.0,
+            amax in 100.0f64..10000.0,
+            jmax in 1000.0f64..100000.0,
+            share in 0.0f64..1.0,
+        ) {
+            let l = Limits { vmax: 400.0, amax, jmax };
+            let Ok(p) = DoubleS::plan(h, v0, v1, &l) else {
+                return Ok(());
+            };
+            let ph = p.phases();
+            let tol = 1e-9 * p.vlim();
+            for rising in [true, false] {
+                let (lo, hi) = if rising { (p.v0(), p.vlim()) } else { (p.v1(), p.vlim()) };
+                let c = lo + share * (hi - lo);
+                let t = p.time_at_speed(c, rising);
+                if rising {
+                    prop_assert!(t >= 0.0 && t <= ph.ta);
+                } else {
+                    prop_assert!(t >= ph.ta + ph.tv && t <= p.duration());
+                }
+                if hi - lo > tol {
+                    prop_assert!((p.eval(t).v - c).abs() <= tol, "{} != {c}", p.eval(t).v);
+                    let before = if rising { 0.5 * t } else { 0.5 * (t + p.duration()) };
+                    prop_assert!(p.eval(before).v <= c + tol);
+                }
+            }
         }
     }
 }
