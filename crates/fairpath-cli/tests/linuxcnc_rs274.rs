@@ -1,7 +1,8 @@
 //! LinuxCNC's own interpreter as a client (`rs274 -g FILE`, from Debian's
 //! `linuxcnc-uspace`): on the reference programs, fairpath's reader sees the
 //! same moves as LinuxCNC, and LinuxCNC runs every program fairpath writes
-//! (the default arcs at 0.01 mm on programs up to 150 kB and at 0.05 mm;
+//! (the default arcs at 0.01 mm on programs up to 150 kB but the dearest
+//! three, and at 0.05 mm;
 //! G1, G5.2 and LinuxCNC's dialect on the smaller programs) and sees the moves fairpath meant, arcs and
 //! their end points included. G6.2, which only LinuxCNC master reads, is
 //! run through master's interpreter where it is built
@@ -61,7 +62,8 @@ fn programs() -> Vec<PathBuf> {
         }
     }
     out.sort();
-    out
+    // Each text once (the corpus holds copies).
+    common::distinct_texts(out)
 }
 
 /// Tolerances and extra `smooth` arguments of the outputs run by rs274
@@ -78,6 +80,13 @@ const CONFIGS: &[(&str, &[&str])] = &[
 /// `LHchips4.ngc`, `contour.ngc` and `circle_small_segments_ncd.ngc` are
 /// run at 0.05 mm only.
 const SMALL_TOL_MAX_BYTES: usize = 150_000;
+
+/// Programs below [`SMALL_TOL_MAX_BYTES`] run at 0.05 mm only as well:
+/// `auto` at 0.01 mm on them (the two `blur_torus.ngc` count as one) took
+/// 118 s of the 549 s of smoothing of this test (2026-11-28, issue 19:
+/// the time of `auto` on failing fits through corners), and the 0.01 mm
+/// outputs of the 100 other programs are read by rs274 as well.
+const SMALL_TOL_SKIPPED: [&str; 3] = ["3D_Chips.ngc", "Cereal.ngc", "blur_torus.ngc"];
 
 /// Spline programs (G5.x, G6.2): rs274 prints them as NURBS_FEED calls
 /// without end points, and `tests/splines_rs274.rs` of fairpath-gcode
@@ -138,7 +147,10 @@ fn check_program(p: &Path, out: &Path) -> Checked {
         }
         // `auto` at 0.01 mm on the largest programs is the dearest output
         // of the corpus (issue 19); LinuxCNC runs them at 0.05 mm.
-        if *tol == "0.01mm" && bytes.len() > SMALL_TOL_MAX_BYTES {
+        if *tol == "0.01mm"
+            && (bytes.len() > SMALL_TOL_MAX_BYTES
+                || SMALL_TOL_SKIPPED.iter().any(|n| p.ends_with(n)))
+        {
             continue;
         }
         let o = Command::new(env!("CARGO_BIN_EXE_fairpath"))
