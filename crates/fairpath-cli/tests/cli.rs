@@ -563,6 +563,35 @@ fn smooth_with_another_machine_changes_what_auto_keeps() {
     }
 }
 
+/// The bundled `examples/options/auto-quick.toml` is a valid options file
+/// for `auto` that cuts no run into sections: on `zigzag.ngc` (one run,
+/// cut into sections by default) `auto` keeps one choice for the run, and
+/// the output verifies.
+#[test]
+fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("zigzag.ngc");
+    let quick = example("options/auto-quick.toml");
+    let sections = |extra: &[&str]| -> u64 {
+        let out = dir.path().join("out.ngc");
+        let mut a = vec!["-m", "auto", "--json-summary"];
+        a.extend_from_slice(extra);
+        let o = smooth(&input, &out, "0.05mm", &a);
+        assert_ok(&o, "auto");
+        assert_ok(&check(&input, &out, "0.05mm"), "check");
+        let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(s["runs"].as_u64(), Some(1), "{s}");
+        s["auto_chose"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["sections"].as_u64().unwrap())
+            .sum()
+    };
+    assert!(sections(&[]) > 1, "zigzag.ngc is no longer cut by default");
+    assert_eq!(sections(&["--options", quick.to_str().unwrap()]), 1);
+}
+
 /// Method options are validated once at the front door: an option that
 /// does not apply to the method, an unknown field of `--options` and a
 /// value out of range are errors naming method, option and value, and
