@@ -81,25 +81,6 @@ const CONFIGS: &[(&str, &[&str])] = &[
 /// run at 0.05 mm only.
 const SMALL_TOL_MAX_BYTES: usize = 150_000;
 
-/// Programs below [`SMALL_TOL_MAX_BYTES`] run at 0.05 mm only as well:
-/// `auto` at 0.01 mm on the first three (the two `blur_torus.ngc` count
-/// as one) took 118 s of the 549 s of smoothing of this test (2026-11-28,
-/// issue 19: the time of `auto` on failing fits through corners), and the
-/// 0.01 mm outputs of the other programs are read by rs274 as well. The
-/// last four (one text: the two `circle_a` files are the same) were the
-/// dearest after them: 16.8 s on `circle_a.gcode`, 17.2 s on
-/// `spiral_lines.ngc` and 15.6 s on `51MeanderAve.ngc` (2026-11-28), when
-/// the clean-clone `.ci/run` had reached 30.5 minutes.
-const SMALL_TOL_SKIPPED: [&str; 7] = [
-    "3D_Chips.ngc",
-    "Cereal.ngc",
-    "blur_torus.ngc",
-    "circle_a.gcode",
-    "estlcam_circle_a.gcode",
-    "spiral_lines.ngc",
-    "51MeanderAve.ngc",
-];
-
 /// Spline programs (G5.x, G6.2): rs274 prints them as NURBS_FEED calls
 /// without end points, and `tests/splines_rs274.rs` of fairpath-gcode
 /// compares them; here only what we write of them is run.
@@ -160,8 +141,7 @@ fn check_program(p: &Path, out: &Path) -> Checked {
         // `auto` at 0.01 mm on the largest programs is the dearest output
         // of the corpus (issue 19); LinuxCNC runs them at 0.05 mm.
         if *tol == "0.01mm"
-            && (bytes.len() > SMALL_TOL_MAX_BYTES
-                || SMALL_TOL_SKIPPED.iter().any(|n| p.ends_with(n)))
+            && (bytes.len() > SMALL_TOL_MAX_BYTES || common::auto_small_tol_skipped(p))
         {
             continue;
         }

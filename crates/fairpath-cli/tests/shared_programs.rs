@@ -48,27 +48,9 @@ fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
 /// every other method at both tolerances.
 const AUTO_SMALL_TOL_MAX_BYTES: usize = 150_000;
 
-/// Programs below [`AUTO_SMALL_TOL_MAX_BYTES`] that get `auto` at 0.05
-/// mm only, for the same reason: `auto` at 0.01 mm took 87 s of the 644 s
-/// of work of this test on the first three (2026-11-28, the two
-/// `blur_torus.ngc` 48 s). The last four (one text: the two `circle_a`
-/// files are the same) were the dearest after them: `fairpath smooth` at
-/// 0.01 mm took 16.8 s on `circle_a.gcode`, 17.2 s on `spiral_lines.ngc`
-/// and 15.6 s on `51MeanderAve.ngc` (2026-11-28), when the clean-clone
-/// `.ci/run` had reached 30.5 minutes.
-const AUTO_SMALL_TOL_SKIPPED: [&str; 7] = [
-    "3D_Chips.ngc",
-    "Cereal.ngc",
-    "blur_torus.ngc",
-    "circle_a.gcode",
-    "estlcam_circle_a.gcode",
-    "spiral_lines.ngc",
-    "51MeanderAve.ngc",
-];
-
 /// Reads `f` and smooths every run of it by every method at 0.01 and 0.05
 /// mm (`auto` at 0.01 mm only up to [`AUTO_SMALL_TOL_MAX_BYTES`] and not
-/// on [`AUTO_SMALL_TOL_SKIPPED`]),
+/// on [`common::AUTO_SMALL_TOL_SKIPPED`]),
 /// checking each result (panics on a failure); `Err` with the error where
 /// the program is refused (an error naming the line and column).
 fn check_program(f: &Path) -> Result<(), String> {
@@ -86,8 +68,7 @@ fn check_program(f: &Path) -> Result<(), String> {
     for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
         if name == "auto"
             && tol < 0.05
-            && (bytes.len() > AUTO_SMALL_TOL_MAX_BYTES
-                || AUTO_SMALL_TOL_SKIPPED.iter().any(|n| f.ends_with(n)))
+            && (bytes.len() > AUTO_SMALL_TOL_MAX_BYTES || common::auto_small_tol_skipped(f))
         {
             continue;
         }
