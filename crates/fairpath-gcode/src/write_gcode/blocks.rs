@@ -27,6 +27,37 @@ pub const FINE_PERIODS: f64 = 3.0;
 /// run end, so that the original coordinate text is written for it.
 const SAME_POINT_MM: f64 = 1e-9;
 
+/// Most decimals the last increment of an incremental run is written with
+/// to land on the run's end: 15, where a value of a few units still has
+/// f64 digits to spare ([`end_increment`]).
+const MAX_END_DECIMALS: usize = 15;
+
+/// The text of the increment (in units of `scale` mm) that takes the
+/// written position `now` to a run's end `target` (mm) in an incremental
+/// run: with `decimals` decimals, or more (up to [`MAX_END_DECIMALS`]),
+/// the first that re-reads (`now + value * scale`, as the reader adds it)
+/// to `target` exactly, else the closest. Run ends are kept exactly, but
+/// in a G91 run whose moves the reader computed (polar `@ ^` words,
+/// expressions) the end lies on no decimal grid: LinuxCNC's
+/// `sam-circle_lines.ngc`, 370 polar moves in an o-word loop, ended 1.1e-8
+/// mm from its end with 7 decimals, and every fitted rendering of it was
+/// refused.
+fn end_increment(now: f64, target: f64, scale: f64, decimals: usize) -> String {
+    let mut best: Option<(f64, String)> = None;
+    for d in decimals..=MAX_END_DECIMALS.max(decimals) {
+        let t = fmt_fixed((target - now) / scale, d);
+        let v: f64 = t.parse().unwrap_or(f64::NAN) * scale;
+        let miss = (now + v - target).abs();
+        if best.as_ref().is_none_or(|b| miss < b.0) {
+            best = Some((miss, t));
+        }
+        if miss == 0.0 {
+            break;
+        }
+    }
+    best.map_or_else(|| fmt_fixed((target - now) / scale, decimals), |b| b.1)
+}
+
 impl RunWriter<'_> {
     /// A number in the run's units with `decimals` decimals.
     fn num(&self, v_mm: f64, decimals: usize) -> String {
@@ -103,7 +134,11 @@ impl RunWriter<'_> {
             let tv = axis(target, a);
             let now = axis(self.cur, a);
             let text = if self.run.incremental {
-                let t = fmt_fixed((tv - now) / self.scale, decimals);
+                let t = if run_end {
+                    end_increment(now, tv, self.scale, decimals)
+                } else {
+                    fmt_fixed((tv - now) / self.scale, decimals)
+                };
                 if t == "0" {
                     continue;
                 }
