@@ -42,6 +42,12 @@
 //!   the same lines as the fits and fairs the fits in the rest of the
 //!   band; longer runs of lines do not get it (its work grows with the
 //!   fits' length: `docs/auto-fair.md`).
+//! * **fair, through shallow corners**: the same, its lines fitted
+//!   through every vertex the sections would take as dense but for its
+//!   segments' lengths ([`crate::smooth::LineFit::ThroughShallowCorners`],
+//!   which method `fair` also tries by default), on runs of at most
+//!   [`THROUGH_MAX_PIECES`] pieces where that makes some vertex dense that
+//!   the sections leave sparse.
 //! * **as is**: the run untouched, when every joint in it is already G2
 //!   (one arc between two `S` words of a plasma program, say): sampled and
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the
@@ -101,8 +107,8 @@
 //! ([`Objective::bound`]) is not below the best time found is not costed.
 
 use super::candidates::{
-    has_splines, is_g2, widens_sections, CandidateList, Input, Kind, Offered, SectionRule,
-    CANDIDATES, FAIR, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    has_splines, is_fair, is_g2, shallow_sections, widens_sections, CandidateList, Input, Kind,
+    Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
@@ -263,6 +269,10 @@ impl Auto {
                 Offered::OnSplinesOrShortRuns => {
                     has_splines(run) || input.run().pieces.len() <= FAIR_MAX_PIECES
                 }
+                Offered::WhenShallowCornersWiden => {
+                    input.run().pieces.len() <= THROUGH_MAX_PIECES
+                        && widens_sections(input.run(), tol, &shallow_sections())
+                }
             };
             if offered {
                 out.push((row.name, row.kind.candidate()));
@@ -407,7 +417,7 @@ impl Smoother for Auto {
                     with_fair = true;
                     continue;
                 };
-                with_fair = mixed.chosen.contains(&FAIR);
+                with_fair = mixed.chosen.iter().any(|n| is_fair(n));
                 // A mix whose cheap bound is not below the best time found
                 // cannot be kept: not costed.
                 if let (Some(b), Some(tw)) = (self.objective.bound(&mixed.pieces), time) {

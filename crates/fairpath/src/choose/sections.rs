@@ -2,7 +2,7 @@
 //! of its long lines, each section smoothed by its own fastest candidate.
 
 use super::auto::Auto;
-use super::candidates::FAIR;
+use super::candidates::is_fair;
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
@@ -158,7 +158,7 @@ impl Auto {
             starts_straight && ends_straight
         };
         let all = ranking.cheapest(eligible);
-        let others = ranking.cheapest(|c| c.chosen != [FAIR] && eligible(c));
+        let others = ranking.cheapest(|c| !c.chosen.iter().any(|n| is_fair(n)) && eligible(c));
         Ok([all, others].map(|i| i.map(|i| ranking.cands[i].clone())))
     }
 }
