@@ -221,6 +221,13 @@ impl Summary {
                 self.e.kept_runs, self.e.runs
             );
         }
+        if self.e.g91_spline_runs > 0 {
+            let _ = writeln!(
+                s,
+                "                   ({} of them in G91: this format's spline blocks need G90 around them, which would end the run)",
+                self.e.g91_spline_runs
+            );
+        }
         let _ = writeln!(
             s,
             "  cleaned:         {} zero-length moves dropped, {} straight-on vertices merged, {} tiny moves absorbed",
@@ -353,6 +360,7 @@ impl Summary {
             "written_arcs": self.e.rendered.arcs, "written_helical_arcs": self.e.rendered.helical,
             "written_lines": self.e.rendered.lines, "written_fallback_lines": self.e.rendered.fallback_lines,
             "written_nurbs": self.e.rendered.nurbs, "retried_runs": self.e.retried_runs,
+            "g91_spline_runs": self.e.g91_spline_runs,
             "nurbs_written_as_arcs": self.e.rendered.nurbs_as_arcs,
             "kept_runs": self.e.kept_runs,
         })

@@ -219,6 +219,7 @@ pub(crate) fn write_curves_part(
         written: emitted.check,
         stats: emitted.stats,
         retried_runs: emitted.retried_runs,
+        g91_spline_runs: emitted.g91_spline_runs,
         kept_runs: emitted.kept_runs,
         kept: emitted.kept,
         method: opts.method_name().to_string(),

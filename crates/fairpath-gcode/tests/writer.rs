@@ -1,5 +1,5 @@
 //! Specific behaviour of the G-code writer.
-use fairpath_gcode::{parse, write_gcode, Controller, GcodeWriteOptions, SmoothOptions};
+use fairpath_gcode::{parse, write_gcode, Controller, Format, GcodeWriteOptions, SmoothOptions};
 
 fn write_unchanged(text: &str) -> String {
     let p = parse(text.as_bytes()).unwrap();
@@ -180,5 +180,40 @@ fn sam_circle_lines_incremental_polar_spiral_is_rewritten_with_its_end_exact() {
         let slack = fairpath::budget::ENDPOINT_ROUNDING_SHARE * 0.05;
         let miss = ends(&output.text).dist(ends(text));
         assert!(miss <= slack, "{method}: the end is {miss:e} mm off");
+    }
+}
+
+/// `sam-circle_lines.ngc` (a G91 polar spiral) in the spline formats: a
+/// spline block in a G91 run needs G90 before it and G91 after it, lines
+/// that end a run, so the written program had more runs than the original
+/// and `smooth -f g6.2` or `-f g5.2` failed with an error. Such a run now
+/// gets the format's arcs (generic G6.2, G5.2), or stays as written where
+/// the format has only spline blocks (Fanuc's G6.2), and says so.
+#[test]
+fn sam_circle_lines_g91_spiral_in_spline_formats_is_written_without_spline_blocks() {
+    let text = "g20 g64 g90\n\ng0 z.1\ng0 x1 y0\ng1 z-.1 f999\n\n\
+                o100 repeat [40]\ng91 g1 @-.0025 ^4.5\no100 endrepeat\n\n\
+                g90 g0 z.1\nm2\n";
+    for (format, controller, rewritten) in [
+        (Format::G6_2, Controller::Generic, true),
+        (Format::G5_2, Controller::Generic, true),
+        (Format::G6_2, Controller::Fanuc, false),
+    ] {
+        let what = format!("{format:?} for {controller:?}");
+        let opts = SmoothOptions::new(0.05, None, "bspline-fit", Some(format), controller).unwrap();
+        let (output, report) = fairpath_gcode::smooth_program(text, &opts).unwrap();
+        assert!(report.written.within, "{what}");
+        assert!(
+            !output.text.contains("G6.2") && !output.text.contains("G5.2"),
+            "{what}"
+        );
+        let t = report.times;
+        if rewritten {
+            assert_eq!(report.g91_spline_runs, 0, "{what}");
+            assert!(t.written.total < 0.6 * t.input.total, "{what}");
+        } else {
+            assert_eq!(report.g91_spline_runs, 1, "{what}");
+            assert_eq!(t.written.total, t.input.total, "{what}");
+        }
     }
 }

@@ -18,6 +18,9 @@ pub struct Chosen {
     /// Each run's own time at each of [`Emitter::feeds`] (infinite for a
     /// run smoothed into itself, which is written as it is).
     pub(super) own: Vec<Vec<f64>>,
+    /// Runs kept as written because they are in G91 and the format has
+    /// only spline blocks, which would need G90 around them.
+    pub(super) g91_spline_runs: usize,
 }
 
 /// The renderings of `em`'s runs (`original` the program's own).
@@ -54,6 +57,13 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
         // A long run whose arcs fell back to G1 on few blocks.
         let long_with_few_lines = |c: &Choice| em.long_with_few_lines(k, c);
         for (i, &form) in forms.iter().enumerate() {
+            // A spline block in a G91 run is written between a G90 and a
+            // G91 line, which end a run where the program had none (the
+            // written program would not pair with the original): such a
+            // run gets the format's other forms, or stays as written.
+            if matches!(form, CurveForm::Nurbs(_)) && em.program.run_spans()[k].incremental {
+                continue;
+            }
             // G1 is the other candidate for curves that arcs could not
             // follow: where they all became arcs, it is not tried; nor on
             // a long run where few did.
@@ -135,5 +145,13 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
         Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
     });
     let choices: Vec<Choice> = chosen.into_iter().collect::<Result<_>>()?;
-    Ok(Chosen { choices, own })
+    let splines_only = forms.iter().all(|f| matches!(f, CurveForm::Nurbs(_)));
+    let g91_spline_runs = (0..smoothed.len())
+        .filter(|&k| splines_only && !itself[k] && em.program.run_spans()[k].incremental)
+        .count();
+    Ok(Chosen {
+        choices,
+        own,
+        g91_spline_runs,
+    })
 }

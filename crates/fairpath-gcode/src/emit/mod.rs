@@ -107,6 +107,10 @@ pub struct Emitted {
     pub check: WrittenCheck,
     /// Runs rendered again with a finer chord.
     pub retried_runs: usize,
+    /// Runs kept as written because they are in G91 and the format has
+    /// only spline blocks (a block in a G91 run is written between G90 and
+    /// G91 lines, which would end the run there).
+    pub g91_spline_runs: usize,
     /// Runs kept as the program wrote them: their rendering planned no
     /// faster (or did not verify).
     pub kept_runs: usize,
@@ -255,6 +259,7 @@ fn emit_json(
         stats: RenderStats::default(),
         check,
         retried_runs: 0,
+        g91_spline_runs: 0,
         kept_runs: 0,
         kept: vec![false; original.len()],
         reading: None,

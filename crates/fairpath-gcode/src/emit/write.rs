@@ -29,7 +29,11 @@ pub(super) fn write_chosen(
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
     let render = |k: usize, form, chord: f64| em.render(k, form, chord);
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
-    let Chosen { mut choices, own } = chosen;
+    let Chosen {
+        mut choices,
+        own,
+        g91_spline_runs,
+    } = chosen;
     let mut retried = vec![false; choices.len()];
     // Write, read back, verify and time per run until every rewritten run
     // verifies and is faster than the program's own. A run that fails is
@@ -134,6 +138,7 @@ pub(super) fn write_chosen(
                 stats,
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
+                g91_spline_runs,
                 kept_runs,
                 kept,
                 reading: Some(WrittenReading {

@@ -68,6 +68,8 @@ pub struct Evidence {
     /// program had them.
     pub retried_runs: usize,
     pub kept_runs: usize,
+    /// See [`Report::g91_spline_runs`].
+    pub g91_spline_runs: usize,
     /// See [`Report::block_capped`].
     pub block_capped: bool,
     /// The program has no moves: nothing was smoothed.
@@ -131,6 +133,7 @@ impl Evidence {
             lines_out: 0,
             retried_runs: 0,
             kept_runs: 0,
+            g91_spline_runs: 0,
             block_capped,
             no_moves: true,
             parts: 0,
@@ -217,6 +220,7 @@ impl Evidence {
         self.lines_out += report.lines_out;
         self.retried_runs += report.retried_runs;
         self.kept_runs += report.kept_runs;
+        self.g91_spline_runs += report.g91_spline_runs;
         self.rapids += report.rapids;
         self.no_moves &= report.no_moves;
         self.parts += 1;

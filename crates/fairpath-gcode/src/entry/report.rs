@@ -27,6 +27,9 @@ pub struct Report {
     pub stats: RenderStats,
     /// Runs rendered again with a finer chord before they verified.
     pub retried_runs: usize,
+    /// Of `kept_runs`, those in G91 where the format has only spline
+    /// blocks (which would need G90 around them).
+    pub g91_spline_runs: usize,
     /// Runs written as the program had them (no rendering planned faster).
     pub kept_runs: usize,
     /// Per run of `result`, in order: true where the run is written as the
