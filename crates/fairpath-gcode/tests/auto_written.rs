@@ -80,12 +80,7 @@ fn auto_ranks_the_exact_curves_for_json() {
 #[test]
 #[ignore = "slow in debug builds: smooths a reference program six ways"]
 fn line_contouring_xz_auto_is_no_slower_as_written_than_any_c2_method() {
-    let Some(dir) = common::shared_paths() else {
-        return;
-    };
-    let path = dir.join("linuxcnc/performance/line-contouring-xz.ngc");
-    let text = std::fs::read_to_string(path).unwrap();
-    assert_auto_no_slower(&text, Format::Arcs);
+    assert_auto_no_slower_on_shared("linuxcnc/performance/line-contouring-xz.ngc");
 }
 
 /// LinuxCNC's `default_tolerance_check.ngc` (a square and a zigzag of 0.01
@@ -95,10 +90,15 @@ fn line_contouring_xz_auto_is_no_slower_as_written_than_any_c2_method() {
 /// Now `auto` also has the `fair` candidate through shallow corners.
 #[test]
 fn default_tolerance_check_auto_is_no_slower_as_written_than_any_c2_method() {
+    assert_auto_no_slower_on_shared("linuxcnc/diagnostic/default_tolerance_check.ngc");
+}
+
+/// [`assert_auto_no_slower`] in arcs on the shared program at `path`
+/// (under `shared/paths`, read in place; nothing to check without it).
+fn assert_auto_no_slower_on_shared(path: &str) {
     let Some(dir) = common::shared_paths() else {
         return;
     };
-    let path = dir.join("linuxcnc/diagnostic/default_tolerance_check.ngc");
-    let text = std::fs::read_to_string(path).unwrap();
+    let text = std::fs::read_to_string(dir.join(path)).unwrap();
     assert_auto_no_slower(&text, Format::Arcs);
 }
