@@ -5,7 +5,8 @@
 mod common;
 
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run, PlanOptions};
+use fairpath::feed::plan::{plan_run, plan_run_shaped, plan_time_shaped, Corners, PlanOptions};
+use fairpath::feed::shaping::Shaping;
 use fairpath::geom::{Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::{BsplineCorner, Smoother};
@@ -130,6 +131,66 @@ fn seeded_random_paths_never_exceed_limits() {
         let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
         let t_smooth = check_limits(&smoothed.pieces, &m);
         assert!(t_smooth.is_finite() && t_smooth > 0.0);
+    }
+}
+
+/// A plan for its time alone (no segments kept, so no stretch located on
+/// the run) is the plan with its segments, to the bit, on random paths raw
+/// and smoothed, at the programmed feeds and overridden, with each way of
+/// passing corners.
+#[test]
+fn seeded_random_paths_plan_the_same_time_with_or_without_segments() {
+    let mut rng = Rng(7);
+    for case in 0..300 {
+        let n = 2 + (rng.next() * 30.0) as usize;
+        let scale = [0.05, 1.0, 20.0][case % 3];
+        let pts: Vec<Vec3> = (0..n)
+            .map(|_| {
+                Vec3::new(
+                    rng.next() * scale,
+                    rng.next() * scale,
+                    rng.next() * scale * 0.2,
+                )
+            })
+            .collect();
+        let feeds = [600.0 + rng.next() * 24000.0, 1000.0];
+        let run = run_of(&pts, &feeds);
+        let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
+        for pieces in [&run.pieces, &smoothed.pieces] {
+            for override_feed in [false, true] {
+                let po = PlanOptions {
+                    limits: MachineLimits::thesis(),
+                    override_feed,
+                    window: None,
+                    ends: Default::default(),
+                };
+                let whole = plan_run_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
+                let time = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
+                assert_eq!(whole.time.to_bits(), time.to_bits(), "case {case}");
+                // The segments' parts are located in order along the run:
+                // each starts where the one before ends (on its piece, or
+                // at the start of a later one), their lengths add up to
+                // the segment's, and each cap is within the segment's.
+                let parts: Vec<_> = whole.segments.iter().flat_map(|s| &s.parts).collect();
+                assert!(!parts.is_empty(), "case {case}");
+                for w in parts.windows(2) {
+                    let (a, b) = (w[0], w[1]);
+                    assert!(
+                        (a.piece == b.piece && a.t1 == b.t0) || (b.piece > a.piece && b.t0 == 0.0),
+                        "case {case}: {a:?} then {b:?}"
+                    );
+                }
+                for sg in &whole.segments {
+                    let sum: f64 = sg.parts.iter().map(|p| p.length).sum();
+                    assert!(
+                        (sum - sg.length).abs() <= 1e-9 * sg.length.max(1.0),
+                        "case {case}"
+                    );
+                    assert!(sg.parts.iter().all(|p| p.cap <= sg.cap), "case {case}");
+                }
+            }
+        }
     }
 }
 

@@ -80,7 +80,7 @@ pub(super) fn violation(
     // Cheap upper bounds of the speed at arc length q (dv^2/dq = 2a and
     // |a| is at most the profile's peak): the exact speed is looked up
     // only where a bound passes the cap.
-    let total: f64 = parts.iter().map(|st| st.part.length).sum();
+    let total: f64 = parts.iter().map(|st| st.length).sum();
     let (a_up, a_down) = (
         crate::math::abs(profile.alim_a()),
         crate::math::abs(profile.alim_d()),
@@ -119,8 +119,8 @@ pub(super) fn violation(
     let mut worst: Option<(f64, usize)> = None;
     let mut s0 = 0.0;
     for (k, st) in parts.iter().enumerate() {
-        let s1 = s0 + st.part.length;
-        let cap = st.part.cap * (1.0 + CAP_SLACK);
+        let s1 = s0 + st.length;
+        let cap = st.cap * (1.0 + CAP_SLACK);
         // The ratio a violation must pass to be the worst so far.
         let beat = worst.map_or(0.0, |(r, _)| r);
         // v(q) rises to the peak plateau, then falls: the largest speed on
@@ -130,7 +130,7 @@ pub(super) fn violation(
                 if vpeak <= cap {
                     None
                 } else {
-                    exceeds(s1, cap, st.part.cap, beat, true)
+                    exceeds(s1, cap, st.cap, beat, true)
                 },
                 k + 1,
             )
@@ -139,7 +139,7 @@ pub(super) fn violation(
                 if vpeak <= cap {
                     None
                 } else {
-                    exceeds(s0, cap, st.part.cap, beat, false)
+                    exceeds(s0, cap, st.cap, beat, false)
                 },
                 k,
             )
@@ -158,7 +158,7 @@ pub(super) fn violation(
         // already within the cap, and only rounding can exceed it.
         if let Some(vmax) = over {
             if at != 0 && at != parts.len() {
-                let ratio = vmax / st.part.cap;
+                let ratio = vmax / st.cap;
                 if worst.is_none_or(|(r, _)| ratio > r) {
                     worst = Some((ratio, at));
                 }

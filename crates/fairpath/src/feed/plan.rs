@@ -249,10 +249,10 @@ fn plan(
         name: e.name,
         value: e.value,
     })?;
-    let st = stretches(pieces, opts, shaping, corners)?;
+    let (st, located) = stretches(pieces, opts, shaping, corners, keep_segments)?;
     // The cap at the start of each stretch (INFINITY inside pieces and at
     // G2 joints).
-    let junction = |i: usize| st[i].part.entry_cap;
+    let junction = |i: usize| st[i].entry_cap;
     let n = st.len();
     let mut plan = RunPlan::default();
     if n == 0 {
@@ -262,11 +262,11 @@ fn plan(
     // end stretch) and what sets it.
     let mut bcap = alloc::vec![0.0f64; n + 1];
     for i in 1..n {
-        bcap[i] = st[i - 1].part.cap.min(st[i].part.cap).min(junction(i));
+        bcap[i] = st[i - 1].cap.min(st[i].cap).min(junction(i));
     }
     if opts.ends == RunEnds::AtCap {
-        bcap[0] = st[0].part.cap;
-        bcap[n] = st[n - 1].part.cap;
+        bcap[0] = st[0].cap;
+        bcap[n] = st[n - 1].cap;
     }
     // Initial segment boundaries: the ends and the local minima of the cap.
     let mut key = alloc::vec![false; n + 1];
@@ -296,7 +296,7 @@ fn plan(
     // Prefix lengths of the stretches.
     let mut pre = alloc::vec![0.0f64; n + 1];
     for i in 0..n {
-        pre[i + 1] = pre[i] + st[i].part.length;
+        pre[i + 1] = pre[i] + st[i].length;
     }
     // Split each segment until its fastest profile (boundary speeds at
     // their caps, as far as the segment allows) stays under every cap
@@ -311,7 +311,7 @@ fn plan(
     }
     while let Some((a, b)) = stack.pop() {
         let len = pre[b] - pre[a];
-        let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
+        let vmax = st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max);
         let (acc, jerk) = seg_limits(a, b);
         let v1 = bcap[b].min(vmax);
         let v0 = bcap[a]
@@ -361,7 +361,7 @@ fn plan(
         let mut split = false;
         for (j, w) in bounds.windows(2).enumerate() {
             let (a, b) = (w[0], w[1]);
-            let vmax = st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max);
+            let vmax = st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max);
             let (v0, v1) = (v[j].min(vmax), v[j + 1].min(vmax));
             if let Some((end, w0, w1, p)) = verified.get(&a) {
                 if (*end, *w0, *w1) == (b, v0, v1) {
@@ -398,11 +398,10 @@ fn plan(
             continue;
         }
         // The tightest constraint: the lowest cap among the stretches.
-        let tight = st[a..b]
-            .iter()
-            .min_by(|x, y| x.part.cap.total_cmp(&y.part.cap))
+        let tight = (a..b)
+            .min_by(|&x, &y| st[x].cap.total_cmp(&st[y].cap))
             .expect("a segment has stretches");
-        let (mut constraint, mut low) = (tight.constraint, tight.part.cap);
+        let (mut constraint, mut low) = (located[tight].constraint, st[tight].cap);
         for i in [a, b] {
             if i != 0 && i != n && junction(i) < low {
                 low = junction(i);
@@ -410,9 +409,9 @@ fn plan(
             }
         }
         plan.segments.push(PlannedSegment {
-            parts: st[a..b].iter().map(|s| s.part).collect(),
+            parts: (a..b).map(|i| located[i].part(&st[i])).collect(),
             length: pre[b] - pre[a],
-            cap: st[a..b].iter().map(|s| s.part.cap).fold(0.0f64, f64::max),
+            cap: st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max),
             constraint,
             profile,
         });
