@@ -390,6 +390,13 @@ pub(super) fn stretches(
     let mut last_piece = usize::MAX;
     // Arc length of the run before the current stretch.
     let mut s_run = 0.0f64;
+    // Per piece: the parameters it is cut at, the blend caps of a line's
+    // stretches (cap, length or 0 for the line's own, entry cap), and the
+    // intervals to do with their end points where known.
+    let mut ts: Vec<f64> = Vec::new();
+    let mut caps: Vec<(f64, f64, f64)> = Vec::new();
+    type Known = Option<(PathPoint, f64)>;
+    let mut todo: Vec<(f64, f64, u32, Known, Known)> = Vec::new();
     for (vi, &(pi, len_total)) in valid.iter().enumerate() {
         let p = &pieces[pi];
         let feed = if opts.override_feed {
@@ -415,12 +422,14 @@ pub(super) fn stretches(
         // there, not just its middle), with the curvature jumps where the
         // circle starts and ends. Arcs and curves next to a corner take
         // the caps at the joint only.
-        // Each stretch: (cap, length or 0 for the line's own, entry cap).
-        let (ts, blend_caps) = match c {
+        // (The buffers are the loop's: a plan of a long rendering made
+        // three small vectors per piece.)
+        ts.clear();
+        caps.clear();
+        match c {
             Curve::Line(_) => {
                 let (tin, tout) = (jin.tangent_length, jout.tangent_length);
-                let mut ts = alloc::vec![0.0];
-                let mut caps = Vec::new();
+                ts.push(0.0);
                 if tin > 0.0 && tout > 0.0 && jin.meets_next {
                     // The two circles fill the line and meet inside it.
                     ts.push(tin / (tin + tout));
@@ -442,7 +451,6 @@ pub(super) fn stretches(
                     }
                 }
                 ts.push(1.0);
-                (ts, caps)
             }
             // A circular or helical arc's caps are the same all along it
             // (one curvature, no change of it), so its flattened spans
@@ -455,23 +463,19 @@ pub(super) fn stretches(
                 if shaping.is_none()
                     && crate::math::abs(a.r1 - a.r0) <= ARC_ONE_STRETCH_SPREAD * a.r0.min(a.r1) =>
             {
-                (alloc::vec![0.0, 1.0], Vec::new())
+                ts.extend([0.0, 1.0]);
             }
-            _ => (flatten_params(c, m.chord_error), Vec::new()),
-        };
-        let mut blend_caps = blend_caps.into_iter();
+            _ => ts.extend(flatten_params(c, m.chord_error)),
+        }
+        let mut blend_caps = caps.iter().copied();
         // Intervals to do, last first; each is cut in two while the caps
         // at its ends and middle differ by more than CAP_SPLIT_RATIO and it
         // is longer than one period of travel at its cap.
         // Each with its end points where they are known (a split's halves
         // share its ends and middle; an interval starts where the one
         // before it ended): each point is evaluated once.
-        type Known = Option<(PathPoint, f64)>;
-        let mut todo: Vec<(f64, f64, u32, Known, Known)> = ts
-            .windows(2)
-            .rev()
-            .map(|w| (w[0], w[1], 0, None, None))
-            .collect();
+        todo.clear();
+        todo.extend(ts.windows(2).rev().map(|w| (w[0], w[1], 0, None, None)));
         let mut last_end: Option<(f64, (PathPoint, f64))> = None;
         while let Some((t0, t1, depth, known0, known1)) = todo.pop() {
             let (blend_cap, blend_len, entry) =
