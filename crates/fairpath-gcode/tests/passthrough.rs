@@ -576,3 +576,28 @@ proptest::proptest! {
         }
     }
 }
+
+/// Feed moves pinned for what they run in or with (cutter compensation,
+/// extra axes, probing) are noted as passed through, so the user is told
+/// why they were not smoothed; a line that only changes state (the `G93`
+/// line itself) and rapids are not.
+#[test]
+fn compensated_rotary_and_probing_feed_moves_are_noted_as_passed_through() {
+    let text = "G21 G90 G17\nG0 X0 Y0 Z5\nG41 D1\nG1 Z-1 F300\nG1 X10\nG1 Y10\nG40\n\
+                G1 X20\nG1 X30 A10\nG1 X40 A20\nG0 X0 A0\nG93 G1 X50 F10\nG94 F300\n\
+                G1 X60\nG38.2 Z-10 F50\nM2\n";
+    let p = parse(text.as_bytes()).unwrap();
+    let notes: Vec<_> = p
+        .passthrough()
+        .iter()
+        .map(|t| (t.lines.clone(), t.what))
+        .collect();
+    assert_eq!(
+        notes,
+        vec![
+            (4..=6, "cutter radius compensation G41/G42"),
+            (9..=10, "rotary or extra axes A B C U V W"),
+            (15..=15, "threading, tapping, probing or G53"),
+        ]
+    );
+}

@@ -57,6 +57,22 @@ const FOREIGN_NOTE: &str = "extruder word E (3D printers)";
 /// What [`Program::passthrough`] calls a canned-cycle line.
 const CYCLE_NOTE: &str = "canned cycle";
 
+/// What [`Program::passthrough`] calls a line whose feed move is pinned
+/// for what it runs in or with, not for what the line itself says (its
+/// own words or state changes end runs as any program's do): the machine
+/// runs it as written, and the user is told why that stretch was left as
+/// it is (a program cut under G41 or in G93 would otherwise come out
+/// unchanged without a word).
+fn pinned_note(reason: PinReason) -> Option<&'static str> {
+    match reason {
+        PinReason::CutterComp => Some("cutter radius compensation G41/G42"),
+        PinReason::FeedMode => Some("inverse-time or per-revolution feed G93/G95"),
+        PinReason::ExtraAxes => Some("rotary or extra axes A B C U V W"),
+        PinReason::SpecialMotion => Some("threading, tapping, probing or G53"),
+        _ => None,
+    }
+}
+
 /// Interprets one lexed line, appending its moves: skips a `/` line when
 /// the block-delete switch is on, records what a `/` line changes when it
 /// is off ([`crate::block_delete`]), and notes passed-through lines.
@@ -85,6 +101,12 @@ pub(super) fn interpret_line(
         st.note_passthrough(ln, CYCLE_NOTE);
     } else if has_foreign_words(lx) {
         st.note_passthrough(ln, FOREIGN_NOTE);
+    } else if let Some(what) = moves[first..]
+        .iter()
+        .filter(|m| m.kind != MoveKind::Rapid)
+        .find_map(|m| m.pinned.and_then(pinned_note))
+    {
+        st.note_passthrough(ln, what);
     } else if moves.len() > first {
         st.last_plain_move_line = ln;
     }
