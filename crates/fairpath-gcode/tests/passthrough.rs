@@ -369,11 +369,7 @@ G1 X4 Y2\nG1 X5 Y2 E0.5\n(comment)\nG1 X6 Y3 E0.6\nG92 E0\nG1 X7 Y3\nG1 X8 Y4\n"
     let pins: Vec<Option<PinReason>> = p.moves().iter().map(|m| m.pinned).collect();
     assert_eq!(pins[5], Some(PinReason::ForeignWords));
     assert_eq!(pins[6], Some(PinReason::ForeignWords));
-    let notes: Vec<_> = p
-        .passthrough()
-        .iter()
-        .map(|t| (t.lines.clone(), t.what))
-        .collect();
+    let notes = notes_of(&p);
     assert_eq!(
         notes,
         vec![
@@ -587,11 +583,7 @@ fn compensated_rotary_and_probing_feed_moves_are_noted_as_passed_through() {
                 G1 X20\nG1 X30 A10\nG1 X40 A20\nG0 X0 A0\nG93 G1 X50 F10\nG94 F300\n\
                 G1 X60\nG38.2 Z-10 F50\nM2\n";
     let p = parse(text.as_bytes()).unwrap();
-    let notes: Vec<_> = p
-        .passthrough()
-        .iter()
-        .map(|t| (t.lines.clone(), t.what))
-        .collect();
+    let notes = notes_of(&p);
     assert_eq!(
         notes,
         vec![
@@ -600,4 +592,12 @@ fn compensated_rotary_and_probing_feed_moves_are_noted_as_passed_through() {
             (15..=15, "threading, tapping, probing or G53"),
         ]
     );
+}
+
+/// The program's passed-through line ranges with what they hold.
+fn notes_of(p: &fairpath_gcode::Program) -> Vec<(std::ops::RangeInclusive<usize>, &'static str)> {
+    p.passthrough()
+        .iter()
+        .map(|t| (t.lines.clone(), t.what))
+        .collect()
 }

@@ -102,22 +102,28 @@ fn check_limits_window(pieces: &[Piece], m: &MachineLimits, window: Option<usize
     plan.time
 }
 
+/// A random polyline of 2 to 31 points at one of three scales (0.05, 1
+/// and 20 mm, by `case`), flat in Z to a fifth, and its two feeds.
+fn random_polyline(rng: &mut Rng, case: usize) -> (Vec<Vec3>, [f64; 2]) {
+    let n = 2 + (rng.next() * 30.0) as usize;
+    let scale = [0.05, 1.0, 20.0][case % 3];
+    let pts: Vec<Vec3> = (0..n)
+        .map(|_| {
+            Vec3::new(
+                rng.next() * scale,
+                rng.next() * scale,
+                rng.next() * scale * 0.2,
+            )
+        })
+        .collect();
+    (pts, [600.0 + rng.next() * 24000.0, 1000.0])
+}
+
 #[test]
 fn seeded_random_paths_never_exceed_limits() {
     let mut rng = Rng(42);
     for case in 0..1200 {
-        let n = 2 + (rng.next() * 30.0) as usize;
-        let scale = [0.05, 1.0, 20.0][case % 3];
-        let pts: Vec<Vec3> = (0..n)
-            .map(|_| {
-                Vec3::new(
-                    rng.next() * scale,
-                    rng.next() * scale,
-                    rng.next() * scale * 0.2,
-                )
-            })
-            .collect();
-        let feeds = [600.0 + rng.next() * 24000.0, 1000.0];
+        let (pts, feeds) = random_polyline(&mut rng, case);
         let m = MachineLimits {
             max_feed: 50.0 + rng.next() * 500.0,
             acc: 100.0 + rng.next() * 10000.0,
@@ -142,18 +148,7 @@ fn seeded_random_paths_never_exceed_limits() {
 fn seeded_random_paths_plan_the_same_time_with_or_without_segments() {
     let mut rng = Rng(7);
     for case in 0..300 {
-        let n = 2 + (rng.next() * 30.0) as usize;
-        let scale = [0.05, 1.0, 20.0][case % 3];
-        let pts: Vec<Vec3> = (0..n)
-            .map(|_| {
-                Vec3::new(
-                    rng.next() * scale,
-                    rng.next() * scale,
-                    rng.next() * scale * 0.2,
-                )
-            })
-            .collect();
-        let feeds = [600.0 + rng.next() * 24000.0, 1000.0];
+        let (pts, feeds) = random_polyline(&mut rng, case);
         let run = run_of(&pts, &feeds);
         let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
         let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
