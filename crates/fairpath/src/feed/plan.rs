@@ -346,57 +346,65 @@ fn plan(
     // Then the look-ahead, with a check of every profile against the caps
     // inside its segment, split where a profile passes one.
     // Profiles verified against their segment's inner caps, by start:
-    // (end, v0, v1, profile). Between rounds most boundary speeds stay the
-    // same, and their segments are neither planned nor checked again.
-    // (A map: one entry per segment, not one per stretch, keeps this small
-    // on long runs: 2 million stretches of written arcs took 265 MB.)
-    let mut verified: BTreeMap<usize, (usize, f64, f64, DoubleS)> = BTreeMap::new();
-    let (bounds, profiles) = loop {
+    // (end, v0, v1, what the plan keeps of the profile). Between rounds
+    // most boundary speeds stay the same, and their segments are neither
+    // planned nor checked again. (A map: one entry per segment, not one
+    // per stretch, keeps this small on long runs: 2 million stretches of
+    // written arcs took 265 MB. It keeps a [`ProfileSummary`], 24 bytes,
+    // not the 96-byte profile: a plan that keeps its segments plans their
+    // profiles once more at the end, the same to the bit.)
+    let mut verified: BTreeMap<usize, (usize, f64, f64, ProfileSummary)> = BTreeMap::new();
+    let (bounds, speeds, summaries) = loop {
         let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
         let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
         let caps: Vec<f64> = bounds.iter().map(|&i| bcap[i]).collect();
         let tl: Vec<(f64, f64)> = bounds.windows(2).map(|w| seg_limits(w[0], w[1])).collect();
         let v = boundary_speeds(&lengths, &caps, opts.window, &tl)?;
-        let mut profiles = Vec::with_capacity(lengths.len());
+        let mut summaries = Vec::with_capacity(lengths.len());
         let mut split = false;
         for (j, w) in bounds.windows(2).enumerate() {
             let (a, b) = (w[0], w[1]);
             let vmax = st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max);
             let (v0, v1) = (v[j].min(vmax), v[j + 1].min(vmax));
-            if let Some((end, w0, w1, p)) = verified.get(&a) {
+            if let Some((end, w0, w1, s)) = verified.get(&a) {
                 if (*end, *w0, *w1) == (b, v0, v1) {
-                    profiles.push(*p);
+                    summaries.push(*s);
                     continue;
                 }
             }
             let (acc, jerk) = tl[j];
             let profile = DoubleS::plan(lengths[j], v0, v1, &Limits::new(vmax, acc, jerk)?)?;
+            let summary = ProfileSummary::of(&profile);
             match violation(&profile, &st[a..b], &bcap[a..=b]) {
                 Some(k) => {
                     key[a + k] = true;
                     split = true;
                 }
                 None => {
-                    verified.insert(a, (b, v0, v1, profile));
+                    verified.insert(a, (b, v0, v1, summary));
                 }
             }
-            profiles.push(profile);
+            summaries.push(summary);
         }
         if !split {
-            break (bounds, profiles);
+            break (bounds, v, summaries);
         }
     };
-    for (w, profile) in bounds.windows(2).zip(profiles) {
+    drop(verified);
+    for (j, (w, summary)) in bounds.windows(2).zip(summaries).enumerate() {
         let (a, b) = (w[0], w[1]);
-        plan.time += profile.duration();
-        plan.max_acc = plan.max_acc.max(profile.alim_a()).max(-profile.alim_d());
-        let ph = profile.phases();
-        if ph.tj1 > 0.0 || ph.tj2 > 0.0 {
+        plan.time += summary.duration;
+        plan.max_acc = plan.max_acc.max(summary.max_acc);
+        if summary.jerk_phases {
             plan.max_jerk = plan.max_jerk.max(seg_limits(a, b).1);
         }
         if !keep_segments {
             continue;
         }
+        let vmax = st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max);
+        let (acc, jerk) = seg_limits(a, b);
+        let (v0, v1) = (speeds[j].min(vmax), speeds[j + 1].min(vmax));
+        let profile = DoubleS::plan(pre[b] - pre[a], v0, v1, &Limits::new(vmax, acc, jerk)?)?;
         // The tightest constraint: the lowest cap among the stretches.
         let tight = (a..b)
             .min_by(|&x, &y| st[x].cap.total_cmp(&st[y].cap))
@@ -411,12 +419,34 @@ fn plan(
         plan.segments.push(PlannedSegment {
             parts: (a..b).map(|i| located[i].part(&st[i])).collect(),
             length: pre[b] - pre[a],
-            cap: st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max),
+            cap: vmax,
             constraint,
             profile,
         });
     }
     Ok(plan)
+}
+
+/// What a plan's time and peaks take from a segment's profile.
+#[derive(Clone, Copy, Debug)]
+struct ProfileSummary {
+    /// [`DoubleS::duration`], s.
+    duration: f64,
+    /// The largest of [`DoubleS::alim_a`] and `-`[`DoubleS::alim_d`].
+    max_acc: f64,
+    /// The profile has a jerk phase (the segment's jerk limit is used).
+    jerk_phases: bool,
+}
+
+impl ProfileSummary {
+    fn of(p: &DoubleS) -> Self {
+        let ph = p.phases();
+        ProfileSummary {
+            duration: p.duration(),
+            max_acc: p.alim_a().max(-p.alim_d()),
+            jerk_phases: ph.tj1 > 0.0 || ph.tj2 > 0.0,
+        }
+    }
 }
 
 /// A rapid move of `length` mm from rest to rest at the machine's maximum
