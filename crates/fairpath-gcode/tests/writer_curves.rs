@@ -518,3 +518,46 @@ proptest! {
         prop_assert!(off <= 1e-12, "{} off: {}", off, out);
     }
 }
+
+/// Regression (`gcode-rs/reprap_cnc.gcode` under `auto`, whose G2
+/// transitions next to arcs were written as arcs in the YZ plane): a
+/// comment between a run's moves is copied in place, and left the writer
+/// believing the program's plane (XY) was in force again while the text
+/// had selected G19, so the next XY arc went out as `G2 ... I J` under G19,
+/// which does not read.
+#[test]
+fn a_comment_after_an_arc_in_another_plane_keeps_the_written_plane() {
+    let text = "G17\nG0 X5 Y0 Z2\nG1 X5 Y1 Z3 F600\n(between)\nG1 X6 Y2\nM2\n";
+    let yz = Arc::from_center(
+        Vec3::new(5.0, 0.0, 2.0),
+        Vec3::new(5.0, 1.0, 3.0),
+        Vec3::new(5.0, 1.0, 2.0),
+        Plane::Yz.normal(),
+        true,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let xy = Arc::from_center(
+        Vec3::new(5.0, 1.0, 3.0),
+        Vec3::new(6.0, 2.0, 3.0),
+        Vec3::new(6.0, 1.0, 3.0),
+        Plane::Xy.normal(),
+        true,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let mut second = piece(Curve::Arc(xy));
+    second.source_lines = (5, 5);
+    let (out, back) = write_one(text, vec![piece(Curve::Arc(yz)), second], &arcs_opts());
+    assert!(out.contains("(between)"), "{out}");
+    assert_eq!(back.len(), 2, "{out}");
+    for (p, q) in [yz, xy].iter().zip(&back) {
+        let Curve::Arc(b) = &q.curve else {
+            panic!("not an arc: {out}");
+        };
+        assert!(b.normal.dist(p.normal) < 1e-9, "{out}");
+        assert!(b.p1.dist(p.p1) < 1e-6, "{out}");
+    }
+}

@@ -253,7 +253,16 @@ impl<'a> RunWriter<'a> {
             self.cur_feed = l.feed_after.as_ref().map(|f| f.mm_per_min);
         }
         if l.interpreted {
-            self.plane = l.plane_after;
+            // Only a line with a plane word changes the written plane: a
+            // comment between the moves leaves the plane the written arcs
+            // selected (the program's own plane there is not in force in
+            // the written text).
+            if l.words
+                .iter()
+                .any(|w| w.letter == 'G' && [17.0, 18.0, 19.0].contains(&w.value))
+            {
+                self.plane = l.plane_after;
+            }
             // A bare motion word (`G3` alone) between the run's moves sets
             // the mode the lines after the run see if no move follows it.
             if l.sets_motion {
