@@ -160,6 +160,26 @@ impl Arc {
         Some((0..=n).map(|i| i as f64 / n as f64).collect())
     }
 
+    /// The part of the arc over `[t0, t1]` (`0 <= t0 < t1 <= 1`), as an arc
+    /// of its own: the same centre line, radius law and pitch, its ends the
+    /// points [`ParamCurve::eval`] gives at `t0` and `t1` (the programmed
+    /// end where `t0 = 0` or `t1 = 1`), so that a piece cut from an arc
+    /// meets what is joined to it there exactly.
+    pub fn between(&self, t0: f64, t1: f64) -> Arc {
+        let (radial, _) = self.frame(t0);
+        Arc {
+            center: self.center + self.normal * (t0 * self.rise),
+            normal: self.normal,
+            u: radial,
+            r0: self.radius(t0),
+            r1: self.radius(t1),
+            sweep: (t1 - t0) * self.sweep,
+            rise: (t1 - t0) * self.rise,
+            p0: self.eval(t0),
+            p1: self.eval(t1),
+        }
+    }
+
     /// The arc reversed (same points, opposite direction).
     pub fn reversed(&self) -> Arc {
         let end = self.eval_formula(1.0);
@@ -243,5 +263,40 @@ impl ParamCurve for Arc {
             }
         }
         Some(g(0.5 * (a + b)) * h)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part of a spiral helix is the same curve over its interval: the
+    /// same points, tangents and curvature vectors, its ends exactly the
+    /// whole arc's points there (and its programmed ends at 0 and 1).
+    #[test]
+    fn a_part_of_a_spiral_helix_is_the_same_curve() {
+        let a = Arc::from_center(
+            Vec3::new(3.0, 0.0, 1.0),
+            Vec3::new(-0.5, 3.2, 1.7),
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            false,
+            2,
+            1e-9,
+        )
+        .unwrap();
+        for (t0, t1) in [(0.0, 0.3), (0.25, 0.8), (0.6, 1.0), (0.0, 1.0)] {
+            let b = a.between(t0, t1);
+            assert_eq!(b.p0, a.eval(t0));
+            assert_eq!(b.p1, a.eval(t1));
+            for i in 0..=10 {
+                let s = i as f64 / 10.0;
+                let t = t0 + s * (t1 - t0);
+                assert!(b.eval(s).dist(a.eval(t)) < 1e-12, "{t0} {t1} {s}");
+                let (ta, tb) = (a.unit_tangent(t).unwrap(), b.unit_tangent(s).unwrap());
+                assert!(ta.dist(tb) < 1e-12);
+                assert!(a.curvature_vector(t).dist(b.curvature_vector(s)) < 1e-12);
+            }
+        }
     }
 }

@@ -14,6 +14,7 @@ mod fairness;
 pub mod fit;
 mod fit_bound;
 mod fit_knots;
+mod g2_quintic;
 mod knot_insertion;
 pub mod least_squares;
 mod line;
@@ -32,6 +33,7 @@ pub use curve::{
     flatten_params_between, total_curvature, ParamCurve,
 };
 pub use fairness::curvature_variation_energy;
+pub use g2_quintic::{bezier_nurbs, g2_quintic_points, EndState};
 pub use line::Line;
 pub use nurbs::{Nurbs, NurbsError};
 pub use plane::Plane;

@@ -165,6 +165,10 @@ pub struct CtmOptions {
     /// Corners whose half-angle `theta` (radians) is below this are
     /// reversals and kept.
     pub min_half_angle: f64,
+    /// What to do at the joints next to arcs that are not G2: keep them
+    /// (the seed's method, the default) or blend them G2
+    /// ([`super::ArcJoints`]).
+    pub arc_joints: super::ArcJoints,
 }
 
 impl Default for CtmOptions {
@@ -172,6 +176,7 @@ impl Default for CtmOptions {
         CtmOptions {
             c: 1.0,
             min_half_angle: 1e-6,
+            arc_joints: super::ArcJoints::Kept,
         }
     }
 }
@@ -225,7 +230,10 @@ impl Smoother for Ctm {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         let o = self.options;
         o.validate()?;
-        smooth_run_by_corners(run, tolerance, o.min_half_angle, &|cc| ctm_plan(cc, o.c))
+        let mut out =
+            smooth_run_by_corners(run, tolerance, o.min_half_angle, &|cc| ctm_plan(cc, o.c))?;
+        o.arc_joints.apply(&mut out, tolerance);
+        Ok(out)
     }
 }
 

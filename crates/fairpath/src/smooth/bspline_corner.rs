@@ -94,6 +94,10 @@ pub struct BsplineCornerOptions {
     /// Corners whose half-angle `theta` (radians) is below this are
     /// reversals and kept.
     pub min_half_angle: f64,
+    /// What to do at the joints next to arcs that are not G2: keep them
+    /// (the seed's method, the default) or blend them G2
+    /// ([`super::ArcJoints`]).
+    pub arc_joints: super::ArcJoints,
 }
 
 impl BsplineCornerOptions {
@@ -129,6 +133,7 @@ impl Default for BsplineCornerOptions {
             target: ErrorTarget::FullBand,
             lambda: 0.0,
             min_half_angle: 1e-6,
+            arc_joints: super::ArcJoints::Kept,
         }
     }
 }
@@ -187,9 +192,11 @@ impl Smoother for BsplineCorner {
         let o = &self.options;
         o.validate()?;
         let band = Band::new(tolerance, tolerance * BAND_USE);
-        smooth_by_chains(run, tolerance, |chain, out| {
+        let mut out = smooth_by_chains(run, tolerance, |chain, out| {
             self.smooth_chain(chain, band, out)
-        })
+        })?;
+        o.arc_joints.apply(&mut out, tolerance);
+        Ok(out)
     }
 }
 

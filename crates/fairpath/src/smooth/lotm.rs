@@ -269,6 +269,10 @@ pub struct LotmOptions {
     /// Corners whose half-angle `theta` (radians) is below this are
     /// reversals and kept.
     pub min_half_angle: f64,
+    /// What to do at the joints next to arcs that are not G2: keep them
+    /// (the seed's method, the default) or blend them G2
+    /// ([`super::ArcJoints`]).
+    pub arc_joints: super::ArcJoints,
 }
 
 impl LotmOptions {
@@ -282,6 +286,7 @@ impl Default for LotmOptions {
     fn default() -> Self {
         LotmOptions {
             min_half_angle: 1e-6,
+            arc_joints: super::ArcJoints::Kept,
         }
     }
 }
@@ -300,6 +305,8 @@ impl Smoother for Lotm {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         let m = self.options.min_half_angle;
         self.options.validate()?;
-        smooth_run_by_corners(run, tolerance, m, &lotm_plan)
+        let mut out = smooth_run_by_corners(run, tolerance, m, &lotm_plan)?;
+        self.options.arc_joints.apply(&mut out, tolerance);
+        Ok(out)
     }
 }

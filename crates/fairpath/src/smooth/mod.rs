@@ -12,6 +12,7 @@ mod arc_candidates;
 mod arc_chain;
 mod arc_check;
 mod arc_fit;
+mod arc_joints;
 mod bezier_corner;
 mod bspline_corner;
 mod bspline_fit;
@@ -33,6 +34,7 @@ pub use arc_fit::{
     ArcFit, ArcFitOptions, ARC_FIT_LOOKAHEAD, ARC_FIT_SHARE, ARC_MAX_RADIUS_PER_TOL,
     ARC_MAX_SPLIT_DEPTH, ARC_MAX_SWEEP, ARC_MIN_CHORD_PER_TOL, ARC_MIN_RADIUS_MM, ARC_SAMPLE_SHARE,
 };
+pub use arc_joints::{blend_arc_joints, ArcJoints};
 pub use bezier_corner::{
     bezier_corner_beziers, bezier_corner_curve, bezier_corner_deviation, bezier_corner_error,
     bezier_corner_peak_curvature, bezier_corner_points, bezier_length_for_deviation, Ctm,
