@@ -13,13 +13,15 @@
 //!
 //! * **Reach.** The transition reaches the same arc length `s` back along
 //!   both sides, at most half of each piece as it came from the method
-//!   (the other half is the next joint's) and at most a quarter turn of an
-//!   arc. `s` is the longest for which the transition stays within the
-//!   band (bisection on `s`): the longer the reach, the gentler the
-//!   curvature ramp.
-//! * **Speeds.** `d0 = d1 =` the chord between the two ends, the usual
-//!   choice for Hermite interpolation (it gives a near-arc-length
-//!   parametrisation on gentle turns).
+//!   (the other half is the next joint's) and at most an eighth of a turn
+//!   of an arc ([`MAX_ARC_SWEEP`]). `s` is the longest for which the
+//!   transition stays within the band (bisection on `s`): the longer the
+//!   reach, the gentler the curvature ramp.
+//! * **Speeds.** `d0 = d1 =` [`SPEED_FACTOR`] times the chord between the
+//!   two ends (the chord itself is the usual choice for Hermite
+//!   interpolation; a little more spreads the curvature of a sharp turn
+//!   over more of the transition, which lowers `|dkappa/ds|`, the cap that
+//!   binds there: `docs/tuning.md`).
 //! * **Band.** The transition replaces a line piece and an arc of the
 //!   method's output that lie on the original path, within what absorbing
 //!   jogs spent on a line ([`crate::budget::ABSORB_SHARE`], taken out of
@@ -94,8 +96,9 @@ const REACH_STEPS: usize = 40;
 /// the arc is measured on them.
 const ARC_CHORD_SHARE: f64 = 0.01;
 
-/// Largest share of a turn an arc gives a transition.
-const MAX_ARC_SWEEP: f64 = 0.5 * core::f64::consts::FRAC_PI_2;
+/// Largest sweep (rad) of an arc that a transition replaces: an eighth of
+/// a turn, so that the arc keeps most of its constant curvature.
+pub const MAX_ARC_SWEEP: f64 = 0.5 * core::f64::consts::FRAC_PI_2;
 
 /// Replaces each joint of `out`'s pieces between a line and an arc, or two
 /// arcs, that is not G2 by a G2 transition within the band of `tolerance`
@@ -277,7 +280,8 @@ fn blend_joint(
         .min(room.1)
         .min(arc_sweep_room(a))
         .min(arc_sweep_room(b));
-    if !(s_max >= min_reach) {
+    // (NaN: a degenerate piece, no room either.)
+    if s_max.is_nan() || s_max < min_reach {
         return None;
     }
     // The transition with reach `s`, and whether it stays in the band.
