@@ -350,11 +350,12 @@ fn plan(
     // most boundary speeds stay the same, and their segments are neither
     // planned nor checked again. (A map: one entry per segment, not one
     // per stretch, keeps this small on long runs: 2 million stretches of
-    // written arcs took 265 MB. It keeps a [`ProfileSummary`], 24 bytes,
-    // not the 96-byte profile: a plan that keeps its segments plans their
-    // profiles once more at the end, the same to the bit.)
+    // written arcs took 265 MB. It keeps a [`ProfileSummary`], 24 bytes;
+    // the 96-byte profiles are kept beside it only by a plan that keeps
+    // its segments.)
     let mut verified: BTreeMap<usize, (usize, f64, f64, ProfileSummary)> = BTreeMap::new();
-    let (bounds, speeds, summaries) = loop {
+    let mut profiles: BTreeMap<usize, DoubleS> = BTreeMap::new();
+    let (bounds, summaries) = loop {
         let bounds: Vec<usize> = (0..=n).filter(|&i| key[i]).collect();
         let lengths: Vec<f64> = bounds.windows(2).map(|w| pre[w[1]] - pre[w[0]]).collect();
         let caps: Vec<f64> = bounds.iter().map(|&i| bcap[i]).collect();
@@ -382,16 +383,19 @@ fn plan(
                 }
                 None => {
                     verified.insert(a, (b, v0, v1, summary));
+                    if keep_segments {
+                        profiles.insert(a, profile);
+                    }
                 }
             }
             summaries.push(summary);
         }
         if !split {
-            break (bounds, v, summaries);
+            break (bounds, summaries);
         }
     };
     drop(verified);
-    for (j, (w, summary)) in bounds.windows(2).zip(summaries).enumerate() {
+    for (w, summary) in bounds.windows(2).zip(summaries) {
         let (a, b) = (w[0], w[1]);
         plan.time += summary.duration;
         plan.max_acc = plan.max_acc.max(summary.max_acc);
@@ -401,10 +405,11 @@ fn plan(
         if !keep_segments {
             continue;
         }
-        let vmax = st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max);
-        let (acc, jerk) = seg_limits(a, b);
-        let (v0, v1) = (speeds[j].min(vmax), speeds[j + 1].min(vmax));
-        let profile = DoubleS::plan(pre[b] - pre[a], v0, v1, &Limits::new(vmax, acc, jerk)?)?;
+        // Every segment of the last round passed its check, so its
+        // profile is the one kept for it.
+        let profile = profiles
+            .remove(&a)
+            .expect("the last round's segments are all verified");
         // The tightest constraint: the lowest cap among the stretches.
         let tight = (a..b)
             .min_by(|&x, &y| st[x].cap.total_cmp(&st[y].cap))
@@ -419,7 +424,7 @@ fn plan(
         plan.segments.push(PlannedSegment {
             parts: (a..b).map(|i| located[i].part(&st[i])).collect(),
             length: pre[b] - pre[a],
-            cap: vmax,
+            cap: st[a..b].iter().map(|s| s.cap).fold(0.0f64, f64::max),
             constraint,
             profile,
         });
