@@ -14,23 +14,27 @@
 //! * **Reach.** The transition reaches the same arc length `s` back along
 //!   both sides, at most half of each piece as it came from the method
 //!   (the other half is the next joint's) and at most an eighth of a turn
-//!   of an arc ([`MAX_ARC_SWEEP`]). `s` is the longest for which the
-//!   transition stays within the band (bisection on `s`): the longer the
-//!   reach, the gentler the curvature ramp.
-//! * **Speeds.** `d0 = d1 =` [`SPEED_FACTOR`] times the chord between the
-//!   two ends (the chord itself is the usual choice for Hermite
-//!   interpolation; a little more spreads the curvature of a sharp turn
-//!   over more of the transition, which lowers `|dkappa/ds|`, the cap that
-//!   binds there: `docs/tuning.md`).
+//!   of an arc ([`MAX_ARC_SWEEP`]). Of the longest `s` within the band
+//!   (bisection, at the widest speeds) and its halvings, the one whose
+//!   transition has the lowest jerk demand (`jerk_demand`, machine-independent): at a corner the
+//!   longest, the gentlest turn; between two arcs of nearly the same
+//!   curvature a short one, as a long quintic follows the arcs with a
+//!   wobble of its curvature.
+//! * **Speeds.** `d0 = d1 =` a factor of [`SPEED_FACTORS`] times the
+//!   chord between the two ends (the chord itself is the usual choice for
+//!   Hermite interpolation; how the speeds spread the curvature over the
+//!   transition changes its jerk demand by more than the reach does), the
+//!   one whose transition has the lowest jerk demand with the reach.
 //! * **Band.** The transition replaces a line piece and an arc of the
 //!   method's output that lie on the original path, within what absorbing
 //!   jogs spent on a line ([`crate::budget::ABSORB_SHARE`], taken out of
 //!   the band by the triangle inequality); its distance to the parts it
 //!   replaces is bounded from samples ([`deviation_bound`]), which bounds
 //!   its distance to the original path.
-//! * **Not blended**: joints with a NURBS on either side, turns of more
-//!   than [`MAX_TURN`] (reversals: the corner stays, as the corner
-//!   methods keep theirs), and joints where no reach of at least
+//! * **Not blended**: joints with a NURBS on either side, corners sharper
+//!   than [`MAX_TURN`] (kept, as the planner passes them faster than a
+//!   transition inside the band), joints that are nearly G2 already
+//!   ([`NEAR_G2_TURN`]), and joints where no reach of at least
 //!   [`MIN_REACH_SHARE`] of the tolerance stays in the band or leaves that
 //!   much of both pieces (a line shorter than that has no direction of its
 //!   own).
@@ -71,19 +75,37 @@ impl ArcJoints {
     }
 }
 
-/// Largest turn (rad) at a joint that gets a transition: beyond it the
-/// path nearly reverses, and a transition inside the band turns on the
-/// spot (150 degrees).
-pub const MAX_TURN: f64 = 150.0 * core::f64::consts::PI / 180.0;
+/// Largest turn (rad) at a joint that gets a transition (30 degrees). A
+/// sharper corner next to an arc is kept: inside the band a G2 transition
+/// turns it on a small radius that the machine must follow slowly over
+/// the transition's whole length, while the planner (and a blending
+/// controller) passes the kept corner on its junction circle, a few
+/// micrometres long (`helix_slowdown.ngc`'s right angles: 3.724 s
+/// blended against 3.651 s kept; the survey behind the value is in
+/// `docs/tuning.md`).
+pub const MAX_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
+
+/// A joint whose tangent turns by at most this (rad) and whose curvature
+/// vector changes by at most [`NEAR_G2_CURVATURE_STEP`] of its size is
+/// nearly G2 (two helices of different pitch, an arc split in two and
+/// rounded) and is not blended: the planner passes it at the cap of its
+/// small curvature jump, while a quintic must follow the arcs' curvature
+/// over its whole reach and wobbles about it (`helix_slowdown.ngc`'s two
+/// half-turn helices: blended, 3.836 s against 3.651 s kept).
+pub const NEAR_G2_TURN: f64 = 0.01;
+
+/// See [`NEAR_G2_TURN`].
+pub const NEAR_G2_CURVATURE_STEP: f64 = 0.25;
 
 /// Shortest reach, as a share of the tolerance, worth a transition: a
 /// shorter one would turn the corner with a curvature the machine passes
 /// no faster than the corner itself.
 pub const MIN_REACH_SHARE: f64 = 0.01;
 
-/// The end speeds `d0 = d1` of a transition, in chords between its ends
-/// (see the module documentation).
-pub const SPEED_FACTOR: f64 = 1.3;
+/// The end speeds `d0 = d1` of a transition tried at each reach, in
+/// chords between its ends, the widest first (see the module
+/// documentation; the survey behind them is in `docs/tuning.md`).
+pub const SPEED_FACTORS: [f64; 4] = [1.3, 1.15, 1.0, 0.85];
 
 /// Samples of a transition at which its distance to the path is measured
 /// ([`deviation_bound`]).
@@ -91,6 +113,10 @@ const SAMPLES: usize = 48;
 
 /// Bisection steps on the reach.
 const REACH_STEPS: usize = 40;
+
+/// Reaches tried below the longest within the band, each half the one
+/// before ([`blend_joint`]).
+const REACH_LADDER: usize = 8;
 
 /// Share of the band the chords of an arc may take where the distance to
 /// the arc is measured on them.
@@ -203,10 +229,7 @@ fn cut(
     let state = EndState {
         point: p.curve.eval(t),
         tangent: p.curve.unit_tangent(t)?,
-        curvature: match p.curve {
-            Curve::Line(_) => Vec3::ZERO,
-            _ => p.curve.curvature_vector(t),
-        },
+        curvature: curvature_vector(&p.curve, t),
     };
     let piece = Piece {
         curve: kept,
@@ -274,6 +297,15 @@ fn blend_joint(
     if ta.dot(tb) < crate::math::cos(MAX_TURN) {
         return None;
     }
+    let (ka, kb) = (
+        curvature_vector(&a.curve, 1.0),
+        curvature_vector(&b.curve, 0.0),
+    );
+    let near_g2 = ta.dot(tb) >= crate::math::cos(NEAR_G2_TURN)
+        && ka.dist(kb) <= NEAR_G2_CURVATURE_STEP * ka.norm().max(kb.norm());
+    if near_g2 {
+        return None;
+    }
     let chord = ARC_CHORD_SHARE * band;
     let s_max = room
         .0
@@ -285,11 +317,11 @@ fn blend_joint(
         return None;
     }
     // The transition with reach `s`, and whether it stays in the band.
-    let build = |s: f64| -> Option<([Piece; 3], bool)> {
+    let build = |s: f64, factor: f64| -> Option<([Piece; 3], bool)> {
         let (sa, pa, ra) = cut(a, Side::End, s, (chord, min_reach))?;
         let (sb, pb, rb) = cut(b, Side::Start, s, (chord, min_reach))?;
         let d = sa.point.dist(sb.point);
-        let pts = g2_quintic_points(&sa, &sb, SPEED_FACTOR * d, SPEED_FACTOR * d);
+        let pts = g2_quintic_points(&sa, &sb, factor * d, factor * d);
         let within = deviation_bound(&pts, [&ra, &rb], chord) <= band;
         let t = Piece {
             curve: Curve::Nurbs(bezier_nurbs(&pts)),
@@ -299,24 +331,77 @@ fn blend_joint(
         };
         Some(([pa, t, pb], within))
     };
-    if let Some((pieces, true)) = build(s_max) {
-        return Some(pieces);
-    }
-    // Bisection: `lo` within the band (or below the shortest reach).
-    let (mut lo, mut hi) = (0.0, s_max);
-    let mut best = None;
-    for _ in 0..REACH_STEPS {
-        let mid = 0.5 * (lo + hi);
-        match build(mid) {
-            Some((pieces, true)) => {
-                lo = mid;
-                best = Some(pieces);
+    // The longest reach within the band: `s_max`, or by bisection.
+    let mut s_band = s_max;
+    let widest = SPEED_FACTORS[0];
+    if !matches!(build(s_max, widest), Some((_, true))) {
+        let (mut lo, mut hi) = (0.0, s_max);
+        for _ in 0..REACH_STEPS {
+            let mid = 0.5 * (lo + hi);
+            match build(mid, widest) {
+                Some((_, true)) => lo = mid,
+                _ => hi = mid,
             }
-            _ => hi = mid,
         }
+        s_band = lo;
     }
-    if lo < min_reach {
-        return None;
+    // Of that reach and its halvings, each with every end speed of
+    // [`SPEED_FACTORS`], the transition whose jerk demand is the lowest
+    // (the first on a tie: the longest, the fastest ends): longer is
+    // gentler where the transition turns a corner, shorter where it joins
+    // two arcs of nearly the same curvature, which a long quintic follows
+    // with a wobble of its curvature.
+    let mut best: Option<([Piece; 3], f64)> = None;
+    let mut s = s_band;
+    for _ in 0..REACH_LADDER {
+        if s < min_reach {
+            break;
+        }
+        for &factor in &SPEED_FACTORS {
+            if let Some((pieces, true)) = build(s, factor) {
+                let demand = jerk_demand(&pieces[1].curve);
+                if best.as_ref().is_none_or(|(_, d)| demand < *d) {
+                    best = Some((pieces, demand));
+                }
+            }
+        }
+        s *= 0.5;
     }
-    best
+    best.map(|(pieces, _)| pieces)
+}
+
+/// The curvature vector of a line (zero) or an arc at `t`.
+fn curvature_vector(c: &Curve, t: f64) -> Vec3 {
+    match c {
+        Curve::Line(_) => Vec3::ZERO,
+        _ => c.curvature_vector(t),
+    }
+}
+
+/// The largest jerk demand `sqrt(kappa^4 + (dkappa/ds)^2)` (1/mm^3) over
+/// [`SAMPLES`] points of `c`: the centripetal and curvature-change terms
+/// of the jerk at unit speed, which cap the speed at
+/// `v <= (J / demand)^(1/3)` ([`crate::feed`]'s caps, where they bind at
+/// the small radii of transitions). `dkappa/ds` by central differences
+/// over the samples' chords.
+fn jerk_demand(c: &Curve) -> f64 {
+    let step = 1.0 / (SAMPLES - 1) as f64;
+    let pts: Vec<(Vec3, f64)> = (0..SAMPLES)
+        .map(|i| {
+            let t = i as f64 * step;
+            (c.eval(t), c.curvature(t))
+        })
+        .collect();
+    let mut worst: f64 = 0.0;
+    for i in 1..SAMPLES - 1 {
+        let ds = pts[i - 1].0.dist(pts[i].0) + pts[i].0.dist(pts[i + 1].0);
+        let k = pts[i].1;
+        let dk = if ds > 0.0 {
+            (pts[i + 1].1 - pts[i - 1].1) / ds
+        } else {
+            0.0
+        };
+        worst = worst.max(crate::math::sqrt(k * k * k * k + dk * dk));
+    }
+    worst
 }
