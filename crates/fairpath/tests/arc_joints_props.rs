@@ -187,7 +187,7 @@ fn a_near_reversal_next_to_an_arc_is_kept() {
 /// The corner methods' `arc_joints` option on a rounded rectangle (lines
 /// and tangent arcs of 5 mm, curvature steps of 0.2 1/mm at every joint):
 /// kept, each joint is G1 and plans as the program; blended, every joint
-/// is G2 and the run plans faster (3.723 s -> 3.572 s as written by
+/// is G2 and the run plans faster (3.723 s -> 3.197 s as written by
 /// `fairpath smooth -m bspline-corner` with `arc_joints = "blended"`).
 #[test]
 fn rounded_rectangle_with_arc_joints_blended_is_g2_and_plans_faster() {
