@@ -61,8 +61,9 @@ pub enum ArcJoints {
     /// reported as a kept corner, [`CornerReason::ArcJoint`]).
     #[default]
     Kept,
-    /// A G2 transition at each ([`blend_arc_joints`]): the arcs stay arcs
-    /// up to the transitions.
+    /// G2 transitions where they help: at tangent joints and corners up to
+    /// [`MAX_TURN`] ([`blend_arc_joints`]); the arcs stay arcs up to the
+    /// transitions.
     Blended,
 }
 
@@ -80,9 +81,7 @@ impl ArcJoints {
 /// turns it on a small radius that the machine must follow slowly over
 /// the transition's whole length, while the planner (and a blending
 /// controller) passes the kept corner on its junction circle, a few
-/// micrometres long (`helix_slowdown.ngc`'s right angles: 3.724 s
-/// blended against 3.651 s kept; the survey behind the value is in
-/// `docs/tuning.md`).
+/// micrometres long (`docs/tuning.md` has the survey behind the value).
 pub const MAX_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 
 /// A joint whose tangent turns by at most this (rad) and whose curvature
@@ -90,8 +89,7 @@ pub const MAX_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// nearly G2 (two helices of different pitch, an arc split in two and
 /// rounded) and is not blended: the planner passes it at the cap of its
 /// small curvature jump, while a quintic must follow the arcs' curvature
-/// over its whole reach and wobbles about it (`helix_slowdown.ngc`'s two
-/// half-turn helices: blended, 3.836 s against 3.651 s kept).
+/// over its whole reach and wobbles about it (`docs/tuning.md`).
 pub const NEAR_G2_TURN: f64 = 0.01;
 
 /// See [`NEAR_G2_TURN`].
@@ -126,9 +124,9 @@ const ARC_CHORD_SHARE: f64 = 0.01;
 /// a turn, so that the arc keeps most of its constant curvature.
 pub const MAX_ARC_SWEEP: f64 = 0.5 * core::f64::consts::FRAC_PI_2;
 
-/// Replaces each joint of `out`'s pieces between a line and an arc, or two
-/// arcs, that is not G2 by a G2 transition within the band of `tolerance`
-/// mm (see the module documentation); the kept corners reported there
+/// Replaces the joints of `out`'s pieces between a line and an arc, or two
+/// arcs, that are not G2 by G2 transitions within the band of `tolerance`
+/// mm, where the module documentation says; the kept corners reported there
 /// ([`CornerReason::ArcJoint`]) go, and `out.transitions` counts the new
 /// transitions. Bounds: each transition lies within `tolerance * (BAND_USE
 /// - ABSORB_SHARE)` of the pieces it replaces.
