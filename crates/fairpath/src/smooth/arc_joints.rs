@@ -62,7 +62,7 @@ pub enum ArcJoints {
     #[default]
     Kept,
     /// G2 transitions where they help: at tangent joints and corners up to
-    /// [`MAX_TURN`] ([`blend_arc_joints`]); the arcs stay arcs up to the
+    /// 30 degrees ([`blend_arc_joints`]); the arcs stay arcs up to the
     /// transitions.
     Blended,
 }
