@@ -227,7 +227,7 @@ fn cut(
     let state = EndState {
         point: p.curve.eval(t),
         tangent: p.curve.unit_tangent(t)?,
-        curvature: curvature_vector(&p.curve, t),
+        curvature: p.curve.curvature_vector(t),
     };
     let piece = Piece {
         curve: kept,
@@ -295,10 +295,7 @@ fn blend_joint(
     if ta.dot(tb) < crate::math::cos(MAX_TURN) {
         return None;
     }
-    let (ka, kb) = (
-        curvature_vector(&a.curve, 1.0),
-        curvature_vector(&b.curve, 0.0),
-    );
+    let (ka, kb) = (a.curve.curvature_vector(1.0), b.curve.curvature_vector(0.0));
     let near_g2 = ta.dot(tb) >= crate::math::cos(NEAR_G2_TURN)
         && ka.dist(kb) <= NEAR_G2_CURVATURE_STEP * ka.norm().max(kb.norm());
     if near_g2 {
@@ -366,14 +363,6 @@ fn blend_joint(
         s *= 0.5;
     }
     best.map(|(pieces, _)| pieces)
-}
-
-/// The curvature vector of a line (zero) or an arc at `t`.
-fn curvature_vector(c: &Curve, t: f64) -> Vec3 {
-    match c {
-        Curve::Line(_) => Vec3::ZERO,
-        _ => c.curvature_vector(t),
-    }
 }
 
 /// The largest jerk demand `sqrt(kappa^4 + (dkappa/ds)^2)` (1/mm^3) over
