@@ -24,7 +24,11 @@
 //!   joined with knots of multiplicity `degree` at `1, 2, ...`: the knot
 //!   values then do not change the curve at all.
 //! * No NaN, no empty block, the first control point written is the
-//!   curve's first point (the caller makes it the current position).
+//!   curve's first point (the caller makes it the current position, and
+//!   gives its decimals in [`SplineWriteOptions::start_decimals`] when a
+//!   short move before the block was written finer: a first control point
+//!   that is not the current position reads back as a straight move of a
+//!   fraction of a micrometre to it, with a corner at each end).
 
 use crate::axes::AXIS_LETTERS;
 use crate::error::WriteError;
@@ -51,6 +55,10 @@ pub struct SplineWriteOptions {
     pub mm_per_unit: f64,
     /// Decimals of coordinates, in program units (at most 15).
     pub decimals: usize,
+    /// Decimals of the first control point's coordinates when they are
+    /// more than `decimals` (at most 15): the current position's, where the
+    /// move before the block was written finer.
+    pub start_decimals: Option<usize>,
     /// Write a decimal point in every coordinate, knot and weight (`X5.`,
     /// `K1.`): Fanuc controls read `X5` as 5 least increments (5 um).
     pub decimal_point: bool,
@@ -69,6 +77,7 @@ impl Default for SplineWriteOptions {
         SplineWriteOptions {
             mm_per_unit: 1.0,
             decimals: 4,
+            start_decimals: None,
             decimal_point: false,
             line_ending: "\n",
             incremental: false,
@@ -104,7 +113,10 @@ impl Fmt<'_> {
         }
     }
     fn coord(&self, v_mm: f64) -> String {
-        self.point(fmt_fixed(v_mm / self.o.mm_per_unit, self.o.decimals))
+        self.coord_with(v_mm, self.o.decimals)
+    }
+    fn coord_with(&self, v_mm: f64, decimals: usize) -> String {
+        self.point(fmt_fixed(v_mm / self.o.mm_per_unit, decimals))
     }
     fn knot(&self, k: f64) -> String {
         self.point(fmt_fixed(k, 0))
@@ -130,7 +142,7 @@ fn check_options(o: &SplineWriteOptions) -> Result<(), WriteError> {
             "mm_per_unit must be positive and finite",
         ));
     }
-    if o.decimals > 15 {
+    if o.decimals > 15 || o.start_decimals.is_some_and(|d| d > 15) {
         return Err(WriteError::SplineOptions("at most 15 decimals"));
     }
     if o.line_ending.is_empty() {
@@ -318,12 +330,16 @@ pub fn g6_2_block(
         if i == 0 {
             out.push_str(&format!("G6.2 P{order} "));
         }
+        let d = match i {
+            0 => opts.start_decimals.unwrap_or(opts.decimals),
+            _ => opts.decimals,
+        };
         out.push_str(&format!(
             "K{} X{} Y{} Z{} R{}",
             f.knot(n.knots[i]),
-            f.coord(p.x),
-            f.coord(p.y),
-            f.coord(p.z),
+            f.coord_with(p.x, d),
+            f.coord_with(p.y, d),
+            f.coord_with(p.z, d),
             f.weight(w[i])?
         ));
         if i == 0 {

@@ -125,3 +125,28 @@ fn reprap_cnc_auto_fit_with_arcs_in_another_plane_is_written() {
         "written {written} s, input {input} s"
     );
 }
+
+/// Regression (`synthetic/surface-raster.ngc`, `bspline-corner` for a Fanuc
+/// control, whose default format is G6.2): the lines before its corner
+/// transitions are short and passed fast, so they were written with more
+/// decimals than the transitions' G6.2 blocks, whose first control point
+/// then read back a fraction of a micrometre away, joined by a straight
+/// move with a corner at each end. The rendering planned 208.9 s against
+/// the input's 98.0 s, and the run was written as the program had it
+/// (1.000 of the input) instead of 71.7 s.
+#[test]
+fn surface_raster_corner_transitions_in_g6_2_for_fanuc_are_written() {
+    let Some(dir) = common::shared_paths() else {
+        return;
+    };
+    let text = std::fs::read_to_string(dir.join("synthetic/surface-raster.ngc")).unwrap();
+    let opts = SmoothOptions::new(0.05, None, "bspline-corner", None, Controller::Fanuc).unwrap();
+    let (out, report) = smooth_program(&text, &opts).unwrap();
+    assert!(report.written.within);
+    assert!(out.text.contains("G6.2"));
+    let (input, written) = (report.times.input.total, report.times.written.total);
+    assert!(
+        written < 0.8 * input,
+        "written {written} s, input {input} s"
+    );
+}

@@ -561,3 +561,59 @@ fn a_comment_after_an_arc_in_another_plane_keeps_the_written_plane() {
         assert!(b.p1.dist(p.p1) < 1e-6, "{out}");
     }
 }
+
+/// Regression (`synthetic/surface-raster.ngc`, `bspline-corner` for Fanuc:
+/// its G6.2 rendering planned 208.9 s against the input's 98.0 s and was
+/// kept as written): a short line passed fast is written with more
+/// decimals than the run's, and the G6.2 block after it started from its
+/// first control point rounded to the run's decimals. That reads back as a
+/// straight move of a fraction of a micrometre with a corner at each end,
+/// where the planner stops nearly; the block must start where the line
+/// ended.
+#[test]
+fn a_g6_2_block_after_a_finer_short_line_starts_where_the_line_ended() {
+    let opts = GcodeWriteOptions {
+        period_s: Some(1e-3),
+        nurbs: Some(NurbsBlocks::G6_2Fanuc),
+        ..arcs_opts()
+    };
+    let (d0, _) = fairpath_gcode::output_decimals(&opts, 1.0, opts.decimals_mm);
+    // A line of 0.01 mm to a point that needs every decimal, then a cubic
+    // going on in its direction.
+    let s = Vec3::new(1.0, 2.0, 0.5);
+    let dir = Vec3::new(0.6, 0.8, 0.0);
+    let p0 = Vec3::new(1.006123456789, 2.008164609052, 0.5);
+    let n = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![
+            p0,
+            p0 + dir,
+            p0 + dir * 2.0 + Vec3::new(0.5, 0.0, 0.0),
+            Vec3::new(4.0, 5.0, 0.5),
+        ],
+        None,
+    )
+    .unwrap();
+    let pieces = vec![piece(Curve::Line(Line::new(s, p0))), piece(Curve::Nurbs(n))];
+    let text = "G21 G90\nG0 X1 Y2 Z0.5\nG1 X4 Y5 F600\nM2\n";
+    let prog = parse(text.as_bytes()).unwrap();
+    let speeds = [100.0, 100.0];
+    let out = write_gcode_with(&prog, &[RunOutput::Rendered(&pieces, &speeds)], &opts).unwrap();
+    let g1 = out.lines().find(|l| l.starts_with("G1")).unwrap();
+    let most = g1
+        .split(' ')
+        .filter_map(|w| w.split_once('.').map(|(_, f)| f.len()))
+        .max()
+        .unwrap();
+    assert!(most > d0, "the line is written finer than the run: {out}");
+    let back = parse(out.as_bytes()).unwrap().runs().remove(0).pieces;
+    assert_eq!(
+        back.len(),
+        2,
+        "no move between the line and the block: {out}"
+    );
+    assert!(matches!(back[1].curve, Curve::Nurbs(_)), "{out}");
+    assert_eq!(back[0].end(), back[1].curve.start(), "{out}");
+    assert!(back[1].curve.start().dist(p0) < 1e-6, "{out}");
+}

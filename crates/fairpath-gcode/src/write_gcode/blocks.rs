@@ -3,7 +3,7 @@
 //! say; their coordinate words (incremental or absolute, the run's end as
 //! the program wrote it) and F words.
 
-use super::numbers::{decimals_within, fmt_fixed, rounding_mm};
+use super::numbers::{decimals_within, fmt_fixed, rounding_mm, MAX_DECIMALS};
 use super::run::RunWriter;
 use super::{ArcWords, NurbsBlocks};
 use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
@@ -233,9 +233,25 @@ impl RunWriter<'_> {
         use crate::write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};
         let kind = self.opts.nurbs.expect("called with NURBS blocks on");
         let feed_text = self.due_feed(feed);
+        // The block starts where the tool is: where a short move before it
+        // was written finer than the run's decimals, the first control
+        // point is that position with its decimals (it moves by less than
+        // the rounding the module docs of `write_spline` allow for).
+        let (start, start_decimals) = self.start_of(n.points[0]);
+        let moved;
+        let n = match start {
+            Some(p) => {
+                let mut c = n.clone();
+                c.points[0] = p;
+                moved = c;
+                &moved
+            }
+            None => n,
+        };
         let so = SplineWriteOptions {
             mm_per_unit: self.scale,
             decimals: self.decimals,
+            start_decimals,
             decimal_point: self.style.decimal_point,
             line_ending: self.eol,
             incremental: self.run.incremental,
@@ -284,6 +300,32 @@ impl RunWriter<'_> {
             self.write_g1(n.end(), true, None)?;
         }
         Ok(())
+    }
+
+    /// Where a spline block whose first control point is `p0` starts: the
+    /// current position and the decimals that write it exactly, when `p0`
+    /// written with the run's decimals would not read back as it (the move
+    /// before was written finer, [`RunWriter::piece_decimals`]); `(None,
+    /// None)` when it does, or when the current position is farther from
+    /// `p0` than that rounding (no move ends there).
+    fn start_of(&self, p0: Vec3) -> (Option<Vec3>, Option<usize>) {
+        let read = |v: f64, d: usize| {
+            fmt_fixed(v / self.scale, d)
+                .parse::<f64>()
+                .unwrap_or(f64::NAN)
+                * self.scale
+        };
+        let same = |d: usize, p: Vec3| (0..3).all(|a| read(axis(p, a), d) == axis(self.cur, a));
+        if same(self.decimals, p0) {
+            return (None, None);
+        }
+        if self.cur.dist(p0) > rounding_mm(self.decimals, self.scale) {
+            return (None, None);
+        }
+        match (self.decimals + 1..=MAX_DECIMALS).find(|&d| same(d, self.cur)) {
+            Some(d) => (Some(self.cur), Some(d)),
+            None => (None, None),
+        }
     }
 
     /// A plane line when `plane` is not the written one.
