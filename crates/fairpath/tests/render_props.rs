@@ -472,3 +472,68 @@ fn a_step_over_written_as_g1_changes_spacing_only_where_the_speed_passes() {
     // that the spacing changes where the lines begin.
     eprintln!("{} moves, {changes} changes of spacing", moves.len());
 }
+
+/// Regression (`spiral_lines.ngc` by `bspline-fit` in G1, 20.1 s written
+/// against 7.5 s of curves): each piece was cut into moves on its own, so
+/// at a joint the machine passes fast while the curve bends the spacing
+/// jumped (0.051 to 0.553 mm there), the blend circles stopped meeting and
+/// the curvature stepped by the curve's whole. An arc runs G2 into a curve
+/// whose curvature changes fast: the moves on both sides of the joint are
+/// cut alike.
+#[test]
+fn lines_keep_their_spacing_across_a_joint_passed_fast() {
+    let r = 10.0;
+    let arc = quarter_arc(r);
+    // At (0, r) the arc runs along -x, its centre towards -y.
+    let (p0, t, n) = (arc.p1, Vec3::new(-1.0, 0.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+    // A cubic leaving G2 (curvature 1/r at its start: 2c / (3 a^2)) and
+    // then turning the other way within a few millimetres.
+    let a = 1.0;
+    let c = 1.5 * a * a / r;
+    let p1 = p0 + t * a;
+    let p2 = p1 + t * 1.0 + n * c;
+    let p3 = p2 + t * 1.0 - n * 0.5;
+    let bez = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![p0, p1, p2, p3],
+        None,
+    )
+    .unwrap();
+    let pieces = vec![piece(Curve::Arc(arc)), piece(Curve::Nurbs(bez))];
+    let o = opts(CurveForm::Lines, 0.005);
+    let out = render(&pieces, &o);
+    assert_eq!(
+        fairpath::geom::classify_joint(
+            &pieces[0].curve,
+            &pieces[1].curve,
+            &fairpath::geom::JointTolerances::from_tolerance(1e-3)
+        ),
+        fairpath::geom::Continuity::G2
+    );
+    let at = out
+        .iter()
+        .position(|p| p.end() == p0)
+        .expect("the joint is a vertex");
+    let (before, after) = (out[at].curve.length(1e-9), out[at + 1].curve.length(1e-9));
+    let ratio = before.max(after) / before.min(after);
+    assert!(
+        ratio <= fairpath::render::lines::SPACING_RATIO,
+        "moves of {before} and {after} mm at the joint"
+    );
+}
+
+/// A quarter circle of radius `r` about the origin in XY, from (r, 0) to
+/// (0, r), counter-clockwise.
+fn quarter_arc(r: f64) -> Arc {
+    Arc::from_center(
+        Vec3::new(r, 0.0, 0.0),
+        Vec3::new(0.0, r, 0.0),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        false,
+        1,
+        0.0,
+    )
+    .unwrap()
+}

@@ -68,80 +68,177 @@ pub(crate) fn lines_for_curve(
     out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
-    let (t0, t1) = c.domain();
-    lines_between(
-        c,
-        piece,
-        (t0, t1),
-        (c.start(), c.end()),
-        speed,
-        opts,
-        out,
-        stats,
-    );
+    if let Some(sp) = Spacing::of(c, piece, speed, opts) {
+        lines_with(c, piece, &sp, Caps::NONE, speed, opts, out, stats);
+    }
 }
 
-/// Lines for the stretch `t = (ta, tb)` of curve `c` (piece `piece`),
-/// from `p.0` to `p.1` exactly (the curve's points there, as the caller
-/// computed them).
+/// The largest spacing allowed at a piece's start and end by the pieces
+/// before and after it ([`caps_between`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Caps {
+    pub start: f64,
+    pub end: f64,
+}
+
+impl Caps {
+    pub const NONE: Caps = Caps {
+        start: f64::INFINITY,
+        end: f64::INFINITY,
+    };
+}
+
+/// The spacing a curve needs, sample by sample (module docs), and where
+/// it may change.
+pub(crate) struct Spacing {
+    ts: Vec<f64>,
+    pts: Vec<Vec3>,
+    /// Arc length to each sample along the fine polyline.
+    s: Vec<f64>,
+    /// Spacing needed at each sample.
+    h: Vec<f64>,
+    /// Whether the spacing may change at each sample.
+    free: Vec<bool>,
+}
+
+impl Spacing {
+    /// The spacing curve `c` (piece `piece` of the run) needs; `None` for
+    /// a curve of no length.
+    pub(crate) fn of(
+        c: &Curve,
+        piece: usize,
+        speed: &PlannedSpeed,
+        opts: &RenderOptions,
+    ) -> Option<Spacing> {
+        let m = &opts.limits;
+        let e = CHORD_USE * opts.chord;
+        let (t0, t1) = c.domain();
+        let ts = flatten_params_between(c, t0, t1, FINE_CHORD * opts.chord);
+        let n = ts.len();
+        if n < 2 {
+            return None;
+        }
+        let pts: Vec<Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
+        let ks: Vec<Vec3> = ts.iter().map(|&t| c.curvature_vector(t)).collect();
+        let mut s = alloc::vec![0.0f64; n];
+        for i in 1..n {
+            s[i] = s[i - 1] + pts[i - 1].dist(pts[i]);
+        }
+        let total = s[n - 1];
+        if total.is_nan() || total <= 0.0 {
+            return None;
+        }
+        let mut h = alloc::vec![total; n];
+        let mut free = alloc::vec![false; n];
+        for i in 0..n {
+            let kappa = ks[i].norm();
+            let chord_h = if kappa > 0.0 {
+                crate::math::sqrt(8.0 * e / kappa)
+            } else {
+                total
+            };
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let ds = s[b] - s[a];
+            let dk = if ds > 0.0 {
+                (ks[b] - ks[a]).norm() / ds
+            } else {
+                0.0
+            };
+            let v = speed.at(piece, ts[i]);
+            let step_h = if v > 0.0 && dk > 0.0 {
+                2.0 * opts.step_share * m.jerk * m.period / (v * v * dk)
+            } else {
+                total
+            };
+            let block_h = opts.min_block_periods * m.period * v;
+            // Whether the spacing may change here (module docs).
+            free[i] = kappa * v * v <= opts.step_share * m.jerk * m.period;
+            h[i] = chord_h
+                .min(step_h.max(block_h))
+                .min(total)
+                .max(opts.min_arc_length);
+        }
+        Some(Spacing {
+            ts,
+            pts,
+            s,
+            h,
+            free,
+        })
+    }
+
+    /// The smallest spacing needed from the start up to the first sample
+    /// where the spacing may change (all of it when there is none): what
+    /// the moves next to the start are cut at.
+    fn lead(&self) -> f64 {
+        let to = self
+            .free
+            .iter()
+            .position(|&f| f)
+            .unwrap_or(self.h.len() - 1);
+        self.h[..=to].iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    /// [`Spacing::lead`] from the end backwards.
+    fn trail(&self) -> f64 {
+        let from = self.free.iter().rposition(|&f| f).unwrap_or(0);
+        self.h[from..].iter().copied().fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The caps of a piece rendered as lines between pieces whose spacings
+/// are `before` and `after` (`None` for a straight line, a curve of no
+/// length or the run's end, whose joints are free; [`Spacing::of`]): where
+/// the spacing may change on neither side of a joint (the machine is fast
+/// there and the curves bend), the moves next to it are cut at the
+/// smaller of the two spacings, the neighbour's being the smallest it
+/// needs up to where its own spacing may change.
+///
+/// Without it each piece was cut on its own and the spacing jumped at the
+/// joints: `spiral_lines.ngc` by `bspline-fit` in G1 from 0.051 to 0.553
+/// mm, where the circles of the blending controller no longer meet and
+/// the curvature steps by the curve's whole `kappa` (the machine slowed to
+/// `sqrt(J Ts / kappa)`, 31 mm/s against 300 planned). Only the immediate
+/// neighbours count, so that a run rendered in ranges is rendered as
+/// whole ([`super::render_range`]): a neighbour cut finer than it needs by
+/// its own other neighbour is not seen.
+pub(crate) fn caps_between(
+    before: Option<&Spacing>,
+    this: &Spacing,
+    after: Option<&Spacing>,
+) -> Caps {
+    let n = this.free.len();
+    let start = match before {
+        Some(b) if !b.free[b.free.len() - 1] && !this.free[0] => b.trail(),
+        _ => f64::INFINITY,
+    };
+    let end = match after {
+        Some(a) if !a.free[0] && !this.free[n - 1] => a.lead(),
+        _ => f64::INFINITY,
+    };
+    Caps { start, end }
+}
+
+/// Lines for curve `c` (piece `piece`), whose spacing is `sp`, from
+/// `c.start()` to `c.end()` exactly, the moves next to its ends no longer
+/// than `caps` allow.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn lines_between(
+pub(crate) fn lines_with(
     c: &Curve,
     piece: usize,
-    t: (f64, f64),
-    p: (Vec3, Vec3),
+    sp: &Spacing,
+    caps: Caps,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
     out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
-    let m = &opts.limits;
     let e = CHORD_USE * opts.chord;
-    let ts = flatten_params_between(c, t.0, t.1, FINE_CHORD * opts.chord);
+    let (ts, pts, s, free) = (&sp.ts, &sp.pts, &sp.s, &sp.free);
     let n = ts.len();
-    if n < 2 {
-        return;
-    }
-    let pts: Vec<Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
-    let ks: Vec<Vec3> = ts.iter().map(|&t| c.curvature_vector(t)).collect();
-    let mut s = alloc::vec![0.0f64; n];
-    for i in 1..n {
-        s[i] = s[i - 1] + pts[i - 1].dist(pts[i]);
-    }
-    let total = s[n - 1];
-    if total.is_nan() || total <= 0.0 {
-        return;
-    }
-    let mut h = alloc::vec![total; n];
-    let mut free = alloc::vec![false; n];
-    for i in 0..n {
-        let kappa = ks[i].norm();
-        let chord_h = if kappa > 0.0 {
-            crate::math::sqrt(8.0 * e / kappa)
-        } else {
-            total
-        };
-        let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-        let ds = s[b] - s[a];
-        let dk = if ds > 0.0 {
-            (ks[b] - ks[a]).norm() / ds
-        } else {
-            0.0
-        };
-        let v = speed.at(piece, ts[i]);
-        let step_h = if v > 0.0 && dk > 0.0 {
-            2.0 * opts.step_share * m.jerk * m.period / (v * v * dk)
-        } else {
-            total
-        };
-        let block_h = opts.min_block_periods * m.period * v;
-        // Whether the spacing may change here (module docs).
-        free[i] = kappa * v * v <= opts.step_share * m.jerk * m.period;
-        h[i] = chord_h
-            .min(step_h.max(block_h))
-            .min(total)
-            .max(opts.min_arc_length);
-    }
+    let mut h = sp.h.clone();
+    h[0] = h[0].min(caps.start);
+    h[n - 1] = h[n - 1].min(caps.end);
     // Stretches over which the needed spacing varies by at most a factor
     // SPACING_RATIO, each cut into moves of equal length at its smallest
     // spacing, ending only where the spacing may change (`free`; `lo` is
@@ -187,10 +284,10 @@ pub(crate) fn lines_between(
     }
     // Emit, halving any move whose middle is off by more than the share.
     let mut prev_t = params[0];
-    let mut prev = p.0;
+    let mut prev = c.start();
     let last = params.len() - 1;
     for (i, &t) in params.iter().enumerate().skip(1) {
-        let q = if i == last { p.1 } else { c.eval(t) };
+        let q = if i == last { c.end() } else { c.eval(t) };
         let fine = (&ts[..], &pts[..]);
         let v = speed.max_over(piece, prev_t, t);
         emit(

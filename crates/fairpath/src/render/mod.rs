@@ -278,6 +278,25 @@ pub fn render_range(
     let mut out = Rendered::default();
     let mut curves = Emitted::default();
     let start = range.start;
+    // As lines: the spacing each curve needs, of the range and the pieces
+    // next to it, whose spacings cap the moves at the joints
+    // ([`lines::caps_between`]).
+    let spaced_from = start.saturating_sub(1);
+    let spacings: Vec<Option<lines::Spacing>> = if opts.form == CurveForm::Lines {
+        (spaced_from..(range.end + 1).min(pieces.len()))
+            .map(|i| match &pieces[i].curve {
+                Curve::Line(_) => None,
+                c => lines::Spacing::of(c, i, speed, opts),
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let spacing = |i: usize| {
+        i.checked_sub(spaced_from)
+            .and_then(|k| spacings.get(k))
+            .and_then(Option::as_ref)
+    };
     for (j, p) in pieces[range].iter().enumerate() {
         let i = start + j;
         curves.clear();
@@ -308,7 +327,11 @@ pub fn render_range(
                 arcs::arcs_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
             }
             (c, CurveForm::Lines) => {
-                lines::lines_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
+                if let Some(sp) = spacing(i) {
+                    let before = i.checked_sub(1).and_then(spacing);
+                    let caps = lines::caps_between(before, sp, spacing(i + 1));
+                    lines::lines_with(c, i, sp, caps, speed, opts, &mut curves, &mut out.stats)
+                }
             }
         }
         out.speeds.append(&mut curves.speeds);
