@@ -235,9 +235,27 @@ impl RunWriter<'_> {
         let feed_text = self.due_feed(feed);
         // The block starts where the tool is: where a short move before it
         // was written finer than the run's decimals, the first control
-        // point is that position with its decimals (it moves by less than
-        // the rounding the module docs of `write_spline` allow for).
-        let (start, start_decimals) = self.start_of(n.points[0]);
+        // point of a G6.2 block is that position with its decimals (it
+        // moves by less than the rounding the module docs of
+        // `write_spline` allow for). A G5.2 block starts at the current
+        // position without writing it; LinuxCNC's G6.2 must stay in its
+        // plane, so there the point moves only within it.
+        let (start, start_decimals) = match kind {
+            NurbsBlocks::G5_2 => (None, None),
+            NurbsBlocks::G6_2Fanuc => self.start_of(n.points[0]),
+            NurbsBlocks::G6_2Linuxcnc => {
+                let (s, d) = self.start_of(n.points[0]);
+                let tol = 0.5 * 10f64.powi(-(self.decimals as i32)) * self.scale;
+                let in_plane = |p: Vec3| {
+                    Plane::of_points(&n.points, tol)
+                        .is_some_and(|pl| pl.off_plane(p) == pl.off_plane(n.points[0]))
+                };
+                match s {
+                    Some(p) if in_plane(p) => (s, d),
+                    _ => (None, None),
+                }
+            }
+        };
         let moved;
         let n = match start {
             Some(p) => {
