@@ -69,6 +69,11 @@ pub const MAX_SWEEP: f64 = core::f64::consts::FRAC_PI_2;
 /// joint may differ from the curve.
 pub const STEP_SHARE: f64 = 0.5;
 
+/// Relative margin by which the even arcs (`even_arcs`) must let the
+/// planner pass their joints faster than the biarcs to be written, or
+/// within which they are written when they are fewer.
+const EVEN_GAIN: f64 = 1e-3;
+
 /// Most halvings of a piece's parameter interval.
 const MAX_DEPTH: u32 = 48;
 
@@ -378,6 +383,39 @@ pub(crate) fn arcs_for_curve(
                 stats.fallback_lines += stats.lines - before;
                 return;
             }
+        }
+    }
+    // Arcs stepping evenly (`even_arcs`), where the curve lends itself and
+    // the planner passes their joints faster than the biarcs' (as fast and
+    // they are fewer); where the biarcs are as good, as on a circle, they
+    // are the curve itself.
+    if let Some((even, even_v)) =
+        super::even_arcs::even_arcs(c, piece, speed, opts, f.straight, f.planar)
+    {
+        use super::even_arcs::joint_speed_ratio;
+        let ends = (c.curvature_vector(t0), c.curvature_vector(t1));
+        let accuracy = opts.chord * 1e-3;
+        let r_even = joint_speed_ratio(&even, &even_v, ends, opts, accuracy);
+        let r_bi = joint_speed_ratio(&arcs.curves, &arcs.speeds, ends, opts, accuracy);
+        let better = r_even > (1.0 + EVEN_GAIN) * r_bi
+            || (r_even >= (1.0 - EVEN_GAIN) * r_bi && even.len() < arcs.curves.len());
+        if better {
+            let mut even_counts = RenderStats::default();
+            let mut even_out = Emitted::default();
+            for (a, v) in even.into_iter().zip(even_v) {
+                match &a {
+                    Curve::Arc(arc) => {
+                        even_counts.arcs += 1;
+                        if arc.rise != 0.0 {
+                            even_counts.helical += 1;
+                        }
+                    }
+                    _ => even_counts.lines += 1,
+                }
+                even_out.push(a, v);
+            }
+            arcs = even_out;
+            counts = even_counts;
         }
     }
     out.curves.extend(arcs.curves);

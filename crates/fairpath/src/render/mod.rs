@@ -18,6 +18,7 @@
 
 pub mod absorb;
 pub mod arcs;
+mod even_arcs;
 pub mod lines;
 pub mod speed;
 
