@@ -276,26 +276,48 @@ impl Fitter<'_> {
                 return false;
             }
         }
-        // The biarc's points against the curve's polyline. The polyline is
-        // within its own chord error of the curve, which the margin of
-        // DEVIATION_USE covers for intervals this short. Only whether some
-        // segment is within `lim` matters, and the points run along the
-        // polyline: the search starts at the segment the previous point
-        // found and goes forward first (the same answer as the nearest
-        // segment's, found in about one step instead of all of them).
-        let segments = poly.len() - 1;
-        let mut hint = 0;
-        for a in [&b.first, &b.second] {
-            for k in 1..8 {
-                let q = a.eval(k as f64 / 8.0);
-                let near = |i: usize| point_segment_distance(q, poly[i], poly[i + 1]) <= lim;
-                match (hint..segments).chain(0..hint).find(|&i| near(i)) {
-                    Some(i) => hint = i,
-                    None => return false,
-                }
+        points_near_polyline([&b.first, &b.second], poly, lim)
+    }
+}
+
+/// Whether the points at eighths of each of `pieces` lie within `lim` of
+/// the polyline `poly` (a curve's samples; the other direction of the
+/// deviation test). The polyline is within its own chord error of the
+/// curve, which the margin of [`DEVIATION_USE`] covers for pieces this
+/// short. Only whether some segment is within `lim` matters, and the
+/// points run along the polyline: the search starts at the segment the
+/// previous point found and goes forward first (the same answer as the
+/// nearest segment's, found in about one step instead of all of them).
+pub(super) fn points_near_polyline<'a>(
+    pieces: impl IntoIterator<Item = &'a Curve>,
+    poly: &[Vec3],
+    lim: f64,
+) -> bool {
+    let segments = poly.len() - 1;
+    let mut hint = 0;
+    for a in pieces {
+        for k in 1..8 {
+            let q = a.eval(k as f64 / 8.0);
+            let near = |i: usize| point_segment_distance(q, poly[i], poly[i + 1]) <= lim;
+            match (hint..segments).chain(0..hint).find(|&i| near(i)) {
+                Some(i) => hint = i,
+                None => return false,
             }
         }
-        true
+    }
+    true
+}
+
+/// Counts `a` in `counts` (an arc, helical or not, or a line).
+fn count_piece(a: &Curve, counts: &mut RenderStats) {
+    match a {
+        Curve::Arc(arc) => {
+            counts.arcs += 1;
+            if arc.rise != 0.0 {
+                counts.helical += 1;
+            }
+        }
+        _ => counts.lines += 1,
     }
 }
 
@@ -344,15 +366,7 @@ pub(crate) fn arcs_for_curve(
                 let b = *b;
                 let v = speed.max_over(piece, ta, tb);
                 for a in [b.first, b.second] {
-                    match &a {
-                        Curve::Arc(arc) => {
-                            counts.arcs += 1;
-                            if arc.rise != 0.0 {
-                                counts.helical += 1;
-                            }
-                        }
-                        _ => counts.lines += 1,
-                    }
+                    count_piece(&a, &mut counts);
                     arcs.push(a, v);
                 }
             }
@@ -403,15 +417,7 @@ pub(crate) fn arcs_for_curve(
             let mut even_counts = RenderStats::default();
             let mut even_out = Emitted::default();
             for (a, v) in even.into_iter().zip(even_v) {
-                match &a {
-                    Curve::Arc(arc) => {
-                        even_counts.arcs += 1;
-                        if arc.rise != 0.0 {
-                            even_counts.helical += 1;
-                        }
-                    }
-                    _ => even_counts.lines += 1,
-                }
+                count_piece(&a, &mut even_counts);
                 even_out.push(a, v);
             }
             arcs = even_out;

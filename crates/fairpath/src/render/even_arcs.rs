@@ -35,7 +35,7 @@ use super::speed::PlannedSpeed;
 use super::RenderOptions;
 use crate::budget::DEVIATION_USE;
 use crate::geom::biarc::{arc_from_tangent, in_plane_direction, piece_distance_bound};
-use crate::geom::{flatten_params_between, point_segment_distance, Curve, ParamCurve, Vec3};
+use crate::geom::{flatten_params_between, Curve, ParamCurve, Vec3};
 use crate::math;
 use alloc::vec::Vec;
 
@@ -470,19 +470,7 @@ fn checks_pass(
             None => return false,
         }
     }
-    let segments = pts.len() - 1;
-    let mut hint = 0;
-    for a in arcs {
-        for k in 1..8 {
-            let q = a.eval(k as f64 / 8.0);
-            let near = |i: usize| point_segment_distance(q, pts[i], pts[i + 1]) <= lim;
-            match (hint..segments).chain(0..hint).find(|&i| near(i)) {
-                Some(i) => hint = i,
-                None => return false,
-            }
-        }
-    }
-    true
+    super::arcs::points_near_polyline(arcs, pts, lim)
 }
 
 /// The solution of the 3x3 system `m x = b` (Cramer's rule); `None` when
