@@ -31,6 +31,7 @@
 //! [`super::arcs`] keeps its biarcs, as it does where they are as few.
 
 use super::arcs::{arc_plane, MAX_SWEEP, MIN_IN_PLANE};
+use super::lines::FINE_CHORD;
 use super::speed::PlannedSpeed;
 use super::RenderOptions;
 use crate::budget::DEVIATION_USE;
@@ -54,9 +55,6 @@ const UNIFORM_SAMPLES: usize = 128;
 
 /// Gauss-Newton iterations at most.
 const MAX_ITERATIONS: usize = 8;
-
-/// Sampling of the curve, as a share of the chord tolerance (as lines).
-const FINE_CHORD: f64 = 0.1;
 
 /// `sin(x) / x`, 1 at 0.
 fn sinc(x: f64) -> f64 {

@@ -56,7 +56,7 @@ pub use crate::budget::CHORD_USE;
 
 /// Sampling of the curve that the spacing is computed on, as a share of
 /// the chord tolerance.
-const FINE_CHORD: f64 = 0.1;
+pub(crate) const FINE_CHORD: f64 = 0.1;
 
 /// Lines for curve `c` (piece `piece` of the run) appended to `out`, from
 /// `c.start()` to `c.end()` exactly.
