@@ -9,8 +9,9 @@
 # `fairpath smooth --method none`, whose summary gives the written
 # program's own planned time and peak curvature (of its NURBS or arcs, not
 # of the curves they render); the input's come from the same command on
-# the input. Programs with rational curves (which `fair` keeps as written)
-# are listed and not counted. Writes docs/fair-outputs.md.
+# the input. Programs where `fair` keeps a rational or high-degree curve
+# as written (its sampled fairing did not lower the curve's peak) are
+# listed and not counted. Writes docs/fair-outputs.md.
 # Usage: scripts/fair-outputs.sh [RADII]  (default "0.025 0.125 0.25";
 #   build first: cargo build --release -p fairpath-cli)
 set -euo pipefail
@@ -93,7 +94,8 @@ with open(out, "w") as o:
     o.write(f"**{n} cases.** Default format: plans faster than the input in **{fd}**, and also lowers the peak "
             f"curvature in **{bd}**. As arcs: **{fa}** and **{ba}**.\n\n")
     if rational:
-        o.write("Not counted, rational curves (kept as written by `fair`): "
+        o.write("Not counted, a rational or high-degree curve kept as written by `fair` (its sampled fairing "
+                "did not lower the curve's peak curvature) at some radius: "
                 + ", ".join(f"`{r}`" for r in sorted(set(rational))) + ".\n\n")
     if failed:
         o.write("Failed: " + ", ".join(f"`{r}`" for r in failed) + ".\n\n")

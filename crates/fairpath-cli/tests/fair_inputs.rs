@@ -1,14 +1,15 @@
 //! Method `fair` on the B-splines the thesis' fairing does not take as
 //! they are (issue 20: "rational curves, or a clear error"): a quadratic
 //! and a polyline (degree 1) in G6.2 are faired, an unclamped cubic from
-//! fairpath's JSON is faired; a rational curve and a quintic are kept as
-//! written and the summary says so, in text and JSON. Every output is
-//! checked again by `fairpath check`.
+//! fairpath's JSON is faired; a rational curve and a quintic are sampled,
+//! fitted and faired, or with `other_curves = "kept"` kept as written and
+//! the summary says so, in text and JSON. Every output is checked again by
+//! `fairpath check`.
 
 mod common;
 use common::bin;
 use fairpath::path::Run;
-use fairpath::smooth::{Fair, Smoother, UnfairedReason};
+use fairpath::smooth::{Fair, FairOptions, OtherCurves, Smoother, UnfairedReason};
 use fairpath::verify::{verify_run, VerifyOptions};
 use std::path::Path;
 use std::process::Output;
@@ -121,9 +122,57 @@ fn a_polyline_spline_is_faired_as_its_lines() {
     assert!(!fair.contains("not faired"), "{fair}");
 }
 
+/// By default a rational curve and a quintic are sampled, fitted and
+/// faired: the summary reports no curve kept, the peak curvature falls,
+/// and the written program plans faster than the input. (The curve alone
+/// in its run: after the plunge of [`g6_2`] the sampled curve's corner
+/// with it gets a transition, whose curvature the input's corner does not
+/// show; the fairing of such a run is compared without transitions.)
 #[test]
-fn rational_and_quintic_curves_are_kept_and_reported() {
+fn rational_and_quintic_curves_are_sampled_and_faired() {
     let dir = tempfile::tempdir().unwrap();
+    let alone = |s: String| s.replace("G1 Z-1 F3000", "F3000");
+    for (name, program) in [
+        (
+            "rational.ngc",
+            alone(g6_2(3, |i| if i % 3 == 0 { 0.7 } else { 1.0 })),
+        ),
+        ("quintic.ngc", alone(g6_2(6, |_| 1.0))),
+        (
+            "plunge.ngc",
+            g6_2(3, |i| if i % 3 == 0 { 0.7 } else { 1.0 }),
+        ),
+    ] {
+        let input = dir.path().join(name);
+        std::fs::write(&input, program).unwrap();
+        let out = dir.path().join("out.ngc");
+        let before = peak(&smooth_checked(&input, &out, "0.25mm", "none", &[]));
+        let s = smooth_checked(&input, &out, "0.25mm", "fair", &[]);
+        assert!(!s.contains("kept as written ("), "{name}: {s}");
+        if name != "plunge.ngc" {
+            assert!(
+                peak(&s) < 0.5 * before,
+                "{name}: {} against {before}",
+                peak(&s)
+            );
+        }
+        let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
+        let start = j.find('{').unwrap();
+        let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+        assert_eq!(v["not_faired"], serde_json::json!([]), "{name}: {v}");
+        let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
+        assert!(t_out < t_in, "{name}: written {t_out:?} against {t_in:?}");
+    }
+}
+
+/// With `other_curves = "kept"` a rational curve and a quintic are kept as
+/// written, and the summary says so, in text and JSON.
+#[test]
+fn rational_and_quintic_curves_are_kept_and_reported_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = dir.path().join("kept.toml");
+    std::fs::write(&options, "other_curves = \"kept\"\n").unwrap();
+    let kept = ["--options", options.to_str().unwrap()];
     let cases = [
         (
             "rational.ngc",
@@ -143,10 +192,11 @@ fn rational_and_quintic_curves_are_kept_and_reported() {
         std::fs::write(&input, program).unwrap();
         let out = dir.path().join("out.ngc");
         let before = peak(&smooth_checked(&input, &out, "0.25mm", "none", &[]));
-        let s = smooth_checked(&input, &out, "0.25mm", "fair", &[]);
+        let s = smooth_checked(&input, &out, "0.25mm", "fair", &kept);
         assert!(s.contains(said), "{name}: {s}");
         assert_eq!(peak(&s), before, "{name}: kept as written");
-        let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
+        let json = [&kept[..], &["--json-summary"]].concat();
+        let j = smooth_checked(&input, &out, "0.25mm", "fair", &json);
         let start = j.find('{').unwrap();
         let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
         let nf = &v["not_faired"][0];
@@ -217,13 +267,36 @@ fn an_unclamped_cubic_from_json_is_faired() {
         ),
     );
     let run = Run::new(fairpath_gcode::read_json(&rational).unwrap());
-    let out = Fair::default().smooth_run(&run, tol).unwrap();
+    let kept = Fair {
+        options: FairOptions {
+            other_curves: OtherCurves::Kept,
+            ..FairOptions::default()
+        },
+    };
+    let out = kept.smooth_run(&run, tol).unwrap();
     assert_eq!(out.unfaired.len(), 1);
     assert_eq!(
         (out.unfaired[0].reason, out.unfaired[0].source_lines),
         (UnfairedReason::Rational, (2, 2))
     );
     assert_eq!(out.pieces, run.pieces);
+    // By default it is sampled, fitted and faired: within the tolerance,
+    // its ends kept, its ripples flattened.
+    let out = Fair::default().smooth_run(&run, tol).unwrap();
+    assert!(out.unfaired.is_empty(), "{:?}", out.unfaired);
+    let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    assert!(rep.within(tol), "{rep:?}");
+    let first = &out.pieces[0].curve;
+    let last = &out.pieces[out.pieces.len() - 1].curve;
+    let input = &run.pieces[0].curve;
+    assert_eq!((first.start(), last.end()), (input.start(), input.end()));
+    let peak_of = |pieces: &[fairpath::path::Piece]| fairpath::smooth::run_peak_curvature(pieces);
+    assert!(
+        peak_of(&out.pieces) < 0.1 * peak_of(&run.pieces),
+        "{} {}",
+        peak_of(&out.pieces),
+        peak_of(&run.pieces)
+    );
 }
 
 /// A program that holds G6.2 NURBS is written in G6.2 when no format is

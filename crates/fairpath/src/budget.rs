@@ -35,7 +35,10 @@
 //! |    |        sampling arcs); the rest covers cleaning and written centres
 //! |    '- fair: its fits of runs of lines FAIR_FIT_SHARE of BAND_USE of it,
 //! |             the tube of the fairing around them BAND_USE of the rest
-//! |             (around curves of the input: BAND_USE of all of it)
+//! |             (around curves of the input: BAND_USE of all of it); in a
+//! |             run with curves the fairing cannot take (rational, degree
+//! |             4 and above), FAIR_SAMPLE_SHARE of it for their chords
+//! |             first, the above out of the rest
 //! |- output (OUTPUT_SHARE of total by default)
 //! |    |- rounding: ROUNDING_SHARE of it for the decimals written
 //! |    '- render: the rest, for chords, arcs or spline blocks; arcs aim at
@@ -143,6 +146,13 @@ pub const ARC_FIT_SHARE: f64 = 0.9;
 /// (a CAM-like spline, ripples and all); flattening is the fairing's job,
 /// and the wider its tube the more it flattens.
 pub const FAIR_FIT_SHARE: f64 = 0.25;
+
+/// Share of the smoothing share that method `fair` gives the chords of the
+/// curves the thesis' fairing cannot take (rational, degree 4 and above)
+/// in a run, which are then fitted and faired as lines with the rest: as
+/// `auto`'s chords of arcs ([`ARC_SAMPLING_SHARE`]), a twentieth, far
+/// below the tube the fairing flattens in.
+pub const FAIR_SAMPLE_SHARE: f64 = 0.05;
 
 /// Share of `arc-fit`'s block tolerance that the sampled chords of an arc
 /// may deviate from it.

@@ -1,7 +1,7 @@
 //! Tool paths as the rest of the library sees them: pieces of geometry with
 //! the input lines they come from, grouped in runs of feed moves.
 
-use crate::geom::{Curve, Line, ParamCurve, Vec3};
+use crate::geom::{flatten_params, Curve, Line, ParamCurve, Vec3};
 use alloc::vec::Vec;
 
 /// One move of a tool path, in mm.
@@ -66,6 +66,36 @@ impl Run {
             .iter()
             .map(|p| p.curve.length(accuracy / n))
             .sum()
+    }
+
+    /// The run with every piece whose curve `sample` picks replaced by
+    /// chords within `chord` mm of it ([`flatten_params`]: measured at
+    /// samples, so a caller that needs the bound verifies what it makes of
+    /// them, as the pipeline does). End points are exact; each chord keeps
+    /// the piece's input lines and feed. Lines are never sampled.
+    pub fn sampled(&self, chord: f64, sample: impl Fn(&Curve) -> bool) -> Run {
+        let mut out = Vec::with_capacity(self.pieces.len());
+        for p in &self.pieces {
+            let c = &p.curve;
+            if matches!(c, Curve::Line(_)) || !sample(c) {
+                out.push(p.clone());
+                continue;
+            }
+            let ts = flatten_params(c, chord);
+            let n = ts.len();
+            let mut prev = c.start();
+            for (i, &t) in ts.iter().enumerate().skip(1) {
+                let q = if i + 1 == n { c.end() } else { c.eval(t) };
+                out.push(Piece {
+                    curve: Curve::Line(Line::new(prev, q)),
+                    rapid: p.rapid,
+                    source_lines: p.source_lines,
+                    feed: p.feed,
+                });
+                prev = q;
+            }
+        }
+        Run::new(out)
     }
 }
 

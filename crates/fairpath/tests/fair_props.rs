@@ -571,6 +571,45 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// Random rational splines (weights 0.5 to 2) and quintics through
+    /// the method: sampled, fitted and faired or kept, the run stays
+    /// within the tolerance of the curve (the verifier), its ends exact,
+    /// and a curve kept is reported.
+    #[test]
+    fn random_rational_splines_through_the_method_stay_within_the_tolerance(
+        c in random_spline(),
+        w in prop::collection::vec(0.5f64..2.0, 40),
+        quintic in any::<bool>(),
+        tol in prop_oneof![Just(0.025), Just(0.125), Just(0.25)],
+    ) {
+        let c = if quintic {
+            // The same points on clamped uniform knots of degree 5.
+            let m = c.points.len().max(6);
+            let mut pts = c.points.clone();
+            pts.resize(m, *c.points.last().unwrap());
+            let mut knots = vec![0.0; 6];
+            knots.extend((1..m - 5).map(|i| i as f64));
+            knots.extend([(m - 5) as f64; 6]);
+            Nurbs::new(5, knots, pts, None).unwrap()
+        } else {
+            let weights = Some(w[..c.points.len()].to_vec());
+            Nurbs { weights, ..c }
+        };
+        let run = Run::new(vec![piece(&c)]);
+        let out = Fair::default().smooth_run(&run, tol).unwrap();
+        let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+        prop_assert!(rep.within(tol), "{:?}", rep);
+        let (first, last) = (&out.pieces[0].curve, &out.pieces[out.pieces.len() - 1].curve);
+        prop_assert_eq!(first.start(), c.start());
+        prop_assert_eq!(last.end(), c.end());
+        let kept = out.pieces == run.pieces;
+        prop_assert_eq!(kept, !out.unfaired.is_empty());
+    }
+}
+
 fn line(a: Vec3, b: Vec3, l: usize) -> Piece {
     Piece {
         curve: Curve::Line(Line::new(a, b)),

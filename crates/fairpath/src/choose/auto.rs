@@ -113,8 +113,8 @@ use super::candidates::{
 use super::objective::{Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
-use crate::geom::{flatten_params, Curve, Line, ParamCurve};
-use crate::path::{Piece, Run};
+use crate::geom::Curve;
+use crate::path::Run;
 use crate::smooth::{
     check_tolerance, require, FitMemo, OptionError, SmoothError, SmoothedRun, Smoother,
 };
@@ -207,30 +207,9 @@ impl Default for Auto {
 
 /// `run` with every piece that is not a line replaced by chords within
 /// `chord` mm of it (exact end points; each chord keeps the piece's input
-/// lines and feed).
+/// lines and feed; [`Run::sampled`]).
 pub fn sample_curves(run: &Run, chord: f64) -> Run {
-    let mut out = Vec::with_capacity(run.pieces.len());
-    for p in &run.pieces {
-        if matches!(p.curve, Curve::Line(_)) {
-            out.push(p.clone());
-            continue;
-        }
-        let c = &p.curve;
-        let ts = flatten_params(c, chord);
-        let n = ts.len();
-        let mut prev = c.start();
-        for (i, &t) in ts.iter().enumerate().skip(1) {
-            let q = if i + 1 == n { c.end() } else { c.eval(t) };
-            out.push(Piece {
-                curve: Curve::Line(Line::new(prev, q)),
-                rapid: p.rapid,
-                source_lines: p.source_lines,
-                feed: p.feed,
-            });
-            prev = q;
-        }
-    }
-    Run::new(out)
+    run.sampled(chord, |_| true)
 }
 
 impl Auto {
@@ -523,7 +502,8 @@ mod tests {
     use super::super::candidates::CURVES_AS_WRITTEN;
     use super::super::same_pieces::same_pieces;
     use super::*;
-    use crate::geom::Vec3;
+    use crate::geom::{Line, Vec3};
+    use crate::path::Piece;
     use core::sync::atomic::{AtomicUsize, Ordering};
 
     /// [`PlannedTime`], counting its calls.

@@ -44,7 +44,21 @@
 //!   written. A curve of degree 1 is its control polygon, exactly: its
 //!   lines go through the fit and the fairing as other lines do.
 //! * **Curves the fairing cannot take** (rational, degree 4 and above, see
-//!   [`as_fairable`]) are kept as written and listed in
+//!   [`as_fairable`]): by default ([`OtherCurves::Sampled`]) the run is
+//!   also smoothed with each of them sampled as chords within
+//!   [`FAIR_SAMPLE_SHARE`] of the tolerance ([`Run::sampled`]), the chords
+//!   fitted and faired as lines are, in the rest of the tolerance (so the
+//!   result is within the chords' share plus the rest of the original, by
+//!   the triangle inequality). The thesis fairs polynomial B-splines only
+//!   (its move distances come from the basis functions alone, which a
+//!   weight changes); a CAM system's rational spline is just as rippled,
+//!   and its weights are no reason to leave it so. That smoothing is kept
+//!   where its sampled peak curvature ([`run_peak_curvature`]) is lower
+//!   than with the curves kept, so an exact conic the fit would only
+//!   copy, ripples of its own and all, stays as it is (compared over the
+//!   pieces from the curves' input lines: the run's peak may be
+//!   elsewhere). Where the curves
+//!   are kept (that case, or with [`OtherCurves::Kept`]) they are listed in
 //!   [`SmoothedRun::unfaired`] with the reason, which the report and the
 //!   CLI's summary show. Not an error: the rest of the program is faired
 //!   and the kept curves are within the tolerance of themselves, while
@@ -57,7 +71,7 @@ use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fit_sections::SectionOptions;
 use super::unfaired::{Unfaired, UnfairedReason};
 use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
-use crate::budget::{BAND_USE, FAIR_FIT_SHARE};
+use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
 use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::guard::PEAK_SAMPLES;
 use crate::geom::tube_fair::{
@@ -105,6 +119,27 @@ pub struct FairOptions {
     pub peak_pass: PeakPass,
     /// How runs of lines are fitted before they are faired.
     pub lines: LineFit,
+    /// What becomes of the curves the thesis' fairing cannot take.
+    pub other_curves: OtherCurves,
+}
+
+/// What [`Fair`] does with the curves the thesis' fairing cannot take
+/// (rational, degree 4 and above: [`as_fairable`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum OtherCurves {
+    /// Sampled as chords within [`FAIR_SAMPLE_SHARE`] of the tolerance,
+    /// fitted and faired as lines, where that lowers the run's sampled
+    /// peak curvature; kept as written otherwise (see the module
+    /// documentation).
+    #[default]
+    Sampled,
+    /// Kept as written, and reported.
+    Kept,
 }
 
 /// How [`Fair`] fits a run of lines before the thesis' fairing (the
@@ -161,6 +196,7 @@ impl Default for FairOptions {
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
             lines: LineFit::Fairer,
+            other_curves: OtherCurves::Sampled,
         }
     }
 }
@@ -231,6 +267,65 @@ impl Smoother for Fair {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
+        let kept = self.smooth_lines(run, tolerance)?;
+        if kept.unfaired.is_empty() || self.options.other_curves == OtherCurves::Kept {
+            return Ok(kept);
+        }
+        // Curves the fairing cannot take: sampled, then fitted and faired
+        // as lines with what their chords leave of the tolerance.
+        let chord = FAIR_SAMPLE_SHARE * tolerance;
+        // (A curve that jumps at a knot, or is invalid, is not sampled: its
+        // chords would bridge the jump.)
+        let other = |c: &Curve| match c {
+            Curve::Nurbs(n) if n.degree > 1 => matches!(
+                as_fairable(n),
+                Err(TubeFairError::Rational | TubeFairError::Degree(_))
+            ),
+            _ => false,
+        };
+        let sampled_run = run.sampled(chord, other);
+        let sampled = self.smooth_lines(&sampled_run, tolerance - chord)?;
+        // Compared where they differ: over the pieces from the input lines
+        // of the sampled curves (the run's peak may lie elsewhere), but
+        // the corner transitions, which replace corners the curves kept
+        // make with their neighbours (a corner has no curvature to count).
+        let lines: Vec<(usize, usize)> = run
+            .pieces
+            .iter()
+            .filter(|p| other(&p.curve))
+            .map(|p| p.source_lines)
+            .collect();
+        let peak_there = |pieces: &[Piece]| {
+            let near: Vec<Piece> = pieces
+                .iter()
+                .filter(|p| {
+                    let transition =
+                        matches!(&p.curve, Curve::Nurbs(c) if c.knots == TRANSITION_KNOTS);
+                    !transition
+                        && lines
+                            .iter()
+                            .any(|l| p.source_lines.0 <= l.1 && l.0 <= p.source_lines.1)
+                })
+                .cloned()
+                .collect();
+            run_peak_curvature(&near)
+        };
+        Ok(
+            if sampled.unfaired.is_empty() && peak_there(&sampled.pieces) < peak_there(&kept.pieces)
+            {
+                sampled
+            } else {
+                kept
+            },
+        )
+    }
+}
+
+impl Fair {
+    /// [`Smoother::smooth_run`] with the curves the fairing cannot take
+    /// kept as written (and reported): lines fitted as
+    /// [`FairOptions::lines`] says, then faired.
+    fn smooth_lines(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         let lines = run
             .pieces
             .iter()

@@ -1,6 +1,7 @@
 //! Curves a method left as they are although it smooths their kind, and
 //! why: what method `fair` reports for the curves the thesis' fairing
-//! cannot take ([`crate::geom::tube_fair::as_fairable`]).
+//! cannot take ([`crate::geom::tube_fair::as_fairable`]) where it keeps
+//! them (see [`crate::smooth::OtherCurves`]).
 //!
 //! Such a curve is kept exactly as written (it is trivially within the
 //! tolerance of itself) and the rest of the program is smoothed: refusing
