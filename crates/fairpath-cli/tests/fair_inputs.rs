@@ -333,3 +333,29 @@ fn a_g6_2_program_is_written_in_g6_2_unless_a_format_is_asked() {
     let s = smooth_checked(&lines, &out, "0.05mm", "auto", &[]);
     assert!(s.contains("(auto, arcs for generic"), "{s}");
 }
+
+/// `Curva_Farfalla_p1.ngc` (LinuxCNC's rational G6.2 example): sampled,
+/// fitted and faired at 0.25 mm its curve has a lower peak curvature but
+/// ripples of `dk/ds` that plan it 30% slower at the maximum feed (8.829
+/// s against 6.780 s, the JSON curves), so `fair` keeps it as written and
+/// says so; the written curves are never slower than the input at the
+/// maximum feed.
+#[test]
+fn curva_farfalla_p1_rational_curve_is_kept_where_its_fit_plans_slower() {
+    let Some(input) = common::shared("linuxcnc-nurbs/G6/Curva_Farfalla_p1.ngc") else {
+        eprintln!("skipped: ../shared/paths not found");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.json");
+    let args = ["--override-feed", "-f", "json", "--json-summary"];
+    let j = smooth_checked(&input, &out, "0.25mm", "fair", &args);
+    let start = j.find('{').unwrap();
+    let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+    assert_eq!(
+        v["not_faired"][0]["reason"], "rational (weights differ)",
+        "{v}"
+    );
+    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
+    assert!(t_out <= t_in, "written {t_out:?} against {t_in:?}");
+}

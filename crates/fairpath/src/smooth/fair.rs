@@ -53,11 +53,16 @@
 //!   (its move distances come from the basis functions alone, which a
 //!   weight changes); a CAM system's rational spline is just as rippled,
 //!   and its weights are no reason to leave it so. That smoothing is kept
-//!   where its sampled peak curvature ([`run_peak_curvature`]) is lower
-//!   than with the curves kept, so an exact conic the fit would only
-//!   copy, ripples of its own and all, stays as it is (compared over the
-//!   pieces from the curves' input lines: the run's peak may be
-//!   elsewhere). Where the curves
+//!   where its highest demand ([`sampled_demand`], by
+//!   [`FairOptions::peak_pass`]'s measure at its own feed, not the
+//!   programmed one: by default the speed caps of fairpath's jerk-limited
+//!   model at 400 mm/s, curvature and its rate of change) is lower than
+//!   with the curves kept, compared
+//!   over the pieces from the curves' input lines (the run's may peak
+//!   elsewhere), corner transitions aside. So a smooth design curve whose
+//!   fit would only add ripples of `dk/ds` (LinuxCNC's rational G6.2
+//!   examples: 30% slower at 400 mm/s, with a lower peak curvature) stays
+//!   as it is. Where the curves
 //!   are kept (that case, or with [`OtherCurves::Kept`]) they are listed in
 //!   [`SmoothedRun::unfaired`] with the reason, which the report and the
 //!   CLI's summary show. Not an error: the rest of the program is faired
@@ -286,7 +291,7 @@ impl Smoother for Fair {
         let sampled_run = run.sampled(chord, other);
         let sampled = self.smooth_lines(&sampled_run, tolerance - chord)?;
         // Compared where they differ: over the pieces from the input lines
-        // of the sampled curves (the run's peak may lie elsewhere), but
+        // of the sampled curves (the run's demand may peak elsewhere), but
         // the corner transitions, which replace corners the curves kept
         // make with their neighbours (a corner has no curvature to count).
         let lines: Vec<(usize, usize)> = run
@@ -295,7 +300,15 @@ impl Smoother for Fair {
             .filter(|p| other(&p.curve))
             .map(|p| p.source_lines)
             .collect();
-        let peak_there = |pieces: &[Piece]| {
+        // At the pass' own feed, not the programmed one: below it both
+        // would tie at the feed, and a fit that demands more at a feed
+        // override is no gain (the writer keeps a run that plans slower
+        // at the maximum feed as written).
+        let pass = match self.options.peak_pass {
+            PeakPass::Off => PeakPass::Curvature,
+            pass => pass,
+        };
+        let demand_there = |pieces: &[Piece]| {
             let near: Vec<Piece> = pieces
                 .iter()
                 .filter(|p| {
@@ -308,10 +321,11 @@ impl Smoother for Fair {
                 })
                 .cloned()
                 .collect();
-            run_peak_curvature(&near)
+            sampled_demand(&near, pass)
         };
         Ok(
-            if sampled.unfaired.is_empty() && peak_there(&sampled.pieces) < peak_there(&kept.pieces)
+            if sampled.unfaired.is_empty()
+                && demand_there(&sampled.pieces) < demand_there(&kept.pieces)
             {
                 sampled
             } else {
@@ -411,6 +425,55 @@ pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
             }
         })
         .fold(0.0, f64::max)
+}
+
+/// Highest demand of `pass` ([`PeakPass::demand`]: for its speed caps,
+/// the inverse of the lowest of `sqrt(A / k)`, `cbrt(J / k^2)`,
+/// `cbrt(J / |dk/ds|)` and the feed) over the curves among `pieces`, each
+/// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
+/// differences of neighbouring samples (a rational curve has no cubic
+/// spans to take it from in closed form); arcs their own curvature, lines
+/// nothing. A sample, not a bound: it compares a run's curves kept as
+/// written with the same curves sampled, fitted and faired, like with like
+/// ([`OtherCurves::Sampled`]).
+pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
+    let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
+    for p in pieces {
+        match &p.curve {
+            Curve::Line(_) => {}
+            Curve::Arc(a) => {
+                let k = a.curvature(a.domain().0);
+                k_max = k_max.max(k);
+                jerk_max = jerk_max.max(k * k);
+            }
+            Curve::Nurbs(c) => {
+                let (t0, t1) = c.domain();
+                let mut knots: Vec<f64> = c.knots.clone();
+                knots.dedup();
+                let mut prev: Option<(crate::geom::Vec3, f64)> = None;
+                for w in knots.windows(2) {
+                    if !(w[0] >= t0 && w[1] <= t1 && w[1] > w[0]) {
+                        continue;
+                    }
+                    for j in 0..=PEAK_SAMPLES {
+                        let t = w[0] + (w[1] - w[0]) * j as f64 / PEAK_SAMPLES as f64;
+                        let (q, k) = (c.eval(t), c.curvature(t));
+                        k_max = k_max.max(k);
+                        let mut jerk_term = k * k;
+                        if let Some((q0, k0)) = prev {
+                            let ds = q.dist(q0);
+                            if ds > 0.0 {
+                                jerk_term = jerk_term.max(crate::math::abs(k - k0) / ds);
+                            }
+                        }
+                        jerk_max = jerk_max.max(jerk_term);
+                        prev = Some((q, k));
+                    }
+                }
+            }
+        }
+    }
+    pass.demand(k_max, jerk_max)
 }
 
 impl Fair {

@@ -136,7 +136,7 @@ impl PeakPass {
     /// of a maximum of increasing functions of these is that maximum of
     /// the samples' maxima, so a span needs one square root and one cube
     /// root, not two per sample.
-    fn demand(&self, k: f64, jerk_term: f64) -> f64 {
+    pub fn demand(&self, k: f64, jerk_term: f64) -> f64 {
         match *self {
             PeakPass::Off | PeakPass::Curvature => k,
             PeakPass::SpeedCaps {
