@@ -27,7 +27,8 @@
 //!   happened to have it would only be left unfaired). By default the fit
 //!   is the plain least-squares fit (its fairness raises and its in-band
 //!   relaxation off: flattening is the thesis' method's job here).
-//! * Arcs, lines and curves of other kinds are kept as they are.
+//! * Lines between sharp corners are kept as they are (the fit's
+//!   sections leave them).
 //! * **Joints**: a curve that joins another piece of the run keeps its
 //!   first (or last) three control points, so its position, tangent and
 //!   curvature at the joint do not change: a G2 joint stays G2. At the
@@ -44,7 +45,11 @@
 //!   written. A curve of degree 1 is its control polygon, exactly: its
 //!   lines go through the fit and the fairing as other lines do.
 //! * **Curves the fairing cannot take** (rational, degree 4 and above, see
-//!   [`as_fairable`]): by default ([`OtherCurves::Sampled`]) the run is
+//!   [`as_fairable`]; circular and helical arcs, which are rational
+//!   quadratics, among them: G2/G3, and the arcs a G5.2 block is read as,
+//!   since LinuxCNC runs it so), **or cannot move** (cubics of at most
+//!   [`MOST_FIXED_POINTS`] control points, all kept where they join their
+//!   neighbours G2): by default ([`OtherCurves::Sampled`]) the run is
 //!   also smoothed with each of them sampled as chords within
 //!   [`FAIR_SAMPLE_SHARE`] of the tolerance ([`Run::sampled`]), the chords
 //!   fitted and faired as lines are, in the rest of the tolerance (so the
@@ -86,6 +91,13 @@ use crate::geom::tube_fair::{
 use crate::geom::{total_curvature, Curve, Line, ParamCurve};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
+
+/// Most control points of a cubic (three spans) that the fairing cannot
+/// move once it keeps the first and last three where the curve joins its
+/// neighbours G2: the spans LinuxCNC's G5.2 blocks are read as, one piece
+/// each (`fairpath_gcode`), are such curves, and only sampled
+/// ([`OtherCurves::Sampled`]) can they be faired.
+pub const MOST_FIXED_POINTS: usize = 6;
 
 /// Options of [`Fair`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -129,7 +141,8 @@ pub struct FairOptions {
 }
 
 /// What [`Fair`] does with the curves the thesis' fairing cannot take
-/// (rational, degree 4 and above: [`as_fairable`]).
+/// (rational, degree 4 and above: [`as_fairable`]) or cannot move (at most
+/// [`MOST_FIXED_POINTS`] control points).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",
@@ -273,21 +286,26 @@ impl Smoother for Fair {
         check_tolerance(tolerance)?;
         self.options.validate()?;
         let kept = self.smooth_lines(run, tolerance)?;
-        if kept.unfaired.is_empty() || self.options.other_curves == OtherCurves::Kept {
-            return Ok(kept);
-        }
-        // Curves the fairing cannot take: sampled, then fitted and faired
-        // as lines with what their chords leave of the tolerance.
-        let chord = FAIR_SAMPLE_SHARE * tolerance;
-        // (A curve that jumps at a knot, or is invalid, is not sampled: its
-        // chords would bridge the jump.)
+        // Curves the fairing cannot take, or cannot move: sampled, then
+        // fitted and faired as lines with what their chords leave of the
+        // tolerance. (A curve that jumps at a knot, or is invalid, is not
+        // sampled: its chords would bridge the jump.)
         let other = |c: &Curve| match c {
-            Curve::Nurbs(n) if n.degree > 1 => matches!(
-                as_fairable(n),
-                Err(TubeFairError::Rational | TubeFairError::Degree(_))
-            ),
+            // A circular or helical arc is a rational curve too (G2/G3,
+            // and the arcs LinuxCNC runs a G5.2 block as).
+            Curve::Arc(_) => true,
+            Curve::Nurbs(n) if n.degree > 1 => match as_fairable(n) {
+                Err(e) => matches!(e, TubeFairError::Rational | TubeFairError::Degree(_)),
+                Ok(cubic) => cubic.points.len() <= MOST_FIXED_POINTS,
+            },
             _ => false,
         };
+        if self.options.other_curves == OtherCurves::Kept
+            || !run.pieces.iter().any(|p| other(&p.curve))
+        {
+            return Ok(kept);
+        }
+        let chord = FAIR_SAMPLE_SHARE * tolerance;
         let sampled_run = run.sampled(chord, other);
         let sampled = self.smooth_lines(&sampled_run, tolerance - chord)?;
         // Compared where they differ: over the pieces from the input lines
@@ -431,43 +449,51 @@ pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
 /// the inverse of the lowest of `sqrt(A / k)`, `cbrt(J / k^2)`,
 /// `cbrt(J / |dk/ds|)` and the feed) over the curves among `pieces`, each
 /// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
-/// differences of neighbouring samples (a rational curve has no cubic
-/// spans to take it from in closed form); arcs their own curvature, lines
-/// nothing. A sample, not a bound: it compares a run's curves kept as
+/// differences of neighbouring samples, across joints too (a rational
+/// curve has no cubic spans to take it from in closed form); arcs and
+/// lines at their ends, with their curvature. A sample, not a bound: it compares a run's curves kept as
 /// written with the same curves sampled, fitted and faired, like with like
 /// ([`OtherCurves::Sampled`]).
 pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
     let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
+    // The sample before, across joints too: a step of curvature where two
+    // pieces meet (the spans of a G5.2 quadratic meet C1) shows as a steep
+    // `dk/ds` over the next step.
+    let mut prev: Option<(crate::geom::Vec3, f64)> = None;
+    let mut sample = |q: crate::geom::Vec3, k: f64| {
+        k_max = k_max.max(k);
+        let mut jerk_term = k * k;
+        if let Some((q0, k0)) = prev {
+            let ds = q.dist(q0);
+            if ds > 0.0 {
+                jerk_term = jerk_term.max(crate::math::abs(k - k0) / ds);
+            }
+        }
+        jerk_max = jerk_max.max(jerk_term);
+        prev = Some((q, k));
+    };
     for p in pieces {
         match &p.curve {
-            Curve::Line(_) => {}
+            Curve::Line(l) => {
+                sample(l.p0, 0.0);
+                sample(l.p1, 0.0);
+            }
             Curve::Arc(a) => {
                 let k = a.curvature(a.domain().0);
-                k_max = k_max.max(k);
-                jerk_max = jerk_max.max(k * k);
+                sample(a.p0, k);
+                sample(a.p1, k);
             }
             Curve::Nurbs(c) => {
                 let (t0, t1) = c.domain();
                 let mut knots: Vec<f64> = c.knots.clone();
                 knots.dedup();
-                let mut prev: Option<(crate::geom::Vec3, f64)> = None;
                 for w in knots.windows(2) {
                     if !(w[0] >= t0 && w[1] <= t1 && w[1] > w[0]) {
                         continue;
                     }
                     for j in 0..=PEAK_SAMPLES {
                         let t = w[0] + (w[1] - w[0]) * j as f64 / PEAK_SAMPLES as f64;
-                        let (q, k) = (c.eval(t), c.curvature(t));
-                        k_max = k_max.max(k);
-                        let mut jerk_term = k * k;
-                        if let Some((q0, k0)) = prev {
-                            let ds = q.dist(q0);
-                            if ds > 0.0 {
-                                jerk_term = jerk_term.max(crate::math::abs(k - k0) / ds);
-                            }
-                        }
-                        jerk_max = jerk_max.max(jerk_term);
-                        prev = Some((q, k));
+                        sample(c.eval(t), c.curvature(t));
                     }
                 }
             }
