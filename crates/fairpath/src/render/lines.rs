@@ -321,7 +321,7 @@ fn at_length(c: &Curve, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
     let mut x = t0 + (t1 - t0) * (d / span).clamp(0.0, 1.0);
     for _ in 0..3 {
         let q = c.eval(x);
-        let (d1, _) = c.derivs12(x);
+        let d1 = c.deriv1(x);
         let r = q - p0;
         let dist = r.norm();
         // d|c(t) - p0|/dt = (c(t) - p0) . c'(t) / |c(t) - p0|
