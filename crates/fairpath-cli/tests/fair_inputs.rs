@@ -39,6 +39,12 @@ fn smooth_checked(input: &Path, out: &Path, tol: &str, method: &str, extra: &[&s
     text(&s)
 }
 
+/// The `--json-summary` object in what `smooth` printed.
+fn json_summary(printed: &str) -> serde_json::Value {
+    let start = printed.find('{').unwrap();
+    serde_json::from_str(printed[start..].trim()).unwrap()
+}
+
 /// The peak curvature `smooth` prints for the curves (0 for none).
 fn peak(summary: &str) -> f64 {
     let line = summary
@@ -157,8 +163,7 @@ fn rational_and_quintic_curves_are_sampled_and_faired() {
             );
         }
         let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
-        let start = j.find('{').unwrap();
-        let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+        let v = json_summary(&j);
         assert_eq!(v["not_faired"], serde_json::json!([]), "{name}: {v}");
         let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
         assert!(t_out < t_in, "{name}: written {t_out:?} against {t_in:?}");
@@ -197,8 +202,7 @@ fn rational_and_quintic_curves_are_kept_and_reported_when_asked() {
         assert_eq!(peak(&s), before, "{name}: kept as written");
         let json = [&kept[..], &["--json-summary"]].concat();
         let j = smooth_checked(&input, &out, "0.25mm", "fair", &json);
-        let start = j.find('{').unwrap();
-        let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+        let v = json_summary(&j);
         let nf = &v["not_faired"][0];
         assert_eq!(
             (
@@ -350,8 +354,7 @@ fn curva_farfalla_p1_rational_curve_is_kept_where_its_fit_plans_slower() {
     let out = dir.path().join("out.json");
     let args = ["--override-feed", "-f", "json", "--json-summary"];
     let j = smooth_checked(&input, &out, "0.25mm", "fair", &args);
-    let start = j.find('{').unwrap();
-    let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+    let v = json_summary(&j);
     assert_eq!(
         v["not_faired"][0]["reason"], "rational (weights differ)",
         "{v}"
@@ -375,8 +378,7 @@ fn trident_xy_g5_2_arcs_are_sampled_and_faired() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
     let j = smooth_checked(&input, &out, "0.125mm", "fair", &["--json-summary"]);
-    let start = j.find('{').unwrap();
-    let v: serde_json::Value = serde_json::from_str(j[start..].trim()).unwrap();
+    let v = json_summary(&j);
     assert_eq!(v["not_faired"], serde_json::json!([]), "{v}");
     let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
     assert!(
