@@ -62,13 +62,13 @@
 //!   [`FairOptions::peak_pass`]'s measure at its own feed, not the
 //!   programmed one: by default the speed caps of fairpath's jerk-limited
 //!   model at 400 mm/s, curvature and its rate of change) is lower than
-//!   with the curves kept, compared
-//!   over the pieces from the curves' input lines (the run's may peak
-//!   elsewhere), corner transitions aside. So a smooth design curve whose
-//!   fit would only add ripples of `dk/ds` (LinuxCNC's rational G6.2
-//!   examples: 30% slower at 400 mm/s, with a lower peak curvature) stays
-//!   as it is. Where the curves
-//!   are kept (that case, or with [`OtherCurves::Kept`]) they are listed in
+//!   with the curves kept, compared over the pieces from the curves' input
+//!   lines (the run's may peak elsewhere), corner transitions aside. So a
+//!   smooth design curve whose fit would only add ripples of `dk/ds`
+//!   (LinuxCNC's rational `Curva_Farfalla_p1.ngc` at 0.25 mm: 30% slower
+//!   at 400 mm/s, with a lower peak curvature) stays as it is. Where the
+//!   curves are kept (that case, or with [`OtherCurves::Kept`]) they are
+//!   listed in
 //!   [`SmoothedRun::unfaired`] with the reason, which the report and the
 //!   CLI's summary show. Not an error: the rest of the program is faired
 //!   and the kept curves are within the tolerance of themselves, while
@@ -88,7 +88,7 @@ use crate::geom::tube_fair::{
     as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::{total_curvature, Curve, Line, ParamCurve};
+use crate::geom::{total_curvature, Curve, Line, Nurbs, ParamCurve};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -151,9 +151,9 @@ pub struct FairOptions {
 )]
 pub enum OtherCurves {
     /// Sampled as chords within [`FAIR_SAMPLE_SHARE`] of the tolerance,
-    /// fitted and faired as lines, where that lowers the run's sampled
-    /// peak curvature; kept as written otherwise (see the module
-    /// documentation).
+    /// fitted and faired as lines, where that lowers the demand of
+    /// [`FairOptions::peak_pass`]'s speed caps there ([`sampled_demand`]);
+    /// kept as written otherwise (see the module documentation).
     #[default]
     Sampled,
     /// Kept as written, and reported.
@@ -427,22 +427,26 @@ pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
         .map(|p| match &p.curve {
             Curve::Line(_) => 0.0,
             Curve::Arc(a) => a.curvature(a.domain().0),
-            Curve::Nurbs(c) => {
-                let (t0, t1) = c.domain();
-                let mut knots: Vec<f64> = c.knots.clone();
-                knots.dedup();
-                knots
-                    .windows(2)
-                    .filter(|w| w[0] >= t0 && w[1] <= t1 && w[1] > w[0])
-                    .flat_map(|w| {
-                        (0..=PEAK_SAMPLES)
-                            .map(move |j| w[0] + (w[1] - w[0]) * j as f64 / PEAK_SAMPLES as f64)
-                    })
-                    .map(|t| c.curvature(t))
-                    .fold(0.0, f64::max)
-            }
+            Curve::Nurbs(c) => span_samples(c).map(|t| c.curvature(t)).fold(0.0, f64::max),
         })
         .fold(0.0, f64::max)
+}
+
+/// The parameters [`run_peak_curvature`] and [`sampled_demand`] sample a
+/// NURBS at: [`PEAK_SAMPLES`] steps over each non-empty knot span of its
+/// domain, both ends of each span included.
+fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
+    let (t0, t1) = c.domain();
+    let mut knots: Vec<f64> = c.knots.clone();
+    knots.dedup();
+    let spans: Vec<(f64, f64)> = knots
+        .windows(2)
+        .filter(|w| w[0] >= t0 && w[1] <= t1 && w[1] > w[0])
+        .map(|w| (w[0], w[1]))
+        .collect();
+    spans.into_iter().flat_map(|(a, b)| {
+        (0..=PEAK_SAMPLES).map(move |j| a + (b - a) * j as f64 / PEAK_SAMPLES as f64)
+    })
 }
 
 /// Highest demand of `pass` ([`PeakPass::demand`]: for its speed caps,
@@ -451,9 +455,9 @@ pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
 /// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
 /// differences of neighbouring samples, across joints too (a rational
 /// curve has no cubic spans to take it from in closed form); arcs and
-/// lines at their ends, with their curvature. A sample, not a bound: it compares a run's curves kept as
-/// written with the same curves sampled, fitted and faired, like with like
-/// ([`OtherCurves::Sampled`]).
+/// lines at their ends, with their curvature. A sample, not a bound: it
+/// compares a run's curves kept as written with the same curves sampled,
+/// fitted and faired, like with like ([`OtherCurves::Sampled`]).
 pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
     let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
     // The sample before, across joints too: a step of curvature where two
@@ -484,17 +488,8 @@ pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
                 sample(a.p1, k);
             }
             Curve::Nurbs(c) => {
-                let (t0, t1) = c.domain();
-                let mut knots: Vec<f64> = c.knots.clone();
-                knots.dedup();
-                for w in knots.windows(2) {
-                    if !(w[0] >= t0 && w[1] <= t1 && w[1] > w[0]) {
-                        continue;
-                    }
-                    for j in 0..=PEAK_SAMPLES {
-                        let t = w[0] + (w[1] - w[0]) * j as f64 / PEAK_SAMPLES as f64;
-                        sample(c.eval(t), c.curvature(t));
-                    }
+                for t in span_samples(c) {
+                    sample(c.eval(t), c.curvature(t));
                 }
             }
         }
