@@ -20,7 +20,10 @@
 //! distances, halving from [`RIPPLE_REACH_SHARE`] of the way to that chord
 //! (at most the radius); keep the trial whose four spans' highest peak is
 //! lowest, if it is below the peak being lowered, the spans are inside the
-//! tube on the sure bound ([`deviation_bound_on`], within `accuracy * R`),
+//! tube on the sure bound ([`deviation_bound_on`], within `accuracy * R`;
+//! nothing is asked of the control points' own moves, which the thesis'
+//! iterations may already have taken past `R` where the difference
+//! spline's points alternate in sign and its curve stays inside),
 //! and (with the guard) no span rises over the original's peaks near it
 //! ([`PeakReference::is_rise`]). A span whose peak no trial lowers is
 //! left, and the next highest is taken. Each kept move lowers the highest
@@ -421,13 +424,6 @@ impl Lowering<'_> {
                     .map(|&(j, dv, _)| (j, cur[j] + dv * (sign * step)))
                     .collect();
                 step *= 0.5;
-                // The hull bound of the difference at the moved points.
-                if moved
-                    .iter()
-                    .any(|&(j, p)| (p - self.orig[j]).norm() > self.radius)
-                {
-                    continue;
-                }
                 let old: Vec<Vec3> = moved.iter().map(|&(j, _)| cur[j]).collect();
                 for &(j, p) in &moved {
                     cur[j] = p;
