@@ -24,7 +24,7 @@
 //!   simple gets its knots rounded to integers of their affine image on
 //!   `[0, MAX_KNOT]` where that moves it
 //!   by at most [`SplineWriteOptions::knot_shift_mm`], on a sure bound
-//!   ([`knot_shift_bound`]): its control points are written as they are,
+//!   (`knot_shift_bound`): its control points are written as they are,
 //!   so it stays C2. Only then is the curve written as its Bezier spans
 //!   joined with knots of multiplicity `degree` at `1, 2, ...`: the knot
 //!   values then do not change the curve, but its written control points
