@@ -107,10 +107,10 @@
 //! ([`Objective::bound`]) is not below the best time found is not costed.
 
 use super::candidates::{
-    has_splines, is_fair, is_g2, shallow_sections, widens_sections, CandidateList, Input, Kind,
-    Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    has_splines, is_fair, is_g2, shallow_sections, widens_sections, Candidate, CandidateList,
+    Input, Kind, Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
-use super::objective::{Objective, PlannedTime, KEEP_MARGIN};
+use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
 use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
 use crate::geom::Curve;
@@ -254,7 +254,11 @@ impl Auto {
                 }
             };
             if offered {
-                out.push((row.name, row.kind.candidate()));
+                let candidate = match row.kind.candidate() {
+                    Candidate::Fair(o) => Candidate::Fair(fair_on(o, self.objective.as_ref())),
+                    c => c,
+                };
+                out.push((row.name, candidate));
             }
         }
         Ok((input, tol, out))

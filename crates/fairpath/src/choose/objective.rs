@@ -13,10 +13,12 @@
 use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, plan_time_shaped, Corners, PlanOptions};
 use crate::feed::shaping::Shaping;
+use crate::geom::tube_fair::PeakPass;
 use crate::path::Piece;
 use crate::render::{
     linuxcnc_g5_2_motion, render_run, CurveForm, PlannedSpeed, RenderOptions, Rendered,
 };
+use crate::smooth::FairOptions;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
@@ -53,6 +55,14 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     /// on the curves as written where its curvature-continuous candidates
     /// would be kept so (see [`super::Auto`]).
     fn as_written(&self, _pieces: &[Piece]) -> Option<f64> {
+        None
+    }
+
+    /// What a fairing inside the tolerance tube should lower for this
+    /// objective ([`crate::smooth::FairOptions::peak_pass`]), or `None`
+    /// (the default) when the objective does not say: then the default
+    /// machine's caps ([`PeakPass::DEFAULT_MACHINE`]).
+    fn peak_pass(&self) -> Option<PeakPass> {
         None
     }
 }
@@ -97,9 +107,44 @@ impl Default for PlannedTime {
     }
 }
 
+/// What a fairing should lower on the machine `m`: the speed caps of its
+/// full model ([`PeakPass::SpeedCaps`]: its maximum feed, normal
+/// acceleration and jerk), or, where the machine caps curves by their
+/// normal acceleration alone (`jerk_on_curves` off, the thesis' model),
+/// the curvature, whose highest value then sets the lowest cap.
+pub fn peak_pass_for(m: &MachineLimits) -> PeakPass {
+    if m.jerk_on_curves {
+        PeakPass::SpeedCaps {
+            max_feed: m.max_feed,
+            normal_acc: m.normal_acc,
+            jerk: m.jerk,
+        }
+    } else {
+        PeakPass::Curvature
+    }
+}
+
+/// `options` with the default peak pass ([`PeakPass::DEFAULT_MACHINE`])
+/// replaced by what `objective` says a fairing should lower
+/// ([`Objective::peak_pass`]): `fair`, alone or as `auto`'s candidate,
+/// lowers the demand of the user's machine, not of the default one (a
+/// pass set to anything else is kept).
+pub fn fair_on(options: FairOptions, objective: &dyn Objective) -> FairOptions {
+    match objective.peak_pass() {
+        Some(pass) if options.peak_pass == PeakPass::DEFAULT_MACHINE => FairOptions {
+            peak_pass: pass,
+            ..options
+        },
+        _ => options,
+    }
+}
+
 impl Objective for PlannedTime {
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         plan_run(pieces, &self.plan).ok().map(|p| p.time)
+    }
+    fn peak_pass(&self) -> Option<PeakPass> {
+        Some(peak_pass_for(&self.plan.limits))
     }
 
     /// The same plan: the run's pieces are what is run.
@@ -232,6 +277,9 @@ impl WrittenTime {
 }
 
 impl Objective for WrittenTime {
+    fn peak_pass(&self) -> Option<PeakPass> {
+        Some(peak_pass_for(&self.plan.limits))
+    }
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         let plan = plan_run(pieces, &self.shape).ok()?;
         let speed = Arc::new(PlannedSpeed::new(
@@ -276,5 +324,49 @@ impl Objective for WrittenTime {
     /// keeps as the program wrote it.
     fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
         plan_time_shaped(pieces, &self.plan, &Shaping::none(), self.corners).ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `fair`'s default pass becomes the objective's machine's: its speed
+    /// caps, or the curvature in the thesis' model; a pass the user set
+    /// stays, and an objective that says nothing leaves the default.
+    #[test]
+    fn the_default_fairing_pass_lowers_the_jobs_machines_demand() {
+        let mut m = MachineLimits::thesis();
+        m.jerk = 5000.0;
+        m.max_feed = 150.0;
+        let on = |m: MachineLimits, o: FairOptions| fair_on(o, &PlannedTime::new(m, true));
+        let d = FairOptions::default();
+        assert_eq!(
+            on(m, d).peak_pass,
+            PeakPass::SpeedCaps {
+                max_feed: 150.0,
+                normal_acc: m.normal_acc,
+                jerk: 5000.0
+            }
+        );
+        assert_eq!(
+            on(MachineLimits::thesis(), d).peak_pass,
+            PeakPass::DEFAULT_MACHINE
+        );
+        m.jerk_on_curves = false;
+        assert_eq!(on(m, d).peak_pass, PeakPass::Curvature);
+        let off = FairOptions {
+            peak_pass: PeakPass::Off,
+            ..d
+        };
+        assert_eq!(on(m, off).peak_pass, PeakPass::Off);
+        #[derive(Debug)]
+        struct Silent;
+        impl Objective for Silent {
+            fn cost(&self, _: &[Piece]) -> Option<f64> {
+                None
+            }
+        }
+        assert_eq!(fair_on(d, &Silent).peak_pass, PeakPass::DEFAULT_MACHINE);
     }
 }

@@ -3,7 +3,7 @@
 //! with errors naming the method, the option and the value.
 
 use super::auto::{Auto, AutoOptions};
-use super::objective::{Objective, PlannedTime};
+use super::objective::{fair_on, Objective, PlannedTime};
 use crate::smooth::{
     ArcFit, ArcFitOptions, BsplineCorner, BsplineCornerOptions, BsplineFit, BsplineFitOptions, Ctm,
     CtmOptions, Fair, FairOptions, Lotm, LotmOptions, NoSmoothing, OptionError, Smoother,
@@ -123,7 +123,9 @@ impl Method {
             Method::BsplineCorner(options) => Box::new(BsplineCorner { options }),
             Method::BsplineFit(options) => Box::new(BsplineFit { options }),
             Method::Ctm(options) => Box::new(Ctm { options }),
-            Method::Fair(options) => Box::new(Fair { options }),
+            Method::Fair(options) => Box::new(Fair {
+                options: fair_on(options, objective.as_ref()),
+            }),
             Method::Lotm(options) => Box::new(Lotm { options }),
             Method::None => Box::new(NoSmoothing),
         }

@@ -132,7 +132,11 @@ pub struct FairOptions {
     /// After the thesis' iterations, lower the highest curvature peaks
     /// with the room left in the tube (ours: the thesis' iterations stop
     /// where the curve first touches the tube and carry the top of a wide
-    /// bend along unchanged; `geom::tube_fair::peak`).
+    /// bend along unchanged; `geom::tube_fair::peak`). By default the
+    /// default machine's speed caps ([`PeakPass::DEFAULT_MACHINE`]), which
+    /// the verified pipeline and `auto` replace by the job's machine's
+    /// (`choose::fair_on`: its speed caps, or the curvature where it caps
+    /// curves by their normal acceleration alone, the thesis' model).
     pub peak_pass: PeakPass,
     /// How runs of lines are fitted before they are faired.
     pub lines: LineFit,
