@@ -22,8 +22,8 @@
 //!   curve by about `1e-9` times the degree times the longest control
 //!   polygon leg. Otherwise a non-rational cubic whose interior knots are
 //!   simple gets its knots rounded to integers of their affine image on
-//!   `[0, MAX_KNOT]` where that moves it
-//!   by at most [`SplineWriteOptions::knot_shift_mm`], on a sure bound
+//!   `[0, MAX_KNOT]` where that moves it by at most
+//!   [`SplineWriteOptions::knot_shift_mm`], on a sure bound
 //!   (`knot_shift_bound`): its control points are written as they are,
 //!   so it stays C2. Only then is the curve written as its Bezier spans
 //!   joined with knots of multiplicity `degree` at `1, 2, ...`: the knot
@@ -301,8 +301,9 @@ fn knot_shift_bound(a: &Nurbs, b: &Nurbs) -> f64 {
 }
 
 /// The curve with a clamped knot vector of integers, interior knots of
-/// multiplicity at most the degree: its own knots when they normalise
-/// (see the module docs), else its Bezier spans joined at `1, 2, ...`.
+/// multiplicity at most the degree: its own knots when they normalise, or
+/// when rounded they move it by at most `knot_shift_mm` ([`rounded_knots`];
+/// see the module docs), else its Bezier spans joined at `1, 2, ...`.
 fn integer_form(n: &Nurbs, knot_shift_mm: f64) -> Result<Nurbs, WriteError> {
     let p = n.degree;
     let m = n.knots.len();
