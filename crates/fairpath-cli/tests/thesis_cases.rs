@@ -66,6 +66,42 @@ fn square_ripples_peak_pass_moves_points_the_iterations_took_past_the_radius() {
     }
 }
 
+/// `fairpath smooth examples/thesis/NAME.ngc -t TOL -m METHOD EXTRA
+/// --json-summary`, which must succeed and whose output must pass
+/// `fairpath check`: its summary.
+fn smooth_summary(name: &str, tol: &str, method: &str, extra: &[&str]) -> serde_json::Value {
+    let input = common::example(&format!("thesis/{name}.ngc"));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec![
+        "smooth",
+        i,
+        "-o",
+        o,
+        "-t",
+        tol,
+        "-m",
+        method,
+        "--json-summary",
+    ];
+    args.extend_from_slice(extra);
+    let s = common::bin().args(&args).output().unwrap();
+    assert!(s.status.success(), "{}", String::from_utf8_lossy(&s.stderr));
+    let c = common::bin()
+        .args(["check", i, o, "--tolerance", tol])
+        .output()
+        .unwrap();
+    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stdout));
+    let printed = String::from_utf8_lossy(&s.stdout);
+    serde_json::from_str(&printed[printed.find('{').unwrap()..]).unwrap()
+}
+
+/// A time (s) of a `--json-summary`.
+fn time(v: &serde_json::Value, key: &str) -> f64 {
+    v[key].as_f64().unwrap_or_else(|| panic!("{key}: {v}"))
+}
+
 /// `auto` on the design wave (`examples/thesis/design-wave.ngc`, one
 /// G6.2 curve) at 0.025 mm: its fit (141 cubics of 64 spans of 0.085 mm,
 /// some with a shorter last span) was written as Bezier spans where the
@@ -74,44 +110,20 @@ fn square_ripples_peak_pass_moves_points_the_iterations_took_past_the_radius() {
 /// read back at 4.016 s against 3.741 s for the curves, and the run was
 /// kept as the program wrote it (3.921 s). Now it is written within 0.5%
 /// of its curves' time, in fewer lines than the Bezier form, and the
-/// output checks.
+/// output checks (`smooth_summary`).
 #[test]
 fn design_wave_auto_at_0_025_mm_is_written_near_its_curves_time() {
-    let input = common::example("thesis/design-wave.ngc");
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.ngc");
-    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
-    let s = common::bin()
-        .args([
-            "smooth",
-            i,
-            "-o",
-            o,
-            "-t",
-            "0.025mm",
-            "-m",
-            "auto",
-            "--json-summary",
-        ])
-        .output()
-        .unwrap();
-    assert!(s.status.success(), "{}", String::from_utf8_lossy(&s.stderr));
-    let printed = String::from_utf8_lossy(&s.stdout);
-    let v: serde_json::Value =
-        serde_json::from_str(&printed[printed.find('{').unwrap()..]).unwrap();
-    let t = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k}: {v}"));
-    let (input_s, curves_s, written_s) =
-        (t("input_time_s"), t("curves_time_s"), t("written_time_s"));
+    let v = smooth_summary("design-wave", "0.025mm", "auto", &[]);
+    let (input_s, curves_s, written_s) = (
+        time(&v, "input_time_s"),
+        time(&v, "curves_time_s"),
+        time(&v, "written_time_s"),
+    );
     assert!(written_s < 0.97 * input_s, "{written_s} against {input_s}");
     assert!(
         written_s <= 1.005 * curves_s,
         "{written_s} against {curves_s}"
     );
-    let c = common::bin()
-        .args(["check", i, o, "--tolerance", "0.025mm"])
-        .output()
-        .unwrap();
-    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stdout));
 }
 
 /// `fair` on the design wave at 0.25 mm, planned in the thesis' model
@@ -122,33 +134,9 @@ fn design_wave_auto_at_0_025_mm_is_written_near_its_curves_time() {
 /// at least the thesis' 1.1% less.
 #[test]
 fn design_wave_fair_in_the_thesis_model_lowers_the_curvature_it_caps() {
-    let input = common::example("thesis/design-wave.ngc");
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.ngc");
-    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
-    let s = common::bin()
-        .args([
-            "smooth",
-            i,
-            "-o",
-            o,
-            "-t",
-            "0.25mm",
-            "-m",
-            "fair",
-            "--time-model",
-            "thesis",
-            "--override-feed",
-            "--json-summary",
-        ])
-        .output()
-        .unwrap();
-    assert!(s.status.success(), "{}", String::from_utf8_lossy(&s.stderr));
-    let printed = String::from_utf8_lossy(&s.stdout);
-    let v: serde_json::Value =
-        serde_json::from_str(&printed[printed.find('{').unwrap()..]).unwrap();
-    let t = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k}: {v}"));
-    let (input_s, written_s) = (t("input_time_s"), t("written_time_s"));
+    let extra = ["--time-model", "thesis", "--override-feed"];
+    let v = smooth_summary("design-wave", "0.25mm", "fair", &extra);
+    let (input_s, written_s) = (time(&v, "input_time_s"), time(&v, "written_time_s"));
     assert!(
         written_s <= 0.989 * input_s,
         "{written_s} against {input_s}"
