@@ -67,6 +67,26 @@ pub fn followed_corner_cap(m: &MachineLimits, ta: Vec3, tb: Vec3) -> f64 {
     (m.acc * ts).min(n * m.jerk * ts * ts) / dv_per_v
 }
 
+/// Whether the cubic Bezier span with control points `b` is accepted
+/// whole by [`crate::geom::flatten_params`] at `chord`, on sure bounds: the
+/// span lies in the hull of its control points, so no point of it is
+/// farther from its chord than the inner points are; and its second
+/// derivative (in the span's own parameter) is at most six times the
+/// larger second difference of the points, so the flattening's estimate
+/// `|C''| dt^2 / 8` is at most 0.75 times it. Where both are within
+/// `chord`, the flattening's first test passes and it takes the span as one
+/// interval: the same cut, without its samples.
+fn flat_span(b: &[Vec3], chord: f64) -> bool {
+    let [p0, p1, p2, p3] = match b {
+        [p0, p1, p2, p3] => [*p0, *p1, *p2, *p3],
+        _ => return false,
+    };
+    let hull = crate::geom::point_segment_distance(p1, p0, p3)
+        .max(crate::geom::point_segment_distance(p2, p0, p3));
+    let second = (p2 - p1 * 2.0 + p0).norm().max((p3 - p2 * 2.0 + p1).norm());
+    hull <= chord && 0.75 * second <= chord
+}
+
 fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
     let (d1, d2) = c.derivs12(t);
     let tangent = d1.normalized(0.0).unwrap_or(crate::geom::Vec3::X);
@@ -474,10 +494,26 @@ pub(super) fn stretches(
             // plans the time of its own Bezier spans (the thesis' square of
             // ripples planned 3% slower as one B-spline before:
             // `tests/feed_form.rs`).
+            // A span that its Bezier control points show flat is taken
+            // whole without sampling it (`flat_span`: what the flattening
+            // would decide at its first test), which on a long fit of short,
+            // nearly straight spans is most of them.
             Curve::Nurbs(n) => {
                 let breaks = n.breakpoints();
+                let bezier = if n.weights.is_none() && n.degree == 3 {
+                    n.bezier_spans()
+                } else {
+                    Vec::new()
+                };
                 ts.push(breaks[0]);
-                for w in breaks.windows(2) {
+                for (i, w) in breaks.windows(2).enumerate() {
+                    if bezier
+                        .get(i)
+                        .is_some_and(|b| flat_span(&b.points, m.chord_error))
+                    {
+                        ts.push(w[1]);
+                        continue;
+                    }
                     let span = crate::geom::flatten_params_between(c, w[0], w[1], m.chord_error);
                     ts.extend_from_slice(&span[1..]);
                 }
@@ -578,4 +614,55 @@ pub(super) fn stretches(
         }
     }
     Ok((out, located))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::flat_span;
+    use crate::geom::{flatten_params, Curve, Nurbs, Vec3};
+
+    /// splitmix64, as the crate's other seeded tests.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Wherever `flat_span` takes a span whole, the flattening it stands in
+    /// for takes it whole too: the shortcut never changes the cut. Random
+    /// cubic spans from nearly straight to bent, at several chord errors,
+    /// some of them taken whole.
+    #[test]
+    fn seeded_random_spans_taken_whole_are_what_the_flattening_takes_whole() {
+        let mut rng = Rng(5);
+        let mut taken = 0;
+        for case in 0..2000 {
+            let len = 0.05 + 3.0 * rng.next();
+            let bend = [1e-6, 1e-4, 1e-3, 1e-2][case % 4] * len;
+            // Control points unevenly spaced along the chord too.
+            let uneven = [0.0, 1e-5, 1e-3, 0.1][(case / 4) % 4] * len;
+            let mut pts = Vec::new();
+            for i in 0..4 {
+                let x = len * i as f64 / 3.0 + uneven * (rng.next() - 0.5);
+                let y = bend * (rng.next() - 0.5);
+                let z = bend * (rng.next() - 0.5);
+                pts.push(Vec3::new(x, y, z));
+            }
+            let (a, b) = (10.0 * rng.next(), 10.0 + 10.0 * rng.next());
+            let knots = vec![a, a, a, a, b, b, b, b];
+            let span = Nurbs::new(3, knots, pts.clone(), None).expect("a valid span");
+            let chord = [1e-4, 1e-3, 1e-2][case % 3];
+            if flat_span(&pts, chord) {
+                taken += 1;
+                let cut = flatten_params(&Curve::Nurbs(span), chord);
+                assert_eq!(cut, vec![a, b], "case {case}: {pts:?} at {chord}");
+            }
+        }
+        assert!(taken > 300, "only {taken} spans taken whole");
+    }
 }
