@@ -124,3 +124,16 @@ pub fn test_12mmflat_step_over() -> Vec<Vec3> {
         v(180.04786, 22.86847, 0.50403),
     ]
 }
+
+/// A seeded random source for the seeded tests (splitmix64): the same
+/// numbers on every machine, uniform in `[0, 1)`.
+pub struct Rng(pub u64);
+impl Rng {
+    pub fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

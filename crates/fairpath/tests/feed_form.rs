@@ -6,22 +6,13 @@
 //! 2.913 s as one B-spline against 2.824 s as its spans (which made the
 //! writer prefer one form of a curve over another for nothing).
 
+mod common;
+
+use common::Rng;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Curve, Nurbs, Vec3};
 use fairpath::path::Piece;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        // splitmix64
-        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn pieces_of(curves: Vec<Nurbs>) -> Vec<Piece> {
     curves
@@ -113,19 +104,19 @@ fn random_spline(rng: &mut Rng, n: usize) -> Nurbs {
     let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
     for i in 0..n {
         if i > 0 {
-            x += 1.0 + 4.0 * rng.next();
-            y += 3.0 * (rng.next() - 0.5);
-            z += 0.5 * (rng.next() - 0.5);
+            x += 1.0 + 4.0 * rng.unit();
+            y += 3.0 * (rng.unit() - 0.5);
+            z += 0.5 * (rng.unit() - 0.5);
         }
         points.push(Vec3::new(x, y, z));
     }
     let mut knots = vec![0.0; 4];
     let mut u = 0.0;
     for _ in 0..n - 4 {
-        u += 0.2 + 2.8 * rng.next();
+        u += 0.2 + 2.8 * rng.unit();
         knots.push(u);
     }
-    u += 0.2 + 2.8 * rng.next();
+    u += 0.2 + 2.8 * rng.unit();
     knots.extend([u; 4]);
     Nurbs::new(3, knots, points, None).expect("a valid spline")
 }

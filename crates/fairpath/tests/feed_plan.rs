@@ -4,24 +4,14 @@
 
 mod common;
 
+use common::Rng;
+
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, plan_run_shaped, plan_time_shaped, Corners, PlanOptions};
 use fairpath::feed::shaping::Shaping;
 use fairpath::geom::{Curve, Line, Vec3};
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::{BsplineCorner, Smoother};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        // splitmix64
-        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn run_of(pts: &[Vec3], feeds: &[f64]) -> Run {
     common::polyline_run_with_feeds(pts, feeds)
@@ -105,18 +95,18 @@ fn check_limits_window(pieces: &[Piece], m: &MachineLimits, window: Option<usize
 /// A random polyline of 2 to 31 points at one of three scales (0.05, 1
 /// and 20 mm, by `case`), flat in Z to a fifth, and its two feeds.
 fn random_polyline(rng: &mut Rng, case: usize) -> (Vec<Vec3>, [f64; 2]) {
-    let n = 2 + (rng.next() * 30.0) as usize;
+    let n = 2 + (rng.unit() * 30.0) as usize;
     let scale = [0.05, 1.0, 20.0][case % 3];
     let pts: Vec<Vec3> = (0..n)
         .map(|_| {
             Vec3::new(
-                rng.next() * scale,
-                rng.next() * scale,
-                rng.next() * scale * 0.2,
+                rng.unit() * scale,
+                rng.unit() * scale,
+                rng.unit() * scale * 0.2,
             )
         })
         .collect();
-    (pts, [600.0 + rng.next() * 24000.0, 1000.0])
+    (pts, [600.0 + rng.unit() * 24000.0, 1000.0])
 }
 
 #[test]
@@ -125,10 +115,10 @@ fn seeded_random_paths_never_exceed_limits() {
     for case in 0..1200 {
         let (pts, feeds) = random_polyline(&mut rng, case);
         let m = MachineLimits {
-            max_feed: 50.0 + rng.next() * 500.0,
-            acc: 100.0 + rng.next() * 10000.0,
-            normal_acc: 100.0 + rng.next() * 10000.0,
-            jerk: 1000.0 + rng.next() * 100000.0,
+            max_feed: 50.0 + rng.unit() * 500.0,
+            acc: 100.0 + rng.unit() * 10000.0,
+            normal_acc: 100.0 + rng.unit() * 10000.0,
+            jerk: 1000.0 + rng.unit() * 100000.0,
             ..MachineLimits::thesis()
         };
         let run = run_of(&pts, &feeds);
@@ -260,9 +250,9 @@ fn converges_to_the_acceleration_limited_time_as_jerk_grows() {
 fn bounded_lookahead_is_feasible_slower_and_converges_to_the_full_scan() {
     let mut rng = Rng(7);
     for _ in 0..100 {
-        let n = 3 + (rng.next() * 40.0) as usize;
+        let n = 3 + (rng.unit() * 40.0) as usize;
         let pts: Vec<Vec3> = (0..n)
-            .map(|i| Vec3::new(i as f64 * (0.2 + rng.next()), rng.next() * 0.5, 0.0))
+            .map(|i| Vec3::new(i as f64 * (0.2 + rng.unit()), rng.unit() * 0.5, 0.0))
             .collect();
         let run = run_of(&pts, &[24000.0]);
         let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
@@ -760,16 +750,16 @@ fn whole_and_cut(at: impl Fn(f64) -> Vec3, sweep: f64, cuts: usize, feed: f64) -
 fn an_arc_plans_as_the_arcs_it_is_cut_into() {
     let mut rng = Rng(0x5eed_a4c5);
     for case in 0..40 {
-        let r = 0.5 + 50.0 * rng.next();
-        let sweep = 0.2 + 5.0 * rng.next();
+        let r = 0.5 + 50.0 * rng.unit();
+        let sweep = 0.2 + 5.0 * rng.unit();
         let rise = if case % 2 == 0 {
             0.0
         } else {
-            10.0 * (rng.next() - 0.5)
+            10.0 * (rng.unit() - 0.5)
         };
-        let feed = 600.0 + 24000.0 * rng.next();
+        let feed = 600.0 + 24000.0 * rng.unit();
         let at = |th: f64| Vec3::new(r * th.cos(), r * th.sin(), rise * th / sweep);
-        let cuts = 2 + (10.0 * rng.next()) as usize;
+        let cuts = 2 + (10.0 * rng.unit()) as usize;
         let (a, b) = whole_and_cut(at, sweep, cuts, feed);
         assert!(
             (a - b).abs() <= 1e-6 * a,

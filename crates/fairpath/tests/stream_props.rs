@@ -6,24 +6,14 @@
 
 mod common;
 
+use common::Rng;
+
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::PlanOptions;
 use fairpath::feed::stream::{stream, Motion, StreamError, StreamOptions, StreamedKind};
 use fairpath::geom::{Curve, Line, Vec3};
 use fairpath::path::Piece;
 use fairpath::smooth::{BsplineCorner, Smoother};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        // splitmix64
-        self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn opts(m: MachineLimits) -> StreamOptions {
     StreamOptions::new(PlanOptions {
@@ -107,8 +97,8 @@ fn random_polyline(rng: &mut Rng, n: usize, three_d: bool) -> Vec<Vec3> {
     let mut p = vec![Vec3::ZERO];
     for _ in 0..n {
         let last = *p.last().unwrap();
-        let z = if three_d { rng.next() * 2.0 - 1.0 } else { 0.0 };
-        p.push(last + Vec3::new(rng.next() * 8.0 - 4.0, rng.next() * 8.0 - 4.0, z));
+        let z = if three_d { rng.unit() * 2.0 - 1.0 } else { 0.0 };
+        p.push(last + Vec3::new(rng.unit() * 8.0 - 4.0, rng.unit() * 8.0 - 4.0, z));
     }
     p
 }
