@@ -111,7 +111,7 @@ fn time(v: &serde_json::Value, key: &str) -> f64 {
 /// kept as the program wrote it (3.921 s). Now it is written within 1%
 /// of its curves' time, in fewer lines than the Bezier form, and the
 /// output checks (`smooth_summary`). (3.745 against 3.741 s at first;
-/// since the planner cuts splines at their knots, 3.733 against 3.714 s:
+/// since the planner flattens splines span by span, 3.733 against 3.714 s:
 /// it sees the caps of each span, which the rounded control points ripple
 /// by a few parts in a thousand, and 196 segments against the curves' 104.)
 #[test]

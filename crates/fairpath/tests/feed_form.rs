@@ -1,8 +1,9 @@
 //! The planned time of a curve does not depend on how it is held: a cubic
 //! B-spline plans the time of its own Bezier spans (the same curve cut at
-//! its knots into pieces). The planner's stretches stop at every knot, where
-//! the third derivative and so `dkappa/ds` jump; before they did, a stretch
-//! across a knot mixed two rates, and the thesis' square of ripples planned
+//! its knots into pieces). The planner flattens a spline span by span, so
+//! both forms get the same stretches; before, the whole curve's
+//! chord-error cuts fell elsewhere, and with them the segment boundaries
+//! where the acceleration stops: the thesis' square of ripples planned
 //! 2.913 s as one B-spline against 2.824 s as its spans (which made the
 //! writer prefer one form of a curve over another for nothing).
 

@@ -661,7 +661,7 @@ mod tests {
     /// A raster of wavy passes joined by short step-overs between long
     /// lines: its sections want fits and corner transitions (waves of
     /// 0.4 mm: with 0.3 mm one fit of the whole run has won since the
-    /// planner cuts splines at their knots).
+    /// planner flattens splines span by span).
     fn wavy_raster() -> Run {
         let mut pts = Vec::new();
         for pass in 0..4 {

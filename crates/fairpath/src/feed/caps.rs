@@ -5,7 +5,7 @@
 //! * Along a piece: the caps at a point ([`speed_cap`]: curvature, the
 //!   change of curvature `dkappa/ds` across the stretch, chord error,
 //!   axes, feed) at the ends and middle of each chord-error interval (a
-//!   spline's intervals never cross a knot), which is halved while they
+//!   spline is flattened span by span), which is halved while they
 //!   differ by more than [`CAP_SPLIT_RATIO`].
 //! * At a joint that is not G2, as [`Corners`] says: the blend circle of a
 //!   corner and the curvature jumps where it starts and ends
@@ -488,12 +488,14 @@ pub(super) fn stretches(
             {
                 ts.extend([0.0, 1.0]);
             }
-            // A spline is cut at its knots first: there its third
-            // derivative, and so `dkappa/ds`, jumps, and a stretch across a
-            // knot would take one rate for both sides. Cut so, a B-spline
-            // plans the time of its own Bezier spans (the thesis' square of
-            // ripples planned 3% slower as one B-spline before:
-            // `tests/feed_form.rs`).
+            // A spline is flattened span by span. Where the stretches fall
+            // moves the plan (a segment boundary, where the acceleration
+            // stops, falls between stretches), and at a knot the third
+            // derivative, and so `dkappa/ds`, jumps: flattened span by
+            // span, a B-spline has the stretches of its own Bezier spans and
+            // plans their time (the thesis' square of ripples planned 3%
+            // slower as one B-spline before, `tests/feed_form.rs`; adding
+            // the knots to the whole curve's cuts did not do it).
             // A span that its Bezier control points show flat is taken
             // whole without sampling it (`flat_span`: what the flattening
             // would decide at its first test), which on a long fit of short,

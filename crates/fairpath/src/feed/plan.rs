@@ -4,7 +4,7 @@
 //!
 //! 1. **Caps.** A line is one stretch. Arcs and curves are cut where
 //!    their chords deviate by the machine's chord error (the interpolator's
-//!    own resolution), splines at their knots too; each interval is a stretch whose cap is the smallest
+//!    own resolution), a spline span by span; each interval is a stretch whose cap is the smallest
 //!    [`speed_cap`](super::limits::speed_cap) at its ends and middle, with `dkappa/ds` from the change
 //!    of curvature across it. At a joint between pieces that is not G2 the
 //!    speed is also capped as in [`super::junction`]. The run starts and
