@@ -137,3 +137,17 @@ impl Rng {
         ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// Planned time (s) of `pieces` at the maximum feed on the thesis' machine
+/// (400 mm/s, 4000 mm/s^2, 20000 mm/s^3), at rest at both ends.
+pub fn planned_at_max_feed(pieces: &[fairpath::path::Piece]) -> f64 {
+    let opts = fairpath::feed::plan::PlanOptions {
+        limits: fairpath::feed::limits::MachineLimits::thesis(),
+        override_feed: true,
+        window: None,
+        ends: Default::default(),
+    };
+    fairpath::feed::plan::plan_run(pieces, &opts)
+        .expect("plans")
+        .time
+}

@@ -9,9 +9,7 @@
 
 mod common;
 
-use common::Rng;
-use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_run, PlanOptions};
+use common::{planned_at_max_feed, Rng};
 use fairpath::geom::{Curve, Nurbs, Vec3};
 use fairpath::path::Piece;
 
@@ -27,22 +25,11 @@ fn pieces_of(curves: Vec<Nurbs>) -> Vec<Piece> {
         .collect()
 }
 
-/// Planned time (s) of `pieces` at the maximum feed on the thesis' machine
-/// (400 mm/s, 4000 mm/s^2, 20000 mm/s^3).
-fn time(pieces: &[Piece]) -> f64 {
-    let opts = PlanOptions {
-        limits: MachineLimits::thesis(),
-        override_feed: true,
-        window: None,
-        ends: Default::default(),
-    };
-    plan_run(pieces, &opts).expect("plans").time
-}
-
-/// Relative difference between the time of `curve` and of its Bezier spans.
+/// The planned times (s) of `curve` as one piece and as its Bezier spans,
+/// at the maximum feed on the thesis' machine.
 fn form_gap(curve: &Nurbs) -> (f64, f64) {
-    let whole = time(&pieces_of(vec![curve.clone()]));
-    let spans = time(&pieces_of(curve.bezier_spans()));
+    let whole = planned_at_max_feed(&pieces_of(vec![curve.clone()]));
+    let spans = planned_at_max_feed(&pieces_of(curve.bezier_spans()));
     (whole, spans)
 }
 

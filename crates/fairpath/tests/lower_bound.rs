@@ -4,26 +4,15 @@
 //! original stand for them; the CLI test compares every method).
 
 mod common;
-use common::{polyline_run, v};
+use common::{planned_at_max_feed as planned, polyline_run, v};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::lower_bound::{in_order_gates_of, lower_bound_time, BandPaths, BoundOptions};
-use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::Vec3;
 use fairpath::path::Piece;
 use fairpath::verify::follows_in_order;
 use proptest::prelude::*;
 
 const TOL: f64 = 0.05;
-
-fn planned(pieces: &[Piece]) -> f64 {
-    let opts = PlanOptions {
-        limits: MachineLimits::thesis(),
-        override_feed: true,
-        window: None,
-        ends: Default::default(),
-    };
-    plan_run(pieces, &opts).expect("plans").time
-}
 
 fn bound(pieces: &[Piece]) -> f64 {
     lower_bound_time(
