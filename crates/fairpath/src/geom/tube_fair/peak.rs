@@ -14,11 +14,15 @@
 //! tightest bend first.
 //!
 //! One move: take the span with the highest sampled peak
-//! ([`PeakPass::span_shape`]); for each of its four control points that may move, try
+//! ([`PeakPass::span_shape`]; of peaks equal within [`TRIAL_TIE`], the
+//! first span's); for each of its four control points that may move, try
 //! moving it towards the chord of its neighbours (its bisector, as the
 //! thesis moves a ripple point, eqs. 3-23 to 3-25) by [`TRIAL_STEPS`]
 //! distances, halving from [`RIPPLE_REACH_SHARE`] of the way to that chord
-//! (at most the radius); keep the trial whose four spans' highest peak is
+//! (at most the radius); also try laying two or three consecutive points
+//! near the span on the chord of the points outside them (ours:
+//! `Lowering::chord_trials`, for bends made over short legs), the whole
+//! way first, then halving; keep the trial whose four spans' highest peak is
 //! lowest, if it is below the peak being lowered, the spans are inside the
 //! tube on the sure bound ([`deviation_bound_on`], within `accuracy * R`;
 //! nothing is asked of the control points' own moves, which the thesis'
@@ -47,6 +51,18 @@ use alloc::vec::Vec;
 /// four halvings reach a sixteenth of the way, enough to settle two
 /// neighbouring points against each other).
 pub const TRIAL_STEPS: usize = 5;
+
+/// Relative margin of the comparisons that choose a move (ours): a trial
+/// must beat the best so far by more than this share of its demand
+/// (closer is a tie, kept by the trials' order), and may add at most this
+/// share to the turning of the spans it changes, so that which move is
+/// kept does not depend on rounding. Trials that lay points on a chord
+/// often leave the turning as it was (a monotone bend spread over other
+/// legs turns as much) and the same demand (a span made straight has the
+/// floor's); a path tilted into 3D chose another move than in its plane
+/// on rounding alone. A billionth is far above the rounding of these sums
+/// and far below any gain worth a move.
+pub const TRIAL_TIE: f64 = 1e-9;
 
 /// Most moves per control point (ours): bounds the work by the size of
 /// the curve, whatever the radius.
@@ -332,6 +348,7 @@ impl Lowering<'_> {
             if record.moves >= max_moves {
                 break;
             }
+            let s = first_of_tie(&mut heap, &peak, s);
             let Some(mv) = self.best_move(cur, &mut diff, &turning, s, peak[s]) else {
                 continue; // this peak cannot be lowered: leave it
             };
@@ -369,6 +386,60 @@ impl Lowering<'_> {
         Some((dv, RIPPLE_REACH_SHARE * q.dist(p)))
     }
 
+    /// Trials that lay two or three consecutive movable points of span
+    /// `s`'s neighbourhood on the chord of the points outside them, each
+    /// at its share of the polygon's length between them (the whole way
+    /// at the first step, at most the radius).
+    ///
+    /// Why (ours): a bend that the polygon makes over a few short legs
+    /// between long ones (where the program's own points were close
+    /// together) stays sharp however little it turns, and its curvature
+    /// rate caps the speed; each of those points lies almost on the chord
+    /// of its own neighbours, so the bisector trials, which reach a share
+    /// of the way to that chord, barely move it. Laid on the chord of the
+    /// long legs' far ends, the points leave the turn to those ends, where
+    /// it spreads over the long spans (`line-two-points-sharp` at R = 0.25
+    /// mm: a bend of 0.0025 rad over 0.25 mm, 0.0123 1/mm).
+    fn chord_trials(&self, cur: &[Vec3], s: usize) -> Vec<Vec<(usize, Vec3)>> {
+        let m = cur.len();
+        let mut trials = Vec::new();
+        for len in [2, 3] {
+            // Windows [a, a + len) meeting the span's points s - 3..=s,
+            // with a point on each side.
+            let first = (s + 1).saturating_sub(DEGREE + len).max(1);
+            for a in first..=s {
+                let b = a + len; // the point after the window
+                if b >= m || !(a..b).all(|j| self.movable[j]) {
+                    continue;
+                }
+                let (p, q) = (cur[a - 1], cur[b]);
+                let legs: Vec<f64> = (a..=b).map(|j| cur[j].dist(cur[j - 1])).collect();
+                let total: f64 = legs.iter().sum();
+                if total.is_nan() || total <= 0.0 {
+                    continue;
+                }
+                let mut along = 0.0;
+                let mut trial: Vec<(usize, Vec3)> = (a..b)
+                    .zip(&legs)
+                    .map(|(j, leg)| {
+                        along += leg;
+                        (j, p + (q - p) * (along / total) - cur[j])
+                    })
+                    .collect();
+                let largest = trial.iter().map(|d| d.1.norm()).fold(0.0, f64::max);
+                if largest.is_nan() || largest <= self.resolution {
+                    continue;
+                }
+                if largest > self.radius {
+                    let f = self.radius / largest;
+                    trial.iter_mut().for_each(|d| d.1 = d.1 * f);
+                }
+                trials.push(trial);
+            }
+        }
+        trials
+    }
+
     /// The best trial move for span `s` of peak `target`: the points
     /// moved, their new places and the new peaks of the spans they touch;
     /// `None` if no trial lowers the peak within the tube (and the guard).
@@ -380,6 +451,9 @@ impl Lowering<'_> {
     /// touches the tube, which flattens the turn next to them): a peak
     /// shared by two points (the middle of a symmetric bend) falls only
     /// when both move.
+    /// Then the chord trials ([`Lowering::chord_trials`]). A trial is kept
+    /// over the best so far only when its highest peak is lower by more
+    /// than [`TRIAL_TIE`].
     fn best_move(
         &self,
         cur: &mut [Vec3],
@@ -401,10 +475,24 @@ impl Lowering<'_> {
         if dirs.len() > 2 {
             sets.push(&dirs[..]);
         }
+        // Each trial: the points it moves and their displacements at its
+        // first (largest) step; later steps halve them.
+        let mut trials: Vec<Vec<(usize, Vec3)>> = Vec::new();
+        for set in &sets {
+            // One distance for the set, at most each point's reach.
+            let step = set.iter().map(|d| d.2).fold(self.radius, f64::min);
+            for sign in [1.0, -1.0] {
+                trials.push(
+                    set.iter()
+                        .map(|&(j, dv, _)| (j, dv * (sign * step)))
+                        .collect(),
+                );
+            }
+        }
+        trials.extend(self.chord_trials(cur, s));
         let mut best: Option<(f64, Move)> = None;
-        for (set, sign) in sets.iter().flat_map(|&set| [(set, 1.0), (set, -1.0)]) {
-            let mut spans: Vec<usize> =
-                set.iter().flat_map(|&(j, _, _)| self.spans_of(j)).collect();
+        for trial in &trials {
+            let mut spans: Vec<usize> = trial.iter().flat_map(|&(j, _)| self.spans_of(j)).collect();
             spans.sort_unstable();
             spans.dedup();
             // The span being lowered first: most trials fail there, and
@@ -413,23 +501,25 @@ impl Lowering<'_> {
                 spans.swap(0, i);
             }
             let turning_before: f64 = spans.iter().map(|&t| turning[t]).sum();
-            let reach = set.iter().map(|d| d.2).fold(f64::INFINITY, f64::min);
-            let mut step = reach.min(self.radius);
+            let largest = trial.iter().map(|d| d.1.norm()).fold(0.0, f64::max);
+            let mut scale = 1.0;
             for _ in 0..TRIAL_STEPS {
-                if step <= self.resolution {
+                if largest * scale <= self.resolution {
                     break;
                 }
-                let moved: Vec<(usize, Vec3)> = set
+                let moved: Vec<(usize, Vec3)> = trial
                     .iter()
-                    .map(|&(j, dv, _)| (j, cur[j] + dv * (sign * step)))
+                    .map(|&(j, d)| (j, cur[j] + d * scale))
                     .collect();
-                step *= 0.5;
+                scale *= 0.5;
                 let old: Vec<Vec3> = moved.iter().map(|&(j, _)| cur[j]).collect();
                 for &(j, p) in &moved {
                     cur[j] = p;
                 }
                 // (A NaN demand never passes.)
-                let bar = best.as_ref().map_or(target, |b| b.0.min(target));
+                let bar = best
+                    .as_ref()
+                    .map_or(target, |b| (b.0 * (1.0 - TRIAL_TIE)).min(target));
                 let mut both: Vec<(usize, SpanShape)> = Vec::with_capacity(spans.len());
                 let mut lower = true;
                 for &t in &spans {
@@ -448,7 +538,10 @@ impl Lowering<'_> {
                     continue;
                 }
                 let high = both.iter().map(|(_, b)| b.demand).fold(0.0, f64::max);
-                if both.iter().map(|(_, b)| b.turning).sum::<f64>() > turning_before {
+                // (Laid on a chord, points often leave the turning as it
+                // was: equal within TRIAL_TIE is not more.)
+                let turning_after: f64 = both.iter().map(|(_, b)| b.turning).sum();
+                if turning_after > turning_before * (1.0 + TRIAL_TIE) {
                     continue;
                 }
                 if let Some(r) = self.reference {
@@ -480,6 +573,34 @@ impl Lowering<'_> {
         }
         best.map(|b| b.1)
     }
+}
+
+/// Of span `s`, just popped from `heap`, and the spans whose peaks tie
+/// with it (within [`TRIAL_TIE`]), the first: the others go back. The
+/// peaks of a symmetric curve are equal but for rounding, and where the
+/// moves they get reach each other, the order they are lowered in shapes
+/// the result: it goes by place, not by rounding.
+fn first_of_tie(heap: &mut BinaryHeap<Entry>, peak: &[f64], s: usize) -> usize {
+    let low = peak[s] * (1.0 - TRIAL_TIE);
+    let mut tied = vec![s];
+    while let Some(&(bits, t)) = heap.peek() {
+        if bits != peak[t].to_bits() {
+            heap.pop(); // stale
+            continue;
+        }
+        if peak[t] < low {
+            break;
+        }
+        heap.pop();
+        tied.push(t);
+    }
+    let first = tied.iter().copied().fold(usize::MAX, usize::min);
+    for t in tied {
+        if t != first {
+            heap.push((peak[t].to_bits(), t));
+        }
+    }
+    first
 }
 
 /// A move the pass keeps: the points and their new places, and the new
