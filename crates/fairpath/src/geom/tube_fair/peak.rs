@@ -19,7 +19,7 @@
 //! moving it towards the chord of its neighbours (its bisector, as the
 //! thesis moves a ripple point, eqs. 3-23 to 3-25) by [`TRIAL_STEPS`]
 //! distances, halving from [`RIPPLE_REACH_SHARE`] of the way to that chord
-//! (at most the radius); also try laying two or three consecutive points
+//! (at most the radius); also try laying two to five consecutive points
 //! near the span on the chord of the points outside them (ours:
 //! `Lowering::chord_trials`, for bends made over short legs), the whole
 //! way first, then halving; keep the trial whose four spans' highest peak is
@@ -51,6 +51,14 @@ use alloc::vec::Vec;
 /// four halvings reach a sixteenth of the way, enough to settle two
 /// neighbouring points against each other).
 pub const TRIAL_STEPS: usize = 5;
+
+/// How many consecutive points a chord trial lays on the chord of the
+/// points outside them ([`Lowering::chord_trials`]; ours). Up to three
+/// straightened our sharp line; up to five also the line whose spline
+/// interpolates the displaced points (R = 0.125 mm: 0.590 -> 0.543 s, the
+/// straight line's time) at the same computing time over the 64 B-spline
+/// programs of `docs/fair-outputs.md` (8.53 against 8.50 s; `docs/methods.md`).
+pub const CHORD_TRIAL_POINTS: core::ops::RangeInclusive<usize> = 2..=5;
 
 /// Relative margin of the comparisons that choose a move (ours): a trial
 /// must beat the best so far by more than this share of its demand
@@ -386,7 +394,7 @@ impl Lowering<'_> {
         Some((dv, RIPPLE_REACH_SHARE * q.dist(p)))
     }
 
-    /// Trials that lay two or three consecutive movable points of span
+    /// Trials that lay two to five consecutive movable points of span
     /// `s`'s neighbourhood on the chord of the points outside them, each
     /// at its share of the polygon's length between them (the whole way
     /// at the first step, at most the radius).
@@ -403,7 +411,7 @@ impl Lowering<'_> {
     fn chord_trials(&self, cur: &[Vec3], s: usize) -> Vec<Vec<(usize, Vec3)>> {
         let m = cur.len();
         let mut trials = Vec::new();
-        for len in [2, 3] {
+        for len in CHORD_TRIAL_POINTS {
             // Windows [a, a + len) meeting the span's points s - 3..=s,
             // with a point on each side.
             let first = (s + 1).saturating_sub(DEGREE + len).max(1);
