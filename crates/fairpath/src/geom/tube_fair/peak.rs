@@ -52,12 +52,13 @@ use alloc::vec::Vec;
 /// neighbouring points against each other).
 pub const TRIAL_STEPS: usize = 5;
 
-/// How many consecutive points a chord trial lays on the chord of the
-/// points outside them ([`Lowering::chord_trials`]; ours). Up to three
-/// straightened our sharp line; up to five also the line whose spline
-/// interpolates the displaced points (R = 0.125 mm: 0.590 -> 0.543 s, the
-/// straight line's time) at the same computing time over the 64 B-spline
-/// programs of `docs/fair-outputs.md` (8.53 against 8.50 s; `docs/methods.md`).
+/// How many consecutive points a chord trial of the peak pass lays on the
+/// chord of the points outside them (ours; see the module docs). Up to
+/// three straightened our sharp line; up to five also the line whose
+/// spline interpolates the displaced points (R = 0.125 mm: 0.590 -> 0.543
+/// s, the straight line's time) at the same computing time over the 64
+/// B-spline programs of `docs/fair-outputs.md` (8.53 against 8.50 s;
+/// `docs/methods.md`).
 pub const CHORD_TRIAL_POINTS: core::ops::RangeInclusive<usize> = 2..=5;
 
 /// Relative margin of the comparisons that choose a move (ours): a trial
