@@ -54,6 +54,8 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             return Ok(Choice::original(opts.budget.output));
         }
         let mut best: Option<(f64, Choice)> = None;
+        // Whether the arcs rendering holds no arc.
+        let mut arcs_all_lines = false;
         // A long run whose arcs fell back to G1 on few blocks.
         let long_with_few_lines = |c: &Choice| em.long_with_few_lines(k, c);
         for (i, &form) in forms.iter().enumerate() {
@@ -87,7 +89,17 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             }
             // (The time at the user's feeds where `auto`'s objective made
             // this rendering.)
-            let (c, known) = em.first_render(k, i)?;
+            // The all-G1 alternative, where the arcs fell back to lines on
+            // every block, at the finer chord of G1 output (else it is the
+            // same rendering: `Emitter::finer_lines_chord`).
+            let chord = match em.finer_lines_chord() {
+                Some(finer) if form == CurveForm::Lines && i > 0 && arcs_all_lines => finer,
+                _ => opts.budget.output,
+            };
+            let (c, known) = em.first_render(k, i, chord)?;
+            if form == CurveForm::Arcs {
+                arcs_all_lines = c.stats.arcs == 0;
+            }
             let rendered_time = |c: &Choice, f: bool| match known {
                 Some(t) if f == opts.override_feed => Ok(t),
                 _ => rendered_time(c, f),

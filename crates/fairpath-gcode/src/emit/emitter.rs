@@ -11,6 +11,7 @@ use crate::facts::ProgramFacts;
 use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
 use crate::pipeline::{EmitOptions, RenderMemo};
 use crate::{Format, GcodeWriteOptions, Program, Units};
+use fairpath::budget::BLEND_SHARE_G1;
 use fairpath::feed::plan::{plan_run, plan_time_shaped, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
@@ -229,14 +230,40 @@ impl<'a> Emitter<'a> {
         made.as_ref().map_err(|e| EmitError::Plan(e.clone()))
     }
 
-    /// Run `k` rendered in the `i`-th of [`Emitter::forms`] at the output
-    /// share, as `auto`'s objective rendered it if it kept that rendering
+    /// The chord of the all-G1 alternative to arcs where the budget takes
+    /// a blending share out of the output share: the finer chord
+    /// `--format g1` renders at (G1 output keeps [`BLEND_SHARE_G1`] of the
+    /// output share for blending every vertex, the curve formats
+    /// [`BLEND_SHARE_CURVES`](fairpath::budget::BLEND_SHARE_CURVES)), within
+    /// this format's output share; `None` without a blending share (then
+    /// both formats render at the whole output share).
+    ///
+    /// Why: where the controller blends the corners of G1 moves, lines
+    /// cut finer turn less at each vertex and plan faster. Where the arcs
+    /// fell back to lines on every block, the alternative at the arcs'
+    /// chord is the same rendering and cannot win:
+    /// `random_lines_0.001in.ngc` (its `G64` blends) at 0.05 mm was
+    /// written at 1.294 s in arcs against 1.166 s with `--format g1`.
+    pub(super) fn finer_lines_chord(&self) -> Option<f64> {
+        let b = &self.opts.budget;
+        (b.blend > 0.0).then(|| ((b.output + b.blend) * (1.0 - BLEND_SHARE_G1)).min(b.output))
+    }
+
+    /// Run `k` rendered in the `i`-th of [`Emitter::forms`] at `chord`
+    /// (the output share, or [`Emitter::finer_lines_chord`]); at the output
+    /// share as `auto`'s objective rendered it if it kept that rendering
     /// ([`RenderMemo::take`]: the same pieces, options and plan, so the same
     /// rendering), with its time at the user's feeds; else rendered here.
-    pub(super) fn first_render(&self, k: usize, i: usize) -> Result<(Choice, Option<f64>)> {
+    pub(super) fn first_render(
+        &self,
+        k: usize,
+        i: usize,
+        chord: f64,
+    ) -> Result<(Choice, Option<f64>)> {
         let form = self.forms[i];
-        let chord = self.opts.budget.output;
-        let same_units = self.program.run_spans()[k].units == self.memo_units;
+        // (`auto`'s objective renders at the output share.)
+        let same_units = self.program.run_spans()[k].units == self.memo_units
+            && chord == self.opts.budget.output;
         if let Some((r, t)) = self
             .memo
             .filter(|_| same_units)

@@ -1,0 +1,36 @@
+//! The all-G1 alternative the arcs format tries where its arcs fell back to
+//! lines (`emit::choose`, `Emitter::finer_lines_chord`).
+
+mod common;
+
+use fairpath_gcode::{smooth_program, Controller, Format, SmoothOptions};
+
+/// LinuxCNC's `random_lines_0.001in.ngc` (25 um moves under a blending
+/// `G64`) with `bspline-fit` at 0.05 mm: the arcs fell back to lines on
+/// every block, and the all-G1 alternative, rendered at the arcs' chord,
+/// was the same 1471 lines (1.294 s written). At the finer chord that G1
+/// output renders at (half the output share kept for the controller's
+/// blending) it is what `--format g1` writes, and wins.
+#[test]
+fn random_lines_0_001in_arcs_format_writes_what_g1_writes() {
+    let Some(dir) = common::shared_paths() else {
+        return;
+    };
+    let path = dir.join("linuxcnc/performance/random_lines_0.001in.ngc");
+    let text = std::fs::read_to_string(path).unwrap();
+    let written = |format| {
+        let opts = SmoothOptions::new(0.05, None, "bspline-fit", Some(format), Controller::Generic)
+            .unwrap();
+        let (output, report) = smooth_program(&text, &opts).unwrap();
+        (output.text, report.times.written.total)
+    };
+    let (arcs_text, arcs) = written(Format::Arcs);
+    let (g1_text, g1) = written(Format::G1);
+    assert!(
+        !arcs_text.contains("G2") && !arcs_text.contains("G3"),
+        "the arcs format wrote arcs"
+    );
+    assert!(arcs <= g1 * 1.001, "arcs {arcs} s against G1 {g1} s");
+    assert!(arcs < 1.2, "arcs {arcs} s (1.294 s at the arcs' chord)");
+    assert!(g1_text.lines().count() > 0);
+}
