@@ -260,6 +260,20 @@ impl ToleranceBudget {
         self.output - self.rounding()
     }
 
+    /// The output share G1 lines are rendered within where a blending
+    /// share is kept (`blend > 0`): the one G1 output gets, output and
+    /// blending split [`BLEND_SHARE_G1`] to blending (where a curve
+    /// format keeps [`BLEND_SHARE_CURVES`]), which is at most `output`;
+    /// `None` without a blending share (then G1 output and the curve
+    /// formats both render within the whole output share). The all-G1
+    /// alternative to arcs is rendered so where the arcs hold no arc:
+    /// lines cut finer turn less at each vertex the controller blends,
+    /// and plan faster.
+    pub fn finer_lines_output(&self) -> Option<f64> {
+        (self.blend > 0.0)
+            .then(|| ((self.output + self.blend) * (1.0 - BLEND_SHARE_G1)).min(self.output))
+    }
+
     /// How far run end points may differ and still count as equal (mm).
     pub fn endpoint_rounding(&self) -> f64 {
         ENDPOINT_ROUNDING_SHARE * self.total

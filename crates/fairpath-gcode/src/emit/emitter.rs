@@ -11,7 +11,6 @@ use crate::facts::ProgramFacts;
 use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
 use crate::pipeline::{EmitOptions, RenderMemo};
 use crate::{Format, GcodeWriteOptions, Program, Units};
-use fairpath::budget::BLEND_SHARE_G1;
 use fairpath::feed::plan::{plan_run, plan_time_shaped, PlanOptions, RunPlan};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::FeedError;
@@ -230,13 +229,10 @@ impl<'a> Emitter<'a> {
         made.as_ref().map_err(|e| EmitError::Plan(e.clone()))
     }
 
-    /// The chord of the all-G1 alternative to arcs where the budget takes
-    /// a blending share out of the output share: the finer chord
-    /// `--format g1` renders at (G1 output keeps [`BLEND_SHARE_G1`] of the
-    /// output share for blending every vertex, the curve formats
-    /// [`BLEND_SHARE_CURVES`](fairpath::budget::BLEND_SHARE_CURVES)), within
-    /// this format's output share; `None` without a blending share (then
-    /// both formats render at the whole output share).
+    /// The chord of the all-G1 alternative to arcs where the budget keeps
+    /// a blending share: the finer chord `--format g1` renders at
+    /// ([`fairpath::budget::ToleranceBudget::finer_lines_output`]), within
+    /// this format's output share; `None` without a blending share.
     ///
     /// Why: where the controller blends the corners of G1 moves, lines
     /// cut finer turn less at each vertex and plan faster. Where the arcs
@@ -245,8 +241,7 @@ impl<'a> Emitter<'a> {
     /// `random_lines_0.001in.ngc` (its `G64` blends) at 0.05 mm was
     /// written at 1.294 s in arcs against 1.166 s with `--format g1`.
     pub(super) fn finer_lines_chord(&self) -> Option<f64> {
-        let b = &self.opts.budget;
-        (b.blend > 0.0).then(|| ((b.output + b.blend) * (1.0 - BLEND_SHARE_G1)).min(b.output))
+        self.opts.budget.finer_lines_output()
     }
 
     /// Run `k` rendered in the `i`-th of [`Emitter::forms`] at `chord`

@@ -186,7 +186,9 @@ pub struct WrittenTime {
     pub plan: PlanOptions,
     /// The renderings the format allows, in the writer's order. A
     /// [`CurveForm::Lines`] rendering after another is tried only where
-    /// an earlier one fell back to lines (as the writer does).
+    /// an earlier one fell back to lines, or, at a finer chord than the
+    /// first rendering's, only where an arcs rendering held no arc (as the
+    /// writer does: [`crate::budget::ToleranceBudget::finer_lines_output`]).
     pub renders: Vec<RenderOptions>,
     /// How the writer's judge passes the corners of a rendering.
     pub corners: Corners,
@@ -290,12 +292,21 @@ impl Objective for WrittenTime {
         drop(plan);
         let mut best: Option<f64> = None;
         let mut fell_back = false;
+        // Whether an arcs rendering held no arc.
+        let mut arcs_all_lines = false;
+        let first_chord = self.renders.first().map_or(f64::INFINITY, |r| r.chord);
         for (i, ro) in self.renders.iter().enumerate() {
-            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
-                continue;
+            if i > 0 && ro.form == CurveForm::Lines {
+                let finer = ro.chord < first_chord;
+                if (finer && !arcs_all_lines) || (!finer && !fell_back) {
+                    continue;
+                }
             }
             let r = render_run(pieces, &speed, ro).ok()?;
             fell_back |= r.stats.fallback_lines > 0;
+            if ro.form == CurveForm::Arcs {
+                arcs_all_lines = r.stats.arcs == 0;
+            }
             if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
                 if best.is_none_or(|b| t < b) {
                     best = Some(t);
