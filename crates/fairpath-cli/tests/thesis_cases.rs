@@ -18,6 +18,19 @@ fn peak(c: &Nurbs) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Asserts that `faired` lies within `r` of `original` on the sure bound
+/// and keeps its end points (`what` names the case in a failure).
+fn in_tube_with_its_ends(faired: &Nurbs, original: &Nurbs, r: f64, what: &str) {
+    let sure = deviation_bound(
+        &difference(&faired.points, &original.points),
+        &original.knots,
+        1e-9,
+    );
+    assert!(sure <= r, "{what}: bound {sure}");
+    assert_eq!(faired.points[0], original.points[0], "{what}");
+    assert_eq!(faired.points.last(), original.points.last(), "{what}");
+}
+
 /// The square whose corners an interpolation turned into ripples, at R =
 /// 0.025 mm: the thesis' iterations leave control points up to 0.09 mm
 /// from where they were (their curve within 0.025 mm: the difference
@@ -55,14 +68,7 @@ fn square_ripples_peak_pass_moves_points_the_iterations_took_past_the_radius() {
         assert!(f.peak_pass.moves > 0, "{pass:?}: {:?}", f.peak_pass);
         let (before, after) = (peak(&bare.curve), peak(&f.curve));
         assert!(after < 0.99 * before, "{pass:?}: {before} -> {after}");
-        let sure = deviation_bound(
-            &difference(&f.curve.points, &case.curve.points),
-            &case.curve.knots,
-            1e-9,
-        );
-        assert!(sure <= r, "{pass:?}: bound {sure}");
-        assert_eq!(f.curve.points[0], case.curve.points[0]);
-        assert_eq!(f.curve.points.last(), case.curve.points.last());
+        in_tube_with_its_ends(&f.curve, &case.curve, r, &format!("{pass:?}"));
     }
 }
 
@@ -96,14 +102,7 @@ fn lines_with_displaced_points_peak_pass_spreads_the_bend_over_the_long_legs() {
             let f = fair_in_tube(&case.curve, &TubeFairOptions::new(r)).unwrap();
             let k = peak(&f.curve);
             assert!(k < after, "{name} {r}: {bare} -> {k}, {:?}", f.peak_pass);
-            let sure = deviation_bound(
-                &difference(&f.curve.points, &case.curve.points),
-                &case.curve.knots,
-                1e-9,
-            );
-            assert!(sure <= r, "{name} {r}: bound {sure}");
-            assert_eq!(f.curve.points[0], case.curve.points[0]);
-            assert_eq!(f.curve.points.last(), case.curve.points.last());
+            in_tube_with_its_ends(&f.curve, &case.curve, r, &format!("{name} {r}"));
         }
     }
 }
