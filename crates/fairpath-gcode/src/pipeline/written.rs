@@ -107,19 +107,12 @@ pub fn objective_for(
     let units = facts.render_units();
     // Not the all-G1 alternative the writer also tries where arcs fell
     // back to lines: it rarely wins (`docs/tuning.md`) and would double
-    // the cost of ranking such candidates. But where a blending share
-    // finds it a finer chord, the one the writer renders it at where the
-    // arcs hold no arc (`Emitter::finer_lines_chord`): the objective too
-    // tries it there only, and it is the same rendering the writer's.
-    let finer = budget.finer_lines_output();
+    // the cost of ranking such candidates.
     let renders = forms
         .iter()
         .enumerate()
-        .filter_map(|(i, &form)| match (i, form, finer) {
-            (1.., CurveForm::Lines, None) => None,
-            (1.., CurveForm::Lines, Some(c)) => Some(render_options(opts, form, c, units, &wo)),
-            _ => Some(render_options(opts, form, budget.output, units, &wo)),
-        })
+        .filter(|&(i, &form)| i == 0 || form != CurveForm::Lines)
+        .map(|(_, &form)| render_options(opts, form, budget.output, units, &wo))
         .collect();
     let mut written = WrittenTime::new(opts.machine, opts.override_feed, renders);
     written.corners = opts.judged_by;

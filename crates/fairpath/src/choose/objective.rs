@@ -186,9 +186,7 @@ pub struct WrittenTime {
     pub plan: PlanOptions,
     /// The renderings the format allows, in the writer's order. A
     /// [`CurveForm::Lines`] rendering after another is tried only where
-    /// an earlier one fell back to lines, or, at a finer chord than the
-    /// first rendering's, only where an arcs rendering held no arc (as the
-    /// writer does: [`crate::budget::ToleranceBudget::finer_lines_output`]).
+    /// an earlier one fell back to lines (as the writer does).
     pub renders: Vec<RenderOptions>,
     /// How the writer's judge passes the corners of a rendering.
     pub corners: Corners,
@@ -292,21 +290,12 @@ impl Objective for WrittenTime {
         drop(plan);
         let mut best: Option<f64> = None;
         let mut fell_back = false;
-        // Whether an arcs rendering held no arc.
-        let mut arcs_all_lines = false;
-        let first_chord = self.renders.first().map_or(f64::INFINITY, |r| r.chord);
         for (i, ro) in self.renders.iter().enumerate() {
-            if i > 0 && ro.form == CurveForm::Lines {
-                let finer = ro.chord < first_chord;
-                if (finer && !arcs_all_lines) || (!finer && !fell_back) {
-                    continue;
-                }
+            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
+                continue;
             }
             let r = render_run(pieces, &speed, ro).ok()?;
             fell_back |= r.stats.fallback_lines > 0;
-            if ro.form == CurveForm::Arcs {
-                arcs_all_lines = r.stats.arcs == 0;
-            }
             if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
                 if best.is_none_or(|b| t < b) {
                     best = Some(t);
@@ -341,91 +330,6 @@ impl Objective for WrittenTime {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Counts the renderings costed, by their index in `renders`.
-    #[derive(Debug, Default)]
-    struct Count(
-        core::sync::atomic::AtomicUsize,
-        core::sync::atomic::AtomicUsize,
-    );
-
-    impl RenderObserver for Count {
-        fn rendered(&self, _: &[Piece], i: usize, _: Rendered, _: f64, _: &Arc<PlannedSpeed>) {
-            [&self.0, &self.1][i.min(1)].fetch_add(1, core::sync::atomic::Ordering::Relaxed);
-        }
-    }
-
-    /// A lines rendering after the arcs one, at a finer chord (the
-    /// writer's all-G1 alternative where a blending share is kept), is
-    /// costed where the arcs rendering holds no arc, and not where it
-    /// holds one; at the arcs' chord, only where the arcs fell back.
-    #[test]
-    fn a_finer_lines_rendering_is_costed_where_the_arcs_hold_no_arc() {
-        use crate::geom::{Arc as CircleArc, Curve, Line, Vec3};
-        let m = MachineLimits::thesis();
-        let ro = |form, chord| RenderOptions {
-            form,
-            chord,
-            limits: m,
-            min_block_periods: 1.02,
-            min_radius: 0.00254,
-            step_share: crate::render::arcs::STEP_SHARE,
-            min_arc_length: 4e-6,
-        };
-        let piece = |curve| Piece {
-            curve,
-            rapid: false,
-            source_lines: (1, 1),
-            feed: None,
-        };
-        // A zigzag of lines (rendered as themselves: no arc) and a
-        // quarter circle of radius 10 mm (an arc).
-        let lines: Vec<Piece> = (0..20)
-            .map(|i| {
-                let y = |i: i32| if i % 2 == 0 { 0.0 } else { 0.01 };
-                let (a, b) = (i as f64, i as f64 + 1.0);
-                piece(Curve::Line(Line::new(
-                    Vec3::new(a, y(i), 0.0),
-                    Vec3::new(b, y(i + 1), 0.0),
-                )))
-            })
-            .collect();
-        let z = Vec3::new(0.0, 0.0, 1.0);
-        let arc = CircleArc::from_center(
-            Vec3::new(10.0, 0.0, 0.0),
-            Vec3::new(0.0, 10.0, 0.0),
-            Vec3::ZERO,
-            z,
-            false,
-            1,
-            1e-9,
-        )
-        .unwrap();
-        let circle = vec![piece(Curve::Arc(arc))];
-        for (finer, pieces, lines_costed) in [
-            (true, &lines, true),
-            (true, &circle, false),
-            (false, &lines, false),
-        ] {
-            let chord = if finer { 0.0025 } else { 0.0045 };
-            let count = Arc::new(Count::default());
-            let mut w = WrittenTime::new(
-                m,
-                true,
-                vec![ro(CurveForm::Arcs, 0.0045), ro(CurveForm::Lines, chord)],
-            );
-            w.observer = Some(count.clone());
-            assert!(w.cost(pieces).is_some());
-            let seen = count.1.load(core::sync::atomic::Ordering::Relaxed);
-            assert_eq!(
-                seen > 0,
-                lines_costed,
-                "finer {finer}, {} pieces",
-                pieces.len()
-            );
-            assert_eq!(count.0.load(core::sync::atomic::Ordering::Relaxed), 1);
-        }
-    }
 
     /// `fair`'s default pass becomes the objective's machine's: its speed
     /// caps, or the curvature in the thesis' model; a pass the user set
