@@ -537,3 +537,61 @@ fn quarter_arc(r: f64) -> Arc {
     )
     .unwrap()
 }
+
+/// A reversal inside a curve (one of `auto`'s fits of LinuxCNC's
+/// `test-active-states.ngc` goes out 1.5 mm and back, stopping at the
+/// turn) as G1 lines: the curvature has no bound at the turn, and the
+/// chord error's spacing `sqrt(8 e / kappa)` fell to the shortest block,
+/// 1 nm, for the whole curve: 3 million lines, 2.3 s and 826 MB for that
+/// 36-line program. A move of arc length `2 e` lies within `e` of its
+/// chord whatever the curve does, so the chord error's spacing need not
+/// fall below it: the lines stay far fewer, and within the chord share.
+#[test]
+fn test_active_states_reversal_is_rendered_in_few_lines() {
+    let p = |x: f64| Vec3::new(x, 0.0, 0.0);
+    // The fit as `auto` made it: along X and back, its off-axis parts of
+    // 1e-19 mm the fit's rounding, stopping at its inner knot, where the
+    // flattening samples it (straight on each side) and the curvature has
+    // no bound.
+    let (k, y) = (2.6522922259114483, 6.68109958063731e-20);
+    let there_and_back = Nurbs::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, k, 2.0 * k, 2.0 * k, 2.0 * k, 2.0 * k],
+        vec![
+            p(0.0),
+            Vec3::new(1.005711759853755, y, 0.0),
+            Vec3::new(2.011468340085841, 2.0 * y, 0.0),
+            Vec3::new(1.0057117598537548, y, 0.0),
+            p(0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    assert!(
+        there_and_back.deriv1(k).norm() < 1e-12,
+        "it stops at its inner knot"
+    );
+    let curve = Curve::Nurbs(there_and_back);
+    let length = curve.length(1e-6);
+    // Between two lines, as in its run.
+    let original = [
+        piece(Curve::Line(Line::new(Vec3::new(0.0, 5.0, 0.0), p(0.0)))),
+        piece(curve),
+        piece(Curve::Line(Line::new(p(0.0), Vec3::new(0.0, -5.0, 0.0)))),
+    ];
+    let o = opts(CurveForm::Lines, 0.005);
+    check(&original, &o).unwrap();
+    // The lines made, those merged into their neighbours after (on a
+    // straight curve, nearly all of them) included.
+    let plan = plan_run(&original, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(original.len(), &plan, o.limits.period);
+    let stats = render_run(&original, &speed, &o).unwrap().stats;
+    let made = stats.lines + stats.absorbed_lines;
+    // 754,298 at the shortest block (4 nm) before; 4,260 now, where the
+    // curvature-step rule still asks for short moves as the speed falls
+    // to the stop.
+    assert!(
+        made < 10_000,
+        "{made} lines made for a {length:.3} mm curve"
+    );
+}

@@ -54,6 +54,18 @@ pub const SPACING_RATIO: f64 = 2.0;
 
 pub use crate::budget::CHORD_USE;
 
+/// The chord error's spacing never asks for moves shorter than this many
+/// times the error aimed at (`e`): a move of arc length `2 e` lies within
+/// `e` of its chord whatever the curve does inside (each of its points is
+/// within half the arc length of an end), so a higher curvature needs no
+/// shorter move. Without it a reversal inside a curve, where the path
+/// stops and the curvature has no bound, asked for the shortest block: one
+/// of `auto`'s fits of LinuxCNC's `test-active-states.ngc` went out 1.5 mm
+/// and back, and its lines were cut at 1 nm, 3 million of them (2.3 s and
+/// 826 MB for a program of 36 lines). The moves are still checked at their
+/// middles and halved where off, and the text is verified when read back.
+pub const MIN_CHORD_SPACING_PER_E: f64 = 2.0;
+
 /// Sampling of the curve that the spacing is computed on, as a share of
 /// the chord tolerance.
 pub(crate) const FINE_CHORD: f64 = 0.1;
@@ -132,8 +144,11 @@ impl Spacing {
         let mut free = alloc::vec![false; n];
         for i in 0..n {
             let kappa = ks[i].norm();
+            // (At least `2 e`: a move of arc length `2 e` lies within `e`
+            // of its chord whatever the curve does inside, and at a cusp
+            // the curvature has no bound: see `MIN_CHORD_SPACING_PER_E`.)
             let chord_h = if kappa > 0.0 {
-                crate::math::sqrt(8.0 * e / kappa)
+                crate::math::sqrt(8.0 * e / kappa).max(MIN_CHORD_SPACING_PER_E * e)
             } else {
                 total
             };
