@@ -89,9 +89,9 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
             }
             // (The time at the user's feeds where `auto`'s objective made
             // this rendering.)
-            // The all-G1 alternative, where the arcs fell back to lines on
-            // every block, at the finer chord of G1 output (else it is the
-            // same rendering: `Emitter::finer_lines_chord`).
+            // The all-G1 alternative, where the arcs rendering holds no arc,
+            // at the finer chord of G1 output (at the arcs' chord it would
+            // be the same rendering: `Emitter::finer_lines_chord`).
             let chord = match em.finer_lines_chord() {
                 Some(finer) if form == CurveForm::Lines && i > 0 && arcs_all_lines => finer,
                 _ => opts.budget.output,
