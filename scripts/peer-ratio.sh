@@ -8,8 +8,8 @@
 # the raw program blended within the tolerance (`--junction-deviation`
 # = tolerance). Targets: at most 0.6 on the dense reference programs and
 # on rasters with step-overs, at most 0.25 on contour-like programs
-# whose segments are shorter than the tolerance (mean feed move, from
-# the raw program's length and joints). Also the exact curves' time and
+# whose segments are shorter than the tolerance (mean feed move: the
+# raw program's feed length over its joints plus one). Also the exact curves' time and
 # the same curves written as G6.2, over the raw time. The lower bound is another
 # script's (scripts/lower-bound.sh).
 # Usage: scripts/peer-ratio.sh [TOLERANCE_MM]
@@ -90,7 +90,7 @@ if md:
           "(arcs, the default format), planned by the same model. Targets: ratio at most 0.6 "
           "on the dense reference programs (issue 5's set) and on rasters with step-overs, at "
           "most 0.25 on contour-like programs (mean feed move shorter than the tolerance: the "
-          "raw program's length over its moves). \"curves / raw\": the exact curves `auto` "
+          "raw program's feed length over its joints plus one). \"curves / raw\": the exact curves `auto` "
           "chose (what a G6.2 output carries, which the arcs approximate within the output's "
           "share of the tolerance), over the raw program: where it meets the target and the "
           "written arcs do not, the loss is the rendering's. \"G6.2 / raw\": those curves written as G6.2 NURBS "
