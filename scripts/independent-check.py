@@ -1,0 +1,388 @@
+#!/usr/bin/env python3
+"""An independent check of what `fairpath smooth` writes, through LinuxCNC.
+
+Both programs are read by LinuxCNC's own interpreter (`rs274 -g`, Debian's
+linuxcnc-uspace), not by fairpath's reader, and measured here with nothing
+of fairpath's code (plain Python, no fairpath verifier):
+
+* tolerance: every point of the written feed path lies within TOLERANCE
+  of the original feed path (3D). The distance to the original is
+  measured at the written path's vertices (arcs flattened within 0.05 um,
+  as the original's are; that is added); the distance to a fixed set is
+  1-Lipschitz, so inside a piece from a to b it is at most
+  (d(a) + d(b) + |ab|) / 2, and a piece whose bound exceeds the limit is
+  halved until it passes or is shorter than TOLERANCE/40 (then it is
+  bounded by its larger end plus half its length). The largest distance
+  measured is reported. rs274 prints 4 decimals in the program's units,
+  so the rounding of two printed points (half a unit of the last decimal
+  on each axis, both programs) is added to the limit.
+* run ends and rapids: the written program's rapids go to the same
+  points as the original's, in the same order, and each run (the feed
+  moves between two rapids) starts and ends where the original's did.
+
+Prints one line per case and, with --markdown, writes a table (date,
+commit, command). Exit status 1 if a case fails.
+
+Usage: scripts/independent-check.py [--tolerance 0.05mm] [--methods auto,...]
+          [--formats arcs,g1] [--markdown FILE] PROGRAM...
+Needs `rs274` (apt-get install linuxcnc-uspace) and a release build
+(cargo build --release -p fairpath-cli; FAIRPATH_BIN for another).
+"""
+import argparse
+import datetime
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+BIN = os.environ.get("FAIRPATH_BIN", "target/release/fairpath")
+ARC_SAGITTA_MM = 5e-5
+SCALE = 1000.0
+CALL = re.compile(r"^\s*\d+\s+N\S*\s+([A-Z_0-9]+)\((.*)\)\s*$")
+
+
+COORD = re.compile(r"([XYZIJKRxyzijkr])(\s*)([+-]?(?:\d+\.?\d*|\.\d+))")
+
+
+def scaled_copy(path, factor, tmp):
+    """A copy of `path` with every coordinate word (X Y Z I J K R) outside
+    comments multiplied by `factor`, or None where the program computes
+    its words (parameters, expressions, o-words: not scaled)."""
+    text = open(path, encoding="latin-1").read()
+    if re.search(r"[#\[]|^\s*[oO]\d", text, re.M):
+        return None
+
+    def scale_code(code):
+        def one(m):
+            v = ("%.12f" % (float(m.group(3)) * factor)).rstrip("0").rstrip(".") or "0"
+            return m.group(1) + m.group(2) + v
+        return COORD.sub(one, code)
+
+    out = []
+    for line in text.splitlines():
+        parts = re.split(r"(\([^)]*\)|;.*$)", line)
+        out.append("".join(p if p.startswith(("(", ";")) else scale_code(p) for p in parts))
+    dst = os.path.join(tmp, "scaled-" + os.path.basename(path))
+    with open(dst, "w", encoding="latin-1") as f:
+        f.write("\n".join(out) + "\n")
+    return dst
+
+
+def rs274(path):
+    """Motion of `path` as rs274 sees it: a list of (kind, points) in mm,
+    kind 'rapid' or 'feed', points the move flattened (end included), and
+    the largest rounding of a printed coordinate (mm).
+
+    rs274 prints 4 decimals in the program's units, which misplaces the
+    centre of a small arc by much of its radius; so rs274 reads a copy with
+    its coordinates scaled by SCALE (where the program's words are plain
+    numbers), and the points are scaled back."""
+    with tempfile.TemporaryDirectory() as tmp:
+        copy = scaled_copy(path, SCALE, tmp)
+        factor = SCALE if copy else 1.0
+        r = subprocess.run(["rs274", "-g", copy or path], capture_output=True, text=True,
+                           timeout=600)
+    moves = []
+    # rs274 starts at the origin: a first feed move starts there.
+    pos = (0.0, 0.0, 0.0)
+    scale = 1.0
+    plane = "XY"
+    for line in r.stdout.splitlines():
+        m = CALL.match(line)
+        if not m:
+            continue
+        name, args = m.group(1), m.group(2)
+        if name == "USE_LENGTH_UNITS":
+            scale = (25.4 if "INCH" in args else 1.0) / factor
+        elif name == "SELECT_PLANE":
+            plane = {"CANON_PLANE_XY": "XY", "CANON_PLANE_XZ": "XZ", "CANON_PLANE_YZ": "YZ"}.get(
+                args.strip(), plane)
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
+            v = [float(x) * scale for x in args.split(",")[:3]]
+            end = tuple(v)
+            kind = "rapid" if name == "STRAIGHT_TRAVERSE" else "feed"
+            moves.append((kind, [pos, end]))
+            pos = end
+        elif name == "ARC_FEED":
+            a = [float(x) for x in args.split(",")]
+            e1, e2, c1, c2, rot, ax = [x * scale for x in a[:4]] + [int(a[4]), a[5] * scale]
+            moves.append(("feed", arc_points(pos, plane, (e1, e2), (c1, c2), rot, ax)))
+            pos = moves[-1][1][-1]
+        elif name.startswith("NURBS") or name == "SPLINE_FEED":
+            raise ValueError(f"{path}: {name} is not checked here")
+    # A program without M2 or % at its end is read to its end all the same.
+    if r.returncode != 0 and "File ended with no percent sign or program end" not in r.stderr:
+        raise ValueError(f"{os.path.basename(path)}: rs274 failed: "
+                         f"{r.stderr.strip().splitlines()[-1:]}")
+    return moves, 0.5e-4 * 25.4 / factor
+
+
+def axes(plane):
+    """Indices (first, second, axis) of rs274's ARC_FEED for a plane."""
+    return {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}[plane]
+
+
+def arc_points(start, plane, end12, center, rot, axis_end):
+    i1, i2, i3 = axes(plane)
+    s1, s2, s3 = start[i1], start[i2], start[i3]
+    r0 = math.hypot(s1 - center[0], s2 - center[1])
+    r1 = math.hypot(end12[0] - center[0], end12[1] - center[1])
+    a0 = math.atan2(s2 - center[1], s1 - center[0])
+    a1 = math.atan2(end12[1] - center[1], end12[0] - center[0])
+    if rot > 0:
+        sweep = a1 - a0
+        while sweep <= 1e-12:
+            sweep += 2 * math.pi
+        sweep += 2 * math.pi * (rot - 1)
+    else:
+        sweep = a1 - a0
+        while sweep >= -1e-12:
+            sweep -= 2 * math.pi
+        sweep -= 2 * math.pi * (-rot - 1)
+    r = max(r0, r1, 1e-12)
+    step = 2 * math.acos(max(-1.0, 1 - ARC_SAGITTA_MM / r)) if r > ARC_SAGITTA_MM else math.pi
+    n = max(1, int(math.ceil(abs(sweep) / step)))
+    pts = []
+    for k in range(1, n + 1):
+        f = k / n
+        ang = a0 + sweep * f
+        rr = r0 + (r1 - r0) * f
+        p = [0.0, 0.0, 0.0]
+        p[i1] = center[0] + rr * math.cos(ang)
+        p[i2] = center[1] + rr * math.sin(ang)
+        p[i3] = s3 + (axis_end - s3) * f
+        pts.append(tuple(p))
+    pts[-1] = tuple(end12[0] if i == i1 else end12[1] if i == i2 else axis_end for i in range(3))
+    return [start] + pts
+
+
+def runs(moves):
+    """Feed runs (lists of points) and rapid end points, in order."""
+    out, cur, rapids = [], None, []
+    for kind, pts in moves:
+        if kind == "rapid":
+            if cur:
+                out.append(cur)
+            cur = None
+            rapids.append(pts[-1])
+        else:
+            if cur is None:
+                cur = [pts[0]]
+            cur.extend(pts[1:])
+    if cur:
+        out.append(cur)
+    return out, rapids
+
+
+class Grid:
+    """Segments of a polyline set hashed into cubes of side `cell`."""
+
+    def __init__(self, polylines, cell):
+        self.cell = cell
+        self.cells = {}
+        self.segs = []
+        for pl in polylines:
+            for a, b in zip(pl, pl[1:]):
+                k = len(self.segs)
+                self.segs.append((a, b))
+                lo = [math.floor(min(a[i], b[i]) / cell) for i in range(3)]
+                hi = [math.floor(max(a[i], b[i]) / cell) for i in range(3)]
+                if sum(h - l + 1 for l, h in zip(lo, hi)) > 3000:
+                    # A long segment: walk it in steps of a cell.
+                    n = int(math.dist(a, b) / cell) + 1
+                    keys = set()
+                    for j in range(n + 1):
+                        p = [a[i] + (b[i] - a[i]) * j / n for i in range(3)]
+                        c = tuple(math.floor(p[i] / cell) for i in range(3))
+                        for dx in (-1, 0, 1):
+                            for dy in (-1, 0, 1):
+                                for dz in (-1, 0, 1):
+                                    keys.add((c[0] + dx, c[1] + dy, c[2] + dz))
+                    for key in keys:
+                        self.cells.setdefault(key, []).append(k)
+                    continue
+                for x in range(lo[0], hi[0] + 1):
+                    for y in range(lo[1], hi[1] + 1):
+                        for z in range(lo[2], hi[2] + 1):
+                            self.cells.setdefault((x, y, z), []).append(k)
+
+    def nearest(self, p, limit):
+        """Distance from p to the segments, exact when it is at most
+        `limit` (<= cell); otherwise some value above `limit`."""
+        c = [math.floor(p[i] / self.cell) for i in range(3)]
+        best = math.inf
+        seen = set()
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    for k in self.cells.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                        if k in seen:
+                            continue
+                        seen.add(k)
+                        best = min(best, seg_dist(p, *self.segs[k]))
+        return best
+
+
+def seg_dist(p, a, b):
+    d = [b[i] - a[i] for i in range(3)]
+    w = [p[i] - a[i] for i in range(3)]
+    dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    t = 0.0 if dd == 0 else max(0.0, min(1.0, (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / dd))
+    return math.dist(p, (a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]))
+
+
+def check(original, written, tol):
+    """(largest deviation measured mm, limit mm, list of problems)."""
+    om, orr = rs274(original)
+    try:
+        wm, wr = rs274(written)
+    except ValueError as e:
+        return math.inf, tol, [f"LinuxCNC does not read the written program ({e})"]
+    oruns, orap = runs(om)
+    wruns, wrap = runs(wm)
+    problems = []
+    rounding = math.sqrt(3) * (orr + wr)
+    if len(orap) != len(wrap) or any(math.dist(a, b) > rounding for a, b in zip(orap, wrap)):
+        problems.append(f"rapids differ ({len(orap)} against {len(wrap)})")
+    if len(oruns) != len(wruns):
+        problems.append(f"{len(wruns)} runs written, {len(oruns)} in the original")
+    for i, (a, b) in enumerate(zip(oruns, wruns)):
+        if math.dist(a[0], b[0]) > rounding or math.dist(a[-1], b[-1]) > rounding:
+            problems.append(f"run {i + 1}: ends moved")
+            break
+    h = tol / 40.0
+    grid = Grid(oruns, max(tol * 2.0, 1e-3))
+    limit = tol + rounding
+    worst = 0.0  # the largest distance measured at a point
+    where = None
+    fail = None  # (bound, run, point) of a piece not proven within the limit
+    for i, run in enumerate(wruns):
+        da = grid.nearest(run[0], tol)
+        for a, b in zip(run, run[1:]):
+            db = grid.nearest(b, tol)
+            # Split while the Lipschitz bound (da + db + |ab|) / 2 of the
+            # distance inside [a, b] exceeds the limit; a piece shorter
+            # than h is bounded by its larger end plus half its length.
+            todo = [(a, b, da, db)]
+            while todo:
+                p, q, dp, dq = todo.pop()
+                for d, x in ((dp, p), (dq, q)):
+                    if d > worst:
+                        worst, where = d, (i + 1, x)
+                length = math.dist(p, q)
+                if (dp + dq + length) / 2 <= limit - ARC_SAGITTA_MM:
+                    continue
+                if length <= h:
+                    e = max(dp, dq) + 0.5 * length + ARC_SAGITTA_MM
+                    if e > limit and (fail is None or e > fail[0]):
+                        fail = (e, i + 1, p)
+                    continue
+                m = tuple(0.5 * (p[k] + q[k]) for k in range(3))
+                dm = grid.nearest(m, tol)
+                todo.append((p, m, dp, dm))
+                todo.append((m, q, dm, dq))
+            da = db
+    bound = worst
+    if fail is not None:
+        e, run_no, x = fail
+        problems.append(f"deviation up to {e:.6f} mm > {limit:.6f} mm at run {run_no}, "
+                        f"({x[0]:.4f}, {x[1]:.4f}, {x[2]:.4f}) mm")
+    return bound, limit, problems
+
+
+PROGRAM_EXT = (".ngc", ".nc", ".gcode", ".tap")
+
+
+def programs(given, max_kb):
+    """The files given, and the G-code files under the directories given
+    (up to `max_kb`), sorted by name."""
+    out = []
+    for g in given:
+        if os.path.isdir(g):
+            for root, _, files in os.walk(g):
+                for name in files:
+                    path = os.path.join(root, name)
+                    if name.lower().endswith(PROGRAM_EXT) and \
+                            os.path.getsize(path) <= max_kb * 1024:
+                        out.append(path)
+        else:
+            out.append(g)
+    return sorted(out, key=lambda p: (os.path.basename(p), p))
+
+
+def tolerance_mm(text):
+    m = re.fullmatch(r"([0-9.eE+-]+)\s*(mm|in)?", text)
+    v = float(m.group(1))
+    return v * 25.4 if m.group(2) == "in" else v
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--tolerance", default="0.05mm")
+    ap.add_argument("--methods", default="auto,bspline-corner,lotm,ctm,bspline-fit,fair,arc-fit,none")
+    ap.add_argument("--formats", default="arcs,g1")
+    ap.add_argument("--markdown")
+    ap.add_argument("--max-kb", type=float, default=math.inf,
+                    help="in directories, only programs up to this size")
+    ap.add_argument("programs", nargs="+", help="programs, or directories to search")
+    a = ap.parse_args()
+    a.programs = programs(a.programs, a.max_kb)
+    if not set(a.formats.split(",")) <= {"arcs", "g1"}:
+        ap.error("--formats: arcs and g1 only (rs274 of Debian's LinuxCNC reads no G6.2, "
+                 "and its G5.2 is not measured here)")
+    tol = tolerance_mm(a.tolerance)
+    rows, failed = [], 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for prog in a.programs:
+            for method in a.methods.split(","):
+                for fmt in a.formats.split(","):
+                    out = os.path.join(tmp, "out.ngc")
+                    r = subprocess.run([BIN, "smooth", prog, "-t", a.tolerance, "-m", method,
+                                        "-f", fmt, "-o", out], capture_output=True, text=True)
+                    name = os.path.basename(prog)
+                    if r.returncode != 0:
+                        lines = r.stderr.strip().splitlines() or ["?"]
+                        msg = next((x for x in lines if x.startswith("error")), lines[-1])
+                        msg = msg.replace(os.path.dirname(prog) + "/", "").replace("|", "/")
+                        rows.append((name, method, fmt, "-", "-", "refused: " + msg))
+                        print(f"{name:32} {method:15} {fmt:5} refused: {msg}", flush=True)
+                        continue
+                    try:
+                        bound, limit, problems = check(prog, out, tol)
+                    except (ValueError, subprocess.TimeoutExpired) as e:
+                        rows.append((name, method, fmt, "-", "-", f"not checked: {e}"))
+                        print(f"{name:32} {method:15} {fmt:5} not checked: {e}", flush=True)
+                        continue
+                    verdict = "ok" if not problems else "FAIL: " + "; ".join(problems)
+                    failed += bool(problems)
+                    rows.append((name, method, fmt, f"{bound:.6f}", f"{limit:.6f}", verdict))
+                    print(f"{name:32} {method:15} {fmt:5} {bound:.6f} <= {limit:.6f} {verdict}",
+                          flush=True)
+    if a.markdown:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True).stdout.strip()
+        with open(a.markdown, "w") as f:
+            f.write("# Independent check of written programs\n\n")
+            f.write(f"Generated by `scripts/independent-check.py {' '.join(sys.argv[1:])}` on "
+                    f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}.\n")
+            f.write("Both programs read by LinuxCNC's `rs274 -g`; deviation measured by the "
+                    "script alone (see its docstring).\n\n")
+            counts = {}
+            for r in rows:
+                key = r[5].split(":")[0]
+                counts[key] = counts.get(key, 0) + 1
+            f.write(f"{len(rows)} cases: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items()))
+                    + ". `refused`: fairpath reports the input as unsupported or bad "
+                    "(file:line:col); `not checked`: rs274 does not read the original.\n\n")
+            f.write("| program | method | format | largest deviation mm | limit mm | result |\n")
+            f.write("|---|---|---|---|---|---|\n")
+            for r in rows:
+                f.write("| " + " | ".join(r) + " |\n")
+    print(f"{len(rows)} cases, {failed} failed")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
