@@ -177,7 +177,10 @@ def runs(moves):
 
 
 class Grid:
-    """Segments of a polyline set hashed into cubes of side `cell`."""
+    """Segments of a polyline set hashed into cubes of side `cell`: each
+    segment is registered in the cubes of its points at most `cell / 2`
+    apart, so a segment within `cell - cell / 4` of a point (per axis) is
+    registered in a cube next to the point's."""
 
     def __init__(self, polylines, cell):
         self.cell = cell
@@ -187,30 +190,19 @@ class Grid:
             for a, b in zip(pl, pl[1:]):
                 k = len(self.segs)
                 self.segs.append((a, b))
-                lo = [math.floor(min(a[i], b[i]) / cell) for i in range(3)]
-                hi = [math.floor(max(a[i], b[i]) / cell) for i in range(3)]
-                if sum(h - l + 1 for l, h in zip(lo, hi)) > 3000:
-                    # A long segment: walk it in steps of a cell.
-                    n = int(math.dist(a, b) / cell) + 1
-                    keys = set()
-                    for j in range(n + 1):
-                        p = [a[i] + (b[i] - a[i]) * j / n for i in range(3)]
-                        c = tuple(math.floor(p[i] / cell) for i in range(3))
-                        for dx in (-1, 0, 1):
-                            for dy in (-1, 0, 1):
-                                for dz in (-1, 0, 1):
-                                    keys.add((c[0] + dx, c[1] + dy, c[2] + dz))
-                    for key in keys:
-                        self.cells.setdefault(key, []).append(k)
-                    continue
-                for x in range(lo[0], hi[0] + 1):
-                    for y in range(lo[1], hi[1] + 1):
-                        for z in range(lo[2], hi[2] + 1):
-                            self.cells.setdefault((x, y, z), []).append(k)
+                n = int(math.dist(a, b) / (0.5 * cell)) + 1
+                keys = set()
+                for j in range(n + 1):
+                    f = j / n
+                    keys.add(tuple(math.floor((a[i] + (b[i] - a[i]) * f) / cell)
+                                   for i in range(3)))
+                for key in keys:
+                    self.cells.setdefault(key, []).append(k)
 
     def nearest(self, p, limit):
-        """Distance from p to the segments, exact when it is at most
-        `limit` (<= cell); otherwise some value above `limit`."""
+        """Distance from p to the nearest segment registered next to it: at
+        least the distance to the original, equal to it when that is at
+        most `limit` (at most half the cell)."""
         c = [math.floor(p[i] / self.cell) for i in range(3)]
         best = math.inf
         seen = set()
