@@ -20,6 +20,13 @@ of fairpath's code (plain Python, no fairpath verifier):
   points as the original's, in the same order, and each run (the feed
   moves between two rapids) starts and ends where the original's did.
 
+* with --continuity, the joints of the exact curves: the program is also
+  written as JSON (-f json) and the joints between its consecutive feed
+  pieces are classed here (end derivatives of the lines and rational
+  B-splines by the Cox-de Boor recursion, the thresholds the README
+  states); the check fails if fewer joints are G2 than fairpath's summary
+  claims C2, or more have gaps.
+
 Prints one line per case and, with --markdown, writes a table (date,
 commit, command). Exit status 1 if a case fails.
 
@@ -304,6 +311,153 @@ def programs(given, max_kb):
     return sorted(out, key=lambda p: (os.path.basename(p), p))
 
 
+# --- Continuity of the exact curves (--continuity) -----------------------
+
+
+def basis(knots, i, p, t, last):
+    """N_{i,p}(t) by the Cox-de Boor recursion; at the domain's end `last`
+    the last non-empty span is closed on the right."""
+    if p == 0:
+        a, b = knots[i], knots[i + 1]
+        return 1.0 if (a <= t < b) or (t == last and a < b == last) else 0.0
+    out = 0.0
+    d1 = knots[i + p] - knots[i]
+    d2 = knots[i + p + 1] - knots[i + 1]
+    if d1 > 0:
+        out += (t - knots[i]) / d1 * basis(knots, i, p - 1, t, last)
+    if d2 > 0:
+        out += (knots[i + p + 1] - t) / d2 * basis(knots, i + 1, p - 1, t, last)
+    return out
+
+
+def basis_d(knots, i, p, t, k, last):
+    """k-th derivative of N_{i,p} at t (The NURBS Book, eq. 2.9)."""
+    if k == 0:
+        return basis(knots, i, p, t, last)
+    out = 0.0
+    d1 = knots[i + p] - knots[i]
+    d2 = knots[i + p + 1] - knots[i + 1]
+    if d1 > 0:
+        out += p / d1 * basis_d(knots, i, p - 1, t, k - 1, last)
+    if d2 > 0:
+        out -= p / d2 * basis_d(knots, i + 1, p - 1, t, k - 1, last)
+    return out
+
+
+def nurbs_derivs(piece, t):
+    """Point, first and second derivative of a (rational) B-spline piece
+    at t, by the quotient rule on homogeneous coordinates (eq. 4.8)."""
+    knots, pts, p = piece["knots"], piece["points"], piece["degree"]
+    w = piece.get("weights") or [1.0] * len(pts)
+    last = max(k for k in knots[p:len(knots) - p])
+    a = [[0.0] * 3 for _ in range(3)]
+    ww = [0.0] * 3
+    for k in range(3):
+        for i in range(len(pts)):
+            n = basis_d(knots, i, p, t, k, last)
+            if n == 0.0:
+                continue
+            ww[k] += n * w[i]
+            for j in range(3):
+                a[k][j] += n * w[i] * pts[i][j]
+    c0 = [a[0][j] / ww[0] for j in range(3)]
+    c1 = [(a[1][j] - c0[j] * ww[1]) / ww[0] for j in range(3)]
+    c2 = [(a[2][j] - 2 * c1[j] * ww[1] - c0[j] * ww[2]) / ww[0] for j in range(3)]
+    return c0, c1, c2
+
+
+def ends(piece):
+    """(start, end) of a piece, each (point, C', C'')."""
+    if piece["type"] == "line":
+        p0, p1 = piece["p0"], piece["p1"]
+        d = [p1[j] - p0[j] for j in range(3)]
+        return (p0, d, [0.0] * 3), (p1, d, [0.0] * 3)
+    if piece["type"] == "nurbs":
+        k, p = piece["knots"], piece["degree"]
+        lo, hi = k[p], k[len(k) - p - 1]
+        return nurbs_derivs(piece, lo), nurbs_derivs(piece, hi)
+    raise ValueError(f"piece type {piece['type']} is not checked here")
+
+
+def norm(v):
+    return math.sqrt(sum(x * x for x in v))
+
+
+def curvature_vector(d1, d2):
+    """(C'' - (C''.T) T) / |C'|^2, T = C'/|C'|."""
+    s = norm(d1)
+    t = [x / s for x in d1]
+    dot = sum(a * b for a, b in zip(d2, t))
+    return [(d2[j] - dot * t[j]) / (s * s) for j in range(3)]
+
+
+def classify(a, b, tol, size):
+    """'G2', 'G1', 'G0' or 'gap' for the joint where piece a ends and b
+    starts, with the thresholds fairpath's README states (gap: a
+    millionth of the tolerance; tangent: 1 microradian; curvature
+    vectors: 1e-6 relative plus 1e-6 / tolerance), each widened by what
+    f64 rounding of coordinates of magnitude `size` allows on pieces of
+    their chord lengths (a thousand times `size * 2^-52 / l` for the
+    tangent, `/ l^2` for the curvature)."""
+    (pa, da1, da2), (pb, db1, db2) = ends(a)[1], ends(b)[0]
+    if math.dist(pa, pb) > tol * 1e-6:
+        return "gap"
+    if norm(da1) == 0 or norm(db1) == 0:
+        return "G0"
+    eps = 1000 * size * 2.0 ** -52
+    la = max(math.dist(ends(a)[0][0], pa), 1e-300)
+    lb = max(math.dist(pb, ends(b)[1][0]), 1e-300)
+    l = min(la, lb)
+    ua = [x / norm(da1) for x in da1]
+    ub = [x / norm(db1) for x in db1]
+    angle = 2 * math.asin(min(1.0, math.dist(ua, ub) / 2))
+    if angle > 1e-6 + eps / l:
+        return "G0"
+    ka, kb = curvature_vector(da1, da2), curvature_vector(db1, db2)
+    allowed = 1e-6 * max(norm(ka), norm(kb)) + 1e-6 / tol + eps / (l * l)
+    return "G2" if math.dist(ka, kb) <= allowed else "G1"
+
+
+def joints(json_path, tol):
+    """Counts of each class over the joints between consecutive feed
+    pieces of the written JSON (a run is the feed pieces between rapids;
+    fairpath also ends runs at feed changes, whose joints it does not
+    count, so these counts may hold more joints than fairpath's)."""
+    import json
+    with open(json_path) as f:
+        d = json.load(f)
+    pieces = d["pieces"]
+    counts = {"G2": 0, "G1": 0, "G0": 0, "gap": 0}
+    for a, b in zip(pieces, pieces[1:]):
+        if a["rapid"] or b["rapid"]:
+            continue
+        size = max(abs(x) for pc in (a, b) for e in ends(pc) for x in e[0])
+        counts[classify(a, b, tol, size)] += 1
+    return counts
+
+
+JOINTS = re.compile(r"joints:\s+(\d+) C2 .*?(\d+) C1 .*?(\d+) C0 .*?(\d+) gaps")
+
+
+def continuity_check(prog, method, tol_text, tol, tmp):
+    """fairpath's claim of C2 joints for `prog` and `method` against the
+    joints of its exact curves (-f json) classed here: (text, failed)."""
+    out = os.path.join(tmp, "out.json")
+    r = subprocess.run([BIN, "smooth", prog, "-t", tol_text, "-m", method, "-f", "json",
+                        "-o", out], capture_output=True, text=True)
+    if r.returncode != 0:
+        return "refused", False
+    m = JOINTS.search(r.stdout + r.stderr)
+    if not m:
+        return "no joints line in the summary", True
+    claimed = dict(zip(("G2", "G1", "G0", "gap"), map(int, m.groups())))
+    found = joints(out, tol)
+    text = (f"claimed {claimed['G2']}/{claimed['G1']}/{claimed['G0']}/{claimed['gap']}, "
+            f"found {found['G2']}/{found['G1']}/{found['G0']}/{found['gap']} (G2/G1/G0/gap)")
+    failed = found["G2"] < claimed["G2"] or found["gap"] > claimed["gap"]
+    return text, failed
+
+
 def tolerance_mm(text):
     m = re.fullmatch(r"([0-9.eE+-]+)\s*(mm|in)?", text)
     v = float(m.group(1))
@@ -316,6 +470,8 @@ def main():
     ap.add_argument("--methods", default="auto,bspline-corner,lotm,ctm,bspline-fit,fair,arc-fit,none")
     ap.add_argument("--formats", default="arcs,g1")
     ap.add_argument("--markdown")
+    ap.add_argument("--continuity", action="store_true",
+                    help="also write the exact curves (-f json) and class their joints here")
     ap.add_argument("--max-kb", type=float, default=math.inf,
                     help="in directories, only programs up to this size")
     ap.add_argument("programs", nargs="+", help="programs, or directories to search")
@@ -352,6 +508,16 @@ def main():
                     rows.append((name, method, fmt, f"{bound:.6f}", f"{limit:.6f}", verdict))
                     print(f"{name:32} {method:15} {fmt:5} {bound:.6f} <= {limit:.6f} {verdict}",
                           flush=True)
+                if a.continuity:
+                    name = os.path.basename(prog)
+                    try:
+                        text, bad = continuity_check(prog, method, a.tolerance, tol, tmp)
+                    except (ValueError, KeyError) as e:
+                        text, bad = f"not checked: {e}", False
+                    verdict = ("FAIL: " if bad else "ok: ") + text if text != "refused" else text
+                    failed += bad
+                    rows.append((name, method, "json", "-", "-", verdict))
+                    print(f"{name:32} {method:15} json  {verdict}", flush=True)
     if a.markdown:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True).stdout.strip()
