@@ -78,19 +78,31 @@ def scaled_copy(path, factor, tmp):
 
 
 def rs274(path):
+    """[`rs274_at`] of a copy scaled by SCALE, or of `path` itself where the
+    program has words that are not plain numbers or where the copy is not
+    read (an arc whose end radius differs from its start radius by less
+    than LinuxCNC's absolute limit differs by SCALE times as much in the
+    copy)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        copy = scaled_copy(path, SCALE, tmp)
+        if copy:
+            try:
+                return rs274_at(copy, SCALE)
+            except ValueError:
+                pass
+    return rs274_at(path, 1.0)
+
+
+def rs274_at(path, factor):
     """Motion of `path` as rs274 sees it: a list of (kind, points) in mm,
     kind 'rapid' or 'feed', points the move flattened (end included), and
     the largest rounding of a printed coordinate (mm).
 
-    rs274 prints 4 decimals in the program's units, which misplaces the
-    centre of a small arc by much of its radius; so rs274 reads a copy with
-    its coordinates scaled by SCALE (where the program's words are plain
-    numbers), and the points are scaled back."""
-    with tempfile.TemporaryDirectory() as tmp:
-        copy = scaled_copy(path, SCALE, tmp)
-        factor = SCALE if copy else 1.0
-        r = subprocess.run(["rs274", "-g", copy or path], capture_output=True, text=True,
-                           timeout=600)
+    `path` holds coordinates `factor` times the program's: rs274 prints 4
+    decimals in the program's units, which misplaces the centre of a small
+    arc by much of its radius, so it reads a copy scaled up, and the points
+    are scaled back."""
+    r = subprocess.run(["rs274", "-g", path], capture_output=True, text=True, timeout=600)
     moves = []
     # rs274 starts at the origin: a first feed move starts there.
     pos = (0.0, 0.0, 0.0)
