@@ -403,6 +403,11 @@ def curvature_vector(d1, d2):
     return [(d2[j] - dot * t[j]) / (s * s) for j in range(3)]
 
 
+def over(x, y):
+    """x / y with IEEE semantics for y = 0 (x > 0: infinity)."""
+    return x / y if y != 0.0 else math.inf
+
+
 def classify(a, b, tol, size):
     """'G2', 'G1', 'G0' or 'gap' for the joint where piece a ends and b
     starts, with the thresholds fairpath's README states (gap: a
@@ -417,16 +422,14 @@ def classify(a, b, tol, size):
     if norm(da1) == 0 or norm(db1) == 0:
         return "G0"
     eps = 1000 * size * 2.0 ** -52
-    la = max(math.dist(ends(a)[0][0], pa), 1e-300)
-    lb = max(math.dist(pb, ends(b)[1][0]), 1e-300)
-    l = min(la, lb)
+    l = min(math.dist(ends(a)[0][0], pa), math.dist(pb, ends(b)[1][0]))
     ua = [x / norm(da1) for x in da1]
     ub = [x / norm(db1) for x in db1]
     angle = 2 * math.asin(min(1.0, math.dist(ua, ub) / 2))
-    if angle > 1e-6 + eps / l:
+    if angle > 1e-6 + over(eps, l):
         return "G0"
     ka, kb = curvature_vector(da1, da2), curvature_vector(db1, db2)
-    allowed = 1e-6 * max(norm(ka), norm(kb)) + 1e-6 / tol + eps / (l * l)
+    allowed = 1e-6 * max(norm(ka), norm(kb)) + 1e-6 / tol + over(eps, l * l)
     return "G2" if math.dist(ka, kb) <= allowed else "G1"
 
 
@@ -524,8 +527,10 @@ def main():
                     name = os.path.basename(prog)
                     try:
                         text, bad = continuity_check(prog, method, a.tolerance, tol, tmp)
-                    except (ValueError, KeyError) as e:
+                    except ValueError as e:
                         text, bad = f"not checked: {e}", False
+                    except (KeyError, ZeroDivisionError, OverflowError) as e:
+                        text, bad = f"checker error: {e!r}", True
                     verdict = ("FAIL: " if bad else "ok: ") + text if text != "refused" else text
                     failed += bad
                     rows.append((name, method, "json", "-", "-", verdict))
