@@ -14,7 +14,11 @@ of fairpath's code (plain Python, no fairpath verifier):
   halved until it passes or is shorter than TOLERANCE/40 (then it is
   bounded by its larger end plus half its length). The largest distance
   measured is reported. rs274 prints 4 decimals in the program's units,
-  so the rounding of two printed points (half a unit of the last decimal
+  which misplaces the centre of a small arc by much of its radius, so it
+  reads copies of both programs with every coordinate word scaled by
+  1000 (or 100 or 10, the largest it accepts: an inexact arc of the
+  original may pass LinuxCNC's radius check only at a smaller factor),
+  and the rounding of two printed points (half a unit of the last decimal
   on each axis, both programs) is added to the limit.
 * run ends and rapids: the written program's rapids go to the same
   points as the original's, in the same order, and each run (the feed
@@ -46,7 +50,7 @@ import tempfile
 
 BIN = os.environ.get("FAIRPATH_BIN", "target/release/fairpath")
 ARC_SAGITTA_MM = 5e-5
-SCALE = 1000.0
+SCALES = (1000.0, 100.0, 10.0)
 CALL = re.compile(r"^\s*\d+\s+N\S*\s+([A-Z_0-9]+)\((.*)\)\s*$")
 
 
@@ -78,16 +82,18 @@ def scaled_copy(path, factor, tmp):
 
 
 def rs274(path):
-    """[`rs274_at`] of a copy scaled by SCALE, or of `path` itself where the
-    program has words that are not plain numbers or where the copy is not
-    read (an arc whose end radius differs from its start radius by less
-    than LinuxCNC's absolute limit differs by SCALE times as much in the
-    copy)."""
+    """[`rs274_at`] of a copy scaled by the largest of SCALES that rs274
+    reads, or of `path` itself where the program has words that are not
+    plain numbers or no copy is read (an arc whose end radius differs from
+    its start radius within LinuxCNC's absolute limit differs by the
+    factor times as much in the copy, and may pass it)."""
     with tempfile.TemporaryDirectory() as tmp:
-        copy = scaled_copy(path, SCALE, tmp)
-        if copy:
+        for factor in SCALES:
+            copy = scaled_copy(path, factor, tmp)
+            if not copy:
+                break
             try:
-                return rs274_at(copy, SCALE)
+                return rs274_at(copy, factor)
             except ValueError:
                 pass
     return rs274_at(path, 1.0)
