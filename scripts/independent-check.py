@@ -29,7 +29,9 @@ of fairpath's code (plain Python, no fairpath verifier):
   pieces are classed here (end derivatives of the lines and rational
   B-splines by the Cox-de Boor recursion, the thresholds the README
   states); the check fails if fewer joints are G2 than fairpath's summary
-  claims C2, or more have gaps.
+  claims C2, or more have gaps, with the thresholds doubled for both
+  (rounding of the written control points may move a joint across a
+  threshold).
 
 Prints one line per case and, with --markdown, writes a table (date,
 commit, command). Exit status 1 if a case fails.
@@ -414,16 +416,16 @@ def over(x, y):
     return x / y if y != 0.0 else math.inf
 
 
-def classify(a, b, tol, size):
+def classify(a, b, tol, size, slack=1.0):
     """'G2', 'G1', 'G0' or 'gap' for the joint where piece a ends and b
     starts, with the thresholds fairpath's README states (gap: a
     millionth of the tolerance; tangent: 1 microradian; curvature
     vectors: 1e-6 relative plus 1e-6 / tolerance), each widened by what
     f64 rounding of coordinates of magnitude `size` allows on pieces of
     their chord lengths (a thousand times `size * 2^-52 / l` for the
-    tangent, `/ l^2` for the curvature)."""
+    tangent, `/ l^2` for the curvature), every threshold times `slack`."""
     (pa, da1, da2), (pb, db1, db2) = ends(a)[1], ends(b)[0]
-    if math.dist(pa, pb) > tol * 1e-6:
+    if math.dist(pa, pb) > slack * tol * 1e-6:
         return "gap"
     if norm(da1) == 0 or norm(db1) == 0:
         return "G0"
@@ -432,14 +434,14 @@ def classify(a, b, tol, size):
     ua = [x / norm(da1) for x in da1]
     ub = [x / norm(db1) for x in db1]
     angle = 2 * math.asin(min(1.0, math.dist(ua, ub) / 2))
-    if angle > 1e-6 + over(eps, l):
+    if angle > slack * (1e-6 + over(eps, l)):
         return "G0"
     ka, kb = curvature_vector(da1, da2), curvature_vector(db1, db2)
-    allowed = 1e-6 * max(norm(ka), norm(kb)) + 1e-6 / tol + over(eps, l * l)
+    allowed = slack * (1e-6 * max(norm(ka), norm(kb)) + 1e-6 / tol + over(eps, l * l))
     return "G2" if math.dist(ka, kb) <= allowed else "G1"
 
 
-def joints(json_path, tol):
+def joints(json_path, tol, slack=1.0):
     """Counts of each class over the joints between consecutive feed
     pieces of the written JSON (a run is the feed pieces between rapids;
     fairpath also ends runs at feed changes, whose joints it does not
@@ -453,10 +455,11 @@ def joints(json_path, tol):
         if a["rapid"] or b["rapid"]:
             continue
         size = max(abs(x) for pc in (a, b) for e in ends(pc) for x in e[0])
-        counts[classify(a, b, tol, size)] += 1
+        counts[classify(a, b, tol, size, slack)] += 1
     return counts
 
 
+CLAIM_SLACK = 2.0
 JOINTS = re.compile(r"joints:\s+(\d+) C2 .*?(\d+) C1 .*?(\d+) C0 .*?(\d+) gaps")
 
 
@@ -473,9 +476,13 @@ def continuity_check(prog, method, tol_text, tol, tmp):
         return "no joints line in the summary", True
     claimed = dict(zip(("G2", "G1", "G0", "gap"), map(int, m.groups())))
     found = joints(out, tol)
+    # The curves' own classes and those of their JSON form (rounded control
+    # points, evaluated here in another order) may differ at a threshold:
+    # a claim is refuted only beyond CLAIM_SLACK times the thresholds.
+    loose = joints(out, tol, CLAIM_SLACK)
     text = (f"claimed {claimed['G2']}/{claimed['G1']}/{claimed['G0']}/{claimed['gap']}, "
             f"found {found['G2']}/{found['G1']}/{found['G0']}/{found['gap']} (G2/G1/G0/gap)")
-    failed = found["G2"] < claimed["G2"] or found["gap"] > claimed["gap"]
+    failed = loose["G2"] < claimed["G2"] or loose["gap"] > claimed["gap"]
     return text, failed
 
 
