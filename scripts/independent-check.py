@@ -37,7 +37,9 @@ Prints one line per case and, with --markdown, writes a table (date,
 commit, command). Exit status 1 if a case fails.
 
 Usage: scripts/independent-check.py [--tolerance 0.05mm] [--methods auto,...]
-          [--formats arcs,g1] [--markdown FILE] PROGRAM...
+          [--formats arcs,g1] [--continuity] [--generated] [--max-kb N]
+          [--markdown FILE] [PROGRAM or DIRECTORY...]
+(--generated adds the programs scripts/check-programs.py writes.)
 Needs `rs274` (apt-get install linuxcnc-uspace) and a release build
 (cargo build --release -p fairpath-cli; FAIRPATH_BIN for another).
 """
@@ -46,6 +48,7 @@ import datetime
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -502,9 +505,19 @@ def main():
                     help="also write the exact curves (-f json) and class their joints here")
     ap.add_argument("--max-kb", type=float, default=math.inf,
                     help="in directories, only programs up to this size")
-    ap.add_argument("programs", nargs="+", help="programs, or directories to search")
+    ap.add_argument("--generated", action="store_true",
+                    help="also the programs scripts/check-programs.py writes")
+    ap.add_argument("programs", nargs="*", help="programs, or directories to search")
     a = ap.parse_args()
+    generated = tempfile.mkdtemp()
+    if a.generated:
+        here = os.path.dirname(os.path.abspath(__file__))
+        subprocess.run([sys.executable, os.path.join(here, "check-programs.py"), generated],
+                       check=True)
+        a.programs.append(generated)
     a.programs = programs(a.programs, a.max_kb)
+    if not a.programs:
+        ap.error("no programs: give files or directories, or --generated")
     if not set(a.formats.split(",")) <= {"arcs", "g1"}:
         ap.error("--formats: arcs and g1 only (rs274 of Debian's LinuxCNC reads no G6.2, "
                  "and its G5.2 is not measured here)")
@@ -568,6 +581,7 @@ def main():
             f.write("|---|---|---|---|---|---|\n")
             for r in rows:
                 f.write("| " + " | ".join(r) + " |\n")
+    shutil.rmtree(generated, ignore_errors=True)
     print(f"{len(rows)} cases, {failed} failed")
     sys.exit(1 if failed else 0)
 
