@@ -23,7 +23,6 @@ of fairpath's code (plain Python, no fairpath verifier):
 * run ends and rapids: the written program's rapids go to the same
   points as the original's, in the same order, and each run (the feed
   moves between two rapids) starts and ends where the original's did.
-
 * with --continuity, the joints of the exact curves: the program is also
   written as JSON (-f json) and the joints between its consecutive feed
   pieces are classed here (end derivatives of the lines and rational
@@ -57,8 +56,6 @@ BIN = os.environ.get("FAIRPATH_BIN", "target/release/fairpath")
 ARC_SAGITTA_MM = 5e-5
 SCALES = (1000.0, 100.0, 10.0)
 CALL = re.compile(r"^\s*\d+\s+N\S*\s+([A-Z_0-9]+)\((.*)\)\s*$")
-
-
 COORD = re.compile(r"([XYZIJKRxyzijkr])(\s*)([+-]?(?:\d+\.?\d*|\.\d+))")
 
 
@@ -117,7 +114,7 @@ def rs274_at(path, factor):
     moves = []
     # rs274 starts at the origin: a first feed move starts there.
     pos = (0.0, 0.0, 0.0)
-    scale = 1.0
+    scale = 1.0 / factor
     plane = "XY"
     for line in r.stdout.splitlines():
         m = CALL.match(line)
@@ -155,6 +152,11 @@ def axes(plane):
 
 
 def arc_points(start, plane, end12, center, rot, axis_end):
+    """rs274's ARC_FEED from `start` as points (start included) at most
+    ARC_SAGITTA_MM from the arc: `rot` turns counterclockwise (negative:
+    clockwise) in the plane's (first, second) axes, a full turn where the
+    ends meet; the radius and the axis coordinate change linearly with the
+    angle (a spiral where the printed ends are not on one circle)."""
     i1, i2, i3 = axes(plane)
     s1, s2, s3 = start[i1], start[i2], start[i3]
     r0 = math.hypot(s1 - center[0], s2 - center[1])
