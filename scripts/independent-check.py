@@ -231,10 +231,10 @@ class Grid:
                 for key in keys:
                     self.cells.setdefault(key, []).append(k)
 
-    def nearest(self, p, limit):
+    def nearest(self, p):
         """Distance from p to the nearest segment registered next to it: at
         least the distance to the original, equal to it when that is at
-        most `limit` (at most half the cell)."""
+        most half the cell."""
         c = [math.floor(p[i] / self.cell) for i in range(3)]
         best = math.inf
         seen = set()
@@ -283,9 +283,9 @@ def check(original, written, tol):
     where = None
     fail = None  # (bound, run, point) of a piece not proven within the limit
     for i, run in enumerate(wruns):
-        da = grid.nearest(run[0], tol)
+        da = grid.nearest(run[0])
         for a, b in zip(run, run[1:]):
-            db = grid.nearest(b, tol)
+            db = grid.nearest(b)
             # Split while the Lipschitz bound (da + db + |ab|) / 2 of the
             # distance inside [a, b] exceeds the limit; a piece shorter
             # than h is bounded by its larger end plus half its length.
@@ -304,7 +304,7 @@ def check(original, written, tol):
                         fail = (e, i + 1, p)
                     continue
                 m = tuple(0.5 * (p[k] + q[k]) for k in range(3))
-                dm = grid.nearest(m, tol)
+                dm = grid.nearest(m)
                 todo.append((p, m, dp, dm))
                 todo.append((m, q, dm, dq))
             da = db
@@ -421,21 +421,21 @@ def over(x, y):
     return x / y if y != 0.0 else math.inf
 
 
-def classify(a, b, tol, size, slack=1.0):
-    """'G2', 'G1', 'G0' or 'gap' for the joint where piece a ends and b
-    starts, with the thresholds fairpath's README states (gap: a
+def classify(ea, eb, tol, size, slack=1.0):
+    """'G2', 'G1', 'G0' or 'gap' for the joint where the piece with ends
+    `ea` ([`ends`]) ends and the one with ends `eb` starts, with the thresholds fairpath's README states (gap: a
     millionth of the tolerance; tangent: 1 microradian; curvature
     vectors: 1e-6 relative plus 1e-6 / tolerance), each widened by what
     f64 rounding of coordinates of magnitude `size` allows on pieces of
     their chord lengths (a thousand times `size * 2^-52 / l` for the
     tangent, `/ l^2` for the curvature), every threshold times `slack`."""
-    (pa, da1, da2), (pb, db1, db2) = ends(a)[1], ends(b)[0]
+    (pa, da1, da2), (pb, db1, db2) = ea[1], eb[0]
     if math.dist(pa, pb) > slack * tol * 1e-6:
         return "gap"
     if norm(da1) == 0 or norm(db1) == 0:
         return "G0"
     eps = 1000 * size * 2.0 ** -52
-    l = min(math.dist(ends(a)[0][0], pa), math.dist(pb, ends(b)[1][0]))
+    l = min(math.dist(ea[0][0], pa), math.dist(pb, eb[1][0]))
     ua = [x / norm(da1) for x in da1]
     ub = [x / norm(db1) for x in db1]
     angle = 2 * math.asin(min(1.0, math.dist(ua, ub) / 2))
@@ -446,21 +446,23 @@ def classify(a, b, tol, size, slack=1.0):
     return "G2" if math.dist(ka, kb) <= allowed else "G1"
 
 
-def joints(json_path, tol, slack=1.0):
-    """Counts of each class over the joints between consecutive feed
-    pieces of the written JSON (a run is the feed pieces between rapids;
-    fairpath also ends runs at feed changes, whose joints it does not
-    count, so these counts may hold more joints than fairpath's)."""
+def joints(json_path, tol, slacks):
+    """For each of `slacks`, the counts of each class over the joints
+    between consecutive feed pieces of the written JSON (a run is the feed
+    pieces between rapids; fairpath also ends runs at feed changes, whose
+    joints it does not count, so these counts may hold more joints than
+    fairpath's). Each piece's ends are evaluated once."""
     import json
     with open(json_path) as f:
-        d = json.load(f)
-    pieces = d["pieces"]
-    counts = {"G2": 0, "G1": 0, "G0": 0, "gap": 0}
-    for a, b in zip(pieces, pieces[1:]):
-        if a["rapid"] or b["rapid"]:
+        pieces = json.load(f)["pieces"]
+    e = [None if p["rapid"] else ends(p) for p in pieces]
+    counts = [{"G2": 0, "G1": 0, "G0": 0, "gap": 0} for _ in slacks]
+    for ea, eb in zip(e, e[1:]):
+        if ea is None or eb is None:
             continue
-        size = max(abs(x) for pc in (a, b) for e in ends(pc) for x in e[0])
-        counts[classify(a, b, tol, size, slack)] += 1
+        size = max(abs(x) for end in ea + eb for x in end[0])
+        for c, slack in zip(counts, slacks):
+            c[classify(ea, eb, tol, size, slack)] += 1
     return counts
 
 
@@ -480,11 +482,10 @@ def continuity_check(prog, method, tol_text, tol, tmp):
     if not m:
         return "no joints line in the summary", True
     claimed = dict(zip(("G2", "G1", "G0", "gap"), map(int, m.groups())))
-    found = joints(out, tol)
     # The curves' own classes and those of their JSON form (rounded control
     # points, evaluated here in another order) may differ at a threshold:
     # a claim is refuted only beyond CLAIM_SLACK times the thresholds.
-    loose = joints(out, tol, CLAIM_SLACK)
+    found, loose = joints(out, tol, (1.0, CLAIM_SLACK))
     text = (f"claimed {claimed['G2']}/{claimed['G1']}/{claimed['G0']}/{claimed['gap']}, "
             f"found {found['G2']}/{found['G1']}/{found['G0']}/{found['gap']} (G2/G1/G0/gap)")
     failed = loose["G2"] < claimed["G2"] or loose["gap"] > claimed["gap"]
