@@ -592,6 +592,58 @@ fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
     assert_eq!(sections(&["--options", quick.to_str().unwrap()]), 1);
 }
 
+/// `auto`'s `leave_out` option: the candidates it names are not chosen
+/// on any run or section, the output verifies, and a name that is no
+/// candidate is refused at the front door, naming it and leaving no
+/// output.
+#[test]
+fn auto_leaves_out_the_candidates_its_options_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = example("zigzag.ngc");
+    let out = dir.path().join("out.ngc");
+    let file = dir.path().join("opts.toml");
+    let f = file.to_str().unwrap();
+    let chosen = |extra: &[&str]| -> Vec<String> {
+        let mut a = vec!["-m", "auto", "--json-summary"];
+        a.extend_from_slice(extra);
+        let o = smooth(&input, &out, "0.05mm", &a);
+        assert_ok(&o, "auto");
+        assert_ok(&check(&input, &out, "0.05mm"), "check");
+        let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        s["auto_chose"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["candidate"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let plain = chosen(&[]);
+    assert!(!plain.is_empty());
+    let names: Vec<String> = plain.iter().map(|n| format!("{n:?}")).collect();
+    std::fs::write(&file, format!("leave_out = [{}]\n", names.join(", "))).unwrap();
+    if plain
+        .iter()
+        .all(|n| ["bspline-fit", "bspline-corner", "lotm"].contains(&n.as_str()))
+    {
+        // All of them left out would leave no candidate on some runs.
+        std::fs::write(&file, format!("leave_out = [{}]\n", names[0])).unwrap();
+    }
+    let text = std::fs::read_to_string(&file).unwrap();
+    let lean = chosen(&["--options", f]);
+    for n in &lean {
+        assert!(!text.contains(&format!("{n:?}")), "{n} chosen with {text}");
+    }
+    std::fs::remove_file(&out).unwrap();
+    std::fs::write(&file, "leave_out = [\"lotn\"]\n").unwrap();
+    let o = smooth(&input, &out, "0.05mm", &["-m", "auto", "--options", f]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("lotn") && e.contains("bspline-corner"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
 /// Method options are validated once at the front door: an option that
 /// does not apply to the method, an unknown field of `--options` and a
 /// value out of range are errors naming method, option and value, and

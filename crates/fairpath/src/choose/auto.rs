@@ -106,6 +106,7 @@
 //! so `auto` stays no slower than any candidate; a mix whose cheap bound
 //! ([`Objective::bound`]) is not below the best time found is not costed.
 
+use super::candidate_set::CandidateSet;
 use super::candidates::{
     has_splines, is_fair, is_g2, shallow_sections, widens_sections, Candidate, CandidateList,
     Input, Kind, Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
@@ -148,6 +149,12 @@ pub struct AutoOptions {
     /// offers them only where every G2 candidate would leave the run as the
     /// program wrote it (see the module documentation).
     pub curves_as_written: bool,
+    /// Candidates not offered on any run, by the names the summary gives
+    /// them (none by default): fewer candidates, less computing time, and
+    /// a written program that may plan slower (what each costs and gains:
+    /// `docs/auto-ablation.md`). At least one of those offered on every
+    /// run must stay.
+    pub leave_out: CandidateSet,
 }
 
 impl AutoOptions {
@@ -168,6 +175,14 @@ impl AutoOptions {
             "section_lines",
             l,
             "must be positive lengths (mm) or infinite",
+        )?;
+        require(
+            !self.leave_out.holds_every_one_always_offered(),
+            "auto",
+            "leave_out",
+            self.leave_out,
+            "must keep one of the candidates offered on every run \
+             (bspline-fit, bspline-corner, lotm)",
         )
     }
 }
@@ -178,6 +193,7 @@ impl Default for AutoOptions {
             arc_share: ARC_SHARE,
             section_lines: SECTION_LINES,
             curves_as_written: false,
+            leave_out: CandidateSet::EMPTY,
         }
     }
 }
@@ -238,7 +254,10 @@ impl Auto {
         };
         let wide = SectionRule::WideWiggles.options();
         let mut out = Vec::new();
-        for row in CANDIDATES {
+        for (i, row) in CANDIDATES.iter().enumerate() {
+            if self.options.leave_out.contains_row(i) {
+                continue;
+            }
             let offered = match row.offered {
                 Offered::Always => true,
                 Offered::WhenItWidens => widens_sections(input.run(), tol, &wide),
@@ -459,7 +478,11 @@ impl Auto {
         }
         let rows: Vec<_> = CANDIDATES
             .iter()
-            .filter(|r| matches!(r.kind, Kind::CornerInPlace(_)))
+            .enumerate()
+            .filter(|(i, r)| {
+                matches!(r.kind, Kind::CornerInPlace(_)) && !self.options.leave_out.contains_row(*i)
+            })
+            .map(|(_, r)| r)
             .collect();
         let smoothed = map_candidates(rows.len(), |i| {
             let mut cand = rows[i].kind.candidate().smooth(
@@ -835,6 +858,122 @@ mod tests {
                 chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
                 "{with_arcs}: {chosen:?}"
             );
+        }
+    }
+
+    /// Every candidate but those named, the names as the summary gives them.
+    fn all_but(keep: &[&str]) -> CandidateSet {
+        CandidateSet::of_names(
+            CANDIDATES
+                .iter()
+                .map(|r| r.name)
+                .filter(|n| !keep.contains(n)),
+        )
+        .unwrap()
+    }
+
+    /// A left-out candidate is never chosen, for the whole run or for a
+    /// section (the zigzag is cut into sections by default).
+    #[test]
+    fn left_out_candidates_are_never_chosen() {
+        let run = zigzag();
+        let plain = Auto::default().smooth_run(&run, 0.05).unwrap();
+        assert!(!plain.chosen.is_empty());
+        // Each candidate the default choice made, left out in turn.
+        for name in plain.chosen.clone() {
+            let leave_out = CandidateSet::of_names([name]).unwrap();
+            if leave_out.holds_every_one_always_offered() {
+                continue;
+            }
+            let auto = Auto::new(
+                AutoOptions {
+                    leave_out,
+                    ..AutoOptions::default()
+                },
+                Arc::new(PlannedTime::default()),
+            );
+            let out = auto.smooth_run(&run, 0.05).unwrap();
+            assert!(
+                !out.chosen.contains(&name),
+                "{name} left out, yet chosen: {:?}",
+                out.chosen
+            );
+        }
+    }
+
+    /// Leaving out every candidate offered on every run is refused, naming
+    /// the option; keeping one of them is accepted.
+    #[test]
+    fn leave_out_keeps_a_candidate_for_every_run() {
+        let always: Vec<&str> = CANDIDATES
+            .iter()
+            .filter(|r| r.offered == Offered::Always)
+            .map(|r| r.name)
+            .collect();
+        let opts = |names: &[&str]| AutoOptions {
+            leave_out: CandidateSet::of_names(names.iter().copied()).unwrap(),
+            ..AutoOptions::default()
+        };
+        let e = opts(&always).validate().unwrap_err();
+        assert_eq!(e.option, "leave_out");
+        assert!(e.value.contains(always[0]), "{}", e.value);
+        assert!(opts(&always[1..]).validate().is_ok());
+        let auto = Auto::new(opts(&always), Arc::new(PlannedTime::default()));
+        assert!(auto.smooth_run(&zigzag(), 0.05).is_err());
+    }
+
+    proptest::proptest! {
+        /// With every candidate left out but one corner method, and no
+        /// sections, `auto` writes what that method writes, bit for bit
+        /// (random runs of lines).
+        #[test]
+        fn auto_with_one_candidate_is_that_method(
+            pts in proptest::collection::vec((0.0f64..40.0, 0.0f64..40.0, 0.0f64..2.0), 3..12),
+            tol in 0.005f64..0.2,
+            lotm in proptest::bool::ANY,
+        ) {
+            let pieces: Vec<Piece> = pts
+                .windows(2)
+                .enumerate()
+                .map(|(i, w)| Piece {
+                    curve: Curve::Line(Line::new(
+                        Vec3::new(w[0].0, w[0].1, w[0].2),
+                        Vec3::new(w[1].0, w[1].1, w[1].2),
+                    )),
+                    rapid: false,
+                    source_lines: (i + 1, i + 1),
+                    feed: Some(3000.0),
+                })
+                .collect();
+            let run = Run::new(pieces);
+            let (name, method): (&str, &dyn Smoother) = if lotm {
+                ("lotm", &crate::smooth::Lotm::default())
+            } else {
+                ("bspline-corner", &crate::smooth::BsplineCorner::default())
+            };
+            let auto = Auto::new(
+                AutoOptions {
+                    leave_out: all_but(&[name]),
+                    section_lines: [f64::INFINITY; 3],
+                    ..AutoOptions::default()
+                },
+                Arc::new(PlannedTime::default()),
+            );
+            let own = method.smooth_run(&run, tol);
+            let chosen = auto.smooth_run(&run, tol);
+            match (own, chosen) {
+                (Ok(own), Ok(chosen)) => {
+                    proptest::prop_assert!(same_pieces(&own.pieces, &chosen.pieces));
+                    proptest::prop_assert_eq!(chosen.chosen, alloc::vec![name]);
+                }
+                (Err(_), Err(_)) => {}
+                (own, chosen) => proptest::prop_assert!(
+                    false,
+                    "{name}: {:?} against auto's {:?}",
+                    own.map(|r| r.pieces.len()),
+                    chosen.map(|r| r.pieces.len())
+                ),
+            }
         }
     }
 }

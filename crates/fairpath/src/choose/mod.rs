@@ -7,6 +7,7 @@
 //! imports it.
 
 mod auto;
+mod candidate_set;
 mod candidates;
 mod objective;
 mod ranking;
@@ -15,6 +16,7 @@ mod same_pieces;
 mod sections;
 
 pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
+pub use candidate_set::{candidate_names, CandidateSet};
 pub use candidates::{
     keeps_arc_joints, through_corners_sections, CandidateRow, CornerMethod, Kind, Offered,
     SectionRule, CANDIDATES, CURVES_AS_WRITTEN, FAIR_MAX_PIECES, JERK_FAIRNESS,
