@@ -77,7 +77,9 @@ def main():
     tmp = tempfile.mkdtemp()
     # results[config][program] = (written, cpu)
     results = {}
-    configs = [("default", None)] + [(n, n) for n in LEFT_OUT]
+    # The default first and last: its two CPU figures show how much the
+    # machine's load moved the others.
+    configs = [("default", None)] + [(n, n) for n in LEFT_OUT] + [("default, again", None)]
     for label, name in configs:
         options = None
         if name:
@@ -90,6 +92,7 @@ def main():
                                     options, tmp)
             print(label, p, results[label][p], file=sys.stderr, flush=True)
     base = results["default"]
+    again = results["default, again"]
     out = []
     out.append("# What each of `auto`'s candidates costs and gains\n")
     flags = " ".join(["--tolerance", a.tolerance + "mm", *extra])
@@ -101,8 +104,9 @@ def main():
         "(an options file with `leave_out = [NAME]`), on "
         f"{len(progs)} dense reference programs. Written: the planned time of the written "
         "program, summed over the programs, and its change against the default; CPU: "
-        "user + system seconds of the whole run, summed (it varies by a few percent "
-        "between runs of the same build). \"slower on\": the programs whose written "
+        "user + system seconds of the whole run, summed, and its change against the mean "
+        "of the default's two runs, the first and the last (their difference is how much "
+        "the machine's load moved the figures). \"slower on\": the programs whose written "
         "program plans more than 0.5 ms slower without the candidate.\n")
     out.append("| left out | written s | change | CPU s | change | slower on | faster on |")
     out.append("|---|---|---|---|---|---|---|")
@@ -110,9 +114,15 @@ def main():
     def total(label, k):
         return sum(results[label][p][k] for p in progs if results[label][p] and base[p])
 
-    bw, bc = total("default", 0), total("default", 1)
-    out.append(f"| nothing (default) | {bw:.3f} | | {bc:.1f} | | | |")
-    for label, _ in configs[1:]:
+    bw, c_first, c_last = total("default", 0), total("default", 1), total("default, again", 1)
+    bc = (c_first + c_last) / 2
+    same = all(again[p] and base[p] and again[p][0] == base[p][0] for p in progs)
+    out.append(f"| nothing (default), first run | {bw:.3f} | | {c_first:.1f} | "
+               f"{(c_first / bc - 1) * 100:+.1f}% | | |")
+    out.append(f"| nothing (default), last run | {total('default, again', 0):.3f} | "
+               f"{'the same' if same else 'DIFFERS'} | {c_last:.1f} | "
+               f"{(c_last / bc - 1) * 100:+.1f}% | | |")
+    for label, _ in configs[1:-1]:
         w, c = total(label, 0), total(label, 1)
         slower, faster, failed = [], [], []
         for p in progs:
