@@ -910,6 +910,8 @@ mod tests {
             .filter(|r| r.offered == Offered::Always)
             .map(|r| r.name)
             .collect();
+        // The names `AutoOptions::validate`'s message lists.
+        assert_eq!(always, ["bspline-fit", "bspline-corner", "lotm"]);
         let opts = |names: &[&str]| AutoOptions {
             leave_out: CandidateSet::of_names(names.iter().copied()).unwrap(),
             ..AutoOptions::default()
