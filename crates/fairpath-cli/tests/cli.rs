@@ -572,21 +572,11 @@ fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
     let dir = tempfile::tempdir().unwrap();
     let input = example("zigzag.ngc");
     let quick = example("options/auto-quick.toml");
+    let out = dir.path().join("out.ngc");
     let sections = |extra: &[&str]| -> u64 {
-        let out = dir.path().join("out.ngc");
-        let mut a = vec!["-m", "auto", "--json-summary"];
-        a.extend_from_slice(extra);
-        let o = smooth(&input, &out, "0.05mm", &a);
-        assert_ok(&o, "auto");
-        assert_ok(&check(&input, &out, "0.05mm"), "check");
-        let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        assert_eq!(s["runs"].as_u64(), Some(1), "{s}");
-        s["auto_chose"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|c| c["sections"].as_u64().unwrap())
-            .sum()
+        let (runs, chose) = auto_choices(&input, &out, extra);
+        assert_eq!(runs, 1);
+        chose.iter().map(|(_, sections)| sections).sum()
     };
     assert!(sections(&[]) > 1, "zigzag.ngc is no longer cut by default");
     assert_eq!(sections(&["--options", quick.to_str().unwrap()]), 1);
@@ -604,18 +594,8 @@ fn auto_leaves_out_the_candidates_its_options_name() {
     let file = dir.path().join("opts.toml");
     let f = file.to_str().unwrap();
     let chosen = |extra: &[&str]| -> Vec<String> {
-        let mut a = vec!["-m", "auto", "--json-summary"];
-        a.extend_from_slice(extra);
-        let o = smooth(&input, &out, "0.05mm", &a);
-        assert_ok(&o, "auto");
-        assert_ok(&check(&input, &out, "0.05mm"), "check");
-        let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        s["auto_chose"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|c| c["candidate"].as_str().unwrap().to_string())
-            .collect()
+        let (_, chose) = auto_choices(&input, &out, extra);
+        chose.into_iter().map(|(name, _)| name).collect()
     };
     let plain = chosen(&[]);
     assert!(!plain.is_empty());
@@ -637,6 +617,28 @@ fn auto_leaves_out_the_candidates_its_options_name() {
     std::fs::write(&file, "leave_out = [\"lotn\"]\n").unwrap();
     let o = smooth(&input, &out, "0.05mm", &["-m", "auto", "--options", f]);
     assert_refused(&o, &out, &["lotn", "bspline-corner"]);
+}
+
+/// `auto` on `input` at 0.05 mm with `extra` flags, written to `out` and
+/// checked: the number of runs and, from the JSON summary, each candidate
+/// chosen with the number of sections it won.
+fn auto_choices(input: &Path, out: &Path, extra: &[&str]) -> (u64, Vec<(String, u64)>) {
+    let mut a = vec!["-m", "auto", "--json-summary"];
+    a.extend_from_slice(extra);
+    let o = smooth(input, out, "0.05mm", &a);
+    assert_ok(&o, "auto");
+    assert_ok(&check(input, out, "0.05mm"), "check");
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let chose = s["auto_chose"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let name = c["candidate"].as_str().unwrap().to_string();
+            (name, c["sections"].as_u64().unwrap())
+        })
+        .collect();
+    (s["runs"].as_u64().unwrap(), chose)
 }
 
 /// `o` failed, its standard error names each of `needles`, and it left no
