@@ -905,11 +905,7 @@ mod tests {
     /// the option; keeping one of them is accepted.
     #[test]
     fn leave_out_keeps_a_candidate_for_every_run() {
-        let always: Vec<&str> = CANDIDATES
-            .iter()
-            .filter(|r| r.offered == Offered::Always)
-            .map(|r| r.name)
-            .collect();
+        let always: Vec<&str> = CandidateSet::always_offered().names().collect();
         // The names `AutoOptions::validate`'s message lists.
         assert_eq!(always, ["bspline-fit", "bspline-corner", "lotm"]);
         let opts = |names: &[&str]| AutoOptions {
