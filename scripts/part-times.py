@@ -45,13 +45,12 @@ def split(lines):
     force before it."""
     first_motion = next((i for i, l in enumerate(lines) if MOTION.search(code(l))), len(lines))
     header = [l for l in lines[:first_motion] if not RAPID.search(code(l))]
-    parts, cur, state = [], [], {}
-    before = {}
-    for i, line in enumerate(lines[first_motion:], first_motion):
+    parts, cur, state, before = [], [], {}, {}
+    for line in lines[first_motion:]:
         c = code(line)
         if RAPID.search(c) and cur:
-            parts.append((dict(before), cur))
-            cur, before = [], dict(state)
+            parts.append((before, cur))
+            cur = []
         if not cur:
             before = dict(state)
         cur.append(line)
