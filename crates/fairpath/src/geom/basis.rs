@@ -86,7 +86,7 @@ pub fn ders_basis_funs(
         0 => widen3(ders_basis_funs_n::<1>(knots, span, t, nd)),
         1 => widen3(ders_basis_funs_n::<2>(knots, span, t, nd)),
         2 => widen3(ders_basis_funs_n::<3>(knots, span, t, nd)),
-        3 => widen3(ders_basis_funs_n::<4>(knots, span, t, nd)),
+        3 => widen3(ders_basis_funs_cubic(knots, span, t, nd)),
         4 => widen3(ders_basis_funs_n::<5>(knots, span, t, nd)),
         5 => widen3(ders_basis_funs_n::<6>(knots, span, t, nd)),
         6 => widen3(ders_basis_funs_n::<7>(knots, span, t, nd)),
@@ -101,6 +101,75 @@ pub fn ders_basis_funs(
 #[inline(always)]
 fn widen3<const N: usize>(d: [[f64; N]; 3]) -> [[f64; BASIS_LEN]; 3] {
     [widen(d[0]), widen(d[1]), widen(d[2])]
+}
+
+/// [`ders_basis_funs`] at degree 3, the degree of every fit and corner
+/// transition: the values by A2.2's triangle exactly as [`basis_funs`]
+/// computes them (to the bit), keeping its degree 1 and 2 rows, and the
+/// derivatives from those rows by the derivative formula of a B-spline
+/// basis function (Piegl and Tiller, eq. 2.9:
+/// `N'_{j,p} = p N_{j,p-1} / (u_{j+p} - u_j) - p N_{j+1,p-1} / (u_{j+p+1} - u_{j+1})`,
+/// applied once for the first derivative and twice for the second, with
+/// `0/0 = 0`). Six reciprocals of knot differences instead of A2.3's
+/// divisions inside its loops: the same values to rounding, about a third
+/// of the work where curves are sampled densely (rendering, speed caps).
+#[inline(always)]
+fn ders_basis_funs_cubic(knots: &[f64], span: usize, t: f64, nd: usize) -> [[f64; 4]; 3] {
+    const P: usize = 3;
+    // u[k] is the knot u_{span - 2 + k}.
+    let u = &knots[span + 1 - P..=span + P];
+    let mut n = [0.0f64; 4];
+    let mut left = [0.0f64; 4];
+    let mut right = [0.0f64; 4];
+    // The rows of degree 1 and 2: N_{span-1..=span, 1}, N_{span-2..=span, 2}.
+    let mut n1 = [0.0f64; 2];
+    let mut n2 = [0.0f64; 3];
+    n[0] = 1.0;
+    for j in 1..=P {
+        left[j] = t - u[P - j];
+        right[j] = u[j + P - 1] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let den = right[r + 1] + left[j - r];
+            let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+        match j {
+            1 => n1.copy_from_slice(&n[..2]),
+            2 => n2.copy_from_slice(&n[..3]),
+            _ => {}
+        }
+    }
+    let mut ders = [n, [0.0; 4], [0.0; 4]];
+    let nd = nd.min(2);
+    if nd == 0 {
+        return ders;
+    }
+    let inv = |d: f64| if d != 0.0 { 1.0 / d } else { 0.0 };
+    // 3 / (u_{j+3} - u_j) for j = span-2, span-1, span.
+    let d3 = [
+        3.0 * inv(u[3] - u[0]),
+        3.0 * inv(u[4] - u[1]),
+        3.0 * inv(u[5] - u[2]),
+    ];
+    // eq. 2.9 from a row of degree 2 (`m[k]` for j = span-2+k; the
+    // functions of that degree outside the span are zero).
+    let from_degree_2 = |m: [f64; 3]| {
+        let a = [m[0] * d3[0], m[1] * d3[1], m[2] * d3[2]];
+        [-a[0], a[0] - a[1], a[1] - a[2], a[2]]
+    };
+    ders[1] = from_degree_2(n2);
+    if nd == 2 {
+        // The derivatives of the degree 2 row, from the degree 1 row.
+        let b = [
+            2.0 * n1[0] * inv(u[3] - u[1]),
+            2.0 * n1[1] * inv(u[4] - u[2]),
+        ];
+        ders[2] = from_degree_2([-b[0], b[0] - b[1], b[1]]);
+    }
+    ders
 }
 
 /// [`ders_basis_funs`] at degree `N - 1`.
