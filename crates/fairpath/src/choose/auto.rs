@@ -108,12 +108,15 @@
 
 use super::candidate_set::CandidateSet;
 use super::candidates::{
-    has_splines, is_fair, is_g2, shallow_sections, widens_sections, Candidate, CandidateList,
-    Input, Kind, Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    has_splines, is_corner_method, is_fair, is_g2, shallow_sections, widens_sections, Candidate,
+    CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES,
+    THROUGH_MAX_PIECES,
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
-use super::sections::{split_at_long_lines, SectionCache, SECTION_LINES, SECTION_MAX_PIECES};
+use super::sections::{
+    split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
+};
 use crate::geom::Curve;
 use crate::path::Run;
 use crate::smooth::{
@@ -406,20 +409,23 @@ impl Smoother for Auto {
             }
             tried.push(sections.len());
             // Each section's fastest candidate; where that was `fair`
-            // somewhere, also the fastest but `fair` (see `smooth_sections`).
-            let mut with_fair = false;
-            for without_fair in [false, true] {
-                if without_fair && !with_fair {
-                    break;
+            // somewhere, also the fastest but `fair`; where a mix with a
+            // corner method became the fastest, also the fastest fit
+            // ([`Mix`]).
+            let mut wanted = [true, false, false];
+            for mix in MIXES {
+                let k = mix as usize;
+                if !wanted[k] {
+                    continue;
                 }
                 let Some(mixed) =
-                    self.smooth_sections(&sections, tolerance, (&mut cache, &memo), without_fair)?
+                    self.smooth_sections(&sections, tolerance, (&mut cache, &memo), mix)?
                 else {
                     // `fair` may have left a cut joint not G2: try without.
-                    with_fair = true;
+                    wanted[Mix::WithoutFair as usize] |= mix == Mix::All;
                     continue;
                 };
-                with_fair = mixed.chosen.iter().any(|n| is_fair(n));
+                wanted[Mix::WithoutFair as usize] |= mixed.chosen.iter().any(|n| is_fair(n));
                 // A mix whose cheap bound is not below the best time found
                 // cannot be kept: not costed.
                 if let (Some(b), Some(tw)) = (self.objective.bound(&mixed.pieces), time) {
@@ -430,6 +436,8 @@ impl Smoother for Auto {
                 let t = self.objective.cost(&mixed.pieces);
                 if let (Some(t), Some(tw)) = (t, time) {
                     if t < tw {
+                        wanted[Mix::FitsOnly as usize] |=
+                            mixed.chosen.iter().any(|n| is_corner_method(n));
                         (time, best) = (Some(t), mixed);
                     }
                 }

@@ -126,6 +126,12 @@ pub fn is_fair(name: &str) -> bool {
     name == FAIR || name == FAIR_THROUGH_SHALLOW
 }
 
+/// Whether the candidate named `name` is a corner method: `bspline-corner`
+/// or `lotm`, on the sampled run or on the curves as written.
+pub fn is_corner_method(name: &str) -> bool {
+    matches!(name, "bspline-corner" | "lotm") || CURVES_AS_WRITTEN.contains(&name)
+}
+
 /// The candidates that keep the corners next to arcs as the corner
 /// methods do ([`Kind::CornerInPlace`]), last in [`CANDIDATES`].
 pub const CURVES_AS_WRITTEN: [&str; 2] = [

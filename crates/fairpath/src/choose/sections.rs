@@ -2,7 +2,7 @@
 //! of its long lines, each section smoothed by its own fastest candidate.
 
 use super::auto::Auto;
-use super::candidates::is_fair;
+use super::candidates::{is_corner_method, is_fair};
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
@@ -31,9 +31,45 @@ type Section = (Run, bool, bool);
 /// bits) and its piece count.
 type SectionKey = ([u64; 3], [u64; 3], usize);
 
-/// The candidate kept for a section among all candidates, and among all
-/// but `fair` (`None`: none met its cut lines G2).
-type Choices = [Option<SmoothedRun>; 2];
+/// Which candidates a section mix takes each section's fastest among.
+///
+/// Each section's choice is planned from rest to rest and the mix as one
+/// run, so a candidate that wins its section can make the mix slower than
+/// one of fewer candidates. The mixes of fewer candidates stay
+/// available: each is kept only where it plans faster than the whole run
+/// and every other mix, so offering a candidate cannot make `auto` slower
+/// by its objective.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Mix {
+    /// Every candidate offered.
+    All,
+    /// All but `fair` (which may also leave a cut joint not G2); tried
+    /// where a mix chose `fair` somewhere or failed.
+    WithoutFair,
+    /// The fits only: neither `fair` nor the corner methods, whose
+    /// transitions win a section planned from rest to rest and can slow
+    /// the mix (`Cereal.ngc`, `lotm`: docs/methods.md). Tried where a mix
+    /// with a corner method was kept as the fastest so far.
+    FitsOnly,
+}
+
+/// The mixes, in the order they are tried.
+pub(super) const MIXES: [Mix; 3] = [Mix::All, Mix::WithoutFair, Mix::FitsOnly];
+
+impl Mix {
+    /// Whether the candidate named `name` takes part in this mix.
+    pub(super) fn admits(self, name: &str) -> bool {
+        match self {
+            Mix::All => true,
+            Mix::WithoutFair => !is_fair(name),
+            Mix::FitsOnly => !is_fair(name) && !is_corner_method(name),
+        }
+    }
+}
+
+/// The candidate kept for a section in each of [`MIXES`] (`None`: none
+/// met its cut lines G2).
+type Choices = [Option<SmoothedRun>; 3];
 
 /// Sections already smoothed, with the candidates kept for each
 /// ([`Choices`]). `auto` cuts a run at several line lengths
@@ -75,29 +111,22 @@ impl SectionCache {
 impl Auto {
     /// `run` smoothed section by section (see [`split_at_long_lines`]), the
     /// fastest candidate kept in each section among those that meet the
-    /// cut lines G2 (with `without_fair`, among those but `fair`); `None`
-    /// when some section has no such candidate or a cut joint is not G2
-    /// (the caller then chooses for the whole run). Sections found in
-    /// `cache` are not smoothed again, and fits found in `memo` not made
-    /// again.
-    ///
-    /// Why the choice without `fair`: each section's choice is planned from
-    /// rest to rest and the mix as one run, so a candidate that wins a
-    /// section can make the mix slower. Planned both ways, the mix of the
-    /// candidates `auto` had before `fair` joined them stays available,
-    /// and adding `fair` cannot make `auto` slower by its objective.
+    /// cut lines G2 and that `mix` admits ([`Mix`]); `None` when some
+    /// section has no such candidate or a cut joint is not G2 (the caller
+    /// then chooses for the whole run). Sections found in `cache` are not
+    /// smoothed again, and fits found in `memo` not made again.
     pub(super) fn smooth_sections(
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
         tolerance: f64,
         (cache, memo): (&mut SectionCache, &FitMemo),
-        without_fair: bool,
+        mix: Mix,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let jt = JointTolerances::from_tolerance(tolerance);
         let mut out = SmoothedRun::default();
         for (run, before, after) in sections {
             let section = (run.clone(), before.is_some(), after.is_some());
-            let k = usize::from(without_fair);
+            let k = mix as usize;
             let best = match cache.get(&section) {
                 Some(best) => best[k].clone(),
                 None => {
@@ -129,8 +158,8 @@ impl Auto {
     }
 
     /// The fastest candidate for one section that meets its cut lines
-    /// (directions `before`, `after`) G2, and the fastest of those but
-    /// `fair` ([`Choices`]).
+    /// (directions `before`, `after`) G2, among those each of [`MIXES`]
+    /// admits ([`Choices`]).
     fn best_for_section(
         &self,
         run: &Run,
@@ -157,9 +186,9 @@ impl Auto {
             });
             starts_straight && ends_straight
         };
-        let all = ranking.cheapest(eligible);
-        let others = ranking.cheapest(|c| !c.chosen.iter().any(|n| is_fair(n)) && eligible(c));
-        Ok([all, others].map(|i| i.map(|i| ranking.cands[i].clone())))
+        let chosen = MIXES
+            .map(|mix| ranking.cheapest(|c| c.chosen.iter().all(|n| mix.admits(n)) && eligible(c)));
+        Ok(chosen.map(|i| i.map(|i| ranking.cands[i].clone())))
     }
 }
 
@@ -191,4 +220,30 @@ pub fn split_at_long_lines(run: &Run, min_line: f64) -> Vec<(Run, Option<Vec3>, 
     }
     out.push((Run::new(current), before, None));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::candidates::{CANDIDATES, CURVES_AS_WRITTEN, FAIR, FAIR_THROUGH_SHALLOW};
+    use super::*;
+
+    /// Each mix admits what its name says, the fits every mix, and a
+    /// mix's index is its place among the choices ([`Choices`]).
+    #[test]
+    fn each_mix_admits_its_candidates() {
+        for (k, mix) in MIXES.iter().enumerate() {
+            assert_eq!(*mix as usize, k);
+        }
+        for row in CANDIDATES.iter() {
+            let n = row.name;
+            let fair = n == FAIR || n == FAIR_THROUGH_SHALLOW;
+            let corner = matches!(n, "bspline-corner" | "lotm") || CURVES_AS_WRITTEN.contains(&n);
+            assert!(Mix::All.admits(n), "{n}");
+            assert_eq!(Mix::WithoutFair.admits(n), !fair, "{n}");
+            assert_eq!(Mix::FitsOnly.admits(n), !fair && !corner, "{n}");
+            if n.starts_with("bspline-fit") {
+                assert!(MIXES.iter().all(|m| m.admits(n)), "{n}");
+            }
+        }
+    }
 }
