@@ -46,6 +46,19 @@ fn widen<const N: usize>(x: [f64; N]) -> [f64; BASIS_LEN] {
 /// [`basis_funs`] at degree `N - 1`.
 #[inline(always)]
 fn basis_funs_n<const N: usize>(knots: &[f64], span: usize, t: f64) -> [f64; N] {
+    basis_triangle(knots, span, t, |_, _| {})
+}
+
+/// A2.2's triangle at degree `N - 1`: the basis functions, with each row
+/// of lower degree `j` (`N_{span-j..=span, j}` in `n[..=j]`) shown to
+/// `row` as it is completed.
+#[inline(always)]
+fn basis_triangle<const N: usize>(
+    knots: &[f64],
+    span: usize,
+    t: f64,
+    mut row: impl FnMut(usize, &[f64; N]),
+) -> [f64; N] {
     let p = N - 1;
     let u = &knots[span + 1 - p..=span + p];
     // u[span + k] is u[k + p - 1] here.
@@ -64,6 +77,7 @@ fn basis_funs_n<const N: usize>(knots: &[f64], span: usize, t: f64) -> [f64; N] 
             saved = left[j - r] * temp;
         }
         n[j] = saved;
+        row(j, &n);
     }
     n
 }
@@ -118,30 +132,14 @@ fn ders_basis_funs_cubic(knots: &[f64], span: usize, t: f64, nd: usize) -> [[f64
     const P: usize = 3;
     // u[k] is the knot u_{span - 2 + k}.
     let u = &knots[span + 1 - P..=span + P];
-    let mut n = [0.0f64; 4];
-    let mut left = [0.0f64; 4];
-    let mut right = [0.0f64; 4];
     // The rows of degree 1 and 2: N_{span-1..=span, 1}, N_{span-2..=span, 2}.
     let mut n1 = [0.0f64; 2];
     let mut n2 = [0.0f64; 3];
-    n[0] = 1.0;
-    for j in 1..=P {
-        left[j] = t - u[P - j];
-        right[j] = u[j + P - 1] - t;
-        let mut saved = 0.0;
-        for r in 0..j {
-            let den = right[r + 1] + left[j - r];
-            let temp = if den != 0.0 { n[r] / den } else { 0.0 };
-            n[r] = saved + right[r + 1] * temp;
-            saved = left[j - r] * temp;
-        }
-        n[j] = saved;
-        match j {
-            1 => n1.copy_from_slice(&n[..2]),
-            2 => n2.copy_from_slice(&n[..3]),
-            _ => {}
-        }
-    }
+    let n = basis_triangle::<4>(knots, span, t, |j, n| match j {
+        1 => n1.copy_from_slice(&n[..2]),
+        2 => n2.copy_from_slice(&n[..3]),
+        _ => {}
+    });
     let mut ders = [n, [0.0; 4], [0.0; 4]];
     let nd = nd.min(2);
     if nd == 0 {
