@@ -29,7 +29,7 @@ pub fn span_of(knots: &[f64], count: usize, t: f64) -> usize {
 
 /// Values, first and second derivatives of the four cubic basis functions
 /// `N_{s-3..=s}` at `t` in span `s`, with `0/0 = 0`: the crate's one basis
-/// ([`basis::ders_basis_funs`], P&T A2.3) at degree 3.
+/// ([`basis::ders_basis_funs`]: at degree 3, P&T A2.2 and eq. 2.9).
 pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
     let d = basis::ders_basis_funs(knots, FIT_DEGREE, s, t, 2);
     let four = |row: &[f64; basis::BASIS_LEN]| [row[0], row[1], row[2], row[3]];
@@ -38,8 +38,8 @@ pub fn cubic_basis(knots: &[f64], s: usize, t: f64) -> [[f64; 4]; 3] {
 
 /// Values of the four cubic basis functions `N_{s-3..=s}` at `t` in span
 /// `s`: [`cubic_basis`]`(..)[0]` by P&T A2.2 ([`basis::basis_funs`]: 6
-/// divisions instead of the 30 or so of A2.3; the data term of every fit
-/// and the bound of every span evaluate it once per data point).
+/// divisions instead of the 11 that the derivatives add; the data term of
+/// every fit and the bound of every span evaluate it once per data point).
 pub fn cubic_basis_values(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
     let n = basis::basis_funs(knots, FIT_DEGREE, s, t);
     [n[0], n[1], n[2], n[3]]
