@@ -90,7 +90,8 @@ fn basis_triangle<const N: usize>(
 /// As [`basis_funs`], each degree runs the one algorithm compiled for it,
 /// and a degree above [`MAX_DEGREE`] gets zeros. Degree 3, the degree of
 /// the fits and transitions, takes the derivatives from A2.2's lower rows
-/// instead ([`ders_basis_funs_cubic`]: the same values to rounding).
+/// instead (P&T eq. 2.9, six reciprocals of knot differences: the same
+/// values to rounding).
 pub fn ders_basis_funs(
     knots: &[f64],
     degree: usize,
