@@ -92,11 +92,14 @@ impl SectionCache {
         (point_bits(first), point_bits(last), run.pieces.len())
     }
 
-    fn get(&self, section: &Section) -> Option<&Choices> {
+    /// The choices for `run` with cut lines at its start and end as
+    /// `cut_ends` says, if it was smoothed (compared in full; nothing is
+    /// copied to look it up).
+    fn get(&self, run: &Run, cut_ends: (bool, bool)) -> Option<&Choices> {
         self.entries
-            .get(&Self::key(&section.0))?
+            .get(&Self::key(run))?
             .iter()
-            .find(|(s, _)| s == section)
+            .find(|((r, a, b), _)| (*a, *b) == cut_ends && r == run)
             .map(|(_, best)| best)
     }
 
@@ -125,19 +128,15 @@ impl Auto {
         let jt = JointTolerances::from_tolerance(tolerance);
         let mut out = SmoothedRun::default();
         for (run, before, after) in sections {
-            let section = (run.clone(), before.is_some(), after.is_some());
-            let k = mix as usize;
-            let best = match cache.get(&section) {
-                Some(best) => best[k].clone(),
-                None => {
-                    let ends = (*before, *after);
-                    let best = self.best_for_section(run, ends, tolerance, jt, memo)?;
-                    let kept = best[k].clone();
-                    cache.insert(section, best);
-                    kept
-                }
-            };
-            let Some(best) = best else {
+            let cut_ends = (before.is_some(), after.is_some());
+            if cache.get(run, cut_ends).is_none() {
+                let best = self.best_for_section(run, (*before, *after), tolerance, jt, memo)?;
+                cache.insert((run.clone(), cut_ends.0, cut_ends.1), best);
+            }
+            let Some(best) = cache
+                .get(run, cut_ends)
+                .and_then(|c| c[mix as usize].as_ref())
+            else {
                 return Ok(None);
             };
             if let (Some(prev), Some(next)) = (out.pieces.last(), best.pieces.first()) {
@@ -145,14 +144,14 @@ impl Auto {
                     return Ok(None);
                 }
             }
-            out.pieces.extend(best.pieces);
-            out.kept_corners.extend(best.kept_corners);
+            out.pieces.extend_from_slice(&best.pieces);
+            out.kept_corners.extend_from_slice(&best.kept_corners);
             out.dropped_zero_length += best.dropped_zero_length;
             out.merged_collinear += best.merged_collinear;
             out.absorbed_jogs += best.absorbed_jogs;
             out.transitions += best.transitions;
-            out.chosen.extend(best.chosen);
-            out.unfaired.extend(best.unfaired);
+            out.chosen.extend_from_slice(&best.chosen);
+            out.unfaired.extend_from_slice(&best.unfaired);
         }
         Ok(Some(out))
     }
