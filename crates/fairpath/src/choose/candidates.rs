@@ -126,10 +126,13 @@ pub fn is_fair(name: &str) -> bool {
     name == FAIR || name == FAIR_THROUGH_SHALLOW
 }
 
-/// Whether the candidate named `name` is a corner method: `bspline-corner`
-/// or `lotm`, on the sampled run or on the curves as written.
+/// Whether the candidate named `name` is a corner method: its row of
+/// [`CANDIDATES`] runs `bspline-corner` or `lotm`, on the sampled run or on
+/// the curves as written.
 pub fn is_corner_method(name: &str) -> bool {
-    matches!(name, "bspline-corner" | "lotm") || CURVES_AS_WRITTEN.contains(&name)
+    CANDIDATES
+        .iter()
+        .any(|r| r.name == name && matches!(r.kind, Kind::Corner(_) | Kind::CornerInPlace(_)))
 }
 
 /// The candidates that keep the corners next to arcs as the corner
