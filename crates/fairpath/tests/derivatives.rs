@@ -46,6 +46,43 @@ proptest! {
         prop_assert_eq!(c.eval(1.0), *c.points.last().unwrap());
     }
 
+    /// `eval_derivs12` (one basis evaluation on a polynomial spline) gives
+    /// `eval`'s point and `derivs12`'s derivatives to the bit, for every
+    /// degree, rational or not, with double knots, at the domain's ends,
+    /// on knots and between them, through `Curve` as through `Nurbs`: the
+    /// renderer samples with it and must write what it wrote before.
+    #[test]
+    fn eval_derivs12_is_eval_and_derivs12_to_the_bit(pts in prop::collection::vec(pt(), 4..10), deg in 1usize..6, rational in any::<bool>(), ws in prop::collection::vec(0.5..2.0f64, 10), double in any::<bool>(), fr in prop::collection::vec(0.0..=1.0f64, 6)) {
+        let n = pts.len();
+        prop_assume!(n > deg);
+        let inner = n - deg - 1;
+        let mut knots = vec![0.0; deg + 1];
+        for i in 1..=inner {
+            // With `double`, the first inner knot repeats the one before it
+            // (an empty span inside the domain).
+            let k = if double && i == 2 { knots[knots.len() - 1] } else { i as f64 / (inner + 1) as f64 };
+            knots.push(k);
+        }
+        knots.extend(std::iter::repeat_n(1.0, deg + 1));
+        let weights = if rational { Some(ws[..n].to_vec()) } else { None };
+        let c = Nurbs::new(deg, knots.clone(), pts, weights).unwrap();
+        let curve = Curve::Nurbs(c.clone());
+        let mut ts: Vec<f64> = fr.clone();
+        ts.extend(knots.iter().copied());
+        ts.extend([-0.5, 1.5]);
+        let bits = |p: Vec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        for t in ts {
+            let (p, d1, d2) = c.eval_derivs12(t);
+            let (e1, e2) = c.derivs12(t);
+            prop_assert_eq!(bits(p), bits(c.eval(t)), "point at {}", t);
+            prop_assert_eq!(bits(d1), bits(e1), "C' at {}", t);
+            prop_assert_eq!(bits(d2), bits(e2), "C'' at {}", t);
+            prop_assert_eq!(bits(d1), bits(c.deriv1(t)), "C' against deriv1 at {}", t);
+            let (q, f1, f2) = curve.eval_derivs12(t);
+            prop_assert_eq!((bits(q), bits(f1), bits(f2)), (bits(p), bits(d1), bits(d2)));
+        }
+    }
+
     /// The fit's fast evaluations of polynomial cubics (basis values by P&T
     /// A2.2, `C''` from the second-difference control points) against
     /// `cubic_basis` and the general rational evaluation (unit weights), on

@@ -21,6 +21,13 @@ pub trait ParamCurve {
     fn derivs12(&self, t: f64) -> (Vec3, Vec3) {
         (self.deriv1(t), self.deriv2(t))
     }
+    /// `(C(t), C'(t), C''(t))`, the same values as [`ParamCurve::eval`] and
+    /// [`ParamCurve::derivs12`]; a polynomial spline finds all three in one
+    /// evaluation of its basis (samplers that want a point and its frame).
+    fn eval_derivs12(&self, t: f64) -> (Vec3, Vec3, Vec3) {
+        let (d1, d2) = self.derivs12(t);
+        (self.eval(t), d1, d2)
+    }
 
     fn start(&self) -> Vec3 {
         self.eval(self.domain().0)

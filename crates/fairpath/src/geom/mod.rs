@@ -99,6 +99,13 @@ impl ParamCurve for Curve {
             Curve::Nurbs(c) => c.derivs12(t),
         }
     }
+    fn eval_derivs12(&self, t: f64) -> (Vec3, Vec3, Vec3) {
+        match self {
+            Curve::Line(c) => c.eval_derivs12(t),
+            Curve::Arc(c) => c.eval_derivs12(t),
+            Curve::Nurbs(c) => c.eval_derivs12(t),
+        }
+    }
     fn breaks(&self) -> alloc::vec::Vec<f64> {
         match self {
             Curve::Nurbs(c) => c.breaks(),

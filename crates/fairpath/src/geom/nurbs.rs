@@ -462,6 +462,21 @@ impl ParamCurve for Nurbs {
         let [_, d1, d2] = self.derivs(t);
         (d1, d2)
     }
+    /// One basis evaluation for all three inside the domain of a
+    /// polynomial (non-rational) curve: the basis values of
+    /// [`basis::ders_basis_funs`] are [`basis::basis_funs`]'s to the bit
+    /// and summed in the same order, so the point is [`Nurbs::eval`]'s.
+    /// At the ends (where `eval` returns the end control points) and on
+    /// rational curves, `eval` and [`ParamCurve::derivs12`].
+    fn eval_derivs12(&self, t: f64) -> (Vec3, Vec3, Vec3) {
+        let (a, b) = self.domain();
+        if self.weights.is_none() && a < t && t < b {
+            let [p, d1, d2] = self.derivs(t);
+            return (p, d1, d2);
+        }
+        let (d1, d2) = self.derivs12(t);
+        (self.eval(t), d1, d2)
+    }
     fn curvature(&self, t: f64) -> f64 {
         let [_, d1, d2] = self.derivs(t);
         super::curvature_from(d1, d2)

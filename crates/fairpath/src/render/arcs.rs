@@ -46,7 +46,8 @@ use super::speed::PlannedSpeed;
 use super::{Emitted, RenderOptions, RenderStats};
 use crate::geom::biarc::{biarc, piece_distance_bound, Biarc};
 use crate::geom::{
-    flatten_params_between, point_segment_distance, Curve, Line, ParamCurve, Plane, Vec3,
+    curvature_vector_from, flatten_params_between, point_segment_distance, Curve, Line, ParamCurve,
+    Plane, Vec3,
 };
 use alloc::boxed::Box;
 use alloc::vec::Vec;
@@ -164,13 +165,21 @@ impl Fitter<'_> {
         } else {
             Outcome::LocalLines
         };
-        let (Some(ua), Some(ub)) = (c.unit_tangent(ta), c.unit_tangent(tb)) else {
+        // Unit tangents and curvature vectors at both ends and the middle,
+        // one evaluation of the curve each.
+        let frame = |t: f64| {
+            let (d1, d2) = c.derivs12(t);
+            d1.normalized(0.0)
+                .map(|u| (u, curvature_vector_from(d1, d2)))
+        };
+        let (Some(fa), Some(fb)) = (frame(ta), frame(tb)) else {
             return fail;
         };
+        let (ua, ub) = (fa.0, fb.0);
         let samples = self.samples(ta, tb, pa, pb);
-        let frames: Vec<(Vec3, Vec3)> = [ta, 0.5 * (ta + tb), tb]
-            .iter()
-            .filter_map(|&t| Some((c.unit_tangent(t)?, c.curvature_vector(t))))
+        let frames: Vec<(Vec3, Vec3)> = [Some(fa), frame(0.5 * (ta + tb)), Some(fb)]
+            .into_iter()
+            .flatten()
             .collect();
         let Some(plane) = arc_plane(&samples, &frames, self.planar) else {
             return Outcome::PieceLines;

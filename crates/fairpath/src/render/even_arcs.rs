@@ -36,7 +36,7 @@ use super::speed::PlannedSpeed;
 use super::RenderOptions;
 use crate::budget::DEVIATION_USE;
 use crate::geom::biarc::{arc_from_tangent, in_plane_direction, piece_distance_bound};
-use crate::geom::{flatten_params_between, Curve, ParamCurve, Vec3};
+use crate::geom::{curvature_vector_from, flatten_params_between, Curve, ParamCurve, Vec3};
 use crate::math;
 use alloc::vec::Vec;
 
@@ -108,13 +108,14 @@ pub(crate) fn even_arcs(
     if n < 3 {
         return None;
     }
-    let pts: Vec<Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
-    let frames: Vec<(Vec3, Vec3)> = ts
-        .iter()
-        .filter_map(|&t| Some((c.unit_tangent(t)?, c.curvature_vector(t))))
-        .collect();
-    if frames.len() != n {
-        return None;
+    // Each sample's point, unit tangent and curvature vector from one
+    // evaluation of the curve.
+    let mut pts: Vec<Vec3> = Vec::with_capacity(n);
+    let mut frames: Vec<(Vec3, Vec3)> = Vec::with_capacity(n);
+    for &t in &ts {
+        let (p, d1, d2) = c.eval_derivs12(t);
+        pts.push(p);
+        frames.push((d1.normalized(0.0)?, curvature_vector_from(d1, d2)));
     }
     let plane = arc_plane(&pts, &frames, planar)?;
     // In-plane directions, unwrapped, and in-plane arc length.
