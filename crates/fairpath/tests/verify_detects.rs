@@ -269,3 +269,45 @@ fn a_reversal_inside_a_curve_is_a_cusp_not_a_curvature() {
     assert_eq!(rep.cusps, 0);
     assert!(rep.peak_curvature.is_finite() && rep.peak_curvature > 0.0);
 }
+
+/// A cubic whose control polygon nearly folds back (`P2` 0.1 mm off the
+/// fold) turns at `t ~ 0.512` on a radius of 0.45 um, a curvature spike
+/// of 2.2e6 1/mm between the samples, where they see 2.3 1/mm (LinuxCNC's
+/// `homer_p1.ngc` has one: 955 1/mm reported as 73 before). The reported
+/// peak is the spike's; 0.01 mm off the fold the turn is on a radius of
+/// 57 pm, below a millionth of the tolerance: a cusp, left out of the peak.
+#[test]
+fn a_near_cusp_between_samples_is_measured_or_counted_as_a_cusp() {
+    let near_fold = |off: f64| {
+        let c = Nurbs::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+            vec![
+                v(0.0, 0.0, 0.0),
+                v(1.0, 1.0, 0.0),
+                v(0.0, 1.0 + off, 0.0),
+                v(1.0, 0.0, 0.0),
+            ],
+            None,
+        )
+        .unwrap();
+        let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(0.5, 0.75, 0.0), v(1.0, 0.0, 0.0)]);
+        let smoothed = vec![Piece {
+            curve: Curve::Nurbs(c),
+            rapid: false,
+            source_lines: (1, 2),
+            feed: None,
+        }];
+        verify_run(&orig.pieces, &smoothed, &VerifyOptions::new(0.05))
+    };
+    let rep = near_fold(0.1);
+    assert_eq!(rep.cusps, 0);
+    assert!(
+        (rep.peak_curvature - 2.2072e6).abs() < 1e-3 * 2.2072e6,
+        "{}",
+        rep.peak_curvature
+    );
+    let rep = near_fold(0.01);
+    assert_eq!(rep.cusps, 1);
+    assert!(rep.peak_curvature < 2e7, "{}", rep.peak_curvature);
+}

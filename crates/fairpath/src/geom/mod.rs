@@ -22,6 +22,7 @@ mod nurbs;
 mod nurbs_bounds;
 mod plane;
 mod polyline;
+mod sampled_peak;
 pub mod tube_fair;
 mod turn_bound;
 mod vec3;
@@ -39,6 +40,9 @@ pub use nurbs::{Nurbs, NurbsError};
 pub use plane::Plane;
 pub use polyline::{
     distance_to_polyline, point_segment_distance, point_segment_distance_t, SegmentGrid,
+};
+pub use sampled_peak::{
+    curvature_candidates, golden_max, local_maxima, refined_peak, sampled_peak,
 };
 pub use turn_bound::turn_curvature;
 pub use vec3::Vec3;

@@ -83,12 +83,12 @@ use super::unfaired::{Unfaired, UnfairedReason};
 use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
 use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
 use crate::geom::elevate::clamped_with_degree;
-use crate::geom::tube_fair::guard::PEAK_SAMPLES;
+use crate::geom::tube_fair::guard::{PEAK_ACCURACY, PEAK_SAMPLES};
 use crate::geom::tube_fair::{
     as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::{total_curvature, Curve, Line, Nurbs, ParamCurve};
+use crate::geom::{sampled_peak, total_curvature, Curve, Line, Nurbs, ParamCurve};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -420,35 +420,47 @@ pub fn run_turning(pieces: &[Piece]) -> f64 {
         .sum()
 }
 
-/// Sampled peak curvature (1/mm) of smoothed pieces: each NURBS at
+/// Peak curvature (1/mm) of smoothed pieces: each NURBS at
 /// [`PEAK_SAMPLES`] steps per knot span, ends included (its cubic Bezier
-/// spans; other NURBS at as many steps over their domain), arcs their own,
-/// lines none. A sample, not a bound: [`LineFit::Fairer`] compares like
-/// with like.
+/// spans; other NURBS at as many steps over their domain), refined
+/// between the samples to [`PEAK_ACCURACY`] of its span ([`sampled_peak`]:
+/// a near-cusp between samples counts at its height);
+/// arcs their own, lines none. A lower bound, exact to that accuracy at
+/// every peak the samples bracket.
 pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
     pieces
         .iter()
         .map(|p| match &p.curve {
             Curve::Line(_) => 0.0,
             Curve::Arc(a) => a.curvature(a.domain().0),
-            Curve::Nurbs(c) => span_samples(c).map(|t| c.curvature(t)).fold(0.0, f64::max),
+            Curve::Nurbs(c) => knot_spans(c)
+                .into_iter()
+                .map(|(a, b)| {
+                    let derivs = |t: f64| c.derivs12(t);
+                    sampled_peak(derivs, (a, b), PEAK_SAMPLES, PEAK_ACCURACY * (b - a))
+                })
+                .fold(0.0, f64::max),
         })
         .fold(0.0, f64::max)
 }
 
-/// The parameters [`run_peak_curvature`] and [`sampled_demand`] sample a
-/// NURBS at: [`PEAK_SAMPLES`] steps over each non-empty knot span of its
-/// domain, both ends of each span included.
-fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
+/// The non-empty knot spans of a NURBS's domain.
+fn knot_spans(c: &Nurbs) -> Vec<(f64, f64)> {
     let (t0, t1) = c.domain();
     let mut knots: Vec<f64> = c.knots.clone();
     knots.dedup();
-    let spans: Vec<(f64, f64)> = knots
+    knots
         .windows(2)
         .filter(|w| w[0] >= t0 && w[1] <= t1 && w[1] > w[0])
         .map(|w| (w[0], w[1]))
-        .collect();
-    spans.into_iter().flat_map(|(a, b)| {
+        .collect()
+}
+
+/// The parameters [`sampled_demand`] samples a NURBS at: [`PEAK_SAMPLES`]
+/// steps over each non-empty knot span of its domain, both ends of each
+/// span included.
+fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
+    knot_spans(c).into_iter().flat_map(|(a, b)| {
         (0..=PEAK_SAMPLES).map(move |j| a + (b - a) * j as f64 / PEAK_SAMPLES as f64)
     })
 }

@@ -32,7 +32,9 @@
 mod order;
 
 pub use crate::geom::continuity::{classify_joint, Continuity, JointTolerances};
-use crate::geom::{flatten_params, Curve, ParamCurve, SegmentGrid, Vec3};
+use crate::geom::{
+    curvature_candidates, curvature_from, flatten_params, Curve, ParamCurve, SegmentGrid, Vec3,
+};
 use crate::math;
 use crate::path::Piece;
 use alloc::collections::BTreeMap;
@@ -65,11 +67,14 @@ pub struct RunReport {
     /// Distance between the original and smoothed start points (0 = exact).
     pub start_gap: f64,
     pub end_gap: f64,
-    /// Largest curvature sampled on the smoothed run (1/mm), cusps left
-    /// out.
+    /// Largest curvature found on the smoothed run (1/mm), cusps left
+    /// out: samples (every knot of a spline among them), each sampled
+    /// local maximum of a spline's refined (a near-cusp's spike between
+    /// samples counts at its height). A lower bound of the true peak.
     pub peak_curvature: f64,
     /// Cusps found inside curves: points where a curve stops and turns
-    /// back (its derivative vanishes), as a fit through a reversal of the
+    /// back (its derivative vanishes, or it turns on a radius below a
+    /// millionth of the tolerance), as a fit through a reversal of the
     /// program must. The path stops there, as at a kept corner; curvature
     /// is not defined there (rounding makes it anything up to 1e28).
     pub cusps: usize,
@@ -340,9 +345,15 @@ impl SecondDerivative {
 }
 
 /// Share of the tolerance below which a curve's motion over its whole
-/// domain, at the parametric speed of a point, counts as stopped there (a
+/// domain, at the parametric speed of a point, counts as stopped there,
+/// and below which a radius of curvature counts as a turn on the spot (a
 /// cusp: [`RunReport::cusps`]).
 const CUSP_SHARE: f64 = 1e-6;
+
+/// How far (a share of a spline's parameter domain) each sampled local
+/// maximum of its curvature is refined for [`RunReport::peak_curvature`]:
+/// a billionth, finer than any peak a tool path has.
+const PEAK_REFINE_SHARE: f64 = 1e-9;
 
 /// Relative margin on a bound of `|C''|` computed in floating point.
 const D2_MARGIN: f64 = 1.0 + 1e-6;
@@ -440,27 +451,60 @@ pub fn report_without_deviation(
             // Below this parametric speed the curve moves less than a
             // millionth of the tolerance over its whole domain: stopped.
             let stopped = CUSP_SHARE * opts.tolerance / (t1 - t0);
-            let at = |t: f64, report: &mut RunReport| -> bool {
-                if p.curve.deriv1(t).norm() <= stopped {
-                    return true;
-                }
-                report.peak_curvature = report.peak_curvature.max(p.curve.curvature(t));
-                false
+            // Above this curvature the curve turns within a millionth of
+            // the tolerance: it stops and turns back there, a cusp as
+            // much as where its speed vanishes (a fit through a reversal
+            // whose control points are not exactly in line).
+            let turned = 1.0 / (CUSP_SHARE * opts.tolerance);
+            // The curvature at `t`, `None` at a cusp.
+            let at = |t: f64| -> Option<f64> {
+                let k = (p.curve.deriv1(t).norm() > stopped).then(|| p.curve.curvature(t))?;
+                (k <= turned).then_some(k)
             };
             let n = sample_count(&p.curve, opts.tolerance);
             let mut cusps: Vec<f64> = Vec::new();
-            for k in 0..=n {
-                let t = t0 + (t1 - t0) * k as f64 / n as f64;
-                if at(t, &mut report) {
+            let ts: Vec<f64> = (0..=n)
+                .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
+                .collect();
+            let mut ks: Vec<f64> = Vec::with_capacity(n + 1);
+            let mut moving: Vec<bool> = Vec::with_capacity(n + 1);
+            for &t in &ts {
+                let k = at(t);
+                if k.is_none() {
                     cusps.push(t);
                 }
+                ks.push(k.unwrap_or(0.0));
+                moving.push(k.is_some());
             }
-            // Curvature peaks of corner transitions sit on their knots,
-            // and a fit's cusps on its breakpoints.
+            report.peak_curvature = ks.iter().copied().fold(report.peak_curvature, f64::max);
+            // A spline's narrow peaks (a near-cusp) lie between samples:
+            // the curvature where they may peak unseen, between samples
+            // that all move (next to a sampled cusp the curvature is no
+            // number); a point that turns out to be a cusp counts as one.
             if let Curve::Nurbs(nb) = &p.curve {
-                for t in nb.breakpoints() {
-                    if at(t, &mut report) {
+                let derivs = |t: f64| nb.derivs12(t);
+                let at_samples: Vec<(Vec3, Vec3)> = ts.iter().map(|&t| derivs(t)).collect();
+                let accuracy = PEAK_REFINE_SHARE * (t1 - t0);
+                for t in curvature_candidates(derivs, &ts, &at_samples, accuracy) {
+                    let j = ts.partition_point(|&s| s < t).min(n);
+                    let (lo, hi) = (j.saturating_sub(1), (j + 1).min(n));
+                    if !moving[lo..=hi].iter().all(|&m| m) {
+                        continue;
+                    }
+                    let (d1, d2) = derivs(t);
+                    let k = curvature_from(d1, d2);
+                    if d1.norm() <= stopped || k > turned {
                         cusps.push(t);
+                    } else {
+                        report.peak_curvature = report.peak_curvature.max(k);
+                    }
+                }
+                // Curvature peaks of corner transitions sit on their
+                // knots, and a fit's cusps on its breakpoints.
+                for t in nb.breakpoints() {
+                    match at(t) {
+                        Some(k) => report.peak_curvature = report.peak_curvature.max(k),
+                        None => cusps.push(t),
                     }
                 }
             }

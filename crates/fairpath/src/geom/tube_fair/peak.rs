@@ -38,10 +38,10 @@
 //! after [`MOVES_PER_POINT`] moves per control point.
 
 use super::directions::RIPPLE_REACH_SHARE;
-use super::guard::{PeakReference, PEAK_SAMPLES};
+use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
 use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
 use super::tube::deviation_bound_on;
-use crate::geom::{curvature_from, Vec3};
+use crate::geom::{curvature_candidates, curvature_from, refined_peak, Vec3};
 use crate::math;
 use alloc::collections::BinaryHeap;
 use alloc::vec;
@@ -214,22 +214,30 @@ impl PeakPass {
             } => (bar * bar * normal_acc, bar * bar * bar * jerk, true),
         };
         let mut shape = SpanShape::default();
-        let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
-        let h = 1.0 / PEAK_SAMPLES as f64;
-        for j in 0..=PEAK_SAMPLES {
-            let (d1, d2) = bezier_derivatives(&b, j as f64 * h);
+        // Curvature and the jerk cap's term at `tau`.
+        let at = |tau: f64| {
+            let (d1, d2) = bezier_derivatives(&b, tau);
             let k = curvature_from(d1, d2);
             let jerk_term = if rate {
                 (k * k).max(math::abs(curvature_rate(d1, d2, d3)))
             } else {
                 0.0
             };
+            (k, jerk_term, d1)
+        };
+        let h = 1.0 / PEAK_SAMPLES as f64;
+        let taus: [f64; PEAK_SAMPLES + 1] = core::array::from_fn(|j| j as f64 * h);
+        let mut ks = [0.0f64; PEAK_SAMPLES + 1];
+        let mut jerks = [0.0f64; PEAK_SAMPLES + 1];
+        let mut ds = [(Vec3::ZERO, Vec3::ZERO); PEAK_SAMPLES + 1];
+        for (j, &tau) in taus.iter().enumerate() {
+            let (k, jerk_term, d1) = at(tau);
             // (A NaN is never below.)
             if !(k < k_bar && jerk_term < jerk_bar) {
                 return None;
             }
-            k_max = k_max.max(k);
-            jerk_max = jerk_max.max(jerk_term);
+            (ks[j], jerks[j]) = (k, jerk_term);
+            ds[j] = bezier_derivatives(&b, tau);
             // Simpson's rule over the samples (an even number of steps).
             let w = if j == 0 || j == PEAK_SAMPLES {
                 1.0
@@ -240,6 +248,22 @@ impl PeakPass {
             };
             shape.turning += w * h / 3.0 * k * d1.norm();
         }
+        // Refined between the samples, as `span_peak` refines the guard's
+        // (at the sampled local maxima of the curvature and minima of the
+        // speed, and of the jerk cap's term), so that a spike between
+        // samples is weighed at its height.
+        let between =
+            curvature_candidates(|t| bezier_derivatives(&b, t), &taus, &ds, PEAK_ACCURACY);
+        let k_max = between
+            .iter()
+            .map(|&t| at(t).0)
+            .fold(ks.iter().copied().fold(0.0, f64::max), f64::max);
+        let jerk_max = if rate {
+            let refined = refined_peak(|t| at(t).1, &taus, &jerks, PEAK_ACCURACY, |_| true);
+            between.iter().map(|&t| at(t).1).fold(refined, f64::max)
+        } else {
+            0.0
+        };
         shape.peak = k_max;
         shape.demand = self.demand(k_max, jerk_max);
         // (The floor 1/F may be the demand; a bar at or below it fails.)
@@ -250,9 +274,10 @@ impl PeakPass {
 /// What the peak pass weighs on one knot span.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpanShape {
-    /// Highest sampled demand ([`PeakPass`]).
+    /// Highest demand ([`PeakPass`]), sampled and each sampled peak refined.
     pub demand: f64,
-    /// Highest sampled curvature (1/mm): what the guard compares.
+    /// Highest curvature (1/mm), sampled and refined: what the guard
+    /// compares.
     pub peak: f64,
     /// Turning `integral |k| ds` (radians, Simpson's rule on the samples):
     /// a move may not add to the turning of the spans it changes, so the
