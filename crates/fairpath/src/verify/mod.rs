@@ -33,7 +33,8 @@ mod order;
 
 pub use crate::geom::continuity::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{
-    curvature_candidates, curvature_from, flatten_params, Curve, ParamCurve, SegmentGrid, Vec3,
+    curvature_candidates, curvature_from, flatten_params, Curve, Extrema, ParamCurve, SegmentGrid,
+    Vec3,
 };
 use crate::math;
 use crate::path::Piece;
@@ -466,10 +467,20 @@ pub fn report_without_deviation(
             let ts: Vec<f64> = (0..=n)
                 .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
                 .collect();
+            // A spline's derivatives at each sample, evaluated once.
+            let at_samples: Vec<(Vec3, Vec3)> = match &p.curve {
+                Curve::Nurbs(nb) => ts.iter().map(|&t| nb.derivs12(t)).collect(),
+                _ => Vec::new(),
+            };
             let mut ks: Vec<f64> = Vec::with_capacity(n + 1);
             let mut moving: Vec<bool> = Vec::with_capacity(n + 1);
-            for &t in &ts {
-                let k = at(t);
+            for (j, &t) in ts.iter().enumerate() {
+                let k = match at_samples.get(j) {
+                    Some(&(d1, d2)) => (d1.norm() > stopped)
+                        .then(|| curvature_from(d1, d2))
+                        .filter(|&k| k <= turned),
+                    None => at(t),
+                };
                 if k.is_none() {
                     cusps.push(t);
                 }
@@ -478,14 +489,13 @@ pub fn report_without_deviation(
             }
             report.peak_curvature = ks.iter().copied().fold(report.peak_curvature, f64::max);
             // A spline's narrow peaks (a near-cusp) lie between samples:
-            // the curvature where they may peak unseen, between samples
-            // that all move (next to a sampled cusp the curvature is no
+            // the curvature where the samples show one narrower than their
+            // step ([`Extrema::Narrow`]), between samples that all move (next to a sampled cusp the curvature is no
             // number); a point that turns out to be a cusp counts as one.
             if let Curve::Nurbs(nb) = &p.curve {
                 let derivs = |t: f64| nb.derivs12(t);
-                let at_samples: Vec<(Vec3, Vec3)> = ts.iter().map(|&t| derivs(t)).collect();
                 let accuracy = PEAK_REFINE_SHARE * (t1 - t0);
-                for t in curvature_candidates(derivs, &ts, &at_samples, accuracy) {
+                for t in curvature_candidates(derivs, &ts, &at_samples, accuracy, Extrema::Narrow) {
                     let j = ts.partition_point(|&s| s < t).min(n);
                     let (lo, hi) = (j.saturating_sub(1), (j + 1).min(n));
                     if !moving[lo..=hi].iter().all(|&m| m) {

@@ -41,7 +41,7 @@ use super::directions::RIPPLE_REACH_SHARE;
 use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
 use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
 use super::tube::deviation_bound_on;
-use crate::geom::{curvature_candidates, curvature_from, refined_peak, Vec3};
+use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3};
 use crate::math;
 use alloc::collections::BinaryHeap;
 use alloc::vec;
@@ -252,8 +252,13 @@ impl PeakPass {
         // (at the sampled local maxima of the curvature and minima of the
         // speed, and of the jerk cap's term), so that a spike between
         // samples is weighed at its height.
-        let between =
-            curvature_candidates(|t| bezier_derivatives(&b, t), &taus, &ds, PEAK_ACCURACY);
+        let between = curvature_candidates(
+            |t| bezier_derivatives(&b, t),
+            &taus,
+            &ds,
+            PEAK_ACCURACY,
+            Extrema::All,
+        );
         let k_max = between
             .iter()
             .map(|&t| at(t).0)
