@@ -155,9 +155,10 @@ pub fn refined_peak(
 }
 
 /// The largest value golden-section search finds of `f` on `[lo, hi]`,
-/// and where, narrowing the bracket to `accuracy` (or [`MAX_ITERATIONS`]
-/// steps): the maximum, to that accuracy, where `f` is unimodal there; a
-/// value `f` takes, in any case. NaN counts as 0.
+/// and where, narrowing the bracket to `accuracy` (or by at most 80
+/// golden steps, each to 0.618 of it): the maximum, to that accuracy,
+/// where `f` is unimodal there; a value `f` takes, in any case. NaN
+/// counts as 0. (A minimum is the maximum of `-f`.)
 pub fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, accuracy: f64) -> (f64, f64) {
     let f = |t: f64| {
         let v = f(t);

@@ -62,6 +62,7 @@ use super::bezier_corner::{
 };
 use super::corner_engine::ChainCorners;
 use super::{SmoothError, SmoothedRun, Smoother};
+use crate::geom::golden_max;
 use crate::math;
 use crate::path::Run;
 use crate::smooth::OptionError;
@@ -182,28 +183,9 @@ const OPTIMUM_BRACKET: f64 = 1e-9;
 /// at half-angle `theta`, by golden-section search (the direct optimisation
 /// that [`lotm_coefficient_fit`] approximates).
 pub fn optimal_coefficient(theta: f64) -> f64 {
-    let f = |c: f64| curvature_variation_energy(1.0, c, theta);
-    let g = 0.5 * (math::sqrt(5.0) - 1.0);
-    let (mut a, mut b) = OPTIMUM_SEARCH;
-    let mut x1 = b - g * (b - a);
-    let mut x2 = a + g * (b - a);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    while b - a > OPTIMUM_BRACKET {
-        if f1 < f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - g * (b - a);
-            f1 = f(x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + g * (b - a);
-            f2 = f(x2);
-        }
-    }
-    0.5 * (a + b)
+    let f = |c: f64| -curvature_variation_energy(1.0, c, theta);
+    let (a, b) = OPTIMUM_SEARCH;
+    golden_max(f, a, b, OPTIMUM_BRACKET).1
 }
 
 /// Seed eqs. 14-17 and Theorem 1: the lengths `(l1, l2)` of the two
