@@ -69,9 +69,10 @@ pub struct RunReport {
     pub start_gap: f64,
     pub end_gap: f64,
     /// Largest curvature found on the smoothed run (1/mm), cusps left
-    /// out: samples (every knot of a spline among them), each sampled
-    /// local maximum of a spline's refined (a near-cusp's spike between
-    /// samples counts at its height). A lower bound of the true peak.
+    /// out: samples (every knot of a spline among them), refined between
+    /// them where a spline's samples show a peak narrower than their step
+    /// (a near-cusp's spike between samples counts at its height). A
+    /// lower bound of the true peak.
     pub peak_curvature: f64,
     /// Cusps found inside curves: points where a curve stops and turns
     /// back (its derivative vanishes, or it turns on a radius below a
@@ -351,9 +352,9 @@ impl SecondDerivative {
 /// cusp: [`RunReport::cusps`]).
 const CUSP_SHARE: f64 = 1e-6;
 
-/// How far (a share of a spline's parameter domain) each sampled local
-/// maximum of its curvature is refined for [`RunReport::peak_curvature`]:
-/// a billionth, finer than any peak a tool path has.
+/// How far (a share of a spline's parameter domain) a narrow peak between
+/// its samples is refined for [`RunReport::peak_curvature`]: a
+/// billionth, finer than any peak a tool path has.
 const PEAK_REFINE_SHARE: f64 = 1e-9;
 
 /// Relative margin on a bound of `|C''|` computed in floating point.
