@@ -33,7 +33,8 @@ pub enum Extrema {
     /// [`NARROW`] times its lesser neighbour, a speed minimum below
     /// `1 / NARROW` times its greater neighbour (a near-cusp's speed,
     /// `sqrt(s0^2 + a^2 (t - t0)^2)`, is at least three times smaller at
-    /// the sample nearest to `t0` than two steps away). A wide peak is
+    /// the sample nearest to `t0` than at the farther of its neighbours,
+    /// and its curvature 27 times larger). A wide peak is
     /// then taken as sampled: a few percent low at most where the samples
     /// are as dense as the verifier's, for far less work.
     Narrow,
@@ -126,12 +127,14 @@ pub fn sampled_peak(
     at.into_iter().map(curvature).fold(found, f64::max)
 }
 
-/// [`sampled_peak`] from samples already taken: `values[j] = f(ts[j])`
-/// at increasing parameters `ts` (at least one), each local maximum of
-/// the values refined over `[ts[j - 1], ts[j + 1]]` (ends: the one
-/// neighbour) to `accuracy` where `refine(j)` allows. A lower bound of
-/// the supremum of `f` over `[ts[0], ts[last]]`, as [`sampled_peak`].
-/// NaN counts as 0.
+/// The largest value of a function `f` from samples already taken,
+/// `values[j] = f(ts[j])` at increasing parameters `ts`, each local
+/// maximum of the values refined over `[ts[j - 1], ts[j + 1]]` (ends: the
+/// one neighbour) by golden-section search to `accuracy` where
+/// `refine(j)` allows (for a peak pass's jerk term, which has no speed to
+/// find a near-cusp by). A lower bound of the supremum of `f` over
+/// `[ts[0], ts[last]]`, exact to that accuracy where `f` is unimodal over
+/// each bracket. NaN counts as 0.
 pub fn refined_peak(
     f: impl Fn(f64) -> f64,
     ts: &[f64],
