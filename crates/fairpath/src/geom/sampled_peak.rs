@@ -29,12 +29,14 @@ pub enum Extrema {
     /// sampled speed.
     All,
     /// Only those the samples show narrower than their step, where the
-    /// samples may miss most of a peak: a curvature maximum above
-    /// [`NARROW`] times its lesser neighbour, a speed minimum below
+    /// samples may miss most of a peak: a speed minimum below
     /// `1 / NARROW` times its greater neighbour (a near-cusp's speed,
     /// `sqrt(s0^2 + a^2 (t - t0)^2)`, is at least three times smaller at
-    /// the sample nearest to `t0` than at the farther of its neighbours,
-    /// and its curvature 27 times larger). A wide peak is
+    /// the sample nearest to `t0` than at the farther of its neighbours),
+    /// and a curvature maximum above [`NARROW`] times both neighbours (on
+    /// a polynomial span `C' x C''` is smooth, so a narrow peak of its
+    /// curvature comes with a dip of its speed; not the lesser neighbour:
+    /// next to an inflection every maximum would count). A wide peak is
     /// then taken as sampled: a few percent low at most where the samples
     /// are as dense as the verifier's, for far less work.
     Narrow,
@@ -45,34 +47,35 @@ pub enum Extrema {
 pub const NARROW: f64 = 2.0;
 
 /// Parameters between the samples `ts` of a curve (`derivs(t) = (C'(t),
-/// C''(t))`, `samples[j] = derivs(ts[j])`) where its curvature may peak
-/// unseen by them: for each local maximum of the sampled curvature, and
-/// for each local minimum of the sampled speed `|C'|` (a near-cusp), that
-/// `which` selects, the point golden-section search finds over the
-/// bracket of the neighbouring samples, to `accuracy` in the parameter.
-/// With the samples, their curvatures give a lower bound of the peak that
-/// is the peak, to that accuracy, where the curvature (or the speed) is
-/// unimodal over each bracket refined.
+/// C''(t))`; `ks[j]` and `speeds[j]` its curvature and `|C'|` at
+/// `ts[j]`) where its curvature may peak unseen by them: for each local
+/// maximum of the sampled curvature, and for each local minimum of the
+/// sampled speed (a near-cusp), that `which` selects, the point
+/// golden-section search finds over the bracket of the neighbouring
+/// samples, to `accuracy` in the parameter. With the samples, their
+/// curvatures give a lower bound of the peak that is the peak, to that
+/// accuracy, where the curvature (or the speed) is unimodal over each
+/// bracket refined.
 pub fn curvature_candidates(
     derivs: impl Fn(f64) -> (Vec3, Vec3),
     ts: &[f64],
-    samples: &[(Vec3, Vec3)],
+    (ks, speeds): (&[f64], &[f64]),
     accuracy: f64,
     which: Extrema,
 ) -> alloc::vec::Vec<f64> {
     let n = ts.len().saturating_sub(1);
     let mut out = alloc::vec::Vec::new();
-    if ts.len() < 2 || samples.len() != ts.len() {
+    if ts.len() < 2 || ks.len() != ts.len() || speeds.len() != ts.len() {
+        return out;
+    }
+    if which == Extrema::Narrow && !any_narrow(ks, speeds) {
+        // (No allocation: most spans have no narrow extremum.)
         return out;
     }
     let bracket = |j: usize| (j.saturating_sub(1), (j + 1).min(n));
-    let ks: alloc::vec::Vec<f64> = samples
-        .iter()
-        .map(|&(d1, d2)| curvature_from(d1, d2))
-        .collect();
-    for j in local_maxima(&ks) {
+    for j in local_maxima(ks) {
         let (lo, hi) = bracket(j);
-        if which == Extrema::Narrow && ks[j] <= NARROW * ks[lo].min(ks[hi]) {
+        if which == Extrema::Narrow && ks[j] <= NARROW * ks[lo].max(ks[hi]) {
             continue;
         }
         let k = |t: f64| {
@@ -83,7 +86,6 @@ pub fn curvature_candidates(
     }
     // Speeds below the largest, turned into heights above it, so that a
     // least speed is a local maximum.
-    let speeds: alloc::vec::Vec<f64> = samples.iter().map(|(d1, _)| d1.norm()).collect();
     let top = speeds.iter().copied().fold(0.0, f64::max);
     let depth: alloc::vec::Vec<f64> = speeds.iter().map(|&v| top - v).collect();
     for j in local_maxima(&depth) {
@@ -97,16 +99,31 @@ pub fn curvature_candidates(
     out
 }
 
+/// Whether the sampled curvatures `ks` and speeds `speeds` have an
+/// extremum that [`Extrema::Narrow`] refines (one pass, no allocation).
+fn any_narrow(ks: &[f64], speeds: &[f64]) -> bool {
+    let n = ks.len();
+    (0..n).any(|j| {
+        let (lo, hi) = (j.saturating_sub(1), (j + 1).min(n - 1));
+        let (s, slo, shi) = (speeds[j], speeds[lo], speeds[hi]);
+        let speed_dip = s <= slo && s <= shi && NARROW * s < slo.max(shi);
+        let curvature_spike = ks[j] > 0.0 && ks[j] > NARROW * ks[lo].max(ks[hi]);
+        speed_dip || curvature_spike
+    })
+}
+
 /// The peak curvature of a curve (`derivs` as [`curvature_candidates`])
 /// on `[a, b]`: `samples` equal steps, ends included, and the candidates
-/// between them. A lower bound of the peak, exact to `accuracy` in the
-/// parameter wherever the curvature, or the speed at a near-cusp, is
-/// unimodal between neighbouring samples.
+/// `which` selects between them. A lower bound of the peak, exact to
+/// `accuracy` in the parameter wherever the curvature, or the speed at a
+/// near-cusp, is unimodal between neighbouring samples and the extremum
+/// is refined.
 pub fn sampled_peak(
     derivs: impl Fn(f64) -> (Vec3, Vec3),
     (a, b): (f64, f64),
     samples: usize,
     accuracy: f64,
+    which: Extrema,
 ) -> f64 {
     let n = samples.max(1);
     let ts: alloc::vec::Vec<f64> = (0..=n)
@@ -118,13 +135,15 @@ pub fn sampled_peak(
             }
         })
         .collect();
-    let at: alloc::vec::Vec<(Vec3, Vec3)> = ts.iter().map(|&t| derivs(t)).collect();
     let curvature = |(d1, d2): (Vec3, Vec3)| curvature_from(d1, d2);
-    let found = curvature_candidates(&derivs, &ts, &at, accuracy, Extrema::All)
+    let at: alloc::vec::Vec<(Vec3, Vec3)> = ts.iter().map(|&t| derivs(t)).collect();
+    let ks: alloc::vec::Vec<f64> = at.iter().map(|&d| curvature(d)).collect();
+    let speeds: alloc::vec::Vec<f64> = at.iter().map(|(d1, _)| d1.norm()).collect();
+    let found = curvature_candidates(&derivs, &ts, (&ks, &speeds), accuracy, which)
         .into_iter()
         .map(|t| curvature(derivs(t)))
         .fold(0.0, f64::max);
-    at.into_iter().map(curvature).fold(found, f64::max)
+    ks.into_iter().fold(found, f64::max)
 }
 
 /// The largest value of a function `f` from samples already taken,
@@ -239,6 +258,18 @@ mod tests {
         }
     }
 
+    /// Curvatures and speeds of `d` at `ts`.
+    fn sampled(
+        d: &impl Fn(f64) -> (Vec3, Vec3),
+        ts: &[f64],
+    ) -> (alloc::vec::Vec<f64>, alloc::vec::Vec<f64>) {
+        let at: alloc::vec::Vec<(Vec3, Vec3)> = ts.iter().map(|&t| d(t)).collect();
+        (
+            at.iter().map(|&(d1, d2)| curvature_from(d1, d2)).collect(),
+            at.iter().map(|(d1, _)| d1.norm()).collect(),
+        )
+    }
+
     /// A cubic whose polygon nearly folds back turns near `t = 0.5` on a
     /// spike of curvature far narrower than 8 steps: they see a few 1/mm,
     /// the search the spike (against a dense scan around it).
@@ -256,12 +287,12 @@ mod tests {
         assert!(dense > 1e6, "{dense}");
         let coarse = (0..=8).map(|j| k(j as f64 / 8.0)).fold(0.0, f64::max);
         assert!(coarse < 1e-4 * dense, "{coarse} vs {dense}");
-        let found = sampled_peak(&d, (0.0, 1.0), 8, 1e-12);
+        let found = sampled_peak(&d, (0.0, 1.0), 8, 1e-12, Extrema::All);
         assert!(found >= 0.99 * dense, "{found} vs {dense}");
         // The samples show it narrow: `Extrema::Narrow` refines it too.
         let ts: alloc::vec::Vec<f64> = (0..=8).map(|j| j as f64 / 8.0).collect();
-        let at: alloc::vec::Vec<(Vec3, Vec3)> = ts.iter().map(|&t| d(t)).collect();
-        let narrow = curvature_candidates(&d, &ts, &at, 1e-12, Extrema::Narrow)
+        let (ks, speeds) = sampled(&d, &ts);
+        let narrow = curvature_candidates(&d, &ts, (&ks, &speeds), 1e-12, Extrema::Narrow)
             .into_iter()
             .map(k)
             .fold(0.0, f64::max);
@@ -275,13 +306,14 @@ mod tests {
         let v = |x: f64, y: f64| Vec3::new(x, y, 0.0);
         let d = bezier([v(0.0, 0.0), v(1.0, 1.0), v(2.0, 1.0), v(3.0, 0.0)]);
         let top = 2.0 / 3.0;
-        let found = sampled_peak(&d, (0.0, 1.0), 5, 1e-12);
+        let found = sampled_peak(&d, (0.0, 1.0), 5, 1e-12, Extrema::All);
         assert!((found - top).abs() <= 1e-9 * top, "{found} vs {top}");
         // A peak as wide as the steps is left as sampled by `Narrow`.
         let ts: alloc::vec::Vec<f64> = (0..=5).map(|j| j as f64 / 5.0).collect();
-        let at: alloc::vec::Vec<(Vec3, Vec3)> = ts.iter().map(|&t| d(t)).collect();
-        assert!(curvature_candidates(&d, &ts, &at, 1e-12, Extrema::Narrow).is_empty());
-        assert!(!curvature_candidates(&d, &ts, &at, 1e-12, Extrema::All).is_empty());
+        let (ks, speeds) = sampled(&d, &ts);
+        let samples = (ks.as_slice(), speeds.as_slice());
+        assert!(curvature_candidates(&d, &ts, samples, 1e-12, Extrema::Narrow).is_empty());
+        assert!(!curvature_candidates(&d, &ts, samples, 1e-12, Extrema::All).is_empty());
     }
 
     /// `refined_peak` on functions: peaks at the ends, a plateau, two

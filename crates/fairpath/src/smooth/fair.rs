@@ -88,7 +88,7 @@ use crate::geom::tube_fair::{
     as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::{sampled_peak, total_curvature, Curve, Line, Nurbs, ParamCurve};
+use crate::geom::{sampled_peak, total_curvature, Curve, Extrema, Line, Nurbs, ParamCurve};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -423,7 +423,8 @@ pub fn run_turning(pieces: &[Piece]) -> f64 {
 /// Peak curvature (1/mm) of smoothed pieces: each NURBS at
 /// [`PEAK_SAMPLES`] steps per knot span, ends included (its cubic Bezier
 /// spans; other NURBS at as many steps over their domain), refined
-/// between the samples to [`PEAK_ACCURACY`] of its span ([`sampled_peak`]:
+/// between the samples to [`PEAK_ACCURACY`] of its span where they show a
+/// peak narrower than their step ([`sampled_peak`], [`Extrema::Narrow`]:
 /// a near-cusp between samples counts at its height);
 /// arcs their own, lines none. A lower bound, exact to that accuracy at
 /// every peak the samples bracket.
@@ -437,7 +438,8 @@ pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
                 .into_iter()
                 .map(|(a, b)| {
                     let derivs = |t: f64| c.derivs12(t);
-                    sampled_peak(derivs, (a, b), PEAK_SAMPLES, PEAK_ACCURACY * (b - a))
+                    let accuracy = PEAK_ACCURACY * (b - a);
+                    sampled_peak(derivs, (a, b), PEAK_SAMPLES, accuracy, Extrema::Narrow)
                 })
                 .fold(0.0, f64::max),
         })

@@ -496,7 +496,9 @@ pub fn report_without_deviation(
             if let Curve::Nurbs(nb) = &p.curve {
                 let derivs = |t: f64| nb.derivs12(t);
                 let accuracy = PEAK_REFINE_SHARE * (t1 - t0);
-                for t in curvature_candidates(derivs, &ts, &at_samples, accuracy, Extrema::Narrow) {
+                let speeds: Vec<f64> = at_samples.iter().map(|(d1, _)| d1.norm()).collect();
+                let sampled = (ks.as_slice(), speeds.as_slice());
+                for t in curvature_candidates(derivs, &ts, sampled, accuracy, Extrema::Narrow) {
                     let j = ts.partition_point(|&s| s < t).min(n);
                     let (lo, hi) = (j.saturating_sub(1), (j + 1).min(n));
                     if !moving[lo..=hi].iter().all(|&m| m) {

@@ -41,7 +41,7 @@ use super::directions::RIPPLE_REACH_SHARE;
 use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
 use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
 use super::tube::deviation_bound_on;
-use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3};
+use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3, NARROW};
 use crate::math;
 use alloc::collections::BinaryHeap;
 use alloc::vec;
@@ -229,7 +229,7 @@ impl PeakPass {
         let taus: [f64; PEAK_SAMPLES + 1] = core::array::from_fn(|j| j as f64 * h);
         let mut ks = [0.0f64; PEAK_SAMPLES + 1];
         let mut jerks = [0.0f64; PEAK_SAMPLES + 1];
-        let mut ds = [(Vec3::ZERO, Vec3::ZERO); PEAK_SAMPLES + 1];
+        let mut speeds = [0.0f64; PEAK_SAMPLES + 1];
         for (j, &tau) in taus.iter().enumerate() {
             let (k, jerk_term, d1) = at(tau);
             // (A NaN is never below.)
@@ -237,7 +237,7 @@ impl PeakPass {
                 return None;
             }
             (ks[j], jerks[j]) = (k, jerk_term);
-            ds[j] = bezier_derivatives(&b, tau);
+            speeds[j] = d1.norm();
             // Simpson's rule over the samples (an even number of steps).
             let w = if j == 0 || j == PEAK_SAMPLES {
                 1.0
@@ -248,23 +248,34 @@ impl PeakPass {
             };
             shape.turning += w * h / 3.0 * k * d1.norm();
         }
-        // Refined between the samples, as `span_peak` refines the guard's
-        // (at the sampled local maxima of the curvature and minima of the
-        // speed, and of the jerk cap's term), so that a spike between
-        // samples is weighed at its height.
+        // Refined between the samples where they show a peak narrower
+        // than their step, as `span_peak` refines the guard's (at the
+        // sampled local maxima of the curvature and minima of the speed,
+        // and of the jerk cap's term), so that a spike between samples is
+        // weighed at its height.
         let between = curvature_candidates(
             |t| bezier_derivatives(&b, t),
             &taus,
-            &ds,
+            (&ks, &speeds),
             PEAK_ACCURACY,
-            Extrema::All,
+            Extrema::Narrow,
         );
         let k_max = between
             .iter()
             .map(|&t| at(t).0)
             .fold(ks.iter().copied().fold(0.0, f64::max), f64::max);
         let jerk_max = if rate {
-            let refined = refined_peak(|t| at(t).1, &taus, &jerks, PEAK_ACCURACY, |_| true);
+            // Its narrow maxima only, as the curvature's.
+            let narrow = |j: usize| {
+                let (lo, hi) = (j.saturating_sub(1), (j + 1).min(PEAK_SAMPLES));
+                jerks[j] > NARROW * jerks[lo].max(jerks[hi])
+            };
+            let sampled = jerks.iter().copied().fold(0.0, f64::max);
+            let refined = if (0..=PEAK_SAMPLES).any(narrow) {
+                refined_peak(|t| at(t).1, &taus, &jerks, PEAK_ACCURACY, narrow)
+            } else {
+                sampled
+            };
             between.iter().map(|&t| at(t).1).fold(refined, f64::max)
         } else {
             0.0
