@@ -42,7 +42,7 @@ pub use polyline::{
     distance_to_polyline, point_segment_distance, point_segment_distance_t, SegmentGrid,
 };
 pub use sampled_peak::{
-    curvature_candidates, golden_max, local_maxima, refined_peak, sampled_peak, Extrema, NARROW,
+    curvature_candidates, golden_max, refined_peak, sampled_peak, Extrema, NARROW,
 };
 pub use turn_bound::turn_curvature;
 pub use vec3::Vec3;

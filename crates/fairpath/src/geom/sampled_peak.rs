@@ -225,7 +225,7 @@ pub fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, accuracy: f6
 /// The indices of the local maxima of `values` (strict on one side at
 /// least, so that a plateau is not one; positive values only) that
 /// [`refined_peak`] refines: each is refined over `[ts[j - 1], ts[j + 1]]`.
-pub fn local_maxima(values: &[f64]) -> impl Iterator<Item = usize> + '_ {
+fn local_maxima(values: &[f64]) -> impl Iterator<Item = usize> + '_ {
     let n = values.len().saturating_sub(1);
     (0..values.len()).filter(move |&j| {
         let v = values[j];
