@@ -11,8 +11,8 @@ use crate::facts::ProgramFacts;
 use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
 use crate::pipeline::{EmitOptions, RenderMemo};
 use crate::{Format, GcodeWriteOptions, Program, Units};
-use fairpath::feed::plan::{plan_run, plan_time_shaped, PlanOptions, RunPlan};
-use fairpath::feed::shaping::Shaping;
+use fairpath::feed::plan::{plan_run, PlanOptions, RunPlan};
+use fairpath::feed::windowed::{plan_time_windowed, PlanWindows};
 use fairpath::feed::FeedError;
 use fairpath::path::Piece;
 use fairpath::pipeline::par_map;
@@ -182,7 +182,10 @@ impl<'a> Emitter<'a> {
             window: None,
             ends: Default::default(),
         };
-        plan_time_shaped(pieces, &po, &Shaping::none(), opts.judged_by).map_err(EmitError::Plan)
+        // Window by window on a long run (the written runs of a raster hold
+        // millions of blocks): the same time, in a window's memory.
+        plan_time_windowed(pieces, &po, opts.judged_by, PlanWindows::DEFAULT)
+            .map_err(EmitError::Plan)
     }
 
     /// A rendering's time: its G5.2 blocks as LinuxCNC runs them (as the

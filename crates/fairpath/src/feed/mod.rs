@@ -28,6 +28,9 @@
 //!   stretches and joints), `lookahead.rs` (the backward and forward
 //!   passes) and `cap_check.rs` (a profile checked against the caps inside
 //!   its segment).
+//! * [`windowed`]: a long run's planned time, planned window by window
+//!   and stitched where consecutive windows' plans agree, so that its
+//!   memory grows with a window, not with the run.
 //! * [`interpolate`]: positions every interpolation period by the
 //!   second-order Taylor parameter update, and the feed fluctuation.
 //! * [`program`]: whole-program planning: the motions of a program (runs
@@ -54,6 +57,7 @@ pub mod reach;
 pub mod sampled;
 pub mod shaping;
 pub mod stream;
+pub mod windowed;
 
 // The planner's parts; `plan` re-exports what they make public.
 mod cap_check;

@@ -220,7 +220,7 @@ pub fn plan_run_shaped(
     shaping: &Shaping,
     corners: Corners,
 ) -> Result<RunPlan, FeedError> {
-    plan(pieces, opts, shaping, corners, true)
+    plan(pieces, opts, shaping, corners, true, At::START).map(|(p, _)| p)
 }
 
 /// The time (s) of [`plan_run_shaped`]'s plan, the same to the bit,
@@ -233,7 +233,40 @@ pub fn plan_time_shaped(
     shaping: &Shaping,
     corners: Corners,
 ) -> Result<f64, FeedError> {
-    plan(pieces, opts, shaping, corners, false).map(|p| p.time)
+    plan(pieces, opts, shaping, corners, false, At::START).map(|(p, _)| p.time)
+}
+
+/// Where a run's pieces lie along the run they are a window of: the arc
+/// length (mm) at the start of piece `anchor` (an index in the window), as
+/// the run's plan adds the stretches' lengths up to there; and a piece
+/// (`mark`) at whose start the sum is wanted.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct At {
+    pub(super) s0: f64,
+    pub(super) anchor: usize,
+    pub(super) mark: usize,
+}
+
+impl At {
+    /// A whole run.
+    const START: At = At {
+        s0: 0.0,
+        anchor: 0,
+        mark: 0,
+    };
+}
+
+/// [`plan_run_shaped`] of `pieces`, a window of a run, piece `at.anchor`
+/// starting `at.s0` along it (from there on, segment lengths are
+/// differences of the same sums as the run's plan makes), without
+/// shaping; with the sum at the start of piece `at.mark`.
+pub(super) fn plan_window(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    corners: Corners,
+    at: At,
+) -> Result<(RunPlan, f64), FeedError> {
+    plan(pieces, opts, &Shaping::none(), corners, true, at)
 }
 
 /// [`plan_run_shaped`], with its segments only if `keep_segments`.
@@ -243,7 +276,8 @@ fn plan(
     shaping: &Shaping,
     corners: Corners,
     keep_segments: bool,
-) -> Result<RunPlan, FeedError> {
+    at: At,
+) -> Result<(RunPlan, f64), FeedError> {
     let m = &opts.limits;
     m.validate().map_err(|e| FeedError::BadLimit {
         name: e.name,
@@ -256,7 +290,7 @@ fn plan(
     let n = st.len();
     let mut plan = RunPlan::default();
     if n == 0 {
-        return Ok(plan);
+        return Ok((plan, at.s0));
     }
     // Cap at each stretch boundary (rest at both ends, or the cap of the
     // end stretch) and what sets it.
@@ -294,10 +328,26 @@ fn plan(
         (m.acc * f, m.jerk * f)
     };
     // Prefix lengths of the stretches.
-    let mut pre = alloc::vec![0.0f64; n + 1];
-    for i in 0..n {
+    // (From the anchor's first stretch on, as the run's plan adds them;
+    // before it, back from there.)
+    let first_of = |piece: usize| {
+        if piece == 0 {
+            0
+        } else {
+            located.partition_point(|l| l.piece < piece)
+        }
+    };
+    let anchor = first_of(at.anchor);
+    let mut pre = alloc::vec![at.s0; n + 1];
+    for i in anchor..n {
         pre[i + 1] = pre[i] + st[i].length;
     }
+    for i in (0..anchor).rev() {
+        pre[i] = pre[i + 1] - st[i].length;
+    }
+    // The sum at the start of piece `at.mark` (where its first stretch
+    // starts; the end of the run past the last piece).
+    let marked = pre[first_of(at.mark)];
     // Split each segment until its fastest profile (boundary speeds at
     // their caps, as far as the segment allows) stays under every cap
     // inside. A profile between lower boundary speeds is slower everywhere,
@@ -429,7 +479,7 @@ fn plan(
             profile,
         });
     }
-    Ok(plan)
+    Ok((plan, marked))
 }
 
 /// What a plan's time and peaks take from a segment's profile.

@@ -1,0 +1,209 @@
+//! The planned time of a long run, planned window by window: the memory of
+//! a plan grows with a window, not with the run.
+//!
+//! Why: the planner ([`super::plan`]) holds a few vectors per stretch of
+//! the run. A one-run raster written as arcs (1.67 million blocks from
+//! `surface-raster-large.ngc`) made 3.3 million stretches, and its time at
+//! two feeds, planned side by side, held 213 MB (issue 19).
+//!
+//! How: windows of [`PlanWindows::step`] pieces plus
+//! [`PlanWindows::overlap`] on each side, each planned on its own from rest
+//! to rest ([`plan_run_shaped`]). A window's ends change its plan only
+//! within the distance the machine needs to reach or leave its speed
+//! there (tens of mm at most): further in, its segments are the whole
+//! run's, because every step of the planner is local away from them
+//! (caps of pieces and their joints; segment boundaries at local minima
+//! of the cap; the look-ahead's passes, which forget a changed end speed
+//! once the speed meets a cap; the splits where a profile passes a cap).
+//! Two consecutive windows are therefore stitched at a segment boundary
+//! inside their overlap (past the later one's anchor, where its sums of
+//! lengths start from the earlier one's: a segment's length is a
+//! difference of such sums, and sums begun elsewhere round otherwise)
+//! where both plans hold the same
+//! [`STITCH_SEGMENTS`] segments, to the bit (same place on the same
+//! pieces, same boundary speeds, same duration): the first window's
+//! segments up to it, the second's from it. The time is their durations
+//! added in order, as the whole-run plan adds them, so it is the whole
+//! plan's time to the bit wherever the windows agree with it (checked
+//! on seeded random runs and on the written runs of the reference
+//! programs: `tests/feed_windowed.rs`). Where two windows hold no such
+//! segments (one segment across the whole overlap: a long run of G2
+//! joints without a minimum of the cap), the run is planned whole.
+
+use super::plan::{plan_time_shaped, plan_window, At, Corners, PlanOptions, RunEnds};
+use super::shaping::Shaping;
+use super::FeedError;
+use crate::path::Piece;
+use alloc::vec::Vec;
+
+/// How a long run is cut into windows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PlanWindows {
+    /// Pieces from one window's start to the next's.
+    pub step: usize,
+    /// Pieces a window reaches past its step at its end, and the next
+    /// window before its start: two consecutive windows share
+    /// `2 * overlap` pieces.
+    pub overlap: usize,
+}
+
+impl PlanWindows {
+    /// 32,768 pieces a step, 2,048 of overlap: 12.5% more planning than
+    /// the run whole. The overlap is 100 mm of the shortest written arcs
+    /// (0.05 mm), well past the 20 to 40 mm in which the machine reaches
+    /// its feed (400 mm/s at 4000 mm/s^2 and 20000 mm/s^3: 20 mm for the
+    /// acceleration, `v^2 / 2A`, plus the jerk phases).
+    pub const DEFAULT: PlanWindows = PlanWindows {
+        step: 1 << 15,
+        overlap: 1 << 11,
+    };
+
+    /// Whether a run of `n` pieces is planned in windows (more than one
+    /// window).
+    pub fn windows(&self, n: usize) -> bool {
+        n > self.step + 2 * self.overlap
+    }
+}
+
+/// Consecutive segments two windows must hold alike to be stitched.
+pub const STITCH_SEGMENTS: usize = 3;
+
+/// A segment of a window's plan, placed on the run: where it starts and
+/// ends (piece of the run, curve parameter) and its profile's boundary
+/// speeds and duration, as bits (compared exactly).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Placed {
+    start: (usize, u64),
+    end: (usize, u64),
+    v0: u64,
+    v1: u64,
+    duration: u64,
+}
+
+impl Placed {
+    fn duration(&self) -> f64 {
+        f64::from_bits(self.duration)
+    }
+    /// The start's place along the run, for ordering.
+    fn at(&self) -> (usize, f64) {
+        (self.start.0, f64::from_bits(self.start.1))
+    }
+}
+
+/// The segments of the plan of `pieces[a..b]` from rest to rest, placed
+/// on the run, the start of piece `anchor` lying `s0` mm along the run (as
+/// the run's plan adds the stretches' lengths); with that sum at the start
+/// of piece `mark`.
+fn window_plan(
+    pieces: &[Piece],
+    (a, b): (usize, usize),
+    (anchor, s0, mark): (usize, f64, usize),
+    opts: &PlanOptions,
+    corners: Corners,
+) -> Result<(Vec<Placed>, f64), FeedError> {
+    let at = At {
+        s0,
+        anchor: anchor - a,
+        mark: mark.min(b) - a,
+    };
+    let (plan, marked) = plan_window(&pieces[a..b], opts, corners, at)?;
+    let placed = plan
+        .segments
+        .iter()
+        .filter_map(|s| {
+            let (first, last) = (s.parts.first()?, s.parts.last()?);
+            Some(Placed {
+                start: (a + first.piece, first.t0.to_bits()),
+                end: (a + last.piece, last.t1.to_bits()),
+                v0: s.profile.v0().to_bits(),
+                v1: s.profile.v1().to_bits(),
+                duration: s.profile.duration().to_bits(),
+            })
+        })
+        .collect();
+    Ok((placed, marked))
+}
+
+/// Where `next` (a later window's segments) first holds
+/// [`STITCH_SEGMENTS`] segments alike with `held` (an earlier window's,
+/// from its last stitch on): the index of the first of them in `held`
+/// and in `next`.
+fn stitch(held: &[Placed], next: &[Placed]) -> Option<(usize, usize)> {
+    for (j, s) in next.iter().enumerate() {
+        let Ok(i) = held.binary_search_by(|h| {
+            let (p, q) = (h.at(), s.at());
+            p.0.cmp(&q.0).then(p.1.total_cmp(&q.1))
+        }) else {
+            continue;
+        };
+        let k = STITCH_SEGMENTS;
+        if i + k <= held.len() && j + k <= next.len() && held[i..i + k] == next[j..j + k] {
+            return Some((i, j));
+        }
+    }
+    None
+}
+
+/// [`plan_time_shaped`]'s time of `pieces` without shaping, planned in
+/// the windows `w` where the run is longer than one (see the module docs):
+/// the same to the bit wherever the windows agree with the whole plan.
+/// Planned whole where two windows hold no segments alike, with a bounded
+/// look-ahead ([`PlanOptions::window`]) or with other ends than rest.
+pub fn plan_time_windowed(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    corners: Corners,
+    w: PlanWindows,
+) -> Result<f64, FeedError> {
+    match plan_time_in_windows(pieces, opts, corners, w)? {
+        Some(t) => Ok(t),
+        None => plan_time_shaped(pieces, opts, &Shaping::none(), corners),
+    }
+}
+
+/// [`plan_time_windowed`]'s time where the run is planned in windows, and
+/// `None` where it would be planned whole (one window, a bounded
+/// look-ahead, ends other than rest, or two windows that hold no
+/// segments alike).
+pub fn plan_time_in_windows(
+    pieces: &[Piece],
+    opts: &PlanOptions,
+    corners: Corners,
+    w: PlanWindows,
+) -> Result<Option<f64>, FeedError> {
+    let n = pieces.len();
+    if !w.windows(n) || w.step == 0 || opts.window.is_some() || opts.ends != RunEnds::AtRest {
+        return Ok(None);
+    }
+    let reach = w.step + 2 * w.overlap;
+    // Each window after the first takes its sums of lengths from the one
+    // before at its anchor, a half overlap in (inside both), and is
+    // stitched from there on only.
+    let anchor_of = |a: usize| a + w.overlap / 2;
+    let mut a = 0;
+    let first = (0, 0.0, anchor_of(w.step));
+    let (mut held, mut s0) = window_plan(pieces, (0, reach.min(n)), first, opts, corners)?;
+    let mut time = 0.0;
+    while a + reach < n {
+        a += w.step;
+        let b = (a + reach).min(n);
+        let anchor = anchor_of(a);
+        let at = (anchor, s0, anchor_of(a + w.step));
+        let (mut next, s1) = window_plan(pieces, (a, b), at, opts, corners)?;
+        next.retain(|s| s.start.0 >= anchor);
+        let Some((i, j)) = stitch(&held, &next) else {
+            return Ok(None);
+        };
+        // In order, as the whole plan adds them.
+        for s in &held[..i] {
+            time += s.duration();
+        }
+        held = next;
+        held.drain(..j);
+        s0 = s1;
+    }
+    for s in &held {
+        time += s.duration();
+    }
+    Ok(Some(time))
+}

@@ -1,0 +1,152 @@
+//! A long run's time planned window by window
+//! (`fairpath::feed::windowed`) is the whole plan's, to the bit.
+
+mod common;
+
+use common::Rng;
+use fairpath::feed::limits::MachineLimits;
+use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunEnds};
+use fairpath::feed::shaping::Shaping;
+use fairpath::feed::windowed::{plan_time_in_windows, plan_time_windowed, PlanWindows};
+use fairpath::geom::{Arc, Curve, Vec3};
+use fairpath::path::Piece;
+use fairpath::smooth::{BsplineCorner, Smoother};
+
+/// Small windows, so that runs of a few thousand pieces take many: 256
+/// pieces a step, 128 of overlap (64 mm of the 0.5 mm moves below, past
+/// the distance in which any machine drawn here reaches its feed).
+const SMALL: PlanWindows = PlanWindows {
+    step: 256,
+    overlap: 128,
+};
+
+/// A raster of `rows` passes over a bumpy surface, moves of about
+/// `step` mm, with a step-over between passes.
+fn raster(rng: &mut Rng, rows: usize, step: f64) -> Vec<Vec3> {
+    let len = 100.0;
+    let per_row = (len / step) as usize;
+    let mut pts = Vec::new();
+    for r in 0..rows {
+        let y = r as f64 * 1.5;
+        for k in 0..=per_row {
+            let s = k as f64 * step;
+            let x = if r % 2 == 0 { s } else { len - s };
+            let z = (x * 0.3).sin() * 2.0 + (y * 0.2).cos() + 0.01 * rng.unit();
+            pts.push(Vec3::new(x, y, z));
+        }
+    }
+    pts
+}
+
+fn opts(m: MachineLimits, override_feed: bool) -> PlanOptions {
+    PlanOptions {
+        limits: m,
+        override_feed,
+        window: None,
+        ends: RunEnds::AtRest,
+    }
+}
+
+#[test]
+fn seeded_random_rasters_plan_the_same_time_in_windows_as_whole() {
+    let mut rng = Rng(19);
+    let mut stitched = 0;
+    let mut cases = 0;
+    for case in 0..24 {
+        let step = 0.3 + rng.unit() * 0.5;
+        let pts = raster(&mut rng, 6 + case % 4, step);
+        let feeds = [1200.0 + rng.unit() * 20000.0, 3000.0];
+        let run = common::polyline_run_with_feeds(&pts, &feeds);
+        let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        let m = MachineLimits {
+            max_feed: 50.0 + rng.unit() * 350.0,
+            acc: 1000.0 + rng.unit() * 9000.0,
+            jerk: 10000.0 + rng.unit() * 90000.0,
+            ..MachineLimits::thesis()
+        };
+        let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
+        for pieces in [&run.pieces, &smoothed.pieces] {
+            assert!(SMALL.windows(pieces.len()), "case {case}: one window");
+            for override_feed in [false, true] {
+                let po = opts(m, override_feed);
+                let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
+                let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
+                assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
+                cases += 1;
+                if plan_time_in_windows(pieces, &po, corners, SMALL)
+                    .unwrap()
+                    .is_some()
+                {
+                    stitched += 1;
+                }
+            }
+        }
+    }
+    // The windows were stitched, not planned whole, in nearly every case.
+    assert!(stitched * 10 >= cases * 9, "{stitched} of {cases} stitched");
+}
+
+/// One circle cut into many arcs: every joint is G2 and the cap never
+/// falls, so the plan is one segment from the start to the end and no
+/// two windows hold segments alike: planned whole.
+#[test]
+fn a_run_of_one_segment_is_planned_whole() {
+    let (r, n) = (50.0, 2000);
+    let at = |k: usize| {
+        let a = k as f64 * core::f64::consts::TAU / n as f64 * 0.999;
+        Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+    };
+    let pieces: Vec<Piece> = (0..n)
+        .map(|k| {
+            let z = Vec3::new(0.0, 0.0, 1.0);
+            let arc = Arc::from_center(at(k), at(k + 1), Vec3::ZERO, z, false, 0, 1e-9).unwrap();
+            Piece {
+                curve: Curve::Arc(arc),
+                rapid: false,
+                source_lines: (k + 1, k + 1),
+                feed: Some(6000.0),
+            }
+        })
+        .collect();
+    let po = opts(MachineLimits::thesis(), false);
+    let whole = plan_time_shaped(&pieces, &po, &Shaping::none(), Corners::Blended).unwrap();
+    assert_eq!(
+        plan_time_in_windows(&pieces, &po, Corners::Blended, SMALL).unwrap(),
+        None
+    );
+    let w = plan_time_windowed(&pieces, &po, Corners::Blended, SMALL).unwrap();
+    assert_eq!(whole.to_bits(), w.to_bits());
+}
+
+/// A run that fits one window, a bounded look-ahead and ends at the cap
+/// are planned whole.
+#[test]
+fn short_runs_bounded_look_ahead_and_ends_at_the_cap_are_planned_whole() {
+    let mut rng = Rng(3);
+    let pts = raster(&mut rng, 4, 0.5);
+    let run = common::polyline_run_with_feeds(&pts, &[3000.0, 3000.0]);
+    let m = MachineLimits::thesis();
+    let short = &run.pieces[..300];
+    assert_eq!(
+        plan_time_in_windows(short, &opts(m, false), Corners::Blended, SMALL).unwrap(),
+        None
+    );
+    for po in [
+        PlanOptions {
+            window: Some(50),
+            ..opts(m, false)
+        },
+        PlanOptions {
+            ends: RunEnds::AtCap,
+            ..opts(m, false)
+        },
+    ] {
+        assert_eq!(
+            plan_time_in_windows(&run.pieces, &po, Corners::Blended, SMALL).unwrap(),
+            None
+        );
+        let whole = plan_time_shaped(&run.pieces, &po, &Shaping::none(), Corners::Blended);
+        let w = plan_time_windowed(&run.pieces, &po, Corners::Blended, SMALL);
+        assert_eq!(whole.unwrap().to_bits(), w.unwrap().to_bits());
+    }
+}
