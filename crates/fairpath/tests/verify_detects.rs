@@ -311,3 +311,63 @@ fn a_near_cusp_between_samples_is_measured_or_counted_as_a_cusp() {
     assert_eq!(rep.cusps, 1);
     assert!(rep.peak_curvature < 2e7, "{}", rep.peak_curvature);
 }
+
+/// A verification of the deviation and the end points only
+/// ([`fairpath::verify::Measures::Ends`], the written output's check)
+/// finds the same deviation and gaps as the full one, and holds no joints
+/// and no curvature, on seeded random runs raw and smoothed, long ones
+/// measured in chunks among them.
+#[test]
+fn measuring_only_the_ends_finds_the_same_deviation_and_gaps() {
+    use fairpath::pipeline::verify_runs_measuring;
+    use fairpath::smooth::{BsplineCorner, Smoother};
+    use fairpath::verify::Measures;
+    let mut rng = common::Rng(11);
+    for case in 0..40 {
+        let n = if case % 8 == 0 {
+            6000
+        } else {
+            3 + (rng.unit() * 40.0) as usize
+        };
+        // A random walk of steps up to 1 mm.
+        let mut at = v(0.0, 0.0, 0.0);
+        let pts: Vec<_> = (0..n)
+            .map(|_| {
+                at = at + v(rng.unit() - 0.5, rng.unit() - 0.5, 0.1 * (rng.unit() - 0.5));
+                at
+            })
+            .collect();
+        let run = polyline_run(&pts);
+        let smoothed = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
+        // The smoothed run against the original, and the original against
+        // a run moved off it (a deviation and gaps to find).
+        let moved: Vec<_> = pts.iter().map(|&p| p + v(0.01, 0.0, 0.0)).collect();
+        let moved = polyline_run(&moved);
+        let pairs = [
+            (run.pieces.as_slice(), smoothed.pieces.as_slice()),
+            (run.pieces.as_slice(), moved.pieces.as_slice()),
+        ];
+        let opts = VerifyOptions::new(0.05);
+        let all = verify_runs_measuring(&pairs, &opts, Measures::All);
+        let ends = verify_runs_measuring(&pairs, &opts, Measures::Ends);
+        for (a, e) in all.iter().zip(&ends) {
+            assert_eq!(
+                a.deviation_bound.to_bits(),
+                e.deviation_bound.to_bits(),
+                "case {case}"
+            );
+            assert_eq!(
+                a.max_deviation.to_bits(),
+                e.max_deviation.to_bits(),
+                "case {case}"
+            );
+            assert_eq!(
+                (a.start_gap, a.end_gap),
+                (e.start_gap, e.end_gap),
+                "case {case}"
+            );
+            assert!(e.joints.is_empty() && e.peak_curvature == 0.0 && e.cusps == 0);
+            assert!(!a.joints.is_empty(), "case {case}");
+        }
+    }
+}

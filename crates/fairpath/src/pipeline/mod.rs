@@ -35,7 +35,7 @@
 
 mod parallel;
 
-pub use parallel::{par_map, verify_runs};
+pub use parallel::{par_map, verify_runs, verify_runs_measuring};
 
 use crate::budget::ToleranceBudget;
 use crate::path::{Piece, Run};

@@ -4,7 +4,7 @@
 //! threads (without it, one after the other: the same results).
 
 use crate::path::Piece;
-use crate::verify::{report_without_deviation, Deviation, RunReport, Verifier, VerifyOptions};
+use crate::verify::{report_measuring, Deviation, Measures, RunReport, Verifier, VerifyOptions};
 use alloc::vec::Vec;
 
 /// Pieces per deviation job: long runs are measured in chunks this size.
@@ -65,11 +65,20 @@ fn threaded<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
 /// prepared once and its smoothed pieces are measured in chunks of
 /// `CHUNK` pieces on all threads, one long run after the other.
 pub fn verify_runs(pairs: &[(&[Piece], &[Piece])], opts: &VerifyOptions) -> Vec<RunReport> {
+    verify_runs_measuring(pairs, opts, Measures::All)
+}
+
+/// [`verify_runs`], measuring what `measures` says besides the deviation.
+pub fn verify_runs_measuring(
+    pairs: &[(&[Piece], &[Piece])],
+    opts: &VerifyOptions,
+    measures: Measures,
+) -> Vec<RunReport> {
     let is_long = |i: usize| pairs[i].1.len() > CHUNK;
     let short: Vec<usize> = (0..pairs.len()).filter(|&i| !is_long(i)).collect();
     let short_reports = par_map(short.len(), |j| {
         let (o, s) = pairs[short[j]];
-        let (mut report, measure) = report_without_deviation(o, s, opts);
+        let (mut report, measure) = report_measuring(o, s, opts, measures);
         if measure {
             report.set_deviation(Verifier::new(o, opts).deviation(s));
         }
@@ -81,7 +90,7 @@ pub fn verify_runs(pairs: &[(&[Piece], &[Piece])], opts: &VerifyOptions) -> Vec<
     }
     for i in (0..pairs.len()).filter(|&i| is_long(i)) {
         let (o, s) = pairs[i];
-        let (mut report, measure) = report_without_deviation(o, s, opts);
+        let (mut report, measure) = report_measuring(o, s, opts, measures);
         if measure {
             let verifier = Verifier::new(o, opts);
             let chunks = s.len().div_ceil(CHUNK);

@@ -397,6 +397,19 @@ fn sample_count(c: &Curve, tolerance: f64) -> usize {
     (math::ceil(len / (8.0 * tolerance)) as usize).clamp(8, 1 << 16)
 }
 
+/// What a verification measures besides the deviation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Measures {
+    /// Everything [`RunReport`] holds.
+    #[default]
+    All,
+    /// The end points' gaps only (joints and curvature left empty): all a
+    /// check of a written output against its original asks, where the
+    /// joints of a long written run (one per block, millions of them on a
+    /// raster written as arcs) would be held for nothing.
+    Ends,
+}
+
 /// Everything [`verify_run`] reports but the deviation: endpoints, joint
 /// classes, peak curvature. Returns the report and whether a deviation
 /// still has to be measured (false when the answer is already known).
@@ -404,6 +417,16 @@ pub fn report_without_deviation(
     original: &[Piece],
     smoothed: &[Piece],
     opts: &VerifyOptions,
+) -> (RunReport, bool) {
+    report_measuring(original, smoothed, opts, Measures::All)
+}
+
+/// [`report_without_deviation`], measuring what `measures` says.
+pub fn report_measuring(
+    original: &[Piece],
+    smoothed: &[Piece],
+    opts: &VerifyOptions,
+    measures: Measures,
 ) -> (RunReport, bool) {
     let jt = JointTolerances::from_tolerance(opts.tolerance);
     let mut report = RunReport {
@@ -439,6 +462,14 @@ pub fn report_without_deviation(
         report.max_deviation = extent;
         report.deviation_bound = extent;
         return (report, false);
+    }
+    if measures == Measures::Ends {
+        let measure = !original.is_empty();
+        if !measure {
+            report.max_deviation = f64::INFINITY;
+            report.deviation_bound = f64::INFINITY;
+        }
+        return (report, measure);
     }
     for (i, w) in smoothed.windows(2).enumerate() {
         report.joints.push(Joint {
