@@ -11,8 +11,8 @@
 //! them (what a G-code program carries).
 
 use crate::feed::limits::MachineLimits;
-use crate::feed::plan::{plan_run, plan_time_shaped, Corners, PlanOptions};
-use crate::feed::shaping::Shaping;
+use crate::feed::plan::{plan_run, Corners, PlanOptions};
+use crate::feed::windowed::{plan_time_windowed, PlanWindows};
 use crate::geom::tube_fair::PeakPass;
 use crate::path::Piece;
 use crate::render::{
@@ -153,12 +153,18 @@ impl Objective for PlannedTime {
     }
 }
 
+/// How the objective plans a long run's time ([`plan_time_windowed`]:
+/// the same time as the whole plan; a section of a raster rendered as
+/// arcs holds hundreds of thousands of blocks).
+const WINDOWS: PlanWindows = PlanWindows::DEFAULT;
+
 /// The time (s) of the program a G-code writer will write for the run:
 /// the exact curves planned at the machine's maximum feed ([`plan_run`],
 /// the speed the writer's renderer shapes the written pieces by), rendered
 /// in each form the output format allows ([`render_run`]), and the fastest
 /// rendering planned at the user's feeds as the writer judges it
-/// ([`plan_time_shaped`] with [`WrittenTime::corners`]).
+/// ([`plan_time_windowed`], the whole plan's time in a window's memory,
+/// with [`WrittenTime::corners`]).
 ///
 /// What the user runs is the written program, not the exact curves: a
 /// candidate whose curves plan fastest can render into more, shorter
@@ -265,8 +271,7 @@ impl WrittenTime {
     /// The planned time of a rendering (LinuxCNC's G5.2 blocks as
     /// LinuxCNC runs them).
     fn rendered_time(&self, pieces: &[Piece], form: CurveForm) -> Option<f64> {
-        let time =
-            |p: &[Piece]| plan_time_shaped(p, &self.plan, &Shaping::none(), self.corners).ok();
+        let time = |p: &[Piece]| plan_time_windowed(p, &self.plan, self.corners, WINDOWS).ok();
         match form {
             CurveForm::Nurbs(lim) if lim.linuxcnc_g5_2 => {
                 time(&linuxcnc_g5_2_motion(pieces, lim.planar_mm.unwrap_or(0.0)))
@@ -309,7 +314,7 @@ impl Objective for WrittenTime {
     }
 
     fn bound(&self, pieces: &[Piece]) -> Option<f64> {
-        let time = plan_time_shaped(pieces, &self.plan, &Shaping::none(), Corners::Blended).ok()?;
+        let time = plan_time_windowed(pieces, &self.plan, Corners::Blended, WINDOWS).ok()?;
         if let Some(o) = &self.observer {
             o.bounded(pieces, time);
         }
@@ -323,7 +328,7 @@ impl Objective for WrittenTime {
     /// The pieces planned as they are, as the writer judges the run it
     /// keeps as the program wrote it.
     fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
-        plan_time_shaped(pieces, &self.plan, &Shaping::none(), self.corners).ok()
+        plan_time_windowed(pieces, &self.plan, self.corners, WINDOWS).ok()
     }
 }
 
