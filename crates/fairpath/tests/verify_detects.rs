@@ -333,7 +333,7 @@ fn measuring_only_the_ends_finds_the_same_deviation_and_gaps() {
         let mut at = v(0.0, 0.0, 0.0);
         let pts: Vec<_> = (0..n)
             .map(|_| {
-                at = at + v(rng.unit() - 0.5, rng.unit() - 0.5, 0.1 * (rng.unit() - 0.5));
+                at += v(rng.unit() - 0.5, rng.unit() - 0.5, 0.1 * (rng.unit() - 0.5));
                 at
             })
             .collect();
