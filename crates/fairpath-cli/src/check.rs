@@ -10,7 +10,7 @@
 //! either way the operator sets the switch.
 
 use crate::length::{unit_name, Length};
-use crate::read::{is_stdio, name, parse_program_with, read_bytes};
+use crate::read::{is_stdio, name, parse_program_with, read_bytes, read_motion_of};
 use crate::usage::{usage, EXIT_NOT_VERIFIED};
 use anyhow::{anyhow, Result};
 use fairpath::geom::{distance_to_polyline, flatten_params, ParamCurve, Vec3};
@@ -125,12 +125,16 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: Length, json: bool) -> R
     let off = ParseOptions::default();
     let orig = parse_program_with(original, &original_bytes, &off)?;
     let units = orig.units();
+    let block_delete_lines = has_block_delete(&orig);
+    // The reading with the switch off is this one: not read again (a long
+    // program held twice, and the candidate beside them, was the peak).
+    let mut orig = Some(orig);
     let tolerance_mm = tolerance.mm(units);
     fairpath::smooth::check_tolerance(tolerance_mm)
         .map_err(|e| usage(format!("--tolerance {tolerance}: {e}")))?;
     let tolerance = tolerance_mm;
     // JSON holds the curves of one reading (the switch off).
-    let readings: &[bool] = if has_block_delete(&orig) && !is_json {
+    let readings: &[bool] = if block_delete_lines && !is_json {
         &[false, true]
     } else {
         &[false]
@@ -169,15 +173,18 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: Length, json: bool) -> R
         // With the switch on, stretches of path that the written program
         // ends differently (a motion word restored on a line of its own)
         // are compared whole.
-        let runs_of = |p: Program| {
+        let runs_of = |p: &Program| {
             if block_delete {
-                joined_runs(&p)
+                joined_runs(p)
             } else {
                 p.runs()
             }
         };
-        let original_program = parse_program_with(original, &original_bytes, &opts)?;
-        let original_runs = runs_of(original_program.clone());
+        let original_program = match orig.take().filter(|_| !block_delete) {
+            Some(p) => p,
+            None => parse_program_with(original, &original_bytes, &opts)?,
+        };
+        let original_runs = runs_of(&original_program);
         let candidate: Vec<Run> = if is_json {
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| anyhow!("{}: not UTF-8", name(smoothed)))?;
@@ -185,7 +192,12 @@ pub fn run(original: &Path, smoothed: &Path, tolerance: Length, json: bool) -> R
                 fairpath_gcode::read_json(text).map_err(|e| anyhow!("{}: {e}", name(smoothed)))?;
             group_by_source(&original_runs, &pieces)
         } else {
-            runs_of(parse_program_with(smoothed, &bytes, &opts)?)
+            // Its motion only (no lines held) where the switch is off.
+            if block_delete {
+                runs_of(&parse_program_with(smoothed, &bytes, &opts)?)
+            } else {
+                read_motion_of(smoothed, &bytes)?.1
+            }
         };
         if readings.len() > 1 {
             say(format!(

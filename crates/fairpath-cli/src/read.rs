@@ -4,6 +4,8 @@
 
 use crate::source_error::SourceError;
 use anyhow::{anyhow, bail, Context, Result};
+use fairpath::path::Run;
+use fairpath_gcode::program::MotionOutline;
 use fairpath_gcode::{ParseOptions, Program};
 use std::io::Read;
 use std::path::Path;
@@ -56,5 +58,18 @@ pub fn parse_program_with(path: &Path, bytes: &[u8], opts: &ParseOptions) -> Res
         bail!("{}: empty program", name(path));
     }
     fairpath_gcode::parse_with(bytes, opts)
+        .map_err(|e| anyhow!(SourceError::new(&name(path), bytes, &e)))
+}
+
+/// A program read for its motion only ([`fairpath_gcode::read_motion`]:
+/// its motions in order and its runs, as [`Program::runs`] gives them with
+/// the block-delete switch off, without holding its lines: a program of
+/// 200 MB of comments is not held as 2 million lines); errors as
+/// [`parse_program`]'s.
+pub fn read_motion_of(path: &Path, bytes: &[u8]) -> Result<(Vec<MotionOutline>, Vec<Run>)> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        bail!("{}: empty program", name(path));
+    }
+    fairpath_gcode::read_motion(bytes)
         .map_err(|e| anyhow!(SourceError::new(&name(path), bytes, &e)))
 }

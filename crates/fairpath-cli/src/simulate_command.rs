@@ -25,8 +25,9 @@ pub fn motions_of(path: &Path, bytes: &[u8]) -> Result<Vec<Motion>> {
             .map_err(|_| anyhow!("{}: not UTF-8", crate::read::name(path)))?;
         fairpath_gcode::json_motions(text).map_err(|e| anyhow!("{}: {e}", crate::read::name(path)))
     } else {
-        let program = crate::read::parse_program(path, bytes)?;
-        Ok(program.motions(&program.runs()))
+        // Its motion only: a long program's lines are not held.
+        let (outline, runs) = crate::read::read_motion_of(path, bytes)?;
+        Ok(fairpath_gcode::outline_motions(outline, runs))
     }
 }
 

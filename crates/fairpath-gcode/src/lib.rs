@@ -170,7 +170,7 @@ pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, Write
 pub use facts::ProgramFacts;
 pub use format::{Controller, Format};
 pub use interp::{parse, parse_motion, parse_with, read_motion};
-pub use motions::json_motions;
+pub use motions::{json_motions, outline_motions};
 pub use pipeline::{OptionsError, SmoothOptions};
 pub use program::{
     Expansion, Feed, MotionMode, Move, MoveKind, Passthrough, PinReason, Program, ProgramLine,

@@ -3,7 +3,7 @@
 //! smoothed ones in their place), each pinned feed move on its own, and
 //! its rapids, in order.
 
-use crate::program::Program;
+use crate::program::{MotionOutline, Program};
 use fairpath::feed::program::{chain_motions, program_motions, Motion};
 use fairpath::path::Run;
 
@@ -26,4 +26,19 @@ impl Program {
 /// feed pieces that meet as one run, each rapid on its own.
 pub fn json_motions(text: &str) -> Result<Vec<Motion>, crate::JsonError> {
     Ok(chain_motions(crate::read_json(text)?))
+}
+
+/// The motions of a program read for its motion only
+/// ([`crate::read_motion`]): the same as [`Program::motions`] of its own
+/// runs, without the program's lines (its runs are moved in, not copied).
+pub fn outline_motions(outline: Vec<MotionOutline>, runs: Vec<Run>) -> Vec<Motion> {
+    let mut runs: Vec<Option<Run>> = runs.into_iter().map(Some).collect();
+    outline
+        .into_iter()
+        .filter_map(|m| match m {
+            MotionOutline::Run(k) => runs.get_mut(k).and_then(Option::take).map(Motion::Feed),
+            MotionOutline::Rapid(p) => Some(Motion::Rapid(p)),
+            MotionOutline::Pinned(p) => Some(Motion::Feed(Run::new(vec![p]))),
+        })
+        .collect()
 }

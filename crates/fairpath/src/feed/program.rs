@@ -18,6 +18,7 @@ use core::fmt::Write as _;
 use core::ops::Range;
 
 /// What a program needs to be simulated: its feed runs and rapids in order.
+#[derive(Clone, Debug, PartialEq)]
 pub enum Motion {
     Feed(Run),
     Rapid(Piece),
