@@ -8,7 +8,7 @@
 //!
 //! How: windows of [`PlanWindows::step`] pieces plus
 //! [`PlanWindows::overlap`] on each side, each planned on its own from rest
-//! to rest ([`plan_run_shaped`]). A window's ends change its plan only
+//! to rest ([`super::plan::plan_run_shaped`]). A window's ends change its plan only
 //! within the distance the machine needs to reach or leave its speed
 //! there (tens of mm at most): further in, its segments are the whole
 //! run's, because every step of the planner is local away from them
