@@ -344,6 +344,16 @@ fn interpolation_tracks_the_path_with_small_feed_fluctuation() {
     let last = it.samples.last().unwrap().p;
     assert!(last.dist(Vec3::new(-20.0, -30.0, 0.0)) < 1e-3);
     assert!(it.max_fluctuation < 0.01, "{}", it.max_fluctuation);
+    // Sample by sample (what `simulate` does, keeping none): the same
+    // samples in order and the same fluctuation, to the bit.
+    let mut seen = Vec::new();
+    let f = fairpath::feed::interpolate::interpolate_each(&pieces, &plan, m.period, 0.0, |s| {
+        seen.push(s)
+    });
+    assert_eq!(seen, it.samples);
+    assert_eq!(f.samples, it.samples.len());
+    assert_eq!(f.max.to_bits(), it.max_fluctuation.to_bits());
+    assert_eq!(f.mean.to_bits(), it.mean_fluctuation.to_bits());
 }
 
 /// Acceleration-limited (infinite jerk) time-optimal traversal of a curve,

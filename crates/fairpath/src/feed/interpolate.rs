@@ -41,10 +41,41 @@ pub struct Interpolation {
     pub mean_fluctuation: f64,
 }
 
+/// The feed fluctuation of an interpolation and how many samples it took.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Fluctuation {
+    /// Largest `|achieved - commanded| / commanded` over periods that moved
+    /// at least a micrometre.
+    pub max: f64,
+    /// Mean of the same.
+    pub mean: f64,
+    /// Samples taken.
+    pub samples: usize,
+}
+
 /// Interpolates `plan` (made for `pieces`) every `period` s, starting at
 /// time `t0` (for sample times that continue across runs).
 pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> Interpolation {
-    let mut out = Interpolation::default();
+    let mut samples = Vec::new();
+    let f = interpolate_each(pieces, plan, period, t0, |s| samples.push(s));
+    Interpolation {
+        samples,
+        max_fluctuation: f.max,
+        mean_fluctuation: f.mean,
+    }
+}
+
+/// [`interpolate`], each sample given to `each` in order instead of kept
+/// (the fluctuation of a long run without its samples held: a million
+/// periods are 64 MB).
+pub fn interpolate_each(
+    pieces: &[Piece],
+    plan: &RunPlan,
+    period: f64,
+    t0: f64,
+    mut each: impl FnMut(Sample),
+) -> Fluctuation {
+    let mut out = Fluctuation::default();
     if plan.segments.is_empty() || period.is_nan() || period <= 0.0 {
         return out;
     }
@@ -99,11 +130,11 @@ pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> In
             if k > 0 && commanded > 1e-3 {
                 let achieved = p.dist(p_prev);
                 let f = math::abs(achieved - commanded) / commanded;
-                out.max_fluctuation = out.max_fluctuation.max(f);
+                out.max = out.max.max(f);
                 sum += f;
                 count += 1;
             }
-            out.samples.push(Sample {
+            each(Sample {
                 t: t0 + t,
                 s,
                 v: st.v,
@@ -111,6 +142,7 @@ pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> In
                 j: st.j,
                 p,
             });
+            out.samples += 1;
             p_prev = p;
             s_prev = s;
             k += 1;
@@ -119,7 +151,7 @@ pub fn interpolate(pieces: &[Piece], plan: &RunPlan, period: f64, t0: f64) -> In
         seg_start_s += seg.profile.length();
     }
     if count > 0 {
-        out.mean_fluctuation = sum / count as f64;
+        out.mean = sum / count as f64;
     }
     out
 }

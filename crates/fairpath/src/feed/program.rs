@@ -294,11 +294,18 @@ impl Simulation {
         for (run, plan, rapid) in &self.plans {
             match (run, rapid) {
                 (Some(run), _) => {
-                    let it = crate::feed::interpolate::interpolate(&run.pieces, plan, period, t0);
-                    fmax = fmax.max(it.max_fluctuation);
-                    if !it.samples.is_empty() {
-                        fsum += it.mean_fluctuation * it.samples.len() as f64;
-                        fn_ += it.samples.len();
+                    // The fluctuation only: the samples are not kept.
+                    let it = crate::feed::interpolate::interpolate_each(
+                        &run.pieces,
+                        plan,
+                        period,
+                        t0,
+                        |_| {},
+                    );
+                    fmax = fmax.max(it.max);
+                    if it.samples > 0 {
+                        fsum += it.mean * it.samples as f64;
+                        fn_ += it.samples;
                     }
                     if rows {
                         let phase = (next_k as f64 * period - t0).max(0.0);
