@@ -7,7 +7,9 @@
 use anyhow::{anyhow, bail, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{PlanOptions, RunEnds};
-use fairpath::feed::program::{average_curvature, simulate_with, Motion, Simulation, MAX_SAMPLES};
+use fairpath::feed::program::{
+    average_curvature, simulate_owned, simulate_with, Motion, Simulation, MAX_SAMPLES,
+};
 use std::path::Path;
 
 /// The motions of a program: G-code runs (and each pinned move on its
@@ -81,15 +83,21 @@ pub fn run(
         window,
         ends,
     };
-    let mut sim = simulate_with(&motions, &opts)?;
-    if window.is_some() {
-        let full = PlanOptions {
-            window: None,
-            ..opts
-        };
-        sim.full_scan_time = Some(simulate_with(&motions, &full)?.time());
-    }
+    // The full scan's time and the curvature first: the simulation then
+    // takes the motions (a long program's pieces held once, not twice).
+    let full_scan_time = match window {
+        Some(_) => {
+            let full = PlanOptions {
+                window: None,
+                ..opts
+            };
+            Some(simulate_with(&motions, &full)?.time())
+        }
+        None => None,
+    };
     let curvature = average_curvature(&motions, CURVATURE_ACCURACY);
+    let mut sim = simulate_owned(motions, &opts)?;
+    sim.full_scan_time = full_scan_time;
     // One sample per period: refuse absurd counts rather than run out of
     // memory (a program of hours at 1 ms).
     let samples = sim.time() / m.period;

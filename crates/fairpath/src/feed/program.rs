@@ -150,6 +150,22 @@ pub fn simulate_with(
     motions: &[Motion],
     opts: &PlanOptions,
 ) -> Result<Simulation, ProgramPlanError> {
+    simulate_each(motions.iter().cloned(), opts)
+}
+
+/// [`simulate_with`] of motions given up to it: their runs are moved into
+/// the simulation's plans, not copied (a long program's pieces held once).
+pub fn simulate_owned(
+    motions: Vec<Motion>,
+    opts: &PlanOptions,
+) -> Result<Simulation, ProgramPlanError> {
+    simulate_each(motions.into_iter(), opts)
+}
+
+fn simulate_each(
+    motions: impl Iterator<Item = Motion>,
+    opts: &PlanOptions,
+) -> Result<Simulation, ProgramPlanError> {
     let m = &opts.limits;
     let opts = *opts;
     let mut sim = Simulation {
@@ -178,7 +194,7 @@ pub fn simulate_with(
                 for s in &plan.segments {
                     *sim.limiting.entry(s.constraint.as_str()).or_default() += 1;
                 }
-                sim.plans.push((Some(run.clone()), plan, None));
+                sim.plans.push((Some(run), plan, None));
             }
             Motion::Rapid(p) => {
                 let len = p.curve.length(1e-6);
@@ -192,8 +208,7 @@ pub fn simulate_with(
                     if prof.phases().tj1 > 0.0 {
                         sim.max_jerk = sim.max_jerk.max(m.jerk);
                     }
-                    sim.plans
-                        .push((None, RunPlan::default(), Some((p.clone(), prof))));
+                    sim.plans.push((None, RunPlan::default(), Some((p, prof))));
                 }
             }
         }
