@@ -330,13 +330,9 @@ fn plan(
     // Prefix lengths of the stretches.
     // (From the anchor's first stretch on, as the run's plan adds them;
     // before it, back from there.)
-    let first_of = |piece: usize| {
-        if piece == 0 {
-            0
-        } else {
-            located.partition_point(|l| l.piece < piece)
-        }
-    };
+    // (A plan without segments locates no stretch: 0, the whole run's
+    // anchor.)
+    let first_of = |piece: usize| located.partition_point(|l| l.piece < piece);
     let anchor = first_of(at.anchor);
     let mut pre = alloc::vec![at.s0; n + 1];
     for i in anchor..n {
