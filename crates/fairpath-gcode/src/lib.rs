@@ -179,7 +179,7 @@ pub use program::{
 pub use spline::{ParseOptions, SplineReading};
 pub use write_gcode::{
     output_decimals, write_decimals, write_gcode, write_gcode_with, ArcWords, GcodeWriteOptions,
-    NurbsBlocks, RunOutput, ARC_ROUNDING_FACTOR, FINE_PERIODS, ROUNDING_SHARE,
+    NurbsBlocks, RenderedParts, RunOutput, ARC_ROUNDING_FACTOR, FINE_PERIODS, ROUNDING_SHARE,
 };
 pub use write_json::{read_json, write_json, ARC_APPROX_MM};
 pub use write_spline::{g5_2_blocks, g6_2_block, G6Dialect, SplineWriteOptions};

@@ -596,11 +596,24 @@ pub fn pair_runs(
     original: &[Run],
     candidate: &[Run],
 ) -> Result<Vec<(usize, usize)>, RunCountMismatch> {
+    pair_runs_streamed(original, candidate, &[])
+}
+
+/// [`pair_runs`], where the candidate runs `streamed` (sorted; read part
+/// by part and holding no pieces, [`crate::interp::RunStream`]) move.
+pub(crate) fn pair_runs_streamed(
+    original: &[Run],
+    candidate: &[Run],
+    streamed: &[usize],
+) -> Result<Vec<(usize, usize)>, RunCountMismatch> {
     let o: Vec<usize> = (0..original.len())
         .filter(|&i| !is_zero_length(&original[i]))
         .collect();
     let c: Vec<usize> = (0..candidate.len())
-        .filter(|&i| !candidate[i].pieces.is_empty() && !is_zero_length(&candidate[i]))
+        .filter(|&i| {
+            streamed.binary_search(&i).is_ok()
+                || (!candidate[i].pieces.is_empty() && !is_zero_length(&candidate[i]))
+        })
         .collect();
     if o.len() != c.len() {
         return Err(RunCountMismatch {
@@ -641,8 +654,24 @@ pub fn compare_runs_within(
         tolerance,
         endpoint_slack,
         Measures::Ends,
+        &[],
     )
     .map(|(check, _)| check)
+}
+
+/// [`compare_runs`] where the candidate runs in `known` (sorted by
+/// index) were measured as they were read (their pieces handed out part
+/// by part, [`crate::interp::RunStream`]): paired as runs that move, their
+/// reports taken as they are. Also returns the pairs.
+pub(crate) fn compare_runs_known(
+    original: &[Run],
+    candidate: &[Run],
+    tolerance: f64,
+    known: &[(usize, RunReport)],
+) -> Result<(WrittenCheck, Vec<(usize, usize)>), RunCountMismatch> {
+    let (check, reports) = compare(original, candidate, tolerance, 0.0, Measures::Ends, known)?;
+    let pairs = reports.iter().map(|r| (r.original, r.candidate)).collect();
+    Ok((check, pairs))
 }
 
 /// One pair of runs verified: the indices of the original's and the
@@ -669,6 +698,7 @@ pub fn compare_runs_reported(
         tolerance,
         endpoint_slack,
         Measures::All,
+        &[],
     )
 }
 
@@ -679,8 +709,11 @@ fn compare(
     tolerance: f64,
     endpoint_slack: f64,
     measures: Measures,
+    known: &[(usize, RunReport)],
 ) -> Result<(WrittenCheck, Vec<PairReport>), RunCountMismatch> {
-    let pairs_idx = pair_runs(original, candidate)?;
+    let streamed: Vec<usize> = known.iter().map(|k| k.0).collect();
+    let pairs_idx = pair_runs_streamed(original, candidate, &streamed)?;
+    let known_of = |c: usize| streamed.binary_search(&c).ok().map(|i| known[i].1.clone());
     let mut out = WrittenCheck {
         within: true,
         max_deviation: 0.0,
@@ -688,7 +721,12 @@ fn compare(
         runs_checked: 0,
         failed_runs: Vec::new(),
     };
-    let pairs: Vec<(&[Piece], &[Piece])> = pairs_idx
+    let measured: Vec<(usize, usize)> = pairs_idx
+        .iter()
+        .copied()
+        .filter(|&(_, b)| known_of(b).is_none())
+        .collect();
+    let pairs: Vec<(&[Piece], &[Piece])> = measured
         .iter()
         .map(|&(a, b)| {
             (
@@ -697,7 +735,13 @@ fn compare(
             )
         })
         .collect();
-    let reports = verify_runs_measuring(&pairs, &VerifyOptions::new(tolerance), measures);
+    let mut measured =
+        verify_runs_measuring(&pairs, &VerifyOptions::new(tolerance), measures).into_iter();
+    let reports: Vec<RunReport> = pairs_idx
+        .iter()
+        .map(|&(_, b)| known_of(b).or_else(|| measured.next()))
+        .collect::<Option<_>>()
+        .expect("a report for every pair");
     for (k, rep) in reports.iter().enumerate() {
         out.max_deviation = out.max_deviation.max(rep.deviation_bound);
         let slack = endpoint_slack + ENDPOINT_ROUNDING_SHARE * tolerance;

@@ -7,7 +7,9 @@ use common::Rng;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunEnds};
 use fairpath::feed::shaping::Shaping;
-use fairpath::feed::windowed::{plan_time_in_windows, plan_time_windowed, PlanWindows};
+use fairpath::feed::windowed::{
+    plan_time_in_windows, plan_time_windowed, PlanWindows, WindowedTimer,
+};
 use fairpath::geom::{Arc, Curve, Vec3};
 use fairpath::path::Piece;
 use fairpath::smooth::{BsplineCorner, Smoother};
@@ -18,6 +20,13 @@ use fairpath::smooth::{BsplineCorner, Smoother};
 const SMALL: PlanWindows = PlanWindows {
     step: 256,
     overlap: 128,
+};
+
+/// Windows whose step is longer than two overlaps, as the default's: 400
+/// pieces a step, 100 of overlap.
+const LONG_STEP: PlanWindows = PlanWindows {
+    step: 400,
+    overlap: 100,
 };
 
 /// A raster of `rows` passes over a bumpy surface, moves of about
@@ -72,6 +81,17 @@ fn seeded_random_rasters_plan_the_same_time_in_windows_as_whole() {
                 let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
                 let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
                 assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
+                // The same pieces handed to a timer in parts of random
+                // sizes (from 1 piece to several windows).
+                // Also with a step longer than two overlaps (the default's
+                // shape), where the last window ends short of a step.
+                for w in [SMALL, LONG_STEP] {
+                    let streamed = streamed_time(&mut rng, pieces, &po, corners, w);
+                    match plan_time_in_windows(pieces, &po, corners, w).unwrap() {
+                        Some(t) => assert_eq!(streamed, Some(t.to_bits()), "case {case}"),
+                        None => assert_eq!(streamed, None, "case {case}"),
+                    }
+                }
                 cases += 1;
                 if plan_time_in_windows(pieces, &po, corners, SMALL)
                     .unwrap()
@@ -84,6 +104,29 @@ fn seeded_random_rasters_plan_the_same_time_in_windows_as_whole() {
     }
     // The windows were stitched, not planned whole, in nearly every case.
     assert!(stitched * 10 >= cases * 9, "{stitched} of {cases} stitched");
+}
+
+/// The time a [`WindowedTimer`] gives `pieces` handed to it in parts of
+/// random sizes, as bits (`None`: it could not stitch them).
+fn streamed_time(
+    rng: &mut Rng,
+    pieces: &[Piece],
+    po: &PlanOptions,
+    corners: Corners,
+    w: PlanWindows,
+) -> Option<u64> {
+    let mut timer = WindowedTimer::new(po, corners, w).unwrap();
+    let mut at = 0;
+    while at < pieces.len() {
+        let len = match rng.unit() {
+            u if u < 0.3 => 1 + (u * 10.0) as usize,
+            u => 1 + (u * 3.0 * (w.step + 2 * w.overlap) as f64) as usize,
+        };
+        let end = (at + len).min(pieces.len());
+        timer.push(&pieces[at..end]).unwrap();
+        at = end;
+    }
+    timer.finish().unwrap().map(f64::to_bits)
 }
 
 /// One circle cut into many arcs: every joint is G2 and the cap never
@@ -116,6 +159,10 @@ fn a_run_of_one_segment_is_planned_whole() {
     );
     let w = plan_time_windowed(&pieces, &po, Corners::Blended, SMALL).unwrap();
     assert_eq!(whole.to_bits(), w.to_bits());
+    // A timer that no longer holds the run says it must be planned whole.
+    let mut rng = Rng(5);
+    let streamed = streamed_time(&mut rng, &pieces, &po, Corners::Blended, SMALL);
+    assert_eq!(streamed, None);
 }
 
 /// A run that fits one window, a bounded look-ahead and ends at the cap
@@ -131,6 +178,10 @@ fn short_runs_bounded_look_ahead_and_ends_at_the_cap_are_planned_whole() {
         plan_time_in_windows(short, &opts(m, false), Corners::Blended, SMALL).unwrap(),
         None
     );
+    // A timer given a run of one window plans it whole: the same time.
+    let whole = plan_time_shaped(short, &opts(m, false), &Shaping::none(), Corners::Blended);
+    let streamed = streamed_time(&mut rng, short, &opts(m, false), Corners::Blended, SMALL);
+    assert_eq!(streamed, Some(whole.unwrap().to_bits()));
     for po in [
         PlanOptions {
             window: Some(50),
@@ -145,6 +196,7 @@ fn short_runs_bounded_look_ahead_and_ends_at_the_cap_are_planned_whole() {
             plan_time_in_windows(&run.pieces, &po, Corners::Blended, SMALL).unwrap(),
             None
         );
+        assert!(WindowedTimer::new(&po, Corners::Blended, SMALL).is_none());
         let whole = plan_time_shaped(&run.pieces, &po, &Shaping::none(), Corners::Blended);
         let w = plan_time_windowed(&run.pieces, &po, Corners::Blended, SMALL);
         assert_eq!(whole.unwrap().to_bits(), w.unwrap().to_bits());

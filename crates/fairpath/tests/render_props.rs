@@ -10,8 +10,8 @@ use fairpath::feed::plan::{plan_run, PlanOptions};
 use fairpath::geom::{Arc, Curve, Line, Nurbs, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 use fairpath::render::{
-    absorb_lines, nurbs_fits, render_range, render_run, CurveForm, NurbsLimits, PlannedSpeed,
-    RenderOptions,
+    absorb_lines, nurbs_fits, render_range, render_run, CurveForm, LineAbsorber, NurbsLimits,
+    PlannedSpeed, RenderOptions, Rendered,
 };
 use fairpath::verify::{verify_run, VerifyOptions};
 use proptest::prelude::*;
@@ -400,6 +400,80 @@ proptest! {
         for &v in &whole.speeds {
             prop_assert!(v > 0.0 && v <= o.limits.max_feed * (1.0 + 1e-9), "speed {}", v);
         }
+    }
+}
+
+/// A long run is written as it is rendered, part after part, through a
+/// `LineAbsorber` (the writer never holds its whole rendering): the parts
+/// it gives, concatenated, must be the run rendered whole, short lines
+/// merged alike, also where a part starts inside a chain of short lines
+/// whose merges share one shift budget.
+#[test]
+fn a_run_rendered_part_after_part_through_the_absorber_is_the_run_rendered_whole() {
+    let o = opts(CurveForm::Arcs, 0.005);
+    // Lines of 1 mm, each followed by a chain of short lines (0.001 mm,
+    // under SHORT_LINE_SHARE of the chord) bending by 2e-6 mm each, so that
+    // a chain merges until ABSORB_SHIFT_SHARE of the chord is spent; a
+    // B-spline bend after every third chain.
+    let mut pieces: Vec<Piece> = Vec::new();
+    let end = |pieces: &[Piece]| pieces.last().map_or(Vec3::ZERO, |p| p.end());
+    let line = |a: Vec3, d: Vec3| piece(Curve::Line(Line::new(a, a + d)));
+    for k in 0..40 {
+        let dir = if k % 2 == 0 { 1.0 } else { -1.0 };
+        pieces.push(line(end(&pieces), Vec3::new(dir, 0.0, 0.0)));
+        for j in 0..(k % 6) {
+            let bend = 2e-6 * (j + 1) as f64;
+            pieces.push(line(end(&pieces), Vec3::new(dir * 0.001, bend, 0.0)));
+        }
+        if k % 3 == 2 {
+            let at = end(&pieces);
+            let c = [
+                at,
+                at + Vec3::new(dir * 0.5, 0.0, 0.0),
+                at + Vec3::new(dir * 0.5, 0.5, 0.0),
+                at + Vec3::new(0.0, 0.5, 0.0),
+            ];
+            pieces.push(piece(Curve::Nurbs(bspline(&c))));
+        }
+    }
+    let plan = plan_run(&pieces, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(pieces.len(), &plan, o.limits.period);
+    let whole = render_run(&pieces, &speed, &o).unwrap();
+    assert!(whole.stats.absorbed_lines > 10, "{:?}", whole.stats);
+    let chained = pieces
+        .iter()
+        .filter(|p| p.curve.length(1e-9) < 0.002)
+        .count();
+    assert!(
+        whole.stats.absorbed_lines < chained,
+        "some chains spend the shift"
+    );
+    let mut state = 11u64;
+    for _ in 0..20 {
+        let mut absorber = LineAbsorber::new(&o);
+        let mut joined = Rendered::default();
+        let mut start = 0;
+        while start < pieces.len() {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let len = 1 + (state >> 60) as usize;
+            let end = (start + len).min(pieces.len());
+            let part = absorber.push(render_range(&pieces, start..end, &speed, &o).unwrap());
+            joined.pieces.extend(part.pieces);
+            joined.speeds.extend(part.speeds);
+            joined.stats.add(&part.stats);
+            start = end;
+        }
+        let last = absorber.finish();
+        joined.pieces.extend(last.pieces);
+        joined.speeds.extend(last.speeds);
+        for (i, (a, b)) in joined.pieces.iter().zip(&whole.pieces).enumerate() {
+            assert_eq!(a, b, "piece {i}");
+        }
+        assert_eq!(joined.pieces.len(), whole.pieces.len());
+        assert_eq!(joined.speeds, whole.speeds);
+        assert_eq!(joined.stats, whole.stats);
     }
 }
 

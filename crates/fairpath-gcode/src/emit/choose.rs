@@ -27,8 +27,6 @@ pub struct Chosen {
 pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
     let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
-    let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
-    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     // A run smoothed into itself (method `none`) is written as the program
     // wrote it: no rendering could say it more exactly, and its own times
     // are not needed.
@@ -49,112 +47,10 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
     .into_iter()
     .collect::<Result<_>>()?;
     let chosen: Vec<Result<Choice>> = par_map(smoothed.len(), |k| {
-        let own = &own[k];
         if itself[k] {
             return Ok(Choice::original(opts.budget.output));
         }
-        let mut best: Option<(f64, Choice)> = None;
-        // Whether the arcs rendering holds no arc.
-        let mut arcs_all_lines = false;
-        // A long run whose arcs fell back to G1 on few blocks.
-        let long_with_few_lines = |c: &Choice| em.long_with_few_lines(k, c);
-        for (i, &form) in forms.iter().enumerate() {
-            // A spline block in a G91 run is written between a G90 and a
-            // G91 line, which end a run where the program had none (the
-            // written program would not pair with the original): such a
-            // run gets the format's other forms, or stays as written.
-            if matches!(form, CurveForm::Nurbs(_)) && em.program.run_spans()[k].incremental {
-                continue;
-            }
-            // G1 is the other candidate for curves that arcs could not
-            // follow: where they all became arcs, it is not tried; nor on
-            // a long run where few did.
-            if i > 0
-                && form == CurveForm::Lines
-                && best
-                    .as_ref()
-                    .is_some_and(|(_, b)| b.stats.fallback_lines == 0 || long_with_few_lines(b))
-            {
-                continue;
-            }
-            // Where a NURBS rendering won, the curves are written as the
-            // spline they are: arcs and lines are the other candidates
-            // where it loses (their written coordinates round by parts in
-            // ten thousand, which a NURBS's control points barely do).
-            if best
-                .as_ref()
-                .is_some_and(|(_, b)| matches!(b.form, Some(CurveForm::Nurbs(_))))
-            {
-                continue;
-            }
-            // (The time at the user's feeds where `auto`'s objective made
-            // this rendering.)
-            // The all-G1 alternative, where the arcs rendering holds no arc,
-            // at the finer chord of G1 output (at the arcs' chord it would
-            // be the same rendering: `Emitter::finer_lines_chord`).
-            let chord = match em.finer_lines_chord() {
-                Some(finer) if form == CurveForm::Lines && i > 0 && arcs_all_lines => finer,
-                _ => opts.budget.output,
-            };
-            let (c, known) = em.first_render(k, i, chord)?;
-            if form == CurveForm::Arcs {
-                arcs_all_lines = c.stats.arcs == 0;
-            }
-            let rendered_time = |c: &Choice, f: bool| match known {
-                Some(t) if f == opts.override_feed => Ok(t),
-                _ => rendered_time(c, f),
-            };
-            // A long run's only candidate is timed once, as written (the
-            // check below plans what reads back at every feed and keeps the
-            // run as the program wrote it where that is slower).
-            let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
-            if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
-                return Ok(c);
-            }
-            // A candidate must be faster than the program's own run at every
-            // feed, and than a rendering already chosen at the first: it
-            // loses at the first feed where it is not, and its times at the
-            // feeds after that are not planned. A long run is planned at
-            // every feed side by side (once it beats the chosen one at the
-            // first).
-            // A run of splines (a fairing of them, at a feed their ripples
-            // do not slow) is rewritten when it plans no slower: what the
-            // method changes there is the curvature, which it lowers. A run
-            // of lines must gain the margin: at an equal time its rendering
-            // would trade the program's corners for more blocks, for
-            // nothing.
-            let splines = original[k]
-                .pieces
-                .iter()
-                .any(|p| matches!(p.curve, Curve::Nurbs(_)));
-            let margin = if splines { 0.0 } else { KEEP_MARGIN };
-            let loses = |fi: usize, t: f64| {
-                t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
-            };
-            let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {
-                if best.is_some() && loses(0, rendered_time(&c, feeds[0])?) {
-                    continue;
-                }
-                at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?
-            } else {
-                let mut ts = Vec::with_capacity(feeds.len());
-                for &f in feeds.iter() {
-                    let t = rendered_time(&c, f)?;
-                    if loses(ts.len(), t) {
-                        break;
-                    }
-                    ts.push(t);
-                }
-                ts
-            };
-            if ts.len() < feeds.len() || ts.iter().enumerate().any(|(fi, &t)| loses(fi, t)) {
-                continue;
-            }
-            if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
-                best = Some((ts[0], c));
-            }
-        }
-        Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
+        choose_run(em, k, original, &own[k], true)
     });
     let choices: Vec<Choice> = chosen.into_iter().collect::<Result<_>>()?;
     let splines_only = forms.iter().all(|f| matches!(f, CurveForm::Nurbs(_)));
@@ -166,4 +62,130 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
         own,
         g91_spline_runs,
     })
+}
+
+/// The rendering of run `k` that plans fastest among the forms the
+/// format allows, or the run as the program wrote it (`own`: its time at
+/// each of [`Emitter::feeds`]) where none is faster at every feed. With
+/// `stream`, a long run's first candidate that would be timed only as
+/// written is chosen unrendered, to be rendered as it is written
+/// ([`Choice::streamed`]); [`super::write`] chooses again without
+/// `stream` where its arcs fell back to G1 on too many blocks for that.
+pub(super) fn choose_run(
+    em: &Emitter,
+    k: usize,
+    original: &[Run],
+    own: &[f64],
+    stream: bool,
+) -> Result<Choice> {
+    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
+    let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
+    let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
+    let mut best: Option<(f64, Choice)> = None;
+    // Whether the arcs rendering holds no arc.
+    let mut arcs_all_lines = false;
+    // A long run whose arcs fell back to G1 on few blocks.
+    let long_with_few_lines = |c: &Choice| em.long_with_few_lines(k, c);
+    for (i, &form) in forms.iter().enumerate() {
+        // A spline block in a G91 run is written between a G90 and a
+        // G91 line, which end a run where the program had none (the
+        // written program would not pair with the original): such a
+        // run gets the format's other forms, or stays as written.
+        if matches!(form, CurveForm::Nurbs(_)) && em.program.run_spans()[k].incremental {
+            continue;
+        }
+        // G1 is the other candidate for curves that arcs could not
+        // follow: where they all became arcs, it is not tried; nor on
+        // a long run where few did.
+        if i > 0
+            && form == CurveForm::Lines
+            && best
+                .as_ref()
+                .is_some_and(|(_, b)| b.stats.fallback_lines == 0 || long_with_few_lines(b))
+        {
+            continue;
+        }
+        // Where a NURBS rendering won, the curves are written as the
+        // spline they are: arcs and lines are the other candidates
+        // where it loses (their written coordinates round by parts in
+        // ten thousand, which a NURBS's control points barely do).
+        if best
+            .as_ref()
+            .is_some_and(|(_, b)| matches!(b.form, Some(CurveForm::Nurbs(_))))
+        {
+            continue;
+        }
+        // (The time at the user's feeds where `auto`'s objective made
+        // this rendering.)
+        // The all-G1 alternative, where the arcs rendering holds no arc,
+        // at the finer chord of G1 output (at the arcs' chord it would
+        // be the same rendering: `Emitter::finer_lines_chord`).
+        let chord = match em.finer_lines_chord() {
+            Some(finer) if form == CurveForm::Lines && i > 0 && arcs_all_lines => finer,
+            _ => opts.budget.output,
+        };
+        // A long run's first candidate that is timed only as written is
+        // rendered as it is written ([`Emitter::streams`]).
+        if stream && best.is_none() && i == 0 && em.streams(k, form, chord) {
+            return Ok(Choice::streamed(form, chord));
+        }
+        let (c, known) = em.first_render(k, i, chord)?;
+        if form == CurveForm::Arcs {
+            arcs_all_lines = c.stats.arcs == 0;
+        }
+        let rendered_time = |c: &Choice, f: bool| match known {
+            Some(t) if f == opts.override_feed => Ok(t),
+            _ => rendered_time(c, f),
+        };
+        // A long run's only candidate is timed once, as written (the
+        // check below plans what reads back at every feed and keeps the
+        // run as the program wrote it where that is slower).
+        let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
+        if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
+            return Ok(c);
+        }
+        // A candidate must be faster than the program's own run at every
+        // feed, and than a rendering already chosen at the first: it
+        // loses at the first feed where it is not, and its times at the
+        // feeds after that are not planned. A long run is planned at
+        // every feed side by side (once it beats the chosen one at the
+        // first).
+        // A run of splines (a fairing of them, at a feed their ripples
+        // do not slow) is rewritten when it plans no slower: what the
+        // method changes there is the curvature, which it lowers. A run
+        // of lines must gain the margin: at an equal time its rendering
+        // would trade the program's corners for more blocks, for
+        // nothing.
+        let splines = original[k]
+            .pieces
+            .iter()
+            .any(|p| matches!(p.curve, Curve::Nurbs(_)));
+        let margin = if splines { 0.0 } else { KEEP_MARGIN };
+        let loses = |fi: usize, t: f64| {
+            t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
+        };
+        let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {
+            if best.is_some() && loses(0, rendered_time(&c, feeds[0])?) {
+                continue;
+            }
+            at_feeds(c.pieces.len(), &|f| rendered_time(&c, f))?
+        } else {
+            let mut ts = Vec::with_capacity(feeds.len());
+            for &f in feeds.iter() {
+                let t = rendered_time(&c, f)?;
+                if loses(ts.len(), t) {
+                    break;
+                }
+                ts.push(t);
+            }
+            ts
+        };
+        if ts.len() < feeds.len() || ts.iter().enumerate().any(|(fi, &t)| loses(fi, t)) {
+            continue;
+        }
+        if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
+            best = Some((ts[0], c));
+        }
+    }
+    Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
 }

@@ -10,6 +10,7 @@ use super::{
 use crate::facts::ProgramFacts;
 use crate::pipeline::written::{forms, render_options, write_options, PLANAR_MM};
 use crate::pipeline::{EmitOptions, RenderMemo};
+use crate::RenderedParts;
 use crate::{Format, GcodeWriteOptions, Program, Units};
 use fairpath::feed::plan::{plan_run, PlanOptions, RunPlan};
 use fairpath::feed::windowed::{plan_time_windowed, PlanWindows};
@@ -17,8 +18,8 @@ use fairpath::feed::FeedError;
 use fairpath::path::Piece;
 use fairpath::pipeline::par_map;
 use fairpath::render::{
-    absorb_lines, linuxcnc_g5_2_motion, render_range, render_run, CurveForm, PlannedSpeed,
-    RenderStats, Rendered,
+    linuxcnc_g5_2_motion, render_range, render_run, CurveForm, LineAbsorber, PlannedSpeed,
+    RenderOptions, RenderStats, Rendered,
 };
 use std::sync::{Arc, OnceLock};
 
@@ -34,6 +35,12 @@ pub(super) struct Choice {
     pub(super) stats: RenderStats,
     /// The planned speed of each rendered piece ([`Rendered::speeds`]).
     pub(super) speeds: Vec<f64>,
+    /// Pieces of the rendering (`pieces.len()` until they are written).
+    pub(super) count: usize,
+    /// Rendered part after part as it is written and read back part after
+    /// part as it is checked ([`Emitter::streams`]): `pieces` stays empty;
+    /// `stats` and `count` are known once it is written.
+    pub(super) streamed: bool,
 }
 
 impl Choice {
@@ -45,6 +52,18 @@ impl Choice {
             pieces: Vec::new(),
             stats: RenderStats::default(),
             speeds: Vec::new(),
+            count: 0,
+            streamed: false,
+        }
+    }
+
+    /// The run to be rendered in `form` with output share `chord` as it is
+    /// written ([`Choice::streamed`]).
+    pub(super) fn streamed(form: CurveForm, chord: f64) -> Choice {
+        Choice {
+            form: Some(form),
+            streamed: true,
+            ..Choice::original(chord)
         }
     }
 
@@ -53,9 +72,11 @@ impl Choice {
         Choice {
             form: Some(form),
             chord,
+            count: r.pieces.len(),
             pieces: r.pieces,
             stats: r.stats,
             speeds: r.speeds,
+            streamed: false,
         }
     }
 }
@@ -121,12 +142,41 @@ impl<'a> Emitter<'a> {
 
     /// Run `k` rendered in `form` with output share `chord`.
     pub(super) fn render(&self, k: usize, form: CurveForm, chord: f64) -> Result<Choice> {
+        let (ro, speed) = self.render_setup(k, form, chord)?;
+        let pieces = &self.smoothed[k];
+        if pieces.len() < PARALLEL_FEEDS_PIECES {
+            let error = |source| EmitError::Render { run: k, source };
+            let r = render_run(pieces, &speed, &ro).map_err(error)?;
+            return Ok(Choice::rendered(form, chord, r));
+        }
+        // A long run in parts side by side, joined as they come.
+        let mut parts = PartsRenderer::new(k, pieces, ro, speed, RENDER_GROUP_PARTS);
+        let mut joined = Rendered::default();
+        while let Some((p, v)) = parts.next_part() {
+            joined.pieces.extend(p);
+            joined.speeds.extend(v);
+        }
+        if let Some(e) = parts.error {
+            return Err(e);
+        }
+        joined.stats = parts.stats;
+        Ok(Choice::rendered(form, chord, joined))
+    }
+
+    /// How run `k` is rendered in `form` with output share `chord`: the
+    /// options and the speed the renderer shapes it by (`auto`'s
+    /// objective's, where it kept a rendering of these pieces; else their
+    /// plan's).
+    pub(super) fn render_setup(
+        &self,
+        k: usize,
+        form: CurveForm,
+        chord: f64,
+    ) -> Result<(RenderOptions, Arc<PlannedSpeed>)> {
         let (program, smoothed) = (self.program, self.smoothed);
         let (opts, wo) = (&self.opts, &self.wo);
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, wo);
-        // The speed `auto`'s objective rendered these pieces by, where it
-        // kept a rendering of them; else their plan's.
         let speed = match self.memo.and_then(|m| m.speed_of(&smoothed[k])) {
             Some(s) => s,
             None => Arc::new(PlannedSpeed::new(
@@ -135,41 +185,24 @@ impl<'a> Emitter<'a> {
                 opts.machine.period,
             )),
         };
-        let pieces = &smoothed[k];
-        let error = |source| EmitError::Render { run: k, source };
-        if pieces.len() < PARALLEL_FEEDS_PIECES {
-            let r = render_run(pieces, &speed, &ro).map_err(error)?;
-            return Ok(Choice::rendered(form, chord, r));
+        Ok((ro, speed))
+    }
+
+    /// Whether run `k`'s first candidate in `form` at `chord` is rendered
+    /// as it is written, part after part ([`Choice::streamed`]): a long
+    /// run's candidate that is timed only as written (arcs, whose G1
+    /// alternative is tried only where they fall back to G1 on many blocks,
+    /// or the format's only form), where `auto`'s objective kept no
+    /// rendering of it.
+    pub(super) fn streams(&self, k: usize, form: CurveForm, chord: f64) -> bool {
+        #[cfg(test)]
+        if super::tests::NO_STREAMING.with(|n| n.get()) {
+            return false;
         }
-        // A long run in parts side by side (each piece is rendered on its
-        // own: the same pieces as one call), a group of parts at a time,
-        // so that the rendered parts waiting to be joined stay few.
-        let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
-        let mut choice = Choice::original(chord);
-        choice.form = Some(form);
-        for group in (0..parts).step_by(RENDER_GROUP_PARTS) {
-            let in_group = RENDER_GROUP_PARTS.min(parts - group);
-            let rendered = par_map(in_group, |i| {
-                let j = group + i;
-                let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
-                render_range(pieces, j * RENDER_PART_PIECES..end, &speed, &ro)
-            });
-            for r in rendered {
-                let r = r.map_err(error)?;
-                choice.pieces.extend(r.pieces);
-                choice.speeds.extend(r.speeds);
-                choice.stats.add(&r.stats);
-            }
-        }
-        // The parts joined: their short lines merged as render_run merges
-        // a whole run's.
-        let mut joined = Rendered {
-            pieces: core::mem::take(&mut choice.pieces),
-            stats: choice.stats,
-            speeds: core::mem::take(&mut choice.speeds),
-        };
-        absorb_lines(&mut joined, &ro);
-        Ok(Choice::rendered(form, chord, joined))
+        self.smoothed[k].len() >= LONG_RUN_PIECES
+            && self.memo.is_none()
+            && chord == self.opts.budget.output
+            && (form == CurveForm::Arcs || (self.forms.len() == 1 && form == CurveForm::Lines))
     }
 
     /// The planned time of a run's pieces at the maximum feed (`true`) or
@@ -276,6 +309,95 @@ impl<'a> Emitter<'a> {
     /// to G1 on few blocks (the all-G1 candidate is not tried on it).
     pub(super) fn long_with_few_lines(&self, k: usize, c: &Choice) -> bool {
         self.smoothed[k].len() >= LONG_RUN_PIECES
-            && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.pieces.len() as f64
+            && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.count as f64
+    }
+}
+
+/// A long run's rendering, a group of parts at a time (each group's parts
+/// side by side), its short lines merged as [`render_run`] merges a whole
+/// run's ([`LineAbsorber`]): the writer takes it part after part
+/// ([`RenderedParts`]), so that the rendering is never held whole.
+pub(super) struct PartsRenderer<'e> {
+    k: usize,
+    pieces: &'e [Piece],
+    ro: RenderOptions,
+    speed: Arc<PlannedSpeed>,
+    /// The next part to render, and how many are rendered side by side.
+    next: usize,
+    group: usize,
+    absorber: Option<LineAbsorber>,
+    /// What the parts given so far hold.
+    pub(super) stats: RenderStats,
+    pub(super) count: usize,
+    /// The first error: no part is given after it.
+    pub(super) error: Option<EmitError>,
+}
+
+impl<'e> PartsRenderer<'e> {
+    /// Run `k`, `pieces`, rendered with `ro` by `speed`, `group` parts
+    /// of [`RENDER_PART_PIECES`] at a time.
+    pub(super) fn new(
+        k: usize,
+        pieces: &'e [Piece],
+        ro: RenderOptions,
+        speed: Arc<PlannedSpeed>,
+        group: usize,
+    ) -> PartsRenderer<'e> {
+        PartsRenderer {
+            k,
+            pieces,
+            absorber: Some(LineAbsorber::new(&ro)),
+            ro,
+            speed,
+            next: 0,
+            group: group.max(1),
+            stats: RenderStats::default(),
+            count: 0,
+            error: None,
+        }
+    }
+}
+
+impl RenderedParts for PartsRenderer<'_> {
+    fn next_part(&mut self) -> Option<(Vec<Piece>, Vec<f64>)> {
+        if self.error.is_some() {
+            return None;
+        }
+        let (pieces, speed, ro) = (self.pieces, &*self.speed, &self.ro);
+        let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
+        if self.next >= parts {
+            let last = self.absorber.take()?.finish();
+            self.count += last.pieces.len();
+            return (!last.pieces.is_empty()).then_some((last.pieces, last.speeds));
+        }
+        let group = self.next;
+        let in_group = self.group.min(parts - group);
+        let rendered = par_map(in_group, |i| {
+            let j = group + i;
+            let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
+            render_range(pieces, j * RENDER_PART_PIECES..end, speed, ro)
+        });
+        self.next += in_group;
+        let mut joined = Rendered::default();
+        for r in rendered {
+            match r {
+                Ok(r) => {
+                    joined.pieces.extend(r.pieces);
+                    joined.speeds.extend(r.speeds);
+                    joined.stats.add(&r.stats);
+                }
+                Err(source) => {
+                    self.error = Some(EmitError::Render {
+                        run: self.k,
+                        source,
+                    });
+                    return None;
+                }
+            }
+        }
+        let out = self.absorber.as_mut()?.push(joined);
+        self.stats.add(&out.stats);
+        self.count += out.pieces.len();
+        Some((out.pieces, out.speeds))
     }
 }

@@ -8,6 +8,7 @@
 
 mod choose;
 mod emitter;
+mod streamed;
 mod write;
 
 use crate::facts::ProgramFacts;
@@ -85,6 +86,14 @@ const RENDER_PART_PIECES: usize = 4096;
 /// the cores busy, few enough that the parts waiting to be joined hold
 /// little beside the joined rendering.
 const RENDER_GROUP_PARTS: usize = 8;
+
+/// Parts rendered side by side at a time where a long run is rendered as
+/// it is written ([`emitter::PartsRenderer`]): one per core, so that what
+/// waits to be written stays small (a part of 4,096 corner transitions
+/// renders to about 30,000 arcs, 6 MB).
+fn streamed_group_parts() -> usize {
+    std::thread::available_parallelism().map_or(2, |n| n.get())
+}
 
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
@@ -296,6 +305,145 @@ mod tests {
         /// A run that the first check counts as failed (whatever it
         /// measured): the retry path, which real renderings never take.
         pub(super) static FAIL_FIRST_CHECK: Cell<Option<usize>> = const { Cell::new(None) };
+        /// Every run rendered whole and read back whole (the path before
+        /// long runs were rendered as they are written).
+        pub(super) static NO_STREAMING: Cell<bool> = const { Cell::new(false) };
+        /// Runs checked as they were read back, on this thread.
+        pub(super) static STREAMED_RUNS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    /// The passes of [`raster`].
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    enum Passes {
+        /// Over a bumpy surface.
+        Bumps,
+        /// Wiggling in the XY plane at one height, a period of eight moves:
+        /// what `arc-fit` fits with an arc every four.
+        Wiggles,
+        /// Bumps that also wiggle in Y: corners out of every plane, which
+        /// arcs cannot follow.
+        Twisted,
+    }
+
+    /// A raster of `rows` passes of `per_row` moves (one run, a step-over
+    /// between passes), in mm.
+    fn raster(rows: usize, per_row: usize, passes: Passes) -> String {
+        let mut t = String::from("G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z0 F3000\n");
+        let step = if passes == Passes::Wiggles { 0.2 } else { 0.35 };
+        for r in 0..rows {
+            let y = r as f64 * 3.0;
+            for k in 0..=per_row {
+                let s = k as f64 * step;
+                let x = if r % 2 == 0 {
+                    s
+                } else {
+                    per_row as f64 * step - s
+                };
+                let bump = (x * 0.3).sin() + 0.01 * ((k * 7 + r) % 5) as f64;
+                let (y, z) = match passes {
+                    Passes::Bumps => (y, bump + (y * 0.2).cos()),
+                    Passes::Wiggles => {
+                        let wave = 0.3 * (k as f64 * core::f64::consts::FRAC_PI_4).sin();
+                        (y + wave, 0.0)
+                    }
+                    Passes::Twisted => (y + 0.5 * (x * 0.4).sin(), bump),
+                };
+                t.push_str(&format!("G1 X{x:.4} Y{y:.4} Z{z:.4}\n"));
+            }
+        }
+        t.push_str("G0 Z5\nM30\n");
+        t
+    }
+
+    /// A long run is rendered as it is written and checked as it is read
+    /// back (never held whole): the same text and evidence as rendering
+    /// and reading it whole, for arcs (G1 their alternative) and G1 alone,
+    /// blended and block-capped corners, and through a retry.
+    #[test]
+    fn a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole() {
+        // 7,200 moves, about 14,000 pieces once smoothed: a long run.
+        let cases = [
+            (
+                "bspline-corner",
+                None,
+                Controller::Generic,
+                None,
+                false,
+                Passes::Bumps,
+            ),
+            (
+                "bspline-corner",
+                Some(Format::G1),
+                Controller::Generic,
+                None,
+                false,
+                Passes::Bumps,
+            ),
+            ("ctm", None, Controller::Linuxcnc, None, true, Passes::Bumps),
+            (
+                "bspline-corner",
+                None,
+                Controller::Generic,
+                Some(0),
+                false,
+                Passes::Bumps,
+            ),
+            // Judged by a block-capped planner: also timed as `simulate`
+            // plans it, for the written program's time (`arc-fit` merges
+            // moves into arcs: 40,000 wiggling moves make 15,000 pieces).
+            (
+                "arc-fit",
+                None,
+                Controller::Generic,
+                None,
+                false,
+                Passes::Wiggles,
+            ),
+            // Arcs that fall back to G1 on every block: chosen again
+            // against G1, rendered whole.
+            (
+                "bspline-corner",
+                None,
+                Controller::Generic,
+                None,
+                false,
+                Passes::Twisted,
+            ),
+        ];
+        for (method, format, controller, fail, override_feed, passes) in cases {
+            let mut opts =
+                crate::SmoothOptions::new(0.05, None, method, format, controller).unwrap();
+            opts.set_machine(MachineLimits::thesis(), override_feed)
+                .unwrap();
+            let text = match passes {
+                Passes::Wiggles => raster(16, 2500, passes),
+                _ => raster(24, 300, passes),
+            };
+            let run = |streaming: bool| {
+                NO_STREAMING.with(|n| n.set(!streaming));
+                STREAMED_RUNS.with(|n| n.set(0));
+                FAIL_FIRST_CHECK.with(|f| f.set(fail));
+                let out = crate::smooth_program(&text, &opts).unwrap();
+                NO_STREAMING.with(|n| n.set(false));
+                (out, STREAMED_RUNS.with(|n| n.get()))
+            };
+            let ((whole, whole_report), none) = run(false);
+            let ((streamed, report), taken) = run(true);
+            let what = format!("{method} {format:?} {controller:?} {fail:?} {passes:?}");
+            assert_eq!(none, 0, "{what}");
+            let rechosen = passes == Passes::Twisted;
+            assert_eq!(taken == 0, rechosen, "{what}: {taken} runs checked as read");
+            if rechosen {
+                assert_eq!(report.stats.arcs, 0, "{what}");
+            }
+            assert!(whole.text == streamed.text, "{what}: the texts differ");
+            assert_eq!(report.times, whole_report.times, "{what}");
+            assert_eq!(report.written, whole_report.written, "{what}");
+            assert_eq!(report.stats, whole_report.stats, "{what}");
+            assert_eq!(report.kept, whole_report.kept, "{what}");
+            assert_eq!(report.retried_runs, whole_report.retried_runs, "{what}");
+            assert_eq!(report.retried_runs, usize::from(fail.is_some()), "{what}");
+        }
     }
 
     #[test]

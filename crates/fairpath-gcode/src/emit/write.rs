@@ -4,16 +4,29 @@
 //! the original and timed; a run that fails is rendered again with half
 //! the chord share, a few times, then kept as the program wrote it, and a
 //! run that reads back slower than the program's own is kept as written.
+//!
+//! A long run whose only candidate is timed as written
+//! ([`Choice::streamed`]) is rendered as the writer writes it, part after
+//! part ([`PartsRenderer`]), and checked and timed as its text is read
+//! back, part after part ([`super::streamed`]): neither its rendering nor
+//! its reading is held whole (on a one-run raster written as arcs, 333 MB
+//! each). The text and the evidence are those of the run rendered and read
+//! whole (`a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole`).
 
-use super::choose::Chosen;
-use super::emitter::{Choice, Emitter};
+use super::choose::{choose_run, Chosen};
+use super::emitter::{Choice, Emitter, PartsRenderer};
+use super::streamed::{StreamCheck, StreamedRun};
 use super::{EmitError, Emitted, PartContext, Result, PARALLEL_FEEDS_PIECES, RETRIES};
-use crate::pipeline::{compare_runs, pair_runs, WrittenReading};
+use crate::interp::MotionReader;
+use crate::pipeline::{compare_runs_known, WrittenReading};
+use crate::program::MotionOutline;
 use crate::RunOutput;
 use fairpath::feed::plan::Corners;
 use fairpath::path::Run;
-use fairpath::pipeline::par_map;
-use fairpath::render::RenderStats;
+use fairpath::pipeline::{par_map, VERIFY_CHUNK};
+use fairpath::render::{CurveForm, RenderStats};
+use fairpath::verify::RunReport;
+use std::cell::RefCell;
 
 /// Writes `chosen`, the renderings of `em`'s runs, from where `ctx`
 /// stands, and leaves it standing after the text (see the module docs).
@@ -43,32 +56,76 @@ pub(super) fn write_chosen(
     // returned is the one written last.
     let mut attempt = 0;
     loop {
+        // Long runs rendered as they are written.
+        let renderers: Vec<Option<RefCell<PartsRenderer>>> = choices
+            .iter()
+            .enumerate()
+            .map(|(k, c)| match c.form {
+                Some(form) if c.streamed => {
+                    let (ro, speed) = em.render_setup(k, form, c.chord)?;
+                    let pieces = &em.smoothed[k];
+                    let group = super::streamed_group_parts();
+                    let parts = PartsRenderer::new(k, pieces, ro, speed, group);
+                    Ok(Some(RefCell::new(parts)))
+                }
+                _ => Ok(None),
+            })
+            .collect::<Result<_>>()?;
         let outputs: Vec<RunOutput> = choices
             .iter()
-            .map(|c| match c.form {
-                Some(_) => RunOutput::Rendered(&c.pieces, &c.speeds),
-                None => RunOutput::Original,
+            .zip(&renderers)
+            .map(|(c, r)| match (c.form, r) {
+                (Some(_), Some(r)) => RunOutput::Parts(r),
+                (Some(_), None) => RunOutput::Rendered(&c.pieces, &c.speeds),
+                (None, _) => RunOutput::Original,
             })
             .collect();
         let mut carry = ctx.carry.clone();
         let text = crate::write_gcode::write_part(program, &outputs, wo, &ctx.facts, &mut carry)
             .map_err(EmitError::WriteGcode)?;
+        drop(outputs);
+        for (k, r) in renderers.into_iter().enumerate() {
+            if let Some(r) = r.map(RefCell::into_inner) {
+                if let Some(e) = r.error {
+                    return Err(e);
+                }
+                (choices[k].stats, choices[k].count) = (r.stats, r.count);
+            }
+        }
+        // A long run's arcs that fell back to G1 on many blocks have the
+        // all-G1 candidate to beat (`choose`): chosen again among every
+        // form, rendered whole, and the text written again.
+        let mut rechosen = false;
+        for k in 0..choices.len() {
+            let c = &choices[k];
+            let arcs = c.form == Some(CurveForm::Arcs) && em.forms.len() > 1;
+            if c.streamed && arcs && !em.long_with_few_lines(k, c) {
+                choices[k] = choose_run(em, k, original, &own[k], false)?;
+                rechosen = true;
+            }
+        }
+        if rechosen {
+            continue;
+        }
         // The rendered pieces are in the text now, and on a long run they
         // are among the largest things held: dropped before the text is
         // read back (rendering is deterministic: a retry renders them again).
-        drop(outputs);
         for c in &mut choices {
             c.pieces = Vec::new();
             c.speeds = Vec::new();
         }
         // Read back for what checking and planning it need (its motions
         // and runs' pieces; no lines held: on long outputs the reading is
-        // the largest thing held).
-        let (reading_after, reread_outline, reread) = ctx
-            .reading
-            .read_part(text.as_bytes())
-            .map_err(EmitError::Reread)?;
-        let check = compare_runs(original, &reread, tolerance)?;
+        // the largest thing held); the runs rendered as they were written
+        // checked and timed as they are read, not held.
+        let (reading_after, reread_outline, reread, streamed) =
+            read_back(em, ctx, original, &choices, &text, tolerance)?;
+        let known: Vec<(usize, RunReport)> = streamed
+            .iter()
+            .map(|r| (r.candidate, r.report.clone()))
+            .collect();
+        let (check, pairs) = compare_runs_known(original, &reread, tolerance, &known)?;
+        let streamed_of = |c: usize| streamed.iter().find(|r| r.candidate == c);
         #[allow(unused_mut)]
         let mut failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
         #[cfg(test)]
@@ -79,7 +136,6 @@ pub(super) fn write_chosen(
         for &k in &failed {
             is_failed[k] = true;
         }
-        let pairs = pair_runs(original, &reread)?;
         // The feed `fairpath simulate` plans the written program at, and
         // whether `time` plans as it does there (then its time is kept for
         // the written program's plan).
@@ -90,15 +146,25 @@ pub(super) fn write_chosen(
         type Judged = (Option<usize>, Option<f64>);
         let judged: Vec<Judged> = par_map(pairs.len(), |i| -> Result<Judged> {
             let (o, c) = pairs[i];
-            if choices[o].form.is_none() || is_failed[o] {
-                return Ok((None, None));
-            }
-            let pieces = &reread[c].pieces;
             let kept = |ts: &[f64]| {
                 user_feed
                     .filter(|_| as_simulate)
                     .and_then(|u| ts.get(u).copied())
             };
+            // A run checked as it was read holds no pieces: its times are
+            // those planned then (every one known: `read_back`), its time
+            // at the user's feed kept whatever the verdict.
+            if let Some(r) = streamed_of(c) {
+                let ts: Vec<f64> = r.times[..nf].iter().flatten().copied().collect();
+                let user = if as_simulate { kept(&ts) } else { r.times[nf] };
+                let judged = choices[o].form.is_some() && !is_failed[o];
+                let slower = judged && ts.iter().zip(&own[o]).any(|(t, w)| t > w);
+                return Ok((slower.then_some(o), user));
+            }
+            if choices[o].form.is_none() || is_failed[o] {
+                return Ok((None, None));
+            }
+            let pieces = &reread[c].pieces;
             if pieces.len() >= PARALLEL_FEEDS_PIECES {
                 let ts = at_feeds(pieces.len(), &|f| time(pieces, f))?;
                 let slower = ts.iter().zip(&own[o]).any(|(t, w)| t > w);
@@ -154,17 +220,74 @@ pub(super) fn write_chosen(
         }
         for k in failed {
             retried[k] = true;
-            let (form, chord) = (choices[k].form, choices[k].chord);
-            choices[k] = match form {
-                Some(form) if attempt < RETRIES => render(k, form, 0.5 * chord)?,
-                _ => Choice::original(chord),
+            let c = &choices[k];
+            choices[k] = match c.form {
+                Some(form) if attempt < RETRIES && c.streamed => {
+                    Choice::streamed(form, 0.5 * c.chord)
+                }
+                Some(form) if attempt < RETRIES => render(k, form, 0.5 * c.chord)?,
+                _ => Choice::original(c.chord),
             };
         }
-        // Every other rewritten run is rendered again for the next text.
+        // Every other rewritten run is rendered again for the next text
+        // (those rendered as they are written, as they are written again).
         for (k, c) in choices.iter_mut().enumerate() {
-            if let (Some(form), true) = (c.form, c.pieces.is_empty()) {
+            if let (Some(form), true, false) = (c.form, c.pieces.is_empty(), c.streamed) {
                 *c = render(k, form, c.chord)?;
             }
         }
     }
+}
+
+/// What reading a written part back gives: the reading after it, its
+/// motions, its runs (those checked as they were read hold no pieces),
+/// and those runs' checks.
+type ReadBack = (MotionReader, Vec<MotionOutline>, Vec<Run>, Vec<StreamedRun>);
+
+/// Reads `text`, the part written with `choices`, back from where `ctx`
+/// stands. The runs rendered as they were written ([`Choice::streamed`])
+/// are checked and timed as they are read ([`StreamCheck`]); where one of
+/// them could not be timed that way (windows that do not stitch) or the
+/// runs do not pair as they were taken to, the text is read again whole
+/// (and checked as any other).
+fn read_back(
+    em: &Emitter,
+    ctx: &PartContext,
+    original: &[Run],
+    choices: &[Choice],
+    text: &str,
+    tolerance: f64,
+) -> Result<ReadBack> {
+    let mut stream = StreamCheck::new(em, original, choices, tolerance);
+    if stream.takes_any() {
+        let (after, outline, runs) = ctx
+            .reading
+            .read_part_streaming(text.as_bytes(), VERIFY_CHUNK, &mut stream)
+            .map_err(EmitError::Reread)?;
+        if let Some(e) = stream.error {
+            return Err(EmitError::Plan(e));
+        }
+        let timed = stream
+            .done
+            .iter()
+            .all(|r| r.times.iter().all(Option::is_some));
+        let streamed: Vec<usize> = stream.done.iter().map(|r| r.candidate).collect();
+        let paired =
+            crate::pipeline::pair_runs_streamed(original, &runs, &streamed).is_ok_and(|pairs| {
+                stream
+                    .done
+                    .iter()
+                    .all(|r| pairs.contains(&(r.original, r.candidate)))
+            });
+        if timed && paired {
+            #[cfg(test)]
+            super::tests::STREAMED_RUNS.with(|n| n.set(n.get() + stream.done.len()));
+            return Ok((after, outline, runs, stream.done));
+        }
+    }
+    let (after, outline, runs) = ctx
+        .reading
+        .read_part(text.as_bytes())
+        .map_err(EmitError::Reread)?;
+    Ok((after, outline, runs, Vec::new()))
 }

@@ -19,19 +19,55 @@ pub(super) struct MotionSink {
     pub(super) outline: Vec<MotionOutline>,
     pub(super) runs: Vec<Run>,
     current: Vec<Piece>,
+    /// The feed of the run being read (of its last piece: a feed change
+    /// ends it), `None` before its first piece.
+    #[allow(clippy::option_option)]
+    feed: Option<Option<f64>>,
+    /// The run being read is handed out part by part
+    /// ([`MotionReader::read_part_streaming`]); it has moved.
+    streamed: bool,
+    moved: bool,
+    /// The stream did not want the run being read: it is held.
+    declined: bool,
+    /// Runs closed that move (not empty, not all zero-length lines), as
+    /// `pair_runs` pairs them: the pairing index of the run being read.
+    moving: usize,
+    /// Runs handed out part by part that the last line closed, with the
+    /// pieces left of them, not yet handed out.
+    ended: Vec<(usize, Vec<Piece>)>,
+}
+
+/// Whether a piece moves: not a line from a point to itself (what
+/// `pair_runs` leaves out of a run that does not move).
+fn moves(p: &Piece) -> bool {
+    !matches!(&p.curve, fairpath::geom::Curve::Line(l) if l.p0 == l.p1)
 }
 
 impl MotionSink {
     pub(super) fn close_run(&mut self) {
-        if !self.current.is_empty() {
-            self.outline.push(MotionOutline::Run(self.runs.len()));
+        if !self.current.is_empty() || self.streamed {
+            let k = self.runs.len();
+            self.outline.push(MotionOutline::Run(k));
             // The run's pieces at their own size: grown by doubling, a
             // long run's vector holds up to twice its pieces, and a
             // written text read back is among the largest things held.
             let mut pieces = core::mem::take(&mut self.current);
-            pieces.shrink_to_fit();
-            self.runs.push(Run::new(pieces));
+            if self.moved || pieces.iter().any(moves) {
+                self.moving += 1;
+            }
+            if self.streamed {
+                // Handed out: the run holds no pieces.
+                self.ended.push((k, pieces));
+                self.runs.push(Run::new(Vec::new()));
+            } else {
+                pieces.shrink_to_fit();
+                self.runs.push(Run::new(pieces));
+            }
         }
+        self.feed = None;
+        self.streamed = false;
+        self.moved = false;
+        self.declined = false;
     }
 
     /// The moves of one line, as `group_runs` groups them: a line that
@@ -51,12 +87,47 @@ impl MotionSink {
         }
         for m in moves {
             debug_assert!(m.pinned.is_none() && m.kind != MoveKind::Rapid);
-            if self.current.last().is_some_and(|l| l.feed != m.piece.feed) {
+            if self.feed.is_some_and(|f| f != m.piece.feed) {
                 self.close_run();
             }
+            self.feed = Some(m.piece.feed);
             self.current.push(m.piece);
         }
     }
+
+    /// Hands out what the last line ended of runs read part by part and,
+    /// where the run being read holds `chunk` pieces and `stream` wants
+    /// it, those pieces.
+    fn hand_out(&mut self, chunk: usize, stream: &mut dyn RunStream) {
+        for (k, rest) in self.ended.drain(..) {
+            stream.pieces(k, &rest, true);
+        }
+        while chunk > 0 && !self.declined && self.current.len() >= chunk {
+            let k = self.runs.len();
+            if !self.streamed && !stream.wants(k, self.moving) {
+                self.declined = true;
+                return;
+            }
+            self.streamed = true;
+            let rest = self.current.split_off(chunk);
+            let part = core::mem::replace(&mut self.current, rest);
+            self.moved |= part.iter().any(moves);
+            stream.pieces(k, &part, false);
+        }
+    }
+}
+
+/// What takes a run of a written text as it is read, part by part,
+/// instead of the reading holding it ([`MotionReader::read_part_streaming`]).
+pub trait RunStream {
+    /// Whether the part's run `run` (its index among the part's runs;
+    /// `moving`, its index among those that move, which is how
+    /// `pair_runs` pairs them with the original's, if it moves) is handed
+    /// out: asked once it holds the chunk's pieces.
+    fn wants(&mut self, run: usize, moving: usize) -> bool;
+    /// The next pieces of run `run`, in order; `end` with its last ones
+    /// (possibly none).
+    fn pieces(&mut self, run: usize, pieces: &[Piece], end: bool);
 }
 
 /// A program without o-words read for its motion part after part: the
@@ -107,6 +178,36 @@ impl MotionReader {
         r.check_closed()?;
         let mut sink = r.sink.take().unwrap_or_default();
         sink.close_run();
+        Ok((MotionReader { r, next }, sink.outline, sink.runs))
+    }
+
+    /// [`MotionReader::read_part`], handing each run that `stream` wants
+    /// to it `chunk` pieces at a time as they are read (and the rest at
+    /// its end) instead of holding it: such a run is in the runs returned
+    /// with no pieces. The memory held then grows with the runs not
+    /// handed out, not with a long written run.
+    pub fn read_part_streaming(
+        &self,
+        text: &[u8],
+        chunk: usize,
+        stream: &mut dyn RunStream,
+    ) -> Result<(MotionReader, Vec<crate::program::MotionOutline>, Vec<Run>), GcodeError> {
+        let mut r = self.r.clone();
+        r.sink = Some(MotionSink::default());
+        let mut next = self.next;
+        for line in line_slices(text) {
+            let (t, ending) = line?;
+            r.step_in_place(next, t, ending)?;
+            if let Some(sink) = &mut r.sink {
+                sink.hand_out(chunk, stream);
+            }
+            next += 1;
+        }
+        r.first_number = next;
+        r.check_closed()?;
+        let mut sink = r.sink.take().unwrap_or_default();
+        sink.close_run();
+        sink.hand_out(0, stream);
         Ok((MotionReader { r, next }, sink.outline, sink.runs))
     }
 }

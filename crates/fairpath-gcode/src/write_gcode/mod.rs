@@ -31,6 +31,7 @@ use crate::error::WriteError;
 use crate::facts::ProgramFacts;
 use crate::program::{MotionMode, Program, RunSpan};
 use fairpath::path::Piece;
+use std::cell::RefCell;
 
 mod blend;
 mod blocks;
@@ -110,8 +111,20 @@ pub fn write_gcode(
     write_gcode_with(program, &outputs, opts)
 }
 
+/// A run's rendering handed to the writer part after part
+/// ([`RunOutput::Parts`]), so that a long run's rendering (millions of
+/// blocks on a one-run raster) is never held whole.
+pub trait RenderedParts {
+    /// The run's next pieces, each with the highest speed (mm/s) it is
+    /// planned to be passed at (as [`RunOutput::Rendered`]; empty where
+    /// unknown), or `None` once every piece is given. A source that fails
+    /// keeps its error and returns `None`: the caller, who reads it after
+    /// the text is written, discards the text.
+    fn next_part(&mut self) -> Option<(Vec<Piece>, Vec<f64>)>;
+}
+
 /// What [`write_gcode_with`] writes for one run.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy)]
 pub enum RunOutput<'a> {
     /// These pieces, as [`write_gcode`] writes them.
     Pieces(&'a [Piece]),
@@ -120,9 +133,23 @@ pub enum RunOutput<'a> {
     /// shorter than [`FINE_PERIODS`] periods of travel get more decimals
     /// ([`GcodeWriteOptions::period_s`]).
     Rendered(&'a [Piece], &'a [f64]),
+    /// The pieces and speeds of [`RunOutput::Rendered`], taken part after
+    /// part from a source as they are written.
+    Parts(&'a RefCell<dyn RenderedParts + 'a>),
     /// The run's own lines, as they are (a motion word inserted where a
     /// line relies on a modal motion that the written program changed).
     Original,
+}
+
+impl core::fmt::Debug for RunOutput<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RunOutput::Pieces(p) => f.debug_tuple("Pieces").field(&p.len()).finish(),
+            RunOutput::Rendered(p, _) => f.debug_tuple("Rendered").field(&p.len()).finish(),
+            RunOutput::Parts(_) => f.write_str("Parts"),
+            RunOutput::Original => f.write_str("Original"),
+        }
+    }
 }
 
 /// First line of the output of an expanded program
@@ -224,26 +251,26 @@ pub fn write_part(
     while i < lines.len() {
         let line = &lines[i];
         let smoothed_run = match smoothed.get(run_idx) {
-            Some(RunOutput::Pieces(p)) if runs[run_idx].first_line == line.number => {
-                Some((*p, &[][..]))
-            }
-            Some(RunOutput::Rendered(p, v)) if runs[run_idx].first_line == line.number => {
-                Some((*p, *v))
-            }
             Some(RunOutput::Original) if runs[run_idx].first_line == line.number => {
                 // Copied line by line below.
                 run_idx += 1;
                 None
             }
+            Some(o) if runs[run_idx].first_line == line.number => Some(o),
             _ => None,
         };
-        if let Some((pieces, speeds)) = smoothed_run {
+        if let Some(output) = smoothed_run {
             let run = &runs[run_idx];
             let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
             w.style = style;
             w.path_before = path_before[run_idx].clone();
             w.path = written_path.take();
-            w.write(pieces, speeds)?;
+            match output {
+                RunOutput::Pieces(p) => w.write(p, &[])?,
+                RunOutput::Rendered(p, v) => w.write(p, v)?,
+                RunOutput::Parts(source) => w.write_parts(&mut *source.borrow_mut())?,
+                RunOutput::Original => unreachable!("copied line by line"),
+            }
             if let Some(m) = w.motion {
                 written_motion = m;
             }

@@ -153,6 +153,47 @@ impl<'a> RunWriter<'a> {
     /// ([`RunOutput::Rendered`](super::RunOutput::Rendered)).
     pub(super) fn write(&mut self, pieces: &[Piece], speeds: &[f64]) -> Result<(), WriteError> {
         let run = self.run;
+        self.begin();
+        // The next line of the span to handle.
+        let mut next_line = run.first_line;
+        let n_pieces = pieces.len();
+        for (pi, piece) in pieces.iter().enumerate() {
+            let last = pi + 1 == n_pieces;
+            self.piece(&mut next_line, piece, speeds.get(pi).copied(), last)?;
+        }
+        self.finish(next_line)
+    }
+
+    /// [`RunWriter::write`] of the pieces `source` gives part after part
+    /// ([`RenderedParts`](super::RenderedParts)): the same text.
+    pub(super) fn write_parts(
+        &mut self,
+        source: &mut dyn super::RenderedParts,
+    ) -> Result<(), WriteError> {
+        self.begin();
+        let mut next_line = self.run.first_line;
+        // One piece held back: whether it is the run's last is known only
+        // once the next part comes.
+        let mut held: Option<(Piece, Option<f64>)> = None;
+        while let Some((pieces, speeds)) = source.next_part() {
+            let with_speeds = speeds.len() == pieces.len();
+            let mut speeds = speeds.into_iter();
+            for piece in pieces {
+                let speed = if with_speeds { speeds.next() } else { None };
+                if let Some((p, v)) = held.replace((piece, speed)) {
+                    self.piece(&mut next_line, &p, v, false)?;
+                }
+            }
+        }
+        if let Some((p, v)) = held {
+            self.piece(&mut next_line, &p, v, true)?;
+        }
+        self.finish(next_line)
+    }
+
+    /// What goes before the run's first block: our blending command where
+    /// it tightens the program's.
+    fn begin(&mut self) {
         if self.tightens_blending() {
             if let Some(pc) = self.g64() {
                 if self.path.as_ref() != Some(&pc) {
@@ -161,23 +202,32 @@ impl<'a> RunWriter<'a> {
                 }
             }
         }
-        // The next line of the span to handle.
-        let mut next_line = run.first_line;
-        let n_pieces = pieces.len();
-        for (pi, piece) in pieces.iter().enumerate() {
-            self.reach(&mut next_line, piece.source_lines.1);
-            self.write_merged_n("the next block");
-            let last = pi + 1 == n_pieces;
-            self.speed = speeds.get(pi).copied();
-            match &piece.curve {
-                Curve::Line(l) => self.write_g1(l.p1, last, piece.feed)?,
-                Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed)?,
-                Curve::Nurbs(n) if self.opts.nurbs.is_some() => {
-                    self.write_nurbs(n, last, piece.feed)?
-                }
-                c => self.write_chords(c, last, piece.feed)?,
-            }
+    }
+
+    /// One piece of the run (`last`: the run's last), after the span's
+    /// lines it reaches, with its planned `speed` if known.
+    fn piece(
+        &mut self,
+        next_line: &mut usize,
+        piece: &Piece,
+        speed: Option<f64>,
+        last: bool,
+    ) -> Result<(), WriteError> {
+        self.reach(next_line, piece.source_lines.1);
+        self.write_merged_n("the next block");
+        self.speed = speed;
+        match &piece.curve {
+            Curve::Line(l) => self.write_g1(l.p1, last, piece.feed),
+            Curve::Arc(a) if self.opts.arcs.is_some() => self.write_arc(a, last, piece.feed),
+            Curve::Nurbs(n) if self.opts.nurbs.is_some() => self.write_nurbs(n, last, piece.feed),
+            c => self.write_chords(c, last, piece.feed),
         }
+    }
+
+    /// After the run's last block: the span's lines left, the N words
+    /// pending, and the state the program has after the run.
+    fn finish(&mut self, mut next_line: usize) -> Result<(), WriteError> {
+        let run = self.run;
         self.reach(&mut next_line, run.last_line + 1);
         if let Some(n) = self.pending_n.take() {
             let value = n[1..].parse().unwrap_or(f64::NAN);

@@ -90,12 +90,14 @@ impl Placed {
     }
 }
 
-/// The segments of the plan of `pieces[a..b]` from rest to rest, placed
-/// on the run, the start of piece `anchor` lying `s0` mm along the run (as
-/// the run's plan adds the stretches' lengths); with that sum at the start
-/// of piece `mark`.
+/// The segments of the plan of the run's pieces `a..b` from rest to
+/// rest, placed on the run, the start of piece `anchor` lying `s0` mm along
+/// the run (as the run's plan adds the stretches' lengths); with that sum
+/// at the start of piece `mark`. `pieces` are the run's pieces from
+/// `base` on.
 fn window_plan(
     pieces: &[Piece],
+    base: usize,
     (a, b): (usize, usize),
     (anchor, s0, mark): (usize, f64, usize),
     opts: &PlanOptions,
@@ -106,7 +108,7 @@ fn window_plan(
         anchor: anchor - a,
         mark: mark.min(b) - a,
     };
-    let (plan, marked) = plan_window(&pieces[a..b], opts, corners, at)?;
+    let (plan, marked) = plan_window(&pieces[a - base..b - base], opts, corners, at)?;
     let placed = plan
         .segments
         .iter()
@@ -171,39 +173,199 @@ pub fn plan_time_in_windows(
     corners: Corners,
     w: PlanWindows,
 ) -> Result<Option<f64>, FeedError> {
-    let n = pieces.len();
-    if !w.windows(n) || w.step == 0 || opts.window.is_some() || opts.ends != RunEnds::AtRest {
+    if !w.windows(pieces.len()) || !applies(opts, w) {
         return Ok(None);
     }
-    let reach = w.step + 2 * w.overlap;
-    // Each window after the first takes its sums of lengths from the one
-    // before at its anchor, a half overlap in (inside both), and is
-    // stitched from there on only.
-    let anchor_of = |a: usize| a + w.overlap / 2;
-    let mut a = 0;
-    let first = (0, 0.0, anchor_of(w.step));
-    let (mut held, mut s0) = window_plan(pieces, (0, reach.min(n)), first, opts, corners)?;
-    let mut time = 0.0;
-    while a + reach < n {
-        a += w.step;
-        let b = (a + reach).min(n);
-        let anchor = anchor_of(a);
-        let at = (anchor, s0, anchor_of(a + w.step));
-        let (mut next, s1) = window_plan(pieces, (a, b), at, opts, corners)?;
-        next.retain(|s| s.start.0 >= anchor);
-        let Some((i, j)) = stitch(&held, &next) else {
-            return Ok(None);
+    let mut st = Stitcher::new(w);
+    if !st.advance(pieces, 0, true, opts, corners)? {
+        return Ok(None);
+    }
+    Ok(Some(st.time()))
+}
+
+/// Whether a run planned with `opts` can be planned in the windows `w`:
+/// from rest to rest, with the whole look-ahead.
+fn applies(opts: &PlanOptions, w: PlanWindows) -> bool {
+    w.step > 0 && opts.window.is_none() && opts.ends == RunEnds::AtRest
+}
+
+/// Where the windows of a run stand: the last one planned and its
+/// segments not yet added (see the module docs).
+struct Stitcher {
+    w: PlanWindows,
+    /// Pieces a window spans: its step and an overlap at each end.
+    reach: usize,
+    /// Start of the last window planned, once the first is.
+    a: Option<usize>,
+    /// The last window's segments from its stitch on.
+    held: Vec<Placed>,
+    /// The sum of lengths at the next window's anchor.
+    s0: f64,
+    /// The durations of the segments before `held`, added in order.
+    time: f64,
+}
+
+impl Stitcher {
+    fn new(w: PlanWindows) -> Stitcher {
+        Stitcher {
+            w,
+            reach: w.step + 2 * w.overlap,
+            a: None,
+            held: Vec::new(),
+            s0: 0.0,
+            time: 0.0,
+        }
+    }
+
+    /// Each window after the first takes its sums of lengths from the one
+    /// before at its anchor, a half overlap in (inside both), and is
+    /// stitched from there on only.
+    fn anchor_of(&self, a: usize) -> usize {
+        a + self.w.overlap / 2
+    }
+
+    /// The first of the run's pieces a window not yet planned needs.
+    fn needed_from(&self) -> usize {
+        self.a.map_or(0, |a| a + self.w.step)
+    }
+
+    /// Plans every window `pieces` holds whole: the run's pieces from
+    /// `base` (at most [`Stitcher::needed_from`]) on, all of them if
+    /// `done`. The first window is planned once the run is known to be
+    /// longer than one. Returns false where two windows hold no segments
+    /// alike (the run is then planned whole).
+    fn advance(
+        &mut self,
+        pieces: &[Piece],
+        base: usize,
+        done: bool,
+        opts: &PlanOptions,
+        corners: Corners,
+    ) -> Result<bool, FeedError> {
+        let (w, reach) = (self.w, self.reach);
+        let n = base + pieces.len();
+        let mut a = match self.a {
+            Some(a) => a,
+            None if n > reach => {
+                let first = (0, 0.0, self.anchor_of(w.step));
+                let (held, s0) = window_plan(pieces, base, (0, reach), first, opts, corners)?;
+                (self.held, self.s0) = (held, s0);
+                self.a = Some(0);
+                0
+            }
+            None => return Ok(true),
         };
-        // In order, as the whole plan adds them.
-        for s in &held[..i] {
+        while a + reach < n {
+            let next_a = a + w.step;
+            let b = (next_a + reach).min(n);
+            // The window's end is not known yet.
+            if b < next_a + reach && !done {
+                break;
+            }
+            let anchor = self.anchor_of(next_a);
+            let at = (anchor, self.s0, self.anchor_of(next_a + w.step));
+            let (mut next, s1) = window_plan(pieces, base, (next_a, b), at, opts, corners)?;
+            next.retain(|s| s.start.0 >= anchor);
+            let Some((i, j)) = stitch(&self.held, &next) else {
+                return Ok(false);
+            };
+            // In order, as the whole plan adds them.
+            for s in &self.held[..i] {
+                self.time += s.duration();
+            }
+            next.drain(..j);
+            self.held = next;
+            self.s0 = s1;
+            a = next_a;
+            self.a = Some(a);
+        }
+        Ok(true)
+    }
+
+    /// The run's time once every window is planned.
+    fn time(&self) -> f64 {
+        let mut time = self.time;
+        for s in &self.held {
             time += s.duration();
         }
-        held = next;
-        held.drain(..j);
-        s0 = s1;
+        time
     }
-    for s in &held {
-        time += s.duration();
+}
+
+/// [`plan_time_windowed`] of a run whose pieces come a part at a time (a
+/// written run as it is read back): it holds the pieces of the window
+/// being filled, not the run.
+pub struct WindowedTimer {
+    opts: PlanOptions,
+    corners: Corners,
+    st: Stitcher,
+    /// The run's pieces from `base` on, not yet planned.
+    held: Vec<Piece>,
+    base: usize,
+    /// Two windows held no segments alike.
+    unstitched: bool,
+}
+
+impl WindowedTimer {
+    /// A timer for a run planned with `opts` and `corners` in the windows
+    /// `w`; `None` where windows do not apply (a bounded look-ahead, ends
+    /// other than rest).
+    pub fn new(opts: &PlanOptions, corners: Corners, w: PlanWindows) -> Option<WindowedTimer> {
+        applies(opts, w).then(|| WindowedTimer {
+            opts: *opts,
+            corners,
+            st: Stitcher::new(w),
+            held: Vec::new(),
+            base: 0,
+            unstitched: false,
+        })
     }
-    Ok(Some(time))
+
+    /// The run's next pieces, in order; the windows they complete are
+    /// planned.
+    pub fn push(&mut self, pieces: &[Piece]) -> Result<(), FeedError> {
+        if self.unstitched {
+            return Ok(());
+        }
+        self.held.extend_from_slice(pieces);
+        self.plan(false)
+    }
+
+    fn plan(&mut self, done: bool) -> Result<(), FeedError> {
+        let (opts, corners) = (&self.opts, self.corners);
+        if !self
+            .st
+            .advance(&self.held, self.base, done, opts, corners)?
+        {
+            self.unstitched = true;
+            self.held = Vec::new();
+            return Ok(());
+        }
+        // (Past the run's end once its last window is planned.)
+        let drop = (self.st.needed_from() - self.base).min(self.held.len());
+        if drop > 0 {
+            self.held.drain(..drop);
+            self.base += drop;
+        }
+        Ok(())
+    }
+
+    /// The run's time: [`plan_time_windowed`]'s, to the bit; `None` where
+    /// two windows held no segments alike (the run must be planned whole,
+    /// which this timer cannot: it no longer holds the run).
+    pub fn finish(mut self) -> Result<Option<f64>, FeedError> {
+        if self.unstitched {
+            return Ok(None);
+        }
+        if self.st.a.is_none() && !self.st.w.windows(self.held.len()) {
+            // One window: planned whole, as `plan_time_windowed` plans it.
+            let none = Shaping::none();
+            return plan_time_shaped(&self.held, &self.opts, &none, self.corners).map(Some);
+        }
+        self.plan(true)?;
+        if self.unstitched {
+            return Ok(None);
+        }
+        Ok(Some(self.st.time()))
+    }
 }

@@ -35,7 +35,7 @@
 
 mod parallel;
 
-pub use parallel::{par_map, verify_runs, verify_runs_measuring};
+pub use parallel::{par_map, verify_runs, verify_runs_measuring, VERIFY_CHUNK};
 
 use crate::budget::ToleranceBudget;
 use crate::path::{Piece, Run};

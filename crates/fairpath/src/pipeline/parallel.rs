@@ -7,8 +7,11 @@ use crate::path::Piece;
 use crate::verify::{report_measuring, Deviation, Measures, RunReport, Verifier, VerifyOptions};
 use alloc::vec::Vec;
 
-/// Pieces per deviation job: long runs are measured in chunks this size.
-const CHUNK: usize = 4096;
+/// Pieces per deviation job: long runs are measured in chunks this size
+/// (a caller that measures a run as it comes, chunk after chunk from its
+/// start, merging in order, finds the same deviation to the bit).
+pub const VERIFY_CHUNK: usize = 4096;
+const CHUNK: usize = VERIFY_CHUNK;
 
 /// Runs `f(i)` for `i in 0..n`, results in order: with the `std` feature
 /// on as many scoped threads as the machine has cores (at most `n`), each

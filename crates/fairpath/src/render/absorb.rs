@@ -59,8 +59,22 @@ pub(crate) fn absorb_with_speeds(
     max_len: f64,
     max_shift: f64,
 ) -> usize {
+    absorb_from(pieces, speeds, max_len, max_shift, 0.0).0
+}
+
+/// [`absorb_with_speeds`] where the merges into `pieces[0]` have already
+/// moved the path by `used` (mm: it is the last piece kept of the run's
+/// pieces before, [`super::LineAbsorber`]); also returns what the merges
+/// into the last piece kept have moved it by.
+pub(crate) fn absorb_from(
+    pieces: &mut Vec<Piece>,
+    speeds: &mut Vec<f64>,
+    max_len: f64,
+    max_shift: f64,
+    used: f64,
+) -> (usize, f64) {
     if !(max_len > 0.0 && max_shift > 0.0) || pieces.len() < 2 {
-        return 0;
+        return (0, used);
     }
     let with_speeds = speeds.len() == pieces.len();
     // Compacted in place (a long run's rendering is among the largest
@@ -68,7 +82,8 @@ pub(crate) fn absorb_with_speeds(
     let mut merged = 0;
     let mut kept = 0;
     // What the merges into `pieces[kept - 1]` have moved the path by.
-    let mut used = 0.0;
+    let used0 = used;
+    let mut used = used;
     for i in 0..pieces.len() {
         let short = match &pieces[i].curve {
             Curve::Line(l) => {
@@ -98,13 +113,13 @@ pub(crate) fn absorb_with_speeds(
             speeds.swap(kept, i);
         }
         kept += 1;
-        used = 0.0;
+        used = if i == 0 { used0 } else { 0.0 };
     }
     pieces.truncate(kept);
     if with_speeds {
         speeds.truncate(kept);
     }
-    merged
+    (merged, used)
 }
 
 /// The curve of `prev` with the line `short` after it and the bound of

@@ -264,6 +264,73 @@ pub fn absorb_lines(r: &mut Rendered, opts: &RenderOptions) {
     r.stats.absorbed_lines += merged;
 }
 
+/// [`absorb_lines`] of a long run rendered part after part
+/// ([`render_range`]s of consecutive ranges, in order), so that the run's
+/// rendering is never held whole: each part comes out with its short
+/// lines merged, but for its last piece kept, which a short line at the
+/// start of the next part may still merge into (it comes out with that
+/// part, or from [`LineAbsorber::finish`]). The parts' pieces, speeds and
+/// stats, concatenated and added, are [`absorb_lines`]' of the whole.
+pub struct LineAbsorber {
+    max_len: f64,
+    max_shift: f64,
+    /// The last piece kept, its speed (if the parts have speeds) and what
+    /// the merges into it have moved the path by.
+    held: Option<(Piece, Option<f64>, f64)>,
+}
+
+impl LineAbsorber {
+    /// For a run rendered with `opts`.
+    pub fn new(opts: &RenderOptions) -> LineAbsorber {
+        LineAbsorber {
+            max_len: crate::budget::SHORT_LINE_SHARE * opts.chord,
+            max_shift: crate::budget::ABSORB_SHIFT_SHARE * opts.chord,
+            held: None,
+        }
+    }
+
+    /// The next part of the run: what of it, and of the piece held from
+    /// the part before, no later part can change.
+    pub fn push(&mut self, mut r: Rendered) -> Rendered {
+        let mut used = 0.0;
+        if let Some((piece, speed, u)) = self.held.take() {
+            r.pieces.insert(0, piece);
+            if let Some(v) = speed {
+                if r.speeds.len() + 1 == r.pieces.len() {
+                    r.speeds.insert(0, v);
+                }
+            }
+            used = u;
+        }
+        let (merged, used) = absorb::absorb_from(
+            &mut r.pieces,
+            &mut r.speeds,
+            self.max_len,
+            self.max_shift,
+            used,
+        );
+        // (The lines merged are the part's: the held piece is never one.)
+        r.stats.lines -= merged;
+        r.stats.absorbed_lines += merged;
+        let with_speeds = r.speeds.len() == r.pieces.len();
+        if let Some(piece) = r.pieces.pop() {
+            let speed = if with_speeds { r.speeds.pop() } else { None };
+            self.held = Some((piece, speed, used));
+        }
+        r
+    }
+
+    /// The last piece of the run (no stats: they came with its part).
+    pub fn finish(self) -> Rendered {
+        let mut r = Rendered::default();
+        if let Some((piece, speed, _)) = self.held {
+            r.pieces.push(piece);
+            r.speeds.extend(speed);
+        }
+        r
+    }
+}
+
 /// [`render_run`] of the pieces `range` of the run `pieces` only. Each
 /// piece is rendered on its own (from its curve and the planned speed
 /// along it), so the renderings of consecutive ranges, concatenated, are

@@ -1,0 +1,257 @@
+//! A long run's written text checked as it is read back, part after part
+//! ([`RunStream`]): its deviation from the original run, its end points
+//! and its planned times at each feed, measured as the pieces come and
+//! then dropped, so that the reading never holds the run (1.67 million
+//! blocks on a one-run raster written as arcs, 333 MB of pieces).
+//!
+//! The figures are those of the check that reads the run whole
+//! ([`crate::pipeline::compare_runs`] and [`Emitter::time`]), to the bit:
+//! the deviation is measured in the verifier's chunks from the run's start
+//! ([`VERIFY_CHUNK`]) and merged in order, as it merges a long run's, and
+//! the times are planned in the windows [`Emitter::time`] plans in
+//! ([`WindowedTimer`]). Where two windows do not stitch (a plan that must
+//! be made whole), or the runs read do not pair as they were taken to,
+//! the caller reads the text again whole.
+
+use super::emitter::{Choice, Emitter};
+use crate::interp::RunStream;
+use fairpath::feed::plan::{Corners, PlanOptions};
+use fairpath::feed::windowed::{PlanWindows, WindowedTimer};
+use fairpath::feed::FeedError;
+use fairpath::path::{Piece, Run};
+use fairpath::pipeline::{par_map, VERIFY_CHUNK};
+use fairpath::verify::{report_measuring, Deviation, Measures, RunReport, Verifier, VerifyOptions};
+use std::sync::Mutex;
+
+/// Verifier chunks measured side by side (with the windows they complete
+/// planned beside them): a group's pieces are all the check holds of a
+/// run.
+const GROUP_CHUNKS: usize = 8;
+
+/// A run checked as it was read.
+pub(super) struct StreamedRun {
+    /// Its index among the part's runs read back, and the original's it
+    /// was paired with.
+    pub(super) candidate: usize,
+    pub(super) original: usize,
+    pub(super) report: RunReport,
+    /// Its time at each of [`Emitter::feeds`] as the choice is judged,
+    /// then at the user's feed as `fairpath simulate` plans it where that
+    /// is another plan (see [`StreamCheck::new`]); `None` where the
+    /// windows did not stitch.
+    pub(super) times: Vec<Option<f64>>,
+}
+
+/// The run being read.
+struct Current<'a> {
+    candidate: usize,
+    original: usize,
+    verifier: Verifier,
+    deviation: Option<Deviation>,
+    first: Option<Piece>,
+    last: Option<Piece>,
+    timers: Vec<Mutex<WindowedTimer>>,
+    /// Pieces read and not yet measured.
+    held: Vec<Piece>,
+    original_pieces: &'a [Piece],
+}
+
+/// Takes the runs of a written part whose choice is rendered part after
+/// part ([`Choice::streamed`]) as they are read back.
+pub(super) struct StreamCheck<'a> {
+    original: &'a [Run],
+    /// Per original run, whether its rendering is taken as it is read.
+    taken: Vec<bool>,
+    /// The original runs that move, in order (how runs pair).
+    moving: Vec<usize>,
+    verify: VerifyOptions,
+    /// The plans each run is timed by: the feed (`true`: the machine's
+    /// maximum) and how corners are judged.
+    plans: Vec<(PlanOptions, Corners)>,
+    current: Option<Current<'a>>,
+    pub(super) done: Vec<StreamedRun>,
+    pub(super) error: Option<FeedError>,
+}
+
+impl<'a> StreamCheck<'a> {
+    /// For the runs of `em`'s part, `original` the program's own, with
+    /// `choices`; `tolerance` what the written text must keep. Each run
+    /// is timed at every feed of [`Emitter::feeds`] as `em` judges it, and
+    /// where that is not as `fairpath simulate` plans it (corners other
+    /// than blended), also at the user's feed as it does, for the written
+    /// program's time.
+    pub(super) fn new(
+        em: &Emitter,
+        original: &'a [Run],
+        choices: &[Choice],
+        tolerance: f64,
+    ) -> StreamCheck<'a> {
+        let opts = &em.opts;
+        let plan = |override_feed: bool| PlanOptions {
+            limits: opts.machine,
+            override_feed,
+            window: None,
+            ends: Default::default(),
+        };
+        let mut plans: Vec<(PlanOptions, Corners)> = em
+            .feeds
+            .iter()
+            .map(|&f| (plan(f), opts.judged_by))
+            .collect();
+        if opts.judged_by != Corners::Blended {
+            plans.push((plan(opts.override_feed), Corners::Blended));
+        }
+        let moving = (0..original.len())
+            .filter(|&i| original[i].pieces.iter().any(moves))
+            .collect();
+        StreamCheck {
+            original,
+            taken: choices.iter().map(|c| c.streamed).collect(),
+            moving,
+            verify: VerifyOptions::new(tolerance),
+            plans,
+            current: None,
+            done: Vec::new(),
+            error: None,
+        }
+    }
+
+    /// Whether any run is taken as it is read.
+    pub(super) fn takes_any(&self) -> bool {
+        self.taken.iter().any(|&t| t)
+    }
+
+    /// Measures and plans the pieces held.
+    fn measure(&mut self) {
+        let Some(cur) = self.current.as_mut() else {
+            return;
+        };
+        if cur.held.is_empty() {
+            return;
+        }
+        let held = core::mem::take(&mut cur.held);
+        if cur.first.is_none() {
+            cur.first = held.first().cloned();
+        }
+        cur.last = held.last().cloned();
+        let chunks = held.len().div_ceil(VERIFY_CHUNK);
+        let timers = cur.timers.len();
+        enum Job {
+            Deviation(Deviation),
+            Planned(Result<(), FeedError>),
+        }
+        let (verifier, timer) = (&cur.verifier, &cur.timers);
+        let jobs = par_map(chunks + timers, |j| {
+            if j < chunks {
+                let end = ((j + 1) * VERIFY_CHUNK).min(held.len());
+                Job::Deviation(verifier.deviation(&held[j * VERIFY_CHUNK..end]))
+            } else {
+                let mut t = timer[j - chunks].lock().unwrap_or_else(|e| e.into_inner());
+                Job::Planned(t.push(&held))
+            }
+        });
+        for job in jobs {
+            match job {
+                Job::Deviation(d) => {
+                    cur.deviation = Some(match cur.deviation {
+                        Some(acc) => acc.merge(d),
+                        None => d,
+                    });
+                }
+                Job::Planned(Err(e)) => {
+                    self.error.get_or_insert(e);
+                }
+                Job::Planned(Ok(())) => {}
+            }
+        }
+    }
+
+    /// The run being read ends.
+    fn end(&mut self) {
+        self.measure();
+        let Some(cur) = self.current.take() else {
+            return;
+        };
+        let mut times = Vec::with_capacity(cur.timers.len());
+        for t in cur.timers {
+            let t = t.into_inner().unwrap_or_else(|e| e.into_inner());
+            match t.finish() {
+                Ok(t) => times.push(t),
+                Err(e) => {
+                    self.error.get_or_insert(e);
+                    times.push(None);
+                }
+            }
+        }
+        // The report the verifier makes of the run whole: its ends from
+        // the first and last pieces (all that `Measures::Ends` reads of
+        // them), its deviation from the chunks.
+        let ends: Vec<Piece> = cur.first.into_iter().chain(cur.last).collect();
+        let (mut report, measure) =
+            report_measuring(cur.original_pieces, &ends, &self.verify, Measures::Ends);
+        if let (true, Some(d)) = (measure, cur.deviation) {
+            report.set_deviation(d);
+        }
+        self.done.push(StreamedRun {
+            candidate: cur.candidate,
+            original: cur.original,
+            report,
+            times,
+        });
+    }
+}
+
+impl RunStream for StreamCheck<'_> {
+    fn wants(&mut self, run: usize, moving: usize) -> bool {
+        let Some(&o) = self.moving.get(moving) else {
+            return false;
+        };
+        if !self.taken[o] || self.current.is_some() {
+            return false;
+        }
+        let windows = PlanWindows::DEFAULT;
+        let timers: Option<Vec<_>> = self
+            .plans
+            .iter()
+            .map(|(po, corners)| WindowedTimer::new(po, *corners, windows).map(Mutex::new))
+            .collect();
+        let Some(timers) = timers else {
+            return false;
+        };
+        let original_pieces = self.original[o].pieces.as_slice();
+        self.current = Some(Current {
+            candidate: run,
+            original: o,
+            verifier: Verifier::new(original_pieces, &self.verify),
+            deviation: None,
+            first: None,
+            last: None,
+            timers,
+            held: Vec::new(),
+            original_pieces,
+        });
+        true
+    }
+
+    fn pieces(&mut self, run: usize, pieces: &[Piece], end: bool) {
+        match self.current.as_mut() {
+            Some(cur) if cur.candidate == run => cur.held.extend_from_slice(pieces),
+            _ => return,
+        }
+        let full = self
+            .current
+            .as_ref()
+            .is_some_and(|c| c.held.len() >= GROUP_CHUNKS * VERIFY_CHUNK);
+        if end {
+            self.end();
+        } else if full {
+            self.measure();
+        }
+    }
+}
+
+/// Whether a piece moves (as `pair_runs` pairs runs: a run moves unless
+/// every piece is a line from a point to itself).
+fn moves(p: &Piece) -> bool {
+    !matches!(&p.curve, fairpath::geom::Curve::Line(l) if l.p0 == l.p1)
+}
