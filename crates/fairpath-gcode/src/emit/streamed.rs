@@ -12,15 +12,22 @@
 //! ([`WindowedTimer`]). Where two windows do not stitch (a plan that must
 //! be made whole), or the runs read do not pair as they were taken to,
 //! the caller reads the text again whole.
+//!
+//! The reading ([`StreamFront`], on the caller's thread) and the measuring
+//! ([`StreamCheck`], on a thread beside it) overlap: the reader hands a
+//! group of pieces over and reads on while the group is measured.
 
 use super::emitter::{Choice, Emitter};
-use crate::interp::RunStream;
+use super::EmitError;
+use crate::interp::{MotionReader, RunStream};
+use crate::program::MotionOutline;
 use fairpath::feed::plan::{Corners, PlanOptions};
 use fairpath::feed::windowed::{PlanWindows, WindowedTimer};
 use fairpath::feed::FeedError;
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::{par_map, VERIFY_CHUNK};
 use fairpath::verify::{report_measuring, Deviation, Measures, RunReport, Verifier, VerifyOptions};
+use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Mutex;
 
 /// Verifier chunks measured side by side (with the windows they complete
@@ -56,14 +63,68 @@ struct Current<'a> {
     original_pieces: &'a [Piece],
 }
 
-/// Takes the runs of a written part whose choice is rendered part after
-/// part ([`Choice::streamed`]) as they are read back.
-pub(super) struct StreamCheck<'a> {
-    original: &'a [Run],
+/// What the reading hands over to the measuring.
+enum Handed {
+    /// Run `candidate` of the text, paired with the original's run
+    /// `original`, starts.
+    Start { candidate: usize, original: usize },
+    /// Its next pieces.
+    Pieces(Vec<Piece>),
+    /// It ends.
+    End,
+}
+
+/// The reading's side: which runs are taken (those whose choice is
+/// rendered part after part), and their pieces handed over a group at a
+/// time.
+struct StreamFront {
     /// Per original run, whether its rendering is taken as it is read.
     taken: Vec<bool>,
     /// The original runs that move, in order (how runs pair).
     moving: Vec<usize>,
+    /// The run being taken, and its pieces not yet handed over.
+    run: Option<usize>,
+    held: Vec<Piece>,
+    to_check: SyncSender<Handed>,
+}
+
+impl RunStream for StreamFront {
+    fn wants(&mut self, run: usize, moving: usize) -> bool {
+        let Some(&o) = self.moving.get(moving) else {
+            return false;
+        };
+        if !self.taken[o] || self.run.is_some() {
+            return false;
+        }
+        self.run = Some(run);
+        let start = Handed::Start {
+            candidate: run,
+            original: o,
+        };
+        // (A measuring that stopped has its reason, which the caller reads.)
+        self.to_check.send(start).is_ok()
+    }
+
+    fn pieces(&mut self, run: usize, pieces: &[Piece], end: bool) {
+        if self.run != Some(run) {
+            return;
+        }
+        self.held.extend_from_slice(pieces);
+        if end || self.held.len() >= GROUP_CHUNKS * VERIFY_CHUNK {
+            let held = core::mem::take(&mut self.held);
+            let _ = self.to_check.send(Handed::Pieces(held));
+        }
+        if end {
+            let _ = self.to_check.send(Handed::End);
+            self.run = None;
+        }
+    }
+}
+
+/// The measuring's side: each run taken, checked and timed as its pieces
+/// come.
+pub(super) struct StreamCheck<'a> {
+    original: &'a [Run],
     verify: VerifyOptions,
     /// The plans each run is timed by: the feed (`true`: the machine's
     /// maximum) and how corners are judged.
@@ -73,19 +134,71 @@ pub(super) struct StreamCheck<'a> {
     pub(super) error: Option<FeedError>,
 }
 
+/// Whether any of `choices` is rendered part after part (and so may be
+/// read back that way, [`read_checking`]).
+pub(super) fn takes_any(choices: &[Choice]) -> bool {
+    choices.iter().any(|c| c.streamed)
+}
+
+/// What [`read_checking`] gives: the reading after the text, its
+/// motions, its runs (those taken hold no pieces), and the runs taken,
+/// checked.
+pub(super) type Checked = (MotionReader, Vec<MotionOutline>, Vec<Run>, Vec<StreamedRun>);
+
+/// Reads `text` (a part written with `choices`) from `reading`, the runs
+/// rendered part after part taken as they are read and checked against
+/// `original` on a thread beside the reading (see the module docs).
+pub(super) fn read_checking(
+    em: &Emitter,
+    reading: &MotionReader,
+    text: &[u8],
+    original: &[Run],
+    choices: &[Choice],
+    tolerance: f64,
+) -> Result<Checked, EmitError> {
+    let check = StreamCheck::new(em, original, tolerance);
+    let moving = (0..original.len())
+        .filter(|&i| original[i].pieces.iter().any(moves))
+        .collect();
+    std::thread::scope(|s| {
+        // Two groups in flight: the reader runs ahead of the measuring by
+        // at most that much.
+        let (to_check, handed) = sync_channel(2);
+        let measuring = s.spawn(move || {
+            let mut check = check;
+            for h in handed {
+                check.take(h);
+            }
+            check
+        });
+        let mut front = StreamFront {
+            taken: choices.iter().map(|c| c.streamed).collect(),
+            moving,
+            run: None,
+            held: Vec::new(),
+            to_check,
+        };
+        let read = reading.read_part_streaming(text, VERIFY_CHUNK, &mut front);
+        drop(front);
+        let check = measuring
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        let (after, outline, runs) = read.map_err(EmitError::Reread)?;
+        if let Some(e) = check.error {
+            return Err(EmitError::Plan(e));
+        }
+        Ok((after, outline, runs, check.done))
+    })
+}
+
 impl<'a> StreamCheck<'a> {
-    /// For the runs of `em`'s part, `original` the program's own, with
-    /// `choices`; `tolerance` what the written text must keep. Each run
-    /// is timed at every feed of [`Emitter::feeds`] as `em` judges it, and
-    /// where that is not as `fairpath simulate` plans it (corners other
-    /// than blended), also at the user's feed as it does, for the written
+    /// For the runs of `em`'s part, `original` the program's own;
+    /// `tolerance` what the written text must keep. Each run is timed at
+    /// every feed of [`Emitter::feeds`] as `em` judges it, and where that
+    /// is not as `fairpath simulate` plans it (corners other than
+    /// blended), also at the user's feed as it does, for the written
     /// program's time.
-    pub(super) fn new(
-        em: &Emitter,
-        original: &'a [Run],
-        choices: &[Choice],
-        tolerance: f64,
-    ) -> StreamCheck<'a> {
+    fn new(em: &Emitter, original: &'a [Run], tolerance: f64) -> StreamCheck<'a> {
         let opts = &em.opts;
         let plan = |override_feed: bool| PlanOptions {
             limits: opts.machine,
@@ -101,13 +214,8 @@ impl<'a> StreamCheck<'a> {
         if opts.judged_by != Corners::Blended {
             plans.push((plan(opts.override_feed), Corners::Blended));
         }
-        let moving = (0..original.len())
-            .filter(|&i| original[i].pieces.iter().any(moves))
-            .collect();
         StreamCheck {
             original,
-            taken: choices.iter().map(|c| c.streamed).collect(),
-            moving,
             verify: VerifyOptions::new(tolerance),
             plans,
             current: None,
@@ -116,9 +224,45 @@ impl<'a> StreamCheck<'a> {
         }
     }
 
-    /// Whether any run is taken as it is read.
-    pub(super) fn takes_any(&self) -> bool {
-        self.taken.iter().any(|&t| t)
+    /// What the reading handed over.
+    fn take(&mut self, h: Handed) {
+        match h {
+            Handed::Start {
+                candidate,
+                original,
+            } => self.start(candidate, original),
+            Handed::Pieces(p) => {
+                if let Some(cur) = self.current.as_mut() {
+                    cur.held = p;
+                }
+                self.measure();
+            }
+            Handed::End => self.end(),
+        }
+    }
+
+    /// Run `candidate` of the text starts, paired with `original`.
+    fn start(&mut self, candidate: usize, original: usize) {
+        let windows = PlanWindows::DEFAULT;
+        let timers: Option<Vec<_>> = self
+            .plans
+            .iter()
+            .map(|(po, corners)| WindowedTimer::new(po, *corners, windows).map(Mutex::new))
+            .collect();
+        // (Windows apply to every plan here: rest to rest, whole look-ahead.)
+        let timers = timers.unwrap_or_default();
+        let original_pieces = self.original[original].pieces.as_slice();
+        self.current = Some(Current {
+            candidate,
+            original,
+            verifier: Verifier::new(original_pieces, &self.verify),
+            deviation: None,
+            first: None,
+            last: None,
+            timers,
+            held: Vec::new(),
+            original_pieces,
+        });
     }
 
     /// Measures and plans the pieces held.
@@ -172,7 +316,11 @@ impl<'a> StreamCheck<'a> {
         let Some(cur) = self.current.take() else {
             return;
         };
-        let mut times = Vec::with_capacity(cur.timers.len());
+        let mut times = Vec::with_capacity(self.plans.len());
+        if cur.timers.len() != self.plans.len() {
+            // (No timers: the run is to be read whole.)
+            times.resize(self.plans.len(), None);
+        }
         for t in cur.timers {
             let t = t.into_inner().unwrap_or_else(|e| e.into_inner());
             match t.finish() {
@@ -198,55 +346,6 @@ impl<'a> StreamCheck<'a> {
             report,
             times,
         });
-    }
-}
-
-impl RunStream for StreamCheck<'_> {
-    fn wants(&mut self, run: usize, moving: usize) -> bool {
-        let Some(&o) = self.moving.get(moving) else {
-            return false;
-        };
-        if !self.taken[o] || self.current.is_some() {
-            return false;
-        }
-        let windows = PlanWindows::DEFAULT;
-        let timers: Option<Vec<_>> = self
-            .plans
-            .iter()
-            .map(|(po, corners)| WindowedTimer::new(po, *corners, windows).map(Mutex::new))
-            .collect();
-        let Some(timers) = timers else {
-            return false;
-        };
-        let original_pieces = self.original[o].pieces.as_slice();
-        self.current = Some(Current {
-            candidate: run,
-            original: o,
-            verifier: Verifier::new(original_pieces, &self.verify),
-            deviation: None,
-            first: None,
-            last: None,
-            timers,
-            held: Vec::new(),
-            original_pieces,
-        });
-        true
-    }
-
-    fn pieces(&mut self, run: usize, pieces: &[Piece], end: bool) {
-        match self.current.as_mut() {
-            Some(cur) if cur.candidate == run => cur.held.extend_from_slice(pieces),
-            _ => return,
-        }
-        let full = self
-            .current
-            .as_ref()
-            .is_some_and(|c| c.held.len() >= GROUP_CHUNKS * VERIFY_CHUNK);
-        if end {
-            self.end();
-        } else if full {
-            self.measure();
-        }
     }
 }
 

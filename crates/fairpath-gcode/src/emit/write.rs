@@ -15,15 +15,14 @@
 
 use super::choose::{choose_run, Chosen};
 use super::emitter::{Choice, Emitter, PartsRenderer};
-use super::streamed::{StreamCheck, StreamedRun};
+use super::streamed;
 use super::{EmitError, Emitted, PartContext, Result, PARALLEL_FEEDS_PIECES, RETRIES};
-use crate::interp::MotionReader;
 use crate::pipeline::{compare_runs_known, WrittenReading};
-use crate::program::MotionOutline;
+use crate::write_gcode::WriterCarry;
 use crate::RunOutput;
 use fairpath::feed::plan::Corners;
 use fairpath::path::Run;
-use fairpath::pipeline::{par_map, VERIFY_CHUNK};
+use fairpath::pipeline::par_map;
 use fairpath::render::{CurveForm, RenderStats};
 use fairpath::verify::RunReport;
 use std::cell::RefCell;
@@ -36,7 +35,7 @@ pub(super) fn write_chosen(
     original: &[Run],
     chosen: Chosen,
 ) -> Result<Emitted> {
-    let (program, feeds, opts, wo) = (em.program, &em.feeds, &em.opts, &em.wo);
+    let (feeds, opts) = (&em.feeds, &em.opts);
     let tolerance = opts.budget.written();
     let nf = feeds.len();
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
@@ -56,41 +55,12 @@ pub(super) fn write_chosen(
     // returned is the one written last.
     let mut attempt = 0;
     loop {
-        // Long runs rendered as they are written.
-        let renderers: Vec<Option<RefCell<PartsRenderer>>> = choices
-            .iter()
-            .enumerate()
-            .map(|(k, c)| match c.form {
-                Some(form) if c.streamed => {
-                    let (ro, speed) = em.render_setup(k, form, c.chord)?;
-                    let pieces = &em.smoothed[k];
-                    let group = super::streamed_group_parts();
-                    let parts = PartsRenderer::new(k, pieces, ro, speed, group);
-                    Ok(Some(RefCell::new(parts)))
-                }
-                _ => Ok(None),
-            })
-            .collect::<Result<_>>()?;
-        let outputs: Vec<RunOutput> = choices
-            .iter()
-            .zip(&renderers)
-            .map(|(c, r)| match (c.form, r) {
-                (Some(_), Some(r)) => RunOutput::Parts(r),
-                (Some(_), None) => RunOutput::Rendered(&c.pieces, &c.speeds),
-                (None, _) => RunOutput::Original,
-            })
-            .collect();
-        let mut carry = ctx.carry.clone();
-        let text = crate::write_gcode::write_part(program, &outputs, wo, &ctx.facts, &mut carry)
-            .map_err(EmitError::WriteGcode)?;
-        drop(outputs);
-        for (k, r) in renderers.into_iter().enumerate() {
-            if let Some(r) = r.map(RefCell::into_inner) {
-                if let Some(e) = r.error {
-                    return Err(e);
-                }
-                (choices[k].stats, choices[k].count) = (r.stats, r.count);
+        let (text, carry, rendered) = write_text(em, ctx, &choices)?;
+        for (k, r) in rendered {
+            if let Some(e) = r.error {
+                return Err(e);
             }
+            (choices[k].stats, choices[k].count) = (r.stats, r.count);
         }
         // A long run's arcs that fell back to G1 on many blocks have the
         // all-G1 candidate to beat (`choose`): chosen again among every
@@ -239,17 +209,12 @@ pub(super) fn write_chosen(
     }
 }
 
-/// What reading a written part back gives: the reading after it, its
-/// motions, its runs (those checked as they were read hold no pieces),
-/// and those runs' checks.
-type ReadBack = (MotionReader, Vec<MotionOutline>, Vec<Run>, Vec<StreamedRun>);
-
 /// Reads `text`, the part written with `choices`, back from where `ctx`
 /// stands. The runs rendered as they were written ([`Choice::streamed`])
-/// are checked and timed as they are read ([`StreamCheck`]); where one of
-/// them could not be timed that way (windows that do not stitch) or the
-/// runs do not pair as they were taken to, the text is read again whole
-/// (and checked as any other).
+/// are checked and timed as they are read ([`streamed::read_checking`]);
+/// where one of them could not be timed that way (windows that do not
+/// stitch) or the runs do not pair as they were taken to, the text is read
+/// again whole (and checked as any other).
 fn read_back(
     em: &Emitter,
     ctx: &PartContext,
@@ -257,32 +222,22 @@ fn read_back(
     choices: &[Choice],
     text: &str,
     tolerance: f64,
-) -> Result<ReadBack> {
-    let mut stream = StreamCheck::new(em, original, choices, tolerance);
-    if stream.takes_any() {
-        let (after, outline, runs) = ctx
-            .reading
-            .read_part_streaming(text.as_bytes(), VERIFY_CHUNK, &mut stream)
-            .map_err(EmitError::Reread)?;
-        if let Some(e) = stream.error {
-            return Err(EmitError::Plan(e));
-        }
-        let timed = stream
-            .done
-            .iter()
-            .all(|r| r.times.iter().all(Option::is_some));
-        let streamed: Vec<usize> = stream.done.iter().map(|r| r.candidate).collect();
+) -> Result<streamed::Checked> {
+    if streamed::takes_any(choices) {
+        let reading = &ctx.reading;
+        let (after, outline, runs, done) =
+            streamed::read_checking(em, reading, text.as_bytes(), original, choices, tolerance)?;
+        let timed = done.iter().all(|r| r.times.iter().all(Option::is_some));
+        let streamed: Vec<usize> = done.iter().map(|r| r.candidate).collect();
         let paired =
             crate::pipeline::pair_runs_streamed(original, &runs, &streamed).is_ok_and(|pairs| {
-                stream
-                    .done
-                    .iter()
+                done.iter()
                     .all(|r| pairs.contains(&(r.original, r.candidate)))
             });
         if timed && paired {
             #[cfg(test)]
-            super::tests::STREAMED_RUNS.with(|n| n.set(n.get() + stream.done.len()));
-            return Ok((after, outline, runs, stream.done));
+            super::tests::STREAMED_RUNS.with(|n| n.set(n.get() + done.len()));
+            return Ok((after, outline, runs, done));
         }
     }
     let (after, outline, runs) = ctx
@@ -290,4 +245,49 @@ fn read_back(
         .read_part(text.as_bytes())
         .map_err(EmitError::Reread)?;
     Ok((after, outline, runs, Vec::new()))
+}
+
+/// A part's text, the writer's state after it, and the renderers of its
+/// runs rendered as they were written, by run ([`write_text`]).
+type Written<'e> = (String, WriterCarry, Vec<(usize, PartsRenderer<'e>)>);
+
+/// The text of the part with `choices`, from where `ctx` stands, and the
+/// writer's state after it; with the renderers of the runs rendered as
+/// they are written ([`Choice::streamed`]), by run, which hold what they
+/// rendered (stats, count) or the error that stopped them.
+///
+/// (Rendering each such run on a thread of its own a group ahead of the
+/// writer was tried: the same wall time on two cores, which the rendering
+/// keeps busy.)
+fn write_text<'e>(em: &Emitter<'e>, ctx: &PartContext, choices: &[Choice]) -> Result<Written<'e>> {
+    let mut carry = ctx.carry.clone();
+    let mut renderers: Vec<Option<RefCell<PartsRenderer>>> = Vec::with_capacity(choices.len());
+    for (k, c) in choices.iter().enumerate() {
+        let Some(form) = c.form.filter(|_| c.streamed) else {
+            renderers.push(None);
+            continue;
+        };
+        let (ro, speed) = em.render_setup(k, form, c.chord)?;
+        let group = super::streamed_group_parts();
+        let parts = PartsRenderer::new(k, &em.smoothed[k], ro, speed, group);
+        renderers.push(Some(RefCell::new(parts)));
+    }
+    let outputs: Vec<RunOutput> = choices
+        .iter()
+        .zip(&renderers)
+        .map(|(c, r)| match (c.form, r) {
+            (Some(_), Some(r)) => RunOutput::Parts(r),
+            (Some(_), None) => RunOutput::Rendered(&c.pieces, &c.speeds),
+            (None, _) => RunOutput::Original,
+        })
+        .collect();
+    let text = crate::write_gcode::write_part(em.program, &outputs, &em.wo, &ctx.facts, &mut carry)
+        .map_err(EmitError::WriteGcode)?;
+    drop(outputs);
+    let rendered = renderers
+        .into_iter()
+        .enumerate()
+        .filter_map(|(k, r)| Some((k, r?.into_inner())))
+        .collect();
+    Ok((text, carry, rendered))
 }
