@@ -33,16 +33,15 @@ pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
     let itself: Vec<bool> = par_map(smoothed.len(), |k| smoothed[k] == original[k].pieces);
     let nf = feeds.len();
     // The planned time of each of the program's own runs, at each feed:
-    // side by side by run, each run's feeds one after the other (two plans
-    // of one long run at once hold twice the memory for little time).
+    // side by side by run, and a long run's feeds side by side too (each
+    // planned window by window, `Emitter::time`: two plans at once hold
+    // two windows).
     let own: Vec<Vec<f64>> = par_map(smoothed.len(), |k| {
         if itself[k] {
             return Ok(vec![f64::INFINITY; nf]);
         }
-        feeds
-            .iter()
-            .map(|&f| time(&original[k].pieces, f))
-            .collect::<Result<Vec<f64>>>()
+        let pieces = &original[k].pieces;
+        em.at_feeds(pieces.len(), &|f| time(pieces, f))
     })
     .into_iter()
     .collect::<Result<_>>()?;
