@@ -31,8 +31,9 @@ use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Mutex;
 
 /// Verifier chunks measured side by side (with the windows they complete
-/// planned beside them): a group's pieces are all the check holds of a
-/// run.
+/// planned beside them): the group being measured, the two handed over
+/// behind it and the one being read are all the check holds of a run
+/// (about 26 MB of pieces).
 const GROUP_CHUNKS: usize = 8;
 
 /// A run checked as it was read.
