@@ -310,6 +310,11 @@ mod tests {
         pub(super) static NO_STREAMING: Cell<bool> = const { Cell::new(false) };
         /// Runs checked as they were read back, on this thread.
         pub(super) static STREAMED_RUNS: Cell<usize> = const { Cell::new(0) };
+        /// Texts read again whole after a reading in parts.
+        pub(super) static READ_AGAIN: Cell<usize> = const { Cell::new(0) };
+        /// Every run checked as it is read is taken for one whose windows
+        /// did not stitch (a run planned as one segment end to end).
+        pub(super) static UNSTITCHED: Cell<bool> = const { Cell::new(false) };
     }
 
     /// The passes of [`raster`].
@@ -409,8 +414,21 @@ mod tests {
                 false,
                 Passes::Twisted,
             ),
+            // Windows that do not stitch (made to, below): read again
+            // whole.
+            (
+                "bspline-corner",
+                None,
+                Controller::Generic,
+                None,
+                false,
+                Passes::Bumps,
+            ),
         ];
-        for (method, format, controller, fail, override_feed, passes) in cases {
+        for (i, (method, format, controller, fail, override_feed, passes)) in
+            cases.into_iter().enumerate()
+        {
+            let unstitched = i + 1 == cases.len();
             let mut opts =
                 crate::SmoothOptions::new(0.05, None, method, format, controller).unwrap();
             opts.set_machine(MachineLimits::thesis(), override_feed)
@@ -422,17 +440,27 @@ mod tests {
             let run = |streaming: bool| {
                 NO_STREAMING.with(|n| n.set(!streaming));
                 STREAMED_RUNS.with(|n| n.set(0));
+                READ_AGAIN.with(|n| n.set(0));
+                UNSTITCHED.with(|n| n.set(unstitched));
                 FAIL_FIRST_CHECK.with(|f| f.set(fail));
                 let out = crate::smooth_program(&text, &opts).unwrap();
                 NO_STREAMING.with(|n| n.set(false));
-                (out, STREAMED_RUNS.with(|n| n.get()))
+                let again = READ_AGAIN.with(|n| n.get());
+                UNSTITCHED.with(|n| n.set(false));
+                (out, STREAMED_RUNS.with(|n| n.get()), again)
             };
-            let ((whole, whole_report), none) = run(false);
-            let ((streamed, report), taken) = run(true);
+            let ((whole, whole_report), none, _) = run(false);
+            let ((streamed, report), taken, again) = run(true);
             let what = format!("{method} {format:?} {controller:?} {fail:?} {passes:?}");
             assert_eq!(none, 0, "{what}");
+            let whole_read = passes == Passes::Twisted || unstitched;
+            assert_eq!(
+                taken == 0,
+                whole_read,
+                "{what}: {taken} runs checked as read"
+            );
+            assert_eq!(again > 0, unstitched, "{what}: read again {again}");
             let rechosen = passes == Passes::Twisted;
-            assert_eq!(taken == 0, rechosen, "{what}: {taken} runs checked as read");
             if rechosen {
                 assert_eq!(report.stats.arcs, 0, "{what}");
             }

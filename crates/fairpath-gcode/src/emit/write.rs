@@ -228,6 +228,8 @@ fn read_back(
         let (after, outline, runs, done) =
             streamed::read_checking(em, reading, text.as_bytes(), original, choices, tolerance)?;
         let timed = done.iter().all(|r| r.times.iter().all(Option::is_some));
+        #[cfg(test)]
+        let timed = timed && !super::tests::UNSTITCHED.with(|n| n.get());
         let streamed: Vec<usize> = done.iter().map(|r| r.candidate).collect();
         let paired =
             crate::pipeline::pair_runs_streamed(original, &runs, &streamed).is_ok_and(|pairs| {
@@ -239,6 +241,8 @@ fn read_back(
             super::tests::STREAMED_RUNS.with(|n| n.set(n.get() + done.len()));
             return Ok((after, outline, runs, done));
         }
+        #[cfg(test)]
+        super::tests::READ_AGAIN.with(|n| n.set(n.get() + 1));
     }
     let (after, outline, runs) = ctx
         .reading
