@@ -367,67 +367,65 @@ mod tests {
     #[test]
     fn a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole() {
         // 7,200 moves, about 14,000 pieces once smoothed: a long run.
+        #[derive(Clone, Copy)]
+        struct Case {
+            method: &'static str,
+            format: Option<Format>,
+            controller: Controller,
+            /// A run the first check fails.
+            fail: Option<usize>,
+            override_feed: bool,
+            passes: Passes,
+        }
+        let bumps = |method| Case {
+            method,
+            format: None,
+            controller: Controller::Generic,
+            fail: None,
+            override_feed: false,
+            passes: Passes::Bumps,
+        };
         let cases = [
-            (
-                "bspline-corner",
-                None,
-                Controller::Generic,
-                None,
-                false,
-                Passes::Bumps,
-            ),
-            (
-                "bspline-corner",
-                Some(Format::G1),
-                Controller::Generic,
-                None,
-                false,
-                Passes::Bumps,
-            ),
-            ("ctm", None, Controller::Linuxcnc, None, true, Passes::Bumps),
-            (
-                "bspline-corner",
-                None,
-                Controller::Generic,
-                Some(0),
-                false,
-                Passes::Bumps,
-            ),
+            bumps("bspline-corner"),
+            Case {
+                format: Some(Format::G1),
+                ..bumps("bspline-corner")
+            },
+            Case {
+                controller: Controller::Linuxcnc,
+                override_feed: true,
+                ..bumps("ctm")
+            },
+            Case {
+                fail: Some(0),
+                ..bumps("bspline-corner")
+            },
             // Judged by a block-capped planner: also timed as `simulate`
             // plans it, for the written program's time (`arc-fit` merges
             // moves into arcs: 40,000 wiggling moves make 15,000 pieces).
-            (
-                "arc-fit",
-                None,
-                Controller::Generic,
-                None,
-                false,
-                Passes::Wiggles,
-            ),
+            Case {
+                passes: Passes::Wiggles,
+                ..bumps("arc-fit")
+            },
             // Arcs that fall back to G1 on every block: chosen again
             // against G1, rendered whole.
-            (
-                "bspline-corner",
-                None,
-                Controller::Generic,
-                None,
-                false,
-                Passes::Twisted,
-            ),
+            Case {
+                passes: Passes::Twisted,
+                ..bumps("bspline-corner")
+            },
             // Windows that do not stitch (made to, below): read again
             // whole.
-            (
-                "bspline-corner",
-                None,
-                Controller::Generic,
-                None,
-                false,
-                Passes::Bumps,
-            ),
+            bumps("bspline-corner"),
         ];
-        for (i, (method, format, controller, fail, override_feed, passes)) in
-            cases.into_iter().enumerate()
-        {
+        for (i, case) in cases.iter().enumerate() {
+            let Case {
+                method,
+                format,
+                controller,
+                fail,
+                override_feed,
+                passes,
+            } = *case;
             let unstitched = i + 1 == cases.len();
             let mut opts =
                 crate::SmoothOptions::new(0.05, None, method, format, controller).unwrap();

@@ -117,6 +117,16 @@ impl MotionSink {
     }
 }
 
+/// A reading that holds every run ([`MotionReader::read_part`]).
+struct HoldAll;
+
+impl RunStream for HoldAll {
+    fn wants(&mut self, _: usize, _: usize) -> bool {
+        false
+    }
+    fn pieces(&mut self, _: usize, _: &[Piece], _: bool) {}
+}
+
 /// What takes a run of a written text as it is read, part by part,
 /// instead of the reading holding it ([`MotionReader::read_part_streaming`]).
 pub trait RunStream {
@@ -166,19 +176,7 @@ impl MotionReader {
         &self,
         text: &[u8],
     ) -> Result<(MotionReader, Vec<crate::program::MotionOutline>, Vec<Run>), GcodeError> {
-        let mut r = self.r.clone();
-        r.sink = Some(MotionSink::default());
-        let mut next = self.next;
-        for line in line_slices(text) {
-            let (t, ending) = line?;
-            r.step_in_place(next, t, ending)?;
-            next += 1;
-        }
-        r.first_number = next;
-        r.check_closed()?;
-        let mut sink = r.sink.take().unwrap_or_default();
-        sink.close_run();
-        Ok((MotionReader { r, next }, sink.outline, sink.runs))
+        self.read_part_streaming(text, 0, &mut HoldAll)
     }
 
     /// [`MotionReader::read_part`], handing each run that `stream` wants
