@@ -3,11 +3,13 @@
 //! length, joints and curvature, not with the curves that were never
 //! written. Checked against the written text read back.
 
+mod common;
+
 use fairpath::geom::Continuity;
 use fairpath::path::Run;
 use fairpath::verify::{report_without_deviation, VerifyOptions};
 use fairpath_gcode::entry::LENGTH_ACCURACY_SHARE;
-use fairpath_gcode::{parse, smooth_program, Controller, Evidence, Format, SmoothOptions};
+use fairpath_gcode::{parse, smooth_program, Evidence};
 
 const TOLERANCE: f64 = 0.05;
 
@@ -46,14 +48,7 @@ fn peak_and_corners(runs: &[Run]) -> (f64, usize) {
 #[test]
 fn pocket_corners_evidence_describes_the_runs_kept_as_written() {
     let text = example("pocket-corners.ngc");
-    let opts = SmoothOptions::new(
-        TOLERANCE,
-        None,
-        "auto",
-        Some(Format::Arcs),
-        Controller::Generic,
-    )
-    .unwrap();
+    let opts = common::arcs_options(TOLERANCE, "auto");
     let (output, report) = smooth_program(&text, &opts).unwrap();
     let kept = report.kept.iter().filter(|&&k| k).count();
     assert_eq!(kept, report.kept_runs);
@@ -96,14 +91,7 @@ fn pocket_corners_evidence_describes_the_runs_kept_as_written() {
 #[test]
 fn a_program_written_back_is_described_as_itself() {
     let text = "G21 G90\nG0 X0 Y0\nG1 X10 F1000\nG2 X20 Y0 R5\nG1 Y-10\nX0\nG0 Z5\nM2\n";
-    let opts = SmoothOptions::new(
-        TOLERANCE,
-        None,
-        "none",
-        Some(Format::Arcs),
-        Controller::Generic,
-    )
-    .unwrap();
+    let opts = common::arcs_options(TOLERANCE, "none");
     let (_, report) = smooth_program(text, &opts).unwrap();
     assert!(report.kept.iter().all(|&k| k));
     let e = Evidence::of(&report, TOLERANCE * LENGTH_ACCURACY_SHARE);

@@ -3,6 +3,8 @@
 //! written when it plans no slower (it lowers the curvature at no cost in
 //! blocks); a run of lines must gain the margin, else it keeps its blocks.
 
+mod common;
+
 use fairpath::verify::{report_without_deviation, VerifyOptions};
 use fairpath_gcode::{parse, smooth_program, Controller, Format, SmoothOptions};
 
@@ -72,14 +74,7 @@ fn a_spline_faired_at_a_feed_its_ripples_do_not_slow_is_written() {
 #[test]
 fn a_run_of_lines_that_gains_less_than_the_margin_is_kept() {
     let text = "G21 G90\nG0 X0 Y0\nG1 X20 F600\nX40 Y0.3\nX60 Y0\nX80 Y0.3\nG0 Z5\nM2\n";
-    let opts = SmoothOptions::new(
-        0.05,
-        None,
-        "bspline-corner",
-        Some(Format::Arcs),
-        Controller::Generic,
-    )
-    .unwrap();
+    let opts = common::arcs_options(0.05, "bspline-corner");
     let (output, report) = smooth_program(text, &opts).unwrap();
     let t = report.times;
     assert!(

@@ -4,6 +4,8 @@
 //! at the programmed feeds and with the feeds overridden, and the input's
 //! and curves' times what `simulate` gives.
 
+mod common;
+
 use fairpath::feed::program::simulate;
 use fairpath_gcode::pipeline::plan_text;
 use fairpath_gcode::{smooth_program, Controller, Format, SmoothOptions};
@@ -101,14 +103,7 @@ fn a_long_run_is_timed_as_written() {
         text.push_str(&format!("G1 X{i} Y{}\n", 0.1 * (i % 2) as f64));
     }
     text.push_str("G0 Z5\nM2\n");
-    let opts = SmoothOptions::new(
-        0.05,
-        None,
-        "bspline-corner",
-        Some(Format::Arcs),
-        Controller::Generic,
-    )
-    .unwrap();
+    let opts = common::arcs_options(0.05, "bspline-corner");
     let (output, report) = smooth_program(&text, &opts).unwrap();
     assert!(report.written.within);
     assert_eq!(report.kept_runs, 0, "the run is written smoothed");

@@ -9,7 +9,7 @@ mod common;
 use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunEnds};
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::windowed::{plan_time_in_windows, PlanWindows};
-use fairpath_gcode::{read_motion, smooth_program, Controller, Format, SmoothOptions};
+use fairpath_gcode::{read_motion, smooth_program};
 
 #[test]
 fn a_written_raster_plans_the_same_time_in_windows_as_whole() {
@@ -17,14 +17,7 @@ fn a_written_raster_plans_the_same_time_in_windows_as_whole() {
         return;
     };
     let text = std::fs::read_to_string(shared.join("synthetic/surface-raster.ngc")).unwrap();
-    let opts = SmoothOptions::new(
-        0.05,
-        None,
-        "bspline-corner",
-        Some(Format::Arcs),
-        Controller::Generic,
-    )
-    .unwrap();
+    let opts = common::arcs_options(0.05, "bspline-corner");
     let (output, _) = smooth_program(&text, &opts).unwrap();
     let (_, runs) = read_motion(output.text.as_bytes()).unwrap();
     let run = runs.iter().max_by_key(|r| r.pieces.len()).unwrap();

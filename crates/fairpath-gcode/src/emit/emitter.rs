@@ -205,16 +205,23 @@ impl<'a> Emitter<'a> {
             && (form == CurveForm::Arcs || (self.forms.len() == 1 && form == CurveForm::Lines))
     }
 
+    /// How a run is planned at the maximum feed (`true`) or the
+    /// programmed ones: on the user's machine, from rest to rest, with the
+    /// whole look-ahead.
+    pub(super) fn plan_options(&self, override_feed: bool) -> PlanOptions {
+        PlanOptions {
+            limits: self.opts.machine,
+            override_feed,
+            window: None,
+            ends: Default::default(),
+        }
+    }
+
     /// The planned time of a run's pieces at the maximum feed (`true`) or
     /// the programmed ones.
     pub(super) fn time(&self, pieces: &[Piece], override_feed: bool) -> Result<f64> {
         let opts = &self.opts;
-        let po = PlanOptions {
-            limits: opts.machine,
-            override_feed,
-            window: None,
-            ends: Default::default(),
-        };
+        let po = self.plan_options(override_feed);
         // Window by window on a long run (the written runs of a raster hold
         // millions of blocks): the same time, in a window's memory.
         plan_time_windowed(pieces, &po, opts.judged_by, PlanWindows::DEFAULT)
@@ -253,15 +260,8 @@ impl<'a> Emitter<'a> {
         if !self.plans[k].segments.is_empty() {
             return Ok(&self.plans[k]);
         }
-        let made = self.lazy[k].get_or_init(|| {
-            let po = PlanOptions {
-                limits: self.opts.machine,
-                override_feed: true,
-                window: None,
-                ends: Default::default(),
-            };
-            plan_run(&self.smoothed[k], &po)
-        });
+        let made =
+            self.lazy[k].get_or_init(|| plan_run(&self.smoothed[k], &self.plan_options(true)));
         made.as_ref().map_err(|e| EmitError::Plan(e.clone()))
     }
 

@@ -59,8 +59,6 @@ struct Current<'a> {
     first: Option<Piece>,
     last: Option<Piece>,
     timers: Vec<Mutex<WindowedTimer>>,
-    /// Pieces read and not yet measured.
-    held: Vec<Piece>,
     original_pieces: &'a [Piece],
 }
 
@@ -201,12 +199,7 @@ impl<'a> StreamCheck<'a> {
     /// program's time.
     fn new(em: &Emitter, original: &'a [Run], tolerance: f64) -> StreamCheck<'a> {
         let opts = &em.opts;
-        let plan = |override_feed: bool| PlanOptions {
-            limits: opts.machine,
-            override_feed,
-            window: None,
-            ends: Default::default(),
-        };
+        let plan = |override_feed: bool| em.plan_options(override_feed);
         let mut plans: Vec<(PlanOptions, Corners)> = em
             .feeds
             .iter()
@@ -232,12 +225,7 @@ impl<'a> StreamCheck<'a> {
                 candidate,
                 original,
             } => self.start(candidate, original),
-            Handed::Pieces(p) => {
-                if let Some(cur) = self.current.as_mut() {
-                    cur.held = p;
-                }
-                self.measure();
-            }
+            Handed::Pieces(p) => self.measure(p),
             Handed::End => self.end(),
         }
     }
@@ -261,20 +249,18 @@ impl<'a> StreamCheck<'a> {
             first: None,
             last: None,
             timers,
-            held: Vec::new(),
             original_pieces,
         });
     }
 
-    /// Measures and plans the pieces held.
-    fn measure(&mut self) {
+    /// Measures and plans `held`, the next pieces of the run being read.
+    fn measure(&mut self, held: Vec<Piece>) {
         let Some(cur) = self.current.as_mut() else {
             return;
         };
-        if cur.held.is_empty() {
+        if held.is_empty() {
             return;
         }
-        let held = core::mem::take(&mut cur.held);
         if cur.first.is_none() {
             cur.first = held.first().cloned();
         }
@@ -313,7 +299,6 @@ impl<'a> StreamCheck<'a> {
 
     /// The run being read ends.
     fn end(&mut self) {
-        self.measure();
         let Some(cur) = self.current.take() else {
             return;
         };

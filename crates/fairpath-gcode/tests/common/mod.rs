@@ -37,3 +37,17 @@ pub fn files_under(dir: &std::path::Path) -> Vec<PathBuf> {
 mod distinct;
 #[allow(unused_imports)]
 pub use distinct::distinct_texts;
+
+/// Options for `method` at `tolerance` mm, written as arcs for a generic
+/// controller (the default controller's format).
+pub fn arcs_options(tolerance: f64, method: &str) -> fairpath_gcode::SmoothOptions {
+    use fairpath_gcode::{Controller, Format, SmoothOptions};
+    SmoothOptions::new(
+        tolerance,
+        None,
+        method,
+        Some(Format::Arcs),
+        Controller::Generic,
+    )
+    .unwrap()
+}
