@@ -132,13 +132,11 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 emit(&program, &original, &smoothed, &plans, &eo)
                     .unwrap()
-                    .text
+                    .1
                     .len()
             })
         });
-        let text = emit(&program, &original, &smoothed, &plans, &eo)
-            .unwrap()
-            .text;
+        let text = emit(&program, &original, &smoothed, &plans, &eo).unwrap().1;
         g.bench_function(format!("re-read and check {method}"), |b| {
             b.iter_batched(
                 || text.clone(),

@@ -3,6 +3,7 @@
 //! the program being read unless asked to.
 
 use anyhow::{bail, Context, Result};
+use fairpath_gcode::text_out::TextOut;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -156,6 +157,36 @@ impl Write for OutputSink {
             OutputSink::File(f) => f.flush(),
             OutputSink::Stdout(w) => w.flush(),
         }
+    }
+}
+
+impl OutputSink {
+    /// The temporary file the text goes to, with what was buffered written
+    /// to it.
+    fn file(&mut self) -> std::io::Result<&mut std::fs::File> {
+        let buf = match self {
+            OutputSink::File(f) => &mut f.buf,
+            OutputSink::Stdout(w) => w,
+        };
+        buf.flush()?;
+        Ok(buf.get_mut())
+    }
+}
+
+/// The job writes its text to the temporary file as it goes, reads it back
+/// from there and cuts it back there (`fairpath_gcode::text_out`).
+impl TextOut for OutputSink {
+    fn append(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.file()?.append(bytes)
+    }
+    fn written(&mut self) -> std::io::Result<u64> {
+        self.file()?.written()
+    }
+    fn cut(&mut self, len: u64) -> std::io::Result<()> {
+        self.file()?.cut(len)
+    }
+    fn read_from(&mut self, from: u64) -> std::io::Result<Box<dyn std::io::Read + '_>> {
+        self.file()?.read_from(from)
     }
 }
 

@@ -14,14 +14,16 @@ pub use evidence::Evidence;
 pub use parts::{smooth_in_parts, PartsError, Prepared, PART_LINES};
 pub use report::Report;
 
-use crate::emit::{choose_part, emit_part, write_chosen_part, Chosen, PartContext};
+use crate::emit::{choose_part, emit_part, write_chosen_part, Chosen, EmitError, PartContext};
 use crate::pipeline::{
     plan_input_and_curves_from, plan_text, plan_written_from, smooth_curves_memo, JobTimes, Phases,
     RenderMemo, SmoothOptions, SmoothResult, TimeSums, Times,
 };
+use crate::text_out::TextOut;
 use crate::{Format, Program};
 use fairpath::feed::plan::RunPlan;
 use fairpath::path::{Piece, Run};
+use std::io::Read;
 
 type Result<T, E = SmoothProgramError> = core::result::Result<T, E>;
 
@@ -99,8 +101,14 @@ pub fn write_curves(
 ) -> Result<(Output, Report)> {
     let mut ctx = PartContext::whole(program);
     let start = TimeSums::default();
-    let (output, report, _) =
-        write_curves_part(program, curves, None, opts, phases, &mut ctx, start)?;
+    let mut out: Vec<u8> = Vec::new();
+    let (report, _) = write_curves_part(
+        program, curves, None, opts, phases, &mut ctx, start, &mut out,
+    )?;
+    let output = Output {
+        text: crate::emit::text_of(out)?,
+        format: opts.format(),
+    };
     Ok((output, report))
 }
 
@@ -151,12 +159,16 @@ pub(crate) fn choose_renderings(
 }
 
 /// [`write_curves`] of `program`, a part of a program (or a whole one),
-/// from where `ctx` stands (left standing after it), with the written
-/// program's times so far, `written_from`; also returns them with the
-/// part's added. The report's written times are those sums.
+/// from where `ctx` stands (left standing after it), its text written to
+/// the end of `out`, with the written program's times so far,
+/// `written_from`; also returns them with the part's added. The report's
+/// written times are those sums. A text that does not verify is
+/// [`SmoothProgramError::OutputNotVerified`] (what `out` got is then no
+/// output).
 ///
 /// `chosen`: the renderings [`choose_renderings`] chose for these curves,
 /// or `None` to choose them here.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn write_curves_part(
     program: &Program,
     curves: Curves,
@@ -165,7 +177,8 @@ pub(crate) fn write_curves_part(
     mut phases: Phases,
     ctx: &mut PartContext,
     written_from: TimeSums,
-) -> Result<(Output, Report, TimeSums)> {
+    out: &mut dyn TextOut,
+) -> Result<(Report, TimeSums)> {
     // The original and smoothed pieces lent to the writer and put back for the report
     // (no copy), the plans dropped once written.
     let Curves {
@@ -182,6 +195,7 @@ pub(crate) fn write_curves_part(
     } else {
         "render, write, check"
     };
+    let start = out.written().map_err(EmitError::Output)?;
     let emitted = match chosen {
         None => emit_part(
             program,
@@ -191,8 +205,9 @@ pub(crate) fn write_curves_part(
             &plans,
             &eo,
             memo.as_deref(),
+            out,
         ),
-        Some(c) => write_chosen_part(program, ctx, &original, &smoothed, &plans, &eo, c),
+        Some(c) => write_chosen_part(program, ctx, &original, &smoothed, &plans, &eo, c, out),
     };
     drop(plans);
     put_back(&mut result, original, smoothed);
@@ -205,7 +220,10 @@ pub(crate) fn write_curves_part(
             let sums = plan_written_from(&reading, opts, written_from)?;
             (sums.times(), sums)
         }
-        None => (plan_text(&emitted.text, opts)?, TimeSums::default()),
+        None => (
+            plan_text(&json_text(out, start)?, opts)?,
+            TimeSums::default(),
+        ),
     };
     phases.mark("plan written");
     let report = Report {
@@ -225,29 +243,29 @@ pub(crate) fn write_curves_part(
         method: opts.method_name().to_string(),
         block_capped: opts.method().writes_for_block_capped_planner(),
         lines_in: program.lines().len(),
-        lines_out: lines_of(&emitted.text),
+        lines_out: emitted.lines,
         rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
         no_moves: program.is_empty(),
         phases,
-    };
-    let output = Output {
-        text: emitted.text,
-        format: opts.format(),
     };
     if !report.written.within {
         return Err(SmoothProgramError::OutputNotVerified {
             deviation: report.written.max_deviation,
             tolerance: report.budget.written(),
-            output: Box::new(output),
             report: Box::new(report),
         });
     }
-    Ok((output, report, written_sums))
+    Ok((report, written_sums))
 }
 
-/// Lines of a written text, as `str::lines` counts them.
-fn lines_of(text: &str) -> usize {
-    text.lines().count()
+/// The JSON text written to `out` from byte `start` on (JSON is written
+/// and planned whole).
+fn json_text(out: &mut dyn TextOut, start: u64) -> Result<String> {
+    let mut text = String::new();
+    out.read_from(start)
+        .and_then(|mut r| r.read_to_string(&mut text))
+        .map_err(EmitError::Output)?;
+    Ok(text)
 }
 
 /// [`smooth_program`] of a program already read.

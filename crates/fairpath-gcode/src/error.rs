@@ -199,6 +199,9 @@ pub enum WriteError {
         deviation_mm: f64,
         allowed_mm: f64,
     },
+    /// The output ([`crate::text_out::TextOut`]) refused the text.
+    #[error("writing the output")]
+    Output(#[source] std::io::Error),
 }
 
 /// Errors of [`crate::read_json`].

@@ -154,7 +154,15 @@ pub fn split_lines(text: &[u8]) -> Result<Vec<(String, &'static str)>, GcodeErro
 pub fn line_slices(
     text: &[u8],
 ) -> impl Iterator<Item = Result<(&str, &'static str), GcodeError>> + '_ {
-    let mut rest = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
+    line_slices_of(text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text))
+}
+
+/// [`line_slices`] of text that goes on from other text (a byte-order
+/// mark there is a character of the line, not skipped).
+pub(crate) fn line_slices_of(
+    text: &[u8],
+) -> impl Iterator<Item = Result<(&str, &'static str), GcodeError>> + '_ {
+    let mut rest = text;
     let mut number = 0;
     core::iter::from_fn(move || {
         if rest.is_empty() {

@@ -157,6 +157,7 @@ pub mod pipeline;
 pub mod program;
 pub mod short_text;
 pub mod spline;
+pub mod text_out;
 pub mod write_gcode;
 pub mod write_json;
 pub mod write_spline;

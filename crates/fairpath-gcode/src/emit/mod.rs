@@ -12,7 +12,7 @@ mod streamed;
 mod write;
 
 use crate::facts::ProgramFacts;
-use crate::interp::MotionReader;
+use crate::interp::{MotionReader, ReadBackError};
 pub use crate::pipeline::written::{
     forms, render_options, resolution, write_options, FANUC_MAX_DEGREE, MIN_ARC_RADIUS_MM,
     MIN_ARC_UNITS, MIN_BLOCK_PERIODS, PLANAR_MM,
@@ -21,6 +21,7 @@ use crate::pipeline::{
     compare_runs, group_by_source, RunCountMismatch, WrittenCheck, WrittenReading,
 };
 pub use crate::pipeline::{EmitOptions, RenderMemo, CURVE_BLEND_SHARE, G1_BLEND_SHARE};
+use crate::text_out::TextOut;
 use crate::write_gcode::WriterCarry;
 use crate::{ArcWords, Format, GcodeError, JsonError, Program, WriteError};
 pub use choose::Chosen;
@@ -57,6 +58,18 @@ pub enum EmitError {
     /// The text read back has other runs than the program.
     #[error(transparent)]
     Runs(#[from] RunCountMismatch),
+    /// The output ([`TextOut`]) refused the text or could not give it back.
+    #[error("the output")]
+    Output(#[source] std::io::Error),
+}
+
+impl From<ReadBackError> for EmitError {
+    fn from(e: ReadBackError) -> EmitError {
+        match e {
+            ReadBackError::Gcode(e) => EmitError::Reread(e),
+            ReadBackError::Io(e) => EmitError::Output(e),
+        }
+    }
 }
 
 type Result<T, E = EmitError> = core::result::Result<T, E>;
@@ -104,10 +117,12 @@ pub const RETRIES: usize = 3;
 /// written text is then checked to be no slower): see `choose`.
 pub use fairpath::choose::KEEP_MARGIN;
 
-/// The written program.
+/// The written program (its text went to the [`TextOut`] it was written
+/// to).
 #[derive(Clone, Debug)]
 pub struct Emitted {
-    pub text: String,
+    /// Lines of the text, as `str::lines` counts them.
+    pub lines: usize,
     /// The budget the text was written with ([`EmitOptions::budget_for`]:
     /// a blending share where the program's own G64 needs one).
     pub budget: ToleranceBudget,
@@ -166,25 +181,36 @@ impl PartContext {
 /// those the format allows (arcs or, for curves arcs cannot follow, G1),
 /// or as the program wrote it when none is faster, both at the machine's
 /// maximum feed and at the programmed feeds. `original` is
-/// `program.runs()` (lent by the caller, which holds it already).
+/// `program.runs()` (lent by the caller, which holds it already). Returns
+/// the text with what was written.
 pub fn emit(
     program: &Program,
     original: &[Run],
     smoothed: &[Vec<Piece>],
     plans: &[RunPlan],
     opts: &EmitOptions,
-) -> Result<Emitted> {
+) -> Result<(Emitted, String)> {
     let mut ctx = PartContext::whole(program);
-    emit_part(program, &mut ctx, original, smoothed, plans, opts, None)
+    let mut out: Vec<u8> = Vec::new();
+    let emitted = emit_part(
+        program, &mut ctx, original, smoothed, plans, opts, None, &mut out,
+    )?;
+    Ok((emitted, text_of(out)?))
+}
+
+/// The text a `Vec<u8>` output holds (whole lines of `str`s: UTF-8).
+pub(crate) fn text_of(out: Vec<u8>) -> Result<String> {
+    String::from_utf8(out).map_err(|e| EmitError::Output(std::io::Error::other(e)))
 }
 
 /// [`emit`] of `program`, a part of a program or a whole one, from where
-/// `ctx` stands; on success `ctx` stands after it. The parts emitted one
-/// after the other write, check and time the text [`emit`] makes of the
-/// whole program.
+/// `ctx` stands, its text written to the end of `out`; on success `ctx`
+/// stands after it. The parts emitted one after the other write, check and
+/// time the text [`emit`] makes of the whole program.
 ///
 /// `memo`: the renderings `auto`'s objective made of these curves, if any
 /// ([`RenderMemo`]).
+#[allow(clippy::too_many_arguments)]
 pub fn emit_part(
     program: &Program,
     ctx: &mut PartContext,
@@ -193,14 +219,15 @@ pub fn emit_part(
     plans: &[RunPlan],
     opts: &EmitOptions,
     memo: Option<&RenderMemo>,
+    out: &mut dyn TextOut,
 ) -> Result<Emitted> {
     if opts.format == Format::Json {
-        return emit_json(program, &ctx.facts, original, smoothed, opts);
+        return emit_json(program, &ctx.facts, original, smoothed, opts, out);
     }
     let mut em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
     em.memo = memo;
     let chosen = choose::choose(&em, original)?;
-    write::write_chosen(&em, ctx, original, chosen)
+    write::write_chosen(&em, ctx, original, chosen, out)
 }
 
 /// The first half of [`emit_part`]: the rendering of each run of
@@ -225,7 +252,9 @@ pub fn choose_part(
 }
 
 /// The second half of [`emit_part`]: `chosen` ([`choose_part`] of the
-/// same part, curves and plans) written from where `ctx` stands.
+/// same part, curves and plans) written from where `ctx` stands to the end
+/// of `out`.
+#[allow(clippy::too_many_arguments)]
 pub fn write_chosen_part(
     program: &Program,
     ctx: &mut PartContext,
@@ -234,12 +263,13 @@ pub fn write_chosen_part(
     plans: &[RunPlan],
     opts: &EmitOptions,
     chosen: Option<Chosen>,
+    out: &mut dyn TextOut,
 ) -> Result<Emitted> {
     match chosen {
-        None => emit_json(program, &ctx.facts, original, smoothed, opts),
+        None => emit_json(program, &ctx.facts, original, smoothed, opts, out),
         Some(chosen) => {
             let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
-            write::write_chosen(&em, ctx, original, chosen)
+            write::write_chosen(&em, ctx, original, chosen, out)
         }
     }
 }
@@ -251,6 +281,7 @@ fn emit_json(
     original: &[Run],
     smoothed: &[Vec<Piece>],
     opts: &EmitOptions,
+    out: &mut dyn TextOut,
 ) -> Result<Emitted> {
     let budget = opts
         .budget_for_blending(&facts.blending)
@@ -262,9 +293,10 @@ fn emit_json(
         &group_by_source(original, &pieces),
         budget.written(),
     )?;
+    out.append(text.as_bytes()).map_err(EmitError::Output)?;
     Ok(Emitted {
         budget,
-        text,
+        lines: text.lines().count(),
         stats: RenderStats::default(),
         check,
         retried_runs: 0,
@@ -470,6 +502,50 @@ mod tests {
             assert_eq!(report.retried_runs, whole_report.retried_runs, "{what}");
             assert_eq!(report.retried_runs, usize::from(fail.is_some()), "{what}");
         }
+    }
+
+    /// A part written again replaces its text where it was written: in
+    /// parts to a file, a first part whose first check fails (its run
+    /// rendered again finer) and a second part, the file holds the text
+    /// the whole job writes with the same retry, not the first try's too
+    /// (which would come before it).
+    #[test]
+    fn a_part_written_again_to_a_file_replaces_its_text_there() {
+        use crate::text_out::TextOut;
+        use std::io::Read;
+        let text = "G21 G90\nG0 X0 Y0\nG1 X10 F3000\nG1 X10 Y10\nG1 X20 Y10\nG1 X20 Y0\n\
+                    G0 X0 Y20\nG1 X10 Y20\nG1 X10 Y30\nG1 X20 Y30\nG1 X20 Y20\nM30\n";
+        let opts = crate::SmoothOptions::new(
+            0.05,
+            None,
+            "bspline-corner",
+            None,
+            crate::Controller::Generic,
+        )
+        .unwrap();
+        FAIL_FIRST_CHECK.with(|f| f.set(Some(0)));
+        let (whole, report) = crate::smooth_program(text, &opts).unwrap();
+        assert_eq!(report.retried_runs, 1);
+        let mut file = tempfile::tempfile().unwrap();
+        let prepared = crate::Prepared::read(text.as_bytes(), opts.format()).unwrap();
+        FAIL_FIRST_CHECK.with(|f| f.set(Some(0)));
+        let (evidence, _) = crate::smooth_in_parts(
+            text.as_bytes(),
+            prepared,
+            &opts,
+            1,
+            &mut file,
+            crate::pipeline::Phases::new(),
+        )
+        .unwrap();
+        assert_eq!(FAIL_FIRST_CHECK.with(|f| f.get()), None, "the check failed");
+        let mut written = String::new();
+        file.read_from(0)
+            .unwrap()
+            .read_to_string(&mut written)
+            .unwrap();
+        assert_eq!(written, whole.text);
+        assert_eq!(evidence.lines_out, whole.text.lines().count());
     }
 
     #[test]

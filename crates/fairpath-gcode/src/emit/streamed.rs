@@ -150,7 +150,7 @@ pub(super) type Checked = (MotionReader, Vec<MotionOutline>, Vec<Run>, Vec<Strea
 pub(super) fn read_checking(
     em: &Emitter,
     reading: &MotionReader,
-    text: &[u8],
+    text: &mut dyn std::io::Read,
     original: &[Run],
     choices: &[Choice],
     tolerance: f64,
@@ -177,12 +177,12 @@ pub(super) fn read_checking(
             held: Vec::new(),
             to_check,
         };
-        let read = reading.read_part_streaming(text, VERIFY_CHUNK, &mut front);
+        let read = reading.read_part_streaming_from(text, VERIFY_CHUNK, &mut front);
         drop(front);
         let check = measuring
             .join()
             .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        let (after, outline, runs) = read.map_err(EmitError::Reread)?;
+        let (after, outline, runs) = read?;
         if let Some(e) = check.error {
             return Err(EmitError::Plan(e));
         }

@@ -18,6 +18,7 @@ use super::emitter::{Choice, Emitter, PartsRenderer};
 use super::streamed;
 use super::{EmitError, Emitted, PartContext, Result, PARALLEL_FEEDS_PIECES, RETRIES};
 use crate::pipeline::{compare_runs_known, WrittenReading};
+use crate::text_out::TextOut;
 use crate::write_gcode::WriterCarry;
 use crate::RunOutput;
 use fairpath::feed::plan::Corners;
@@ -34,6 +35,7 @@ pub(super) fn write_chosen(
     ctx: &mut PartContext,
     original: &[Run],
     chosen: Chosen,
+    out: &mut dyn TextOut,
 ) -> Result<Emitted> {
     let (feeds, opts) = (&em.feeds, &em.opts);
     let tolerance = opts.budget.written();
@@ -53,9 +55,13 @@ pub(super) fn write_chosen(
     // as written; one that reads back slower is kept as written at once.
     // Runs kept as written always verify and are never slower, so the text
     // returned is the one written last.
+    // The part's text goes to `out` as it is written, from `start` on; a
+    // text written again replaces it there.
+    let start = out.written().map_err(EmitError::Output)?;
     let mut attempt = 0;
     loop {
-        let (text, carry, rendered) = write_text(em, ctx, &choices)?;
+        out.cut(start).map_err(EmitError::Output)?;
+        let (lines, carry, rendered) = write_text(em, ctx, &choices, out)?;
         for (k, r) in rendered {
             if let Some(e) = r.error {
                 return Err(e);
@@ -89,7 +95,7 @@ pub(super) fn write_chosen(
         // the largest thing held); the runs rendered as they were written
         // checked and timed as they are read, not held.
         let (reading_after, reread_outline, reread, streamed) =
-            read_back(em, ctx, original, &choices, &text, tolerance)?;
+            read_back(em, ctx, original, &choices, out, start, tolerance)?;
         let known: Vec<(usize, RunReport)> = streamed
             .iter()
             .map(|r| (r.candidate, r.report.clone()))
@@ -98,8 +104,9 @@ pub(super) fn write_chosen(
         let streamed_of = |c: usize| streamed.iter().find(|r| r.candidate == c);
         #[allow(unused_mut)]
         let mut failed: Vec<usize> = check.failed_runs.iter().flatten().copied().collect();
+        // (for the first part with a run)
         #[cfg(test)]
-        if attempt == 0 {
+        if attempt == 0 && !choices.is_empty() {
             failed.extend(super::tests::FAIL_FIRST_CHECK.with(|f| f.take()));
         }
         let mut is_failed = vec![false; choices.len()];
@@ -170,7 +177,7 @@ pub(super) fn write_chosen(
             ctx.reading = reading_after;
             return Ok(Emitted {
                 budget: opts.budget,
-                text,
+                lines,
                 stats,
                 check,
                 retried_runs: retried.iter().filter(|&&r| r).count(),
@@ -209,8 +216,8 @@ pub(super) fn write_chosen(
     }
 }
 
-/// Reads `text`, the part written with `choices`, back from where `ctx`
-/// stands. The runs rendered as they were written ([`Choice::streamed`])
+/// Reads the part written with `choices` back from `out`, where it starts
+/// at byte `start`, from where `ctx` stands. The runs rendered as they were written ([`Choice::streamed`])
 /// are checked and timed as they are read ([`streamed::read_checking`]);
 /// where one of them could not be timed that way (windows that do not
 /// stitch) or the runs do not pair as they were taken to, the text is read
@@ -220,13 +227,15 @@ fn read_back(
     ctx: &PartContext,
     original: &[Run],
     choices: &[Choice],
-    text: &str,
+    out: &mut dyn TextOut,
+    start: u64,
     tolerance: f64,
 ) -> Result<streamed::Checked> {
     if streamed::takes_any(choices) {
         let reading = &ctx.reading;
+        let mut text = out.read_from(start).map_err(EmitError::Output)?;
         let (after, outline, runs, done) =
-            streamed::read_checking(em, reading, text.as_bytes(), original, choices, tolerance)?;
+            streamed::read_checking(em, reading, &mut *text, original, choices, tolerance)?;
         let timed = done.iter().all(|r| r.times.iter().all(Option::is_some));
         #[cfg(test)]
         let timed = timed && !super::tests::UNSTITCHED.with(|n| n.get());
@@ -244,26 +253,30 @@ fn read_back(
         #[cfg(test)]
         super::tests::READ_AGAIN.with(|n| n.set(n.get() + 1));
     }
-    let (after, outline, runs) = ctx
-        .reading
-        .read_part(text.as_bytes())
-        .map_err(EmitError::Reread)?;
+    let mut text = out.read_from(start).map_err(EmitError::Output)?;
+    let (after, outline, runs) = ctx.reading.read_part_from(&mut *text)?;
     Ok((after, outline, runs, Vec::new()))
 }
 
-/// A part's text, the writer's state after it, and the renderers of its
-/// runs rendered as they were written, by run ([`write_text`]).
-type Written<'e> = (String, WriterCarry, Vec<(usize, PartsRenderer<'e>)>);
+/// The lines of a part's text, the writer's state after it, and the
+/// renderers of its runs rendered as they were written, by run
+/// ([`write_text`]).
+type Written<'e> = (usize, WriterCarry, Vec<(usize, PartsRenderer<'e>)>);
 
-/// The text of the part with `choices`, from where `ctx` stands, and the
-/// writer's state after it; with the renderers of the runs rendered as
+/// The text of the part with `choices`, from where `ctx` stands, written
+/// to the end of `out`: its lines and the writer's state after it; with the renderers of the runs rendered as
 /// they are written ([`Choice::streamed`]), by run, which hold what they
 /// rendered (stats, count) or the error that stopped them.
 ///
 /// (Rendering each such run on a thread of its own a group ahead of the
 /// writer was tried: the same wall time on two cores, which the rendering
 /// keeps busy.)
-fn write_text<'e>(em: &Emitter<'e>, ctx: &PartContext, choices: &[Choice]) -> Result<Written<'e>> {
+fn write_text<'e>(
+    em: &Emitter<'e>,
+    ctx: &PartContext,
+    choices: &[Choice],
+    out: &mut dyn TextOut,
+) -> Result<Written<'e>> {
     let mut carry = ctx.carry.clone();
     let mut renderers: Vec<Option<RefCell<PartsRenderer>>> = Vec::with_capacity(choices.len());
     for (k, c) in choices.iter().enumerate() {
@@ -285,13 +298,14 @@ fn write_text<'e>(em: &Emitter<'e>, ctx: &PartContext, choices: &[Choice]) -> Re
             (None, _) => RunOutput::Original,
         })
         .collect();
-    let text = crate::write_gcode::write_part(em.program, &outputs, &em.wo, &ctx.facts, &mut carry)
-        .map_err(EmitError::WriteGcode)?;
+    let lines =
+        crate::write_gcode::write_part(em.program, &outputs, &em.wo, &ctx.facts, &mut carry, out)
+            .map_err(EmitError::WriteGcode)?;
     drop(outputs);
     let rendered = renderers
         .into_iter()
         .enumerate()
         .filter_map(|(k, r)| Some((k, r?.into_inner())))
         .collect();
-    Ok((text, carry, rendered))
+    Ok((lines, carry, rendered))
 }

@@ -1,6 +1,6 @@
 //! Why a program was not smoothed and written.
 
-use super::{Output, Report};
+use super::Report;
 use crate::emit::EmitError;
 use crate::pipeline::PlanError;
 use crate::GcodeError;
@@ -35,7 +35,6 @@ pub enum SmoothProgramError {
         /// What it may deviate (mm,
         /// [`ToleranceBudget::written`](fairpath::budget::ToleranceBudget::written)).
         tolerance: f64,
-        output: Box<Output>,
         report: Box<Report>,
     },
 }

@@ -16,8 +16,8 @@ use crate::interp::PartReader;
 use crate::pipeline::{
     plan_input_and_curves_from, smooth_curves_memo, Phases, RenderMemo, TimeSums,
 };
+use crate::text_out::TextOut;
 use crate::{Format, GcodeError, ParseOptions, Program, ProgramFacts, SmoothOptions, Units};
-use std::io::Write;
 use std::sync::Arc;
 
 /// Lines a part holds at least. Each part's runs are smoothed, verified
@@ -101,16 +101,18 @@ pub enum PartsError {
 
 /// The whole job ([`super::smooth_parsed_with`]) on `text`, read as
 /// `prepared` says (whole, or in parts of at least `part_lines` lines),
-/// its written text given to `out` part after part. A program without
-/// moves is given to `out` as it is. On an error, what `out` got is not an
-/// output (the caller drops it). Returns the evidence and the clock,
+/// its written text given to `out` as it is written (a part's text is read
+/// back from there for its check, and cut back there where the part is
+/// written again: [`TextOut`]). A program without moves is given to `out`
+/// as it is. On an error, what `out` got is not an output (the caller
+/// drops it). Returns the evidence and the clock,
 /// which marks each step of each part (step names repeat).
 pub fn smooth_in_parts(
     text: &[u8],
     prepared: Prepared,
     opts: &SmoothOptions,
     part_lines: usize,
-    out: &mut dyn Write,
+    out: &mut dyn TextOut,
     mut phases: Phases,
 ) -> Result<(Evidence, Phases), PartsError> {
     let accuracy = opts.tolerance() * super::LENGTH_ACCURACY_SHARE;
@@ -120,7 +122,7 @@ pub fn smooth_in_parts(
                 return unchanged(text, program.lines().len(), opts, out, phases);
             }
             let (output, mut report) = super::smooth_parsed_with(&program, opts, phases)?;
-            out.write_all(output.text.as_bytes())
+            out.append(output.text.as_bytes())
                 .map_err(PartsError::Write)?;
             let phases = core::mem::take(&mut report.phases);
             return Ok((Evidence::of(&report, accuracy), phases));
@@ -168,13 +170,11 @@ pub fn smooth_in_parts(
             clock.restart();
             let chosen = Some(chosen);
             let last_line = part.first_number() + part.lines().len() - 1;
-            match write_curves_part(&part, curves, chosen, opts, clock, &mut ctx, written) {
-                Ok((output, mut report, w)) => {
+            let part_written =
+                write_curves_part(&part, curves, chosen, opts, clock, &mut ctx, written, out);
+            match part_written {
+                Ok((mut report, w)) => {
                     phases = core::mem::take(&mut report.phases);
-                    if let Err(e) = out.write_all(output.text.as_bytes()) {
-                        back = Err(PartsError::Write(e));
-                        break;
-                    }
                     written = w;
                     evidence.add(&report, accuracy);
                     phases.lines_done(last_line, total_lines);
@@ -279,10 +279,10 @@ fn unchanged(
     text: &[u8],
     lines: usize,
     opts: &SmoothOptions,
-    out: &mut dyn Write,
+    out: &mut dyn TextOut,
     phases: Phases,
 ) -> Result<(Evidence, Phases), PartsError> {
-    out.write_all(text).map_err(PartsError::Write)?;
+    out.append(text).map_err(PartsError::Write)?;
     let block_capped = opts.method().writes_for_block_capped_planner();
     let mut e = Evidence::new(opts.method_name(), opts.budget(), block_capped);
     e.lines_in = lines;

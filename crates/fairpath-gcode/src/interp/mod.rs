@@ -40,7 +40,7 @@ mod state;
 
 pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
 pub use facts::read_facts;
-pub use motion_sink::{MotionReader, RunStream};
+pub use motion_sink::{MotionReader, PartRead, ReadBackError, RunStream, READ_BACK_BYTES};
 pub use parts::PartReader;
 pub use reader::{parse, parse_motion, parse_with, read_motion};
 pub(crate) use state::{FeedMode, State};

@@ -6,10 +6,11 @@
 
 use super::reader::Reader;
 use crate::error::GcodeError;
-use crate::lexer::line_slices;
+use crate::lexer::{line_slices, line_slices_of};
 use crate::program::{MotionOutline, Move, MoveKind};
 use crate::spline::ParseOptions;
 use fairpath::path::{Piece, Run};
+use std::io::Read;
 
 /// Where [`crate::read_motion`] puts each line's moves: the run being
 /// read, or the outline (rapids and pinned moves, and each run where it
@@ -172,10 +173,7 @@ impl MotionReader {
     /// whole text, and the reading that continues after it. The run open
     /// at the end of `text` ends there, and a spline block open there is
     /// an error (as at the end of a program).
-    pub fn read_part(
-        &self,
-        text: &[u8],
-    ) -> Result<(MotionReader, Vec<crate::program::MotionOutline>, Vec<Run>), GcodeError> {
+    pub fn read_part(&self, text: &[u8]) -> Result<PartRead, GcodeError> {
         self.read_part_streaming(text, 0, &mut HoldAll)
     }
 
@@ -189,18 +187,96 @@ impl MotionReader {
         text: &[u8],
         chunk: usize,
         stream: &mut dyn RunStream,
-    ) -> Result<(MotionReader, Vec<crate::program::MotionOutline>, Vec<Run>), GcodeError> {
+    ) -> Result<PartRead, GcodeError> {
+        let mut part = self.start_part();
+        for line in line_slices(text) {
+            part.line(line?, chunk, stream)?;
+        }
+        part.finish(stream)
+    }
+
+    /// [`MotionReader::read_part`] of the text `source` reads to its end
+    /// (taken a chunk of lines at a time).
+    pub fn read_part_from(&self, source: &mut dyn Read) -> Result<PartRead, ReadBackError> {
+        self.read_part_streaming_from(source, 0, &mut HoldAll)
+    }
+
+    /// [`MotionReader::read_part_streaming`] of the text `source` reads
+    /// to its end, taken [`READ_BACK_BYTES`] of lines at a time: the text
+    /// is never held whole.
+    pub fn read_part_streaming_from(
+        &self,
+        source: &mut dyn Read,
+        chunk: usize,
+        stream: &mut dyn RunStream,
+    ) -> Result<PartRead, ReadBackError> {
+        let mut part = self.start_part();
+        crate::text_out::for_each_chunk(
+            source,
+            READ_BACK_BYTES,
+            |bytes, first| -> Result<(), ReadBackError> {
+                let lines = if first {
+                    Box::new(line_slices(bytes)) as Box<dyn Iterator<Item = _>>
+                } else {
+                    Box::new(line_slices_of(bytes))
+                };
+                for line in lines {
+                    part.line(line?, chunk, stream)?;
+                }
+                Ok(())
+            },
+            ReadBackError::Io,
+        )?;
+        Ok(part.finish(stream)?)
+    }
+
+    fn start_part(&self) -> PartReading {
         let mut r = self.r.clone();
         r.sink = Some(MotionSink::default());
-        let mut next = self.next;
-        for line in line_slices(text) {
-            let (t, ending) = line?;
-            r.step_in_place(next, t, ending)?;
-            if let Some(sink) = &mut r.sink {
-                sink.hand_out(chunk, stream);
-            }
-            next += 1;
+        PartReading { r, next: self.next }
+    }
+}
+
+/// Bytes of text [`MotionReader::read_part_streaming_from`] takes at a
+/// time.
+pub const READ_BACK_BYTES: usize = 1 << 20;
+
+/// What reading a part gives: the reading that continues after it, its
+/// outline and its runs ([`MotionReader::read_part`]).
+pub type PartRead = (MotionReader, Vec<MotionOutline>, Vec<Run>);
+
+/// Why a text could not be read back from its output.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadBackError {
+    #[error(transparent)]
+    Gcode(#[from] GcodeError),
+    #[error("reading the text back from the output")]
+    Io(#[source] std::io::Error),
+}
+
+/// A part being read, line after line.
+struct PartReading {
+    r: Reader,
+    next: usize,
+}
+
+impl PartReading {
+    fn line(
+        &mut self,
+        (t, ending): (&str, &'static str),
+        chunk: usize,
+        stream: &mut dyn RunStream,
+    ) -> Result<(), GcodeError> {
+        self.r.step_in_place(self.next, t, ending)?;
+        if let Some(sink) = &mut self.r.sink {
+            sink.hand_out(chunk, stream);
         }
+        self.next += 1;
+        Ok(())
+    }
+
+    fn finish(self, stream: &mut dyn RunStream) -> Result<PartRead, GcodeError> {
+        let PartReading { mut r, next } = self;
         r.first_number = next;
         r.check_closed()?;
         let mut sink = r.sink.take().unwrap_or_default();

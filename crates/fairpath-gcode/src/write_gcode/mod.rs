@@ -30,6 +30,7 @@
 use crate::error::WriteError;
 use crate::facts::ProgramFacts;
 use crate::program::{MotionMode, Program, RunSpan};
+use crate::text_out::{Spill, Spiller, TextOut, SPILL_BYTES};
 use fairpath::path::Piece;
 use std::cell::RefCell;
 
@@ -164,7 +165,17 @@ pub fn write_gcode_with(
     opts: &GcodeWriteOptions,
 ) -> Result<String, WriteError> {
     let facts = ProgramFacts::of(program);
-    write_part(program, smoothed, opts, &facts, &mut WriterCarry::new())
+    let mut out: Vec<u8> = Vec::new();
+    write_part(
+        program,
+        smoothed,
+        opts,
+        &facts,
+        &mut WriterCarry::new(),
+        &mut out,
+    )?;
+    // Whole lines of `str`s: UTF-8 throughout.
+    String::from_utf8(out).map_err(|e| WriteError::Output(std::io::Error::other(e)))
 }
 
 /// What writing one part of a program ([`crate::interp::PartReader`])
@@ -203,13 +214,18 @@ impl WriterCarry {
 /// whole has `facts`, from the state `carry` leaves it in, which it then
 /// holds for the next part. The parts written one after the other make the
 /// text [`write_gcode_with`] makes of the whole program.
+///
+/// The text goes to `out` as it is made, a megabyte or so at a time
+/// ([`crate::text_out`]): a long rendered run is never held whole. Returns
+/// the lines written (as `str::lines` counts them).
 pub fn write_part(
     program: &Program,
     smoothed: &[RunOutput],
     opts: &GcodeWriteOptions,
     facts: &ProgramFacts,
     carry: &mut WriterCarry,
-) -> Result<String, WriteError> {
+    text_out: &mut dyn TextOut,
+) -> Result<usize, WriteError> {
     let runs = program.run_spans();
     if smoothed.len() != runs.len() {
         return Err(WriteError::RunCount {
@@ -225,7 +241,8 @@ pub fn write_part(
     // The lines the output keeps are most of it for a comment-heavy
     // program: reserved once, the text is not copied as it grows.
     let kept: usize = lines.iter().map(|l| l.text.len() + l.ending.len()).sum();
-    let mut out = String::with_capacity(kept + 256);
+    let mut out = String::with_capacity(kept.min(2 * SPILL_BYTES) + 256);
+    let mut spill = Spill::new(text_out);
     // An expanded program says so first (after a leading `%`, which must
     // stay the first line).
     let leading_percent =
@@ -261,7 +278,7 @@ pub fn write_part(
         };
         if let Some(output) = smoothed_run {
             let run = &runs[run_idx];
-            let mut w = RunWriter::new(program, run, opts, eol, &mut out)?;
+            let mut w = RunWriter::new(program, run, opts, eol, &mut out, &mut spill)?;
             w.style = style;
             w.path_before = path_before[run_idx].clone();
             w.path = written_path.take();
@@ -311,6 +328,7 @@ pub fn write_part(
         if blend::sets_path_control(line) {
             written_path = line.path_control_after.clone();
         }
+        spill.spill(&mut out).map_err(WriteError::Output)?;
         out.push_str(&line.text);
         out.push_str(line.ending);
         if i == 0 && leading_percent && program.expanded() {
@@ -330,7 +348,7 @@ pub fn write_part(
         path: written_path,
         path_in_force: path_after,
     };
-    Ok(out)
+    spill.finish(&mut out).map_err(WriteError::Output)
 }
 
 /// After a written run whose motion mode differs from the program's, a

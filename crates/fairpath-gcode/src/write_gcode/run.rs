@@ -9,6 +9,7 @@ use super::style::NumberStyle;
 use super::GcodeWriteOptions;
 use crate::error::WriteError;
 use crate::program::{Feed, MotionMode, Program, RunSpan, Units};
+use crate::text_out::Spiller;
 use fairpath::geom::{Curve, Plane, Vec3};
 use fairpath::path::Piece;
 
@@ -19,6 +20,8 @@ pub(super) struct RunWriter<'a> {
     pub(super) opts: &'a GcodeWriteOptions,
     pub(super) eol: &'static str,
     pub(super) out: &'a mut String,
+    /// Where `out`'s complete lines go as the run is written.
+    spill: &'a mut dyn Spiller,
     /// Units of the run: mm per unit, decimals, and the chord the G1
     /// chords of curves get (what rounding leaves of `chord_mm`).
     pub(super) scale: f64,
@@ -60,6 +63,7 @@ impl<'a> RunWriter<'a> {
         opts: &'a GcodeWriteOptions,
         eol: &'static str,
         out: &'a mut String,
+        spill: &'a mut dyn Spiller,
     ) -> Result<RunWriter<'a>, WriteError> {
         let scale = run.units.mm_per_unit();
         let min_decimals = match run.units {
@@ -89,6 +93,7 @@ impl<'a> RunWriter<'a> {
             opts,
             eol,
             out,
+            spill,
             scale,
             decimals,
             chord,
@@ -213,6 +218,7 @@ impl<'a> RunWriter<'a> {
         speed: Option<f64>,
         last: bool,
     ) -> Result<(), WriteError> {
+        self.spill.spill(self.out).map_err(WriteError::Output)?;
         self.reach(next_line, piece.source_lines.1);
         self.write_merged_n("the next block");
         self.speed = speed;
