@@ -33,6 +33,11 @@
 //!   of `[e, w]` at distance at most `d`;
 //! * skipping `e`: `A` and `S` become `p -> v`, within `dist(e, [p, v])`.
 //!
+//! The one vertex left is then skipped too where that is as cheap (the
+//! same bound, from the segment before it to the one after): a jog on a
+//! straight line leaves no vertex, which would take half of the line's
+//! room from the corner at its end.
+//!
 //! What each new move may deviate from the original program adds up by the
 //! triangle inequality: the bound of the move it replaces plus the move of
 //! this step ([`LineChain::absorbed`] holds it per segment). A collapse is
@@ -204,6 +209,29 @@ fn cheapest(
         .min_by(|x, y| x.cost().total_cmp(&y.cost()))
 }
 
+/// The vertex a skipping collapse leaves, where the last finished
+/// segment of `out` ends and `t` starts, skipped too where that is cheap,
+/// as `m` is after a collapse into the midpoint (a jog on a straight line
+/// leaves no vertex): the segment from the last one's start to `t`'s end,
+/// taken out of `out` to be the pending one, where it stays within
+/// `jt.max_dev` of the original (the bound of skipping a vertex, module
+/// docs), keeps the feed and is no zero-length move; `t` otherwise.
+fn skip_left(out: &mut Vec<Seg>, start: Vec3, t: Seg, jt: &JogTolerances) -> Seg {
+    let p = out.len().checked_sub(2).map_or(start, |j| out[j].to);
+    if let Some(a) = out.last() {
+        let dev = point_segment_distance(a.to, p, t.to) + a.dev.max(t.dev);
+        if dev <= jt.max_dev && a.feed == t.feed && p.dist(t.to) > jt.min_len {
+            if let Some(mut a) = out.pop() {
+                a.to = t.to;
+                a.dev = dev;
+                a.lines.1 = t.lines.1;
+                return a;
+            }
+        }
+    }
+    t
+}
+
 /// Absorbs the jogs of `chain` into their neighbours (module docs), its
 /// end vertices kept exactly; every segment of the result lies within its
 /// `absorbed` bound (at most `jt.max_dev`) of the original chain. Returns
@@ -268,7 +296,12 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
             (Some(Collapse::SkipEnd { dev }), Some(mut t)) => {
                 t.lines.0 = s.lines.0;
                 t.dev = dev;
-                s = t;
+                // The vertex left, `e`, skipped too where that is cheap.
+                s = if !a_first && !t_last {
+                    skip_left(&mut out, start, t, jt)
+                } else {
+                    t
+                };
             }
             (Some(Collapse::SkipStart { dev }), t) => {
                 let a = out.last_mut().unwrap();
@@ -276,6 +309,8 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
                 a.dev = dev;
                 a.lines.1 = s.lines.1;
                 match t {
+                    // The vertex left, `v`, skipped too where that is cheap.
+                    Some(t) if !a_first && !t_last => s = skip_left(&mut out, start, t, jt),
                     Some(t) => s = t,
                     None => {
                         absorbed += 1;
@@ -357,6 +392,30 @@ mod tests {
         assert_eq!(c.pts, vec![v(0.0, 0.0), v(20.0, 0.00028)]);
         assert_eq!(c.lines, vec![(1, 3)]);
         assert!(c.absorbed.iter().all(|&d| d <= 0.00028));
+    }
+
+    /// A jog that a skip collapses leaves no vertex on a straight leg
+    /// either (regression: `tiny_jogs_are_absorbed` in fairpath-gcode,
+    /// a jog of 0.2 um two thirds along a 1 mm leg before a corner of 118
+    /// degrees; the vertex it left took half the leg, and the corner's
+    /// transition peaked at 192 1/mm against 49 with the whole leg).
+    #[test]
+    fn a_skipped_jog_on_a_straight_leg_before_a_sharp_corner_leaves_no_vertex() {
+        let (corner, end) = (
+            v(0.7302134711428335, -0.6832190619131863),
+            v(0.4796250, 0.2848747),
+        );
+        let e = v(0.0, 0.0).lerp(corner, 0.6566402895730279);
+        let (az, len) = (-0.5018707247143419f64, 0.0002);
+        let jog = e + v(az.cos(), az.sin()) * len;
+        let mut c = chain(
+            vec![v(0.0, 0.0), e, jog, corner, end],
+            vec![Some(1000.0); 4],
+        );
+        assert_eq!(absorb_jogs(&mut c, &JT), 1);
+        assert_eq!(c.pts, vec![v(0.0, 0.0), corner, end]);
+        assert_eq!(c.lines, vec![(1, 3), (4, 4)]);
+        assert!(c.absorbed.iter().all(|&d| d <= len));
     }
 
     /// A programmed feed keeps its stretch of path: a jog next to a feed
