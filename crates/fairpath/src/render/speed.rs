@@ -7,10 +7,15 @@ use crate::feed::plan::RunPlan;
 use alloc::vec::Vec;
 
 /// Planned speed samples of each piece of a run: `(parameter, mm/s)`,
-/// increasing in the parameter.
+/// increasing in the parameter. The samples of all pieces are held in one
+/// vector, piece after piece (a vector per piece held a quarter more on a
+/// long run, in 200,000 small blocks).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PlannedSpeed {
-    pieces: Vec<Vec<(f64, f64)>>,
+    samples: Vec<(f64, f64)>,
+    /// Where each piece's samples start in `samples`, and where the last
+    /// piece's end.
+    starts: Vec<usize>,
 }
 
 /// Most samples taken of one planned segment: beyond this the sampling step
@@ -22,7 +27,11 @@ impl PlannedSpeed {
     /// Samples `plan` (of a run of `n_pieces` pieces) every `dt` seconds of
     /// its profiles, and at both ends of each segment.
     pub fn new(n_pieces: usize, plan: &RunPlan, dt: f64) -> PlannedSpeed {
-        let mut pieces: Vec<Vec<(f64, f64)>> = alloc::vec![Vec::new(); n_pieces];
+        let mut samples: Vec<(f64, f64)> = Vec::new();
+        // The piece of each sample; a plan runs along its pieces in order,
+        // so these do not decrease (were they to, the samples are sorted
+        // by piece below, keeping their order within a piece).
+        let mut piece_of: Vec<u32> = Vec::new();
         for seg in &plan.segments {
             if seg.parts.is_empty() {
                 continue;
@@ -47,21 +56,45 @@ impl PlannedSpeed {
                 } else {
                     0.0
                 };
-                if let Some(v) = pieces.get_mut(p.piece) {
-                    v.push((p.t0 + (p.t1 - p.t0) * f, st.v));
+                if let (true, Ok(piece)) = (p.piece < n_pieces, u32::try_from(p.piece)) {
+                    samples.push((p.t0 + (p.t1 - p.t0) * f, st.v));
+                    piece_of.push(piece);
                 }
             }
         }
-        for v in &mut pieces {
-            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if !piece_of.is_sorted() {
+            let mut order: Vec<usize> = (0..samples.len()).collect();
+            order.sort_by_key(|&i| piece_of[i]);
+            samples = order.iter().map(|&i| samples[i]).collect();
+            piece_of = order.iter().map(|&i| piece_of[i]).collect();
         }
-        PlannedSpeed { pieces }
+        let mut starts = Vec::with_capacity(n_pieces + 1);
+        let mut k = 0;
+        for i in 0..n_pieces {
+            starts.push(k);
+            while k < piece_of.len() && piece_of[k] as usize == i {
+                k += 1;
+            }
+        }
+        starts.push(k);
+        drop(piece_of);
+        for w in starts.windows(2) {
+            samples[w[0]..w[1]].sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        samples.shrink_to_fit();
+        PlannedSpeed { samples, starts }
+    }
+
+    /// The samples of piece `i` (none past the last piece).
+    fn piece(&self, i: usize) -> Option<&[(f64, f64)]> {
+        let (&a, &b) = (self.starts.get(i)?, self.starts.get(i + 1)?);
+        Some(&self.samples[a..b])
     }
 
     /// The speed on piece `i` at parameter `t`, interpolated between
     /// samples (the nearest sample outside them; 0 without samples).
     pub fn at(&self, i: usize, t: f64) -> f64 {
-        let Some(s) = self.pieces.get(i) else {
+        let Some(s) = self.piece(i) else {
             return 0.0;
         };
         if s.is_empty() {
@@ -85,7 +118,7 @@ impl PlannedSpeed {
     /// The largest planned speed on piece `i` over parameters `[t0, t1]`.
     pub fn max_over(&self, i: usize, t0: f64, t1: f64) -> f64 {
         let mut v = self.at(i, t0).max(self.at(i, t1));
-        if let Some(s) = self.pieces.get(i) {
+        if let Some(s) = self.piece(i) {
             let k = s.partition_point(|x| x.0 < t0);
             for x in &s[k..] {
                 if x.0 > t1 {
