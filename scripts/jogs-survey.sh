@@ -22,7 +22,7 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 # One run: "kept absorbed peak time" or "error".
 one() {
   local out
-  if ! out=$("$1" smooth -t "$tol" -m "$2" "$3" -o "$tmp/out.ngc" 2>&1); then
+  if ! out=$("$1" smooth -t "${tol}mm" -m "$2" "$3" -o "$tmp/out.ngc" 2>&1); then
     echo "error - - -"; return
   fi
   local kept absorbed peak time
