@@ -513,16 +513,7 @@ mod tests {
     fn a_part_written_again_to_a_file_replaces_its_text_there() {
         use crate::text_out::TextOut;
         use std::io::Read;
-        let text = "G21 G90\nG0 X0 Y0\nG1 X10 F3000\nG1 X10 Y10\nG1 X20 Y10\nG1 X20 Y0\n\
-                    G0 X0 Y20\nG1 X10 Y20\nG1 X10 Y30\nG1 X20 Y30\nG1 X20 Y20\nM30\n";
-        let opts = crate::SmoothOptions::new(
-            0.05,
-            None,
-            "bspline-corner",
-            None,
-            crate::Controller::Generic,
-        )
-        .unwrap();
+        let (text, opts) = two_zigzags();
         FAIL_FIRST_CHECK.with(|f| f.set(Some(0)));
         let (whole, report) = crate::smooth_program(text, &opts).unwrap();
         assert_eq!(report.retried_runs, 1);
@@ -548,9 +539,9 @@ mod tests {
         assert_eq!(evidence.lines_out, whole.text.lines().count());
     }
 
-    #[test]
-    fn a_retry_renders_the_failed_run_finer_and_every_other_run_again() {
-        // Two runs (a rapid between them), each a zigzag of sharp corners.
+    /// Two runs (a rapid between them), each a zigzag of sharp corners,
+    /// and `bspline-corner` at 0.05 mm.
+    fn two_zigzags() -> (&'static str, crate::SmoothOptions) {
         let text = "G21 G90\nG0 X0 Y0\nG1 X10 F3000\nG1 X10 Y10\nG1 X20 Y10\nG1 X20 Y0\n\
                     G0 X0 Y20\nG1 X10 Y20\nG1 X10 Y30\nG1 X20 Y30\nG1 X20 Y20\nM30\n";
         let opts = crate::SmoothOptions::new(
@@ -561,6 +552,12 @@ mod tests {
             crate::Controller::Generic,
         )
         .unwrap();
+        (text, opts)
+    }
+
+    #[test]
+    fn a_retry_renders_the_failed_run_finer_and_every_other_run_again() {
+        let (text, opts) = two_zigzags();
         let (plain, plain_report) = crate::smooth_program(text, &opts).unwrap();
         assert_eq!(plain_report.retried_runs, 0);
         FAIL_FIRST_CHECK.with(|f| f.set(Some(0)));
