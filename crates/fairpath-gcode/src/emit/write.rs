@@ -54,9 +54,8 @@ pub(super) fn write_chosen(
     // rendered again with half the chord, up to RETRIES times, then kept
     // as written; one that reads back slower is kept as written at once.
     // Runs kept as written always verify and are never slower, so the text
-    // returned is the one written last.
-    // The part's text goes to `out` as it is written, from `start` on; a
-    // text written again replaces it there.
+    // left in `out` is the one written last: the part's text goes there as
+    // it is written, from `start` on, and a text written again replaces it.
     let start = out.written().map_err(EmitError::Output)?;
     let mut attempt = 0;
     loop {
@@ -217,8 +216,9 @@ pub(super) fn write_chosen(
 }
 
 /// Reads the part written with `choices` back from `out`, where it starts
-/// at byte `start`, from where `ctx` stands. The runs rendered as they were written ([`Choice::streamed`])
-/// are checked and timed as they are read ([`streamed::read_checking`]);
+/// at byte `start`, from where `ctx` stands. The runs rendered as they
+/// were written ([`Choice::streamed`]) are checked and timed as they are
+/// read ([`streamed::read_checking`]);
 /// where one of them could not be timed that way (windows that do not
 /// stitch) or the runs do not pair as they were taken to, the text is read
 /// again whole (and checked as any other).
@@ -264,9 +264,10 @@ fn read_back(
 type Written<'e> = (usize, WriterCarry, Vec<(usize, PartsRenderer<'e>)>);
 
 /// The text of the part with `choices`, from where `ctx` stands, written
-/// to the end of `out`: its lines and the writer's state after it; with the renderers of the runs rendered as
-/// they are written ([`Choice::streamed`]), by run, which hold what they
-/// rendered (stats, count) or the error that stopped them.
+/// to the end of `out`: its lines and the writer's state after it; with
+/// the renderers of the runs rendered as they are written
+/// ([`Choice::streamed`]), by run, which hold what they rendered (stats,
+/// count) or the error that stopped them.
 ///
 /// (Rendering each such run on a thread of its own a group ahead of the
 /// writer was tried: the same wall time on two cores, which the rendering
