@@ -210,10 +210,22 @@ impl MotionReader {
         chunk: usize,
         stream: &mut dyn RunStream,
     ) -> Result<PartRead, ReadBackError> {
+        self.read_part_in_slices(source, READ_BACK_BYTES, chunk, stream)
+    }
+
+    /// [`MotionReader::read_part_streaming_from`], the text taken `bytes`
+    /// of lines at a time.
+    fn read_part_in_slices(
+        &self,
+        source: &mut dyn Read,
+        bytes: usize,
+        chunk: usize,
+        stream: &mut dyn RunStream,
+    ) -> Result<PartRead, ReadBackError> {
         let mut part = self.start_part();
         crate::text_out::for_each_chunk(
             source,
-            READ_BACK_BYTES,
+            bytes,
             |bytes, first| -> Result<(), ReadBackError> {
                 let lines = if first {
                     Box::new(line_slices(bytes)) as Box<dyn Iterator<Item = _>>
@@ -283,5 +295,47 @@ impl PartReading {
         sink.close_run();
         sink.hand_out(0, stream);
         Ok((MotionReader { r, next }, sink.outline, sink.runs))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Read back from a source a few bytes of lines at a time, a part is
+    /// read as from its whole text: the same outline, runs and reading
+    /// after it, whatever the line endings (LF, CR LF, a lone CR), a
+    /// byte-order mark at the start, arcs, and a last line without one.
+    #[test]
+    fn a_part_read_in_slices_is_the_part_read_whole() {
+        let body = [
+            "G21 G90",
+            "G0 X0 Y0",
+            "G1 X10 F1200",
+            "G2 X20 Y0 R5",
+            "G1 Y5 Z-1",
+            "(a comment)",
+            "G0 Z5",
+            "G1 X0 Y10 F600",
+            "M2",
+        ];
+        let mut texts: Vec<Vec<u8>> = ["\n", "\r\n", "\r"]
+            .iter()
+            .map(|eol| body.join(eol).into_bytes())
+            .collect();
+        texts.push([&b"\xEF\xBB\xBF"[..], &texts[0]].concat());
+        texts.push([&texts[1][..], b"\r\n"].concat());
+        let reader = MotionReader::new();
+        for text in &texts {
+            let (w_after, w_outline, w_runs) = reader.read_part(text).unwrap();
+            for bytes in [1, 2, 3, 7, 64, 1 << 20] {
+                let (after, outline, runs) = reader
+                    .read_part_in_slices(&mut &text[..], bytes, 0, &mut HoldAll)
+                    .unwrap();
+                assert_eq!(outline, w_outline, "{bytes} bytes");
+                assert_eq!(runs, w_runs, "{bytes} bytes");
+                assert_eq!(after.next, w_after.next, "{bytes} bytes");
+            }
+        }
     }
 }
