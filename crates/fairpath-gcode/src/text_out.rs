@@ -174,24 +174,29 @@ pub(crate) fn for_each_chunk<E>(
 mod tests {
     use super::*;
 
+    /// With each line ending: the text handed out is the text, the last
+    /// line ending always stays with the writer, and the lines are counted
+    /// as `str::lines` counts them (a lone CR ends no line there).
     #[test]
     fn spilled_text_is_the_text_and_its_lines_are_counted() {
-        let line = "G1 X1.000 Y2.000\r\n";
-        let mut out: Vec<u8> = Vec::new();
-        let mut spill = Spill::new(&mut out);
-        let mut text = String::new();
-        let mut whole = String::new();
-        for _ in 0..(3 * SPILL_BYTES / line.len()) {
-            text.push_str(line);
-            whole.push_str(line);
-            spill.spill(&mut text).unwrap();
-            assert!(text.ends_with("\r\n"), "the last line ending stays");
+        for eol in ["\n", "\r\n", "\r"] {
+            let line = format!("G1 X1.000 Y2.000{eol}");
+            let mut out: Vec<u8> = Vec::new();
+            let mut spill = Spill::new(&mut out);
+            let mut text = String::new();
+            let mut whole = String::new();
+            for _ in 0..(3 * SPILL_BYTES / line.len()) {
+                text.push_str(&line);
+                whole.push_str(&line);
+                spill.spill(&mut text).unwrap();
+                assert!(text.ends_with(eol), "the last line ending stays");
+            }
+            text.push_str("M2");
+            whole.push_str("M2");
+            let lines = spill.finish(&mut text).unwrap();
+            assert_eq!(out, whole.as_bytes(), "{eol:?}");
+            assert_eq!(lines, whole.lines().count(), "{eol:?}");
         }
-        text.push_str("M2");
-        whole.push_str("M2");
-        let lines = spill.finish(&mut text).unwrap();
-        assert_eq!(out, whole.as_bytes());
-        assert_eq!(lines, whole.lines().count());
     }
 
     #[test]
