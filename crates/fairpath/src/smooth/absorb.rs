@@ -209,10 +209,9 @@ fn cheapest(
         .min_by(|x, y| x.cost().total_cmp(&y.cost()))
 }
 
-/// The vertex a skipping collapse leaves, where the last finished
-/// segment of `out` ends and `t` starts, skipped too where that is cheap,
-/// as `m` is after a collapse into the midpoint (a jog on a straight line
-/// leaves no vertex): the segment from the last one's start to `t`'s end,
+/// The vertex a collapse leaves, where the last finished segment of `out`
+/// ends and `t` starts, skipped too where that is cheap (a jog on a
+/// straight line leaves no vertex): the segment from the last one's start to `t`'s end,
 /// taken out of `out` to be the pending one, where it stays within
 /// `jt.max_dev` of the original (the bound of skipping a vertex, module
 /// docs), keeps the feed and is no zero-length move; `t` otherwise.
@@ -274,24 +273,14 @@ pub(crate) fn absorb_jogs(chain: &mut LineChain, jt: &JogTolerances) -> usize {
         });
         match (collapse, t) {
             (Some(Collapse::Midpoint { m, dev_a, dev_t }), Some(mut t)) => {
-                let mut a = out.pop().unwrap();
-                let p = out.last().map_or(start, |b| b.to);
+                let a = out.last_mut().unwrap();
+                a.to = m;
+                a.dev = dev_a;
+                a.lines.1 = s.lines.1;
+                t.dev = dev_t;
                 // A jog on a straight line leaves no vertex: `m` itself is
                 // skipped when that is cheap too (`p -> w`).
-                let dev = point_segment_distance(m, p, t.to) + dev_a.max(dev_t);
-                if dev <= jt.max_dev && a.feed == t.feed && p.dist(t.to) > jt.min_len {
-                    a.to = t.to;
-                    a.dev = dev;
-                    a.lines.1 = t.lines.1;
-                    s = a;
-                } else {
-                    a.to = m;
-                    a.dev = dev_a;
-                    a.lines.1 = s.lines.1;
-                    out.push(a);
-                    t.dev = dev_t;
-                    s = t;
-                }
+                s = skip_left(&mut out, start, t, jt);
             }
             (Some(Collapse::SkipEnd { dev }), Some(mut t)) => {
                 t.lines.0 = s.lines.0;
