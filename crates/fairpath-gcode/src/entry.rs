@@ -14,7 +14,9 @@ pub use evidence::Evidence;
 pub use parts::{smooth_in_parts, PartsError, Prepared, PART_LINES};
 pub use report::Report;
 
-use crate::emit::{choose_part, emit_part, write_chosen_part, Chosen, EmitError, PartContext};
+use crate::emit::{
+    choose_part, emit_part, take_long_run_speeds, write_chosen_part, Chosen, EmitError, PartContext,
+};
 use crate::pipeline::{
     plan_input_and_curves_from, plan_text, plan_written_from, smooth_curves_memo, JobTimes, Phases,
     RenderMemo, SmoothOptions, SmoothResult, TimeSums, Times,
@@ -185,11 +187,12 @@ pub(crate) fn write_curves_part(
         mut result,
         input,
         exact,
-        plans,
+        mut plans,
         memo,
     } = curves;
     let (original, smoothed) = lend(&mut result);
     let eo = opts.emit_options();
+    let speeds = take_long_run_speeds(&smoothed, &mut plans, eo.machine.period);
     let step = if chosen.is_some() {
         "write, check"
     } else {
@@ -202,12 +205,21 @@ pub(crate) fn write_curves_part(
             ctx,
             &original,
             &smoothed,
-            &plans,
+            (&plans, speeds),
             &eo,
             memo.as_deref(),
             out,
         ),
-        Some(c) => write_chosen_part(program, ctx, &original, &smoothed, &plans, &eo, c, out),
+        Some(c) => write_chosen_part(
+            program,
+            ctx,
+            &original,
+            &smoothed,
+            (&plans, speeds),
+            &eo,
+            c,
+            out,
+        ),
     };
     drop(plans);
     put_back(&mut result, original, smoothed);

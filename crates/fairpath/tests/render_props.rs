@@ -358,6 +358,28 @@ fn planned_speed_interpolates_the_plan() {
     assert_eq!(sp.at(3, 0.5), 0.0);
 }
 
+/// The speed sampled from a plan's taken segments (each dropped once
+/// sampled: how the writer holds a long run) is the speed sampled from the
+/// plan, sample for sample.
+#[test]
+fn planned_speed_from_taken_segments_is_the_plans() {
+    let pts: Vec<Vec3> = (0..60)
+        .map(|i| Vec3::new(i as f64 * 0.7, if i % 2 == 0 { 0.0 } else { 0.4 }, 0.0))
+        .collect();
+    let pieces: Vec<Piece> = pts
+        .windows(2)
+        .map(|w| piece(Curve::Line(fairpath::geom::Line::new(w[0], w[1]))))
+        .collect();
+    let plan = plan_run(&pieces, &plan_opts()).unwrap();
+    assert!(plan.segments.len() > 10, "{} segments", plan.segments.len());
+    for dt in [0.001, 0.0123] {
+        let whole = PlannedSpeed::new(pieces.len(), &plan, dt);
+        let taken = PlannedSpeed::from_segments(pieces.len(), plan.segments.clone(), dt);
+        assert_eq!(whole, taken, "dt {dt}");
+        assert!(whole.max_over(30, 0.0, 1.0) > 0.0);
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 

@@ -21,7 +21,7 @@ use fairpath::render::{
     linuxcnc_g5_2_motion, render_range, render_run, CurveForm, LineAbsorber, PlannedSpeed,
     RenderOptions, RenderStats, Rendered,
 };
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// What is written for one run.
 #[derive(Clone, Debug)]
@@ -103,6 +103,10 @@ pub(super) struct Emitter<'a> {
     pub(super) memo_units: Units,
     /// Plans made here where none was given ([`Emitter::plan`]).
     lazy: Vec<OnceLock<core::result::Result<RunPlan, FeedError>>>,
+    /// Per run, the speed its plan was sampled to before the plan was
+    /// dropped ([`super::take_long_run_speeds`]), handed to the first
+    /// rendering that asks for it.
+    given: Vec<Mutex<Option<Arc<PlannedSpeed>>>>,
 }
 
 impl<'a> Emitter<'a> {
@@ -129,6 +133,7 @@ impl<'a> Emitter<'a> {
             memo: None,
             memo_units: facts.render_units(),
             lazy: (0..smoothed.len()).map(|_| OnceLock::new()).collect(),
+            given: Vec::new(),
             forms: forms(opts.format, opts.controller),
             feeds: if opts.override_feed {
                 vec![true]
@@ -177,7 +182,14 @@ impl<'a> Emitter<'a> {
         let (opts, wo) = (&self.opts, &self.wo);
         let units = program.run_spans()[k].units;
         let ro = render_options(opts, form, chord, units, wo);
-        let speed = match self.memo.and_then(|m| m.speed_of(&smoothed[k])) {
+        // A given speed goes to the first rendering (the run's plan was
+        // dropped for it: a form tried after that plans the run again).
+        let given = || self.given.get(k)?.lock().ok()?.take();
+        let speed = match self
+            .memo
+            .and_then(|m| m.speed_of(&smoothed[k]))
+            .or_else(given)
+        {
             Some(s) => s,
             None => Arc::new(PlannedSpeed::new(
                 smoothed[k].len(),
@@ -251,6 +263,14 @@ impl<'a> Emitter<'a> {
         } else {
             feeds.iter().map(|&f| t(f)).collect()
         }
+    }
+
+    /// The same, rendering with `speeds` ([`super::take_long_run_speeds`]:
+    /// per run, `None` or the speed its plan was sampled to, the plan
+    /// itself dropped).
+    pub(super) fn with_speeds(mut self, speeds: Vec<Option<Arc<PlannedSpeed>>>) -> Emitter<'a> {
+        self.given = speeds.into_iter().map(Mutex::new).collect();
+        self
     }
 
     /// The plan the renderer shapes run `k` by: the one given, or where

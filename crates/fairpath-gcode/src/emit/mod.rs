@@ -29,7 +29,8 @@ use fairpath::budget::{BudgetError, ToleranceBudget};
 use fairpath::feed::plan::RunPlan;
 use fairpath::feed::FeedError;
 use fairpath::path::{Piece, Run};
-use fairpath::render::{RenderError, RenderStats};
+use fairpath::render::{PlannedSpeed, RenderError, RenderStats};
+use std::sync::Arc;
 
 /// Why the curves could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -193,7 +194,14 @@ pub fn emit(
     let mut ctx = PartContext::whole(program);
     let mut out: Vec<u8> = Vec::new();
     let emitted = emit_part(
-        program, &mut ctx, original, smoothed, plans, opts, None, &mut out,
+        program,
+        &mut ctx,
+        original,
+        smoothed,
+        (plans, Vec::new()),
+        opts,
+        None,
+        &mut out,
     )?;
     Ok((emitted, text_of(out)?))
 }
@@ -209,14 +217,16 @@ pub(crate) fn text_of(out: Vec<u8>) -> Result<String> {
 /// time the text [`emit`] makes of the whole program.
 ///
 /// `memo`: the renderings `auto`'s objective made of these curves, if any
-/// ([`RenderMemo`]).
+/// ([`RenderMemo`]). `(plans, speeds)`: the plans of the curves, and per
+/// run the speed a dropped plan was sampled to ([`take_long_run_speeds`];
+/// empty for none).
 #[allow(clippy::too_many_arguments)]
 pub fn emit_part(
     program: &Program,
     ctx: &mut PartContext,
     original: &[Run],
     smoothed: &[Vec<Piece>],
-    plans: &[RunPlan],
+    (plans, speeds): (&[RunPlan], Vec<Option<Arc<PlannedSpeed>>>),
     opts: &EmitOptions,
     memo: Option<&RenderMemo>,
     out: &mut dyn TextOut,
@@ -224,7 +234,8 @@ pub fn emit_part(
     if opts.format == Format::Json {
         return emit_json(program, &ctx.facts, original, smoothed, opts, out);
     }
-    let mut em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+    let mut em =
+        emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?.with_speeds(speeds);
     em.memo = memo;
     let chosen = choose::choose(&em, original)?;
     write::write_chosen(&em, ctx, original, chosen, out)
@@ -253,14 +264,14 @@ pub fn choose_part(
 
 /// The second half of [`emit_part`]: `chosen` ([`choose_part`] of the
 /// same part, curves and plans) written from where `ctx` stands to the end
-/// of `out`.
+/// of `out`; `(plans, speeds)` as [`emit_part`] takes them.
 #[allow(clippy::too_many_arguments)]
 pub fn write_chosen_part(
     program: &Program,
     ctx: &mut PartContext,
     original: &[Run],
     smoothed: &[Vec<Piece>],
-    plans: &[RunPlan],
+    (plans, speeds): (&[RunPlan], Vec<Option<Arc<PlannedSpeed>>>),
     opts: &EmitOptions,
     chosen: Option<Chosen>,
     out: &mut dyn TextOut,
@@ -268,10 +279,40 @@ pub fn write_chosen_part(
     match chosen {
         None => emit_json(program, &ctx.facts, original, smoothed, opts, out),
         Some(chosen) => {
-            let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?;
+            let em = emitter::Emitter::new(program, &ctx.facts, smoothed, plans, opts)?
+                .with_speeds(speeds);
             write::write_chosen(&em, ctx, original, chosen, out)
         }
     }
+}
+
+/// The speed each long run's renderer is shaped by, sampled from its plan
+/// in `plans` (on a machine with interpolation period `period` s), the
+/// plan's segments then dropped (its time kept): the sampled speed is all
+/// the writer needs of them, and on a run of 200,000 curves the segments
+/// are 36 MB held through the whole write. `None` for the other runs (and
+/// for a long run whose plan `auto`'s objective left empty).
+pub fn take_long_run_speeds(
+    smoothed: &[Vec<Piece>],
+    plans: &mut [RunPlan],
+    period: f64,
+) -> Vec<Option<Arc<PlannedSpeed>>> {
+    #[cfg(test)]
+    if tests::KEEP_PLANS.with(|k| k.get()) {
+        return vec![None; smoothed.len()];
+    }
+    smoothed
+        .iter()
+        .zip(plans)
+        .map(|(pieces, plan)| {
+            (pieces.len() >= LONG_RUN_PIECES && !plan.segments.is_empty()).then(|| {
+                #[cfg(test)]
+                tests::TAKEN_SPEEDS.with(|n| n.set(n.get() + 1));
+                let segments = core::mem::take(&mut plan.segments);
+                Arc::new(PlannedSpeed::from_segments(pieces.len(), segments, period))
+            })
+        })
+        .collect()
 }
 
 /// [`emit`] in JSON: the curves as they are, read back and verified.
@@ -347,6 +388,11 @@ mod tests {
         /// Every run checked as it is read is taken for one whose windows
         /// did not stitch (a run planned as one segment end to end).
         pub(super) static UNSTITCHED: Cell<bool> = const { Cell::new(false) };
+        /// Long runs' plans kept whole for the writer (the path before
+        /// `take_long_run_speeds`).
+        pub(super) static KEEP_PLANS: Cell<bool> = const { Cell::new(false) };
+        /// Long runs whose plan `take_long_run_speeds` took, on this thread.
+        pub(super) static TAKEN_SPEEDS: Cell<usize> = const { Cell::new(0) };
     }
 
     /// The passes of [`raster`].
@@ -393,9 +439,12 @@ mod tests {
     }
 
     /// A long run is rendered as it is written and checked as it is read
-    /// back (never held whole): the same text and evidence as rendering
-    /// and reading it whole, for arcs (G1 their alternative) and G1 alone,
-    /// blended and block-capped corners, and through a retry.
+    /// back (never held whole), shaped by the speed sampled from its plan
+    /// before the writer starts (the plan then dropped): the same text and
+    /// evidence as rendering and reading it whole from the plan kept, for
+    /// arcs (G1 their alternative, which plans the run again) and G1 alone,
+    /// blended and block-capped corners, and through a retry (which plans
+    /// it again too).
     #[test]
     fn a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole() {
         // 7,200 moves, about 14,000 pieces once smoothed: a long run.
@@ -469,20 +518,25 @@ mod tests {
             };
             let run = |streaming: bool| {
                 NO_STREAMING.with(|n| n.set(!streaming));
+                KEEP_PLANS.with(|n| n.set(!streaming));
+                TAKEN_SPEEDS.with(|n| n.set(0));
                 STREAMED_RUNS.with(|n| n.set(0));
                 READ_AGAIN.with(|n| n.set(0));
                 UNSTITCHED.with(|n| n.set(unstitched));
                 FAIL_FIRST_CHECK.with(|f| f.set(fail));
                 let out = crate::smooth_program(&text, &opts).unwrap();
                 NO_STREAMING.with(|n| n.set(false));
+                KEEP_PLANS.with(|n| n.set(false));
                 let again = READ_AGAIN.with(|n| n.get());
                 UNSTITCHED.with(|n| n.set(false));
-                (out, STREAMED_RUNS.with(|n| n.get()), again)
+                let speeds = TAKEN_SPEEDS.with(|n| n.get());
+                (out, STREAMED_RUNS.with(|n| n.get()), again, speeds)
             };
-            let ((whole, whole_report), none, _) = run(false);
-            let ((streamed, report), taken, again) = run(true);
+            let ((whole, whole_report), none, _, kept_plans) = run(false);
+            let ((streamed, report), taken, again, speeds) = run(true);
             let what = format!("{method} {format:?} {controller:?} {fail:?} {passes:?}");
             assert_eq!(none, 0, "{what}");
+            assert_eq!((kept_plans, speeds), (0, 1), "{what}: plans taken");
             let whole_read = passes == Passes::Twisted || unstitched;
             assert_eq!(
                 taken == 0,

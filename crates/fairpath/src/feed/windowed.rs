@@ -327,8 +327,21 @@ impl WindowedTimer {
         if self.unstitched {
             return Ok(());
         }
-        self.held.extend_from_slice(pieces);
-        self.plan(false)
+        // A window's worth at a time (an overlap's pieces), each planned
+        // as soon as it completes a window, in exactly the room it needs:
+        // the held pieces stay within a window and an overlap (a megabyte
+        // of read-back text is some 35,000 pieces; pushed whole they took
+        // the buffer to 131,072 pieces, 26 MB, on the large raster). The
+        // windows and their plans are the same whatever the chunks.
+        for chunk in pieces.chunks(self.st.w.overlap.max(1)) {
+            if self.unstitched {
+                return Ok(());
+            }
+            self.held.reserve_exact(chunk.len());
+            self.held.extend_from_slice(chunk);
+            self.plan(false)?;
+        }
+        Ok(())
     }
 
     fn plan(&mut self, done: bool) -> Result<(), FeedError> {

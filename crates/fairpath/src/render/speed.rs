@@ -3,8 +3,9 @@
 //! place of the exact curves, and so how much curvature step a joint there
 //! can take.
 
-use crate::feed::plan::RunPlan;
+use crate::feed::plan::{PlannedSegment, RunPlan};
 use alloc::vec::Vec;
+use core::borrow::Borrow;
 
 /// Planned speed samples of each piece of a run: `(parameter, mm/s)`,
 /// increasing in the parameter. The samples of all pieces are held in one
@@ -23,25 +24,63 @@ pub struct PlannedSpeed {
 /// between samples of a long segment changes slowly anyway).
 const MAX_SAMPLES_PER_SEGMENT: f64 = 1e6;
 
+/// Steps `seg` is sampled in: one per `dt` of its duration, at least
+/// one, at most [`MAX_SAMPLES_PER_SEGMENT`].
+fn steps(seg: &PlannedSegment, dt: f64) -> usize {
+    let d = seg.profile.duration();
+    if d > 0.0 && dt > 0.0 {
+        crate::math::ceil(d / dt).clamp(1.0, MAX_SAMPLES_PER_SEGMENT) as usize
+    } else {
+        1
+    }
+}
+
+/// Samples [`PlannedSpeed::sample`] takes of `segments` at most.
+fn sample_count(segments: &[PlannedSegment], dt: f64) -> usize {
+    segments
+        .iter()
+        .filter(|s| !s.parts.is_empty())
+        .map(|s| steps(s, dt) + 1)
+        .sum()
+}
+
 impl PlannedSpeed {
     /// Samples `plan` (of a run of `n_pieces` pieces) every `dt` seconds of
     /// its profiles, and at both ends of each segment.
     pub fn new(n_pieces: usize, plan: &RunPlan, dt: f64) -> PlannedSpeed {
-        let mut samples: Vec<(f64, f64)> = Vec::new();
+        let count = sample_count(&plan.segments, dt);
+        PlannedSpeed::sample(n_pieces, plan.segments.iter(), dt, count)
+    }
+
+    /// [`PlannedSpeed::new`] of a plan whose segments are taken: each is
+    /// dropped once sampled, so that a long run's plan and its samples are
+    /// not held whole at once (the same samples).
+    pub fn from_segments(n_pieces: usize, segments: Vec<PlannedSegment>, dt: f64) -> PlannedSpeed {
+        let count = sample_count(&segments, dt);
+        PlannedSpeed::sample(n_pieces, segments.into_iter(), dt, count)
+    }
+
+    /// The samples of `segments`, at most `count` of them (room for them
+    /// is taken at once: grown by doubling, the vector of a long run held
+    /// three times its size while it moved).
+    fn sample<S: Borrow<PlannedSegment>>(
+        n_pieces: usize,
+        segments: impl Iterator<Item = S>,
+        dt: f64,
+        count: usize,
+    ) -> PlannedSpeed {
+        let mut samples: Vec<(f64, f64)> = Vec::with_capacity(count);
         // The piece of each sample; a plan runs along its pieces in order,
         // so these do not decrease (were they to, the samples are sorted
         // by piece below, keeping their order within a piece).
-        let mut piece_of: Vec<u32> = Vec::new();
-        for seg in &plan.segments {
+        let mut piece_of: Vec<u32> = Vec::with_capacity(count);
+        for seg in segments {
+            let seg = seg.borrow();
             if seg.parts.is_empty() {
                 continue;
             }
             let d = seg.profile.duration();
-            let n = if d > 0.0 && dt > 0.0 {
-                crate::math::ceil(d / dt).clamp(1.0, MAX_SAMPLES_PER_SEGMENT) as usize
-            } else {
-                1
-            };
+            let n = steps(seg, dt);
             let mut part = 0;
             let mut s0 = 0.0;
             for k in 0..=n {
