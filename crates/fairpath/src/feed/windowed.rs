@@ -327,9 +327,9 @@ impl WindowedTimer {
         if self.unstitched {
             return Ok(());
         }
-        // A window's worth at a time (an overlap's pieces), each planned
-        // as soon as it completes a window, in exactly the room it needs:
-        // the held pieces stay within a window and an overlap (a megabyte
+        // An overlap's pieces at a time, each chunk planned as soon as it
+        // completes a window, in exactly the room it needs: the held
+        // pieces stay within a window and an overlap (a megabyte
         // of read-back text is some 35,000 pieces; pushed whole they took
         // the buffer to 131,072 pieces, 26 MB, on the large raster). The
         // windows and their plans are the same whatever the chunks.
