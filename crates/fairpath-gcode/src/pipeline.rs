@@ -495,9 +495,13 @@ pub fn smooth_curves_memo(
     phases: &mut Phases,
     memo: Option<Arc<RenderMemo>>,
 ) -> Result<SmoothResult, PipelineError> {
+    let runs = program.runs();
+    if let Some(m) = &memo {
+        m.expect_runs(&runs);
+    }
     let for_program = opts.method_with_memo(facts, memo);
     fairpath::pipeline::smooth_runs_observed(
-        program.runs(),
+        runs,
         for_program.as_deref().unwrap_or(opts.method.as_ref()),
         &opts.budget,
         &mut |stage| {

@@ -57,3 +57,29 @@ fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
         }
     }
 }
+
+/// The memo holds renderings of the runs the writer will write only, not
+/// of the sections `auto` cuts them into and costs too: after smoothing,
+/// at most one per run (arcs, the objective's only rendering here).
+#[test]
+fn autos_sections_leave_no_rendering_in_the_memo() {
+    for text in [
+        include_str!("../../../examples/pocket-corners.ngc"),
+        include_str!("../../../examples/zigzag.ngc"),
+    ] {
+        let program = parse(text.as_bytes()).unwrap();
+        let opts = SmoothOptions::new(0.05, None, "auto", Some(Format::Arcs), Controller::Generic)
+            .unwrap();
+        let memo = Arc::new(RenderMemo::default());
+        let facts = ProgramFacts::of(&program);
+        let mut phases = Phases::new();
+        smooth_curves_memo(&program, &facts, &opts, &mut phases, Some(memo.clone())).unwrap();
+        let runs = program.runs().len();
+        assert!(memo.held() > 0);
+        assert!(
+            memo.held() <= runs,
+            "{} renderings for {runs} runs",
+            memo.held()
+        );
+    }
+}

@@ -14,14 +14,22 @@
 //! planned at the machine's maximum feed) stays for the writer's other
 //! renderings of the same pieces (another form, a finer chord), which
 //! then need no plan of their own.
+//!
+//! Only renderings of the runs the writer will write are kept
+//! ([`RenderMemo::expect_runs`]): `auto` also costs the sections it cuts a
+//! run into, whose renderings no writer asks for (kept, they held every
+//! section's fastest rendering at every cut length until the part was
+//! written: 381 MB for `auto` on a 220 kB plotter program of one run).
 
 use fairpath::choose::{pieces_digest, RenderObserver};
 use fairpath::path::Piece;
+use fairpath::path::Run;
 use fairpath::render::{PlannedSpeed, Rendered};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::sync::Mutex;
+use std::sync::OnceLock;
 
 /// A run: its first and last input lines and its end points, bit for bit.
 type RunKey = (usize, usize, [u64; 6]);
@@ -40,6 +48,9 @@ pub struct RenderMemo {
     speeds: Mutex<HashMap<RunKey, Vec<DigestSpeed>>>,
     /// Renderings taken by the writer so far.
     taken: AtomicUsize,
+    /// The runs whose renderings are kept, once told
+    /// ([`RenderMemo::expect_runs`]); until then, every run's.
+    expected: OnceLock<HashSet<RunKey>>,
 }
 
 #[derive(Debug)]
@@ -65,7 +76,7 @@ impl RenderObserver for RenderMemo {
         time: f64,
         speed: &Arc<PlannedSpeed>,
     ) {
-        let Some(key) = run_key(pieces) else {
+        let Some(key) = self.expected_key(pieces) else {
             return;
         };
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
@@ -91,6 +102,9 @@ impl RenderObserver for RenderMemo {
     }
 
     fn bounded(&self, pieces: &[Piece], time: f64) {
+        if self.expected_key(pieces).is_none() {
+            return;
+        }
         let digest = pieces_digest(pieces);
         let mut bounds = self.bounds.lock().unwrap_or_else(|e| e.into_inner());
         bounds.insert(digest, time);
@@ -98,6 +112,24 @@ impl RenderObserver for RenderMemo {
 }
 
 impl RenderMemo {
+    /// Keeps from now on only the renderings (and bounds) of pieces that
+    /// start and end where one of `runs` does, on its first and last
+    /// input lines: the runs the writer will write (a method keeps a run's
+    /// end points exactly). The first call counts; later ones are ignored.
+    pub fn expect_runs(&self, runs: &[Run]) {
+        let keys = runs.iter().filter_map(|r| run_key(&r.pieces)).collect();
+        let _ = self.expected.set(keys);
+    }
+
+    /// The run key of `pieces` where their renderings are kept.
+    fn expected_key(&self, pieces: &[Piece]) -> Option<RunKey> {
+        let key = run_key(pieces)?;
+        match self.expected.get() {
+            Some(keys) if !keys.contains(&key) => None,
+            _ => Some(key),
+        }
+    }
+
     /// The rendering of exactly `pieces` with the objective's rendering
     /// options `render` and its planned time, if it was kept; taken out.
     pub fn take(&self, pieces: &[Piece], render: usize) -> Option<(Rendered, f64)> {
@@ -146,5 +178,62 @@ impl RenderMemo {
     /// How many renderings the writer took ([`RenderMemo::take`]).
     pub fn taken(&self) -> usize {
         self.taken.load(Ordering::Relaxed)
+    }
+
+    /// How many renderings it holds (not taken yet).
+    pub fn held(&self) -> usize {
+        self.kept.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fairpath::geom::{Curve, Line, Vec3};
+
+    fn line(a: f64, b: f64, lines: (usize, usize)) -> Piece {
+        Piece {
+            curve: Curve::Line(Line::new(Vec3::new(a, 0.0, 0.0), Vec3::new(b, 0.0, 0.0))),
+            rapid: false,
+            source_lines: lines,
+            feed: None,
+        }
+    }
+
+    fn rendering(pieces: &[Piece]) -> Rendered {
+        Rendered {
+            pieces: pieces.to_vec(),
+            ..Rendered::default()
+        }
+    }
+
+    /// Once told the runs the writer will write, the memo keeps the
+    /// renderings and bounds of those runs only: a section of a run (it
+    /// starts inside the run's first line) is neither kept nor bounded;
+    /// untold, it keeps every run's.
+    #[test]
+    fn only_the_runs_to_be_written_are_kept() {
+        let run = vec![line(0.0, 1.0, (3, 3)), line(1.0, 2.0, (4, 4))];
+        let section = vec![line(0.5, 1.0, (3, 3)), line(1.0, 2.0, (4, 4))];
+        let speed = Arc::new(PlannedSpeed::default());
+        for told in [true, false] {
+            let memo = RenderMemo::default();
+            if told {
+                memo.expect_runs(&[Run::new(run.clone())]);
+            }
+            for pieces in [&run, &section] {
+                memo.rendered(pieces, 0, rendering(pieces), 1.0, &speed);
+                memo.bounded(pieces, 2.0);
+            }
+            assert!(memo.holds(&run, 0));
+            assert_eq!(memo.bound_of(&run), Some(2.0));
+            assert_eq!(memo.holds(&section, 0), !told);
+            assert_eq!(memo.bound_of(&section).is_some(), !told);
+            assert_eq!(memo.speed_of(&section).is_some(), !told);
+            assert_eq!(memo.held(), if told { 1 } else { 2 });
+            // The one the writer asks for is taken whole.
+            let (r, t) = memo.take(&run, 0).expect("kept");
+            assert_eq!((r.pieces, t), (run.clone(), 1.0));
+        }
     }
 }
