@@ -5,7 +5,10 @@
 //! ([`super::write`]).
 
 use super::emitter::{Choice, Emitter};
-use super::{Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES};
+use super::{
+    Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES, RENDER_PART_PIECES,
+    STREAMED_PART_RENDERED,
+};
 use fairpath::geom::Curve;
 use fairpath::path::Run;
 use fairpath::pipeline::par_map;
@@ -128,21 +131,6 @@ pub(super) fn choose_run(
         if stream && best.is_none() && i == 0 && em.streams(k, form, chord) {
             return Ok(Choice::streamed(form, chord));
         }
-        let (c, known) = em.first_render(k, i, chord)?;
-        if form == CurveForm::Arcs {
-            arcs_all_lines = c.stats.arcs == 0;
-        }
-        let rendered_time = |c: &Choice, f: bool| match known {
-            Some(t) if f == opts.override_feed => Ok(t),
-            _ => rendered_time(c, f),
-        };
-        // A long run's only candidate is timed once, as written (the
-        // check below plans what reads back at every feed and keeps the
-        // run as the program wrote it where that is slower).
-        let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
-        if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
-            return Ok(c);
-        }
         // A candidate must be faster than the program's own run at every
         // feed, and than a rendering already chosen at the first: it
         // loses at the first feed where it is not, and its times at the
@@ -163,6 +151,43 @@ pub(super) fn choose_run(
         let loses = |fi: usize, t: f64| {
             t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
         };
+        // The all-G1 alternative to a rendering of many pieces (a long
+        // run's, or one whose every curve renders to hundreds of blocks:
+        // a pen plotter's fits, 649 curves to 666,122 lines) is timed as
+        // it is rendered, part after part, and where it wins it is
+        // rendered again as it is written: never held whole.
+        let many = best
+            .as_ref()
+            .map(|(_, b)| b.count)
+            .filter(|&n| n >= LONG_RUN_PIECES);
+        if let (Some(count), CurveForm::Lines, true) = (many, form, i > 0 && em.may_stream()) {
+            let part = streamed_part_pieces(smoothed[k].len(), count);
+            if let Some(ts) = em.streamed_times(k, (form, chord), part)? {
+                if ts.iter().enumerate().all(|(fi, &t)| !loses(fi, t)) {
+                    let c = Choice {
+                        part_pieces: part,
+                        ..Choice::streamed(form, chord)
+                    };
+                    best = Some((ts[0], c));
+                }
+                continue;
+            }
+        }
+        let (c, known) = em.first_render(k, i, chord)?;
+        if form == CurveForm::Arcs {
+            arcs_all_lines = c.stats.arcs == 0;
+        }
+        let rendered_time = |c: &Choice, f: bool| match known {
+            Some(t) if f == opts.override_feed => Ok(t),
+            _ => rendered_time(c, f),
+        };
+        // A long run's only candidate is timed once, as written (the
+        // check below plans what reads back at every feed and keeps the
+        // run as the program wrote it where that is slower).
+        let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
+        if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
+            return Ok(c);
+        }
         let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {
             if best.is_some() && loses(0, rendered_time(&c, feeds[0])?) {
                 continue;
@@ -187,4 +212,30 @@ pub(super) fn choose_run(
         }
     }
     Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))
+}
+
+/// Curves per part of a run of `curves` curves rendered part after part
+/// where a rendering of it held `count` pieces: parts that render to
+/// about [`STREAMED_PART_RENDERED`] pieces each, at most
+/// [`RENDER_PART_PIECES`] curves.
+fn streamed_part_pieces(curves: usize, count: usize) -> usize {
+    let per_curve = count.div_ceil(curves.max(1)).max(1);
+    (STREAMED_PART_RENDERED / per_curve).clamp(1, RENDER_PART_PIECES)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parts render to about [`STREAMED_PART_RENDERED`] pieces: a pen
+    /// plotter's 649 fits whose arcs held 400,000 pieces go 48 curves a
+    /// part; a curve that renders to more than that goes alone; a long
+    /// run of corner transitions keeps the parts of the whole rendering.
+    #[test]
+    fn parts_of_a_rendering_timed_as_it_is_rendered() {
+        assert_eq!(streamed_part_pieces(649, 400_000), 48);
+        assert_eq!(streamed_part_pieces(3, 200_000), 1);
+        assert_eq!(streamed_part_pieces(200_000, 400_000), RENDER_PART_PIECES);
+        assert_eq!(streamed_part_pieces(10, 100), 3000);
+    }
 }

@@ -13,7 +13,7 @@ use crate::pipeline::{EmitOptions, RenderMemo};
 use crate::RenderedParts;
 use crate::{Format, GcodeWriteOptions, Program, Units};
 use fairpath::feed::plan::{plan_run, PlanOptions, RunPlan};
-use fairpath::feed::windowed::{plan_time_windowed, PlanWindows};
+use fairpath::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
 use fairpath::feed::FeedError;
 use fairpath::path::Piece;
 use fairpath::pipeline::par_map;
@@ -41,6 +41,10 @@ pub(super) struct Choice {
     /// part as it is checked ([`Emitter::streams`]): `pieces` stays empty;
     /// `stats` and `count` are known once it is written.
     pub(super) streamed: bool,
+    /// Curves per part where it is rendered part after part
+    /// ([`RENDER_PART_PIECES`], fewer where each curve renders to many
+    /// pieces: [`Emitter::streamed_times`]).
+    pub(super) part_pieces: usize,
 }
 
 impl Choice {
@@ -54,6 +58,7 @@ impl Choice {
             speeds: Vec::new(),
             count: 0,
             streamed: false,
+            part_pieces: RENDER_PART_PIECES,
         }
     }
 
@@ -77,6 +82,7 @@ impl Choice {
             stats: r.stats,
             speeds: r.speeds,
             streamed: false,
+            part_pieces: RENDER_PART_PIECES,
         }
     }
 }
@@ -155,7 +161,8 @@ impl<'a> Emitter<'a> {
             return Ok(Choice::rendered(form, chord, r));
         }
         // A long run in parts side by side, joined as they come.
-        let mut parts = PartsRenderer::new(k, pieces, ro, speed, RENDER_GROUP_PARTS);
+        let group = RENDER_GROUP_PARTS;
+        let mut parts = PartsRenderer::new(k, pieces, ro, speed, (group, RENDER_PART_PIECES));
         let mut joined = Rendered::default();
         while let Some((p, v)) = parts.next_part() {
             joined.pieces.extend(p);
@@ -200,6 +207,64 @@ impl<'a> Emitter<'a> {
         Ok((ro, speed))
     }
 
+    /// Whether a rendering may be made as it is written (always but in
+    /// the tests that compare with rendering it whole).
+    pub(super) fn may_stream(&self) -> bool {
+        #[cfg(test)]
+        if super::tests::NO_STREAMING.with(|n| n.get()) {
+            return false;
+        }
+        true
+    }
+
+    /// Run `k` rendered in `form` at `chord` part after part, `part_pieces`
+    /// curves a part, and timed at each of [`Emitter::feeds`] as the parts
+    /// come ([`WindowedTimer`]: the times [`Emitter::time`] plans of the
+    /// whole rendering, to the bit), the parts dropped once timed: what a
+    /// rendering of many pieces costs in memory is a group of parts and a
+    /// window. `None` where the windows do not stitch (the caller renders
+    /// the run whole).
+    pub(super) fn streamed_times(
+        &self,
+        k: usize,
+        (form, chord): (CurveForm, f64),
+        part_pieces: usize,
+    ) -> Result<Option<Vec<f64>>> {
+        let (ro, speed) = self.render_setup(k, form, chord)?;
+        let windows = PlanWindows::DEFAULT;
+        let corners = self.opts.judged_by;
+        let Some(timers) = self
+            .feeds
+            .iter()
+            .map(|&f| WindowedTimer::new(&self.plan_options(f), corners, windows).map(Mutex::new))
+            .collect::<Option<Vec<_>>>()
+        else {
+            return Ok(None);
+        };
+        let group = super::streamed_group_parts();
+        let pieces = &self.smoothed[k];
+        let mut parts = PartsRenderer::new(k, pieces, ro, speed, (group, part_pieces));
+        while let Some((p, _)) = parts.next_part() {
+            let pushed = par_map(timers.len(), |i| {
+                let mut t = timers[i].lock().unwrap_or_else(|e| e.into_inner());
+                t.push(&p)
+            });
+            for r in pushed {
+                r.map_err(EmitError::Plan)?;
+            }
+        }
+        if let Some(e) = parts.error {
+            return Err(e);
+        }
+        timers
+            .into_iter()
+            .map(|t| {
+                let t = t.into_inner().unwrap_or_else(|e| e.into_inner());
+                t.finish().map_err(EmitError::Plan)
+            })
+            .collect()
+    }
+
     /// Whether run `k`'s first candidate in `form` at `chord` is rendered
     /// as it is written, part after part ([`Choice::streamed`]): a long
     /// run's candidate that is timed only as written (arcs, whose G1
@@ -207,11 +272,8 @@ impl<'a> Emitter<'a> {
     /// or the format's only form), where `auto`'s objective kept no
     /// rendering of it.
     pub(super) fn streams(&self, k: usize, form: CurveForm, chord: f64) -> bool {
-        #[cfg(test)]
-        if super::tests::NO_STREAMING.with(|n| n.get()) {
-            return false;
-        }
-        self.smoothed[k].len() >= LONG_RUN_PIECES
+        self.may_stream()
+            && self.smoothed[k].len() >= LONG_RUN_PIECES
             && self.memo.is_none()
             && chord == self.opts.budget.output
             && (form == CurveForm::Arcs || (self.forms.len() == 1 && form == CurveForm::Lines))
@@ -342,9 +404,11 @@ pub(super) struct PartsRenderer<'e> {
     pieces: &'e [Piece],
     ro: RenderOptions,
     speed: Arc<PlannedSpeed>,
-    /// The next part to render, and how many are rendered side by side.
+    /// The next part to render, how many are rendered side by side, and
+    /// the pieces of a part.
     next: usize,
     group: usize,
+    part_pieces: usize,
     absorber: Option<LineAbsorber>,
     /// What the parts given so far hold.
     pub(super) stats: RenderStats,
@@ -355,13 +419,13 @@ pub(super) struct PartsRenderer<'e> {
 
 impl<'e> PartsRenderer<'e> {
     /// Run `k`, `pieces`, rendered with `ro` by `speed`, `group` parts
-    /// of [`RENDER_PART_PIECES`] at a time.
+    /// of `part_pieces` pieces at a time.
     pub(super) fn new(
         k: usize,
         pieces: &'e [Piece],
         ro: RenderOptions,
         speed: Arc<PlannedSpeed>,
-        group: usize,
+        (group, part_pieces): (usize, usize),
     ) -> PartsRenderer<'e> {
         PartsRenderer {
             k,
@@ -371,6 +435,7 @@ impl<'e> PartsRenderer<'e> {
             speed,
             next: 0,
             group: group.max(1),
+            part_pieces: part_pieces.max(1),
             stats: RenderStats::default(),
             count: 0,
             error: None,
@@ -384,7 +449,8 @@ impl RenderedParts for PartsRenderer<'_> {
             return None;
         }
         let (pieces, speed, ro) = (self.pieces, &*self.speed, &self.ro);
-        let parts = pieces.len().div_ceil(RENDER_PART_PIECES);
+        let size = self.part_pieces;
+        let parts = pieces.len().div_ceil(size);
         if self.next >= parts {
             let last = self.absorber.take()?.finish();
             self.count += last.pieces.len();
@@ -394,8 +460,8 @@ impl RenderedParts for PartsRenderer<'_> {
         let in_group = self.group.min(parts - group);
         let rendered = par_map(in_group, |i| {
             let j = group + i;
-            let end = ((j + 1) * RENDER_PART_PIECES).min(pieces.len());
-            render_range(pieces, j * RENDER_PART_PIECES..end, speed, ro)
+            let end = ((j + 1) * size).min(pieces.len());
+            render_range(pieces, j * size..end, speed, ro)
         });
         self.next += in_group;
         let mut joined = Rendered::default();

@@ -198,9 +198,10 @@ pub(super) fn write_chosen(
             retried[k] = true;
             let c = &choices[k];
             choices[k] = match c.form {
-                Some(form) if attempt < RETRIES && c.streamed => {
-                    Choice::streamed(form, 0.5 * c.chord)
-                }
+                Some(form) if attempt < RETRIES && c.streamed => Choice {
+                    part_pieces: c.part_pieces,
+                    ..Choice::streamed(form, 0.5 * c.chord)
+                },
                 Some(form) if attempt < RETRIES => render(k, form, 0.5 * c.chord)?,
                 _ => Choice::original(c.chord),
             };
@@ -287,7 +288,7 @@ fn write_text<'e>(
         };
         let (ro, speed) = em.render_setup(k, form, c.chord)?;
         let group = super::streamed_group_parts();
-        let parts = PartsRenderer::new(k, &em.smoothed[k], ro, speed, group);
+        let parts = PartsRenderer::new(k, &em.smoothed[k], ro, speed, (group, c.part_pieces));
         renderers.push(Some(RefCell::new(parts)));
     }
     let outputs: Vec<RunOutput> = choices
