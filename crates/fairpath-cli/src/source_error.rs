@@ -2,6 +2,7 @@
 //! message`, then the source line with a caret under the column, then a
 //! hint of what to do.
 
+use fairpath_gcode::lang::error::LangError;
 use fairpath_gcode::{ErrorKind, GcodeError};
 use std::fmt;
 
@@ -77,6 +78,10 @@ fn hint(e: &GcodeError) -> &'static str {
         ErrorKind::ArcRadiusMismatch { .. } | ErrorKind::ArcRadiusTooSmall { .. } => {
             "check the arc's end point and centre (or radius): they do not make one circle"
         }
+        ErrorKind::Language(LangError::EndlessLoop | LangError::TooManyLines(_)) => {
+            "make each pass of the loop change what its condition reads (e.g. add 1 to its \
+             counter); LinuxCNC would run it until stopped"
+        }
         _ if e.is_unsupported() => {
             "fairpath does not read this: rewrite the line without it, or post the program \
              for plain RS274 (see docs/real-programs.md)"
@@ -123,6 +128,21 @@ mod tests {
         assert_eq!(line_text(text, 3).as_deref(), Some("c"));
         assert_eq!(line_text(text, 4).as_deref(), Some("d"));
         assert_eq!(line_text(text, 5), None);
+    }
+
+    /// An endless loop's hint says what to change, not that LinuxCNC
+    /// would refuse the program (it runs it until stopped).
+    #[test]
+    fn an_endless_loop_is_told_how_to_end() {
+        let text = b"G0 X0\no1 while [1]\nG1 X1 F100\no1 endwhile\n";
+        let e = fairpath_gcode::parse(text).unwrap_err();
+        let shown = SourceError::new("p.ngc", text, &e).to_string();
+        assert!(shown.starts_with("p.ngc:2:1: endless loop"), "{shown}");
+        assert!(
+            shown.contains("hint: make each pass of the loop change"),
+            "{shown}"
+        );
+        assert!(!shown.contains("would refuse"), "{shown}");
     }
 
     #[test]

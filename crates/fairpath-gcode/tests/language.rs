@@ -592,11 +592,55 @@ fn recursion_and_endless_loops_are_bounded() {
     // Bounded recursion within the limit works.
     let text = "o<r> sub\no1 if [#1 GT 0]\nG0 X#1\no<r> call [#1 - 1]\no1 endif\no<r> endsub\no<r> call [8]\n";
     assert_eq!(ends(text).len(), 8);
-    let e = err("G0 X0\no1 while [1]\no1 endwhile\n");
+    // A loop that writes a parameter on every pass runs to the line limit.
+    let e = err("G0 X0\n#1 = 0\no1 while [1]\n#1 = [#1 + 1]\no1 endwhile\n");
     assert_eq!(
         lang(&e),
         &LangError::TooManyLines(fairpath_gcode::lang::flow::MAX_EXECUTED_LINES)
     );
+}
+
+/// A `while` or `do` loop whose condition holds again after a pass that
+/// wrote no parameter and left the machine's state as it was is endless:
+/// an error at its condition's line on the second pass, not after ten
+/// million lines. Loops that write, move incrementally, or are entered
+/// again after a `break` run as before.
+#[test]
+fn endless_loops_are_found_on_their_second_pass() {
+    // Regression (the mutational fuzz test's slowest input, 217 bytes: a
+    // counter whose increment was lost took 9 s and 3.2 GB to reach the
+    // line limit).
+    let fuzzed = "G4 P1\nG20\nG90\nG0 Z1\nX0 Y0 \nM6 T1\nG54\n#1 = 1 (assign)\nF25\n\
+                  o101 while [#1 LT 10]\n  G1 X0\n  G1 Y[#1/10] X1\no101 endwhile\nM2\n";
+    let e = err(fuzzed);
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    assert_eq!((e.line, e.column), (10, 1), "{e}");
+    let e = err("G0 X0\no1 while [1]\no1 endwhile\n");
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    assert_eq!(e.line, 2);
+    // A `do` loop: found at its `while`.
+    let e = err("G0 X0\no1 do\nG1 X1 F100\no1 while [1]\n");
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    assert_eq!(e.line, 4);
+    // `continue` goes back to the condition: a pass all the same.
+    let e = err("G0 X0\no1 while [1]\nG1 X1 F100\no1 continue\no1 endwhile\n");
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    // Finite loops: a counter, a `continue` after it, a `break`.
+    let counted = "#1 = 0\no1 while [#1 LT 3]\n#1 = [#1 + 1]\nG1 X#1 F100\no1 endwhile\n";
+    assert_eq!(ends(counted).len(), 3);
+    let cont = "#1 = 0\no1 while [#1 LT 3]\n#1 = [#1 + 1]\nG1 X#1 F100\no1 continue\no1 endwhile\n";
+    assert_eq!(ends(cont).len(), 3);
+    let broken = "#1 = 0\no1 do\n#1 = [#1 + 1]\no2 if [#1 GT 2]\no1 break\no2 endif\nG1 X#1 F100\no1 while [1]\n";
+    assert_eq!(ends(broken).len(), 2);
+    // The same loop entered again in the same state (each entry leaves
+    // by `break`): not endless.
+    let again = "G0 X0\no10 repeat [3]\no1 while [1]\nG1 X1 F100\no1 break\no1 endwhile\n\
+                 o2 do\nG1 X2\no2 break\no2 while [1]\no10 endrepeat\n";
+    assert_eq!(ends(again).len(), 7);
+    // The machine's state changes on each pass (incremental moves): a
+    // loop that ends on its position runs to its end.
+    let moving = "G91\no1 while [#<_x> LT 3]\nG1 X1 F100\no1 endwhile\n";
+    assert_eq!(ends(moving).len(), 3);
 }
 
 // ---- polar words ----

@@ -51,6 +51,10 @@ pub enum LangError {
     CallDepth(usize),
     #[error("more than {0} lines executed (endless loop or recursion?)")]
     TooManyLines(usize),
+    #[error(
+        "endless loop: its condition holds again with every parameter and the machine's state as they were on the pass before"
+    )]
+    EndlessLoop,
     #[error("polar coordinates: {0}")]
     Polar(&'static str),
 }

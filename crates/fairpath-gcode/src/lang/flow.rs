@@ -27,7 +27,15 @@
 //! * `break` and `continue` name an enclosing `while` or `do` loop (LinuxCNC
 //!   refuses them in `repeat`); `continue` re-tests the loop's condition;
 //! * at most [`MAX_EXECUTED_LINES`] lines run (o-word lines included),
-//!   beyond which the program is taken for an endless loop.
+//!   beyond which the program is taken for an endless loop;
+//! * a `while` or `do` loop whose condition holds again after a pass that
+//!   wrote no parameter (no assignment, call or return: [`Params::writes`])
+//!   and left the state conditions read (`SystemView`: position, modes,
+//!   feed) as it was is endless, and an error at once (ours: LinuxCNC
+//!   runs it until it is stopped; a loop whose counter's increment was
+//!   left out took 9 s and 3.2 GB to reach the line limit): the
+//!   interpreter is deterministic, so the pass and every one after it
+//!   would repeat the same.
 
 use super::error::LangError;
 use super::expr::{eval, to_integer};
@@ -332,6 +340,29 @@ struct Frame {
     return_to: usize,
     /// Remaining passes of each `repeat` entered in this frame, by line.
     repeats: HashMap<usize, i64>,
+    /// Per `while` loop (by its `while` line) and `do` loop (by its `do`
+    /// line) entered in this frame: the parameters' writes and the state
+    /// when its condition last held.
+    passes: HashMap<usize, (u64, SystemView)>,
+}
+
+impl Frame {
+    fn new(return_to: usize) -> Frame {
+        Frame {
+            return_to,
+            repeats: HashMap::new(),
+            passes: HashMap::new(),
+        }
+    }
+
+    /// The condition of loop `key` held with `now`; `again`: after a pass
+    /// of the loop (not on entering it). False where the pass before saw
+    /// the same: an endless loop.
+    fn pass(&mut self, key: usize, now: (u64, SystemView), again: bool) -> bool {
+        let same = again && self.passes.get(&key) == Some(&now);
+        self.passes.insert(key, now);
+        !same
+    }
 }
 
 /// Runs a program's control flow.
@@ -341,6 +372,8 @@ pub struct Executor<'a> {
     pc: usize,
     frames: Vec<Frame>,
     executed: usize,
+    /// The `while` line an `endwhile` or `continue` just went back to.
+    back_edge: Option<usize>,
 }
 
 impl<'a> Executor<'a> {
@@ -353,11 +386,9 @@ impl<'a> Executor<'a> {
             lines,
             structure: Structure::of(lines, texts)?,
             pc: 0,
-            frames: vec![Frame {
-                return_to: lines.len(),
-                repeats: HashMap::new(),
-            }],
+            frames: vec![Frame::new(lines.len())],
             executed: 0,
+            back_edge: None,
         })
     }
 
@@ -468,19 +499,43 @@ impl<'a> Executor<'a> {
                         args.push(arg(params, k)?.unwrap_or(0.0));
                     }
                     params.enter_call(&args);
-                    self.frames.push(Frame {
-                        return_to: i + 1,
-                        repeats: HashMap::new(),
-                    });
+                    self.frames.push(Frame::new(i + 1));
                     self.pc = def + 1;
                 }
                 (OCommand::While, Some(Link::While { end })) => {
-                    self.pc = if cond(params)? { i + 1 } else { end + 1 };
+                    // (Come back from its `endwhile` or a `continue`, or
+                    // entered from above.)
+                    let again = self.back_edge.take() == Some(i);
+                    self.pc = if cond(params)? {
+                        let frame = self.frames.last_mut().expect("main frame");
+                        if !frame.pass(i, (params.writes(), *view), again) {
+                            return Err(fail(LangError::EndlessLoop));
+                        }
+                        i + 1
+                    } else {
+                        end + 1
+                    };
                 }
-                (OCommand::Endwhile, Some(Link::Endwhile { start })) => self.pc = start,
-                (OCommand::Do, _) => self.pc = i + 1,
+                (OCommand::Endwhile, Some(Link::Endwhile { start })) => {
+                    self.pc = start;
+                    self.back_edge = Some(start);
+                }
+                (OCommand::Do, _) => {
+                    // Entered from above (a pass goes back past it).
+                    let frame = self.frames.last_mut().expect("main frame");
+                    frame.passes.remove(&i);
+                    self.pc = i + 1;
+                }
                 (OCommand::While, Some(Link::DoWhile { start })) => {
-                    self.pc = if cond(params)? { start + 1 } else { i + 1 };
+                    self.pc = if cond(params)? {
+                        let frame = self.frames.last_mut().expect("main frame");
+                        if !frame.pass(start, (params.writes(), *view), true) {
+                            return Err(fail(LangError::EndlessLoop));
+                        }
+                        start + 1
+                    } else {
+                        i + 1
+                    };
                 }
                 (OCommand::If, Some(Link::If { branches, endif })) => {
                     self.pc = endif + 1;
@@ -536,7 +591,11 @@ impl<'a> Executor<'a> {
                     }
                 }
                 (OCommand::Endrepeat, Some(Link::Endrepeat { start })) => self.pc = start,
-                (OCommand::Break | OCommand::Continue, Some(Link::Jump { to })) => self.pc = to,
+                (OCommand::Break, Some(Link::Jump { to })) => self.pc = to,
+                (OCommand::Continue, Some(Link::Jump { to })) => {
+                    self.pc = to;
+                    self.back_edge = Some(to);
+                }
                 _ => {
                     return Err(fail(LangError::OWordSyntax("statement without its match")));
                 }

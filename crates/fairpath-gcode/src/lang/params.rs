@@ -140,6 +140,10 @@ pub struct Params {
     saved: Vec<[f64; SUB_PARAMS]>,
     value: f64,
     value_returned: bool,
+    /// Writes so far (every assignment, call and return counts, whether
+    /// or not it changed a value): a loop whose pass wrote nothing left
+    /// the parameters as they were ([`Params::writes`]).
+    writes: u64,
 }
 
 impl Default for Params {
@@ -157,6 +161,7 @@ impl Params {
             saved: Vec::new(),
             value: 0.0,
             value_returned: false,
+            writes: 0,
         }
     }
 
@@ -165,9 +170,16 @@ impl Params {
         self.locals.len() - 1
     }
 
+    /// How many writes (assignments, calls, returns) were made so far:
+    /// where two readings are equal, no parameter changed between them.
+    pub fn writes(&self) -> u64 {
+        self.writes
+    }
+
     /// Enters a subroutine: saves `#1..#30`, sets them from `args` (0 for
     /// those not given), opens a new scope of local names.
     pub fn enter_call(&mut self, args: &[f64]) {
+        self.writes += 1;
         let mut save = [0.0; SUB_PARAMS];
         save.copy_from_slice(&self.numbered[1..=SUB_PARAMS]);
         self.saved.push(save);
@@ -179,6 +191,7 @@ impl Params {
 
     /// Leaves a subroutine: restores `#1..#30`, drops its local names.
     pub fn leave_call(&mut self) {
+        self.writes += 1;
         if let Some(save) = self.saved.pop() {
             self.numbered[1..=SUB_PARAMS].copy_from_slice(&save);
             self.locals.pop();
@@ -187,6 +200,7 @@ impl Params {
 
     /// Sets `#<_value>` and `#<_value_returned>` on `return`/`endsub`.
     pub fn set_return(&mut self, value: Option<f64>) {
+        self.writes += 1;
         self.value = value.unwrap_or(0.0);
         self.value_returned = value.is_some();
     }
@@ -210,6 +224,7 @@ impl Params {
                 why: "a system parameter of the machine (fairpath reads program coordinates and does not know the machine's parameter file)",
             }));
         }
+        self.writes += 1;
         self.numbered[n] = v;
         Ok(())
     }
@@ -229,6 +244,7 @@ impl Params {
                 ErrorKind::Language(LangError::ReadOnly(format!("#<{name}>"))),
             ));
         }
+        self.writes += 1;
         if name.starts_with('_') {
             self.globals.insert(name.to_string(), v);
         } else if let Some(l) = self.locals.last_mut() {
