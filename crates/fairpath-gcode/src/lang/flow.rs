@@ -407,6 +407,22 @@ impl<'a> Executor<'a> {
         self.pc
     }
 
+    /// The condition of loop `key` (of the current frame) held with
+    /// `params` and `view`; `again`: after a pass ([`Frame::pass`]).
+    fn pass(
+        &mut self,
+        key: usize,
+        (params, view): (&Params, &SystemView),
+        again: bool,
+    ) -> Result<(), LangError> {
+        let frame = self.frames.last_mut().expect("main frame");
+        if frame.pass(key, (params.writes(), *view), again) {
+            Ok(())
+        } else {
+            Err(LangError::EndlessLoop)
+        }
+    }
+
     /// Runs o-word lines until the next line to interpret, and returns its
     /// index (0-based), or `None` at the end of the file. `view` is the
     /// interpreter's state for conditions that read it.
@@ -507,10 +523,7 @@ impl<'a> Executor<'a> {
                     // entered from above.)
                     let again = self.back_edge.take() == Some(i);
                     self.pc = if cond(params)? {
-                        let frame = self.frames.last_mut().expect("main frame");
-                        if !frame.pass(i, (params.writes(), *view), again) {
-                            return Err(fail(LangError::EndlessLoop));
-                        }
+                        self.pass(i, (params, view), again).map_err(fail)?;
                         i + 1
                     } else {
                         end + 1
@@ -528,10 +541,7 @@ impl<'a> Executor<'a> {
                 }
                 (OCommand::While, Some(Link::DoWhile { start })) => {
                     self.pc = if cond(params)? {
-                        let frame = self.frames.last_mut().expect("main frame");
-                        if !frame.pass(start, (params.writes(), *view), true) {
-                            return Err(fail(LangError::EndlessLoop));
-                        }
+                        self.pass(start, (params, view), true).map_err(fail)?;
                         start + 1
                     } else {
                         i + 1
