@@ -592,7 +592,7 @@ fn recursion_and_endless_loops_are_bounded() {
     // Bounded recursion within the limit works.
     let text = "o<r> sub\no1 if [#1 GT 0]\nG0 X#1\no<r> call [#1 - 1]\no1 endif\no<r> endsub\no<r> call [8]\n";
     assert_eq!(ends(text).len(), 8);
-    // A loop that writes a parameter on every pass runs to the line limit.
+    // A loop that changes a parameter on every pass runs to the line limit.
     let e = err("G0 X0\n#1 = 0\no1 while [1]\n#1 = [#1 + 1]\no1 endwhile\n");
     assert_eq!(
         lang(&e),
@@ -601,9 +601,9 @@ fn recursion_and_endless_loops_are_bounded() {
 }
 
 /// A `while` or `do` loop whose condition holds again after a pass that
-/// wrote no parameter and left the machine's state as it was is endless:
+/// changed no parameter and left the machine's state as it was is endless:
 /// an error at its condition's line on the second pass, not after ten
-/// million lines. Loops that write, move incrementally, or are entered
+/// million lines. Loops that change a value, move incrementally, or are entered
 /// again after a `break` run as before.
 #[test]
 fn endless_loops_are_found_on_their_second_pass() {
@@ -618,6 +618,30 @@ fn endless_loops_are_found_on_their_second_pass() {
     let e = err("G0 X0\no1 while [1]\no1 endwhile\n");
     assert_eq!(lang(&e), &LangError::EndlessLoop);
     assert_eq!(e.line, 2);
+    // Regression (the same fuzz test's slowest input of 412 bytes, 21 s
+    // to the line limit): the counter is set on every pass, to the value
+    // it already holds (`#11` is unset, so 0). Writing the value a
+    // parameter holds changes nothing; on the second pass the loop is
+    // found, the first having changed #1 from 1 to 0. A named local and
+    // a global alike.
+    let same_value = "#1 = 1\nF25\no101 while [#1 LT 10]\n  G1 X0\n  G1 Y[#1/10] X1\n\
+                      #1 = [#11]\no101 endwhile\nM2\n";
+    let e = err(same_value);
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    assert_eq!(e.line, 3, "{e}");
+    for name in ["n", "_n"] {
+        let text = format!(
+            "#<{name}> = 0\no1 while [#<{name}> LT 1]\n#<{name}> = 0\nG1 X1 F100\no1 endwhile\n"
+        );
+        assert_eq!(lang(&err(&text)), &LangError::EndlessLoop, "{text}");
+    }
+    // A value changed and set back within each pass counts as changes:
+    // not taken for endless (the line limit ends it, as before).
+    let back = "G0 X0\n#2 = 0\no1 while [#2 LT 1]\n#2 = 5\n#2 = 0\no1 endwhile\n";
+    assert!(
+        matches!(lang(&err(back)), LangError::TooManyLines(_)),
+        "{back}"
+    );
     // A `do` loop: found at its `while`.
     let e = err("G0 X0\no1 do\nG1 X1 F100\no1 while [1]\n");
     assert_eq!(lang(&e), &LangError::EndlessLoop);

@@ -29,13 +29,14 @@
 //! * at most [`MAX_EXECUTED_LINES`] lines run (o-word lines included),
 //!   beyond which the program is taken for an endless loop;
 //! * a `while` or `do` loop whose condition holds again after a pass that
-//!   wrote no parameter (no assignment, call or return: [`Params::writes`])
-//!   and left the state conditions read (`SystemView`: position, modes,
-//!   feed) as it was is endless, and an error at once (ours: LinuxCNC
-//!   runs it until it is stopped; a loop whose counter's increment was
-//!   left out took 9 s and 3.2 GB to reach the line limit): the
-//!   interpreter is deterministic, so the pass and every one after it
-//!   would repeat the same.
+//!   changed no parameter (no call or return, and no assignment of a value
+//!   the parameter did not hold: [`Params::changes`]) and left the state
+//!   conditions read (`SystemView`: position, modes, feed) as it was is
+//!   endless, and an error at once (ours: LinuxCNC runs it until it is
+//!   stopped; a loop whose counter's increment was left out took 9 s and
+//!   3.2 GB to reach the line limit, one whose counter was set to an unset
+//!   parameter's 0 on every pass 21 s): the interpreter is deterministic,
+//!   so the pass and every one after it would repeat the same.
 
 use super::error::LangError;
 use super::expr::{eval, to_integer};
@@ -341,7 +342,7 @@ struct Frame {
     /// Remaining passes of each `repeat` entered in this frame, by line.
     repeats: HashMap<usize, i64>,
     /// Per `while` loop (by its `while` line) and `do` loop (by its `do`
-    /// line) entered in this frame: the parameters' writes and the state
+    /// line) entered in this frame: the parameters' changes and the state
     /// when its condition last held.
     passes: HashMap<usize, (u64, SystemView)>,
 }
@@ -416,7 +417,7 @@ impl<'a> Executor<'a> {
         again: bool,
     ) -> Result<(), LangError> {
         let frame = self.frames.last_mut().expect("main frame");
-        if frame.pass(key, (params.writes(), *view), again) {
+        if frame.pass(key, (params.changes(), *view), again) {
             Ok(())
         } else {
             Err(LangError::EndlessLoop)

@@ -140,10 +140,11 @@ pub struct Params {
     saved: Vec<[f64; SUB_PARAMS]>,
     value: f64,
     value_returned: bool,
-    /// Writes so far (every assignment, call and return counts, whether
-    /// or not it changed a value): a loop whose pass wrote nothing left
-    /// the parameters as they were ([`Params::writes`]).
-    writes: u64,
+    /// Changes so far: every call and return, and every assignment that
+    /// changed a value (its bits; one that wrote the value the parameter
+    /// held does not count): a loop whose pass changed nothing left the
+    /// parameters as they were ([`Params::changes`]).
+    changes: u64,
 }
 
 impl Default for Params {
@@ -161,7 +162,7 @@ impl Params {
             saved: Vec::new(),
             value: 0.0,
             value_returned: false,
-            writes: 0,
+            changes: 0,
         }
     }
 
@@ -170,16 +171,18 @@ impl Params {
         self.locals.len() - 1
     }
 
-    /// How many writes (assignments, calls, returns) were made so far:
-    /// where two readings are equal, no parameter changed between them.
-    pub fn writes(&self) -> u64 {
-        self.writes
+    /// How many changes (calls, returns, assignments of another value)
+    /// were made so far: where two readings are equal, every parameter
+    /// holds what it held at the first (a pass that sets a counter to the
+    /// value it had, `#1 = [#11]` with `#11` unset, changes nothing).
+    pub fn changes(&self) -> u64 {
+        self.changes
     }
 
     /// Enters a subroutine: saves `#1..#30`, sets them from `args` (0 for
     /// those not given), opens a new scope of local names.
     pub fn enter_call(&mut self, args: &[f64]) {
-        self.writes += 1;
+        self.changes += 1;
         let mut save = [0.0; SUB_PARAMS];
         save.copy_from_slice(&self.numbered[1..=SUB_PARAMS]);
         self.saved.push(save);
@@ -191,7 +194,7 @@ impl Params {
 
     /// Leaves a subroutine: restores `#1..#30`, drops its local names.
     pub fn leave_call(&mut self) {
-        self.writes += 1;
+        self.changes += 1;
         if let Some(save) = self.saved.pop() {
             self.numbered[1..=SUB_PARAMS].copy_from_slice(&save);
             self.locals.pop();
@@ -200,7 +203,7 @@ impl Params {
 
     /// Sets `#<_value>` and `#<_value_returned>` on `return`/`endsub`.
     pub fn set_return(&mut self, value: Option<f64>) {
-        self.writes += 1;
+        self.changes += 1;
         self.value = value.unwrap_or(0.0);
         self.value_returned = value.is_some();
     }
@@ -224,7 +227,7 @@ impl Params {
                 why: "a system parameter of the machine (fairpath reads program coordinates and does not know the machine's parameter file)",
             }));
         }
-        self.writes += 1;
+        self.count_change(Some(self.numbered[n]), v);
         self.numbered[n] = v;
         Ok(())
     }
@@ -244,13 +247,23 @@ impl Params {
                 ErrorKind::Language(LangError::ReadOnly(format!("#<{name}>"))),
             ));
         }
-        self.writes += 1;
-        if name.starts_with('_') {
-            self.globals.insert(name.to_string(), v);
+        let old = if name.starts_with('_') {
+            self.globals.insert(name.to_string(), v)
         } else if let Some(l) = self.locals.last_mut() {
-            l.insert(name.to_string(), v);
-        }
+            l.insert(name.to_string(), v)
+        } else {
+            None
+        };
+        self.count_change(old, v);
         Ok(())
+    }
+
+    /// Counts an assignment of `v` to a parameter that held `old` (`None`:
+    /// did not exist) where it changes the value's bits ([`Params::changes`]).
+    fn count_change(&mut self, old: Option<f64>, v: f64) {
+        if old.is_none_or(|o| o.to_bits() != v.to_bits()) {
+            self.changes += 1;
+        }
     }
 
     fn user_named(&self, name: &str) -> Option<f64> {
