@@ -62,18 +62,20 @@
 //!   with [`AutoOptions::curves_as_written`] beside the others (after
 //!   them, so they win only when strictly faster). By default only as a
 //!   fallback, where the best G2 candidate would leave the run as the
-//!   program wrote it, by the objective ([`Objective::as_written`]): its
-//!   rendering is not [`super::KEEP_MARGIN`] cheaper than the run as
-//!   written (the writer's rule), or its curves themselves are no cheaper
+//!   program wrote it, by the objective ([`Objective::as_written`]): the
+//!   writer would not write its rendering ([`Objective::written_instead`]:
+//!   not [`super::KEEP_MARGIN`] cheaper than the run as written at every
+//!   feed the writer judges at, the user's and the machine's maximum; on
+//!   LinuxCNC's `arc_splitting_0.90.ngc` the fits gain 0.4% at its F100
+//!   and lose at 400 mm/s), or its curves themselves are no cheaper
 //!   (then the rendering's gain is one the rounding of the written
 //!   coordinates can take away: the G2 fit of `tort.ngc`'s lines 83-90
 //!   renders 1.6% faster than the run, its curves plan 3.2% slower, and
 //!   its text read back 0.7% slower, so it was kept as written). The run
 //!   as written keeps every corner, these only those next to an arc:
-//!   where they are cheaper than the best G2 candidate, and would be
-//!   written (the writer's margin cheaper than the run as written), they
-//!   are kept, and `auto` is no slower than `bspline-corner` or `lotm`
-//!   alone.
+//!   where they would be written, and are cheaper than the best G2
+//!   candidate where that may still be written, they are kept, and `auto`
+//!   is no slower than `bspline-corner` or `lotm` alone.
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
@@ -475,15 +477,18 @@ impl Auto {
         let Some(own) = self.objective.as_written(&run.pieces) else {
             return Ok(None);
         };
-        let rendered_gains = time.is_some_and(|t| t * (1.0 + KEEP_MARGIN) <= own);
-        if rendered_gains
-            && self
-                .objective
-                .as_written(&best.pieces)
-                .is_some_and(|c| c < own)
-        {
+        // Whether the writer would write the best G2 candidate, by the
+        // objective (at every feed the writer judges a run at).
+        let objective = self.objective.as_ref();
+        let rendered_gains =
+            time.is_some_and(|t| objective.written_instead(&best.pieces, t, &run.pieces, own));
+        if rendered_gains && objective.as_written(&best.pieces).is_some_and(|c| c < own) {
             return Ok(None);
         }
+        // What a corner candidate must beat: the best G2 candidate where
+        // the writer may still write it (its rendering gains, its curves
+        // do not), else only the run as written.
+        let beat = time.filter(|_| rendered_gains);
         let rows: Vec<_> = CANDIDATES
             .iter()
             .enumerate()
@@ -507,11 +512,10 @@ impl Auto {
         .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
         // Those whose cheap bound already says they would not be kept are
         // not costed.
-        let objective = self.objective.as_ref();
         let could_win = |c: &SmoothedRun| {
             objective
                 .bound(&c.pieces)
-                .is_none_or(|b| b * (1.0 + KEEP_MARGIN) <= own && time.is_none_or(|tw| b < tw))
+                .is_none_or(|b| b * (1.0 + KEEP_MARGIN) <= own && beat.is_none_or(|tw| b < tw))
         };
         let smoothed: Vec<SmoothedRun> = smoothed.into_iter().filter(could_win).collect();
         if smoothed.is_empty() {
@@ -522,10 +526,13 @@ impl Auto {
             return Ok(None);
         };
         // Kept only where it would be written: cheaper than the best G2
-        // candidate, and than the run as written by the writer's margin
-        // (else the run is written as the program wrote it either way,
-        // and the G2 curves stay what `auto` reports).
-        if time.is_some_and(|tw| t >= tw) || t * (1.0 + KEEP_MARGIN) > own {
+        // candidate where that may be written, and than the run as written
+        // by the writer's rule (else the run is written as the program
+        // wrote it either way, and the G2 curves stay what `auto`
+        // reports).
+        if beat.is_some_and(|tw| t >= tw)
+            || !objective.written_instead(&ranking.cands[i].pieces, t, &run.pieces, own)
+        {
             return Ok(None);
         }
         Ok(Some(core::mem::take(&mut ranking.cands[i])))
@@ -867,6 +874,57 @@ mod tests {
                 "{with_arcs}: {chosen:?}"
             );
         }
+    }
+
+    /// [`Priced`], with a writer that also judges the runs at a feed the
+    /// costs are not planned at, where the G2 candidates (no arc) plan
+    /// slower than the run as written.
+    #[derive(Debug)]
+    struct LosingAtTheMaximumFeed(Priced);
+
+    impl Objective for LosingAtTheMaximumFeed {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            self.0.cost(pieces)
+        }
+        fn as_written(&self, pieces: &[Piece]) -> Option<f64> {
+            self.0.as_written(pieces)
+        }
+        fn written_instead(&self, candidate: &[Piece], cost: f64, _: &[Piece], own: f64) -> bool {
+            has_arc(candidate) && cost * (1.0 + KEEP_MARGIN) <= own
+        }
+    }
+
+    /// Regression (`arc_splitting_0.90.ngc`): the best G2 candidate gains
+    /// at the feeds it is costed at, rendering and curves, but the writer
+    /// would keep the run as written at its other feed; the corner methods
+    /// on the curves as written, which it would write, are kept, though
+    /// they cost more than that G2 candidate where it is costed.
+    #[test]
+    fn curves_as_written_are_the_fallback_where_the_writer_keeps_the_run_at_another_feed() {
+        let priced = || Priced {
+            with_arcs: 1.3,
+            lines: 1.2,
+            own: Some(1.5),
+            curves: 1.2,
+        };
+        let auto = Auto::new(
+            AutoOptions::default(),
+            Arc::new(LosingAtTheMaximumFeed(priced())),
+        );
+        let chosen = auto
+            .smooth_run(&arc_between_corners(), 0.05)
+            .unwrap()
+            .chosen;
+        assert!(
+            chosen.iter().all(|c| CURVES_AS_WRITTEN.contains(c)),
+            "{chosen:?}"
+        );
+        // Judged at the costed feeds alone, the G2 candidate stays.
+        let chosen = chosen_with(priced());
+        assert!(
+            !chosen.is_empty() && chosen.iter().all(|c| !CURVES_AS_WRITTEN.contains(c)),
+            "{chosen:?}"
+        );
     }
 
     /// Every candidate but those named, the names as the summary gives them.
