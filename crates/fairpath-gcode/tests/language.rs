@@ -662,9 +662,24 @@ fn endless_loops_are_found_on_their_second_pass() {
                  o2 do\nG1 X2\no2 break\no2 while [1]\no10 endrepeat\n";
     assert_eq!(ends(again).len(), 7);
     // The machine's state changes on each pass (incremental moves): a
-    // loop that ends on its position runs to its end.
+    // loop that ends on its position runs to its end, and so does one
+    // whose body reads the position to leave it.
     let moving = "G91\no1 while [#<_x> LT 3]\nG1 X1 F100\no1 endwhile\n";
     assert_eq!(ends(moving).len(), 3);
+    let leaving =
+        "G91\no1 while [1]\nG1 X1 F100\no2 if [#5420 GE 3]\no1 break\no2 endif\no1 endwhile\n";
+    assert_eq!(ends(leaving).len(), 3);
+    // Regression (the fuzz test's slowest input after the one above, 306
+    // bytes, 14.6 s to the line limit): an incremental move in a loop
+    // whose counter is set to an unset parameter's 0. The position
+    // changes on every pass, but nothing the loop runs reads it: the same
+    // pass again and again. In a subroutine called twice, as it was.
+    let drifting = "G20 G90 G64 G17\nO100 sub\n#1=0\n#2=0.0005\nG91\n\
+                    o101 while [#1 LT 1000]\n  X[#2]\n  #1 = [#2000]\no101 endwhile\n\
+                    O100 endsub\nG0 X0 Y0 Z0\nG1 X0 F999\nO100 call\nO100 call\nG90\nM2\n";
+    let e = err(drifting);
+    assert_eq!(lang(&e), &LangError::EndlessLoop);
+    assert_eq!(e.line, 6, "{e}");
 }
 
 // ---- polar words ----

@@ -52,7 +52,7 @@ pub enum LangError {
     #[error("more than {0} lines executed (endless loop or recursion?)")]
     TooManyLines(usize),
     #[error(
-        "endless loop: its condition holds again with every parameter and the machine's state as they were on the pass before"
+        "endless loop: its condition holds again after a pass that changed no parameter and no state of the machine the loop reads"
     )]
     EndlessLoop,
     #[error("polar coordinates: {0}")]

@@ -30,9 +30,10 @@
 //!   beyond which the program is taken for an endless loop;
 //! * a `while` or `do` loop whose condition holds again after a pass that
 //!   changed no parameter (no call or return, and no assignment of a value
-//!   the parameter did not hold: [`Params::changes`]) and left the state
-//!   conditions read (`SystemView`: position, modes, feed) as it was is
-//!   endless, and an error at once (ours: LinuxCNC runs it until it is
+//!   the parameter did not hold: [`Params::changes`]) and either left the
+//!   state conditions read (`SystemView`: position, modes, feed) as it was
+//!   or never read it ([`Params::view_reads`]; an incremental move in a
+//!   loop on a counter that is never counted) is endless, and an error at once (ours: LinuxCNC runs it until it is
 //!   stopped; a loop whose counter's increment was left out took 9 s and
 //!   3.2 GB to reach the line limit, one whose counter was set to an unset
 //!   parameter's 0 on every pass 21 s): the interpreter is deterministic,
@@ -342,9 +343,9 @@ struct Frame {
     /// Remaining passes of each `repeat` entered in this frame, by line.
     repeats: HashMap<usize, i64>,
     /// Per `while` loop (by its `while` line) and `do` loop (by its `do`
-    /// line) entered in this frame: the parameters' changes and the state
-    /// when its condition last held.
-    passes: HashMap<usize, (u64, SystemView)>,
+    /// line) entered in this frame: the parameters' changes, the reads of
+    /// the interpreter's state and the state when its condition last held.
+    passes: HashMap<usize, Pass>,
 }
 
 impl Frame {
@@ -358,11 +359,33 @@ impl Frame {
 
     /// The condition of loop `key` held with `now`; `again`: after a pass
     /// of the loop (not on entering it). False where the pass before saw
-    /// the same: an endless loop.
-    fn pass(&mut self, key: usize, now: (u64, SystemView), again: bool) -> bool {
-        let same = again && self.passes.get(&key) == Some(&now);
+    /// the same ([`Pass::repeats`]): an endless loop.
+    fn pass(&mut self, key: usize, now: Pass, again: bool) -> bool {
+        let endless = again && self.passes.get(&key).is_some_and(|b| now.repeats(b));
         self.passes.insert(key, now);
-        !same
+        !endless
+    }
+}
+
+/// What a loop's condition held with: [`Params::changes`],
+/// [`Params::view_reads`] and the interpreter's state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pass {
+    changes: u64,
+    view_reads: u64,
+    view: SystemView,
+}
+
+impl Pass {
+    /// The pass that ended here will be run again, the same, forever
+    /// (ours; the interpreter is deterministic): it changed no parameter,
+    /// and it either left the interpreter's state as it was or never read
+    /// it (then its control flow, which reads parameters only, repeats
+    /// whatever its moves do to the position: `G91 X1` in a loop on a
+    /// counter that is never counted).
+    fn repeats(&self, before: &Pass) -> bool {
+        self.changes == before.changes
+            && (self.view == before.view || self.view_reads == before.view_reads)
     }
 }
 
@@ -417,7 +440,12 @@ impl<'a> Executor<'a> {
         again: bool,
     ) -> Result<(), LangError> {
         let frame = self.frames.last_mut().expect("main frame");
-        if frame.pass(key, (params.changes(), *view), again) {
+        let now = Pass {
+            changes: params.changes(),
+            view_reads: params.view_reads(),
+            view: *view,
+        };
+        if frame.pass(key, now, again) {
             Ok(())
         } else {
             Err(LangError::EndlessLoop)

@@ -145,6 +145,10 @@ pub struct Params {
     /// held does not count): a loop whose pass changed nothing left the
     /// parameters as they were ([`Params::changes`]).
     changes: u64,
+    /// Reads of the interpreter's state so far (the position, the modes,
+    /// the line: [`Params::view_reads`]); a cell, since expressions read
+    /// through a shared [`Scope`].
+    view_reads: core::cell::Cell<u64>,
 }
 
 impl Default for Params {
@@ -163,6 +167,7 @@ impl Params {
             value: 0.0,
             value_returned: false,
             changes: 0,
+            view_reads: core::cell::Cell::new(0),
         }
     }
 
@@ -177,6 +182,18 @@ impl Params {
     /// value it had, `#1 = [#11]` with `#11` unset, changes nothing).
     pub fn changes(&self) -> u64 {
         self.changes
+    }
+
+    /// How many times an expression read the interpreter's state (the
+    /// position, the modes, the line number: a [`SystemView`] value) so
+    /// far: where two readings are equal, what ran between them read
+    /// parameters only.
+    pub fn view_reads(&self) -> u64 {
+        self.view_reads.get()
+    }
+
+    fn note_view_read(&self) {
+        self.view_reads.set(self.view_reads.get() + 1);
     }
 
     /// Enters a subroutine: saves `#1..#30`, sets them from `args` (0 for
@@ -331,6 +348,7 @@ impl Scope<'_> {
                 }),
             )
         };
+        self.params.note_view_read();
         if self.view.cutter_comp {
             return Err(fail("the position cannot be read with cutter radius compensation on (LinuxCNC refuses it too)"));
         }
@@ -369,6 +387,9 @@ impl Scope<'_> {
     /// Named parameter `name`.
     pub fn named(&self, name: &str, ln: usize, col: usize) -> Result<f64, GcodeError> {
         let v = self.view;
+        if is_predefined(name) && !matches!(name, "_value" | "_value_returned" | "_call_level") {
+            self.params.note_view_read();
+        }
         let truth = |t: bool| if t { 1.0 } else { 0.0 };
         let axis = |a: usize| self.position(a, format!("#<{name}>"), ln, col);
         Ok(match name {
