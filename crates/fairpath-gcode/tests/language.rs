@@ -598,6 +598,19 @@ fn recursion_and_endless_loops_are_bounded() {
         lang(&e),
         &LangError::TooManyLines(fairpath_gcode::lang::flow::MAX_EXECUTED_LINES)
     );
+    // Regression (the fuzz test's slowest input of seed 0x6b0e65ca, 235
+    // bytes): a counter that runs away from its bound, with moves on
+    // every pass. Refused at the limit as before, now found by a reading
+    // that holds no executed line (3.15 GB and 9.7 s before, 5 MB and
+    // 5.5 s after, release build), at the line where the limit was passed.
+    let runaway = "G20\nG90\nG0 Z1\nX0 Y0\n#1 = 1\nF25\no101 while [#1 LT 10]\n  G1 X0\n\
+                   G1 Y[#1/10] X1\n  #1 = [#1-43.9]\no101 endwhile\nM2\n";
+    let e = err(runaway);
+    assert_eq!(
+        lang(&e),
+        &LangError::TooManyLines(fairpath_gcode::lang::flow::MAX_EXECUTED_LINES)
+    );
+    assert!((7..=11).contains(&e.line), "{e}");
 }
 
 /// A `while` or `do` loop whose condition holds again after a pass that

@@ -384,6 +384,15 @@ impl Reader {
     }
 
     /// Reads a program with o-words: the executed lines, in order.
+    ///
+    /// A program that runs to [`lang::flow::MAX_EXECUTED_LINES`] (a loop
+    /// whose counter runs away from its bound, which no pass repeats) is
+    /// refused there; it is found first by a reading that keeps no line
+    /// (as [`super::read_facts`] reads), so that a program of a few lines
+    /// is not refused after holding ten million executed ones (a 235-byte
+    /// fuzz input: 3.15 GB, about 315 bytes a line). The program is then
+    /// read again, keeping its lines; any other error is the second
+    /// reading's, as it was.
     fn expand(&mut self, raw: Vec<(String, &'static str)>) -> Result<(), GcodeError> {
         let eol = raw
             .iter()
@@ -396,7 +405,29 @@ impl Reader {
             .enumerate()
             .map(|(i, t)| scan_line(t, i + 1))
             .collect();
-        let mut ex = lang::flow::Executor::new(&scanned, &texts)?;
+        if self.facts.is_none() && self.sink.is_none() {
+            let mut dry = self.clone();
+            dry.facts = Some(Box::default());
+            if let Err(e) = dry.run_expanded(&scanned, &texts, eol) {
+                if matches!(
+                    e.kind,
+                    ErrorKind::Language(lang::error::LangError::TooManyLines(_))
+                ) {
+                    return Err(e);
+                }
+            }
+        }
+        self.run_expanded(&scanned, &texts, eol)
+    }
+
+    /// [`Reader::expand`]'s reading of the scanned source lines.
+    fn run_expanded(
+        &mut self,
+        scanned: &[Result<SourceLine, GcodeError>],
+        texts: &[String],
+        eol: &'static str,
+    ) -> Result<(), GcodeError> {
+        let mut ex = lang::flow::Executor::new(scanned, texts)?;
         loop {
             let view = self.view(ex.position() + 1);
             let Some(i) = ex.next(&mut self.params, &view)? else {
