@@ -23,8 +23,8 @@ pub use candidates::{
     THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
 pub use objective::{
-    fair_on, peak_pass_for, Objective, PlannedTime, RenderObserver, WrittenTime, KEEP_MARGIN,
-    RENDER_GAIN,
+    fair_on, peak_pass_for, Objective, PlannedTime, RenderObserver, WrittenTime, COST_PART_PIECES,
+    KEEP_MARGIN, KEPT_RENDERING_PIECES, RENDER_GAIN,
 };
 pub use registry::{by_name, method, Method, METHODS};
 pub use same_pieces::{pieces_digest, same_pieces};

@@ -12,11 +12,12 @@
 
 use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, Corners, PlanOptions};
-use crate::feed::windowed::{plan_time_windowed, PlanWindows};
+use crate::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
 use crate::geom::tube_fair::PeakPass;
 use crate::path::Piece;
 use crate::render::{
-    linuxcnc_g5_2_motion, render_run, CurveForm, PlannedSpeed, RenderOptions, Rendered,
+    linuxcnc_g5_2_motion, render_range, render_run, CurveForm, LineAbsorber, PlannedSpeed,
+    RenderOptions, RenderStats, Rendered,
 };
 use crate::smooth::FairOptions;
 use alloc::sync::Arc;
@@ -217,7 +218,24 @@ pub struct WrittenTime {
     /// render_gain`. Larger keeps more candidates in the race (more
     /// rendering and planning); [`RENDER_GAIN`] by default.
     pub render_gain: f64,
+    /// Largest rendering (pieces) kept whole while it is costed, to hand
+    /// to [`WrittenTime::observer`]; [`KEPT_RENDERING_PIECES`] by default.
+    pub kept_rendering_pieces: usize,
 }
+
+/// Largest rendering (pieces) that [`WrittenTime`] keeps whole while it
+/// costs it, to hand to [`WrittenTime::observer`]: each candidate is
+/// rendered and timed part after part ([`COST_PART_PIECES`] curves a
+/// part, each part timed as it comes: [`WindowedTimer`], the time of the
+/// whole rendering to the bit), and a rendering that grows past this is
+/// not held (the writer renders the chosen candidate again as it writes
+/// it). On `surface-raster-large.ngc` `auto`'s candidates render to
+/// 400,000 arcs and more, and the renderings being costed were the
+/// largest things `auto` held. 100,000 pieces are some 20 MB.
+pub const KEPT_RENDERING_PIECES: usize = 100_000;
+
+/// Curves rendered at a time where [`WrittenTime`] costs a candidate.
+pub const COST_PART_PIECES: usize = 512;
 
 /// The default [`WrittenTime::render_gain`]: 3%, above the largest gain of
 /// a written program over its curves that `scripts/render-gain.sh` finds
@@ -234,6 +252,7 @@ impl PartialEq for WrittenTime {
         self.shape == o.shape
             && self.plan == o.plan
             && self.render_gain == o.render_gain
+            && self.kept_rendering_pieces == o.kept_rendering_pieces
             && self.renders == o.renders
             && self.corners == o.corners
             && match (&self.observer, &o.observer) {
@@ -277,6 +296,7 @@ impl WrittenTime {
             corners: Corners::Blended,
             observer: None,
             render_gain: RENDER_GAIN,
+            kept_rendering_pieces: KEPT_RENDERING_PIECES,
         }
     }
 
@@ -301,14 +321,34 @@ impl WrittenTime {
             _ => time(pieces),
         }
     }
-}
 
-impl Objective for WrittenTime {
-    fn peak_pass(&self) -> Option<PeakPass> {
-        Some(peak_pass_for(&self.plan.limits))
+    /// [`Objective::cost`] of `pieces`, each form rendered whole (where
+    /// [`WrittenTime::cost_in_parts`] cannot plan it in windows).
+    fn cost_whole(&self, pieces: &[Piece]) -> Option<f64> {
+        let mut best: Option<f64> = None;
+        self.each_rendering(pieces, |i, ro, r, speed| {
+            if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
+                if best.is_none_or(|b| t < b) {
+                    best = Some(t);
+                }
+                if let Some(o) = &self.observer {
+                    o.rendered(pieces, i, r, t, speed);
+                }
+            }
+            true
+        })?;
+        best
     }
-    fn cost(&self, pieces: &[Piece]) -> Option<f64> {
-        let plan = plan_run(pieces, &self.shape).ok()?;
+
+    /// [`Objective::cost`] of `pieces`, each form rendered and timed part
+    /// after part (see [`KEPT_RENDERING_PIECES`]: a rendering larger than
+    /// [`WrittenTime::kept_rendering_pieces`] is not held); `None` where the
+    /// parts' windows did not stitch or windows do not apply (the run must
+    /// be planned whole).
+    fn cost_in_parts(&self, pieces: &[Piece]) -> Option<Option<f64>> {
+        let Ok(plan) = plan_run(pieces, &self.shape) else {
+            return Some(None);
+        };
         let speed = Arc::new(PlannedSpeed::new(
             pieces.len(),
             &plan,
@@ -321,18 +361,121 @@ impl Objective for WrittenTime {
             if i > 0 && ro.form == CurveForm::Lines && !fell_back {
                 continue;
             }
-            let r = render_run(pieces, &speed, ro).ok()?;
-            fell_back |= r.stats.fallback_lines > 0;
-            if let Some(t) = self.rendered_time(&r.pieces, ro.form) {
-                if best.is_none_or(|b| t < b) {
-                    best = Some(t);
+            let mut timer = Some(WindowedTimer::new(&self.plan, self.corners, WINDOWS)?);
+            let mut absorber = LineAbsorber::new(ro);
+            // The rendering while it is small enough to keep (for the
+            // observer), timed whole at the end as `cost_whole` times it;
+            // once it grows past that, what it held and every part after
+            // are timed as they come (its G5.2 blocks as LinuxCNC runs
+            // them, as `WrittenTime::rendered_time` plans them). Where a
+            // part cannot be planned, the form has no time and is
+            // rendered on for its stats.
+            let mut whole = self.observer.as_ref().map(|_| Rendered::default());
+            let mut stats = RenderStats::default();
+            let mut push = |pieces: &[Piece]| {
+                let motion = match ro.form {
+                    CurveForm::Nurbs(lim) if lim.linuxcnc_g5_2 => {
+                        Some(linuxcnc_g5_2_motion(pieces, lim.planar_mm.unwrap_or(0.0)))
+                    }
+                    _ => None,
+                };
+                let to_time = motion.as_deref().unwrap_or(pieces);
+                if timer.as_mut().is_some_and(|t| t.push(to_time).is_err()) {
+                    timer = None;
                 }
-                if let Some(o) = &self.observer {
-                    o.rendered(pieces, i, r, t, &speed);
+            };
+            let mut take = |out: Rendered, whole: &mut Option<Rendered>| {
+                stats.add(&out.stats);
+                match whole {
+                    Some(w) if w.pieces.len() + out.pieces.len() <= self.kept_rendering_pieces => {
+                        w.pieces.extend(out.pieces);
+                        w.speeds.extend(out.speeds);
+                        w.stats.add(&out.stats);
+                    }
+                    Some(w) => {
+                        push(&core::mem::take(&mut w.pieces));
+                        *whole = None;
+                        push(&out.pieces);
+                    }
+                    None => push(&out.pieces),
                 }
+            };
+            let mut start = 0;
+            while start < pieces.len() {
+                let end = (start + COST_PART_PIECES).min(pieces.len());
+                let Ok(part) = render_range(pieces, start..end, &speed, ro) else {
+                    return Some(None);
+                };
+                take(absorber.push(part), &mut whole);
+                start = end;
+            }
+            take(absorber.finish(), &mut whole);
+            fell_back |= stats.fallback_lines > 0;
+            let time = match (&whole, timer.map(WindowedTimer::finish)) {
+                (Some(w), _) => self.rendered_time(&w.pieces, ro.form),
+                (None, Some(Ok(None))) => return None,
+                (None, Some(Ok(t))) => t,
+                (None, Some(Err(_)) | None) => None,
+            };
+            let Some(t) = time else {
+                continue;
+            };
+            if best.is_none_or(|b| t < b) {
+                best = Some(t);
+            }
+            if let (Some(o), Some(mut w)) = (&self.observer, whole) {
+                // (Held until the writer takes it: no room to spare.)
+                w.pieces.shrink_to_fit();
+                w.speeds.shrink_to_fit();
+                o.rendered(pieces, i, w, t, &speed);
             }
         }
-        best
+        Some(best)
+    }
+
+    /// Renders `pieces` in the forms of [`WrittenTime::renders`] as the
+    /// writer does (each by the speed of the curves planned on
+    /// [`WrittenTime::shape`]; a [`CurveForm::Lines`] form after another
+    /// only where an earlier one fell back to lines) and hands each
+    /// rendering to `each` (with its index and options, and the speed),
+    /// until `each` returns false. `None` where the curves cannot be
+    /// planned or a form cannot render them.
+    fn each_rendering(
+        &self,
+        pieces: &[Piece],
+        mut each: impl FnMut(usize, &RenderOptions, Rendered, &Arc<PlannedSpeed>) -> bool,
+    ) -> Option<()> {
+        let plan = plan_run(pieces, &self.shape).ok()?;
+        let speed = Arc::new(PlannedSpeed::new(
+            pieces.len(),
+            &plan,
+            self.shape.limits.period,
+        ));
+        drop(plan);
+        let mut fell_back = false;
+        for (i, ro) in self.renders.iter().enumerate() {
+            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
+                continue;
+            }
+            let r = render_run(pieces, &speed, ro).ok()?;
+            fell_back |= r.stats.fallback_lines > 0;
+            if !each(i, ro, r, &speed) {
+                break;
+            }
+        }
+        Some(())
+    }
+}
+
+impl Objective for WrittenTime {
+    fn peak_pass(&self) -> Option<PeakPass> {
+        Some(peak_pass_for(&self.plan.limits))
+    }
+    fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+        match self.cost_in_parts(pieces) {
+            Some(cost) => cost,
+            None => self.cost_whole(pieces),
+        }
     }
 
     fn bound(&self, pieces: &[Piece]) -> Option<f64> {
@@ -374,37 +517,111 @@ impl Objective for WrittenTime {
         let Some(own_max) = plan_time_windowed(run, &self.shape, self.corners, WINDOWS).ok() else {
             return false;
         };
-        let Ok(plan) = plan_run(candidate, &self.shape) else {
-            return false;
-        };
-        let speed = PlannedSpeed::new(candidate.len(), &plan, self.shape.limits.period);
-        drop(plan);
         let gains = |t: Option<f64>, own: f64| t.is_some_and(|t| t * (1.0 + KEEP_MARGIN) <= own);
-        let mut fell_back = false;
-        for (i, ro) in self.renders.iter().enumerate() {
-            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
-                continue;
-            }
-            let Ok(r) = render_run(candidate, &speed, ro) else {
-                return false;
-            };
-            fell_back |= r.stats.fallback_lines > 0;
-            if gains(self.rendered_time(&r.pieces, ro.form), own)
+        let mut written = false;
+        let rendered = self.each_rendering(candidate, |_, ro, r, _| {
+            written = gains(self.rendered_time(&r.pieces, ro.form), own)
                 && gains(
                     self.rendered_time_on(&r.pieces, ro.form, &self.shape),
                     own_max,
-                )
-            {
-                return true;
-            }
-        }
-        false
+                );
+            !written
+        });
+        rendered.is_some() && written
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::Vec3;
+    use crate::path::Run;
+    use crate::smooth::{BsplineCorner, Smoother};
+    use std::sync::Mutex;
+
+    /// Records each rendering handed over: its options' index, its
+    /// pieces, its time.
+    #[derive(Debug, Default)]
+    struct Recorder(Mutex<Vec<(usize, Vec<Piece>, f64)>>);
+
+    impl RenderObserver for Recorder {
+        fn rendered(
+            &self,
+            _: &[Piece],
+            render: usize,
+            r: Rendered,
+            time: f64,
+            _: &Arc<PlannedSpeed>,
+        ) {
+            self.0.lock().unwrap().push((render, r.pieces, time));
+        }
+    }
+
+    /// A wavy raster of `points` points, its corners replaced by
+    /// `bspline-corner`'s transitions.
+    fn corner_curves(points: usize) -> Vec<Piece> {
+        let pts: Vec<Vec3> = (0..points)
+            .map(|k| {
+                let x = 0.5 * k as f64;
+                Vec3::new(x, 0.3 * (0.7 * x).sin(), 0.02 * (1.3 * x).cos())
+            })
+            .collect();
+        let run = Run::polyline(&pts, Some(6000.0));
+        BsplineCorner::default()
+            .smooth_run(&run, 0.045)
+            .unwrap()
+            .pieces
+    }
+
+    fn written_time(observer: &Arc<Recorder>, kept: usize) -> WrittenTime {
+        let limits = MachineLimits::thesis();
+        let ro = |form| RenderOptions {
+            form,
+            chord: 0.005,
+            limits,
+            min_block_periods: 1.02,
+            min_radius: 0.00254,
+            step_share: crate::render::arcs::STEP_SHARE,
+            min_arc_length: 4e-6,
+        };
+        let mut w = WrittenTime::new(
+            limits,
+            false,
+            vec![ro(CurveForm::Arcs), ro(CurveForm::Lines)],
+        );
+        w.observer = Some(observer.clone() as Arc<dyn RenderObserver>);
+        w.kept_rendering_pieces = kept;
+        w
+    }
+
+    /// A candidate is costed part after part to the bit of its rendering
+    /// costed whole, planned in windows where it is long; a rendering
+    /// larger than [`WrittenTime::kept_rendering_pieces`] is not handed
+    /// over (nor held), a smaller one is, as rendered whole.
+    #[test]
+    fn a_candidate_costed_in_parts_costs_what_it_costs_rendered_whole() {
+        for (points, kept) in [(300, KEPT_RENDERING_PIECES), (300, 1000), (6000, 20_000)] {
+            let pieces = corner_curves(points);
+            let (parts, whole) = (Arc::new(Recorder::default()), Arc::new(Recorder::default()));
+            let in_parts = written_time(&parts, kept).cost_in_parts(&pieces);
+            let t = written_time(&whole, kept).cost_whole(&pieces);
+            assert!(t.is_some());
+            assert_eq!(in_parts, Some(t), "{points} points");
+            let whole = whole.0.lock().unwrap();
+            let largest = whole.iter().map(|r| r.1.len()).max().unwrap();
+            if points == 6000 {
+                // Long enough to be planned in windows.
+                assert!(WINDOWS.windows(largest), "{largest} pieces rendered");
+            }
+            // Only the default keeps this one.
+            assert_eq!(largest > kept, kept != KEPT_RENDERING_PIECES, "{largest}");
+            if largest > kept {
+                assert!(parts.0.lock().unwrap().is_empty());
+            } else {
+                assert_eq!(*parts.0.lock().unwrap(), *whole);
+            }
+        }
+    }
 
     /// `fair`'s default pass becomes the objective's machine's: its speed
     /// caps, or the curvature in the thesis' model; a pass the user set
