@@ -83,34 +83,3 @@ fn autos_sections_leave_no_rendering_in_the_memo() {
         );
     }
 }
-
-/// A wavy raster of `points` G1 moves at F6000.
-fn wavy(points: usize) -> String {
-    let mut text = String::from("G21 G90 G17\nG0 X0 Y0 Z0\nG1 F6000\n");
-    for k in 1..points {
-        let x = 0.5 * k as f64;
-        let (y, z) = (0.3 * (0.7 * x).sin(), 0.02 * (1.3 * x).cos() - 0.02);
-        text.push_str(&format!("G1 X{x:.4} Y{y:.4} Z{z:.4}\n"));
-    }
-    text.push_str("M2\n");
-    text
-}
-
-/// A run whose rendering is larger than the objective keeps
-/// (`fairpath::choose::KEPT_RENDERING_PIECES`): costed part after part,
-/// no rendering of it is kept for the writer, which renders it again as
-/// it writes it, the same text as without the memo.
-#[test]
-fn a_long_runs_rendering_is_not_kept_and_is_written_the_same() {
-    let text = wavy(14_000);
-    let (with, _, taken) = written(&text, Format::Arcs, true);
-    let (without, _, _) = written(&text, Format::Arcs, false);
-    assert_eq!(taken, 0);
-    // (Written in G1: arcs in 3D follow it no better.)
-    let blocks = with.lines().count();
-    assert!(
-        blocks > fairpath::choose::KEPT_RENDERING_PIECES,
-        "{blocks} blocks written"
-    );
-    assert_eq!(with, without);
-}

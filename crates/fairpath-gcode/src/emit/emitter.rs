@@ -270,16 +270,11 @@ impl<'a> Emitter<'a> {
     /// run's candidate that is timed only as written (arcs, whose G1
     /// alternative is tried only where they fall back to G1 on many blocks,
     /// or the format's only form), where `auto`'s objective kept no
-    /// rendering of it in that form (it keeps none of a candidate it
-    /// that rendered to more pieces than
-    /// [`fairpath::choose::KEPT_RENDERING_PIECES`]).
+    /// rendering of it.
     pub(super) fn streams(&self, k: usize, form: CurveForm, chord: f64) -> bool {
-        let i = self.forms.iter().position(|&f| f == form);
         self.may_stream()
             && self.smoothed[k].len() >= LONG_RUN_PIECES
-            && self
-                .memo
-                .is_none_or(|m| i.is_none_or(|i| !m.holds(&self.smoothed[k], i)))
+            && self.memo.is_none()
             && chord == self.opts.budget.output
             && (form == CurveForm::Arcs || (self.forms.len() == 1 && form == CurveForm::Lines))
     }

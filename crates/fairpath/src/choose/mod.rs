@@ -24,7 +24,7 @@ pub use candidates::{
 };
 pub use objective::{
     fair_on, peak_pass_for, Objective, PlannedTime, RenderObserver, WrittenTime, COST_PART_PIECES,
-    KEEP_MARGIN, KEPT_RENDERING_PIECES, RENDER_GAIN,
+    KEEP_MARGIN, RENDER_GAIN,
 };
 pub use registry::{by_name, method, Method, METHODS};
 pub use same_pieces::{pieces_digest, same_pieces};

@@ -219,20 +219,20 @@ pub struct WrittenTime {
     /// rendering and planning); [`RENDER_GAIN`] by default.
     pub render_gain: f64,
     /// Largest rendering (pieces) kept whole while it is costed, to hand
-    /// to [`WrittenTime::observer`]; [`KEPT_RENDERING_PIECES`] by default.
-    pub kept_rendering_pieces: usize,
+    /// to [`WrittenTime::observer`]; `None` (the default) keeps every one.
+    ///
+    /// Each candidate is rendered [`COST_PART_PIECES`] curves at a time,
+    /// and the parts are timed as they come ([`WindowedTimer`]: the time
+    /// of the whole rendering, to the bit); what is held of a rendering is
+    /// what the observer is to be handed. Without an observer, or past
+    /// this bound, that is a part and a planning window, whatever the
+    /// run's length; but a writer then renders the chosen candidate again.
+    /// `auto` on `surface-raster-large.ngc` at 0.05 mm with a bound of
+    /// 100,000 pieces: the same program, peak RSS 627 -> 504 MB, CPU time
+    /// 15 to 20% more (the writer's second rendering of 430,000 arcs);
+    /// hence not the default.
+    pub kept_rendering_pieces: Option<usize>,
 }
-
-/// Largest rendering (pieces) that [`WrittenTime`] keeps whole while it
-/// costs it, to hand to [`WrittenTime::observer`]: each candidate is
-/// rendered and timed part after part ([`COST_PART_PIECES`] curves a
-/// part, each part timed as it comes: [`WindowedTimer`], the time of the
-/// whole rendering to the bit), and a rendering that grows past this is
-/// not held (the writer renders the chosen candidate again as it writes
-/// it). On `surface-raster-large.ngc` `auto`'s candidates render to
-/// 400,000 arcs and more, and the renderings being costed were the
-/// largest things `auto` held. 100,000 pieces are some 20 MB.
-pub const KEPT_RENDERING_PIECES: usize = 100_000;
 
 /// Curves rendered at a time where [`WrittenTime`] costs a candidate.
 pub const COST_PART_PIECES: usize = 512;
@@ -296,7 +296,7 @@ impl WrittenTime {
             corners: Corners::Blended,
             observer: None,
             render_gain: RENDER_GAIN,
-            kept_rendering_pieces: KEPT_RENDERING_PIECES,
+            kept_rendering_pieces: None,
         }
     }
 
@@ -341,8 +341,7 @@ impl WrittenTime {
     }
 
     /// [`Objective::cost`] of `pieces`, each form rendered and timed part
-    /// after part (see [`KEPT_RENDERING_PIECES`]: a rendering larger than
-    /// [`WrittenTime::kept_rendering_pieces`] is not held); `None` where the
+    /// after part (see [`WrittenTime::kept_rendering_pieces`]); `None` where the
     /// parts' windows did not stitch or windows do not apply (the run must
     /// be planned whole).
     fn cost_in_parts(&self, pieces: &[Piece]) -> Option<Option<f64>> {
@@ -387,7 +386,11 @@ impl WrittenTime {
             let mut take = |out: Rendered, whole: &mut Option<Rendered>| {
                 stats.add(&out.stats);
                 match whole {
-                    Some(w) if w.pieces.len() + out.pieces.len() <= self.kept_rendering_pieces => {
+                    Some(w)
+                        if self
+                            .kept_rendering_pieces
+                            .is_none_or(|n| w.pieces.len() + out.pieces.len() <= n) =>
+                    {
                         w.pieces.extend(out.pieces);
                         w.speeds.extend(out.speeds);
                         w.stats.add(&out.stats);
@@ -472,7 +475,10 @@ impl Objective for WrittenTime {
         Some(peak_pass_for(&self.plan.limits))
     }
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
-        match self.cost_in_parts(pieces) {
+        // Every rendering handed over whole: rendered whole (in parts,
+        // joined, it took a little more room and time).
+        let keeps_all = self.observer.is_some() && self.kept_rendering_pieces.is_none();
+        match (!keeps_all).then(|| self.cost_in_parts(pieces)).flatten() {
             Some(cost) => cost,
             None => self.cost_whole(pieces),
         }
@@ -573,7 +579,7 @@ mod tests {
             .pieces
     }
 
-    fn written_time(observer: &Arc<Recorder>, kept: usize) -> WrittenTime {
+    fn written_time(observer: &Arc<Recorder>, kept: Option<usize>) -> WrittenTime {
         let limits = MachineLimits::thesis();
         let ro = |form| RenderOptions {
             form,
@@ -597,10 +603,11 @@ mod tests {
     /// A candidate is costed part after part to the bit of its rendering
     /// costed whole, planned in windows where it is long; a rendering
     /// larger than [`WrittenTime::kept_rendering_pieces`] is not handed
-    /// over (nor held), a smaller one is, as rendered whole.
+    /// over (nor held), a smaller one is, as rendered whole, and by
+    /// default every one is.
     #[test]
     fn a_candidate_costed_in_parts_costs_what_it_costs_rendered_whole() {
-        for (points, kept) in [(300, KEPT_RENDERING_PIECES), (300, 1000), (6000, 20_000)] {
+        for (points, kept) in [(300, None), (300, Some(1000)), (6000, Some(20_000))] {
             let pieces = corner_curves(points);
             let (parts, whole) = (Arc::new(Recorder::default()), Arc::new(Recorder::default()));
             let in_parts = written_time(&parts, kept).cost_in_parts(&pieces);
@@ -613,9 +620,10 @@ mod tests {
                 // Long enough to be planned in windows.
                 assert!(WINDOWS.windows(largest), "{largest} pieces rendered");
             }
-            // Only the default keeps this one.
-            assert_eq!(largest > kept, kept != KEPT_RENDERING_PIECES, "{largest}");
-            if largest > kept {
+            // Only the default keeps these.
+            let dropped = kept.is_some_and(|n| largest > n);
+            assert_eq!(dropped, kept.is_some(), "{largest}");
+            if dropped {
                 assert!(parts.0.lock().unwrap().is_empty());
             } else {
                 assert_eq!(*parts.0.lock().unwrap(), *whole);
