@@ -604,7 +604,7 @@ mod tests {
     /// costed whole, planned in windows where it is long; a rendering
     /// larger than [`WrittenTime::kept_rendering_pieces`] is not handed
     /// over (nor held), a smaller one is, as rendered whole, and by
-    /// default every one is.
+    /// default every one is; without an observer, none is.
     #[test]
     fn a_candidate_costed_in_parts_costs_what_it_costs_rendered_whole() {
         for (points, kept) in [(300, None), (300, Some(1000)), (6000, Some(20_000))] {
@@ -614,6 +614,10 @@ mod tests {
             let t = written_time(&whole, kept).cost_whole(&pieces);
             assert!(t.is_some());
             assert_eq!(in_parts, Some(t), "{points} points");
+            // Without an observer (nothing kept), costed in parts.
+            let mut bare = written_time(&parts, kept);
+            bare.observer = None;
+            assert_eq!(bare.cost(&pieces), t, "{points} points");
             let whole = whole.0.lock().unwrap();
             let largest = whole.iter().map(|r| r.1.len()).max().unwrap();
             if points == 6000 {
