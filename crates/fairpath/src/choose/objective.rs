@@ -345,22 +345,17 @@ impl WrittenTime {
     /// parts' windows did not stitch or windows do not apply (the run must
     /// be planned whole).
     fn cost_in_parts(&self, pieces: &[Piece]) -> Option<Option<f64>> {
-        let Ok(plan) = plan_run(pieces, &self.shape) else {
-            return Some(None);
-        };
-        let speed = Arc::new(PlannedSpeed::new(
-            pieces.len(),
-            &plan,
-            self.shape.limits.period,
-        ));
-        drop(plan);
         let mut best: Option<f64> = None;
-        let mut fell_back = false;
-        for (i, ro) in self.renders.iter().enumerate() {
-            if i > 0 && ro.form == CurveForm::Lines && !fell_back {
-                continue;
-            }
-            let mut timer = Some(WindowedTimer::new(&self.plan, self.corners, WINDOWS)?);
+        // (A form that cannot render them leaves the candidate without a
+        // cost; windows that do not stitch, or do not apply, leave it to
+        // be costed whole.)
+        let (mut failed, mut whole_plan) = (false, false);
+        let planned = self.each_form(pieces, |i, ro, speed| {
+            let Some(timer) = WindowedTimer::new(&self.plan, self.corners, WINDOWS) else {
+                whole_plan = true;
+                return None;
+            };
+            let mut timer = Some(timer);
             let mut absorber = LineAbsorber::new(ro);
             // The rendering while it is small enough to keep (for the
             // observer), timed whole at the end as `cost_whole` times it;
@@ -406,22 +401,26 @@ impl WrittenTime {
             let mut start = 0;
             while start < pieces.len() {
                 let end = (start + COST_PART_PIECES).min(pieces.len());
-                let Ok(part) = render_range(pieces, start..end, &speed, ro) else {
-                    return Some(None);
+                let Ok(part) = render_range(pieces, start..end, speed, ro) else {
+                    failed = true;
+                    return None;
                 };
                 take(absorber.push(part), &mut whole);
                 start = end;
             }
             take(absorber.finish(), &mut whole);
-            fell_back |= stats.fallback_lines > 0;
+            let fell_back = stats.fallback_lines > 0;
             let time = match (&whole, timer.map(WindowedTimer::finish)) {
                 (Some(w), _) => self.rendered_time(&w.pieces, ro.form),
-                (None, Some(Ok(None))) => return None,
+                (None, Some(Ok(None))) => {
+                    whole_plan = true;
+                    return None;
+                }
                 (None, Some(Ok(t))) => t,
                 (None, Some(Err(_)) | None) => None,
             };
             let Some(t) = time else {
-                continue;
+                return Some(fell_back);
             };
             if best.is_none_or(|b| t < b) {
                 best = Some(t);
@@ -430,23 +429,30 @@ impl WrittenTime {
                 // (Held until the writer takes it: no room to spare.)
                 w.pieces.shrink_to_fit();
                 w.speeds.shrink_to_fit();
-                o.rendered(pieces, i, w, t, &speed);
+                o.rendered(pieces, i, w, t, speed);
             }
+            Some(fell_back)
+        });
+        if whole_plan {
+            return None;
         }
-        Some(best)
+        Some(if planned.is_none() || failed {
+            None
+        } else {
+            best
+        })
     }
 
-    /// Renders `pieces` in the forms of [`WrittenTime::renders`] as the
-    /// writer does (each by the speed of the curves planned on
-    /// [`WrittenTime::shape`]; a [`CurveForm::Lines`] form after another
-    /// only where an earlier one fell back to lines) and hands each
-    /// rendering to `each` (with its index and options, and the speed),
-    /// until `each` returns false. `None` where the curves cannot be
-    /// planned or a form cannot render them.
-    fn each_rendering(
+    /// Calls `form` with each form of [`WrittenTime::renders`] the writer
+    /// tries, with its index and the speed of the curves planned on
+    /// [`WrittenTime::shape`] (what the renderer shapes by): a
+    /// [`CurveForm::Lines`] form after another only where an earlier
+    /// one's rendering fell back to lines, which `form` returns, or `None`
+    /// to stop. `None` where the curves cannot be planned.
+    fn each_form(
         &self,
         pieces: &[Piece],
-        mut each: impl FnMut(usize, &RenderOptions, Rendered, &Arc<PlannedSpeed>) -> bool,
+        mut form: impl FnMut(usize, &RenderOptions, &Arc<PlannedSpeed>) -> Option<bool>,
     ) -> Option<()> {
         let plan = plan_run(pieces, &self.shape).ok()?;
         let speed = Arc::new(PlannedSpeed::new(
@@ -460,13 +466,34 @@ impl WrittenTime {
             if i > 0 && ro.form == CurveForm::Lines && !fell_back {
                 continue;
             }
-            let r = render_run(pieces, &speed, ro).ok()?;
-            fell_back |= r.stats.fallback_lines > 0;
-            if !each(i, ro, r, &speed) {
-                break;
+            match form(i, ro, &speed) {
+                Some(f) => fell_back |= f,
+                None => break,
             }
         }
         Some(())
+    }
+
+    /// Renders `pieces` whole in each form the writer tries
+    /// ([`WrittenTime::each_form`]) and hands each rendering to `each`
+    /// (with its index and options, and the speed), until `each` returns
+    /// false. `None` where the curves cannot be planned or a form cannot
+    /// render them.
+    fn each_rendering(
+        &self,
+        pieces: &[Piece],
+        mut each: impl FnMut(usize, &RenderOptions, Rendered, &Arc<PlannedSpeed>) -> bool,
+    ) -> Option<()> {
+        let mut failed = false;
+        self.each_form(pieces, |i, ro, speed| {
+            let Ok(r) = render_run(pieces, speed, ro) else {
+                failed = true;
+                return None;
+            };
+            let fell_back = r.stats.fallback_lines > 0;
+            each(i, ro, r, speed).then_some(fell_back)
+        })?;
+        (!failed).then_some(())
     }
 }
 
