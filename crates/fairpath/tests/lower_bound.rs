@@ -161,6 +161,55 @@ fn a_corner_rounded_inside_the_band_takes_at_least_the_bound() {
     }
 }
 
+/// The right angle of [`rounded_corner`] run by the widest turn its band
+/// holds: lines `inset` inside the band's outer edges (`y = -(TOL -
+/// inset)`, `x = 50 + TOL - inset`) joined by the circular arc of radius
+/// `r` tangent to both, in chords of `90 / n` degrees; from the run's start
+/// and to its end by lines (kinks of about 0.001 rad).
+fn widest_turn(r: f64, inset: f64, n: usize) -> Vec<Vec3> {
+    let o = TOL - inset;
+    let c = (50.0 + o - r, -o + r);
+    let mut pts = vec![v(0.0, 0.0, 0.0), v(c.0, -o, 0.0)];
+    for k in 1..n {
+        let t = -core::f64::consts::FRAC_PI_2 + core::f64::consts::FRAC_PI_2 * k as f64 / n as f64;
+        pts.push(v(c.0 + r * t.cos(), c.1 + r * t.sin(), 0.0));
+    }
+    pts.push(v(50.0 + o, c.1, 0.0));
+    pts.push(v(50.0, 50.0, 0.0));
+    pts
+}
+
+#[test]
+fn the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound() {
+    // The arc through the band's inner corner (50 - e, e) tangent to its
+    // outer edges has radius 2 e / (1 - 1 / sqrt 2) = 0.341 mm at 0.05 mm:
+    // no circular turn inside the band is wider, and the band path planned
+    // here is as fast as a turn of that shape gets (0.931 s). The bound of
+    // the sharp corner (0.541 s, both kinds) must stay below it. (It is the
+    // rest-to-rest floor of the run: the turn windows' envelopes let the
+    // acceleration reverse at once, so they do not charge what slowing
+    // for the turn costs; the module docs of `feed::lower_bound`.)
+    let sharp = polyline_run(&[v(0.0, 0.0, 0.0), v(50.0, 0.0, 0.0), v(50.0, 50.0, 0.0)]);
+    let (b, b_in_order) = (bound(&sharp.pieces), bound_in_order(&sharp.pieces));
+    let pts = widest_turn(0.335, 0.001, 90);
+    let wide = polyline_run(&pts);
+    let dev = fairpath::verify::verify_run(
+        &sharp.pieces,
+        &wide.pieces,
+        &fairpath::verify::VerifyOptions::new(TOL),
+    );
+    assert!(
+        dev.within(TOL),
+        "the turn leaves the band: {}",
+        dev.deviation_bound
+    );
+    let t = planned(&wide.pieces);
+    assert!(
+        b <= t && b_in_order <= t,
+        "bounds {b}, {b_in_order} above the plan {t}"
+    );
+}
+
 fn in_order(tol: f64) -> BoundOptions {
     BoundOptions {
         paths: BandPaths::InOrder,

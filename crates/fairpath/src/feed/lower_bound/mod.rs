@@ -128,6 +128,27 @@
 //!    angle on the thesis machine) and does not reach the speed cap
 //!    `sqrt(A_n R)` of the largest radius that fits the band.
 //!
+//! # Where it is loose
+//! At a sharp turn the bound is about the rest-to-rest floor of step 6
+//! (a right angle between 50 mm legs: 0.541 s, where the widest turn
+//! inside the band plans in 0.931 s; test
+//! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
+//! Capping the turn's speed is not what is missing: a sound cap (a path
+//! that crosses the turn's bisector farther from a point `p` inside the
+//! turn than it passes a gate on each side has a farthest point from `p`
+//! in between, where `|x - p|'' >= 0` fails unless its curvature is at
+//! least `1 / |x - p|`, so at the feed it must swing far out) was tried
+//! on 2026-12-01 and changed neither bound of the right angle above,
+//! `square-wave.ngc`, `butterfly-80.ngc` or LinuxCNC's `contour.ngc` in
+//! the last digit. Step 4's envelopes let the
+//! acceleration jump from `+A` to `-A` at the top of a speed bump and
+//! leave the slow point of a window at any acceleration, where a
+//! jerk-limited profile needs `A / J` (0.2 s on the thesis machine) to
+//! turn it round: slowing for a turn costs the envelopes almost nothing.
+//! Charging that needs the speed's local extrema (`a = 0` there, so
+//! `a^2 <= 2 J |v - v_extremum|` beside each) in place of `F` and `c`,
+//! run-wide, not zone by zone.
+//!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).
 
