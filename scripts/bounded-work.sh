@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Times every method and format on the small programs of issue 19, item 6,
 # whose work once grew with 1/tolerance (inch arcs, a long 3D line after an
-# arc), and the peak memory on a comment-heavy program.
+# arc, LinuxCNC's 111-byte spiral `sam-circle_lines.ngc`), and the peak
+# memory on a comment-heavy program.
 #
 #   scripts/bounded-work.sh [BINARY] [TIMEOUT_S]
 #
@@ -32,6 +33,22 @@ G2 X3 R2 F100
 G1 Y2
 G1 X6.9282 Y-4 Z-3.9167
 M2
+NGC
+
+# LinuxCNC's quick-tests/sam-circle_lines.ngc: 370 polar moves, a spiral.
+cat >"$dir/spiral.ngc" <<'NGC'
+g20 g64 g90
+
+g0 z.1
+g0 x1 y0
+g1 z-.1 f999
+
+o100 repeat [370]
+g91 g1 @-.0025 ^4.5
+o100 endrepeat
+
+g90 g0 z.1
+m2
 NGC
 
 tolerances="0.05 0.01 0.005 0.001"
@@ -72,7 +89,7 @@ table() {
 }
 
 echo "seconds per run of: $bin smooth PROGRAM --tolerance T (--method M | --format F) -o OUT"
-methods="auto arc-fit bspline-corner bspline-fit ctm lotm"
+methods="auto arc-fit bspline-corner bspline-fit ctm lotm fair"
 formats="arcs g1 g5.2 g6.2 json"
 [ "${TABLES:-1}" = 0 ] || for prog in five.ngc variant.ngc; do
     # shellcheck disable=SC2086
@@ -80,6 +97,8 @@ formats="arcs g1 g5.2 g6.2 json"
     # shellcheck disable=SC2086
     table "$prog" formats $formats
 done
+# shellcheck disable=SC2086
+[ "${TABLES:-1}" = 0 ] || table spiral.ngc methods $methods
 
 if [ "$comment_mb" -gt 0 ]; then
     # Two shapes of comment-heavy program: 100-byte comment lines, and

@@ -238,6 +238,8 @@ impl BsplineFit {
             let from = lead_in.map_or((k, q[k]), |p| (k - 1, p));
             let to = lead_out.map_or((m, q[m]), |p| (m, p));
             let section = sub_chain(chain, from, to);
+            #[cfg(test)]
+            tests::POINTS_FITTED.with(|c| c.set(c.get() + section.pts.len()));
             let (target, weights) = (tolerance * o.band_use, (o.fairness, o.jerk_fairness));
             let (raises, relax) = (o.fairness_raises, o.relax.as_ref());
             let fit = match memo {
@@ -248,9 +250,7 @@ impl BsplineFit {
             };
             let Some(fit) = fit else {
                 let min = o.sections.min_points;
-                let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
-                let sharpest =
-                    (k + 1..m.saturating_sub(1)).max_by(|&a, &b| turn(a).total_cmp(&turn(b)));
+                let sharpest = split_vertex(q, k, m);
                 // A half too short to fit goes to the corner method; the
                 // other is still tried (a sharp corner next to a section
                 // end, such as a plunge, no longer sends all of it there).
@@ -280,5 +280,120 @@ impl BsplineFit {
             let sub = sub_chain(chain, cursor, (nseg, q[nseg]));
             corner.smooth_chain(&sub, next_to_fits(after_fit, false), out);
         }
+    }
+}
+
+/// Inner vertices turning at least this share of the sharpest one count
+/// as its equals when a section that failed to fit is split
+/// ([`split_vertex`]): a corner half as sharp is still one the fit must
+/// turn, and splitting near the middle bounds the work.
+pub const SPLIT_TURN_TIE: f64 = 0.5;
+
+/// The vertex of section `k..=m` of the chain `q` at which a section that
+/// failed to fit is split: among its inner vertices that turn at least
+/// [`SPLIT_TURN_TIE`] of the sharpest (the corners the fit likely failed
+/// on), the one nearest the section's middle. Splitting at the sharpest
+/// alone peeled a run of equal turns from one end: LinuxCNC's
+/// `sam-circle_lines.ngc`, a spiral of 370 moves turning 4.5 degrees each,
+/// failed its fits at 0.005 mm with `fair` and was fitted again on all but
+/// a vertex or two, 183 times, the points fitted growing with the square
+/// of the run's length (51 s); split in the middle, each level of halves
+/// fits the run's points once (9 s, the same curves). Sections fit
+/// independently, so where the split falls changes only which fits are
+/// tried next.
+fn split_vertex(q: &[Vec3], k: usize, m: usize) -> Option<usize> {
+    let turn = |i: usize| (q[i] - q[i - 1]).angle_to(q[i + 1] - q[i]);
+    let inner = k + 1..m.saturating_sub(1);
+    let sharpest = inner.clone().map(turn).fold(f64::NEG_INFINITY, f64::max);
+    if !sharpest.is_finite() {
+        return inner.clone().next();
+    }
+    let tie = sharpest * SPLIT_TURN_TIE;
+    let middle = |i: usize| (2 * i).abs_diff(k + m);
+    inner.filter(|&i| turn(i) >= tie).min_by_key(|&i| middle(i))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::path::Run;
+    use crate::smooth::{shallow_corner_sections, BsplineFitOptions, Smoother};
+    use core::cell::Cell;
+
+    std::thread_local! {
+        /// Points of every section this thread tried to fit.
+        pub(super) static POINTS_FITTED: Cell<usize> = const { Cell::new(0) };
+    }
+
+    fn v(x: f64, y: f64) -> Vec3 {
+        Vec3::new(x, y, 0.0)
+    }
+
+    #[test]
+    fn a_section_is_split_at_its_sharpest_vertex() {
+        // Turns of 10, 40 and 10 degrees: the 40-degree vertex, though
+        // not the middle one.
+        let mut q = vec![v(0.0, 0.0), v(1.0, 0.0)];
+        let mut dir = 0.0f64;
+        for turn in [10.0f64, 40.0, 10.0, 10.0, 10.0] {
+            dir += turn.to_radians();
+            let last = q[q.len() - 1];
+            q.push(last + Vec3::new(dir.cos(), dir.sin(), 0.0));
+        }
+        assert_eq!(split_vertex(&q, 0, q.len() - 1), Some(2));
+    }
+
+    #[test]
+    fn equal_turns_are_split_in_the_middle() {
+        let q: Vec<Vec3> = (0..21)
+            .map(|i| {
+                let a = (4.5f64 * i as f64).to_radians();
+                v(10.0 * a.cos(), 10.0 * a.sin())
+            })
+            .collect();
+        assert_eq!(split_vertex(&q, 0, 20), Some(10));
+        assert_eq!(split_vertex(&q, 3, 9), Some(6));
+        // Too short a section has no inner vertex to split at.
+        assert_eq!(split_vertex(&q, 4, 5), None);
+    }
+
+    /// LinuxCNC's `sam-circle_lines.ngc`: from (1, 0) in, 370 moves of
+    /// `G91 @-.0025 ^4.5` (mm).
+    fn sam_circle_lines() -> Run {
+        let pts: Vec<Vec3> = (0..=370)
+            .map(|k| {
+                let (r, a) = (
+                    25.4 * (1.0 - 0.0025 * k as f64),
+                    (4.5 * k as f64).to_radians(),
+                );
+                v(r * a.cos(), r * a.sin())
+            })
+            .collect();
+        Run::polyline(&pts, Some(999.0 * 25.4))
+    }
+
+    #[test]
+    fn sam_circle_lines_fits_each_point_a_few_times_at_a_small_tolerance() {
+        // Fitted through its shallow corners (as `fair` fits lines) within
+        // 0.001125 mm (what `fair` at 0.005 mm leaves its fit), every fit
+        // of the spiral fails and is split: 1,793 points fitted, a few
+        // times the run's 371 per level of halves (log2(371 / 4) < 7),
+        // where splitting at the sharpest vertex alone fitted 34,775 (the
+        // section less a vertex or two, again and again).
+        let run = sam_circle_lines();
+        let fit = BsplineFit {
+            options: BsplineFitOptions {
+                sections: shallow_corner_sections(&BsplineFitOptions::default().sections),
+                ..BsplineFitOptions::default()
+            },
+        };
+        POINTS_FITTED.with(|c| c.set(0));
+        let out = fit.smooth_run(&run, 0.00125).expect("smooths");
+        let fitted = POINTS_FITTED.with(|c| c.get());
+        assert!(!out.pieces.is_empty());
+        assert!(
+            fitted <= 4 * 371 * 7,
+            "{fitted} points fitted for a run of 371"
+        );
     }
 }
