@@ -298,7 +298,8 @@ pub const SPLIT_TURN_TIE: f64 = 0.5;
 /// failed its fits at 0.005 mm with `fair` and was fitted again on all but
 /// a vertex or two, 183 times, the points fitted growing with the square
 /// of the run's length (51 s); split in the middle, each level of halves
-/// fits the run's points once (9 s, the same curves). Sections fit
+/// fits the run's points once (9 s with this alone, the same curves).
+/// Sections fit
 /// independently, so where the split falls changes only which fits are
 /// tried next.
 fn split_vertex(q: &[Vec3], k: usize, m: usize) -> Option<usize> {
@@ -314,7 +315,7 @@ fn split_vertex(q: &[Vec3], k: usize, m: usize) -> Option<usize> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::path::Run;
     use crate::smooth::{shallow_corner_sections, BsplineFitOptions, Smoother};
@@ -357,10 +358,10 @@ mod tests {
         assert_eq!(split_vertex(&q, 4, 5), None);
     }
 
-    /// LinuxCNC's `sam-circle_lines.ngc`: from (1, 0) in, 370 moves of
-    /// `G91 @-.0025 ^4.5` (mm).
-    fn sam_circle_lines() -> Run {
-        let pts: Vec<Vec3> = (0..=370)
+    /// The points of LinuxCNC's `sam-circle_lines.ngc`: from (1, 0) in,
+    /// `moves` moves of `G91 @-.0025 ^4.5` (370 in the program), in mm.
+    pub(in crate::smooth) fn sam_circle_lines_points(moves: usize) -> Vec<Vec3> {
+        (0..=moves)
             .map(|k| {
                 let (r, a) = (
                     25.4 * (1.0 - 0.0025 * k as f64),
@@ -368,8 +369,11 @@ mod tests {
                 );
                 v(r * a.cos(), r * a.sin())
             })
-            .collect();
-        Run::polyline(&pts, Some(999.0 * 25.4))
+            .collect()
+    }
+
+    fn sam_circle_lines() -> Run {
+        Run::polyline(&sam_circle_lines_points(370), Some(999.0 * 25.4))
     }
 
     #[test]

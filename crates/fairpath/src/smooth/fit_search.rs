@@ -309,15 +309,7 @@ mod tests {
         // down to its shortest span: 37,572 control points for 909 data
         // points here, 1.6 million on moves 100 to 370. It stops at the
         // most the doubling tries, two per data segment.
-        let pts: Vec<Vec3> = (0..=60)
-            .map(|k| {
-                let (r, a) = (
-                    25.4 * (1.0 - 0.0025 * k as f64),
-                    (4.5 * k as f64).to_radians(),
-                );
-                Vec3::new(r * a.cos(), r * a.sin(), 0.0)
-            })
-            .collect();
+        let pts = crate::smooth::fit_chain::tests::sam_circle_lines_points(60);
         let target = 0.001125;
         let o = crate::smooth::BsplineFitOptions::default();
         MOST_CONTROL_POINTS.with(|m| m.set(0));
