@@ -165,7 +165,7 @@ fn five_line_inch_arc_program_g5_2_check_at_0_01mm() {
     };
     let scan = |n: &fairpath::geom::Nurbs, chord: f64| {
         let motion = g5_2_motion_of(n, Plane::Xy).unwrap();
-        let c = Curve::Nurbs(n.clone());
+        let c = Curve::from(n.clone());
         let poly: Vec<_> = flatten_params(&c, 0.01 * chord)
             .iter()
             .map(|&t| c.eval(t))

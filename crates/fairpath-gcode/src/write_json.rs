@@ -78,10 +78,10 @@ fn to_json_piece(p: &Piece) -> Result<JsonPiece, WriteError> {
             if a.is_circular(tol) {
                 Nurbs::from_circular_arc(a)
             } else {
-                Nurbs::approximate(a, ARC_APPROX_MM)
+                Nurbs::approximate(&**a, ARC_APPROX_MM)
             }
         }
-        Curve::Nurbs(n) => n.clone(),
+        Curve::Nurbs(n) => (**n).clone(),
     };
     if nurbs.points.iter().any(|q| !q.is_finite()) || nurbs.knots.iter().any(|k| !k.is_finite()) {
         return Err(WriteError::NotFinite);
@@ -178,7 +178,7 @@ pub fn read_json(text: &str) -> Result<Vec<Piece>, JsonError> {
                 let n = Nurbs::new(degree, knots, pts, weights)
                     .map_err(|e| bad(format!("invalid NURBS: {e}")))?;
                 Piece {
-                    curve: Curve::Nurbs(n),
+                    curve: Curve::from(n),
                     rapid,
                     source_lines: (source_lines[0], source_lines[1]),
                     feed,

@@ -49,7 +49,7 @@ fn nurbs_pieces(p: &Program) -> Vec<Nurbs> {
     p.moves()
         .iter()
         .filter_map(|m| match &m.piece.curve {
-            Curve::Nurbs(n) => Some(n.clone()),
+            Curve::Nurbs(n) => Some((**n).clone()),
             _ => None,
         })
         .collect()

@@ -64,7 +64,7 @@ fn arcs_are_written_as_g2_g3_in_their_plane_and_read_back() {
                     "G21 G90\nG0 X{} Y{} Z{}\nG1 X{} Y{} Z{} F600\nM2\n",
                     s.x, s.y, s.z, e.x, e.y, e.z
                 );
-                let (out, back) = write_one(&text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+                let (out, back) = write_one(&text, vec![piece(Curve::from(arc))], &arcs_opts());
                 let g = if ccw { "G3" } else { "G2" };
                 assert!(out.contains(g), "{plane:?} {ccw}: {out}");
                 if plane != Plane::Xy {
@@ -96,7 +96,7 @@ fn r_form_when_asked_and_ijk_for_half_circles() {
         arcs: Some(ArcWords::R),
         ..arcs_opts()
     };
-    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let (out, back) = write_one(text, vec![piece(Curve::from(arc))], &o);
     assert!(out.contains("G3 X0 Y5 R5"), "{out}");
     assert!(matches!(back[0].curve, Curve::Arc(_)));
     // A half circle: the R form leaves the side open, IJK is written.
@@ -111,7 +111,7 @@ fn r_form_when_asked_and_ijk_for_half_circles() {
     )
     .unwrap();
     let text = "G21 G90\nG0 X5 Y0 Z0\nG1 X-5 F600\nM2\n";
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(half))], &o);
+    let (out, _) = write_one(text, vec![piece(Curve::from(half))], &o);
     assert!(out.contains("G3 X-5 I-5"), "{out}");
 }
 
@@ -119,11 +119,11 @@ fn r_form_when_asked_and_ijk_for_half_circles() {
 fn incremental_programs_get_incremental_arcs_and_absolute_centres_after_g90_1() {
     let arc = quarter(Plane::Xy, 0.0, true, 0.0);
     let text = "G21 G91\nG0 X5\nG1 X-5 Y5 F600\nM2\n";
-    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    let (out, back) = write_one(text, vec![piece(Curve::from(arc))], &arcs_opts());
     assert!(out.contains("G3 X-5 Y5 I-5"), "{out}");
     assert_eq!(back[0].end(), Vec3::new(0.0, 5.0, 0.0));
     let text = "G21 G90 G90.1\nG0 X5\nG1 X0 Y5 F600\nM2\n";
-    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    let (out, back) = write_one(text, vec![piece(Curve::from(arc))], &arcs_opts());
     assert!(out.contains("G3 X0 Y5 I0 J0"), "{out}");
     let Curve::Arc(b) = &back[0].curve else {
         panic!()
@@ -148,7 +148,7 @@ fn an_arc_shorter_than_the_rounding_is_a_line_not_a_full_circle() {
     let text = "G21 G90\nG0 X5 Y0\nG1 X10 Y1 F600\nM2\n";
     let (out, back) = write_one(
         text,
-        vec![piece(Curve::Arc(arc)), piece(Curve::Line(line))],
+        vec![piece(Curve::from(arc)), piece(Curve::Line(line))],
         &arcs_opts(),
     );
     assert!(!out.contains("G3"), "{out}");
@@ -168,7 +168,7 @@ fn full_circles_keep_their_turns() {
     )
     .unwrap();
     let text = "G21 G90\nG0 X5 Y0 Z0\nG1 Z3 F600\nM2\n";
-    let (out, back) = write_one(text, vec![piece(Curve::Arc(arc))], &arcs_opts());
+    let (out, back) = write_one(text, vec![piece(Curve::from(arc))], &arcs_opts());
     assert!(out.contains("P3"), "{out}");
     let Curve::Arc(b) = &back[0].curve else {
         panic!()
@@ -184,7 +184,7 @@ fn fanuc_numbers_carry_a_decimal_point() {
         decimal_point: true,
         ..arcs_opts()
     };
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let (out, _) = write_one(text, vec![piece(Curve::from(arc))], &o);
     let arc_line = out.lines().find(|l| l.starts_with("G3")).unwrap();
     for w in arc_line.split_whitespace().skip(1) {
         if !w.starts_with('F') {
@@ -202,7 +202,7 @@ fn linuxcnc_blending_is_written_around_runs_and_the_programs_own_restored() {
     };
     // The program's own G64 P0.01 is written back after the run.
     let text = "G21 G90 G64 P0.01\nG0 X5 Y0 Z0\nG1 X0 Y5 F600\nG0 Z5\nM2\n";
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let (out, _) = write_one(text, vec![piece(Curve::from(arc))], &o);
     let lines: Vec<&str> = out.lines().collect();
     let ours = lines.iter().position(|l| *l == "G64 P0.0025 Q0").unwrap();
     let theirs = lines.iter().position(|l| *l == "G64 P0.01").unwrap();
@@ -220,14 +220,14 @@ fn linuxcnc_blending_is_written_around_runs_and_the_programs_own_restored() {
         0.0,
     )
     .unwrap();
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &o);
+    let (out, _) = write_one(text, vec![piece(Curve::from(arc))], &o);
     // The program sets no path control: only for LinuxCNC (always).
     assert!(!out.contains("G64"), "{out}");
     let always = GcodeWriteOptions {
         g64_always: true,
         ..o
     };
-    let (out, _) = write_one(text, vec![piece(Curve::Arc(arc))], &always);
+    let (out, _) = write_one(text, vec![piece(Curve::from(arc))], &always);
     assert!(out.contains("\nG64 P0.0000984 Q0\n"), "{out}");
     assert_eq!(out.matches("G64").count(), 1, "{out}");
 }
@@ -255,7 +255,7 @@ fn nurbs_become_g6_2_blocks_and_the_run_end_stays_exact() {
         nurbs: Some(NurbsBlocks::G6_2Fanuc),
         ..arcs_opts()
     };
-    let (out, back) = write_one(text, vec![piece(Curve::Nurbs(n2.clone()))], &o);
+    let (out, back) = write_one(text, vec![piece(Curve::from(n2.clone()))], &o);
     assert!(out.contains("G6.2 P4"), "{out}");
     // A G1 to the program's own end text follows the block.
     assert!(out.contains("G1 Y0.33333333333"), "{out}");
@@ -310,7 +310,7 @@ proptest! {
                 let d = [lb[0] - la[0], lb[1] - la[1]];
                 let center = plane.point([mid[0] - d[1], mid[1] + d[0], la[2]]);
                 Arc::from_center(a, b, center, plane.normal(), false, 1, 0.0)
-                    .map(Curve::Arc)
+                    .map(Curve::from)
                     .unwrap_or(Curve::Line(Line::new(a, b)))
             } else {
                 Curve::Line(Line::new(a, b))
@@ -444,7 +444,7 @@ fn a_small_arc_passed_fast_gets_more_decimals() {
     let tail = Line::new(arc.p1, e);
     let pieces = vec![
         piece(Curve::Line(lead)),
-        piece(Curve::Arc(arc)),
+        piece(Curve::from(arc)),
         piece(Curve::Line(tail)),
     ];
     let text = format!(
@@ -548,9 +548,9 @@ fn a_comment_after_an_arc_in_another_plane_keeps_the_written_plane() {
         0.0,
     )
     .unwrap();
-    let mut second = piece(Curve::Arc(xy));
+    let mut second = piece(Curve::from(xy));
     second.source_lines = (5, 5);
-    let (out, back) = write_one(text, vec![piece(Curve::Arc(yz)), second], &arcs_opts());
+    let (out, back) = write_one(text, vec![piece(Curve::from(yz)), second], &arcs_opts());
     assert!(out.contains("(between)"), "{out}");
     assert_eq!(back.len(), 2, "{out}");
     for (p, q) in [yz, xy].iter().zip(&back) {
@@ -595,7 +595,7 @@ fn a_g6_2_block_after_a_finer_short_line_starts_where_the_line_ended() {
         None,
     )
     .unwrap();
-    let pieces = vec![piece(Curve::Line(Line::new(s, p0))), piece(Curve::Nurbs(n))];
+    let pieces = vec![piece(Curve::Line(Line::new(s, p0))), piece(Curve::from(n))];
     let text = "G21 G90\nG0 X1 Y2 Z0.5\nG1 X4 Y5 F600\nM2\n";
     let prog = parse(text.as_bytes()).unwrap();
     let speeds = [100.0, 100.0];

@@ -118,7 +118,7 @@ fn the_n_number_goes_on_the_arc_not_on_its_plane_line() {
     )
     .unwrap();
     let piece = Piece {
-        curve: Curve::Arc(arc),
+        curve: Curve::from(arc),
         rapid: false,
         source_lines: (3, 3),
         feed: Some(600.0),

@@ -42,13 +42,13 @@ proptest! {
         let side = axis.cross(t);
         let dir = (t + side * off).normalized(0.0).unwrap();
         let line = Line::new(arc.p1, arc.p1 + dir * len);
-        let mut ps = vec![piece(Curve::Arc(arc)), piece(Curve::Line(line))];
+        let mut ps = vec![piece(Curve::from(arc)), piece(Curve::Line(line))];
         let merged = absorb_short_lines(&mut ps, 1e-3, max_shift);
         prop_assert_eq!(merged + ps.len(), 2);
         prop_assert_eq!(ps[0].curve.start(), arc.p0);
         prop_assert_eq!(ps.last().unwrap().curve.end(), line.p1);
         if merged == 1 {
-            let Curve::Arc(new) = ps[0].curve else { panic!("an arc") };
+            let Curve::Arc(new) = &ps[0].curve else { panic!("an arc") };
             // The joint before keeps its tangent.
             let turn = new.unit_tangent(0.0).unwrap().angle_to(arc.unit_tangent(0.0).unwrap());
             prop_assert!(turn <= fairpath::budget::ABSORB_TURN, "start tangent turned by {}", turn);
@@ -84,7 +84,7 @@ proptest! {
         ).unwrap();
         let t = arc.unit_tangent(1.0).unwrap();
         let line = Line::new(arc.p1, arc.p1 + t * len);
-        let mut ps = vec![piece(Curve::Arc(arc)), piece(Curve::Line(line))];
+        let mut ps = vec![piece(Curve::from(arc)), piece(Curve::Line(line))];
         prop_assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-6), 1);
     }
 

@@ -299,7 +299,7 @@ fn input_arcs_are_kept() {
     let arc =
         Arc::from_center(end, v(-8.0, 0.0, 0.0), Vec3::ZERO, Vec3::Z, false, 1, 1e-9).unwrap();
     run.pieces.push(Piece {
-        curve: Curve::Arc(arc),
+        curve: Curve::from(arc),
         rapid: false,
         source_lines: (21, 21),
         feed: Some(1000.0),
@@ -312,7 +312,7 @@ fn input_arcs_are_kept() {
     });
     let out = check_run(&run, 0.05).unwrap();
     assert_eq!(out.pieces.len(), 3);
-    assert_eq!(out.pieces[1].curve, Curve::Arc(arc));
+    assert_eq!(out.pieces[1].curve, Curve::from(arc));
     assert_eq!(out.pieces[0].source_lines, (1, 20));
 }
 

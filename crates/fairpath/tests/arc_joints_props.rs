@@ -75,7 +75,7 @@ fn run_of(steps: &[Step]) -> Run {
             let arc = Arc::from_center(p, end, center, v(0.0, 0.0, 1.0), !left, 1, 1e-9).unwrap();
             heading += if left { s.sweep } else { -s.sweep };
             p = arc.p1;
-            pieces.push(piece(Curve::Arc(arc), i + 1));
+            pieces.push(piece(Curve::from(arc), i + 1));
         } else {
             let end = p + dir * s.len + v(0.0, 0.0, s.rise);
             pieces.push(piece(Curve::Line(Line::new(p, end)), i + 1));
@@ -132,7 +132,7 @@ fn helix_slowdown_right_angle_is_kept_tangent_and_shallow_joints_become_g2() {
         let first = Line::new(v(s, 0.0, 0.0) - dir * s, v(s, 0.0, 0.0));
         let run = Run::new(vec![
             piece(Curve::Line(first), 1),
-            piece(Curve::Arc(arc), 2),
+            piece(Curve::from(arc), 2),
         ]);
         let mut out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
         let kept_before = out.kept_corners.len();
@@ -173,7 +173,10 @@ fn a_near_reversal_next_to_an_arc_is_kept() {
     // The arc ends heading -Y; the line leaves heading +Y, slightly out.
     let end = arc.p1;
     let line = Line::new(end, end + v(0.1, 3.0, 0.0));
-    let run = Run::new(vec![piece(Curve::Arc(arc), 1), piece(Curve::Line(line), 2)]);
+    let run = Run::new(vec![
+        piece(Curve::from(arc), 1),
+        piece(Curve::Line(line), 2),
+    ]);
     let mut out = BsplineCorner::default().smooth_run(&run, 0.05).unwrap();
     blend_arc_joints(&mut out, 0.05);
     assert_eq!(out.transitions, 0);
@@ -201,12 +204,12 @@ fn rounded_rectangle_with_arc_joints_blended_is_g2_and_plans_faster() {
     let run = Run::new(vec![
         piece(line(v(5.0, 0.0, 0.0), v(45.0, 0.0, 0.0)), 1),
         piece(
-            Curve::Arc(arc(v(45.0, 0.0, 0.0), v(50.0, 5.0, 0.0), v(45.0, 5.0, 0.0))),
+            Curve::from(arc(v(45.0, 0.0, 0.0), v(50.0, 5.0, 0.0), v(45.0, 5.0, 0.0))),
             2,
         ),
         piece(line(v(50.0, 5.0, 0.0), v(50.0, 25.0, 0.0)), 3),
         piece(
-            Curve::Arc(arc(
+            Curve::from(arc(
                 v(50.0, 25.0, 0.0),
                 v(45.0, 30.0, 0.0),
                 v(45.0, 25.0, 0.0),

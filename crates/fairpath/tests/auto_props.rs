@@ -45,7 +45,7 @@ fn filleted(pts: &[Vec3], r: f64) -> Run {
         let axis = (b - a).cross(c - b).normalized(0.0).unwrap();
         pieces.push(piece(Curve::Line(Line::new(cur, p0)), i));
         let arc = Arc::from_center(p0, p1, centre, axis, false, 0, 1e-9).unwrap();
-        pieces.push(piece(Curve::Arc(arc), i));
+        pieces.push(piece(Curve::from(arc), i));
         cur = p1;
     }
     pieces.push(piece(
@@ -181,7 +181,7 @@ fn line_arc_burnin_made_g2_is_no_slower_than_as_programmed() {
         let centre = Vec3::new(x + 0.5 * c, if cw { -h } else { h }, 0.0);
         let arc = Arc::from_center(p(x), p(x + c), centre, Vec3::Z, cw, 0, 1e-9).unwrap();
         assert!(arc.sweep < std::f64::consts::PI);
-        pieces.push(piece(Curve::Arc(arc), 2 * i + 1));
+        pieces.push(piece(Curve::from(arc), 2 * i + 1));
         x += c;
     }
     let run = Run::new(pieces);
@@ -232,7 +232,7 @@ fn the_jerk_term_speeds_up_tight_arcs_between_sharp_corners() {
         };
         let arc = Arc::from_center(p0, p1, centre, Vec3::Z, up, 0, 1e-9).unwrap();
         assert!(arc.sweep < std::f64::consts::PI);
-        pieces.push(piece(Curve::Arc(arc), i));
+        pieces.push(piece(Curve::from(arc), i));
         p0 = p1;
     }
     let run = Run::new(pieces);
@@ -415,7 +415,7 @@ fn each_section_between_long_lines_gets_its_own_choice() {
         let cw = i % 2 == 0;
         let centre = o + Vec3::new(x + 0.5 * c, if cw { -h } else { h }, 0.0);
         let arc = Arc::from_center(p(x), p(x + c), centre, Vec3::Z, cw, 0, 1e-9).unwrap();
-        pieces.push(piece(Curve::Arc(arc), 101 + 2 * i));
+        pieces.push(piece(Curve::from(arc), 101 + 2 * i));
         x += c;
     }
     let run = Run::new(pieces);
@@ -508,7 +508,7 @@ fn a_run_that_is_already_g2_is_offered_as_it_is() {
     );
     let centre = p0 + Vec3::new(1.081, 1.683, 0.0);
     let arc = Arc::from_center(p0, p1, centre, Vec3::Z, false, 0, 1e-3).unwrap();
-    let run = Run::new(vec![piece(Curve::Arc(arc), 18)]);
+    let run = Run::new(vec![piece(Curve::from(arc), 18)]);
     let tol = 0.05;
     let out = Auto::default().smooth_run(&run, tol).unwrap();
     check(&run, &out, tol);
@@ -538,7 +538,7 @@ fn a_run_that_is_already_g2_is_offered_as_it_is() {
             17,
         ),
         piece(
-            Curve::Arc(
+            Curve::from(
                 Arc::from_center(
                     Vec3::new(18.0, 20.0, 0.0),
                     p0,
@@ -624,7 +624,7 @@ fn fair_is_a_candidate_on_splines_and_short_runs() {
     knots.extend((1..m - 3).map(|i| i as f64 / (m - 3) as f64));
     knots.extend([1.0; 4]);
     let spline = Nurbs::new(3, knots, pts, None).unwrap();
-    let run = Run::new(vec![piece(Curve::Nurbs(spline), 5)]);
+    let run = Run::new(vec![piece(Curve::from(spline), 5)]);
     let tol = 0.05;
     let cands = Auto::default().candidates(&run, tol).unwrap();
     let names: Vec<&str> = cands.iter().map(|(n, _)| *n).collect();
@@ -680,7 +680,7 @@ fn no_candidate_keeps_a_joint_next_to_a_spline() {
     let end = Vec3::new(35.0, 2.0, 0.0);
     let tangent = Vec3::new(5.0, 1.5, 0.0);
     let run = Run::new(vec![
-        piece(Curve::Nurbs(spline), 5),
+        piece(Curve::from(spline), 5),
         piece(Curve::Line(Line::new(end, end + tangent * 2.0)), 6),
     ]);
     let tol = 0.05;
@@ -721,10 +721,10 @@ fn tort_arcs_and_lines_are_no_slower_than_the_corner_methods() {
     let a3 = p(-4.242641, 8.546488, 7.5);
     let arc2 = Arc::from_center(l2, a3, p(0.0, 4.303848, 6.0), Vec3::Z, true, 0, 1e-5).unwrap();
     let run = Run::new(vec![
-        piece(Curve::Arc(arc1), 1),
+        piece(Curve::from(arc1), 1),
         piece(Curve::Line(Line::new(a1, l1)), 2),
         piece(Curve::Line(Line::new(l1, l2)), 3),
-        piece(Curve::Arc(arc2), 4),
+        piece(Curve::from(arc2), 4),
     ]);
     let tol = 0.05;
     let out = with_curves_as_written().smooth_run(&run, tol).unwrap();

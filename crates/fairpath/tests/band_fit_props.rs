@@ -32,7 +32,7 @@ fn sampled(c: &Nurbs, pts: &[Vec3], n: usize) -> (f64, f64) {
 /// Planned time (s) of `c` alone, from rest to rest, on the thesis machine.
 fn planned(c: &Nurbs) -> f64 {
     let piece = Piece {
-        curve: Curve::Nurbs(c.clone()),
+        curve: Curve::from(c.clone()),
         rapid: false,
         source_lines: (1, 1),
         feed: None,

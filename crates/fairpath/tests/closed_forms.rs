@@ -91,7 +91,7 @@ fn curvature_variation_energy_of_a_parabola_matches_the_integral() {
     // y = x^2 on [0, 1] as a quadratic Bezier: kappa(x) = 2 / (1 + 4x^2)^1.5,
     // dkappa/dx = -24 x / (1 + 4x^2)^2.5, ds = sqrt(1 + 4x^2) dx, so
     // E = int 576 x^2 / (1 + 4x^2)^5.5 dx, here by Simpson's rule.
-    let c = Curve::Nurbs(
+    let c = Curve::from(
         Nurbs::new(
             2,
             vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
@@ -139,7 +139,7 @@ fn total_curvature_is_the_turning_angle() {
         let end = Vec3::new(r * f64::cos(sweep), r * f64::sin(sweep), 0.0);
         let arc =
             Arc::from_center(Vec3::new(r, 0.0, 0.0), end, Vec3::ZERO, z, false, 1, 1e-9).unwrap();
-        assert!((total_curvature(&Curve::Arc(arc), 1e-9) - sweep).abs() < 1e-8);
+        assert!((total_curvature(&Curve::from(arc), 1e-9) - sweep).abs() < 1e-8);
         let n = Nurbs::from_circular_arc(&arc);
         assert!((total_curvature(&n, 1e-9) - sweep).abs() < 1e-7);
     }
@@ -245,7 +245,7 @@ fn the_planner_sees_a_bump_between_knots() {
     use fairpath::geom::Curve;
     use fairpath::path::Piece;
     let piece = Piece {
-        curve: Curve::Nurbs(line_with_two_bumps()),
+        curve: Curve::from(line_with_two_bumps()),
         rapid: false,
         source_lines: (1, 1),
         feed: None,

@@ -66,7 +66,7 @@ proptest! {
         knots.extend(std::iter::repeat_n(1.0, deg + 1));
         let weights = if rational { Some(ws[..n].to_vec()) } else { None };
         let c = Nurbs::new(deg, knots.clone(), pts, weights).unwrap();
-        let curve = Curve::Nurbs(c.clone());
+        let curve = Curve::from(c.clone());
         let mut ts: Vec<f64> = fr.clone();
         ts.extend(knots.iter().copied());
         ts.extend([-0.5, 1.5]);
@@ -168,7 +168,7 @@ proptest! {
         }
         prop_assert!(nurbs.eval(0.0).dist(arc.eval(0.0)) <= 1e-12 * r.max(1.0));
         prop_assert!(nurbs.eval(1.0).dist(arc.eval(1.0)) <= 1e-9 * r.max(1.0));
-        let len = arc_length(&Curve::Nurbs(nurbs), 1e-9);
+        let len = arc_length(&Curve::from(nurbs), 1e-9);
         prop_assert!((len - r * arc.sweep).abs() <= 1e-6 * r.max(1.0));
     }
 }

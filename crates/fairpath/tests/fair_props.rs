@@ -105,7 +105,7 @@ fn dense_distance(a: &Nurbs, b: &Nurbs, n: usize) -> f64 {
 
 fn piece(c: &Nurbs) -> Piece {
     Piece {
-        curve: Curve::Nurbs(c.clone()),
+        curve: Curve::from(c.clone()),
         rapid: false,
         source_lines: (1, 1),
         feed: Some(1000.0),

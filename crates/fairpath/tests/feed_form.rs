@@ -17,7 +17,7 @@ fn pieces_of(curves: Vec<Nurbs>) -> Vec<Piece> {
     curves
         .into_iter()
         .map(|n| Piece {
-            curve: Curve::Nurbs(n),
+            curve: Curve::from(n),
             rapid: false,
             source_lines: (1, 1),
             feed: Some(24000.0),

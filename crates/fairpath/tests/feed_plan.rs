@@ -292,7 +292,7 @@ fn interpolation_tracks_the_path_with_small_feed_fluctuation() {
     .unwrap();
     let pieces = vec![
         Piece {
-            curve: Curve::Arc(arc),
+            curve: Curve::from(arc),
             rapid: false,
             source_lines: (1, 1),
             feed: Some(6000.0),
@@ -424,7 +424,7 @@ fn on_a_curve_of_varying_curvature_the_plan_converges_to_the_phase_plane_optimum
         knots.push(i as f64 / (n - 3) as f64);
     }
     knots.extend([1.0; 4]);
-    let c = Curve::Nurbs(Nurbs::new(3, knots, pts, None).unwrap());
+    let c = Curve::from(Nurbs::new(3, knots, pts, None).unwrap());
     let pieces = vec![Piece {
         curve: c.clone(),
         rapid: false,
@@ -495,7 +495,7 @@ fn regression_arc_to_line_tangent_joint_is_a_curvature_jump_not_a_corner() {
     .unwrap();
     let pieces: Vec<Piece> = [
         Curve::Line(Line::new(Vec3::ZERO, Vec3::new(38.0, 0.0, 0.0))),
-        Curve::Arc(arc),
+        Curve::from(arc),
         Curve::Line(Line::new(
             Vec3::new(40.0, 2.0, 0.0),
             Vec3::new(40.0, 30.0, 0.0),
@@ -631,7 +631,7 @@ fn regression_tort_ripples_of_a_fitted_arc_do_not_stop_the_acceleration() {
         feed: Some(24000.0),
     };
     let run = Run::new(vec![
-        piece(Curve::Arc(arc), 1),
+        piece(Curve::from(arc), 1),
         piece(
             Curve::Line(Line::new(
                 Vec3::new(9.0, 6.0, 13.0),
@@ -714,7 +714,7 @@ fn runs_that_start_and_end_at_their_cap() {
 fn whole_and_cut(at: impl Fn(f64) -> Vec3, sweep: f64, cuts: usize, feed: f64) -> (f64, f64) {
     use fairpath::geom::Arc;
     let arc = |a: f64, b: f64, line: usize| Piece {
-        curve: Curve::Arc(
+        curve: Curve::from(
             Arc::from_center(
                 at(a),
                 at(b),

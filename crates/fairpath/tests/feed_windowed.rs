@@ -144,7 +144,7 @@ fn a_run_of_one_segment_is_planned_whole() {
             let z = Vec3::new(0.0, 0.0, 1.0);
             let arc = Arc::from_center(at(k), at(k + 1), Vec3::ZERO, z, false, 0, 1e-9).unwrap();
             Piece {
-                curve: Curve::Arc(arc),
+                curve: Curve::from(arc),
                 rapid: false,
                 source_lines: (k + 1, k + 1),
                 feed: Some(6000.0),

@@ -108,7 +108,7 @@ proptest! {
         let plane = Plane::ALL[plane];
         let pts: Vec<Vec3> = pts.iter().map(|p| plane.point([p.x, p.y, 1.5])).collect();
         prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
-        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        let original = vec![piece(Curve::from(bspline(&pts)))];
         let out = check(&original, &opts(CurveForm::Arcs, chord))?;
         // Arcs follow a planar curve in its own plane, tangent to each
         // other wherever both neighbours are arcs.
@@ -128,7 +128,7 @@ proptest! {
         chord in 0.001..0.02f64,
     ) {
         prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
-        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        let original = vec![piece(Curve::from(bspline(&pts)))];
         let out = check(&original, &opts(CurveForm::Lines, chord))?;
         prop_assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
     }
@@ -140,7 +140,7 @@ proptest! {
     ) {
         let pts: Vec<Vec3> = pts.iter().map(|&(x, y, z)| Vec3::new(x, y, z)).collect();
         prop_assume!(pts.windows(2).any(|w| w[0].dist(w[1]) > 0.1));
-        let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+        let original = vec![piece(Curve::from(bspline(&pts)))];
         check(&original, &opts(CurveForm::Arcs, chord))?;
     }
 }
@@ -157,7 +157,7 @@ fn a_circle_is_a_few_arcs_of_its_radius() {
         0.0,
     )
     .unwrap();
-    let original = vec![piece(Curve::Nurbs(Nurbs::from_circular_arc(&arc)))];
+    let original = vec![piece(Curve::from(Nurbs::from_circular_arc(&arc)))];
     let out = check(&original, &opts(CurveForm::Arcs, 0.005)).unwrap();
     assert!(out.len() <= 4, "{} pieces", out.len());
     for p in &out {
@@ -181,7 +181,7 @@ fn a_helix_is_helical_arcs() {
         0.0,
     )
     .unwrap();
-    let original = vec![piece(Curve::Nurbs(Nurbs::approximate(&arc, 1e-7)))];
+    let original = vec![piece(Curve::from(Nurbs::approximate(&arc, 1e-7)))];
     let o = opts(CurveForm::Arcs, 0.005);
     let out = check(&original, &o).unwrap();
     assert!(out.len() <= 16, "{} pieces", out.len());
@@ -204,7 +204,7 @@ fn joints_step_no_more_than_the_planned_speed_passes() {
             Vec3::new(r * t.cos(), r * t.sin(), 0.0)
         })
         .collect();
-    let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+    let original = vec![piece(Curve::from(bspline(&pts)))];
     let o = opts(CurveForm::Arcs, 0.005);
     let out = render(&original, &o);
     let plan = plan_run(&original, &plan_opts()).unwrap();
@@ -256,7 +256,7 @@ fn a_curve_that_leaves_every_plane_is_written_as_g1() {
             u * (10.0 * a.cos()) + w * (10.0 * a.sin())
         })
         .collect();
-    let original = vec![piece(Curve::Nurbs(bspline(&pts)))];
+    let original = vec![piece(Curve::from(bspline(&pts)))];
     let out = check(&original, &opts(CurveForm::Arcs, 0.005)).unwrap();
     assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
 }
@@ -273,7 +273,7 @@ fn lines_are_equal_within_stretches_that_change_by_at_most_a_factor() {
         0.0,
     )
     .unwrap();
-    let original = vec![piece(Curve::Arc(arc))];
+    let original = vec![piece(Curve::from(arc))];
     let out = check(&original, &opts(CurveForm::Lines, 0.005)).unwrap();
     let lens: Vec<f64> = out.iter().map(|p| p.start().dist(p.end())).collect();
     let mut changes = 0;
@@ -334,9 +334,9 @@ fn spline_formats_keep_only_the_curves_they_can_say() {
     // In the NURBS form the spatial curve is written as arcs or lines, the
     // planar one as it is.
     let form = CurveForm::Nurbs(in_plane);
-    let out = render(&[piece(Curve::Nurbs(planar.clone()))], &opts(form, 0.005));
+    let out = render(&[piece(Curve::from(planar.clone()))], &opts(form, 0.005));
     assert_eq!(out.len(), 1);
-    let out = render(&[piece(Curve::Nurbs(spatial))], &opts(form, 0.005));
+    let out = render(&[piece(Curve::from(spatial))], &opts(form, 0.005));
     assert!(out.iter().all(|p| !matches!(p.curve, Curve::Nurbs(_))));
 }
 
@@ -398,7 +398,7 @@ proptest! {
         let mut pieces = Vec::new();
         for w in pts.windows(5).step_by(4) {
             pieces.push(piece(Curve::Line(fairpath::geom::Line::new(w[0], w[1]))));
-            pieces.push(piece(Curve::Nurbs(bspline(&w[1..5]))));
+            pieces.push(piece(Curve::from(bspline(&w[1..5]))));
         }
         let form = [CurveForm::Arcs, CurveForm::Lines][form];
         let o = opts(form, 0.005);
@@ -455,7 +455,7 @@ fn a_run_rendered_part_after_part_through_the_absorber_is_the_run_rendered_whole
                 at + Vec3::new(dir * 0.5, 0.5, 0.0),
                 at + Vec3::new(0.0, 0.5, 0.0),
             ];
-            pieces.push(piece(Curve::Nurbs(bspline(&c))));
+            pieces.push(piece(Curve::from(bspline(&c))));
         }
     }
     let plan = plan_run(&pieces, &plan_opts()).unwrap();
@@ -517,7 +517,7 @@ fn a_step_over_written_as_g1_changes_spacing_only_where_the_speed_passes() {
         fairpath::smooth::transition_curve([p(a, 2.0), p(a, 1.0), corner, p(b, 1.0), p(b, 2.0)]);
     let pieces = vec![
         piece(Curve::Line(Line::new(p(a, 40.0), p(a, 2.0)))),
-        piece(Curve::Nurbs(transition.clone())),
+        piece(Curve::from(transition.clone())),
         piece(Curve::Line(Line::new(p(b, 2.0), p(b, 4.0)))),
     ];
     let o = opts(CurveForm::Arcs, 0.0045);
@@ -596,7 +596,7 @@ fn lines_keep_their_spacing_across_a_joint_passed_fast() {
         None,
     )
     .unwrap();
-    let pieces = vec![piece(Curve::Arc(arc)), piece(Curve::Nurbs(bez))];
+    let pieces = vec![piece(Curve::from(arc)), piece(Curve::from(bez))];
     let o = opts(CurveForm::Lines, 0.005);
     let out = render(&pieces, &o);
     assert_eq!(
@@ -667,7 +667,7 @@ fn test_active_states_reversal_is_rendered_in_few_lines() {
         there_and_back.deriv1(k).norm() < 1e-12,
         "it stops at its inner knot"
     );
-    let curve = Curve::Nurbs(there_and_back);
+    let curve = Curve::from(there_and_back);
     let length = curve.length(1e-6);
     // Between two lines, as in its run.
     let original = [

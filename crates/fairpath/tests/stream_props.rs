@@ -169,7 +169,7 @@ fn a_tight_circle_is_slowed_for_the_cross_term_of_the_jerk() {
     )
     .unwrap();
     let pieces = vec![Piece {
-        curve: Curve::Arc(arc),
+        curve: Curve::from(arc),
         ..common::polyline_run(&[Vec3::ZERO, Vec3::X]).pieces[0].clone()
     }];
     check_stream(&pieces, m, "circle r = 2");

@@ -25,7 +25,7 @@ fn bulge_between_samples_is_found() {
     )
     .unwrap();
     let smoothed = vec![Piece {
-        curve: Curve::Nurbs(bump),
+        curve: Curve::from(bump),
         rapid: false,
         source_lines: (1, 1),
         feed: None,
@@ -102,7 +102,7 @@ fn arc_at_constant_distance_from_the_run_is_measured() {
     )
     .unwrap();
     let smoothed = vec![Piece {
-        curve: Curve::Nurbs(arc),
+        curve: Curve::from(arc),
         rapid: false,
         source_lines: (1, 1),
         feed: None,
@@ -140,7 +140,7 @@ fn arc_written_as_rational_nurbs_is_bounded_tightly() {
         )
         .unwrap();
         let smoothed = vec![Piece {
-            curve: Curve::Nurbs(Nurbs::from_circular_arc(&arc)),
+            curve: Curve::from(Nurbs::from_circular_arc(&arc)),
             rapid: false,
             source_lines: (1, n),
             feed: None,
@@ -179,7 +179,7 @@ fn spike_of_a_degree_one_nurbs_between_samples_is_found() {
     )
     .unwrap();
     let smoothed = vec![Piece {
-        curve: Curve::Nurbs(spike),
+        curve: Curve::from(spike),
         rapid: false,
         source_lines: (1, 1),
         feed: None,
@@ -202,7 +202,7 @@ fn a_straight_output_of_a_bumped_original_spline_is_refused() {
     knots.extend((1..29).map(|i| i as f64 / 29.0));
     knots.extend([1.0; 4]);
     let original = vec![Piece {
-        curve: Curve::Nurbs(Nurbs::new(3, knots, pts, None).unwrap()),
+        curve: Curve::from(Nurbs::new(3, knots, pts, None).unwrap()),
         rapid: false,
         source_lines: (1, 1),
         feed: None,
@@ -237,7 +237,7 @@ fn a_reversal_inside_a_curve_is_a_cusp_not_a_curvature() {
     .unwrap();
     let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(1.2, 1.2, 0.48), v(0.0, 0.0, 0.0)]);
     let smoothed = vec![Piece {
-        curve: Curve::Nurbs(out_and_back),
+        curve: Curve::from(out_and_back),
         rapid: false,
         source_lines: (1, 2),
         feed: None,
@@ -260,7 +260,7 @@ fn a_reversal_inside_a_curve_is_a_cusp_not_a_curvature() {
     .unwrap();
     let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0)]);
     let smoothed = vec![Piece {
-        curve: Curve::Nurbs(corner),
+        curve: Curve::from(corner),
         rapid: false,
         source_lines: (1, 2),
         feed: None,
@@ -293,7 +293,7 @@ fn a_near_cusp_between_samples_is_measured_or_counted_as_a_cusp() {
         .unwrap();
         let orig = polyline_run(&[v(0.0, 0.0, 0.0), v(0.5, 0.75, 0.0), v(1.0, 0.0, 0.0)]);
         let smoothed = vec![Piece {
-            curve: Curve::Nurbs(c),
+            curve: Curve::from(c),
             rapid: false,
             source_lines: (1, 2),
             feed: None,

@@ -79,7 +79,7 @@ fn time(c: &Nurbs, thesis: bool) -> f64 {
         },
     };
     let run = Run::new(vec![Piece {
-        curve: Curve::Nurbs(c.clone()),
+        curve: Curve::from(c.clone()),
         rapid: false,
         source_lines: (1, 1),
         feed: None,

@@ -100,7 +100,7 @@ fn axis_move(
                 first_axis,
             )?;
             // `Arc` keeps the programmed start and end exactly.
-            (Curve::Arc(arc), MoveKind::Arc)
+            (Curve::from(arc), MoveKind::Arc)
         }
         MotionMode::Rapid => (Curve::Line(Line::new(start, target)), MoveKind::Rapid),
         _ => (Curve::Line(Line::new(start, target)), MoveKind::Linear),

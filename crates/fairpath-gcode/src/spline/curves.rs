@@ -43,7 +43,7 @@ pub(super) fn curves(
     };
     let (start, end) = (pts[0], pts[pts.len() - 1]);
     match st.spline.reading {
-        SplineReading::Exact => Ok(vec![Curve::Nurbs(
+        SplineReading::Exact => Ok(vec![Curve::from(
             g5_2_curve(pts, weights, order).map_err(g5err)?,
         )]),
         SplineReading::AsLinuxcnc => {

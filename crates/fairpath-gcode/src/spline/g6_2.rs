@@ -167,7 +167,7 @@ fn run_g6_2(
         cs.push(Curve::Line(Line::new(block.start, nurbs.points[0])));
     }
     let end = nurbs.points[nurbs.points.len() - 1];
-    cs.push(Curve::Nurbs(nurbs));
+    cs.push(Curve::from(nurbs));
     let pin = block
         .pin
         .or(line_pin(ctx, false))

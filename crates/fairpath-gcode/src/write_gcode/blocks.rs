@@ -397,7 +397,7 @@ impl RunWriter<'_> {
         }
         let Some(plane) = Plane::of_normal(a.normal) else {
             // Not in a principal plane: chords.
-            return self.write_chords(&Curve::Arc(*a), run_end, feed);
+            return self.write_chords(&Curve::from(*a), run_end, feed);
         };
         // Rounding turns an arc's end tangents by about `rho / r`, and the
         // ends' radii then differ by up to `2 rho`, which the reader takes

@@ -790,7 +790,7 @@ mod tests {
                 Vec3::new(4.0, -6.0, 0.0)
             ))),
             piece(Curve::Line(Line::new(Vec3::new(4.0, -6.0, 0.0), a))),
-            piece(Curve::Arc(arc)),
+            piece(Curve::from(arc)),
             piece(Curve::Line(Line::new(b, Vec3::new(-5.0, 12.0, 0.0)))),
             piece(Curve::Line(Line::new(
                 Vec3::new(-5.0, 12.0, 0.0),

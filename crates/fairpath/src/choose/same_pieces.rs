@@ -178,8 +178,8 @@ mod tests {
         };
         alloc::vec![
             piece(Curve::Line(Line::new(p(2.0, 0.0), p(1.0, 0.0)))),
-            piece(Curve::Arc(arc.unwrap())),
-            piece(Curve::Nurbs(nurbs)),
+            piece(Curve::from(arc.unwrap())),
+            piece(Curve::from(nurbs)),
         ]
     }
 

@@ -512,7 +512,7 @@ pub fn g5_2_motion(
                         if arc.sweep <= ARC_FEED_MIN_ANGLE {
                             arc.sweep += 2.0 * PI;
                         }
-                        Curve::Arc(arc)
+                        Curve::from(arc)
                     }
                     Err(ArcError::ZeroRadius) => {
                         if end == cur {

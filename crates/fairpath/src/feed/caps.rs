@@ -661,7 +661,7 @@ mod tests {
             let chord = [1e-4, 1e-3, 1e-2][case % 3];
             if flat_span(&pts, chord) {
                 taken += 1;
-                let cut = flatten_params(&Curve::Nurbs(span), chord);
+                let cut = flatten_params(&Curve::from(span), chord);
                 assert_eq!(cut, vec![a, b], "case {case}: {pts:?} at {chord}");
             }
         }

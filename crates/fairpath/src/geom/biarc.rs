@@ -101,7 +101,7 @@ pub fn arc_from_tangent(
     // Centre: left of the tangent for a left turn (k > 0).
     let center = plane.point([lp[0] - t[1] / k, lp[1] + t[0] / k, lp[2]]);
     let arc = Arc::from_center(p, q, center, plane.normal(), k < 0.0, 1, 0.0).ok()?;
-    Some(Curve::Arc(arc))
+    Some(Curve::from(arc))
 }
 
 /// The biarc from `p0` (unit tangent `t0`) to `p1` (unit tangent `t1`) in

@@ -1,6 +1,8 @@
 //! Geometry kernel: points, lines, arcs, B-spline/NURBS curves, curvature,
 //! arc length, distances to polylines, principal planes and biarcs.
 
+use alloc::boxed::Box;
+
 mod arc;
 pub mod band_fit;
 pub mod basis;
@@ -48,11 +50,35 @@ pub use turn_bound::turn_curvature;
 pub use vec3::Vec3;
 
 /// One piece of a tool path: a line, a G2/G3 arc, or a NURBS curve.
+///
+/// Arcs and NURBS curves are boxed: a program is mostly lines, and a
+/// piece is held once per copy of a run (as read, smoothed, read back),
+/// so a line's piece takes 96 bytes instead of 200 (an arc would make
+/// every line as large as itself: 152 bytes). `Curve::from(arc)` builds
+/// one.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
     Line(Line),
-    Arc(Arc),
-    Nurbs(Nurbs),
+    Arc(Box<Arc>),
+    Nurbs(Box<Nurbs>),
+}
+
+impl From<Line> for Curve {
+    fn from(l: Line) -> Curve {
+        Curve::Line(l)
+    }
+}
+
+impl From<Arc> for Curve {
+    fn from(a: Arc) -> Curve {
+        Curve::Arc(Box::new(a))
+    }
+}
+
+impl From<Nurbs> for Curve {
+    fn from(n: Nurbs) -> Curve {
+        Curve::Nurbs(Box::new(n))
+    }
 }
 
 impl Curve {

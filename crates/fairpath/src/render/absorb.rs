@@ -157,7 +157,7 @@ fn merged_with(prev: &Piece, short: &Piece, max_shift: f64) -> Option<(Curve, f6
                 _ => return None,
             };
             (shift <= max_shift && turn <= crate::budget::ABSORB_TURN)
-                .then_some((Curve::Arc(new), shift))
+                .then_some((Curve::from(new), shift))
         }
         _ => None,
     }
@@ -230,11 +230,11 @@ mod tests {
         .unwrap();
         let end = Vec3::new(-3e-4, 2.0, 0.0);
         let mut ps = alloc::vec![
-            piece(Curve::Arc(arc), (1, 1)),
+            piece(Curve::from(arc), (1, 1)),
             piece(Curve::Line(Line::new(arc.p1, end)), (2, 2)),
         ];
         assert_eq!(absorb_short_lines(&mut ps, 1e-3, 1e-6), 1);
-        let Curve::Arc(new) = ps[0].curve else {
+        let Curve::Arc(new) = &ps[0].curve else {
             panic!("an arc")
         };
         assert_eq!(new.p1, end);
@@ -279,7 +279,7 @@ mod tests {
         let with_line = |off: f64| {
             let dir = (t + out * off).normalized(0.0).unwrap();
             alloc::vec![
-                piece(Curve::Arc(arc), (1, 1)),
+                piece(Curve::from(arc), (1, 1)),
                 piece(Curve::Line(Line::new(arc.p1, arc.p1 + dir * 1e-4)), (2, 2)),
             ]
         };

@@ -520,7 +520,7 @@ mod tests {
     /// points are collinear), as a corner transition's half does.
     fn ramp() -> Curve {
         let p = |x: f64, y: f64| Vec3::new(x, y, 0.0);
-        Curve::Nurbs(
+        Curve::from(
             Nurbs::new(
                 3,
                 alloc::vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],

@@ -217,7 +217,7 @@ pub fn nurbs_fits(n: &crate::geom::Nurbs, lim: &NurbsLimits, chord: f64) -> bool
     // LinuxCNC's biarcs against a fine polyline of the curve, its segments
     // in a grid of radius `lim`: both counts grow as the chord shrinks, so
     // a scan of the polyline per sample would cost their product.
-    let c = Curve::Nurbs(n.clone());
+    let c = Curve::from(n.clone());
     let ts = crate::geom::flatten_params(&c, 0.01 * chord);
     let poly: Vec<crate::geom::Vec3> = ts.iter().map(|&t| c.eval(t)).collect();
     let lim = arcs::DEVIATION_USE * chord;

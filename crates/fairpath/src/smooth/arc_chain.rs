@@ -159,7 +159,7 @@ pub(super) fn fit_chain(
         let curve = match arc {
             Some(a) => {
                 out.transitions += j - i - 1;
-                Curve::Arc(a)
+                Curve::from(a)
             }
             None => {
                 out.merged_collinear += j - i - 1;

@@ -220,7 +220,7 @@ fn cut(
                 Side::End => (a.between(0.0, t), a.between(t, 1.0)),
                 Side::Start => (a.between(t, 1.0), a.between(0.0, t)),
             };
-            (Curve::Arc(kept), arc_points(&gone, chord)?)
+            (Curve::from(kept), arc_points(&gone, chord)?)
         }
         Curve::Nurbs(_) => return None,
     };
@@ -319,7 +319,7 @@ fn blend_joint(
         let pts = g2_quintic_points(&sa, &sb, factor * d, factor * d);
         let within = deviation_bound(&pts, [&ra, &rb], chord) <= band;
         let t = Piece {
-            curve: Curve::Nurbs(bezier_nurbs(&pts)),
+            curve: Curve::from(bezier_nurbs(&pts)),
             rapid: false,
             source_lines: (a.source_lines.0, b.source_lines.1),
             feed: min_feed(a.feed, b.feed),

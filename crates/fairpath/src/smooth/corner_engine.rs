@@ -337,7 +337,7 @@ pub(crate) fn smooth_chain(
         };
         push_line(out, cursor, p0, k - 1);
         out.pieces.push(Piece {
-            curve: Curve::Nurbs(transition_curve(plan.control_points(&c, reach, p0, p4))),
+            curve: Curve::from(transition_curve(plan.control_points(&c, reach, p0, p4))),
             rapid: false,
             source_lines: (chain.lines[k - 1].0, chain.lines[k].1),
             feed: min_feed(chain.feed[k - 1], chain.feed[k]),

@@ -571,7 +571,7 @@ impl Fair {
             match as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)) {
                 // Unmoved: the curve as written (not its cubic form).
                 Ok(f) if f.iterations.is_empty() => {}
-                Ok(f) => out.pieces[i].curve = Curve::Nurbs(f.curve),
+                Ok(f) => out.pieces[i].curve = Curve::from(f.curve),
                 Err(TubeFairError::BadOption {
                     option,
                     value,

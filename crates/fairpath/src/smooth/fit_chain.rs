@@ -142,7 +142,7 @@ pub(super) fn push_fit(
         let lines = (section.lines[first].0, section.lines[last].1);
         let feed = (first..=last).fold(None, |f, i| min_feed(f, section.feed[i]));
         out.pieces.push(Piece {
-            curve: Curve::Nurbs(piece),
+            curve: Curve::from(piece),
             rapid: false,
             source_lines: lines,
             feed,
