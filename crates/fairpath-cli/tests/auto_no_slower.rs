@@ -22,6 +22,8 @@
 //! kinked (`tort_arcs_and_lines_auto_falls_back_to_the_curves_as_written`).
 //! `arc_splitting_0.90.ngc`: `auto`'s fits gained at the programmed feed
 //! and lost at the maximum one, and the run was kept as written.
+//! `3D_Chips.ngc`: fits that pass only after knot insertion beyond the
+//! doubling's count were lost to a bound on that insertion.
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
@@ -88,6 +90,30 @@ fn surface_raster_auto_is_no_slower_than_fair_or_bspline_fit() {
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn square_wave_auto_ties_ctm() {
     with_shared("synthetic/square-wave.ngc", |p| check("square-wave", p));
+}
+
+/// `3D_Chips.ngc`: where no control-point count of the doubling passed,
+/// knot insertion bounded by that count (41ef47c, for a spiral whose fits
+/// cannot pass) left fits that pass only with knots crowded where the data
+/// bend unfound, and `auto` wrote 68.029 s where it had written 65.725 s;
+/// the bound is now twice that count (`fit_search::INSERTION_PER_DOUBLING`).
+#[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
+fn three_d_chips_auto_keeps_the_fits_knot_insertion_finds() {
+    with_shared("linuxcnc/performance/3D_Chips.ngc", |p| {
+        let opts = CompareOptions {
+            tolerance: 0.05,
+            machine: fairpath::feed::limits::MachineLimits::thesis(),
+            methods: vec!["auto".to_string()],
+            override_feed: false,
+            formats: vec![Format::Arcs],
+            controller: Controller::Generic,
+        };
+        let rows = compare(p, &opts).unwrap();
+        let w = &rows.iter().find(|r| r.method == "auto").unwrap().written[0];
+        assert!(w.verified);
+        assert!(w.time <= 65.73, "auto wrote 3D_Chips.ngc in {} s", w.time);
+    });
 }
 
 /// The JSON summary of `fairpath smooth --method METHOD` on `path` at
