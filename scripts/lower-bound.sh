@@ -58,5 +58,13 @@ xo="no" if a.get("follows_in_order") is False else xb(a.get("x_bound_in_order"))
 print("| %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %s | %s | %s |" % (name, b, bo, o["time_s"], a["time_s"], xb(a["x_bound"]), xo, bs, cs, ok))
 ' "${p#$SHARED/}"
   done
-} > "$OUT"
+} > "$OUT.tmp"
+# A table whose every program failed (paths not found, no build) is not
+# written over the last good one.
+if ! grep -q '^| [^|]* | [0-9]' "$OUT.tmp"; then
+  rm -f "$OUT.tmp"
+  echo "every program failed (give paths, e.g. $SHARED/synthetic/helix.ngc); $OUT left as it was" >&2
+  exit 1
+fi
+mv "$OUT.tmp" "$OUT"
 echo "wrote $OUT"
