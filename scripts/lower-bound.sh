@@ -21,6 +21,14 @@ SHARED=/work/shared/paths
 if [ $# -eq 0 ]; then
   set -- $(ls "$SHARED"/synthetic/*.ngc | grep -v surface-raster)
 fi
+# A name relative to $SHARED (as the table's header gives them) is taken
+# from there.
+progs=()
+for p in "$@"; do
+  if [ ! -e "$p" ] && [ -e "$SHARED/$p" ]; then p="$SHARED/$p"; fi
+  progs+=("$p")
+done
+set -- "${progs[@]}"
 ARGS="$TOL"
 for p in "$@"; do ARGS="$ARGS ${p#$SHARED/}"; done
 OUT=${OUT:-docs/lower-bound.md}
