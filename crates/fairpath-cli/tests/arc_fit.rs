@@ -4,7 +4,7 @@
 //! caps the speed at the end of every block, so fewer, longer blocks run
 //! faster there).
 
-mod common;
+use crate::common;
 use common::{bin, shared};
 use std::path::Path;
 

@@ -29,7 +29,7 @@ use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 /// `f` on the shared program `rel`, read in place; skipped without it.
 fn with_shared(rel: &str, f: impl FnOnce(&Path)) {

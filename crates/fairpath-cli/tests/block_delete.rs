@@ -2,7 +2,7 @@
 //! original with the block-delete switch off and on, and `fairpath check`
 //! verifies both readings.
 
-mod common;
+use crate::common;
 use common::bin;
 use fairpath_gcode::{parse_with, ParseOptions};
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! `fairpath check` on a hand-edited JSON document: invalid pieces are an
 //! error naming the file and the piece, never a panic.
 
-mod common;
+use crate::common;
 use common::{bin, example, shared};
 use std::process::Output;
 

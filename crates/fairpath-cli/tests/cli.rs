@@ -1,7 +1,7 @@
 //! The `fairpath` binary end to end: outputs verify, formats agree, bad
 //! input is an error with no output file.
 
-mod common;
+use crate::common;
 use common::{bin, example, shared};
 use std::path::Path;
 use std::process::Output;

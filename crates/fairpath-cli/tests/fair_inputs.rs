@@ -6,7 +6,7 @@
 //! the summary says so, in text and JSON. Every output is checked again by
 //! `fairpath check`.
 
-mod common;
+use crate::common;
 use common::bin;
 use fairpath::path::Run;
 use fairpath::smooth::{Fair, FairOptions, OtherCurves, Smoother, UnfairedReason};

@@ -4,7 +4,7 @@
 //! with units, exit codes, `check`'s worst place, continuity named C0/C1/C2,
 //! errors with the source line and a caret.
 
-mod common;
+use crate::common;
 use common::{bin, example};
 use std::io::Write;
 use std::path::Path;

@@ -15,7 +15,7 @@ use fairpath::feed::limits::MachineLimits;
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
 
-mod common;
+use crate::common;
 
 const TOL: f64 = 0.05;
 

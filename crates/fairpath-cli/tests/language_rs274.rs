@@ -11,7 +11,7 @@
 //! `linuxcnc-nurbs/G6` need LinuxCNC master's interpreter
 //! (`~/lcnc-master`, or `FAIRPATH_LCNC_MASTER`), and are skipped without it.
 
-mod common;
+use crate::common;
 use common::rs274::{have_rs274, master, rs274_of, same, Canon};
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -12,7 +12,7 @@
 //! `FAIRPATH_REQUIRE_RS274` is set (`.ci/run` sets it after installing
 //! the package), in which case its absence is a failure.
 
-mod common;
+use crate::common;
 use common::rs274::{close, have_rs274, master, rs274_of, same, Canon};
 use std::path::{Path, PathBuf};
 use std::process::Command;

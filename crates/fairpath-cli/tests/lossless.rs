@@ -4,7 +4,7 @@
 //! those of the file it replaces); the input is never overwritten unless
 //! `--in-place` asks for it.
 
-mod common;
+use crate::common;
 
 use common::{bin, example};
 use std::collections::HashSet;

@@ -2,7 +2,7 @@
 //! stretch of path, canned cycles and E words are written as they were
 //! (with a warning), programs without moves are copied unchanged.
 
-mod common;
+use crate::common;
 use common::{bin, shared};
 use fairpath::geom::{point_segment_distance, Curve, ParamCurve, Vec3};
 use fairpath::path::Piece;

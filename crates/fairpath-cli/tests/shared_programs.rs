@@ -11,7 +11,7 @@
 //! verifier called G1 from f64 rounding; the rounding allowance now uses
 //! the knot span at the joint.)
 
-mod common;
+use crate::common;
 use fairpath::choose::{by_name, keeps_arc_joints, METHODS};
 use fairpath::smooth::CornerReason;
 use fairpath::verify::{verify_run, Continuity, VerifyOptions};

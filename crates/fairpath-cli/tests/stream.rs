@@ -5,7 +5,7 @@
 //! controller measures it, and every sample within the tolerance of the
 //! original program's path.
 
-mod common;
+use crate::common;
 
 use common::{bin, example, shared};
 use std::path::Path;

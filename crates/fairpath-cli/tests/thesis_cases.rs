@@ -4,7 +4,7 @@
 #[allow(dead_code)]
 #[path = "../examples/thesis_cases/cases.rs"]
 mod cases;
-mod common;
+use crate::common;
 
 use fairpath::geom::tube_fair::tube::{deviation_bound, difference};
 use fairpath::geom::tube_fair::{fair_in_tube, PeakPass, TubeFairOptions};

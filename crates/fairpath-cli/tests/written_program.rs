@@ -3,7 +3,7 @@
 //! program is never slower than the input, each controller gets its
 //! dialect, and `compare` plans the written program per format.
 
-mod common;
+use crate::common;
 use common::{bin, example, shared};
 use serde_json::Value;
 use std::path::{Path, PathBuf};

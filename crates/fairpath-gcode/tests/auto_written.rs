@@ -3,7 +3,7 @@
 //! exact curves: as written it is no slower than any single
 //! curvature-continuous method (issue 21).
 
-mod common;
+use crate::common;
 
 use fairpath_gcode::{smooth_program, Controller, Format, SmoothOptions};
 

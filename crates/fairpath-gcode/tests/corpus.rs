@@ -1,5 +1,5 @@
 //! Every shared program parses or fails with a clear error.
-mod common;
+use crate::common;
 use fairpath::geom::Curve;
 
 #[test]

@@ -3,7 +3,7 @@
 //! length, joints and curvature, not with the curves that were never
 //! written. Checked against the written text read back.
 
-mod common;
+use crate::common;
 
 use fairpath::geom::Continuity;
 use fairpath::path::Run;

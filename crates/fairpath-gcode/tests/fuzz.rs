@@ -16,7 +16,7 @@
 //! * `FAIRPATH_FUZZ_INPUT`: a file to run alone (G-code, or JSON when it
 //!   starts with `{`).
 
-mod common;
+use crate::common;
 #[path = "fuzz/exercise.rs"]
 mod exercise;
 #[path = "fuzz/mutate.rs"]
@@ -123,10 +123,15 @@ fn failure_dir() -> PathBuf {
 type Current = Arc<Mutex<(Instant, String, Vec<u8>)>>;
 
 /// Exits the process when one input runs longer than [`HANG_SECONDS`],
-/// after writing it out.
-fn watchdog(current: Current) {
+/// after writing it out. Stops when the fuzz run drops `current` (the
+/// other tests of this binary go on after it).
+fn watchdog(current: &Current) {
+    let current = Arc::downgrade(current);
     std::thread::spawn(move || loop {
         std::thread::sleep(Duration::from_secs(1));
+        let Some(current) = current.upgrade() else {
+            break;
+        };
         let cur = current.lock().unwrap();
         if cur.0.elapsed() > Duration::from_secs(HANG_SECONDS) {
             let path = failure_dir().join(format!("hang-{}", cur.1));
@@ -204,7 +209,7 @@ fn mutated_programs_and_json_never_panic() {
         }
     );
     let current: Current = Arc::new(Mutex::new((Instant::now(), String::new(), Vec::new())));
-    watchdog(current.clone());
+    watchdog(&current);
     let started = Instant::now();
     let mut panics: Vec<(String, String, PathBuf)> = Vec::new();
     let mut anomalies: Vec<(String, String, PathBuf)> = Vec::new();

@@ -3,7 +3,7 @@
 //! written when it plans no slower (it lowers the curvature at no cost in
 //! blocks); a run of lines must gain the margin, else it keeps its blocks.
 
-mod common;
+use crate::common;
 
 use fairpath::verify::{report_without_deviation, VerifyOptions};
 use fairpath_gcode::{parse, smooth_program, Controller, Format, SmoothOptions};

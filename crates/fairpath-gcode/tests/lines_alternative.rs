@@ -1,7 +1,7 @@
 //! The all-G1 alternative the arcs format tries where its arcs fell back to
 //! lines (`emit::choose`, `Emitter::finer_lines_chord`).
 
-mod common;
+use crate::common;
 
 use fairpath_gcode::{smooth_program, Controller, Format, SmoothOptions};
 

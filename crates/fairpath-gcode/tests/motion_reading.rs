@@ -2,7 +2,7 @@
 //! `fairpath simulate`, `stream`, `report` and `check` read a long
 //! program) gives the motions of the program read whole, piece for piece.
 
-mod common;
+use crate::common;
 
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::PlanOptions;

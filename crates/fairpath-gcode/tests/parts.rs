@@ -4,7 +4,7 @@
 //! facts read as a stream (`read_facts`) are those of the whole reading;
 //! parts start only where the module docs of `interp::parts` say.
 
-mod common;
+use crate::common;
 
 use fairpath_gcode::interp::{read_facts, PartReader};
 use fairpath_gcode::pipeline::Phases;

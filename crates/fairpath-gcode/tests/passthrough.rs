@@ -6,7 +6,7 @@
 //! The rs274 comparisons are skipped with a message when LinuxCNC 2.9's
 //! `rs274` is not installed, unless `FAIRPATH_REQUIRE_RS274` is set.
 
-mod common;
+use crate::common;
 
 use fairpath::geom::Vec3;
 use fairpath_gcode::{
@@ -14,7 +14,6 @@ use fairpath_gcode::{
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::Mutex;
 
 /// A motion call: kind and end point in mm.
 #[derive(Clone, Debug, PartialEq)]
@@ -77,11 +76,9 @@ fn temp_dir(name: &str) -> PathBuf {
 /// it prints the units in force), or its error. Arcs are read in the XY
 /// plane only.
 fn rs274(file: &Path) -> Result<Vec<Call>, String> {
-    // LinuxCNC 2.9's rs274 dies of SIGBUS now and then when two run at
-    // once (its shared tool-data memory): one at a time.
-    static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+    // One at a time (see `common::RS274`).
     let out = {
-        let _guard = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+        let _guard = common::RS274.lock().unwrap_or_else(|e| e.into_inner());
         Command::new("rs274")
             .arg("-g")
             .arg(file)

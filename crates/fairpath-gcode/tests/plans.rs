@@ -4,7 +4,7 @@
 //! at the programmed feeds and with the feeds overridden, and the input's
 //! and curves' times what `simulate` gives.
 
-mod common;
+use crate::common;
 
 use fairpath::feed::program::simulate;
 use fairpath_gcode::pipeline::plan_text;

@@ -1,6 +1,6 @@
 //! Passthrough is lossless; G-code and JSON output read back to the same
 //! geometry.
-mod common;
+use crate::common;
 
 use fairpath::geom::{flatten_params, Curve, ParamCurve, SegmentGrid, Vec3};
 use fairpath_gcode::{parse, read_json, write_gcode, write_json, GcodeWriteOptions, Program};

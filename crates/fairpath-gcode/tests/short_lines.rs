@@ -1,7 +1,7 @@
 //! Lines too short to say where they point are not written
 //! (`fairpath::render::absorb`).
 
-mod common;
+use crate::common;
 
 use fairpath::budget::SHORT_LINE_SHARE;
 use fairpath::geom::{Curve, ParamCurve};

@@ -1,7 +1,7 @@
 //! Spline codes: G5, G5.1, G5.2/G5.3 and G6.2 read as LinuxCNC reads them,
 //! written by `g6_2_block` / `g5_2_blocks` and read back; malformed blocks
 //! are `line:column` errors.
-mod common;
+use crate::common;
 
 use fairpath::controller::linuxcnc::{g5_2_motion, plane_coords};
 use fairpath::controller::Plane;

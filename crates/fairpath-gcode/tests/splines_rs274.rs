@@ -16,7 +16,7 @@
 //! Without 2.9's `rs274` the tests are skipped with a message, unless
 //! `FAIRPATH_REQUIRE_RS274` is set; without master, its parts are skipped.
 
-mod common;
+use crate::common;
 
 use fairpath::controller::Plane;
 use fairpath::geom::{Curve, Nurbs, Vec3};
@@ -26,7 +26,6 @@ use fairpath_gcode::{
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::Mutex;
 
 #[derive(Debug, Clone, PartialEq)]
 enum Call {
@@ -112,11 +111,9 @@ fn nums(l: &str, open: &str) -> Vec<f64> {
 /// inserted DEBUG lines report; or its error.
 #[allow(clippy::type_complexity)]
 fn run(which: Lcnc, file: &Path) -> Result<(Vec<Call>, Vec<(usize, [f64; 3])>), String> {
-    // LinuxCNC 2.9's rs274 dies of SIGBUS now and then when two run at
-    // once (its shared tool-data memory): one at a time.
-    static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+    // One at a time (see `common::RS274`).
     let out = {
-        let _guard = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+        let _guard = common::RS274.lock().unwrap_or_else(|e| e.into_inner());
         command(which, file).output().map_err(|e| e.to_string())?
     };
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -4,7 +4,7 @@
 //! program: the raster of the shared programs smoothed and written as
 //! arcs, read back.
 
-mod common;
+use crate::common;
 
 use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunEnds};
 use fairpath::feed::shaping::Shaping;

@@ -5,7 +5,7 @@
 //! arcs; a square keeps its corners as lines; feed changes end blocks;
 //! input arcs are kept.
 
-mod common;
+use crate::common;
 use common::{degenerate, polyline_run, polyline_run_with_feeds, pt2, pt3, tolerances, v};
 use fairpath::choose::by_name;
 use fairpath::geom::{Arc, Curve, Line, Vec3};

@@ -4,7 +4,7 @@
 //! original run (the independent verifier), endpoints exact, pieces
 //! joined bit for bit, and every joint G2 but the corners kept.
 
-mod common;
+use crate::common;
 use common::{check_guarantees, v};
 use fairpath::geom::{Arc, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::{Piece, Run};

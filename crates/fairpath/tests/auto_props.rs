@@ -3,7 +3,7 @@
 //! G2 too; and on runs of lines never slower (planned) than the corner
 //! methods it chooses from.
 
-mod common;
+use crate::common;
 use common::polyline_run;
 use fairpath::choose::{
     keeps_arc_joints, sample_curves, Auto, AutoOptions, CURVES_AS_WRITTEN, KEEP_MARGIN,

@@ -1,7 +1,7 @@
 //! Relaxing fits inside the tolerance band (`geom::band_fit`): the relaxed
 //! curve stays within the band with its ends and end conditions kept, and
 //! it bends less than the least-squares fit it starts from.
-mod common;
+use crate::common;
 
 use common::v;
 use fairpath::feed::limits::MachineLimits;

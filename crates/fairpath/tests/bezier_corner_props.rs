@@ -5,7 +5,7 @@
 //! (within tolerance by the independent verifier, G2 at every joint but
 //! kept corners, endpoints exact).
 
-mod common;
+use crate::common;
 use common::{check_smoothed as check, degenerate, polyline_run, pt2, pt3, tolerances as tol, v};
 use fairpath::choose::by_name;
 use fairpath::geom::{point_segment_distance, ParamCurve, Vec3};

@@ -2,7 +2,7 @@
 //! ones included, at several tolerances: within tolerance (checked by the
 //! independent verifier), G2 at every joint but kept corners, endpoints exact.
 
-mod common;
+use crate::common;
 use common::{check_smoothed as check, degenerate, polyline_run, pt2, pt3, tolerances as tol, v};
 use fairpath::geom::Vec3;
 use fairpath::smooth::{BsplineCorner, BsplineCornerOptions, ErrorTarget, Smoother};

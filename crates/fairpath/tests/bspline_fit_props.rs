@@ -6,7 +6,7 @@
 //! control-point count against tolerance, and peak curvature against the
 //! true curve and against `bspline-corner`.
 
-mod common;
+use crate::common;
 use common::{check_guarantees, polyline_run, v};
 use fairpath::geom::fit::{chord_params, span_errors, EndCondition};
 use fairpath::geom::{Curve, ParamCurve, Vec3};

@@ -1,7 +1,7 @@
 //! The closed forms of the bspline-corner transition (seed 000) against
 //! evaluation of the curve.
 
-mod common;
+use crate::common;
 use common::v;
 use fairpath::geom::{point_segment_distance, ParamCurve, Vec3};
 use fairpath::smooth::{

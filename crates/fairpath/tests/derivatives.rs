@@ -1,7 +1,7 @@
 //! Derivatives of every curve type against finite differences, and exact
 //! arc NURBS.
 
-mod common;
+use crate::common;
 use common::v;
 use fairpath::geom::{arc_length, Arc, Curve, Nurbs, ParamCurve, Vec3};
 use proptest::prelude::*;

@@ -3,7 +3,7 @@
 //! sampling and the verifier); curvature and length fall on the thesis'
 //! kind of ripple cases; the same result for a planar path tilted into 3D;
 //! closed paths; the U-to-V guard; random splines; the method on runs.
-mod common;
+use crate::common;
 
 use common::v;
 use fairpath::geom::tube_fair::{

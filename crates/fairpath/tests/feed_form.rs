@@ -7,7 +7,7 @@
 //! 2.913 s as one B-spline against 2.824 s as its spans (which made the
 //! writer prefer one form of a curve over another for nothing).
 
-mod common;
+use crate::common;
 
 use common::{planned_at_max_feed, Rng};
 use fairpath::geom::{Curve, Nurbs, Vec3};

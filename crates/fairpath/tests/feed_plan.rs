@@ -2,7 +2,7 @@
 //! smoothed), and convergence to the acceleration-limited time-optimal
 //! traversal as the jerk limit grows.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 

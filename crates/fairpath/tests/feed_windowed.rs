@@ -1,7 +1,7 @@
 //! A long run's time planned window by window
 //! (`fairpath::feed::windowed`) is the whole plan's, to the bit.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use fairpath::feed::limits::MachineLimits;

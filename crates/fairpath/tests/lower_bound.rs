@@ -3,7 +3,7 @@
 //! `auto`'s candidates is out of reach here, so `bspline-corner` and the
 //! original stand for them; the CLI test compares every method).
 
-mod common;
+use crate::common;
 use common::{planned_at_max_feed as planned, polyline_run, v};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::lower_bound::{in_order_gates_of, lower_bound_time, BandPaths, BoundOptions};

@@ -4,7 +4,7 @@
 //! at most one prepared original per thread) reports what `verify_run`
 //! reports on each pair.
 
-mod common;
+use crate::common;
 
 use common::{polyline_run, v};
 use fairpath::budget::ToleranceBudget;

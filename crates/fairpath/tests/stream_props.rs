@@ -4,7 +4,7 @@
 //! here), the stream starts and ends exactly at the path's ends, every
 //! sample lies on the path, and its length in periods is the planned time.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 

@@ -1,7 +1,7 @@
 //! The verifier must catch what it is there to catch: a path outside the
 //! band, a corner, a wrong endpoint.
 
-mod common;
+use crate::common;
 use common::{polyline_run, v};
 use fairpath::geom::{Curve, Line, Nurbs};
 use fairpath::path::Piece;

@@ -1,5 +1,11 @@
 #![allow(dead_code)]
 use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// Held while LinuxCNC's `rs274` runs: 2.9's dies of SIGBUS now and then
+/// when two run at once (its shared tool-data memory), and the tests of
+/// this binary run side by side, so every one runs it under this lock.
+pub static RS274: Mutex<()> = Mutex::new(());
 
 /// The shared reference programs (`/work/shared/paths` beside the repo), or
 /// None (with a message) if absent.
