@@ -36,12 +36,11 @@ impl Call {
 }
 
 fn have_rs274() -> bool {
-    if Command::new("rs274")
-        .arg("-g")
-        .arg("/dev/null")
-        .output()
-        .is_ok()
-    {
+    let probe = {
+        let _guard = common::RS274.lock().unwrap_or_else(|e| e.into_inner());
+        Command::new("rs274").arg("-g").arg("/dev/null").output()
+    };
+    if probe.is_ok() {
         return true;
     }
     assert!(

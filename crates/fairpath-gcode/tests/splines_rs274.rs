@@ -80,7 +80,10 @@ fn command_in_cwd(which: Lcnc, file: &Path) -> Command {
 
 fn available(which: Lcnc) -> bool {
     match which {
-        Lcnc::V29 => command(which, Path::new("/dev/null")).output().is_ok(),
+        Lcnc::V29 => {
+            let _guard = common::RS274.lock().unwrap_or_else(|e| e.into_inner());
+            command(which, Path::new("/dev/null")).output().is_ok()
+        }
         Lcnc::Master => master_dir().join("bin/rs274").exists(),
     }
 }

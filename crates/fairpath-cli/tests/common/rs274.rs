@@ -128,6 +128,7 @@ pub fn same(a: &[Canon], b: &[Canon]) -> Result<(), String> {
 }
 
 pub fn have_rs274() -> bool {
+    let _one = RS274.lock().unwrap_or_else(|e| e.into_inner());
     Command::new("rs274")
         .arg("-g")
         .arg("/dev/null")
