@@ -376,7 +376,8 @@ fn the_peak_pass_defaults_to_the_default_machine() {
         PeakPass::SpeedCaps {
             max_feed: m.max_feed,
             normal_acc: m.normal_acc,
-            jerk: m.jerk
+            jerk: m.jerk,
+            period: m.period,
         }
     );
     assert_eq!(

@@ -131,6 +131,7 @@ pub fn peak_pass_for(m: &MachineLimits) -> PeakPass {
             max_feed: m.max_feed,
             normal_acc: m.normal_acc,
             jerk: m.jerk,
+            period: m.period,
         }
     } else {
         PeakPass::Curvature
@@ -677,7 +678,8 @@ mod tests {
             PeakPass::SpeedCaps {
                 max_feed: 150.0,
                 normal_acc: m.normal_acc,
-                jerk: 5000.0
+                jerk: 5000.0,
+                period: m.period,
             }
         );
         assert_eq!(

@@ -58,10 +58,11 @@
 //!   (its move distances come from the basis functions alone, which a
 //!   weight changes); a CAM system's rational spline is just as rippled,
 //!   and its weights are no reason to leave it so. That smoothing is kept
-//!   where its highest demand ([`sampled_demand`], by
-//!   [`FairOptions::peak_pass`]'s measure at its own feed, not the
-//!   programmed one: by default the speed caps of fairpath's jerk-limited
-//!   model at 400 mm/s, curvature and its rate of change) is lower than
+//!   where both its highest demand and the demand's integral over the
+//!   length ([`sampled_demands`], by [`FairOptions::peak_pass`]'s measure
+//!   at its own feed, not the programmed one: by default the speed caps of
+//!   fairpath's jerk-limited model at 400 mm/s, curvature, its rate of
+//!   change and its steps where pieces meet, as arcs do) are lower than
 //!   with the curves kept, compared over the pieces from the curves' input
 //!   lines (the run's may peak elsewhere), corner transitions aside. So a
 //!   smooth design curve whose fit would only add ripples of `dk/ds`
@@ -88,7 +89,7 @@ use crate::geom::tube_fair::{
     as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::{sampled_peak, total_curvature, Curve, Extrema, Line, Nurbs, ParamCurve};
+use crate::geom::{sampled_peak, total_curvature, Curve, Extrema, Line, Nurbs, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -156,7 +157,8 @@ pub struct FairOptions {
 pub enum OtherCurves {
     /// Sampled as chords within [`FAIR_SAMPLE_SHARE`] of the tolerance,
     /// fitted and faired as lines, where that lowers the demand of
-    /// [`FairOptions::peak_pass`]'s speed caps there ([`sampled_demand`]);
+    /// [`FairOptions::peak_pass`]'s speed caps there, at its peak and in all
+    /// ([`sampled_demands`]);
     /// kept as written otherwise (see the module documentation).
     #[default]
     Sampled,
@@ -343,12 +345,17 @@ impl Smoother for Fair {
                 })
                 .cloned()
                 .collect();
-            sampled_demand(&near, pass)
+            sampled_demands(&near, pass)
         };
+        // The sampled smoothing must demand less both at its peak and in
+        // all (the demand's integral over the length: about the time at
+        // the caps' speeds). The peak alone took fits whose lower peak
+        // came with more `dk/ds` all along: `Curva_Delfino_p1.ngc` at
+        // 0.025 mm, whose rational curve as fitted plans slower.
+        let ((s_peak, s_time), (k_peak, k_time)) =
+            (demand_there(&sampled.pieces), demand_there(&kept.pieces));
         Ok(
-            if sampled.unfaired.is_empty()
-                && demand_there(&sampled.pieces) < demand_there(&kept.pieces)
-            {
+            if sampled.unfaired.is_empty() && s_peak < k_peak && s_time < k_time {
                 sampled
             } else {
                 kept
@@ -471,48 +478,75 @@ fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
 /// the inverse of the lowest of `sqrt(A / k)`, `cbrt(J / k^2)`,
 /// `cbrt(J / |dk/ds|)` and the feed) over the curves among `pieces`, each
 /// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
-/// differences of neighbouring samples, across joints too (a rational
-/// curve has no cubic spans to take it from in closed form); arcs and
-/// lines at their ends, with their curvature. A sample, not a bound: it
+/// differences of neighbouring samples' curvature vectors, across joints
+/// too (a rational curve has no cubic spans to take it from in closed
+/// form; a step at a joint is charged over the step after it, as the
+/// planner's `feed::junction::step_cap` spreads it over the spacing of
+/// the steps, its one-period term `sqrt(J Ts / dk)` left out: the pass
+/// knows no period); arcs and lines at their ends, with their curvature. A sample, not a bound: it
 /// compares a run's curves kept as written with the same curves sampled,
 /// fitted and faired, like with like ([`OtherCurves::Sampled`]).
 pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
-    let (mut k_max, mut jerk_max) = (0.0f64, 0.0f64);
-    // The sample before, across joints too: a step of curvature where two
-    // pieces meet (the spans of a G5.2 quadratic meet C1) shows as a steep
-    // `dk/ds` over the next step.
-    let mut prev: Option<(crate::geom::Vec3, f64)> = None;
-    let mut sample = |q: crate::geom::Vec3, k: f64| {
+    sampled_demands(pieces, pass).0
+}
+
+/// [`sampled_demand`], and the integral of the demand over the length
+/// sampled: about the time the pieces would take at their caps' speeds
+/// (each step at the lower cap of its two ends, a step of the curvature
+/// vector at a joint charged over the step after it).
+pub fn sampled_demands(pieces: &[Piece], pass: PeakPass) -> (f64, f64) {
+    let (mut k_max, mut jerk_max, mut jump_max, mut time) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    // The sample before, across joints too: a step of the curvature
+    // vector where two pieces meet (the arcs LinuxCNC runs a G5.2 block
+    // as meet G1, as do the spans of a G5.2 quadratic) caps the speed
+    // there (`PeakPass::jump_demand`) and shows as a steep `dk/ds` over
+    // the next step. A sample at the point of the one before (a joint)
+    // does not replace it, so the step is charged over the next one.
+    // Vectors, not magnitudes: arcs that turn opposite ways have equal
+    // curvatures and the largest step between them.
+    let mut prev: Option<(Vec3, Vec3)> = None;
+    let mut jump = 0.0f64;
+    let mut sample = |q: Vec3, kv: Vec3| {
+        let k = kv.norm();
         k_max = k_max.max(k);
         let mut jerk_term = k * k;
-        if let Some((q0, k0)) = prev {
-            let ds = q.dist(q0);
-            if ds > 0.0 {
-                jerk_term = jerk_term.max(crate::math::abs(k - k0) / ds);
+        match prev {
+            Some((q0, kv0)) => {
+                let ds = q.dist(q0);
+                if ds > 0.0 {
+                    jerk_term = jerk_term.max((kv - kv0).norm() / ds);
+                    let step = pass.demand(k.max(kv0.norm()), jerk_term).max(jump);
+                    time += ds * step;
+                    jump = 0.0;
+                    prev = Some((q, kv));
+                } else {
+                    jump = jump.max(pass.jump_demand((kv - kv0).norm()));
+                    jump_max = jump_max.max(jump);
+                }
             }
+            None => prev = Some((q, kv)),
         }
         jerk_max = jerk_max.max(jerk_term);
-        prev = Some((q, k));
     };
     for p in pieces {
         match &p.curve {
             Curve::Line(l) => {
-                sample(l.p0, 0.0);
-                sample(l.p1, 0.0);
+                sample(l.p0, Vec3::ZERO);
+                sample(l.p1, Vec3::ZERO);
             }
             Curve::Arc(a) => {
-                let k = a.curvature(a.domain().0);
-                sample(a.p0, k);
-                sample(a.p1, k);
+                let (t0, t1) = a.domain();
+                sample(a.p0, a.curvature_vector(t0));
+                sample(a.p1, a.curvature_vector(t1));
             }
             Curve::Nurbs(c) => {
                 for t in span_samples(c) {
-                    sample(c.eval(t), c.curvature(t));
+                    sample(c.eval(t), c.curvature_vector(t));
                 }
             }
         }
     }
-    pass.demand(k_max, jerk_max)
+    (pass.demand(k_max, jerk_max).max(jump_max), time)
 }
 
 impl Fair {
@@ -639,6 +673,60 @@ fn polylines_as_lines(run: &Run) -> Option<Run> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two arcs of radius 10 and 0.5 mm each joined tangentially into an
+    /// S, or turning the same way: the S steps its curvature vector by 0.2
+    /// 1/mm at the joint, which a planner passes at most at
+    /// `sqrt(J Ts / 0.2)` (`feed::junction::jump_cap`), and
+    /// [`sampled_demand`] charges that, and the step over the next arc's
+    /// length as a `dk/ds`; the same arcs without a step demand only what
+    /// their curvature does. [`sampled_demands`]' integral charges the
+    /// jump's demand over the next arc. The arcs LinuxCNC runs a G5.2 block as meet so:
+    /// before the step was charged (it was lost at the joint's repeated
+    /// point), `fair` left a rippled G5.2 line as it was at every tube
+    /// radius.
+    #[test]
+    fn a_curvature_step_between_tangent_arcs_is_charged() {
+        use crate::geom::Arc;
+        let z = Vec3::new(0.0, 0.0, 1.0);
+        let arc = |a: Vec3, b: Vec3, c: Vec3, cw: bool| Piece {
+            curve: Curve::Arc(Box::new(Arc::from_center(a, b, c, z, cw, 1, 1e-9).unwrap())),
+            rapid: false,
+            source_lines: (1, 1),
+            feed: None,
+        };
+        let (r, sweep) = (10.0f64, 0.05f64);
+        let c1 = Vec3::new(0.0, -r, 0.0);
+        let at = |c: Vec3, angle: f64, sign: f64| {
+            c + Vec3::new(r * angle.sin(), sign * r * angle.cos(), 0.0)
+        };
+        let (o, p) = (Vec3::ZERO, at(c1, sweep, 1.0));
+        let c2 = p + (p - c1);
+        let first = arc(o, p, c1, true);
+        let s = [first.clone(), arc(p, at(c2, 0.0, -1.0), c2, false)];
+        let bend = [first, arc(p, at(c1, 2.0 * sweep, 1.0), c1, true)];
+        let pass = PeakPass::DEFAULT_MACHINE;
+        let (d_s, d_bend) = (sampled_demands(&s, pass), sampled_demands(&bend, pass));
+        // The bend: `k^2 = 0.01`, so `cbrt(0.01 / J)`; the S: a step of
+        // 0.2 at the joint, `sqrt(0.2 / (J Ts))` = 0.1 s/mm, above its
+        // `dk/ds` (0.2 over the next arc, 0.5 mm: `cbrt(0.4 / J)`).
+        let (j, ts) = (20000.0f64, 0.001);
+        let bend_demand = (0.01 / j).cbrt();
+        assert!((d_bend.0 - bend_demand).abs() < 1e-12, "{d_bend:?}");
+        assert!((d_s.0 - (0.2 / (j * ts)).sqrt()).abs() < 1e-12, "{d_s:?}");
+        assert!((0.2 / (r * sweep) / j).cbrt() < d_s.0);
+        // Integrals over the chords: the bend at its demand, the S's
+        // first arc at the bend's and its second at the jump's.
+        let chord = 2.0 * r * (0.5 * sweep).sin();
+        assert!(
+            (d_bend.1 - 2.0 * chord * bend_demand).abs() < 1e-12,
+            "{d_bend:?}"
+        );
+        assert!(
+            (d_s.1 - chord * (bend_demand + 0.1)).abs() < 1e-12,
+            "{d_s:?}"
+        );
+    }
 
     #[test]
     fn defaults_are_valid_and_bad_options_are_named() {

@@ -109,7 +109,23 @@ pub enum PeakPass {
         normal_acc: f64,
         /// Jerk limit `J` (mm/s^3).
         jerk: f64,
+        /// Interpolation period `Ts` (s): where two pieces meet with a
+        /// step `dk` of the curvature vector (arcs that meet G1), the
+        /// planner passes at most `sqrt(J Ts / dk)`
+        /// (`feed::junction::jump_cap`); [`PeakPass::jump_demand`]. The
+        /// fairing itself moves one curve, whose spans meet C2.
+        #[cfg_attr(feature = "serde", serde(default = "default_period"))]
+        period: f64,
     },
+}
+
+/// The default machine's interpolation period, 1 ms (also what a TOML
+/// file that leaves `period` out gets).
+pub const DEFAULT_PERIOD: f64 = 0.001;
+
+#[cfg(feature = "serde")]
+fn default_period() -> f64 {
+    DEFAULT_PERIOD
 }
 
 impl PeakPass {
@@ -120,6 +136,7 @@ impl PeakPass {
         max_feed: 400.0,
         normal_acc: 4000.0,
         jerk: 20000.0,
+        period: DEFAULT_PERIOD,
     };
 
     /// The pass for a curve programmed at `feed` (mm/s, if any): the speed
@@ -134,12 +151,14 @@ impl PeakPass {
                     max_feed,
                     normal_acc,
                     jerk,
+                    period,
                 },
                 Some(f),
             ) if f > 0.0 && f < max_feed => PeakPass::SpeedCaps {
                 max_feed: f,
                 normal_acc,
                 jerk,
+                period,
             },
             (pass, _) => pass,
         }
@@ -153,7 +172,8 @@ impl PeakPass {
                 max_feed,
                 normal_acc,
                 jerk,
-            } => [max_feed, normal_acc, jerk]
+                period,
+            } => [max_feed, normal_acc, jerk, period]
                 .iter()
                 .all(|x| x.is_finite() && *x > 0.0),
         }
@@ -171,9 +191,21 @@ impl PeakPass {
                 max_feed,
                 normal_acc,
                 jerk,
+                ..
             } => (1.0 / max_feed)
                 .max(math::sqrt(k / normal_acc))
                 .max(math::cbrt(jerk_term / jerk)),
+        }
+    }
+
+    /// The demand of a step `dk` (1/mm) of the curvature vector where two
+    /// pieces meet: the inverse of `sqrt(J Ts / dk)`, the planner's cap
+    /// across it (`feed::junction::jump_cap`); 0 for the curvature alone
+    /// (the thesis' model has no jerk).
+    pub fn jump_demand(&self, dk: f64) -> f64 {
+        match *self {
+            PeakPass::Off | PeakPass::Curvature => 0.0,
+            PeakPass::SpeedCaps { jerk, period, .. } => math::sqrt(dk / (jerk * period)),
         }
     }
 
