@@ -697,6 +697,38 @@ mod tests {
     use super::*;
     use crate::geom::tube_fair::tube::{deviation_bound, difference};
 
+    /// A step `dk` of the curvature vector demands the inverse of the
+    /// planner's cap across it, `sqrt(J Ts / dk)`: 0.2 1/mm on the default
+    /// machine (20000 mm/s^3, 1 ms) caps at 10 mm/s. The thesis' model has
+    /// no jerk, so no such demand; a period that is not a positive number
+    /// makes the pass invalid.
+    #[test]
+    fn a_curvature_step_demands_the_inverse_of_the_planners_cap() {
+        let pass = PeakPass::DEFAULT_MACHINE;
+        assert!((pass.jump_demand(0.2) - 0.1).abs() < 1e-15);
+        assert_eq!(pass.jump_demand(0.0), 0.0);
+        assert_eq!(PeakPass::Curvature.jump_demand(0.2), 0.0);
+        let PeakPass::SpeedCaps {
+            max_feed,
+            normal_acc,
+            jerk,
+            ..
+        } = pass
+        else {
+            unreachable!()
+        };
+        for period in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+            let bad = PeakPass::SpeedCaps {
+                max_feed,
+                normal_acc,
+                jerk,
+                period,
+            };
+            assert!(!bad.is_valid(), "{period}");
+        }
+        assert!(pass.is_valid());
+    }
+
     fn knots(m: usize) -> Vec<f64> {
         let spans = m - 3;
         let mut u = vec![0.0; 4];
