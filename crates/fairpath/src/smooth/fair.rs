@@ -349,9 +349,10 @@ impl Smoother for Fair {
         };
         // The sampled smoothing must demand less both at its peak and in
         // all (the demand's integral over the length: about the time at
-        // the caps' speeds). The peak alone took fits whose lower peak
-        // came with more `dk/ds` all along: `Curva_Delfino_p1.ngc` at
-        // 0.025 mm, whose rational curve as fitted plans slower.
+        // the caps' speeds), which keeps out fits whose lower peak comes
+        // with more demand all along (a first version, by the peak alone
+        // and without the step's one-period term, wrote `fair` on
+        // `51MeanderAve.ngc` at 0.05 mm 2% slower).
         let ((s_peak, s_time), (k_peak, k_time)) =
             (demand_there(&sampled.pieces), demand_there(&kept.pieces));
         Ok(
@@ -480,10 +481,11 @@ fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
 /// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
 /// differences of neighbouring samples' curvature vectors, across joints
 /// too (a rational curve has no cubic spans to take it from in closed
-/// form; a step at a joint is charged over the step after it, as the
-/// planner's `feed::junction::step_cap` spreads it over the spacing of
-/// the steps, its one-period term `sqrt(J Ts / dk)` left out: the pass
-/// knows no period); arcs and lines at their ends, with their curvature. A sample, not a bound: it
+/// form); a step `dk` of the curvature vector at a joint demands what the
+/// planner's `feed::junction::step_cap` caps it at, `sqrt(J Ts / dk)`
+/// ([`PeakPass::jump_demand`]) and, spread over the step after it, a
+/// `dk/ds`; arcs and lines at their ends, with their curvature. A sample,
+/// not a bound: it
 /// compares a run's curves kept as written with the same curves sampled,
 /// fitted and faired, like with like ([`OtherCurves::Sampled`]).
 pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
