@@ -683,10 +683,10 @@ mod tests {
     /// [`sampled_demand`] charges that, and the step over the next arc's
     /// length as a `dk/ds`; the same arcs without a step demand only what
     /// their curvature does. [`sampled_demands`]' integral charges the
-    /// jump's demand over the next arc. The arcs LinuxCNC runs a G5.2 block as meet so:
-    /// before the step was charged (it was lost at the joint's repeated
-    /// point), `fair` left a rippled G5.2 line as it was at every tube
-    /// radius.
+    /// jump's demand over the next arc. The arcs LinuxCNC runs a G5.2
+    /// block as meet so: before the step was charged (it was lost at the
+    /// joint's repeated point), `fair` left a rippled G5.2 line as it was
+    /// at every tube radius.
     #[test]
     fn a_curvature_step_between_tangent_arcs_is_charged() {
         use crate::geom::Arc;
