@@ -8,17 +8,19 @@
 # written time (the summary's "planned time ... written") and wall seconds
 # before and after, then the totals: cases, differing, written faster,
 # slower, and the wall seconds of each binary (a busy host inflates both
-# alike; CPU is not measured).
+# alike; CPU is not measured). EXTRA: more arguments for both (e.g.
+# EXTRA=--override-feed).
 set -euo pipefail
 old=${1:?old binary}
 new=${2:?new binary}
 max_kb=${3:-30}
 methods=${METHODS:-fair auto bspline-fit}
 tols=${TOLS:-0.05 0.01}
+extra=${EXTRA:-}
 shared=$(cd "$(dirname "$0")/../../shared/paths" && pwd)
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-export old new methods tols dir
+export old new methods tols extra dir
 
 one() {
     f=$1
@@ -30,7 +32,7 @@ one() {
                 [ $b = new ] && bin=$new
                 out=$dir/out-$$-$b.ngc
                 s=$(date +%s.%N)
-                if timeout 600 "$bin" smooth -t "${t}mm" -m "$m" "$f" -o "$out" >"$dir/sum-$$" 2>&1; then
+                if timeout 600 "$bin" smooth -t "${t}mm" -m "$m" $extra "$f" -o "$out" >"$dir/sum-$$" 2>&1; then
                     h=$(sha256sum <"$out" | cut -c1-12)
                 else
                     h=error
@@ -48,7 +50,7 @@ export -f one
 
 echo "# Output differences"
 echo
-echo "\`scripts/output-diff.sh $old $new $max_kb\` on $(date -u '+%Y-%m-%d %H:%M') UTC, methods: $methods; tolerances (mm): $tols; programs of ../shared/paths under $max_kb kB."
+echo "\`${EXTRA:+EXTRA=$EXTRA }scripts/output-diff.sh $old $new $max_kb\` on $(date -u '+%Y-%m-%d %H:%M') UTC, methods: $methods; tolerances (mm): $tols; programs of ../shared/paths under $max_kb kB."
 echo
 find "$shared" -type f \( -name "*.ngc" -o -name "*.gcode" -o -name "*.nc" -o -name "*.tap" \) \
     -size -"${max_kb}"k | sort | xargs -P 2 -I{} bash -c 'one "$@"' _ {} >"$dir/rows"

@@ -78,6 +78,14 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     fn peak_pass(&self) -> Option<PeakPass> {
         None
     }
+
+    /// Whether the objective runs every move at the machine's maximum
+    /// feed, whatever the program's feeds (false, the default: the
+    /// programmed feeds): a fairing's peak pass then works up to that
+    /// feed ([`crate::smooth::FairOptions::programmed_feeds`]).
+    fn feeds_overridden(&self) -> bool {
+        false
+    }
 }
 
 /// A run is rewritten only if its smoothing costs at least this share less
@@ -143,7 +151,17 @@ pub fn peak_pass_for(m: &MachineLimits) -> PeakPass {
 /// ([`Objective::peak_pass`]): `fair`, alone or as `auto`'s candidate,
 /// lowers the demand of the user's machine, not of the default one (a
 /// pass set to anything else is kept).
+///
+/// Where the objective overrides the program's feeds
+/// ([`Objective::feeds_overridden`]), the pass also works up to the
+/// machine's maximum feed, not each curve's programmed one
+/// ([`FairOptions::programmed_feeds`] off): at `--override-feed` the
+/// machine runs `fair`'s curves at up to that feed.
 pub fn fair_on(options: FairOptions, objective: &dyn Objective) -> FairOptions {
+    let options = FairOptions {
+        programmed_feeds: options.programmed_feeds && !objective.feeds_overridden(),
+        ..options
+    };
     match objective.peak_pass() {
         Some(pass) if options.peak_pass == PeakPass::DEFAULT_MACHINE => FairOptions {
             peak_pass: pass,
@@ -159,6 +177,9 @@ impl Objective for PlannedTime {
     }
     fn peak_pass(&self) -> Option<PeakPass> {
         Some(peak_pass_for(&self.plan.limits))
+    }
+    fn feeds_overridden(&self) -> bool {
+        self.plan.override_feed
     }
 
     /// The same plan: the run's pieces are what is run.
@@ -502,6 +523,9 @@ impl Objective for WrittenTime {
     fn peak_pass(&self) -> Option<PeakPass> {
         Some(peak_pass_for(&self.plan.limits))
     }
+    fn feeds_overridden(&self) -> bool {
+        self.plan.override_feed
+    }
     fn cost(&self, pieces: &[Piece]) -> Option<f64> {
         // Every rendering handed over whole: rendered whole (in parts,
         // joined, it took a little more room and time).
@@ -701,5 +725,11 @@ mod tests {
             }
         }
         assert_eq!(fair_on(d, &Silent).peak_pass, PeakPass::DEFAULT_MACHINE);
+        // Where the objective overrides the feeds, the pass works up to the
+        // machine's maximum feed; at the programmed feeds, up to each one.
+        assert!(!on(m, d).programmed_feeds);
+        let at_feeds = fair_on(d, &PlannedTime::new(m, false));
+        assert!(at_feeds.programmed_feeds);
+        assert!(fair_on(d, &Silent).programmed_feeds);
     }
 }
