@@ -7,7 +7,7 @@ mod cases;
 use crate::common;
 
 use fairpath::geom::tube_fair::tube::{deviation_bound, difference};
-use fairpath::geom::tube_fair::{fair_in_tube, PeakPass, TubeFairOptions};
+use fairpath::geom::tube_fair::{fair_in_tube, Basis, PeakPass, TubeFairOptions};
 use fairpath::geom::{Nurbs, ParamCurve};
 
 /// Highest curvature (1/mm) at 20,001 equal parameter steps.
@@ -23,7 +23,7 @@ fn peak(c: &Nurbs) -> f64 {
 fn in_tube_with_its_ends(faired: &Nurbs, original: &Nurbs, r: f64, what: &str) {
     let sure = deviation_bound(
         &difference(&faired.points, &original.points),
-        &original.knots,
+        &Basis::of(original),
         1e-9,
     );
     assert!(sure <= r, "{what}: bound {sure}");

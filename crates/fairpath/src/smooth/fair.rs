@@ -39,37 +39,40 @@
 //!   `max_piece_spans` spans; each piece is faired on its own with its
 //!   joints kept, so the few spans next to a cut are not faired.
 //!
-//! * **Other B-splines** are written exactly as clamped cubics first
+//! * **Other B-splines** are written exactly as clamped curves first
 //!   ([`as_fairable`]): a quadratic raised to degree 3, an unclamped curve
 //!   clamped by knot insertion; a curve the fairing did not move stays as
 //!   written. A curve of degree 1 is its control polygon, exactly: its
 //!   lines go through the fit and the fairing as other lines do.
-//! * **Curves the fairing cannot take** (rational, degree 4 and above, see
-//!   [`as_fairable`]; circular and helical arcs, which are rational
-//!   quadratics, among them: G2/G3, and the arcs a G5.2 block is read as,
-//!   since LinuxCNC runs it so), **or cannot move** (cubics of at most
-//!   [`MOST_FIXED_POINTS`] control points, all kept where they join their
-//!   neighbours G2): by default ([`OtherCurves::Sampled`]) the run is
+//! * **Rational B-splines and those of degree 4 and above** (LinuxCNC's
+//!   G6.2 examples are mostly such: 18 of its 40) are faired by the same
+//!   method, generalised (ours, [`crate::geom::tube_fair`]: the weights
+//!   stay, the points move, the tube's bound holds); unless
+//!   [`OtherCurves::Kept`] keeps them as written.
+//! * **Curves the fairing cannot take** (circular and helical arcs, which
+//!   are rational quadratics but not B-splines here: G2/G3, and the arcs a
+//!   G5.2 block is read as, since LinuxCNC runs it so), **cannot move**
+//!   (B-splines of at most [`MOST_FIXED_POINTS`] control points, all kept
+//!   where they join their neighbours G2), and the rational and
+//!   high-degree ones again: by default ([`OtherCurves::Sampled`]) the run is
 //!   also smoothed with each of them sampled as chords within
 //!   [`FAIR_SAMPLE_SHARE`] of the tolerance ([`Run::sampled`]), the chords
 //!   fitted and faired as lines are, in the rest of the tolerance (so the
 //!   result is within the chords' share plus the rest of the original, by
-//!   the triangle inequality). The thesis fairs polynomial B-splines only
-//!   (its move distances come from the basis functions alone, which a
-//!   weight changes); a CAM system's rational spline is just as rippled,
-//!   and its weights are no reason to leave it so. That smoothing is kept
+//!   the triangle inequality). That smoothing is kept
 //!   where both its highest demand and the demand's integral over the
 //!   length ([`sampled_demands`], by [`FairOptions::peak_pass`]'s measure
 //!   at its own feed, not the programmed one: by default the speed caps of
 //!   fairpath's jerk-limited model at 400 mm/s, curvature, its rate of
 //!   change and its steps where pieces meet, as arcs do) are lower than
-//!   with the curves kept, compared over the pieces from the curves' input
-//!   lines (the run's may peak elsewhere), corner transitions aside. So a
-//!   smooth design curve whose fit would only add ripples of `dk/ds`
-//!   (LinuxCNC's rational `Curva_Farfalla_p1.ngc` at 0.25 mm: 30% slower
-//!   at 400 mm/s, with a lower peak curvature) stays as it is. Where the
-//!   curves are kept (that case, or with [`OtherCurves::Kept`]) they are
-//!   listed in
+//!   with the curves kept (or faired themselves, where they can be),
+//!   compared over the pieces from the curves' input lines (the run's may
+//!   peak elsewhere), corner transitions aside. So a smooth design curve
+//!   whose fit would only add ripples of `dk/ds` (LinuxCNC's rational
+//!   `Curva_Farfalla_p1.ngc` at 0.25 mm: 30% slower at 400 mm/s, with a
+//!   lower peak curvature) is not sampled; it is faired itself. Where
+//!   curves are kept as written (an arc whose sampling does not pay, or
+//!   with [`OtherCurves::Kept`]) the B-splines among them are listed in
 //!   [`SmoothedRun::unfaired`] with the reason, which the report and the
 //!   CLI's summary show. Not an error: the rest of the program is faired
 //!   and the kept curves are within the tolerance of themselves, while
@@ -86,7 +89,7 @@ use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
 use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::guard::{PEAK_ACCURACY, PEAK_SAMPLES};
 use crate::geom::tube_fair::{
-    as_fairable, fair_in_tube, EndRule, PeakPass, TubeFairError, TubeFairOptions,
+    as_fairable, fair_in_tube, Basis, EndRule, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
 use crate::geom::{sampled_peak, total_curvature, Curve, Extrema, Line, Nurbs, ParamCurve, Vec3};
@@ -155,8 +158,8 @@ pub struct FairOptions {
 }
 
 /// What [`Fair`] does with the curves the thesis' fairing cannot take
-/// (rational, degree 4 and above: [`as_fairable`]) or cannot move (at most
-/// [`MOST_FIXED_POINTS`] control points).
+/// (arcs), cannot move (at most [`MOST_FIXED_POINTS`] control points), or
+/// takes beyond the thesis (rational, degree 4 and above).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",
@@ -171,7 +174,8 @@ pub enum OtherCurves {
     /// kept as written otherwise (see the module documentation).
     #[default]
     Sampled,
-    /// Kept as written, and reported.
+    /// Kept as written, and reported (rational and high-degree B-splines
+    /// too: not faired).
     Kept,
 }
 
@@ -310,10 +314,10 @@ impl Smoother for Fair {
             // A circular or helical arc is a rational curve too (G2/G3,
             // and the arcs LinuxCNC runs a G5.2 block as).
             Curve::Arc(_) => true,
-            Curve::Nurbs(n) if n.degree > 1 => match as_fairable(n) {
-                Err(e) => matches!(e, TubeFairError::Rational | TubeFairError::Degree(_)),
-                Ok(cubic) => cubic.points.len() <= MOST_FIXED_POINTS,
-            },
+            Curve::Nurbs(n) if n.degree > 1 => {
+                beyond_thesis(n).is_some()
+                    || as_fairable(n).is_ok_and(|c| c.points.len() <= MOST_FIXED_POINTS)
+            }
             _ => false,
         };
         if self.options.other_curves == OtherCurves::Kept
@@ -617,7 +621,17 @@ impl Fair {
             if o.programmed_feeds {
                 opts.peak_pass = opts.peak_pass.at_feed(piece.feed.map(|f| f / 60.0));
             }
-            match as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)) {
+            // Rational curves and those of degree 4 and above are faired
+            // as the thesis' cubics are (the module documentation), unless
+            // they are to be kept as written.
+            let kept_as_written = match beyond_thesis(c) {
+                Some(e) if o.other_curves == OtherCurves::Kept => Err(e),
+                _ => Ok(()),
+            };
+            match kept_as_written
+                .and_then(|()| as_fairable(c))
+                .and_then(|c| fair_in_tube(&c, &opts))
+            {
                 // Unmoved: the curve as written (not its cubic form).
                 Ok(f) if f.iterations.is_empty() => {}
                 Ok(f) => out.pieces[i].curve = Curve::from(f.curve),
@@ -642,6 +656,20 @@ impl Fair {
             }
         }
         Ok(out)
+    }
+}
+
+/// Why `c` is beyond the thesis' own curves (a non-rational cubic, or a
+/// quadratic, which is one exactly): rational ([`TubeFairError::Rational`])
+/// or of degree 4 and above ([`TubeFairError::Degree`]); `None` for the
+/// thesis' curves.
+fn beyond_thesis(c: &Nurbs) -> Option<TubeFairError> {
+    if Basis::of(c).weights.is_some() {
+        Some(TubeFairError::Rational)
+    } else if c.degree > 3 {
+        Some(TubeFairError::Degree(c.degree))
+    } else {
+        None
     }
 }
 
@@ -688,58 +716,6 @@ fn polylines_as_lines(run: &Run) -> Option<Run> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A wavy cubic (32 control points on a sine of amplitude 3 mm and
-    /// wavelength 25 mm) programmed at 600 mm/min: by default the peak pass lowers
-    /// its demand only up to that feed; with `programmed_feeds` off (as
-    /// `choose::fair_on` sets it where the feeds are overridden) up to
-    /// 400 mm/s, and the result plans faster at that feed. (Found on
-    /// `51MeanderAve.ngc` at `--override-feed`: `fair` wrote 73.567 s, its
-    /// pass at the program's 5000 mm/min; 72.123 s with the pass at the
-    /// machine's maximum.)
-    #[test]
-    fn an_overridden_feed_lifts_the_pass_above_the_programmed_one() {
-        use crate::feed::limits::MachineLimits;
-        use crate::feed::plan::{plan_run, PlanOptions};
-        let m = 32;
-        let points: Vec<Vec3> = (0..m)
-            .map(|i| {
-                let x = 100.0 * i as f64 / (m - 1) as f64;
-                Vec3::new(x, 3.0 * libm::sin(x / 4.0), 0.0)
-            })
-            .collect();
-        let mut knots = alloc::vec![0.0; 4];
-        knots.extend((1..m - 3).map(|i| i as f64));
-        knots.extend([(m - 3) as f64; 4]);
-        let curve = Nurbs::new(3, knots, points, None).unwrap();
-        let run = Run::new(alloc::vec![Piece {
-            curve: Curve::from(curve),
-            rapid: false,
-            source_lines: (1, 1),
-            feed: Some(600.0),
-        }]);
-        let plan = PlanOptions {
-            limits: MachineLimits::thesis(),
-            override_feed: true,
-            window: None,
-            ends: Default::default(),
-        };
-        let time_with = |programmed_feeds: bool| {
-            let fair = Fair {
-                options: FairOptions {
-                    programmed_feeds,
-                    ..FairOptions::default()
-                },
-            };
-            let out = fair.smooth_run(&run, 0.25).unwrap();
-            plan_run(&out.pieces, &plan).unwrap().time
-        };
-        let (at_program, at_machine) = (time_with(true), time_with(false));
-        assert!(
-            at_machine < 0.99 * at_program,
-            "{at_machine} s against {at_program} s"
-        );
-    }
 
     /// Two arcs of radius 10 and 0.5 mm each joined tangentially into an
     /// S, or turning the same way: the S steps its curvature vector by 0.2

@@ -34,7 +34,7 @@
 //! checks the sure bound again anyway. The work is one pass over the
 //! spans plus a few spans per point put back.
 
-use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
+use super::spans::{nonempty_spans, Basis, Span};
 use crate::geom::{sampled_peak, Extrema, Vec3};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -55,20 +55,21 @@ pub const PEAK_SAMPLES: usize = 16;
 pub const PEAK_ACCURACY: f64 = 1e-9;
 
 /// How many knot indices apart two spans of a cubic may be and still
-/// share a control point (span `s` uses control points `s-3..=s`).
-pub const REACH: usize = DEGREE;
+/// share a control point (span `s` uses control points `s-3..=s`); of a
+/// curve of degree `p`, `p` ([`Basis::degree`]).
+pub const REACH: usize = super::spans::DEGREE;
 
-/// Peak curvature (1/mm) of the non-empty span `s` of the clamped cubic
-/// (`knots`, `pts`): [`PEAK_SAMPLES`] equal steps, ends included, refined
+/// Peak curvature (1/mm) of the non-empty span `s` of the clamped
+/// B-spline (`basis`, `pts`): [`PEAK_SAMPLES`] equal steps, ends included, refined
 /// between them to [`PEAK_ACCURACY`] of the span where the samples show a
 /// peak narrower than their step ([`sampled_peak`], [`Extrema::Narrow`]:
 /// a near-cusp). A lower bound; the guard compares like with like (the
 /// peak pass measures its trials so too: refining every sampled extremum
 /// made `fair` 2.7 times slower over the shared programs at 0.01 mm).
-pub fn span_peak(knots: &[f64], pts: &[Vec3], s: usize) -> f64 {
-    let b = bezier_of_span(knots, pts, s);
+pub fn span_peak(basis: &Basis, pts: &[Vec3], s: usize) -> f64 {
+    let b = Span::of(basis, pts, s);
     sampled_peak(
-        |tau| bezier_derivatives(&b, tau),
+        |tau| b.derivs12(tau),
         (0.0, 1.0),
         PEAK_SAMPLES,
         PEAK_ACCURACY,
@@ -88,17 +89,18 @@ pub struct PeakReference {
 }
 
 impl PeakReference {
-    /// The reference of the original curve (`knots`, `orig`).
-    pub fn new(knots: &[f64], orig: &[Vec3], accuracy: f64) -> PeakReference {
-        let spans = nonempty_spans(knots, orig.len());
+    /// The reference of the original curve (`basis`, `orig`).
+    pub fn new(basis: &Basis, orig: &[Vec3], accuracy: f64) -> PeakReference {
+        let spans = nonempty_spans(basis, orig.len());
         let mut own = vec![0.0f64; orig.len()];
         for &s in &spans {
-            own[s] = span_peak(knots, orig, s);
+            own[s] = span_peak(basis, orig, s);
         }
+        let reach = basis.degree;
         let mut near = vec![0.0f64; orig.len()];
         for &s in &spans {
-            let lo = s.saturating_sub(REACH);
-            let hi = (s + REACH).min(orig.len() - 1);
+            let lo = s.saturating_sub(reach);
+            let hi = (s + reach).min(orig.len() - 1);
             near[s] = own[lo..=hi].iter().copied().fold(0.0, f64::max);
         }
         let top = own.iter().copied().fold(0.0, f64::max);
@@ -119,29 +121,29 @@ impl PeakReference {
 /// and checks the spans they touch again, until no span rises. Returns
 /// how many points were put back.
 pub fn undo_rises(
-    knots: &[f64],
+    basis: &Basis,
     old: &[Vec3],
     new: &mut [Vec3],
     reference: &PeakReference,
 ) -> usize {
-    let m = new.len();
+    let (m, knots, reach) = (new.len(), basis.knots, basis.degree);
     let mut undone = 0;
-    let mut todo = nonempty_spans(knots, m);
+    let mut todo = nonempty_spans(basis, m);
     while !todo.is_empty() {
         let risen: Vec<usize> = todo
             .iter()
             .copied()
-            .filter(|&s| reference.is_rise(s, span_peak(knots, new, s)))
+            .filter(|&s| reference.is_rise(s, span_peak(basis, new, s)))
             .collect();
         todo.clear();
         for s in risen {
-            for j in s - REACH..=s {
+            for j in s - reach..=s {
                 if new[j] != old[j] {
                     new[j] = old[j];
                     undone += 1;
                     // The spans control point j belongs to.
-                    let hi = (j + REACH).min(m - 1);
-                    todo.extend((j.max(DEGREE)..=hi).filter(|&t| knots[t] < knots[t + 1]));
+                    let hi = (j + reach).min(m - 1);
+                    todo.extend((j.max(reach)..=hi).filter(|&t| knots[t] < knots[t + 1]));
                 }
             }
         }
@@ -170,6 +172,7 @@ mod tests {
         .iter()
         .map(|&(x, y)| Vec3::new(x, y, 0.0))
         .collect();
+        let u = Basis::cubic(&u);
         let reference = PeakReference::new(&u, &old, 0.01);
         let mut new = old.clone();
         new[3] = Vec3::new(3.0, 3.0, 0.0); // a spike: much sharper

@@ -39,6 +39,7 @@ use super::directions::{directions, Direction, STILL_SHARE};
 use super::guard::{undo_rises, PeakReference};
 use super::polygon::Polygon;
 use super::sensitivity::{move_distances, point_parameters, scaled_inverse, sensitivities};
+use super::spans::Basis;
 use super::tube::{deviation_bound, difference, hull_bound, sampled_deviation};
 use super::{IterationRecord, Termination, TubeFairOptions};
 use crate::geom::Vec3;
@@ -47,8 +48,8 @@ use alloc::vec::Vec;
 
 /// What the iterations work on.
 pub(super) struct Setup<'a> {
-    /// The clamped cubic knot vector.
-    pub knots: &'a [f64],
+    /// The clamped knot vector, degree and weights.
+    pub basis: Basis<'a>,
     /// The original control points (all `m`).
     pub orig: &'a [Vec3],
     pub poly: Polygon,
@@ -117,11 +118,11 @@ impl Setup<'_> {
     }
 
     pub fn run(&self) -> Outcome {
-        let (knots, orig, opts) = (self.knots, self.orig, self.opts);
+        let (basis, orig, opts) = (&self.basis, self.orig, self.opts);
         let m = orig.len();
         let r = opts.radius;
         let res = opts.resolution();
-        let params = point_parameters(knots, m);
+        let params = point_parameters(basis, m);
 
         // The mock iteration (section 3.7): D_max = R, every move R.
         let dirs = self.plan(orig);
@@ -131,11 +132,11 @@ impl Setup<'_> {
             .map(|&mv| if mv { 1.0 } else { 0.0 })
             .collect();
         let mock = self.step(&dirs, &move_distances(&ones, r));
-        let mut sens = sensitivities(&mock, knots, &params);
+        let mut sens = sensitivities(&mock, basis, &params);
 
         let reference = opts
             .peak_guard
-            .then(|| PeakReference::new(knots, orig, opts.accuracy));
+            .then(|| PeakReference::new(basis, orig, opts.accuracy));
         let mut cur = orig.to_vec();
         let (mut cur_bound, mut sampled) = (0.0, 0.0);
         let mut records = Vec::new();
@@ -155,7 +156,7 @@ impl Setup<'_> {
             }
             let s_inv = scaled_inverse(&sens, &moving);
             let mut new = add(&cur, &self.step(&dirs, &move_distances(&s_inv, d_allow)));
-            let mut bound = deviation_bound(&difference(&new, orig), knots, res);
+            let mut bound = deviation_bound(&difference(&new, orig), basis, res);
             let mut sure_step = false;
             if bound > r {
                 let d_sure = r - cur_bound - res;
@@ -165,7 +166,7 @@ impl Setup<'_> {
                 }
                 sure_step = true;
                 new = add(&cur, &self.step(&dirs, &move_distances(&s_inv, d_sure)));
-                bound = deviation_bound(&difference(&new, orig), knots, res);
+                bound = deviation_bound(&difference(&new, orig), basis, res);
                 if bound > r {
                     termination = Termination::TubeFull;
                     break;
@@ -173,10 +174,10 @@ impl Setup<'_> {
             }
             let mut undone = 0;
             if let Some(reference) = &reference {
-                undone = undo_rises(knots, &cur, &mut new, reference);
+                undone = undo_rises(basis, &cur, &mut new, reference);
                 if undone > 0 {
                     undone_total += undone;
-                    bound = deviation_bound(&difference(&new, orig), knots, res);
+                    bound = deviation_bound(&difference(&new, orig), basis, res);
                     if bound > r {
                         termination = Termination::TubeFull;
                         break;
@@ -189,10 +190,10 @@ impl Setup<'_> {
                 termination = Termination::Stationary;
                 break;
             }
-            sens = sensitivities(&step, knots, &params);
+            sens = sensitivities(&step, basis, &params);
             cur = new;
             cur_bound = bound;
-            sampled = sampled_deviation(&difference(&cur, orig), knots, opts.precision);
+            sampled = sampled_deviation(&difference(&cur, orig), basis, opts.precision);
             records.push(IterationRecord {
                 max_deviation: sampled,
                 deviation_bound: bound,

@@ -58,10 +58,15 @@
 //! * **U to V**: a move that raises a span's peak curvature above the
 //!   original's there is put back.
 //!
-//! Input: a non-rational clamped cubic B-spline (a NURBS with equal
-//! weights is one); rational curves and other degrees are errors.
-//! [`as_fairable`] writes a quadratic, or an unclamped curve, exactly as
-//! such a cubic first ([`crate::geom::elevate`]).
+//! Input: a clamped B-spline, the thesis' non-rational cubic (a NURBS
+//! with equal weights is one) or, beyond the thesis, of any degree from 2
+//! and rational (ours, 2026-12-02: its weights stay, its points move; the
+//! difference curve is the rational basis applied to the moves, and its
+//! Bezier spans' convex hulls still bound it, [`Basis`]; a control point's
+//! parameter is its Greville abscissa at degrees other than 3,
+//! [`sensitivity`]). [`as_fairable`] writes a quadratic, or an unclamped
+//! curve, exactly as a clamped cubic (or a clamped curve of its own
+//! degree) first ([`crate::geom::elevate`]).
 //!
 //! Constants of the thesis: [`APEX_WEIGHT`] (9.0), [`THESIS_PRECISION`]
 //! (5), [`THESIS_ACCURACY`] (1%). Every other threshold is scaled from the
@@ -79,6 +84,8 @@ pub mod polygon;
 pub mod sensitivity;
 mod spans;
 pub mod tube;
+
+pub use spans::Basis;
 
 pub use directions::{APEX_WEIGHT, MIN_END_LEG_SHARE, RIPPLE_REACH_SHARE, STILL_SHARE};
 pub use peak::PeakPass;
@@ -240,56 +247,51 @@ pub enum TubeFairError {
     /// The curve is not a valid NURBS.
     #[error("invalid curve: {0}")]
     Invalid(#[from] NurbsError),
-    /// The weights differ: moving control points of a rational curve does
-    /// not move it as the thesis' difference spline says.
+    /// The weights differ, where only non-rational B-splines are taken
+    /// (the fairing itself takes rational ones: kept for the callers that
+    /// report such curves).
     #[error("the curve is rational (its weights differ): only non-rational B-splines are faired")]
     Rational,
-    /// Not a cubic.
-    #[error("the curve has degree {0}: only cubic B-splines are faired")]
+    /// Degree 1 (a polyline), where a curve is asked for.
+    #[error("the curve has degree {0}: only B-splines of degree 2 and above are faired")]
     Degree(usize),
-    /// The knot vector does not start and end with four equal knots.
-    #[error("the curve is not clamped (its first and last knots are not each 4 times)")]
+    /// The knot vector does not start and end with `degree + 1` equal
+    /// knots.
+    #[error("the curve is not clamped (its first and last knots are not each degree + 1 times)")]
     NotClamped,
     /// A knot repeated more than the degree: the curve jumps there.
     #[error("the curve is not continuous at knot {0}")]
     Discontinuous(f64),
 }
 
-/// `curve` written exactly as the clamped non-rational cubic B-spline
-/// [`fair_in_tube`] takes: a cubic as it is (clamped by knot insertion if
-/// it is not), a quadratic raised to degree 3 (the same curve, each
-/// interior knot once more, so it keeps its C1 continuity there), a NURBS
-/// with equal weights without them. Refused, as no exact cubic of the
-/// same curve exists or fairing it would not be sound:
-/// * rational curves ([`TubeFairError::Rational`]): the thesis' method
-///   moves the control points of a polynomial B-spline, and the tube bound
-///   here is that of the polynomial difference spline; in tool paths a
-///   rational curve is a conic written exactly (an arc), design geometry
-///   rather than the ripples the method removes;
-/// * degree 4 and above ([`TubeFairError::Degree`]): lowering the degree
-///   is not exact;
+/// `curve` written exactly as a clamped B-spline [`fair_in_tube`] takes:
+/// a curve of degree 3 or more as it is (clamped by knot insertion if it
+/// is not), a quadratic raised to degree 3 (the same curve, each interior
+/// knot once more, so it keeps its C1 continuity there), a NURBS with
+/// equal weights without them; a rational curve keeps its weights (the
+/// fairing moves its points only). Refused:
 /// * degree 1 ([`TubeFairError::Degree`]): a polyline; as a cubic its
 ///   vertices are triple knots, corners the fairing cannot round (the
 ///   method `fair` takes such a curve as its lines instead);
 /// * curves that jump at a knot ([`TubeFairError::Discontinuous`]).
 pub fn as_fairable(curve: &Nurbs) -> Result<Nurbs, TubeFairError> {
     curve.validate()?;
-    if let Some(w) = &curve.weights {
-        if w.iter().any(|&x| x != w[0]) {
-            return Err(TubeFairError::Rational);
-        }
-    }
-    if curve.degree != 2 && curve.degree != 3 {
+    if curve.degree < 2 {
         return Err(TubeFairError::Degree(curve.degree));
     }
-    if curve.degree == 3 && super::elevate::is_clamped(curve) {
+    if curve.degree >= 3 && super::elevate::is_clamped(curve) {
         return Ok(curve.clone());
     }
+    let rational = spans::Basis::of(curve).weights.is_some();
     let c = Nurbs {
-        weights: None,
+        weights: if rational {
+            curve.weights.clone()
+        } else {
+            None
+        },
         ..curve.clone()
     };
-    super::elevate::clamped_with_degree(&c, 3).map_err(|e| match e {
+    super::elevate::clamped_with_degree(&c, curve.degree.max(3)).map_err(|e| match e {
         ElevateError::Invalid(e) => TubeFairError::Invalid(e),
         ElevateError::Discontinuous(t) => TubeFairError::Discontinuous(t),
         ElevateError::Degree { from, .. } => TubeFairError::Degree(from),
@@ -348,27 +350,24 @@ pub struct Faired {
     pub peak_pass: peak::PeakPassRecord,
 }
 
-/// Fairs the clamped non-rational cubic B-spline `curve` inside a tube of
-/// radius `opts.radius` around it (see the module documentation): every
+/// Fairs the clamped B-spline `curve` (the thesis' non-rational cubic, or
+/// of degree 2 and above, rational or not: the weights stay) inside a tube
+/// of radius `opts.radius` around it (see the module documentation): every
 /// point of the result lies within the radius of the original at the same
 /// parameter (on a sure bound), its end points are the original's bit for
 /// bit, its knots and weights are the original's.
 pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, TubeFairError> {
     opts.validate()?;
     curve.validate()?;
-    if curve.degree != 3 {
+    if curve.degree < 2 {
         return Err(TubeFairError::Degree(curve.degree));
     }
-    if let Some(w) = &curve.weights {
-        if w.iter().any(|&x| x != w[0]) {
-            return Err(TubeFairError::Rational);
-        }
-    }
     let (u, m) = (&curve.knots, curve.points.len());
-    let k = u.len();
-    if u[..4].iter().any(|&x| x != u[0]) || u[k - 4..].iter().any(|&x| x != u[k - 1]) {
+    let (k, ends) = (u.len(), curve.degree + 1);
+    if u[..ends].iter().any(|&x| x != u[0]) || u[k - ends..].iter().any(|&x| x != u[k - 1]) {
         return Err(TubeFairError::NotClamped);
     }
+    let basis = spans::Basis::of(curve);
     let pts = &curve.points;
     let closed = pts[0] == pts[m - 1] && m > MIN_RING;
     let poly = Polygon::new(m, closed);
@@ -395,7 +394,7 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
     }
     let legs = poly.end_legs().map(|(e, s)| pts[e].dist(pts[s]));
     let setup = iterate::Setup {
-        knots: u,
+        basis,
         orig: pts,
         poly,
         pinned,
@@ -405,7 +404,7 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
     let mut out = setup.run();
     let mut peak_pass = peak::PeakPassRecord::default();
     if opts.peak_pass != PeakPass::Off {
-        let reference = guard::PeakReference::new(u, pts, opts.accuracy);
+        let reference = guard::PeakReference::new(&basis, pts, opts.accuracy);
         let movable = (0..m)
             .map(|i| {
                 // Ring point of control point i (a closed path's last is
@@ -418,7 +417,7 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
             })
             .collect();
         let pass = peak::Lowering {
-            knots: u,
+            basis,
             orig: pts,
             movable,
             radius: opts.radius,
@@ -432,7 +431,7 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         if peak_pass.moves > 0 {
             out.bound = peak_pass.deviation_bound;
             let diff = tube::difference(&out.points, pts);
-            out.sampled = tube::sampled_deviation(&diff, u, opts.precision);
+            out.sampled = tube::sampled_deviation(&diff, &basis, opts.precision);
         }
     }
     let mut faired = curve.clone();

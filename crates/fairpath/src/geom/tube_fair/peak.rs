@@ -15,7 +15,7 @@
 //!
 //! One move: take the span with the highest sampled peak
 //! ([`PeakPass::span_shape`]; of peaks equal within [`TRIAL_TIE`], the
-//! first span's); for each of its four control points that may move, try
+//! first span's); for each of its control points (four on a cubic) that may move, try
 //! moving it towards the chord of its neighbours (its bisector, as the
 //! thesis moves a ripple point, eqs. 3-23 to 3-25) by [`TRIAL_STEPS`]
 //! distances, halving from [`RIPPLE_REACH_SHARE`] of the way to that chord
@@ -39,7 +39,7 @@
 
 use super::directions::RIPPLE_REACH_SHARE;
 use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
-use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, DEGREE};
+use super::spans::{nonempty_spans, Basis, Span};
 use super::tube::deviation_bound_on;
 use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3, NARROW};
 use crate::math;
@@ -218,11 +218,11 @@ impl PeakPass {
         }
     }
 
-    /// What the pass weighs on the non-empty span `s` of the clamped cubic
-    /// (`knots`, `pts`), sampled as [`super::guard::span_peak`] samples
-    /// curvature.
-    pub fn span_shape(&self, knots: &[f64], pts: &[Vec3], s: usize) -> SpanShape {
-        self.span_shape_below(knots, pts, s, f64::INFINITY)
+    /// What the pass weighs on the non-empty span `s` of the clamped
+    /// B-spline (`basis`, `pts`), sampled as [`super::guard::span_peak`]
+    /// samples curvature.
+    pub fn span_shape(&self, basis: &Basis, pts: &[Vec3], s: usize) -> SpanShape {
+        self.span_shape_below(basis, pts, s, f64::INFINITY)
             .unwrap_or_default()
     }
 
@@ -230,13 +230,12 @@ impl PeakPass {
     /// not below `bar` (a trial that fails there needs no more samples).
     fn span_shape_below(
         &self,
-        knots: &[f64],
+        basis: &Basis,
         pts: &[Vec3],
         s: usize,
         bar: f64,
     ) -> Option<SpanShape> {
-        let b = bezier_of_span(knots, pts, s);
-        let d3 = (b[3] - b[2] * 3.0 + b[1] * 3.0 - b[0]) * 6.0;
+        let b = Span::of(basis, pts, s);
         // What each sample is compared with instead of `bar`: `k < bar`,
         // or `k / A < bar^2` and `max(k^2, |dk/ds|) / J < bar^3`.
         let (k_bar, jerk_bar, rate) = match *self {
@@ -248,7 +247,7 @@ impl PeakPass {
         let mut shape = SpanShape::default();
         // Curvature and the jerk cap's term at `tau`.
         let at = |tau: f64| {
-            let (d1, d2) = bezier_derivatives(&b, tau);
+            let (d1, d2, d3) = b.derivs3(tau);
             let k = curvature_from(d1, d2);
             let jerk_term = if rate {
                 (k * k).max(math::abs(curvature_rate(d1, d2, d3)))
@@ -286,7 +285,7 @@ impl PeakPass {
         // and of the jerk cap's term), so that a spike between samples is
         // weighed at its height.
         let between = curvature_candidates(
-            |t| bezier_derivatives(&b, t),
+            |t| b.derivs12(t),
             &taus,
             (&ks, &speeds),
             PEAK_ACCURACY,
@@ -368,7 +367,7 @@ pub struct PeakPassRecord {
 
 /// The curve the pass works on and what bounds it.
 pub(super) struct Lowering<'a> {
-    pub knots: &'a [f64],
+    pub basis: Basis<'a>,
     pub orig: &'a [Vec3],
     /// Control points the pass may move.
     pub movable: Vec<bool>,
@@ -393,20 +392,20 @@ type Entry = (u64, usize);
 impl Lowering<'_> {
     /// The non-empty spans control point `j` belongs to.
     fn spans_of(&self, j: usize) -> impl Iterator<Item = usize> + '_ {
-        let m = self.orig.len();
-        (j.max(DEGREE)..=(j + DEGREE).min(m - 1)).filter(|&s| self.knots[s] < self.knots[s + 1])
+        let (m, p, u) = (self.orig.len(), self.basis.degree, self.basis.knots);
+        (j.max(p)..=(j + p).min(m - 1)).filter(move |&s| u[s] < u[s + 1])
     }
 
     /// Lowers the peaks of `cur` (see the module documentation).
     pub fn run(&self, cur: &mut [Vec3]) -> PeakPassRecord {
-        let (knots, m) = (self.knots, self.orig.len());
-        let spans = nonempty_spans(knots, m);
+        let (basis, m) = (&self.basis, self.orig.len());
+        let spans = nonempty_spans(basis, m);
         let floor = self.measure.floor(self.floor);
         let mut peak = vec![0.0f64; m];
         let mut turning = vec![0.0f64; m];
         let mut heap: BinaryHeap<Entry> = BinaryHeap::with_capacity(spans.len());
         for &s in &spans {
-            let shape = self.measure.span_shape(knots, cur, s);
+            let shape = self.measure.span_shape(basis, cur, s);
             (peak[s], turning[s]) = (shape.demand, shape.turning);
             if peak[s].is_finite() && peak[s] > floor {
                 heap.push((peak[s].to_bits(), s));
@@ -486,9 +485,9 @@ impl Lowering<'_> {
         let m = cur.len();
         let mut trials = Vec::new();
         for len in CHORD_TRIAL_POINTS {
-            // Windows [a, a + len) meeting the span's points s - 3..=s,
+            // Windows [a, a + len) meeting the span's points s - p..=s,
             // with a point on each side.
-            let first = (s + 1).saturating_sub(DEGREE + len).max(1);
+            let first = (s + 1).saturating_sub(self.basis.degree + len).max(1);
             for a in first..=s {
                 let b = a + len; // the point after the window
                 if b >= m || !(a..b).all(|j| self.movable[j]) {
@@ -526,7 +525,7 @@ impl Lowering<'_> {
     /// moved, their new places and the new peaks of the spans they touch;
     /// `None` if no trial lowers the peak within the tube (and the guard).
     ///
-    /// The trials move one of the span's four control points, two
+    /// The trials move one of the span's control points (four on a cubic), two
     /// neighbouring ones, or all that may move, along their bisectors by
     /// one distance (each at most its own reach), inwards (flattening the
     /// points' own turns) or outwards (widening a bend whose top already
@@ -544,7 +543,7 @@ impl Lowering<'_> {
         s: usize,
         target: f64,
     ) -> Option<Move> {
-        let dirs: Vec<(usize, Vec3, f64)> = (s - DEGREE..=s)
+        let dirs: Vec<(usize, Vec3, f64)> = (s - self.basis.degree..=s)
             .filter_map(|j| self.bisector(cur, j).map(|(dv, reach)| (j, dv, reach)))
             .collect();
         let mut sets: Vec<&[(usize, Vec3, f64)]> = Vec::new();
@@ -605,7 +604,7 @@ impl Lowering<'_> {
                 let mut both: Vec<(usize, SpanShape)> = Vec::with_capacity(spans.len());
                 let mut lower = true;
                 for &t in &spans {
-                    match self.measure.span_shape_below(self.knots, cur, t, bar) {
+                    match self.measure.span_shape_below(&self.basis, cur, t, bar) {
                         Some(shape) => both.push((t, shape)),
                         None => {
                             lower = false;
@@ -638,7 +637,7 @@ impl Lowering<'_> {
                 // it (the curve's bound is their largest).
                 let bounds: Vec<f64> = spans
                     .iter()
-                    .map(|&t| deviation_bound_on(diff, self.knots, &[t], self.resolution))
+                    .map(|&t| deviation_bound_on(diff, &self.basis, &[t], self.resolution))
                     .collect();
                 for (&(j, _), &p) in moved.iter().zip(&old) {
                     diff[j] = p - self.orig[j];
@@ -748,7 +747,8 @@ mod tests {
                 Vec3::new(x, 3.0 * (-(x - 5.5) * (x - 5.5) / 4.0).exp(), 0.0)
             })
             .collect();
-        let u = knots(orig.len());
+        let knots_u = knots(orig.len());
+        let u = Basis::cubic(&knots_u);
         let m = orig.len();
         let turning = |pts: &[Vec3]| -> f64 {
             nonempty_spans(&u, m)
@@ -767,7 +767,7 @@ mod tests {
             movable[m - 1] = false;
             let reference = PeakReference::new(&u, &orig, 0.01);
             let pass = Lowering {
-                knots: &u,
+                basis: u,
                 orig: &orig,
                 movable,
                 radius: r,
@@ -804,12 +804,12 @@ mod tests {
         ];
         let d3 = (b[3] - b[2] * 3.0 + b[1] * 3.0 - b[0]) * 6.0;
         let k = |t: f64| {
-            let (d1, d2) = bezier_derivatives(&b, t);
+            let (d1, d2) = super::super::spans::bezier_derivatives(&b, t);
             curvature_from(d1, d2)
         };
         let h = 1e-6;
         for t in [0.1, 0.3, 0.5, 0.8] {
-            let (d1, d2) = bezier_derivatives(&b, t);
+            let (d1, d2) = super::super::spans::bezier_derivatives(&b, t);
             let numeric = (k(t + h) - k(t - h)) / (2.0 * h) / d1.norm();
             let exact = curvature_rate(d1, d2, d3);
             assert!(

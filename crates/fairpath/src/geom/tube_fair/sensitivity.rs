@@ -15,6 +15,11 @@
 //! (`u_3 = k_0`, `u_(j+3) = k_j`) that is `t_0 = u_3`,
 //! `t_1 = (u_3 + u_4) / 2`, `t_i = u_(i+2)`, `t_(m-2) = (u_(m-1) + u_m) / 2`,
 //! `t_(m-1) = u_m`, which is also what is used for repeated interior knots.
+//! The thesis fairs cubics; a curve of another degree `p` (ours) takes its
+//! control points' Greville abscissae `(u_(i+1) + ... + u_(i+p)) / p`
+//! (de Boor, A Practical Guide to Splines, rev. ed., chapter XI), the
+//! parameters where each control point pulls the curve most, which the
+//! thesis' choice approximates at degree 3.
 //!
 //! Move distances (eqs. 3-40, 3-41): `S_inv_i = (1 / S_i) / max_j (1 / S_j)`
 //! in `(0, 1]`, `MD_i = D_max S_inv_i`, so the least sensitive point moves
@@ -30,14 +35,20 @@
 //!   iteration (non-zero direction, not pinned): a point that stays where
 //!   it is would otherwise scale every other move down for nothing.
 
-use super::spans;
+use super::spans::{self, Basis};
 use crate::geom::Vec3;
 use alloc::vec::Vec;
 
 /// The parameter of each of the `m` control points (eqs. 3-33 to 3-37 on
-/// the full clamped knot vector, see the module documentation).
-pub fn point_parameters(knots: &[f64], m: usize) -> Vec<f64> {
-    let u = knots;
+/// the full clamped knot vector, see the module documentation; Greville's
+/// at degrees other than 3).
+pub fn point_parameters(basis: &Basis, m: usize) -> Vec<f64> {
+    let (u, p) = (basis.knots, basis.degree);
+    if p != spans::DEGREE {
+        return (0..m)
+            .map(|i| u[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+            .collect();
+    }
     (0..m)
         .map(|i| {
             if i == 0 {
@@ -57,7 +68,7 @@ pub fn point_parameters(knots: &[f64], m: usize) -> Vec<f64> {
 
 /// Eq. 3-38: `S_i = |D(t_i)| / |step_i|` for the move `step` (the control
 /// points of the difference spline, eq. 3-32), 1.0 where either is zero.
-pub fn sensitivities(step: &[Vec3], knots: &[f64], params: &[f64]) -> Vec<f64> {
+pub fn sensitivities(step: &[Vec3], basis: &Basis, params: &[f64]) -> Vec<f64> {
     step.iter()
         .zip(params)
         .map(|(s, &t)| {
@@ -65,7 +76,7 @@ pub fn sensitivities(step: &[Vec3], knots: &[f64], params: &[f64]) -> Vec<f64> {
             if moved == 0.0 {
                 return 1.0;
             }
-            let curve = spans::eval(knots, step, t).norm();
+            let curve = spans::eval(basis, step, t).norm();
             if curve > 0.0 && curve.is_finite() {
                 curve / moved
             } else {
@@ -141,9 +152,25 @@ mod tests {
     #[test]
     fn parameters_per_control_point() {
         let u = [0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0];
-        assert_eq!(point_parameters(&u, 6), vec![0.0, 0.5, 1.0, 2.0, 2.5, 3.0]);
+        let b = Basis::cubic(&u);
+        assert_eq!(point_parameters(&b, 6), vec![0.0, 0.5, 1.0, 2.0, 2.5, 3.0]);
         let u4 = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
-        assert_eq!(point_parameters(&u4, 4), vec![0.0, 0.5, 0.5, 1.0]);
+        let b4 = Basis::cubic(&u4);
+        assert_eq!(point_parameters(&b4, 4), vec![0.0, 0.5, 0.5, 1.0]);
+        // Another degree: Greville's abscissae.
+        let u5 = [0.0; 6]
+            .into_iter()
+            .chain([1.0, 2.0])
+            .chain([3.0; 6])
+            .collect::<Vec<f64>>();
+        let b5 = Basis {
+            knots: &u5,
+            degree: 5,
+            weights: None,
+        };
+        let g = point_parameters(&b5, 8);
+        assert_eq!((g[0], g[7]), (0.0, 3.0));
+        assert!((g[3] - 6.0 / 5.0).abs() < 1e-15, "{g:?}");
     }
 
     /// A lone move of an interior point on uniform knots: the curve moves
@@ -153,6 +180,7 @@ mod tests {
         let u = [0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0];
         let mut step = vec![Vec3::ZERO; 7];
         step[3] = Vec3::new(0.0, 0.3, 0.0);
+        let u = Basis::cubic(&u);
         let t = point_parameters(&u, 7);
         let s = sensitivities(&step, &u, &t);
         assert!((s[3] - 2.0 / 3.0).abs() < 1e-12, "{s:?}");

@@ -24,7 +24,7 @@
 //! project's sense (every point of the output within `R` of the original
 //! path).
 
-use super::spans::{bezier_of_span, bezier_point, nonempty_spans, split_half};
+use super::spans::{nonempty_spans, Basis, Span};
 use crate::geom::Vec3;
 use alloc::vec::Vec;
 
@@ -39,16 +39,16 @@ pub fn difference(a: &[Vec3], b: &[Vec3]) -> Vec<Vec3> {
 }
 
 /// The largest `|D(t)|` of the difference spline (control points `diff`,
-/// clamped cubic `knots`) at `precision` equal steps of every non-empty
+/// clamped on `basis`) at `precision` equal steps of every non-empty
 /// knot interval, ends included (section 3.8). A sample, not a bound: it
 /// never exceeds the true maximum, and may fall short of it.
-pub fn sampled_deviation(diff: &[Vec3], knots: &[f64], precision: usize) -> f64 {
+pub fn sampled_deviation(diff: &[Vec3], basis: &Basis, precision: usize) -> f64 {
     let mut best: f64 = 0.0;
-    for s in nonempty_spans(knots, diff.len()) {
-        let b = bezier_of_span(knots, diff, s);
+    for s in nonempty_spans(basis, diff.len()) {
+        let b = Span::of(basis, diff, s);
         for j in 0..=precision {
             let tau = j as f64 / precision as f64;
-            best = best.max(bezier_point(&b, tau).norm());
+            best = best.max(b.point(tau).norm());
         }
     }
     best
@@ -61,7 +61,7 @@ pub fn hull_bound(diff: &[Vec3]) -> f64 {
 }
 
 /// A sure upper bound of `max_t |D(t)|` over the difference spline
-/// (control points `diff`, clamped cubic `knots`) that exceeds the true
+/// (control points `diff`, clamped on `basis`) that exceeds the true
 /// maximum by at most `tol` mm (unless a span needs more than
 /// [`MAX_BOUND_DEPTH`] halvings; the result is a sure bound either way).
 ///
@@ -69,37 +69,37 @@ pub fn hull_bound(diff: &[Vec3]) -> f64 {
 /// `max_j |b_j|` is within `tol` of the largest value found on the curve
 /// so far (at piece ends and middles) cannot hold a larger maximum than
 /// that bound, and is accepted; others are halved.
-pub fn deviation_bound(diff: &[Vec3], knots: &[f64], tol: f64) -> f64 {
-    deviation_bound_on(diff, knots, &nonempty_spans(knots, diff.len()), tol)
+pub fn deviation_bound(diff: &[Vec3], basis: &Basis, tol: f64) -> f64 {
+    deviation_bound_on(diff, basis, &nonempty_spans(basis, diff.len()), tol)
 }
 
 /// [`deviation_bound`] over the non-empty knot spans `spans` only (knot
 /// indices: span `s` runs from `knots[s]` to `knots[s + 1]`): a sure bound
 /// of `|D(t)|` there, within `tol` of the largest value on them.
-pub fn deviation_bound_on(diff: &[Vec3], knots: &[f64], spans: &[usize], tol: f64) -> f64 {
-    let hull = |b: &[Vec3; 4]| b.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    let mut stack: Vec<([Vec3; 4], u32)> = Vec::with_capacity(spans.len());
+pub fn deviation_bound_on(diff: &[Vec3], basis: &Basis, spans: &[usize], tol: f64) -> f64 {
+    let mut stack: Vec<(Span, u32)> = Vec::with_capacity(spans.len());
     let mut found: f64 = 0.0;
     for &s in spans {
-        let b = bezier_of_span(knots, diff, s);
+        let b = Span::of(basis, diff, s);
+        let (first, last) = b.ends();
         found = found
-            .max(b[0].norm())
-            .max(b[3].norm())
-            .max(bezier_point(&b, 0.5).norm());
+            .max(first.norm())
+            .max(last.norm())
+            .max(b.point(0.5).norm());
         stack.push((b, 0));
     }
     let mut bound: f64 = 0.0;
     while let Some((b, depth)) = stack.pop() {
-        let h = hull(&b);
+        let h = b.hull_norm();
         if h <= found + tol || depth >= MAX_BOUND_DEPTH || !h.is_finite() {
             bound = bound.max(h);
             continue;
         }
-        let (l, r) = split_half(&b);
+        let (l, r) = b.split_half();
         found = found
-            .max(bezier_point(&l, 0.5).norm())
-            .max(bezier_point(&r, 0.5).norm())
-            .max(l[3].norm());
+            .max(l.point(0.5).norm())
+            .max(r.point(0.5).norm())
+            .max(l.ends().1.norm());
         stack.push((l, depth + 1));
         stack.push((r, depth + 1));
     }
@@ -127,10 +127,10 @@ mod tests {
             Vec3::ZERO,
         ];
         let u = knots7();
-        let dense = sampled_deviation(&diff, &u, 20_000);
-        let coarse = sampled_deviation(&diff, &u, 5);
+        let dense = sampled_deviation(&diff, &Basis::cubic(&u), 20_000);
+        let coarse = sampled_deviation(&diff, &Basis::cubic(&u), 5);
         let tol = 1e-6;
-        let bound = deviation_bound(&diff, &u, tol);
+        let bound = deviation_bound(&diff, &Basis::cubic(&u), tol);
         assert!(coarse <= dense + 1e-15);
         assert!(bound >= dense, "{bound} < {dense}");
         assert!(bound <= dense + tol + 1e-9, "{bound} vs {dense}");
@@ -140,7 +140,7 @@ mod tests {
     #[test]
     fn a_zero_difference_is_zero() {
         let diff = vec![Vec3::ZERO; 7];
-        assert_eq!(deviation_bound(&diff, &knots7(), 1e-6), 0.0);
-        assert_eq!(sampled_deviation(&diff, &knots7(), 5), 0.0);
+        assert_eq!(deviation_bound(&diff, &Basis::cubic(&knots7()), 1e-6), 0.0);
+        assert_eq!(sampled_deviation(&diff, &Basis::cubic(&knots7()), 5), 0.0);
     }
 }
