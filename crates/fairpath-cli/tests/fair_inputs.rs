@@ -507,3 +507,24 @@ fn a_rippled_g5_2_line_read_as_linuxcnc_arcs_is_faired() {
     let peak = v["peak_curvature_per_mm"].as_f64().unwrap();
     assert!(peak < 0.1 * input_peak, "peak {peak} against {input_peak}");
 }
+
+/// `nurbs-xy.ngc` (LinuxCNC's G5.2 example) at 0.25 mm and its programmed
+/// feeds: `fair`'s peak pass works up to the programmed feed, where the
+/// written program plans faster than the input (4.010 against 4.079 s
+/// when this test was written). A first version of the overridden-feed
+/// pass (`FairOptions::programmed_feeds`) took `fair`'s default
+/// objective, the machine at its maximum feed, for an override: the pass
+/// worked up to 400 mm/s at every feed and the run was kept as written.
+#[test]
+fn nurbs_xy_at_its_programmed_feeds_is_written_faster() {
+    let Some(input) = common::shared("linuxcnc-nurbs/G5/nurbs-xy.ngc") else {
+        eprintln!("skipped: ../shared/paths not found");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
+    let v = json_summary(&j);
+    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
+    assert!(t_out < t_in, "written {t_out:?} against {t_in:?}");
+}

@@ -100,7 +100,7 @@ impl SmoothOptions {
         Ok(SmoothOptions {
             budget,
             method_name: method.to_string(),
-            method: spec.smoother(Arc::new(PlannedTime::new(machine, true))),
+            method: spec.smoother(default_objective(&spec, machine, false)),
             spec: Some(spec),
             format,
             controller,
@@ -122,7 +122,7 @@ impl SmoothOptions {
         self.machine = machine;
         self.override_feed = override_feed;
         if let Some(spec) = &self.spec {
-            self.method = spec.smoother(Arc::new(PlannedTime::new(machine, true)));
+            self.method = spec.smoother(default_objective(spec, machine, override_feed));
         }
         Ok(())
     }
@@ -139,7 +139,7 @@ impl SmoothOptions {
     /// own (`auto` then ranks as [`SmoothOptions::method_for`] says); the
     /// name stays for the report.
     pub fn set_method_options(&mut self, method: Method) {
-        self.method = method.smoother(Arc::new(PlannedTime::new(self.machine, true)));
+        self.method = method.smoother(default_objective(&method, self.machine, self.override_feed));
         self.spec = Some(method);
     }
 
@@ -770,4 +770,19 @@ fn compare(
         })
         .collect();
     Ok((out, reported))
+}
+
+/// The objective a method of the registry is built with before a program
+/// is known ([`SmoothOptions::method_for`] gives `auto` the written
+/// program's): `auto` ranks by the exact curves' time at the machine's
+/// maximum feed; the others use it only for `fair`'s peak pass, which
+/// lowers the machine's demand up to each curve's programmed feed unless
+/// the user overrides the feeds (`choose::fair_on`).
+fn default_objective(
+    spec: &Method,
+    machine: MachineLimits,
+    override_feed: bool,
+) -> Arc<dyn fairpath::choose::Objective> {
+    let at_maximum_feed = override_feed || matches!(spec, Method::Auto(_));
+    Arc::new(PlannedTime::new(machine, at_maximum_feed))
 }
