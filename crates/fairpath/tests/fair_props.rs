@@ -622,19 +622,7 @@ proptest! {
         quintic in any::<bool>(),
         tol in prop_oneof![Just(0.025), Just(0.125), Just(0.25)],
     ) {
-        let c = if quintic {
-            // The same points on clamped uniform knots of degree 5.
-            let m = c.points.len().max(6);
-            let mut pts = c.points.clone();
-            pts.resize(m, *c.points.last().unwrap());
-            let mut knots = vec![0.0; 6];
-            knots.extend((1..m - 5).map(|i| i as f64));
-            knots.extend([(m - 5) as f64; 6]);
-            Nurbs::new(5, knots, pts, None).unwrap()
-        } else {
-            let weights = Some(w[..c.points.len()].to_vec());
-            Nurbs { weights, ..c }
-        };
+        let c = rational_or_quintic(c, &w, quintic);
         let run = Run::new(vec![piece(&c)]);
         let out = Fair::default().smooth_run(&run, tol).unwrap();
         let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
@@ -650,7 +638,7 @@ proptest! {
 }
 
 /// A random spline of [`random_spline`] made rational (weights 0.5 to 2)
-/// or a quintic on the same points (ours: the method beyond the thesis).
+/// or a quintic on the same points (clamped uniform knots of degree 5).
 fn rational_or_quintic(c: Nurbs, w: &[f64], quintic: bool) -> Nurbs {
     if quintic {
         let m = c.points.len().max(6);
