@@ -338,6 +338,67 @@ fn a_g6_2_program_is_written_in_g6_2_unless_a_format_is_asked() {
     assert!(s.contains("(auto, arcs for generic"), "{s}");
 }
 
+/// A generic control that runs a program's G6.2 blocks of order 6 runs
+/// order 6: the faired quintic is written as a quintic (before, held to
+/// Fanuc's cubics, it was written as arcs or kept); for `--controller
+/// fanuc` no block is above order 4.
+#[test]
+fn a_quintic_g6_2_program_is_written_back_as_quintics() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("quintic.ngc");
+    std::fs::write(&input, g6_2(6, |_| 1.0).replace("G1 Z-1 F3000", "F3000")).unwrap();
+    let out = dir.path().join("out.ngc");
+    let orders = |out: &Path| -> Vec<String> {
+        let t = std::fs::read_to_string(out).unwrap();
+        let mut o: Vec<String> = t
+            .lines()
+            .filter(|l| l.contains("G6.2") && l.contains('X'))
+            .filter_map(|l| l.split_whitespace().find(|w| w.starts_with('P')))
+            .map(str::to_string)
+            .collect();
+        o.dedup();
+        o
+    };
+    let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
+    assert_eq!(
+        orders(&out),
+        ["P6"],
+        "{}",
+        std::fs::read_to_string(&out).unwrap()
+    );
+    let v = json_summary(&j);
+    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
+    assert!(t_out < t_in, "written {t_out:?} against {t_in:?}");
+    smooth_checked(&input, &out, "0.25mm", "fair", &["--controller", "fanuc"]);
+    assert!(
+        orders(&out).iter().all(|p| p.as_str() <= "P4"),
+        "{:?}",
+        orders(&out)
+    );
+}
+
+/// `Curva_Chitarra_p1.ngc` (LinuxCNC's rational G6.2 example, order 5) at
+/// 0.125 mm: its faired curve was written as arcs for a generic control
+/// (held to Fanuc's cubics), which planned no faster than the program, so
+/// the run was kept as written (58.076 s); written as the program's own
+/// order it plans faster (57.918 s when this test was written).
+#[test]
+fn curva_chitarra_p1_is_written_faster_in_its_own_order() {
+    let Some(input) = common::shared("linuxcnc-nurbs/G6/Curva_Chitarra_p1.ngc") else {
+        eprintln!("skipped: ../shared/paths not found");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let j = smooth_checked(&input, &out, "0.125mm", "fair", &["--json-summary"]);
+    let v = json_summary(&j);
+    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
+    assert!(
+        t_out.unwrap() < 0.999 * t_in.unwrap(),
+        "written {t_out:?} against {t_in:?}"
+    );
+}
+
 /// `Curva_Farfalla_p1.ngc` (LinuxCNC's rational G6.2 example, degree 4):
 /// sampled, fitted and faired at 0.25 mm its curve had a lower peak
 /// curvature but ripples of `dk/ds` that planned it 30% slower at the

@@ -38,6 +38,9 @@ pub struct ProgramFacts {
     /// Some feed move is a NURBS (a G6.2 block, read exactly): the program
     /// is for a controller that runs them.
     pub nurbs: bool,
+    /// The highest degree of those NURBS (0 where there are none): a
+    /// controller that runs the program runs NURBS of that degree.
+    pub nurbs_degree: usize,
 }
 
 impl ProgramFacts {
@@ -77,6 +80,7 @@ impl ProgramFacts {
                 .iter()
                 .any(|l| l.interpreted && is_block_delete(&l.text)),
             nurbs: program.moves().iter().any(is_nurbs_feed),
+            nurbs_degree: program.moves().iter().map(nurbs_degree).max().unwrap_or(0),
         }
     }
 
@@ -90,6 +94,15 @@ impl ProgramFacts {
 /// Whether a move is a feed move along a NURBS ([`ProgramFacts::nurbs`]).
 pub(crate) fn is_nurbs_feed(m: &crate::Move) -> bool {
     !m.piece.rapid && matches!(m.piece.curve, fairpath::geom::Curve::Nurbs(_))
+}
+
+/// The degree of a feed move along a NURBS, 0 for any other move
+/// ([`ProgramFacts::nurbs_degree`]).
+pub(crate) fn nurbs_degree(m: &crate::Move) -> usize {
+    match &m.piece.curve {
+        fairpath::geom::Curve::Nurbs(n) if !m.piece.rapid => n.degree,
+        _ => 0,
+    }
 }
 
 /// Whether a line's text starts with the block-delete `/`.

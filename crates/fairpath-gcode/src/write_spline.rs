@@ -111,8 +111,16 @@ pub enum G6Dialect {
     /// only, so the curve must lie in `plane` (through its first point).
     /// Orders 2 to 8.
     Linuxcnc { plane: Plane, method: u8 },
-    /// Fanuc: no Q, knot-only lines as bare `K..`, 3D. Orders 2 to 4.
-    Fanuc,
+    /// Fanuc's form: no Q, knot-only lines as bare `K..`, 3D, degrees 1
+    /// to `max_degree` (Fanuc: 3, orders 2 to 4, [`G6Dialect::FANUC`]; a
+    /// generic control that runs a program of higher-order G6.2 blocks
+    /// runs that order too).
+    Fanuc { max_degree: usize },
+}
+
+impl G6Dialect {
+    /// Fanuc's G6.2: orders 2 to 4.
+    pub const FANUC: G6Dialect = G6Dialect::Fanuc { max_degree: 3 };
 }
 
 struct Fmt<'a> {
@@ -387,7 +395,7 @@ pub fn g6_2_block(
     check_options(opts)?;
     check_curve(nurbs)?;
     let max_degree = match dialect {
-        G6Dialect::Fanuc => 3,
+        G6Dialect::Fanuc { max_degree } => max_degree.min(Nurbs::MAX_DEGREE),
         G6Dialect::Linuxcnc { .. } => Nurbs::MAX_DEGREE,
     };
     if nurbs.degree > max_degree {

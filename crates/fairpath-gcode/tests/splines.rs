@@ -171,7 +171,7 @@ fn g6_2_round_trip_fanuc_3d() {
             planar(Plane::Zx, 3, true, false),
         ] {
             let text = header(c.points[0], &opts, Plane::Xy)
-                + &g6_2_block(&c, G6Dialect::Fanuc, &opts).unwrap()
+                + &g6_2_block(&c, G6Dialect::FANUC, &opts).unwrap()
                 + "G1 X0\n";
             if opts.incremental {
                 assert!(
@@ -226,11 +226,11 @@ fn g6_2_knots_are_integers_and_exact_forms_are_chosen() {
     let opts = SplineWriteOptions::default();
     // Uniform knots are written as they are: one line per control point.
     let c = planar(Plane::Xy, 3, true, false);
-    let t = g6_2_block(&c, G6Dialect::Fanuc, &opts).unwrap();
+    let t = g6_2_block(&c, G6Dialect::FANUC, &opts).unwrap();
     assert_eq!(t.lines().count(), c.points.len() + 4);
     // Knots that no affine map makes integers: Bezier spans.
     let c = curve_3d();
-    let t = g6_2_block(&c, G6Dialect::Fanuc, &opts).unwrap();
+    let t = g6_2_block(&c, G6Dialect::FANUC, &opts).unwrap();
     let spans = c.bezier_spans().len();
     assert_eq!(t.lines().count(), 3 * spans + 1 + 4);
     for l in t.lines() {
@@ -242,7 +242,7 @@ fn g6_2_knots_are_integers_and_exact_forms_are_chosen() {
         decimal_point: true,
         ..opts.clone()
     };
-    let t = g6_2_block(&planar(Plane::Xy, 2, true, false), G6Dialect::Fanuc, &o).unwrap();
+    let t = g6_2_block(&planar(Plane::Xy, 2, true, false), G6Dialect::FANUC, &o).unwrap();
     assert!(t.starts_with("G6.2 P3 K0. X0. Y0. Z3. R1.\n"), "{t}");
     assert!(t.ends_with("\nK5.\nK5.\nK5.\n"), "{t}");
     // Degree 4 is above Fanuc's order 4.
@@ -254,7 +254,7 @@ fn g6_2_knots_are_integers_and_exact_forms_are_chosen() {
         None,
     )
     .unwrap();
-    assert!(g6_2_block(&c4, G6Dialect::Fanuc, &opts).is_err());
+    assert!(g6_2_block(&c4, G6Dialect::FANUC, &opts).is_err());
 }
 
 /// A fitted cubic whose spans are equal but for a shorter last one (the
@@ -286,7 +286,7 @@ fn g6_2_design_wave_fit_with_a_short_last_span_keeps_its_control_points() {
         knot_shift_mm: shift,
         ..SplineWriteOptions::default()
     };
-    let t = g6_2_block(&c, G6Dialect::Fanuc, &opts).unwrap();
+    let t = g6_2_block(&c, G6Dialect::FANUC, &opts).unwrap();
     assert_eq!(t.lines().count(), c.points.len() + 4, "{t}");
     let ks: Vec<u64> = t
         .lines()
@@ -307,7 +307,7 @@ fn g6_2_design_wave_fit_with_a_short_last_span_keeps_its_control_points() {
         knot_shift_mm: 0.0,
         ..opts
     };
-    let t = g6_2_block(&c, G6Dialect::Fanuc, &without).unwrap();
+    let t = g6_2_block(&c, G6Dialect::FANUC, &without).unwrap();
     assert_eq!(t.lines().count(), 3 * c.bezier_spans().len() + 1 + 4);
 }
 
@@ -394,7 +394,7 @@ fn g5_2_refuses_what_it_cannot_write() {
     let mut bad = planar(Plane::Xy, 3, true, false);
     bad.points[2].x = f64::NAN;
     assert!(g5_2_blocks(&bad, Plane::Xy, &o).is_err());
-    assert!(g6_2_block(&bad, G6Dialect::Fanuc, &o).is_err());
+    assert!(g6_2_block(&bad, G6Dialect::FANUC, &o).is_err());
     let c = planar(Plane::Xy, 3, true, false);
     for o in [
         SplineWriteOptions {
@@ -407,7 +407,7 @@ fn g5_2_refuses_what_it_cannot_write() {
         },
     ] {
         assert!(g5_2_blocks(&c, Plane::Xy, &o).is_err());
-        assert!(g6_2_block(&c, G6Dialect::Fanuc, &o).is_err());
+        assert!(g6_2_block(&c, G6Dialect::FANUC, &o).is_err());
     }
 }
 
@@ -819,7 +819,7 @@ proptest! {
             knot_shift_mm: shift,
             ..SplineWriteOptions::default()
         };
-        let t = g6_2_block(&c, G6Dialect::Fanuc, &opts).unwrap();
+        let t = g6_2_block(&c, G6Dialect::FANUC, &opts).unwrap();
         let text = header(c.points[0], &opts, Plane::Xy) + &t;
         let back = nurbs_pieces(&exact(&text));
         prop_assert_eq!(back.len(), 1);

@@ -252,7 +252,7 @@ fn nurbs_become_g6_2_blocks_and_the_run_end_stays_exact() {
     let mut n2 = n.clone();
     *n2.points.last_mut().unwrap() = end;
     let o = GcodeWriteOptions {
-        nurbs: Some(NurbsBlocks::G6_2Fanuc),
+        nurbs: Some(NurbsBlocks::G6_2Fanuc { max_degree: 3 }),
         ..arcs_opts()
     };
     let (out, back) = write_one(text, vec![piece(Curve::from(n2.clone()))], &o);
@@ -574,7 +574,7 @@ fn a_comment_after_an_arc_in_another_plane_keeps_the_written_plane() {
 fn a_g6_2_block_after_a_finer_short_line_starts_where_the_line_ended() {
     let opts = GcodeWriteOptions {
         period_s: Some(1e-3),
-        nurbs: Some(NurbsBlocks::G6_2Fanuc),
+        nurbs: Some(NurbsBlocks::G6_2Fanuc { max_degree: 3 }),
         ..arcs_opts()
     };
     let (d0, _) = fairpath_gcode::output_decimals(&opts, 1.0, opts.decimals_mm);

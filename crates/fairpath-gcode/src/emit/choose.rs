@@ -28,7 +28,7 @@ pub struct Chosen {
 
 /// The renderings of `em`'s runs (`original` the program's own).
 pub(super) fn choose(em: &Emitter, original: &[Run]) -> Result<Chosen> {
-    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
+    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, &em.forms[..], &em.opts);
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
     // A run smoothed into itself (method `none`) is written as the program
     // wrote it: no rendering could say it more exactly, and its own times
@@ -80,7 +80,7 @@ pub(super) fn choose_run(
     own: &[f64],
     stream: bool,
 ) -> Result<Choice> {
-    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, em.forms, &em.opts);
+    let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, &em.forms[..], &em.opts);
     let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     let mut best: Option<(f64, Choice)> = None;

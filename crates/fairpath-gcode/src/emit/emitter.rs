@@ -98,7 +98,7 @@ pub(super) struct Emitter<'a> {
     pub(super) opts: EmitOptions,
     pub(super) wo: GcodeWriteOptions,
     /// The forms the format can say, in the order they are tried.
-    pub(super) forms: &'static [CurveForm],
+    pub(super) forms: Vec<CurveForm>,
     /// The feeds a rendering must be faster at than the program's own run:
     /// the machine's maximum (`true`), then the programmed ones unless
     /// feeds are overridden.
@@ -130,7 +130,7 @@ impl<'a> Emitter<'a> {
                 .map_err(EmitError::Blend)?,
             ..*opts
         };
-        let mut wo = write_options(&opts);
+        let mut wo = write_options(&opts, facts.nurbs_degree);
         wo.arcs = wo.arcs.map(|_| facts.arc_words);
         Ok(Emitter {
             program,
@@ -140,7 +140,7 @@ impl<'a> Emitter<'a> {
             memo_units: facts.render_units(),
             lazy: (0..smoothed.len()).map(|_| OnceLock::new()).collect(),
             given: Vec::new(),
-            forms: forms(opts.format, opts.controller),
+            forms: forms(opts.format, opts.controller, facts.nurbs_degree),
             feeds: if opts.override_feed {
                 vec![true]
             } else {

@@ -668,7 +668,7 @@ mod tests {
                 assert_eq!(b.smoothing(), o.budget.smoothing());
                 assert!((b.output + b.blend - o.budget.output).abs() < 1e-15);
                 assert_eq!(
-                    write_options(&EmitOptions { budget: b, ..o }).g64_blend_mm,
+                    write_options(&EmitOptions { budget: b, ..o }, 0).g64_blend_mm,
                     Some(b.blend)
                 );
             }

@@ -29,6 +29,7 @@ pub(super) struct FactsAcc {
     rapids: usize,
     block_delete: bool,
     nurbs: bool,
+    nurbs_degree: usize,
 }
 
 impl FactsAcc {
@@ -56,6 +57,8 @@ impl FactsAcc {
         self.moves += moves.len();
         self.rapids += moves.iter().filter(|m| m.piece.rapid).count();
         self.nurbs |= moves.iter().any(crate::facts::is_nurbs_feed);
+        let degree = moves.iter().map(crate::facts::nurbs_degree).max();
+        self.nurbs_degree = self.nurbs_degree.max(degree.unwrap_or(0));
         self.uses_r |=
             moves.iter().any(|m| m.kind == MoveKind::Arc) && words.iter().any(|w| w.letter == 'R');
         if breaks_run {
@@ -117,5 +120,6 @@ pub fn read_facts(text: &[u8], opts: &ParseOptions) -> Result<Option<ProgramFact
         passthrough: core::mem::take(&mut r.st.passthrough),
         block_delete: f.block_delete,
         nurbs: f.nurbs,
+        nurbs_degree: f.nurbs_degree,
     }))
 }

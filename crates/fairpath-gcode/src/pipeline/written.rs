@@ -35,23 +35,44 @@ pub const PLANAR_MM: f64 = 1e-9;
 /// Highest degree of Fanuc's G6.2 (order 4).
 pub const FANUC_MAX_DEGREE: usize = 3;
 
-/// G6.2 as Fanuc reads it: up to cubics, in any plane or in 3D.
-const FANUC_NURBS: NurbsLimits = NurbsLimits {
-    max_degree: FANUC_MAX_DEGREE,
-    planar_mm: None,
-    xy_only: false,
-    linuxcnc_g5_2: false,
-};
+/// G6.2 as Fanuc-style blocks: up to degree `max_degree`, in any plane or
+/// in 3D.
+fn fanuc_nurbs(max_degree: usize) -> NurbsLimits {
+    NurbsLimits {
+        max_degree,
+        planar_mm: None,
+        xy_only: false,
+        linuxcnc_g5_2: false,
+    }
+}
+
+/// Highest degree of the G6.2 blocks written for `controller` when the
+/// program's own NURBS are of degree up to `program_degree` (0: none):
+/// Fanuc's 3 (orders 2 to 4) for Fanuc, LinuxCNC's 7, and for a generic
+/// control 3 or the program's own degree, which the control it was
+/// written for runs. (LinuxCNC's G6.2 examples are of orders 5 and 6: held
+/// to cubics, their faired curves were written as arcs, which planned
+/// slower than the program, and every run was kept as written.)
+pub fn g6_2_max_degree(controller: Controller, program_degree: usize) -> usize {
+    match controller {
+        Controller::Fanuc => FANUC_MAX_DEGREE,
+        Controller::Linuxcnc => Nurbs::MAX_DEGREE,
+        Controller::Generic => program_degree.clamp(FANUC_MAX_DEGREE, Nurbs::MAX_DEGREE),
+    }
+}
 
 /// The forms a run's curves can be rendered in for `format` on
 /// `controller`, in the order the writer tries them (none for JSON, which
-/// writes the curves as they are).
-pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
+/// writes the curves as they are); `program_degree` is the highest degree
+/// of the program's own NURBS ([`crate::ProgramFacts::nurbs_degree`],
+/// [`g6_2_max_degree`]).
+pub fn forms(format: Format, controller: Controller, program_degree: usize) -> Vec<CurveForm> {
+    let g6 = fanuc_nurbs(g6_2_max_degree(controller, program_degree));
     match format {
-        Format::Json => &[],
-        Format::G1 => &[CurveForm::Lines],
-        Format::Arcs => &[CurveForm::Arcs, CurveForm::Lines],
-        Format::G5_2 => &[
+        Format::Json => vec![],
+        Format::G1 => vec![CurveForm::Lines],
+        Format::Arcs => vec![CurveForm::Arcs, CurveForm::Lines],
+        Format::G5_2 => vec![
             CurveForm::Nurbs(NurbsLimits {
                 max_degree: Nurbs::MAX_DEGREE,
                 planar_mm: Some(PLANAR_MM),
@@ -60,21 +81,17 @@ pub fn forms(format: Format, controller: Controller) -> &'static [CurveForm] {
             }),
             CurveForm::Arcs,
         ],
-        Format::G6_2 if controller == Controller::Linuxcnc => &[CurveForm::Nurbs(NurbsLimits {
+        Format::G6_2 if controller == Controller::Linuxcnc => vec![CurveForm::Nurbs(NurbsLimits {
             max_degree: Nurbs::MAX_DEGREE,
             planar_mm: Some(PLANAR_MM),
             xy_only: false,
             linuxcnc_g5_2: false,
         })],
-        Format::G6_2 if controller == Controller::Fanuc => &[CurveForm::Nurbs(FANUC_NURBS)],
+        Format::G6_2 if controller == Controller::Fanuc => vec![CurveForm::Nurbs(g6)],
         // A generic control that runs G6.2 runs arcs and lines too: each
         // run gets the form that plans fastest (a fairing of a zigzag of
         // lines written as a degree-1 G6.2 plans faster as G1).
-        Format::G6_2 => &[
-            CurveForm::Nurbs(FANUC_NURBS),
-            CurveForm::Arcs,
-            CurveForm::Lines,
-        ],
+        Format::G6_2 => vec![CurveForm::Nurbs(g6), CurveForm::Arcs, CurveForm::Lines],
     }
 }
 
@@ -95,7 +112,7 @@ pub fn objective_for(
     memo: Option<Arc<super::RenderMemo>>,
 ) -> Arc<dyn Objective> {
     let exact = || Arc::new(PlannedTime::new(opts.machine, true)) as Arc<dyn Objective>;
-    let forms = forms(opts.format, opts.controller);
+    let forms = forms(opts.format, opts.controller, facts.nurbs_degree);
     let Ok(budget) = opts.budget_for_blending(&facts.blending) else {
         return exact();
     };
@@ -103,7 +120,7 @@ pub fn objective_for(
         return exact();
     }
     let opts = &EmitOptions { budget, ..*opts };
-    let wo = write_options(opts);
+    let wo = write_options(opts, facts.nurbs_degree);
     let units = facts.render_units();
     // Not the all-G1 alternative the writer also tries where arcs fell
     // back to lines: it rarely wins (`docs/tuning.md`) and would double
@@ -121,8 +138,9 @@ pub fn objective_for(
 }
 
 /// The writer's options for `opts` (arcs in IJK form; [`crate::emit::emit`] writes R
-/// when the program does).
-pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
+/// when the program does) for a program whose own NURBS are of degree up
+/// to `program_degree` ([`g6_2_max_degree`]).
+pub fn write_options(opts: &EmitOptions, program_degree: usize) -> GcodeWriteOptions {
     let blend = opts.budget.blend;
     GcodeWriteOptions {
         chord_mm: opts.budget.output,
@@ -130,7 +148,9 @@ pub fn write_options(opts: &EmitOptions) -> GcodeWriteOptions {
         nurbs: match (opts.format, opts.controller) {
             (Format::G5_2, _) => Some(NurbsBlocks::G5_2),
             (Format::G6_2, Controller::Linuxcnc) => Some(NurbsBlocks::G6_2Linuxcnc),
-            (Format::G6_2, _) => Some(NurbsBlocks::G6_2Fanuc),
+            (Format::G6_2, c) => Some(NurbsBlocks::G6_2Fanuc {
+                max_degree: g6_2_max_degree(c, program_degree),
+            }),
             _ => None,
         },
         // The input's own style adds to this (NumberStyle::of).
@@ -183,5 +203,37 @@ pub fn render_options(
         min_radius: MIN_ARC_RADIUS_MM,
         step_share: opts.step_share,
         min_arc_length: MIN_ARC_UNITS * 10f64.powi(-(decimals as i32)) * scale,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn g6_degree(forms: &[CurveForm]) -> Option<usize> {
+        forms.iter().find_map(|f| match f {
+            CurveForm::Nurbs(l) => Some(l.max_degree),
+            _ => None,
+        })
+    }
+
+    #[test]
+    fn a_generic_control_writes_the_programs_own_nurbs_degree() {
+        let g = Controller::Generic;
+        for (program, want) in [
+            (0, 3),
+            (2, 3),
+            (3, 3),
+            (4, 4),
+            (5, 5),
+            (99, Nurbs::MAX_DEGREE),
+        ] {
+            assert_eq!(g6_2_max_degree(g, program), want, "{program}");
+            assert_eq!(g6_degree(&forms(Format::G6_2, g, program)), Some(want));
+        }
+        // Fanuc is held to its orders 2 to 4, LinuxCNC reads up to 7.
+        assert_eq!(g6_2_max_degree(Controller::Fanuc, 5), FANUC_MAX_DEGREE);
+        assert_eq!(g6_2_max_degree(Controller::Linuxcnc, 0), Nurbs::MAX_DEGREE);
+        assert_eq!(g6_degree(&forms(Format::Arcs, g, 5)), None);
     }
 }

@@ -234,7 +234,7 @@ impl RunWriter<'_> {
         let kind = self.opts.nurbs.expect("called with NURBS blocks on");
         let feed_text = self.due_feed(feed);
         let decimals = match kind {
-            NurbsBlocks::G6_2Fanuc => self.spline_decimals(&n.points),
+            NurbsBlocks::G6_2Fanuc { .. } => self.spline_decimals(&n.points),
             // In LinuxCNC's plane, within half a unit of the run's last
             // decimal (`write_spline`'s plane check).
             NurbsBlocks::G6_2Linuxcnc | NurbsBlocks::G5_2 => self.decimals,
@@ -248,7 +248,7 @@ impl RunWriter<'_> {
         // plane, so there the point moves only within it.
         let (start, start_decimals) = match kind {
             NurbsBlocks::G5_2 => (None, None),
-            NurbsBlocks::G6_2Fanuc => self.start_of(n.points[0], decimals),
+            NurbsBlocks::G6_2Fanuc { .. } => self.start_of(n.points[0], decimals),
             NurbsBlocks::G6_2Linuxcnc => {
                 let (s, d) = self.start_of(n.points[0], decimals);
                 let tol = 0.5 * 10f64.powi(-(self.decimals as i32)) * self.scale;
@@ -292,7 +292,9 @@ impl RunWriter<'_> {
             .ok_or_else(|| WriteError::SplineCurve("the curve is in no principal plane".into()))
         };
         let text = match kind {
-            NurbsBlocks::G6_2Fanuc => g6_2_block(n, G6Dialect::Fanuc, &so)?,
+            NurbsBlocks::G6_2Fanuc { max_degree } => {
+                g6_2_block(n, G6Dialect::Fanuc { max_degree }, &so)?
+            }
             NurbsBlocks::G6_2Linuxcnc => {
                 let plane = plane()?;
                 self.select_plane(plane);
@@ -319,7 +321,7 @@ impl RunWriter<'_> {
         self.finest = self.finest.max(decimals);
         self.first_move = false;
         self.motion = Some(match kind {
-            NurbsBlocks::G6_2Fanuc => MotionMode::NurbsG6,
+            NurbsBlocks::G6_2Fanuc { .. } => MotionMode::NurbsG6,
             NurbsBlocks::G6_2Linuxcnc => MotionMode::Linear,
             NurbsBlocks::G5_2 => MotionMode::Nurbs,
         });

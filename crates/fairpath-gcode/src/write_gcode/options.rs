@@ -4,8 +4,9 @@
 /// How NURBS pieces are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NurbsBlocks {
-    /// Fanuc-style G6.2 blocks (3D, orders 2 to 4).
-    G6_2Fanuc,
+    /// Fanuc-style G6.2 blocks (3D) of degrees up to `max_degree`
+    /// (Fanuc: 3, orders 2 to 4; see `pipeline::written::g6_2_max_degree`).
+    G6_2Fanuc { max_degree: usize },
     /// LinuxCNC master's G6.2 blocks (in the plane the curve lies in).
     G6_2Linuxcnc,
     /// LinuxCNC G5.2/G5.3 blocks (in the plane the curve lies in).

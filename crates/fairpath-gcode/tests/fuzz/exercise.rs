@@ -214,7 +214,7 @@ fn write_options() -> Vec<GcodeWriteOptions> {
         });
     }
     for nurbs in [
-        NurbsBlocks::G6_2Fanuc,
+        NurbsBlocks::G6_2Fanuc { max_degree: 3 },
         NurbsBlocks::G6_2Linuxcnc,
         NurbsBlocks::G5_2,
     ] {
