@@ -251,6 +251,9 @@ fn gcode_output_reread_matches_json_geometry_within_chord() {
     );
 }
 
+/// The default job (`auto`) at 0.05 mm: which lines pass through does not
+/// depend on the tolerance, and `auto` at 0.01 mm on `LHchips4.ngc` and
+/// `Cereal.ngc` made this the second slowest test of `.ci/run` (200 s).
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn passthrough_is_lossless_on_real_linuxcnc_programs() {
@@ -265,7 +268,7 @@ fn passthrough_is_lossless_on_real_linuxcnc_programs() {
         };
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("o.ngc");
-        let o = smooth(&input, &out, "0.01mm", &[]);
+        let o = smooth(&input, &out, "0.05mm", &[]);
         assert_ok(&o, rel);
         let program = fairpath_gcode::parse(&std::fs::read(&input).unwrap()).unwrap();
         // Every line that is not a feed move of a run appears in the output,

@@ -25,13 +25,19 @@ fn shared(rel: &str) -> Option<PathBuf> {
     p.is_file().then_some(p)
 }
 
+/// The thesis machine, corners of the original blended within the
+/// tolerance.
+fn machine() -> MachineLimits {
+    MachineLimits {
+        junction_deviation: TOL,
+        ..MachineLimits::thesis()
+    }
+}
+
 fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
     let opts = CompareOptions {
         tolerance: TOL,
-        machine: MachineLimits {
-            junction_deviation: TOL,
-            ..MachineLimits::thesis()
-        },
+        machine: machine(),
         methods: methods.iter().map(|m| m.to_string()).collect(),
         override_feed: true,
         // The curves alone: this targets are on them.
@@ -47,18 +53,60 @@ fn rows(path: &Path, methods: &[&str]) -> Vec<Row> {
     rows
 }
 
-/// Corners `auto` keeps on the program at `path`: reversals, and corners
-/// next to arcs where it fell back to the corner methods on the curves as
-/// written (every G2 candidate planned no faster than the run as the
-/// program wrote it, which the writer would have kept); their numbers.
-fn kept_corners(path: &Path) -> (usize, usize) {
+/// One method's curves of a program as `compare` makes them (its options,
+/// the machine of [`rows`], every feed at the maximum), verified, with
+/// their planned time and joint counts: what [`rows`] gives for it,
+/// without `compare`'s lower bounds, and with the runs kept for the
+/// corners they keep (a second smoothing of them by `auto` had made
+/// `auto_meets_the_dense_targets` the slowest test of `.ci/run`).
+struct Smoothed {
+    time: f64,
+    joints: [usize; 4],
+    result: fairpath::pipeline::SmoothResult,
+}
+
+fn smoothed(path: &Path, program: &fairpath_gcode::Program, method: &str) -> Smoothed {
+    use fairpath_cli::{Controller, Format};
+    use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases};
+    let mut so =
+        fairpath_cli::smooth::options(TOL, None, method, Some(Format::Json), Controller::Generic)
+            .unwrap();
+    so.set_machine(machine(), true).unwrap();
+    let result = smooth_curves(program, &so, &mut Phases::new())
+        .unwrap_or_else(|e| panic!("{}: {method}: {e}", path.display()));
+    let (times, _) = plan_curves(program, &result, &so).unwrap();
+    let mut joints = [0; 4];
+    let budget = so.budget().smoothing();
+    for r in &result.runs {
+        assert!(r.report.within(budget), "{}: {method}", path.display());
+        assert!(
+            r.report.max_deviation <= TOL,
+            "{}: {method}",
+            path.display()
+        );
+        for (j, c) in joints.iter_mut().zip(r.report.joint_counts()) {
+            *j += c;
+        }
+    }
+    assert_eq!(joints[0], 0, "{}: {method} has gaps", path.display());
+    Smoothed {
+        time: times.total,
+        joints,
+        result,
+    }
+}
+
+/// Corners `auto` kept in `result` (the program at `path`): reversals, and
+/// corners next to arcs where it fell back to the corner methods on the
+/// curves as written (every G2 candidate planned no faster than the run as
+/// the program wrote it, which the writer would have kept); their numbers.
+fn kept_corners(path: &Path, result: &fairpath::pipeline::SmoothResult) -> (usize, usize) {
     use fairpath::choose::{keeps_arc_joints, Auto, KEEP_MARGIN};
     use fairpath::feed::plan::{plan_run, PlanOptions};
-    use fairpath::smooth::{CornerReason, Smoother};
-    let program = fairpath_cli::read::read_program(path).unwrap();
+    use fairpath::smooth::CornerReason;
     let planned = |p: &[fairpath::path::Piece]| {
         let opts = PlanOptions {
-            limits: MachineLimits::thesis(),
+            limits: machine(),
             override_feed: true,
             window: None,
             ends: Default::default(),
@@ -66,11 +114,10 @@ fn kept_corners(path: &Path) -> (usize, usize) {
         plan_run(p, &opts).unwrap().time
     };
     let (mut reversals, mut arc_joints) = (0, 0);
-    for run in program.runs() {
-        let auto = Auto::default();
-        let out = auto.smooth_run(&run, TOL * 0.9).unwrap();
+    for r in &result.runs {
+        let out = &r.smoothed;
         for k in &out.kept_corners {
-            if k.reason == CornerReason::ArcJoint && keeps_arc_joints(&out) {
+            if k.reason == CornerReason::ArcJoint && keeps_arc_joints(out) {
                 arc_joints += 1;
                 continue;
             }
@@ -82,14 +129,14 @@ fn kept_corners(path: &Path) -> (usize, usize) {
             );
             reversals += 1;
         }
-        if keeps_arc_joints(&out) {
-            let g2 = auto
-                .candidates(&run, TOL * 0.9)
+        if keeps_arc_joints(out) {
+            let g2 = Auto::default()
+                .candidates(&r.original, TOL * 0.9)
                 .unwrap()
                 .iter()
                 .map(|(_, c)| planned(&c.pieces))
                 .fold(f64::INFINITY, f64::min);
-            let own = planned(&run.pieces);
+            let own = planned(&r.original.pieces);
             assert!(
                 g2 * (1.0 + KEEP_MARGIN) > own,
                 "{}: fell back where G2 plans {g2} s, the run {own} s",
@@ -151,12 +198,21 @@ fn auto_meets_the_dense_targets() {
         // through corners was lightened (THROUGH_JERK_FAIRNESS: 0.691).
         "linuxcnc/performance/test_12mmflat.ngc",
     ];
-    for_each_found(&programs, &["bspline-corner", "auto"], |rel, path, rows| {
-        let (orig, corner, auto) = (
-            time(rows, "original"),
-            time(rows, "bspline-corner"),
-            time(rows, "auto"),
-        );
+    let found: Vec<(&str, PathBuf)> = programs
+        .iter()
+        .filter_map(|&rel| shared(rel).map(|p| (rel, p)))
+        .collect();
+    fairpath::pipeline::par_map(found.len(), |i| {
+        let (rel, path) = (found[i].0, found[i].1.as_path());
+        let program = fairpath_cli::read::read_program(path).unwrap();
+        let runs = program.runs();
+        let orig =
+            fairpath::feed::program::simulate(&program.motions(&runs), &machine(), true, None)
+                .unwrap()
+                .time();
+        let corner = smoothed(path, &program, "bspline-corner").time;
+        let a = smoothed(path, &program, "auto");
+        let auto = a.time;
         println!(
             "{rel}: original {orig:.2} s, bspline-corner {corner:.2} s, auto {auto:.2} s ({:.3}, {:.3})",
             auto / orig,
@@ -165,8 +221,7 @@ fn auto_meets_the_dense_targets() {
         // G2: the only corners are reversals (a plunge straight back up:
         // no curve turns there inside the band), and those next to arcs
         // where `auto` fell back to the curves as written.
-        let a = rows.iter().find(|r| r.method == "auto").unwrap();
-        let (reversals, arc_joints) = kept_corners(path);
+        let (reversals, arc_joints) = kept_corners(path, &a.result);
         println!("{rel}: {reversals} reversals, {arc_joints} corners next to arcs");
         assert!(a.joints[1] >= reversals, "{rel}: {:?}", a.joints);
         assert!(
@@ -180,6 +235,7 @@ fn auto_meets_the_dense_targets() {
             "{rel}: {auto} vs bspline-corner {corner}"
         );
     });
+    println!("{} of {} programs found", found.len(), programs.len());
 }
 
 /// Regression: `synthetic/noisy-line.ngc` (one run of lines, a straight

@@ -145,12 +145,12 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
     // methods use one core each).
     // The benchmark's input is left out (the small raster covers the same
     // shape), and each text is run once.
-    let files = common::distinct_texts(
+    let files = common::largest_first(common::distinct_texts(
         files
             .into_iter()
             .filter(|f| !f.ends_with("surface-raster-large.ngc"))
             .collect(),
-    );
+    ));
     let results: Vec<Result<(), String>> =
         fairpath::pipeline::par_map(files.len(), |i| check_program(&files[i]));
     let smoothed_files = results.iter().filter(|r| r.is_ok()).count();

@@ -54,4 +54,4 @@ pub fn auto_small_tol_skipped(p: &Path) -> bool {
 #[path = "../../../fairpath-gcode/tests/common/distinct.rs"]
 mod distinct;
 #[allow(unused_imports)]
-pub use distinct::distinct_texts;
+pub use distinct::{distinct_texts, largest_first};
