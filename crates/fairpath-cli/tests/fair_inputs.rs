@@ -45,6 +45,31 @@ fn json_summary(printed: &str) -> serde_json::Value {
     serde_json::from_str(printed[start..].trim()).unwrap()
 }
 
+/// `fair` at `tol` on the shared program `rel` with `extra` arguments (and
+/// `--json-summary`), checked: the summary, or `None` where the shared
+/// programs are absent (the test then skips).
+fn fair_shared(rel: &str, tol: &str, extra: &[&str]) -> Option<serde_json::Value> {
+    let Some(input) = common::shared(rel) else {
+        eprintln!("skipped: ../shared/paths not found");
+        return None;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let mut args = extra.to_vec();
+    args.push("--json-summary");
+    Some(json_summary(&smooth_checked(
+        &input, &out, tol, "fair", &args,
+    )))
+}
+
+/// The input's and the written program's planned times in a summary.
+fn times(v: &serde_json::Value) -> (f64, f64) {
+    (
+        v["input_time_s"].as_f64().unwrap(),
+        v["written_time_s"].as_f64().unwrap(),
+    )
+}
+
 /// The peak curvature `smooth` prints for the curves (0 for none).
 fn peak(summary: &str) -> f64 {
     let line = summary
@@ -384,19 +409,12 @@ fn a_quintic_g6_2_program_is_written_back_as_quintics() {
 /// order it plans faster (57.918 s when this test was written).
 #[test]
 fn curva_chitarra_p1_is_written_faster_in_its_own_order() {
-    let Some(input) = common::shared("linuxcnc-nurbs/G6/Curva_Chitarra_p1.ngc") else {
-        eprintln!("skipped: ../shared/paths not found");
+    let rel = "linuxcnc-nurbs/G6/Curva_Chitarra_p1.ngc";
+    let Some(v) = fair_shared(rel, "0.125mm", &[]) else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.ngc");
-    let j = smooth_checked(&input, &out, "0.125mm", "fair", &["--json-summary"]);
-    let v = json_summary(&j);
-    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
-    assert!(
-        t_out.unwrap() < 0.999 * t_in.unwrap(),
-        "written {t_out:?} against {t_in:?}"
-    );
+    let (t_in, t_out) = times(&v);
+    assert!(t_out < 0.999 * t_in, "written {t_out} against {t_in}");
 }
 
 /// `Curva_Farfalla_p1.ngc` (LinuxCNC's rational G6.2 example, degree 4):
@@ -436,20 +454,12 @@ fn curva_farfalla_p1_rational_curve_is_faired_with_its_weights() {
 /// every G5.2 program as it was.
 #[test]
 fn trident_xy_g5_2_arcs_are_sampled_and_faired() {
-    let Some(input) = common::shared("linuxcnc-nurbs/G5/trident-xy.ngc") else {
-        eprintln!("skipped: ../shared/paths not found");
+    let Some(v) = fair_shared("linuxcnc-nurbs/G5/trident-xy.ngc", "0.125mm", &[]) else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.ngc");
-    let j = smooth_checked(&input, &out, "0.125mm", "fair", &["--json-summary"]);
-    let v = json_summary(&j);
     assert_eq!(v["not_faired"], serde_json::json!([]), "{v}");
-    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
-    assert!(
-        t_out.unwrap() < 0.995 * t_in.unwrap(),
-        "written {t_out:?} against {t_in:?}"
-    );
+    let (t_in, t_out) = times(&v);
+    assert!(t_out < 0.995 * t_in, "written {t_out} against {t_in}");
 }
 
 /// The highest curvature of the NURBS in a JSON output of `smooth`, each
@@ -578,14 +588,9 @@ fn a_rippled_g5_2_line_read_as_linuxcnc_arcs_is_faired() {
 /// worked up to 400 mm/s at every feed and the run was kept as written.
 #[test]
 fn nurbs_xy_at_its_programmed_feeds_is_written_faster() {
-    let Some(input) = common::shared("linuxcnc-nurbs/G5/nurbs-xy.ngc") else {
-        eprintln!("skipped: ../shared/paths not found");
+    let Some(v) = fair_shared("linuxcnc-nurbs/G5/nurbs-xy.ngc", "0.25mm", &[]) else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.ngc");
-    let j = smooth_checked(&input, &out, "0.25mm", "fair", &["--json-summary"]);
-    let v = json_summary(&j);
-    let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
-    assert!(t_out < t_in, "written {t_out:?} against {t_in:?}");
+    let (t_in, t_out) = times(&v);
+    assert!(t_out < t_in, "written {t_out} against {t_in}");
 }
