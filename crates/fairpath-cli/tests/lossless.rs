@@ -162,8 +162,10 @@ fn losses(input: &str, output: &str) -> Vec<String> {
 }
 
 /// The program to smooth for `path`: itself, or its first lines (see
-/// [`SAMPLE_LINES`]) in `dir`.
-fn sample(path: &Path, program: &fairpath_gcode::Program, dir: &Path) -> PathBuf {
+/// [`SAMPLE_LINES`]) in `dir`, in a file named after `rel` (the corpus
+/// holds programs of one name in several folders, e.g. two texts of
+/// `blur_torus.ngc`, which the workers may sample at the same time).
+fn sample(path: &Path, rel: &str, program: &fairpath_gcode::Program, dir: &Path) -> PathBuf {
     let lines = program.lines();
     if lines.len() <= SAMPLE_LINES {
         return path.to_path_buf();
@@ -177,8 +179,7 @@ fn sample(path: &Path, program: &fairpath_gcode::Program, dir: &Path) -> PathBuf
         text.push_str(&l.text);
         text.push_str(l.ending);
     }
-    let name = path.file_name().unwrap();
-    let to = dir.join(format!("sample-{}", name.to_string_lossy()));
+    let to = dir.join(format!("sample-{}", rel.replace('/', "_")));
     std::fs::write(&to, text).unwrap();
     to
 }
@@ -214,7 +215,7 @@ fn smooth_and_compare(path: &Path, rel: &str, dir: &Path, new_mode: u32) -> Opti
         // Rejected (or nothing to smooth): not this test's business.
         _ => return None,
     };
-    let input = sample(path, &program, dir);
+    let input = sample(path, rel, &program, dir);
     let out = dir.join(format!("{}.out.ngc", rel.replace('/', "_")));
     let r = bin()
         .arg("smooth")
