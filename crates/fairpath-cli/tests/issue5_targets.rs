@@ -151,10 +151,11 @@ fn time(rows: &[Row], method: &str) -> f64 {
     rows.iter().find(|r| r.method == method).unwrap().time
 }
 
-/// Compares `methods` on each of `programs` that is found under
-/// `../shared/paths` and hands its rows to `check`, the programs on every
-/// core (`fairpath::pipeline::par_map`); prints how many were found.
-fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Path, &[Row]) + Sync) {
+/// Hands each of `programs` that is found under `../shared/paths` to
+/// `check` with its path, the programs on every core
+/// (`fairpath::pipeline::par_map`); prints which were not found and how
+/// many were.
+fn for_each_path(programs: &[&str], check: impl Fn(&str, &Path) + Sync) {
     let found: Vec<(&str, PathBuf)> = programs
         .iter()
         .filter_map(|&rel| {
@@ -165,11 +166,14 @@ fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Pat
             path.map(|p| (rel, p))
         })
         .collect();
-    fairpath::pipeline::par_map(found.len(), |i| {
-        let (rel, path) = &found[i];
-        check(rel, path, &rows(path, methods));
-    });
+    fairpath::pipeline::par_map(found.len(), |i| check(found[i].0, &found[i].1));
     println!("{} of {} programs found", found.len(), programs.len());
+}
+
+/// Compares `methods` on each of `programs` that is found and hands its
+/// rows to `check` ([`for_each_path`]).
+fn for_each_found(programs: &[&str], methods: &[&str], check: impl Fn(&str, &Path, &[Row]) + Sync) {
+    for_each_path(programs, |rel, path| check(rel, path, &rows(path, methods)));
 }
 
 #[test]
@@ -198,12 +202,7 @@ fn auto_meets_the_dense_targets() {
         // through corners was lightened (THROUGH_JERK_FAIRNESS: 0.691).
         "linuxcnc/performance/test_12mmflat.ngc",
     ];
-    let found: Vec<(&str, PathBuf)> = programs
-        .iter()
-        .filter_map(|&rel| shared(rel).map(|p| (rel, p)))
-        .collect();
-    fairpath::pipeline::par_map(found.len(), |i| {
-        let (rel, path) = (found[i].0, found[i].1.as_path());
+    for_each_path(&programs, |rel, path| {
         let program = fairpath_cli::read::read_program(path).unwrap();
         let runs = program.runs();
         let orig =
@@ -235,7 +234,6 @@ fn auto_meets_the_dense_targets() {
             "{rel}: {auto} vs bspline-corner {corner}"
         );
     });
-    println!("{} of {} programs found", found.len(), programs.len());
 }
 
 /// Regression: `synthetic/noisy-line.ngc` (one run of lines, a straight
