@@ -1,8 +1,8 @@
 //! Every program in ../shared/paths (each distinct text once) reads (or
 //! fails with a clear unsupported-feature error naming a line and column)
 //! and smooths, by
-//! every method, within 0.01 mm (`auto` on all but the dearest six,
-//! `fair` on programs up to 45 kB) and 0.05 mm, G2 at every joint but kept
+//! every method, within 0.01 mm (`auto` and `fair` on programs up to 45
+//! kB, `auto` not on a few dear ones) and 0.05 mm, G2 at every joint but kept
 //! corners, endpoints exact; `auto` keeps no joint next to an arc but
 //! with the corner methods on the curves as written (its fallback where
 //! every G2 candidate would leave the run as written).
@@ -57,75 +57,85 @@ const AUTO_SMALL_TOL_MAX_BYTES: usize = 45_000;
 /// 0.05 mm, and every smaller program both.
 const FAIR_SMALL_TOL_MAX_BYTES: usize = 45_000;
 
-/// Reads `f` and smooths every run of it by every method at 0.01 and 0.05
-/// mm (`auto` at 0.01 mm only up to [`AUTO_SMALL_TOL_MAX_BYTES`] and not
-/// on [`common::AUTO_SMALL_TOL_SKIPPED`]),
-/// checking each result (panics on a failure); `Err` with the error where
-/// the program is refused (an error naming the line and column).
-fn check_program(f: &Path) -> Result<(), String> {
+/// Whether `method` at `tol` is run on a program of `bytes` bytes at `f`
+/// (`auto` at 0.01 mm only up to [`AUTO_SMALL_TOL_MAX_BYTES`] and not on
+/// [`common::AUTO_SMALL_TOL_SKIPPED`], `fair` at 0.01 mm only up to
+/// [`FAIR_SMALL_TOL_MAX_BYTES`]).
+fn is_run(method: &str, tol: f64, bytes: usize, f: &Path) -> bool {
+    !(tol < 0.05
+        && match method {
+            "auto" => bytes > AUTO_SMALL_TOL_MAX_BYTES || common::auto_small_tol_skipped(f),
+            "fair" => bytes > FAIR_SMALL_TOL_MAX_BYTES,
+            _ => false,
+        })
+}
+
+/// Reads `f`: the program, or `Err` with the error where the program is
+/// refused (an error naming the line and column; panics otherwise).
+fn read_program(f: &Path) -> Result<fairpath_gcode::Program, String> {
     let bytes = std::fs::read(f).unwrap();
-    let program = match fairpath_gcode::parse(&bytes) {
-        Ok(p) => p,
-        Err(e) => {
-            // Unsupported features, or malformed bytes (one gcode-rs
-            // file holds a stray control character): either way an
-            // error naming the line and column.
-            assert!(e.line >= 1 && e.column >= 1, "{}: {e}", f.display());
-            return Err(format!("{}: {e}", f.display()));
-        }
-    };
-    for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
-        if name == "auto"
-            && tol < 0.05
-            && (bytes.len() > AUTO_SMALL_TOL_MAX_BYTES || common::auto_small_tol_skipped(f))
-        {
-            continue;
-        }
-        if name == "fair" && tol < 0.05 && bytes.len() > FAIR_SMALL_TOL_MAX_BYTES {
-            continue;
-        }
-        let method = by_name(name).unwrap();
-        for run in program.runs() {
-            let out = method
-                .smooth_run(&run, tol)
-                .unwrap_or_else(|e| panic!("{name}: {}: {e}", f.display()));
-            if name == "auto" {
-                assert!(
-                    keeps_arc_joints(&out)
-                        || out
-                            .kept_corners
-                            .iter()
-                            .all(|k| k.reason != CornerReason::ArcJoint),
-                    "{name}: {}: a joint next to an arc is kept",
-                    f.display()
-                );
-            }
-            let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+    fairpath_gcode::parse(&bytes).map_err(|e| {
+        // Unsupported features, or malformed bytes (one gcode-rs file
+        // holds a stray control character): either way an error naming
+        // the line and column.
+        assert!(e.line >= 1 && e.column >= 1, "{}: {e}", f.display());
+        format!("{}: {e}", f.display())
+    })
+}
+
+/// Smooths every run of `program` (read from `f`) by method `name` at
+/// `tol` and checks each result (panics on a failure).
+fn check_method(f: &Path, program: &fairpath_gcode::Program, name: &str, tol: f64) {
+    let method = by_name(name).unwrap();
+    for run in program.runs() {
+        let out = method
+            .smooth_run(&run, tol)
+            .unwrap_or_else(|e| panic!("{name}: {}: {e}", f.display()));
+        if name == "auto" {
             assert!(
-                rep.within(tol),
-                "{name}: {} at {tol}: deviation {} at {:?}, start gap {}, end gap {}",
-                f.display(),
-                rep.deviation_bound,
-                rep.worst_at,
-                rep.start_gap,
-                rep.end_gap
+                keeps_arc_joints(&out)
+                    || out
+                        .kept_corners
+                        .iter()
+                        .all(|k| k.reason != CornerReason::ArcJoint),
+                "{name}: {}: a joint next to an arc is kept",
+                f.display()
             );
-            for j in &rep.joints {
-                if j.class != Continuity::G2 {
-                    assert!(
-                        out.kept_corners
-                            .iter()
-                            .any(|k| k.at.dist(j.at) <= tol * 1e-6),
-                        "{name}: {} at {tol}: {:?} joint at {:?} is not a kept corner",
-                        f.display(),
-                        j.class,
-                        j.at
-                    );
-                }
+        }
+        let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+        assert!(
+            rep.within(tol),
+            "{name}: {} at {tol}: deviation {} at {:?}, start gap {}, end gap {}",
+            f.display(),
+            rep.deviation_bound,
+            rep.worst_at,
+            rep.start_gap,
+            rep.end_gap
+        );
+        for j in &rep.joints {
+            if j.class != Continuity::G2 {
+                assert!(
+                    out.kept_corners
+                        .iter()
+                        .any(|k| k.at.dist(j.at) <= tol * 1e-6),
+                    "{name}: {} at {tol}: {:?} joint at {:?} is not a kept corner",
+                    f.display(),
+                    j.class,
+                    j.at
+                );
             }
         }
     }
-    Ok(())
+}
+
+/// Rough relative cost of one method on a program (orders the jobs, the
+/// dearest first, so that none is left to run alone at the end).
+fn weight(method: &str) -> usize {
+    match method {
+        "auto" => 8,
+        "fair" | "bspline-fit" => 3,
+        _ => 1,
+    }
 }
 
 #[test]
@@ -153,8 +163,37 @@ fn every_shared_program_reads_and_smooths_within_tolerance() {
             .filter(|f| !f.ends_with("surface-raster-large.ngc"))
             .collect(),
     ));
-    let results: Vec<Result<(), String>> =
-        fairpath::pipeline::par_map(files.len(), |i| check_program(&files[i]));
+    // Read side by side, then one job per (program, method, tolerance),
+    // the dearest first: a whole program per job left its last one
+    // running alone for minutes.
+    let read: Vec<(usize, Result<fairpath_gcode::Program, String>)> =
+        fairpath::pipeline::par_map(files.len(), |i| {
+            (
+                std::fs::metadata(&files[i]).unwrap().len() as usize,
+                read_program(&files[i]),
+            )
+        });
+    let mut jobs: Vec<(usize, &str, f64)> = Vec::new();
+    for (i, (bytes, program)) in read.iter().enumerate() {
+        if program.is_err() {
+            continue;
+        }
+        for (name, tol) in METHODS.iter().flat_map(|m| [(*m, 0.01), (*m, 0.05)]) {
+            if is_run(name, tol, *bytes, &files[i]) {
+                jobs.push((i, name, tol));
+            }
+        }
+    }
+    jobs.sort_by_key(|&(i, name, tol)| {
+        std::cmp::Reverse(read[i].0 * weight(name) * if tol < 0.05 { 2 } else { 1 })
+    });
+    fairpath::pipeline::par_map(jobs.len(), |j| {
+        let (i, name, tol) = jobs[j];
+        if let Ok(program) = &read[i].1 {
+            check_method(&files[i], program, name, tol);
+        }
+    });
+    let results: Vec<Result<(), String>> = read.into_iter().map(|(_, r)| r.map(|_| ())).collect();
     let smoothed_files = results.iter().filter(|r| r.is_ok()).count();
     let rejected: Vec<String> = results.into_iter().filter_map(Result::err).collect();
     eprintln!(
