@@ -402,8 +402,8 @@ fn method_with_options(
 /// a long job whose steps run on fresh threads on all cores (each part of
 /// a program, `fairpath_gcode::smooth_in_parts`) then holds its peak in
 /// every arena it touched. With two, the process holds little more than
-/// what is live (LHchips4 seventeen times over, `bspline-corner`: 80 to
-/// 46 MB at the same speed; `docs/performance.md`).
+/// what is live, at the same speed (measurements: docs/tuning.md,
+/// `MALLOC_ARENAS`; `docs/performance.md`).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 const MALLOC_ARENAS: i32 = 2;
 

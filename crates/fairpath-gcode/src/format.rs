@@ -89,10 +89,10 @@ impl Controller {
     /// the speed per block (the S-curve planner at every block end at the
     /// block's rest-to-rest peak speed; the trapezoid planner at a block
     /// length per 1.02 servo periods), so for LinuxCNC the fewest blocks
-    /// within the tolerance run fastest: `arc-fit` (butterfly-80 at 0.05 mm
-    /// on LinuxCNC master: 13.96 s on the S-curve planner against 115.1 s
-    /// for `auto`'s arcs and 18.67 s for the raw program; 4.37 s against
-    /// 7.12 s on the trapezoid planner; docs/linuxcnc.md).
+    /// within the tolerance run fastest: `arc-fit` (on LinuxCNC master it
+    /// planned butterfly-80 faster than `auto`'s arcs and the raw program;
+    /// measurements: docs/tuning.md, `Controller::default_method`, and
+    /// docs/linuxcnc.md).
     /// Elsewhere `auto`, the curvature-continuous path.
     pub fn default_method(self) -> &'static str {
         match self {

@@ -1,9 +1,9 @@
 //! A short string kept inline: the number of a G-code word as written
 //! (`12.3456`, `-0.0005`) fits in [`INLINE`] bytes, so a program's words
 //! and the written end coordinates of its moves take no allocation of
-//! their own (on a program of 140,000 lines, about 30 MB of small heap
-//! blocks). Longer texts (an expression's literal, a long number) go to
-//! the heap.
+//! their own (on a long program, a great many small heap blocks;
+//! measurements: docs/tuning.md, `ShortText`). Longer texts (an
+//! expression's literal, a long number) go to the heap.
 
 use core::fmt;
 use core::ops::Deref;

@@ -2,7 +2,8 @@
 //! megabyte or so at a time while it is written, read back from there for
 //! the check, and cut back where a part is written again. A long written
 //! program is then never held whole: on a one-run raster written as arcs
-//! the text is 24 times the input (`docs/performance.md`).
+//! the text is many times the input (measurements: docs/tuning.md,
+//! `text_out`; `docs/performance.md`).
 //!
 //! A file (the command line writes to a temporary file that becomes the
 //! output only once every part verified) and a `Vec<u8>` (the library's

@@ -30,9 +30,9 @@
 //!   values then do not change the curve, but its written control points
 //!   are rounded on their own at every joint, which is only C0 as it
 //!   reads back, and a jerk-limited planner meets a curvature step at each
-//!   (a fit of 64 spans of 0.085 mm whose last span was shorter than the
-//!   others: `auto` on the thesis' design wave at 0.025 mm read back at
-//!   4.016 s against 3.741 s for its curves, and was kept as written).
+//!   (a fit whose last span was shorter than the others: `auto` on the
+//!   thesis' design wave read back slower than its curves, and was kept as
+//!   written; measurements: docs/tuning.md, `write_spline`).
 //! * No NaN, no empty block, the first control point written is the
 //!   curve's first point (the caller makes it the current position, and
 //!   gives its decimals in [`SplineWriteOptions::start_decimals`] when a
@@ -245,9 +245,9 @@ fn integer_knots(knots: &[f64]) -> Option<Vec<f64>> {
 /// curve by at most `max_shift_mm` ([`knot_shift_bound`]); `None` where it
 /// does not. The finest integers are taken, not the coarsest that keep
 /// within `max_shift_mm`: a knot moved by a share of its span moves the
-/// curvature by about that share, and on the thesis' design wave at 0.25
-/// mm (spans of 100 and 101 units) the text read back planned 4.020 s
-/// against 3.623 s for the curves.
+/// curvature by about that share, and on the thesis' design wave (spans
+/// of 100 and 101 units) the text read back planned slower than the
+/// curves (measurements: docs/tuning.md, `rounded_knots`).
 fn rounded_knots(n: &Nurbs, max_shift_mm: f64) -> Option<Vec<f64>> {
     let rational = n
         .weights

@@ -356,8 +356,9 @@ impl<'a> Emitter<'a> {
     /// cut finer turn less at each vertex and plan faster. Where the arcs
     /// fell back to lines on every block, the alternative at the arcs'
     /// chord is the same rendering and cannot win:
-    /// `random_lines_0.001in.ngc` (its `G64` blends) at 0.05 mm was
-    /// written at 1.294 s in arcs against 1.166 s with `--format g1`.
+    /// `random_lines_0.001in.ngc` (its `G64` blends) was written slower in
+    /// arcs than with `--format g1` (measurements: docs/tuning.md,
+    /// `Emitter::finer_lines_chord`).
     pub(super) fn finer_lines_chord(&self) -> Option<f64> {
         self.opts.budget.finer_lines_output()
     }

@@ -89,15 +89,16 @@ const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
 /// Share of a long run's arc rendering that fell back to G1 below which
 /// the all-G1 rendering is not tried: where arcs follow nearly all of a
 /// long run, G1 throughout plans slower (on the reference programs it won
-/// on 24 of 300 runs under 1,000 curves and on none of the 6 longer ones,
-/// `docs/tuning.md`).
+/// on a few short runs and on none of the long ones; measurements:
+/// docs/tuning.md, `LONG_RUN_PIECES` and `LINES_CANDIDATE_SHARE`).
 const LINES_CANDIDATE_SHARE: f64 = 0.1;
 
 /// Pieces per part when a long run is rendered in parts side by side.
 const RENDER_PART_PIECES: usize = 4096;
 
 /// Pieces a part of a rendering timed as it is rendered renders to, about
-/// ([`emitter::Emitter::streamed_times`]): 6 MB of arcs or lines.
+/// ([`emitter::Emitter::streamed_times`]): a part's arcs or lines stay
+/// small (measurements: docs/tuning.md, `STREAMED_PART_RENDERED`).
 const STREAMED_PART_RENDERED: usize = 30_000;
 
 /// Parts rendered side by side before they are joined: enough to keep
@@ -108,7 +109,8 @@ const RENDER_GROUP_PARTS: usize = 8;
 /// Parts rendered side by side at a time where a long run is rendered as
 /// it is written ([`emitter::PartsRenderer`]): one per core, so that what
 /// waits to be written stays small (a part of 4,096 corner transitions
-/// renders to about 30,000 arcs, 6 MB).
+/// renders to about 30,000 arcs; measurements: docs/tuning.md,
+/// `STREAMED_PART_RENDERED`).
 fn streamed_group_parts() -> usize {
     std::thread::available_parallelism().map_or(2, |n| n.get())
 }
@@ -293,8 +295,9 @@ pub fn write_chosen_part(
 /// The speed each long run's renderer is shaped by, sampled from its plan
 /// in `plans` (on a machine with interpolation period `period` s), the
 /// plan's segments then dropped (its time kept): the sampled speed is all
-/// the writer needs of them, and on a run of 200,000 curves the segments
-/// are 36 MB held through the whole write. `None` for the other runs (and
+/// the writer needs of them, and a long run's segments would otherwise be
+/// held through the whole write (measurements: docs/tuning.md,
+/// `take_long_run_speeds`). `None` for the other runs (and
 /// for a long run whose plan `auto`'s objective left empty).
 pub fn take_long_run_speeds(
     smoothed: &[Vec<Piece>],

@@ -1,8 +1,9 @@
 //! A long run's written text checked as it is read back, part after part
 //! ([`RunStream`]): its deviation from the original run, its end points
 //! and its planned times at each feed, measured as the pieces come and
-//! then dropped, so that the reading never holds the run (1.67 million
-//! blocks on a one-run raster written as arcs, 333 MB of pieces).
+//! then dropped, so that the reading never holds the run (millions of
+//! blocks on a one-run raster written as arcs; measurements:
+//! docs/tuning.md, `emit::streamed`).
 //!
 //! The figures are those of the check that reads the run whole
 //! ([`crate::pipeline::compare_runs`] and [`Emitter::time`]), to the bit:
@@ -33,7 +34,7 @@ use std::sync::Mutex;
 /// Verifier chunks measured side by side (with the windows they complete
 /// planned beside them): the group being measured, the two handed over
 /// behind it and the one being read are all the check holds of a run
-/// (about 26 MB of pieces).
+/// (measurements: docs/tuning.md, `GROUP_CHUNKS`).
 const GROUP_CHUNKS: usize = 8;
 
 /// A run checked as it was read.

@@ -9,9 +9,10 @@
 //! ([`Choice::streamed`]) is rendered as the writer writes it, part after
 //! part ([`PartsRenderer`]), and checked and timed as its text is read
 //! back, part after part ([`super::streamed`]): neither its rendering nor
-//! its reading is held whole (on a one-run raster written as arcs, 333 MB
-//! each). The text and the evidence are those of the run rendered and read
-//! whole (`a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole`).
+//! its reading is held whole (both are large on a one-run raster written
+//! as arcs; measurements: docs/tuning.md, `emit::write`). The text and the
+//! evidence are those of the run rendered and read whole
+//! (`a_long_run_written_as_it_is_rendered_is_the_run_rendered_whole`).
 
 use super::choose::{choose_run, Chosen};
 use super::emitter::{Choice, Emitter, PartsRenderer};

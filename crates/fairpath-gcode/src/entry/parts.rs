@@ -24,9 +24,10 @@ use std::sync::Arc;
 /// and planned on all cores, so a part must hold enough runs to keep them
 /// busy between its steps; what a part holds while it is written and
 /// checked (its curves, renderings and written text) is many times its
-/// input, so it must stay a small share of a long program. 256: `auto` on
-/// `LHchips4.ngc` peaks at 37 MB against 60 MB with 1,024 lines a part
-/// (its G1 renderings hold many short moves), for about 5% more time.
+/// input, so it must stay a small share of a long program. 256: smaller
+/// parts hold less at once (most where G1 renderings hold many short
+/// moves, as `auto`'s on `LHchips4.ngc`), for a little more time
+/// (measurements: docs/tuning.md, `PART_LINES`).
 pub const PART_LINES: usize = 256;
 
 /// How a program is read for the job: a program without o-words in parts

@@ -389,8 +389,9 @@ impl Reader {
     /// whose counter runs away from its bound, which no pass repeats) is
     /// refused there; it is found first by a reading that keeps no line
     /// (as [`super::read_facts`] reads), so that a program of a few lines
-    /// is not refused after holding ten million executed ones (a 235-byte
-    /// fuzz input: 3.15 GB, about 315 bytes a line). The program is then
+    /// is not refused after holding ten million executed ones (a fuzz
+    /// input of a few hundred bytes held gigabytes; measurements:
+    /// docs/tuning.md, `Reader::expand`). The program is then
     /// read again, keeping its lines; any other error is the second
     /// reading's, as it was.
     fn expand(&mut self, raw: Vec<(String, &'static str)>) -> Result<(), GcodeError> {

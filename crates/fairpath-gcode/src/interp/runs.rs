@@ -12,7 +12,8 @@ use crate::program::{Feed, Move, MoveKind, ProgramLine, RunSpan};
 /// smoothing keeps (run end points are kept exactly). Smoothing across it
 /// would make one feed apply to a stretch of path programmed at the other
 /// (`linuxcnc/diagnostic/feed-tracking-test.ngc`: `X2 F1000`, `X2.001
-/// F10`, `X5 F1000` became one move at F10, 1.03 s -> 42 s).
+/// F10`, `X5 F1000` became one move at F10, far slower; measurements:
+/// docs/tuning.md, `group_runs`).
 ///
 /// `lines` may be a part of a program: `first_number` is the number of
 /// its first line, `feed_before` the feed in force before it.

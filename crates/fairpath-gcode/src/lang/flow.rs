@@ -35,10 +35,11 @@
 //!   or never read it ([`Params::view_reads`]; an incremental move in a
 //!   loop on a counter that is never counted) is endless, and an error at
 //!   once (ours: LinuxCNC runs it until it is stopped; a loop whose
-//!   counter's increment was left out took 9 s and 3.2 GB to reach the
-//!   line limit, one whose counter was set to an unset parameter's 0 on
-//!   every pass 21 s): the interpreter is deterministic, so the pass and
-//!   every one after it would repeat the same.
+//!   counter's increment was left out, or whose counter was set to an
+//!   unset parameter's 0 on every pass, took seconds and gigabytes to reach
+//!   the line limit; measurements: docs/tuning.md, `lang::flow`): the
+//!   interpreter is deterministic, so the pass and every one after it
+//!   would repeat the same.
 
 use super::error::LangError;
 use super::expr::{eval, to_integer};

@@ -19,7 +19,8 @@
 //! ([`RenderMemo::expect_runs`]): `auto` also costs the sections it cuts a
 //! run into, whose renderings no writer asks for (kept, they held every
 //! section's fastest rendering at every cut length until the part was
-//! written: 381 MB for `auto` on a 220 kB plotter program of one run).
+//! written, many times the program itself on a plotter program of one
+//! run; measurements: docs/tuning.md, `RenderMemo::expect_runs`).
 
 use fairpath::choose::{pieces_digest, RenderObserver};
 use fairpath::path::Piece;

@@ -163,7 +163,8 @@ pub fn write_options(opts: &EmitOptions, program_degree: usize) -> GcodeWriteOpt
         // For every controller: a Fanuc control reads these decimals only
         // with a fine increment system (IS-D/IS-E); with IS-C (4 decimals
         // in mm) the rounded control points of G6.2 blocks break curvature
-        // continuity at every knot (butterfly-80: 10.40 s against 6.77 s).
+        // continuity at every knot (butterfly-80 planned far slower;
+        // measurements: docs/tuning.md, `write_options`).
         resolution_mm: Some(resolution(&opts.machine)),
         period_s: Some(opts.machine.period),
         ..Default::default()
@@ -174,8 +175,8 @@ pub fn write_options(opts: &EmitOptions, program_degree: usize) -> GcodeWriteOpt
 /// [`GcodeWriteOptions::resolution_mm`]; a tenth of what keeps block-long
 /// pieces at their speed, because at the slow, tight places of a path the
 /// kinks rounding leaves cost the most time: 7 decimals in mm on the
-/// default machine, where 6 planned `surface-raster.ngc` 7% slower than
-/// its rendering).
+/// default machine, where one fewer planned `surface-raster.ngc` slower
+/// than its rendering; measurements: docs/tuning.md, `resolution`).
 pub fn resolution(m: &MachineLimits) -> f64 {
     0.025 * m.jerk * m.period * m.period * m.period
 }

@@ -16,11 +16,10 @@ use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 /// over that travel ([`super::GcodeWriteOptions::period_s`]): rounding then
 /// bends no such piece more than a ninth of what it bends a piece one
 /// period long with the run's decimals. One period left `auto`'s
-/// `butterfly-80.ngc` written 8.677 s (8.663 s with the run's decimals
-/// everywhere, 8.659 s with 12 decimals on every rendered piece) and
-/// LinuxCNC's `contour.ngc` 1.366 s (1.352 s); with 3, 8.659 and 1.352 s.
-/// The text of the first grows by 13% over the run's decimals everywhere
-/// (6% with one period, 21% with ten).
+/// `butterfly-80.ngc` and LinuxCNC's `contour.ngc` slower than 12
+/// decimals on every rendered piece; three plan as fast, for a text longer
+/// than with one period and shorter than with ten (measurements:
+/// docs/tuning.md, `FINE_PERIODS`).
 pub const FINE_PERIODS: f64 = 3.0;
 
 /// Distance (mm) within which a smoothed run end counts as the original
@@ -339,8 +338,8 @@ impl RunWriter<'_> {
     /// blend circles), where it must meet the next block's at their G2
     /// joint: a fit with legs of 0.03 mm written with 7 decimals (the
     /// run's) stepped the curvature by 1e-4 1/mm at every joint, and the
-    /// thesis' design wave by `auto` at 0.025 mm read back 2.7% slower than
-    /// its curves.
+    /// thesis' design wave by `auto` read back slower than its curves
+    /// (measurements: docs/tuning.md, `RunWriter::spline_decimals`).
     fn spline_decimals(&self, pts: &[Vec3]) -> usize {
         let leg = pts
             .windows(2)

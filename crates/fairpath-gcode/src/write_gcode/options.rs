@@ -80,7 +80,8 @@ pub struct GcodeWriteOptions {
     /// jerk `J` needs `rho` of about `J Ts^3 / 4` (5 nm for 20000 mm/s^3 and
     /// 1 ms: 6 decimals in mm; with 4, arcs of a few um written for a tight
     /// corner of butterfly-80 re-read with kinks of 0.05 rad and planned
-    /// 2.6 times slower than the curves). `None`: the chord alone decides.
+    /// far slower than the curves; measurements: docs/tuning.md,
+    /// `GcodeWriteOptions::resolution_mm`). `None`: the chord alone decides.
     pub resolution_mm: Option<f64>,
     /// The controller's interpolation period `Ts` (s). A line of a
     /// rendered run ([`super::RunOutput::Rendered`]) shorter than `k = `

@@ -58,7 +58,8 @@
 //!   the arcs kept, the corners between lines replaced, the corners next
 //!   to an arc kept (not G2). On a run of tight arcs and short lines the
 //!   sampled arcs get a transition at every chord and plan far slower
-//!   (LinuxCNC's `tort.ngc`, lines 83-90: 1.97 s against 0.50 s). Offered
+//!   (LinuxCNC's `tort.ngc`, lines 83-90; measurements: docs/tuning.md,
+//!   `AutoOptions::curves_as_written`). Offered
 //!   with [`AutoOptions::curves_as_written`] beside the others (after
 //!   them, so they win only when strictly faster). By default only as a
 //!   fallback, where the best G2 candidate would leave the run as the
@@ -66,12 +67,13 @@
 //!   writer would not write its rendering ([`Objective::written_instead`]:
 //!   not [`super::KEEP_MARGIN`] cheaper than the run as written at every
 //!   feed the writer judges at, the user's and the machine's maximum; on
-//!   LinuxCNC's `arc_splitting_0.90.ngc` the fits gain 0.4% at its F100
-//!   and lose at 400 mm/s), or its curves themselves are no cheaper
+//!   LinuxCNC's `arc_splitting_0.90.ngc` the fits gain at its F100 and
+//!   lose at 400 mm/s), or its curves themselves are no cheaper
 //!   (then the rendering's gain is one the rounding of the written
 //!   coordinates can take away: the G2 fit of `tort.ngc`'s lines 83-90
-//!   renders 1.6% faster than the run, its curves plan 3.2% slower, and
-//!   its text read back 0.7% slower, so it was kept as written). The run
+//!   renders faster than the run, but its curves plan slower, and so does
+//!   its text read back, so it was kept as written; measurements:
+//!   docs/tuning.md, `AutoOptions::curves_as_written`). The run
 //!   as written keeps every corner, these only those next to an arc:
 //!   where they would be written, and are cheaper than the best G2
 //!   candidate where that may still be written, they are kept, and `auto`

@@ -101,7 +101,8 @@ pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 /// evidence for the cap (where it won, what it costs, what it gives on
 /// long runs) is in `docs/auto-fair.md`. 10,000 takes in the raster of
 /// `surface-raster.ngc` (one run of 2,979 lines, where `fair` writes the
-/// fastest program: 0.5 s of smoothing) and leaves out the 138,804 of
+/// fastest program and smooths it quickly; measurements: docs/tuning.md,
+/// `FAIR_MAX_PIECES`) and leaves out the 138,804 of
 /// `surface-raster-large.ngc`. Runs with B-spline pieces get it whatever
 /// their length: there it fairs the splines in place, which no other
 /// candidate does.
@@ -115,9 +116,10 @@ pub const FAIR: &str = "fair";
 /// ([`LineFit::ThroughShallowCorners`], what method `fair` also tries by
 /// default): on runs of at most [`THROUGH_MAX_PIECES`] pieces where it
 /// makes some vertex dense that the default sections leave sparse.
-/// LinuxCNC's `default_tolerance_check.ngc` (a zigzag of 0.01 mm and 0.4
-/// um jogs between 12.7 mm moves): method `fair` wrote 24.665 s, `auto`
-/// without this candidate 24.863 s.
+/// On LinuxCNC's `default_tolerance_check.ngc` (a zigzag of 0.01 mm and
+/// 0.4 um jogs between 12.7 mm moves) method `fair` wrote a faster program
+/// than `auto` without this candidate (measurements: docs/tuning.md,
+/// `FAIR_THROUGH_SHALLOW`).
 pub const FAIR_THROUGH_SHALLOW: &str = "fair, through shallow corners";
 
 /// Whether the candidate named `name` is a `fair` one (they may leave the
@@ -341,8 +343,9 @@ impl Kind {
             Kind::CornerInPlace(m) => Candidate::CornerInPlace(m),
             // With `bspline-fit`'s sections only: the fits through the
             // corners are candidates of their own here, and faired again
-            // they tripled `auto`'s time on `makerblock_tinycnc.gcode`
-            // (CPU 30 -> 88 s) for the same written program.
+            // they made `auto` far slower on `makerblock_tinycnc.gcode`
+            // for the same written program (measurements: docs/tuning.md,
+            // `Kind::Fair`).
             Kind::Fair(lines) => Candidate::Fair(FairOptions {
                 lines,
                 ..FairOptions::default()
@@ -416,10 +419,11 @@ impl Candidate {
                     }
                 }
                 // On lines (a run of them, or a run sampled) without the
-                // peak pass: it cost 5-11% of `auto`'s CPU on the dense
-                // reference programs (`LHchips4.ngc` 36.7 -> 40.9 s) and
-                // changed no written time there (`docs/auto-fair.md`);
-                // the jerk-faired fits already weigh what it lowers.
+                // peak pass: it cost `auto` CPU time on the dense
+                // reference programs and changed no written time there
+                // (`docs/auto-fair.md`; measurements: docs/tuning.md,
+                // `Candidate::Fair`); the jerk-faired fits already weigh
+                // what it lowers.
                 let lines = Fair {
                     options: FairOptions {
                         peak_pass: PeakPass::Off,

@@ -209,8 +209,9 @@ const WINDOWS: PlanWindows = PlanWindows::DEFAULT;
 /// of it, is the cheap bound ([`Objective::bound`]): the renderer aims to
 /// keep the speed of the curves, not to pass it, but an arc through a
 /// curvature peak has the mean curvature of its stretch, below the peak,
-/// and is passed a little faster (`surface-raster.ngc`: `bspline-fit`'s
-/// curves plan 59.864 s, its arcs 59.497 s). Where a rendering gains more
+/// and is passed a little faster (as `bspline-fit`'s arcs of
+/// `surface-raster.ngc` are; measurements: docs/tuning.md, `RENDER_GAIN`).
+/// Where a rendering gains more
 /// than that share, `auto` may pass over a candidate that was slightly
 /// cheaper as written.
 ///
@@ -250,9 +251,10 @@ pub struct WrittenTime {
     /// this bound, that is a part and a planning window, whatever the
     /// run's length; but a writer then renders the chosen candidate again.
     /// `auto` on `surface-raster-large.ngc` at 0.05 mm with a bound of
-    /// 100,000 pieces: the same program, peak RSS 627 -> 504 MB, CPU time
-    /// 15 to 20% more (the writer's second rendering of 430,000 arcs);
-    /// hence not the default.
+    /// 100,000 pieces wrote the same program in less memory but more CPU
+    /// time (the writer's second rendering of its arcs); hence not the
+    /// default (measurements: docs/tuning.md,
+    /// `WrittenTime::kept_rendering_pieces`).
     pub kept_rendering_pieces: Option<usize>,
 }
 
@@ -261,11 +263,11 @@ pub const COST_PART_PIECES: usize = 512;
 
 /// The default [`WrittenTime::render_gain`]: 3%, above the largest gain of
 /// a written program over its curves that `scripts/render-gain.sh` finds
-/// on the reference programs (`docs/render-gain.md`: 2.5%, `fair` on
-/// LinuxCNC's `zigzag_0.002_0.0005.ngc`). What it costs: the candidates
-/// whose curves plan within 3% of the fastest rendering are rendered and
-/// planned too (`auto` on `surface-raster-large.ngc`: two renderings of
-/// about 9,000 pieces instead of one).
+/// on the reference programs (`docs/render-gain.md`; the largest is
+/// `fair`'s on LinuxCNC's `zigzag_0.002_0.0005.ngc`). What it costs: the
+/// candidates whose curves plan within 3% of the fastest rendering are
+/// rendered and planned too (on `surface-raster-large.ngc`, a second
+/// rendering; measurements: docs/tuning.md, `RENDER_GAIN`).
 pub const RENDER_GAIN: f64 = 0.03;
 
 impl PartialEq for WrittenTime {
@@ -561,9 +563,10 @@ impl Objective for WrittenTime {
     /// never makes the written program slower). [`Objective::cost`] costs
     /// the user's feeds only; a candidate that gains there and loses at
     /// the maximum feed is written as the program wrote it (LinuxCNC's
-    /// `arc_splitting_0.90.ngc` at 0.05 mm: `auto`'s fits gained 0.4% at
-    /// its F100 and lost at 400 mm/s, so the run was kept, 2.3% slower
-    /// than `bspline-corner`'s). The forms are rendered as
+    /// `arc_splitting_0.90.ngc` at 0.05 mm: `auto`'s fits gained at its
+    /// F100 and lost at 400 mm/s, so the run was kept, slower than
+    /// `bspline-corner`'s; measurements: docs/tuning.md,
+    /// `WrittenTime::written_instead`). The forms are rendered as
     /// [`Objective::cost`] renders them, each judged at both feeds.
     fn written_instead(&self, candidate: &[Piece], cost: f64, run: &[Piece], own: f64) -> bool {
         if cost * (1.0 + KEEP_MARGIN) > own {

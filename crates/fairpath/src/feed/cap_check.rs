@@ -40,7 +40,8 @@ fn speed_at(profile: &DoubleS, q: f64, rising: bool) -> f64 {
     };
     // Safeguarded Newton on time: q(t) is increasing with slope v(t), so
     // a Newton step converges in a few iterations where bisection took
-    // about 55 (this lookup was a fifth of planning a long run of arcs);
+    // about 55 (this lookup was a large share of planning a long run of
+    // arcs; measurements: docs/tuning.md, `speed_at`);
     // a step that leaves the bracket, or a point at rest, bisects
     // instead. 64 steps reach f64 resolution of any duration either way.
     let mut t = 0.5 * (lo + hi);

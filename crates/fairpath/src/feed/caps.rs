@@ -105,9 +105,10 @@ fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
 /// needs of it to make and check profiles. Where it lies on the run and
 /// what sets its cap ([`Located`]) are kept apart, and only when the plan
 /// keeps its segments: a plan for its time alone holds 32 bytes a
-/// stretch, not 64 (on a rendering of two million pieces read back, two
-/// such plans side by side held 537 MB of stretch vectors, grown by
-/// doubling; the vector is now sized for one stretch per piece).
+/// stretch, not 64 (on a rendering of millions of pieces read back, two
+/// such plans side by side held hundreds of megabytes of stretch vectors,
+/// grown by doubling; the vector is now sized for one stretch per piece;
+/// measurements: docs/tuning.md, `Stretch`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Stretch {
     /// Arc length, mm.
@@ -493,9 +494,10 @@ pub(super) fn stretches(
             // stops, falls between stretches), and at a knot the third
             // derivative, and so `dkappa/ds`, jumps: flattened span by
             // span, a B-spline has the stretches of its own Bezier spans and
-            // plans their time (the thesis' square of ripples planned 3%
+            // plans their time (the thesis' square of ripples planned
             // slower as one B-spline before, `tests/feed_form.rs`; adding
-            // the knots to the whole curve's cuts did not do it).
+            // the knots to the whole curve's cuts did not do it;
+            // measurements: docs/tuning.md, `stretches`).
             // A span that its Bezier control points show flat is taken
             // whole without sampling it (`flat_span`: what the flattening
             // would decide at its first test), which on a long fit of short,

@@ -23,8 +23,9 @@
 //!    below is dropped first: the machine passes it accelerating or
 //!    braking, and a boundary there would stop the acceleration for
 //!    nothing (a fitted curve's cap ripples by fractions of a percent;
-//!    with a boundary at every ripple the machine took 1.06 s instead of
-//!    0.76 s over a 270-degree helical arc of `tort.ngc`).
+//!    with a boundary at every ripple the machine took far longer over a
+//!    270-degree helical arc of `tort.ngc`; measurements: docs/tuning.md,
+//!    `UNREACHED_CAP`).
 //! 3. **Look-ahead.** A backward pass lowers every boundary speed to what
 //!    can still be braked to the next one within the segment
 //!    ([`max_entry_velocity`]), a forward pass to what can be reached from
@@ -395,8 +396,9 @@ fn plan(
     // (end, v0, v1, what the plan keeps of the profile). Between rounds
     // most boundary speeds stay the same, and their segments are neither
     // planned nor checked again. (A map: one entry per segment, not one
-    // per stretch, keeps this small on long runs: 2 million stretches of
-    // written arcs took 265 MB. It keeps a [`ProfileSummary`], 24 bytes;
+    // per stretch, keeps this small on long runs, where the millions of
+    // stretches of written arcs took hundreds of megabytes; measurements:
+    // docs/tuning.md, `plan`. It keeps a [`ProfileSummary`], 24 bytes;
     // the 96-byte profiles are kept beside it only by a plan that keeps
     // its segments.)
     let mut verified: BTreeMap<usize, (usize, f64, f64, ProfileSummary)> = BTreeMap::new();

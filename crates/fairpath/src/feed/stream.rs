@@ -508,8 +508,8 @@ fn trial<'a>(
 ///    levels in a row are slower. Uniform factors keep the plan's shape:
 ///    local reductions (below) make dips in the cap that the profile must
 ///    brake into and speed out of, which costs more jerk than it saves
-///    (butterfly-80 at 0.05 mm: 11.6 s with local reductions only, 8.5 s
-///    with uniform factors).
+///    (butterfly-80 at 0.05 mm planned far slower with local reductions
+///    only; measurements: docs/tuning.md, `stream_run`).
 /// 3. Else local reductions ([`Shaping::apply`]) and then, after
 ///    [`StreamOptions::local_rounds`], the whole run slowed by
 ///    [`GLOBAL_STEP`] per round.

@@ -4,7 +4,8 @@
 //! Why: the planner ([`super::plan`]) holds a few vectors per stretch of
 //! the run. A one-run raster written as arcs (1.67 million blocks from
 //! `surface-raster-large.ngc`) made 3.3 million stretches, and its time at
-//! two feeds, planned side by side, held 213 MB (issue 19).
+//! two feeds, planned side by side, held hundreds of megabytes (issue 19;
+//! measurements: docs/tuning.md, `feed::windowed`).
 //!
 //! How: windows of [`PlanWindows::step`] pieces plus
 //! [`PlanWindows::overlap`] on each side, each planned on its own from rest
@@ -330,8 +331,9 @@ impl WindowedTimer {
         // An overlap's pieces at a time, each chunk planned as soon as it
         // completes a window, in exactly the room it needs: the held
         // pieces stay within a window and an overlap (a megabyte
-        // of read-back text is some 35,000 pieces; pushed whole they took
-        // the buffer to 131,072 pieces, 26 MB, on the large raster). The
+        // of read-back text is some 35,000 pieces; pushed whole they grew
+        // the buffer to several windows on the large raster; measurements:
+        // docs/tuning.md, `WindowedTimer::push`). The
         // windows and their plans are the same whatever the chunks.
         for chunk in pieces.chunks(self.st.w.overlap.max(1)) {
             if self.unstitched {

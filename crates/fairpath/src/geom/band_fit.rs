@@ -42,16 +42,17 @@
 //! (then the steps stop), the curve is a candidate; the last candidate
 //! that [`span_errors`] proves within the target is kept. Candidates are
 //! bounded lazily, from the last backwards (the last usually passes), a
-//! few at a time: on the 138,803-segment surface raster that took
-//! `bspline-fit`'s smoothing from 2.08 to 1.53 s (`FAIRPATH_TIMING=1`),
-//! the same curves.
+//! few at a time: on the 138,803-segment surface raster that made
+//! `bspline-fit`'s smoothing faster, the same curves (measurements:
+//! docs/tuning.md, `last_passing`).
 
 use super::fit::{span_errors, with_spans_at_most, EndCondition, FitData, FitError};
 use super::{Nurbs, Vec3};
 use alloc::vec::Vec;
 
 /// Settings of [`relax_in_band`]. Chosen on the issue-5 survey
-/// (`scripts/survey.sh` at 0.05 mm; see the field docs). The radius, the
+/// (`scripts/survey.sh` at 0.05 mm; the measurements are in
+/// docs/tuning.md under each field's name). The radius, the
 /// steps and the span were chosen first, with the fit's own weights and
 /// 100 steps always; the early stop and the weight factor after them, and
 /// the early stop's threshold again with the weight factor.
@@ -63,31 +64,33 @@ use alloc::vec::Vec;
 )]
 pub struct RelaxOptions {
     /// Radius of the balls around the data, as a share of the target:
-    /// the rest is room for the curve between data points. 0.95 planned
-    /// `test_12mmflat.ngc` 16.20 s against 16.42 s at 0.9.
+    /// the rest is room for the curve between data points. A larger share
+    /// lets the fit use more of the band, which planned the survey
+    /// programs faster (measurements: docs/tuning.md,
+    /// `RelaxOptions::radius_share`).
     pub radius_share: f64,
-    /// ADMM steps. 300 planned no faster than 100 and took three times as
-    /// long.
+    /// ADMM steps. More planned no faster and took longer (measurements:
+    /// docs/tuning.md, `RelaxOptions::iterations`).
     pub iterations: usize,
     /// Steps between the curves that are candidates for the result (each
     /// bounded by [`span_errors`] unless a later one passes).
     pub check_every: usize,
     /// Longest knot span, in targets: the fit's knots are refined (by
     /// knot insertion, same curve) so that the relaxed curve can bend where
-    /// the fit did not need to. 4 planned `LHchips4.ngc` 249.7 s, 8 253.3 s.
+    /// the fit did not need to. Shorter spans planned faster (measurements:
+    /// docs/tuning.md, `RelaxOptions::max_span_per_target`).
     pub max_span_per_target: f64,
     /// Longest distance between the constrained points, in targets.
     pub spacing_per_target: f64,
     /// The steps stop early when no point of the curve or of its
     /// projection moved by more than this share of the target in a step
-    /// (both ADMM residuals below it, Boyd et al. section 3.3.1). With the
-    /// fit's own weights, 1e-3 smoothed the 138,803-segment surface raster
-    /// (`bspline-fit`) in 1.27 s (`FAIRPATH_TIMING=1`) where 100 steps
-    /// always took 7.5 s (criterion), planning the same. With
-    /// [`RelaxOptions::weight_factor`] 1000: 1e-3 5.0 s, 3e-3 2.9 s, 1e-2
-    /// 1.5 s; on the issue-5 survey 3e-3 planned within 0.1% of 1e-3
-    /// (makerblock 331.56 against 331.38 s, `Cereal.ngc` 92.90 against
-    /// 92.92 s), 1e-2 the surface raster 29.05 against 28.95 s.
+    /// (both ADMM residuals below it, Boyd et al. section 3.3.1). The early
+    /// stop smooths the surface raster in a fraction of the time that every
+    /// step takes, planning the same. With [`RelaxOptions::weight_factor`]
+    /// a larger share stops sooner; 3e-3 planned the issue-5 survey as a
+    /// smaller one did, while a larger one planned the surface raster
+    /// slower (measurements: docs/tuning.md,
+    /// `RelaxOptions::converged_share`).
     pub converged_share: f64,
     /// Factor on the energy weights passed to [`relax_in_band`] at the
     /// first step. The optimum does not depend on a common factor of the
@@ -95,11 +98,9 @@ pub struct RelaxOptions {
     /// moved the curve so little that the early stop took it for converged
     /// after one step on the surface raster; stiffer weights move it
     /// further per step and are lowered by the stall rule where the balls
-    /// need it. On the issue-5 survey 1, 10, 100 and 1000 planned
-    /// `LHchips4.ngc` 246.19, 243.51, 238.63 and 236.29 s, the surface raster
-    /// 29.80, 29.75, 29.21 and 28.95 s, `51MeanderAve.ngc` 64.55, 63.98,
-    /// 63.77 and 63.61 s (`test_12mmflat.ngc` 16.23, 16.30, 16.39, 16.34 s),
-    /// in about the same smoothing time.
+    /// need it. On the issue-5 survey stiffer weights planned the dense
+    /// programs faster, in about the same smoothing time (measurements:
+    /// docs/tuning.md, `RelaxOptions::weight_factor`).
     pub weight_factor: f64,
 }
 

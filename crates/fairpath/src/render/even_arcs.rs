@@ -6,8 +6,9 @@
 //! near two thirds of the curve's change of curvature over it and leaves a
 //! third for the steps to its neighbours. On a corner transition, where
 //! the curvature changes as fast as the jerk allows, the larger steps cap
-//! the machine's speed below the curve's (`surface-raster.ngc`: 33.7 mm/s
-//! where the curve's plan has 44; `docs/output.md`). Here the arcs match
+//! the machine's speed below the curve's (`surface-raster.ngc`;
+//! measurements: docs/tuning.md, `render::even_arcs`; `docs/output.md`).
+//! Here the arcs match
 //! the curve's point and tangent at its two ends only: arc `i`, of
 //! in-plane length `h_i`, takes the curve's mean curvature over its
 //! stretch, `m_i = (theta(s_i + h_i) - theta(s_i)) / h_i` (`theta` the

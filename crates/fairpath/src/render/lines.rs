@@ -28,8 +28,9 @@
 //! high, no spacing changes then: on `surface-raster.ngc` at 0.05 mm the
 //! step-overs' transitions, written as G1 (they are not in a principal
 //! plane), were planned to a crawl at each change of spacing, and `auto`
-//! wrote it 8% slower (64.8 against 59.6 s; `docs/lower-bound.md`, made by
-//! `scripts/lower-bound.sh`, has every surveyed program). Moves of one
+//! wrote it slower (measurements: docs/tuning.md, "Where a stretch of
+//! lines ends"; `docs/lower-bound.md`, made by `scripts/lower-bound.sh`,
+//! has every surveyed program). Moves of one
 //! stretch are placed at equal distances along the curve (`at_length`),
 //! so that the spacing does not change inside a stretch either. The spacing needed is
 //!
@@ -61,8 +62,9 @@ pub use crate::budget::CHORD_USE;
 /// shorter move. Without it a reversal inside a curve, where the path
 /// stops and the curvature has no bound, asked for the shortest block: one
 /// of `auto`'s fits of LinuxCNC's `test-active-states.ngc` went out 1.5 mm
-/// and back, and its lines were cut at 1 nm, 3 million of them (2.3 s and
-/// 826 MB for a program of 36 lines). The moves are still checked at their
+/// and back, and its lines were cut at 1 nm, millions of them for a
+/// program of 36 lines (measurements: docs/tuning.md,
+/// `MIN_CHORD_SPACING_PER_E`). The moves are still checked at their
 /// middles and halved where off, and the text is verified when read back.
 pub const MIN_CHORD_SPACING_PER_E: f64 = 2.0;
 
@@ -213,7 +215,8 @@ impl Spacing {
 /// joints: `spiral_lines.ngc` by `bspline-fit` in G1 from 0.051 to 0.553
 /// mm, where the circles of the blending controller no longer meet and
 /// the curvature steps by the curve's whole `kappa` (the machine slowed to
-/// `sqrt(J Ts / kappa)`, 31 mm/s against 300 planned). Only the immediate
+/// `sqrt(J Ts / kappa)`, far below the planned speed; measurements:
+/// docs/tuning.md, `caps_between`). Only the immediate
 /// neighbours count, so that a run rendered in ranges is rendered as
 /// whole ([`super::render_range`]): a neighbour cut finer than it needs by
 /// its own other neighbour is not seen.

@@ -69,8 +69,9 @@
 //!   compared over the pieces from the curves' input lines (the run's may
 //!   peak elsewhere), corner transitions aside. So a smooth design curve
 //!   whose fit would only add ripples of `dk/ds` (LinuxCNC's rational
-//!   `Curva_Farfalla_p1.ngc` at 0.25 mm: 30% slower at 400 mm/s, with a
-//!   lower peak curvature) is not sampled; it is faired itself. Where
+//!   `Curva_Farfalla_p1.ngc` at 0.25 mm: slower at 400 mm/s, with a
+//!   lower peak curvature; measurements: docs/tuning.md,
+//!   `OtherCurves::Sampled`) is not sampled; it is faired itself. Where
 //!   curves are kept as written (an arc whose sampling does not pay, or
 //!   with [`OtherCurves::Kept`]) the B-splines among them are listed in
 //!   [`SmoothedRun::unfaired`] with the reason, which the report and the
@@ -202,7 +203,8 @@ pub enum LineFit {
     /// transitions at its corners use 0.025 mm of it. Sharper corners keep
     /// their transitions: fits of a quarter of the band through them fail
     /// and are split again and again (through every corner up to 143
-    /// degrees, `makerblock_tinycnc.gcode` took 68 s instead of 5).
+    /// degrees, `makerblock_tinycnc.gcode` took many times as long;
+    /// measurements: docs/tuning.md, `LineFit::ThroughShallowCorners`).
     ThroughShallowCorners,
     /// Both, keeping `ThroughShallowCorners` where it has the lower sampled
     /// peak curvature ([`run_peak_curvature`]) and no more turning
@@ -211,7 +213,8 @@ pub enum LineFit {
     /// the lower one depends on the tube (on the noisy line at 0.25 mm the
     /// sections give 0.11 1/mm against 0). A geometric proxy, not a plan
     /// (the method knows no machine): on `LHchips4.ngc` at 0.05 mm the
-    /// pick plans 0.037 s (0.01%) slower than the sections alone.
+    /// pick plans slightly slower than the sections alone (measurements:
+    /// docs/tuning.md, `LineFit::Fairer`).
     #[default]
     Fairer,
 }
@@ -366,7 +369,8 @@ impl Smoother for Fair {
         // the caps' speeds), which keeps out fits whose lower peak comes
         // with more demand all along (a first version, by the peak alone
         // and without the step's one-period term, wrote `fair` on
-        // `51MeanderAve.ngc` at 0.05 mm 2% slower).
+        // `51MeanderAve.ngc` at 0.05 mm slower; measurements:
+        // docs/tuning.md, `OtherCurves::Sampled`).
         let ((s_peak, s_time), (k_peak, k_time)) =
             (demand_there(&sampled.pieces), demand_there(&kept.pieces));
         Ok(

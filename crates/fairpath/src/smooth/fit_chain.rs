@@ -10,10 +10,9 @@
 //! section's end vertex along the kept segment must make the whole turn at
 //! that vertex on the section's first chords; leading in along the kept
 //! segment lets it round that corner within the band. On the issue-5
-//! survey (0.05 mm) the leads and the widening planned
-//! `line-contouring-xz.ngc` 0.33 -> 0.25 of the original,
-//! `spiral_lines.ngc` 0.43 -> 0.37, `LHchips4.ngc` 0.61 -> 0.57,
-//! `test_12mmflat.ngc` 0.71 -> 0.67 and `Cereal.ngc` 0.68 -> 0.65.
+//! survey (0.05 mm) the leads and the widening planned the programs of
+//! dense lines faster (measurements: docs/tuning.md, `lead_point` and
+//! `extend_sections`).
 
 use super::bspline_corner::{BsplineCorner, BAND_USE};
 use super::bspline_fit::{fit_polyline_faired, BsplineFit, FitMemo};
@@ -28,11 +27,11 @@ use alloc::vec::Vec;
 use core::f64::consts::PI;
 
 /// Largest turn at the vertex next to a section that [`extend_sections`]
-/// takes into it (30 degrees). On the issue-5 survey: `arc_parabolic.ngc`
-/// 1.01 -> 0.97 of the original, `line-contouring-xz.ngc` 0.26 -> 0.25,
-/// `blur_torus.ngc` 0.65 -> 0.64; 10 and 20 degrees did the same but for
-/// `arc_parabolic`, 45 lost on LHchips4, and no limit lost on most programs
-/// (raster step-overs are real corners).
+/// takes into it (30 degrees). On the issue-5 survey it planned sampled
+/// curves faster; smaller limits lost a sampled parabola's gain, larger
+/// ones lost on `LHchips4.ngc`, and no limit lost on most programs (raster
+/// step-overs are real corners; measurements: docs/tuning.md,
+/// `EXTEND_MAX_TURN`).
 pub(super) const EXTEND_MAX_TURN: f64 = PI / 6.0;
 
 /// Widens every section by the vertex before and after it, when that
@@ -61,14 +60,15 @@ pub(super) fn extend_sections(sections: &mut [(usize, usize)], q: &[Vec3], max_t
 }
 
 /// Longest lead-in (lead-out) of a fit into the kept segment before (after)
-/// it, in tolerances (4 mm at 0.05 mm). On the issue-5 survey 20, 40, 80
-/// and 160 planned within 1% of each other except `test_12mmflat.ngc`
-/// (0.69 of the original at 20 and 40, 0.67 at 80).
+/// it, in tolerances (4 mm at 0.05 mm). On the issue-5 survey shorter and
+/// longer leads planned about the same, except on `test_12mmflat.ngc`,
+/// where shorter ones were slower (measurements: docs/tuning.md,
+/// `LEAD_PER_TOLERANCE`).
 const LEAD_PER_TOLERANCE: f64 = 80.0;
 /// Largest share of a kept segment a lead-in (lead-out) takes: the corner
 /// at the segment's other end keeps the rest (a segment between two fits
-/// keeps a fifth as a line). 0.4 planned `line-contouring-xz.ngc` 0.28 ->
-/// 0.26 of the original against 0.25; 0.45 did no better.
+/// keeps a fifth as a line). Chosen on the issue-5 survey, where a larger
+/// share did no better (measurements: docs/tuning.md, `LEAD_SHARE`).
 const LEAD_SHARE: f64 = 0.4;
 /// Shortest lead, in shortest kept segments ([`super::chains::CleanTolerances::min_segment`]).
 const LEAD_MIN_SEGMENTS: f64 = 4.0;
@@ -297,8 +297,9 @@ pub const SPLIT_TURN_TIE: f64 = 0.5;
 /// `sam-circle_lines.ngc`, a spiral of 370 moves turning 4.5 degrees each,
 /// failed its fits at 0.005 mm with `fair` and was fitted again on all but
 /// a vertex or two, 183 times, the points fitted growing with the square
-/// of the run's length (51 s); split in the middle, each level of halves
-/// fits the run's points once (9 s with this alone, the same curves).
+/// of the run's length; split in the middle, each level of halves fits
+/// the run's points once (the same curves, in a fraction of the time;
+/// measurements: docs/tuning.md, `split_vertex`).
 /// Sections fit
 /// independently, so where the split falls changes only which fits are
 /// tried next.

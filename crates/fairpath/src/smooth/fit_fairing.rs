@@ -79,7 +79,8 @@ const RAISE_SOLVES: usize = 3;
 /// `target` that this ladder finds. Each raise solves on the knots of the
 /// fit before it and, where it misses, inserts knots (at most
 /// `RAISE_SOLVES` linear solves; a full control-point search per raise
-/// planned the same but cost five times the fit on a 10,000-point row).
+/// planned the same but cost several times the fit on a long row;
+/// measurements: docs/tuning.md, `fit_polyline_faired`).
 ///
 /// Seed 003 (Naseath 2007, chapter 3) lowers the curvature of a B-spline
 /// tool path by moving its control points inside the tolerance tube,
@@ -87,9 +88,9 @@ const RAISE_SOLVES: usize = 3;
 /// a smoothing term plays that role here: raising it flattens the fit, and
 /// the search (with its proven bound) keeps it within the band. The
 /// seed's movement rules (categories, direction vectors, sensitivities)
-/// are not used. On the issue-5 survey, 6 raises of 4 planned
-/// `blur_torus.ngc` 0.74 -> 0.68 and `LHchips4.ngc` 0.65 -> 0.61 of the
-/// original program; 2 raises of 16 and 8 of 2 did less.
+/// are not used. On the issue-5 survey, 6 raises of 4 planned the dense
+/// programs faster than fewer, larger raises or more, smaller ones
+/// (measurements: docs/tuning.md, `fit_polyline_faired`).
 pub fn fit_polyline_faired(
     pts: &[Vec3],
     start: EndCondition,

@@ -12,9 +12,9 @@ pub const LONG_SEGMENT_PER_MEDIAN: f64 = 2.0;
 
 /// Spacing of the points added next to a vertex that turns by `phi`, as a
 /// multiple of `target / phi` (see [`fill_segments`]). Chosen on the
-/// issue-5 survey (`scripts/survey.sh`): 1 planned faster than 0.5, 2, 4
-/// and 8 on `LHchips4.ngc`, `blur_torus.ngc`, `Cereal.ngc` and
-/// `51MeanderAve.ngc`.
+/// issue-5 survey (`scripts/survey.sh`), where 1 planned faster than
+/// closer and wider spacings (measurements: docs/tuning.md,
+/// `CORNER_SPACING`).
 pub const CORNER_SPACING: f64 = 1.0;
 
 /// Points added next to each end of a segment at its corner spacing.

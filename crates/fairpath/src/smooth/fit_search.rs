@@ -256,10 +256,11 @@ pub(super) fn search(
 /// data point, two per segment with the smoothing term), so that its work
 /// stays linear in the data. Without a bound, a hopeless fit (a spiral of
 /// 4.5-degree corners within 1 um, LinuxCNC's `sam-circle_lines.ngc`) ran
-/// to 100,000 control points and 550 MB; with the doubling's own count as
-/// the bound (one time), fits that pass only with knots crowded where the
-/// data bend failed, and `auto` wrote `3D_Chips.ngc` at 0.05 mm 68.029 s
-/// instead of 65.725 s. Twice restores that and keeps the spiral bounded.
+/// to 100,000 control points and hundreds of megabytes; with the
+/// doubling's own count as the bound (one time), fits that pass only with
+/// knots crowded where the data bend failed, and `auto` wrote
+/// `3D_Chips.ngc` at 0.05 mm slower. Twice restores that and keeps the
+/// spiral bounded (measurements: docs/tuning.md, `INSERTION_PER_DOUBLING`).
 pub(super) const INSERTION_PER_DOUBLING: usize = 2;
 
 /// The shortest knot span [`refine_knots`] splits, for data parameters

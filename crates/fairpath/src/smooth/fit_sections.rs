@@ -11,8 +11,8 @@
 //!    up to 1250 mm at `c = 0.01 mm` (Siemens' compressor, `COMPCAD`,
 //!    likewise only takes blocks below a length limit). Rule 3 still makes
 //!    a long move's vertex a corner unless it turns very little. 5 mm
-//!    planned the issue-5 survey up to 4% slower (`spiral_lines.ngc` 0.164
-//!    against 0.152 of the original);
+//!    planned the issue-5 survey slower (measurements: docs/tuning.md,
+//!    `SectionOptions::max_segment`);
 //! 2. `phi <= max_turn` (default 0.5 rad, about 29 degrees): sharper turns
 //!    are corners, whatever the segment lengths, unless the vertex is a
 //!    wiggle inside the band: its height over the chord of its two
@@ -27,8 +27,8 @@
 //!    verified like any fit), as a near-cusp where the machine nearly
 //!    stops, as it must at a reversal. Measured from the chord segment
 //!    instead, such vertices went to corner transitions, which planned
-//!    the issue-5 survey slower (`line-contouring-xz.ngc` 12.64 -> 12.91 s,
-//!    `Cereal.ngc` 92.88 -> 93.24 s, nothing faster);
+//!    the issue-5 survey slower, nothing faster (measurements:
+//!    docs/tuning.md, `SectionOptions::wiggle_per_tol`);
 //! 3. `phi (s_in + s_out) / 16 <= chord_error_per_tol * tolerance`: a circle
 //!    through a vertex turning by `phi` between chords of mean length `s`
 //!    has sagitta `c = s^2 / (8 R) = phi s / 8` over each chord, so this says
@@ -40,16 +40,17 @@
 //!    degrees is a sample at 0.05 mm but a corner at 0.005 mm. (Factor 1,
 //!    the curve through the vertices within the tolerance, left LinuxCNC's
 //!    `spiral_lines.ngc`, 3.8 mm moves turning by 5.7 degrees, sagitta 0.048
-//!    mm, to corner transitions at 0.05 mm: 21.1 s planned against 9.3 s
-//!    fitted; on the rest of the issue-5 survey factor 2 planned the same
-//!    or faster, `arc_parabolic.ngc` 0.97 -> 0.91 of the original.)
+//!    mm, to corner transitions at 0.05 mm, which planned far slower than
+//!    the fit; on the rest of the issue-5 survey factor 2 planned the same
+//!    or faster. Measurements: docs/tuning.md,
+//!    `SectionOptions::chord_error_per_tol`.)
 //!
 //! The end vertices of a chain (run ends, or next to an arc) have one
 //! segment; they are dense when it satisfies rule 1. A *dense section* is a
 //! maximal range of consecutive dense vertices; it is fitted when it has at
 //! least `min_points` vertices (default 4, the seed's smallest fit of 4
-//! control points; 8 planned `Cereal.ngc` 0.65 against 0.63 of the
-//! original, and `LHchips4.ngc` 0.57 against 0.56).
+//! control points; 8 planned the issue-5 survey slower: docs/tuning.md,
+//! `SectionOptions::min_points`).
 
 use crate::geom::Vec3;
 use crate::smooth::{require, OptionError};

@@ -138,9 +138,9 @@
 //! turn than it passes a gate on each side has a farthest point from `p`
 //! in between, where `|x - p|'' >= 0` fails unless its curvature is at
 //! least `1 / |x - p|`, so at the feed it must swing far out) was tried
-//! on 2026-12-01 and changed neither bound of the right angle above,
-//! `square-wave.ngc`, `butterfly-80.ngc` or LinuxCNC's `contour.ngc` in
-//! the last digit. Step 4's envelopes let the
+//! and changed neither bound of the right angle above nor of the
+//! reference programs (measurements: docs/tuning.md, "A cap on the turn's
+//! speed (not kept)"). Step 4's envelopes let the
 //! acceleration jump from `+A` to `-A` at the top of a speed bump and
 //! leave the slow point of a window at any acceleration, where a
 //! jerk-limited profile needs `A / J` (0.2 s on the thesis machine) to

@@ -65,7 +65,8 @@ pub const REACH: usize = super::spans::DEGREE;
 /// peak narrower than their step ([`sampled_peak`], [`Extrema::Narrow`]:
 /// a near-cusp). A lower bound; the guard compares like with like (the
 /// peak pass measures its trials so too: refining every sampled extremum
-/// made `fair` 2.7 times slower over the shared programs at 0.01 mm).
+/// made `fair` several times slower over the shared programs at 0.01 mm;
+/// measurements: docs/tuning.md, `span_peak`).
 pub fn span_peak(basis: &Basis, pts: &[Vec3], s: usize) -> f64 {
     let b = Span::of(basis, pts, s);
     sampled_peak(

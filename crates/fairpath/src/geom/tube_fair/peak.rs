@@ -55,10 +55,10 @@ pub const TRIAL_STEPS: usize = 5;
 /// How many consecutive points a chord trial of the peak pass lays on the
 /// chord of the points outside them (ours; see the module docs). Up to
 /// three straightened our sharp line; up to five also the line whose
-/// spline interpolates the displaced points (R = 0.125 mm: 0.590 -> 0.543
-/// s, the straight line's time) at the same computing time over the 64
-/// B-spline programs of `docs/fair-outputs.md` (8.53 against 8.50 s;
-/// `docs/methods.md`).
+/// spline interpolates the displaced points (to the straight line's time)
+/// at about the same computing time over the B-spline programs of
+/// `docs/fair-outputs.md` (`docs/methods.md`; measurements:
+/// docs/tuning.md, `CHORD_TRIAL_POINTS`).
 pub const CHORD_TRIAL_POINTS: core::ops::RangeInclusive<usize> = 2..=5;
 
 /// Relative margin of the comparisons that choose a move (ours): a trial
