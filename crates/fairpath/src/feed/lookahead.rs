@@ -12,6 +12,13 @@
 use super::{max_entry_velocity, max_reachable_velocity, FeedError};
 use alloc::vec::Vec;
 
+/// Relative margin of the bounded look-ahead's braking test: a committed
+/// speed within this share of the highest one that still brakes to a new
+/// window's target is taken as not braking in time, so that a speed equal
+/// to it up to rounding does not commit a profile that overshoots the
+/// target by that rounding.
+const BRAKING_ROUNDING_SHARE: f64 = 1e-9;
+
 /// Boundary speeds of segments of `lengths` with boundary caps `caps`
 /// (`caps.len() == lengths.len() + 1`, both ends at rest): the full
 /// bidirectional scan, or the bounded look-ahead of `window` segments.
@@ -61,7 +68,7 @@ pub(super) fn boundary_speeds(
                 let feasible = candidate >= v[i]
                     || v[i]
                         <= max_entry_velocity(candidate, lengths[i], tl[i].0, tl[i].1)?
-                            * (1.0 - 1e-9);
+                            * (1.0 - BRAKING_ROUNDING_SHARE);
                 if feasible || i == 0 {
                     plan_b[i + 1..=end].copy_from_slice(&nb[1..]);
                     v[i + 1] = candidate;

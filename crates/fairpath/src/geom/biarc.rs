@@ -57,6 +57,11 @@ pub fn in_plane_direction(plane: Plane, t: Vec3, min_share: f64) -> Option<[f64;
     Some([p[0] / n, p[1] / n])
 }
 
+/// Below this half turn `phi` (rad), [`arc_length_2d`] takes the chord's
+/// length: `phi / sin(phi) = 1 + phi^2 / 6 + ...` differs from 1 by less
+/// than f64's rounding there (and the quotient is 0/0 at 0).
+const CHORD_LENGTH_BELOW: f64 = 1e-8;
+
 /// Length in the plane of the arc that leaves `p` with unit direction `t`
 /// and ends at `q` (both in-plane): `|c| (phi / sin phi)` with `phi` the
 /// angle from `t` to the chord `c` (half the arc's turn); the chord itself
@@ -68,7 +73,7 @@ fn arc_length_2d(t: [f64; 2], c: [f64; 2]) -> Option<f64> {
         return None;
     }
     let s = math::sin(phi);
-    Some(if math::abs(phi) < 1e-8 {
+    Some(if math::abs(phi) < CHORD_LENGTH_BELOW {
         len
     } else {
         len * phi / s

@@ -75,6 +75,14 @@ pub const STEP_SHARE: f64 = 0.5;
 /// within which they are written when they are fewer.
 const EVEN_GAIN: f64 = 1e-3;
 
+/// Curvature (1/mm) below which an arc is written as a line, times the
+/// chord share (mm): `STRAIGHT_CURVATURE_CHORD / chord`, a radius a billion
+/// times the chord share (5,000 km at 0.005 mm), where a G2's centre words
+/// would be numbers no controller resolves. The line is held to the chord
+/// share like any arc ([`Fitter::try_interval`] checks the distance of what
+/// it builds), so this only decides the form, never the deviation.
+pub(crate) const STRAIGHT_CURVATURE_CHORD: f64 = 1e-9;
+
 /// Most halvings of a piece's parameter interval.
 const MAX_DEPTH: u32 = 48;
 
@@ -351,7 +359,7 @@ pub(crate) fn arcs_for_curve(
         piece,
         speed,
         opts,
-        straight: 1e-9 / opts.chord,
+        straight: STRAIGHT_CURVATURE_CHORD / opts.chord,
         planar: opts.chord * 1e-3,
     };
     let mut arcs = Emitted::default();

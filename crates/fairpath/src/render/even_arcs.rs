@@ -57,9 +57,14 @@ const UNIFORM_SAMPLES: usize = 128;
 /// Gauss-Newton iterations at most.
 const MAX_ITERATIONS: usize = 8;
 
+/// Below this `|x|`, [`sinc`] takes the series `1 - x^2 / 6`, whose error
+/// `x^4 / 120` (below 1e-18) is under f64's rounding of 1: the quotient
+/// `sin(x) / x` would lose digits there and is 0/0 at 0.
+const SINC_SERIES_BELOW: f64 = 1e-4;
+
 /// `sin(x) / x`, 1 at 0.
 fn sinc(x: f64) -> f64 {
-    if math::abs(x) < 1e-4 {
+    if math::abs(x) < SINC_SERIES_BELOW {
         1.0 - x * x / 6.0
     } else {
         math::sin(x) / x
@@ -557,7 +562,15 @@ mod tests {
         let plan = plan_run(core::slice::from_ref(&piece), &po).unwrap();
         let speed = PlannedSpeed::new(1, &plan, 1e-3);
         let o = opts();
-        let (arcs, _) = even_arcs(&c, 0, &speed, &o, 1e-9 / o.chord, o.chord * 1e-3).unwrap();
+        let (arcs, _) = even_arcs(
+            &c,
+            0,
+            &speed,
+            &o,
+            super::super::arcs::STRAIGHT_CURVATURE_CHORD / o.chord,
+            o.chord * 1e-3,
+        )
+        .unwrap();
         assert!(arcs.len() >= MIN_ARCS);
         assert_eq!(arcs[0].start(), c.start());
         assert_eq!(arcs[arcs.len() - 1].end(), c.end());
