@@ -15,6 +15,17 @@ use crate::math;
 use crate::path::Piece;
 use alloc::vec::Vec;
 
+/// Accuracy (mm) of the remaining length of a piece where a step passes
+/// onto the next: the fluctuation compares steps of a period's travel
+/// (micrometres and up), so a nanometre's error in where the next piece
+/// starts is below what it measures.
+const REST_LENGTH_ACCURACY: f64 = 1e-9;
+
+/// Shortest commanded step (mm) whose fluctuation is counted: a step of
+/// less than a micrometre (the machine at rest, or nearly) makes the
+/// relative error of its chord the rounding of its coordinates.
+const MIN_MEASURED_STEP: f64 = 1e-3;
+
 /// One interpolation period.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
@@ -114,7 +125,7 @@ pub fn interpolate_each(
                     ds = 0.0;
                 } else {
                     // Remaining length on this piece, then the next piece.
-                    let rest = crate::geom::arc_length_between(c, u, u1, 1e-9);
+                    let rest = crate::geom::arc_length_between(c, u, u1, REST_LENGTH_ACCURACY);
                     ds -= rest;
                     if pi + 1 < pieces.len() {
                         pi += 1;
@@ -127,7 +138,7 @@ pub fn interpolate_each(
             }
             let p = pieces[pi].curve.eval(u);
             let commanded = s - s_prev;
-            if k > 0 && commanded > 1e-3 {
+            if k > 0 && commanded > MIN_MEASURED_STEP {
                 let achieved = p.dist(p_prev);
                 let f = math::abs(achieved - commanded) / commanded;
                 out.max = out.max.max(f);

@@ -197,7 +197,7 @@ fn simulate_each(
                 sim.plans.push((Some(run), plan, None));
             }
             Motion::Rapid(p) => {
-                let len = p.curve.length(1e-6);
+                let len = p.curve.length(m.chord_error * 1e-3);
                 if len.is_nan() || len <= 0.0 {
                     // One plan per motion, so that callers can index them.
                     sim.plans.push((None, RunPlan::default(), None));
