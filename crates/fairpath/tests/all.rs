@@ -17,6 +17,7 @@ mod closed_forms;
 mod common;
 mod constructor_props;
 mod derivatives;
+mod doc_diaries;
 mod double_s;
 mod fair_props;
 mod feed_form;

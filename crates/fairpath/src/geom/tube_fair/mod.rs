@@ -60,7 +60,7 @@
 //!
 //! Input: a clamped B-spline, the thesis' non-rational cubic (a NURBS
 //! with equal weights is one) or, beyond the thesis, of any degree from 2
-//! and rational (ours, 2026-12-02: its weights stay, its points move; the
+//! and rational (ours: its weights stay, its points move; the
 //! difference curve is the rational basis applied to the moves, and its
 //! Bezier spans' convex hulls still bound it, [`Basis`]; a control point's
 //! parameter is its Greville abscissa at degrees other than 3,
