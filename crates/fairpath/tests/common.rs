@@ -151,3 +151,16 @@ pub fn planned_at_max_feed(pieces: &[fairpath::path::Piece]) -> f64 {
         .expect("plans")
         .time
 }
+
+/// The `.rs` files under `dir`, recursively, appended to `out` (the tests
+/// that read the crates' sources: `layers`, `doc_diaries`).
+pub fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}

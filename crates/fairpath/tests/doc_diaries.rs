@@ -7,18 +7,7 @@
 //! s`, `627 -> 504 MB`), fails it. A source's worked example (a textbook's
 //! "Example 3.12") is a citation, not a diary, and may stay.
 
-use std::path::{Path, PathBuf};
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
+use std::path::Path;
 
 /// Whether `s` holds a date `20YY-MM-DD`.
 fn has_date(s: &str) -> bool {
@@ -84,7 +73,7 @@ fn doc_comments_carry_no_measurement_diaries() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut files = Vec::new();
     for krate in ["fairpath", "fairpath-gcode", "fairpath-cli"] {
-        rust_files(&root.join(krate).join("src"), &mut files);
+        crate::common::rust_files(&root.join(krate).join("src"), &mut files);
     }
     assert!(files.len() > 100, "{} source files found", files.len());
     let mut found = Vec::new();

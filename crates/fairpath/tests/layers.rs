@@ -14,7 +14,7 @@
 //! ```
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn layer(module: &str) -> Option<u32> {
     Some(match module {
@@ -27,17 +27,6 @@ fn layer(module: &str) -> Option<u32> {
         "pipeline" => 6,
         _ => return None,
     })
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 /// `crate::name` references on code lines (comments skipped), with lines.
@@ -65,7 +54,7 @@ fn crate_refs(text: &str) -> Vec<(usize, String)> {
 fn imports_point_down_the_layers() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    crate::common::rust_files(&src, &mut files);
     let mut bad = Vec::new();
     let mut seen: BTreeMap<String, u32> = BTreeMap::new();
     for f in &files {
