@@ -9,6 +9,7 @@
 mod auto;
 mod candidate_set;
 mod candidates;
+mod judged_fair;
 mod objective;
 mod ranking;
 mod registry;
@@ -22,6 +23,7 @@ pub use candidates::{
     SectionRule, CANDIDATES, CURVES_AS_WRITTEN, FAIR_MAX_PIECES, JERK_FAIRNESS,
     THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN, WIDE_WIGGLE_PER_TOL,
 };
+pub use judged_fair::JudgedFair;
 pub use objective::{
     fair_on, peak_pass_for, Objective, PlannedTime, RenderObserver, WrittenTime, COST_PART_PIECES,
     KEEP_MARGIN, RENDER_GAIN,

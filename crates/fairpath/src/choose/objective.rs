@@ -71,6 +71,22 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
         cost * (1.0 + KEEP_MARGIN) <= own
     }
 
+    /// Whether `a` is the better of two smoothings of one run, `b` the
+    /// other: by default where it costs less ([`Objective::cost`]; one
+    /// that cannot be run is never better). An objective whose writer
+    /// judges at more than the feeds it costs at says so here
+    /// ([`PlannedTime`] at the programmed feeds: also at the machine's
+    /// maximum feed, as the G-code writers judge a run). `fair` reads it
+    /// to choose between its two smoothings of a run with arcs or curves
+    /// it cannot fair itself ([`crate::smooth::FairAlternatives`]).
+    fn prefers(&self, a: &[Piece], b: &[Piece]) -> bool {
+        match (self.cost(a), self.cost(b)) {
+            (Some(ca), Some(cb)) => ca < cb,
+            (Some(_), None) => true,
+            _ => false,
+        }
+    }
+
     /// What a fairing inside the tolerance tube should lower for this
     /// objective ([`crate::smooth::FairOptions::peak_pass`]), or `None`
     /// (the default) when the objective does not say: then the default
@@ -180,6 +196,24 @@ impl Objective for PlannedTime {
     }
     fn feeds_overridden(&self) -> bool {
         self.plan.override_feed
+    }
+
+    /// Less at the objective's feeds and, where those are the programmed
+    /// ones, at the machine's maximum feed too: the G-code writers keep a
+    /// run as the program wrote it unless its rendering is faster at every
+    /// feed, so a smoothing faster at the programmed feed but slower at an
+    /// override would be no gain.
+    fn prefers(&self, a: &[Piece], b: &[Piece]) -> bool {
+        let less = |plan: &PlanOptions| match (plan_run(a, plan), plan_run(b, plan)) {
+            (Ok(pa), Ok(pb)) => pa.time < pb.time,
+            (Ok(_), Err(_)) => true,
+            _ => false,
+        };
+        let at_maximum = PlanOptions {
+            override_feed: true,
+            ..self.plan
+        };
+        less(&self.plan) && (self.plan.override_feed || less(&at_maximum))
     }
 
     /// The same plan: the run's pieces are what is run.

@@ -3,6 +3,7 @@
 //! with errors naming the method, the option and the value.
 
 use super::auto::{Auto, AutoOptions};
+use super::judged_fair::JudgedFair;
 use super::objective::{fair_on, Objective, PlannedTime};
 use crate::smooth::{
     ArcFit, ArcFitOptions, BsplineCorner, BsplineCornerOptions, BsplineFit, BsplineFitOptions, Ctm,
@@ -123,8 +124,11 @@ impl Method {
             Method::BsplineCorner(options) => Box::new(BsplineCorner { options }),
             Method::BsplineFit(options) => Box::new(BsplineFit { options }),
             Method::Ctm(options) => Box::new(Ctm { options }),
-            Method::Fair(options) => Box::new(Fair {
-                options: fair_on(options, objective.as_ref()),
+            Method::Fair(options) => Box::new(JudgedFair {
+                fair: Fair {
+                    options: fair_on(options, objective.as_ref()),
+                },
+                objective,
             }),
             Method::Lotm(options) => Box::new(Lotm { options }),
             Method::None => Box::new(NoSmoothing),

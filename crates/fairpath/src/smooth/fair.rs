@@ -59,8 +59,13 @@
 //!   [`FAIR_SAMPLE_SHARE`] of the tolerance ([`Run::sampled`]), the chords
 //!   fitted and faired as lines are, in the rest of the tolerance (so the
 //!   result is within the chords' share plus the rest of the original, by
-//!   the triangle inequality). That smoothing is kept
-//!   where both its highest demand and the demand's integral over the
+//!   the triangle inequality). The two smoothings are
+//!   [`Fair::alternatives`]. As the registry builds `fair`
+//!   (`choose::JudgedFair`), the planner on the user's machine chooses
+//!   between them: the sampled one where it plans faster at every feed a
+//!   G-code writer judges a run at. This type alone has no planner (the
+//!   methods' layer sits below it) and estimates: the sampled smoothing
+//!   is kept where both its highest demand and the demand's integral over the
 //!   length ([`sampled_demands`], by [`FairOptions::peak_pass`]'s measure
 //!   at its own feed, not the programmed one: by default the speed caps of
 //!   fairpath's jerk-limited model at 400 mm/s, curvature, its rate of
@@ -306,6 +311,81 @@ impl Smoother for Fair {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        let alt = self.alternatives(run, tolerance)?;
+        Ok(match alt.sampled {
+            Some(sampled) if alt.sampled_demands_less(&sampled, self.options.peak_pass) => sampled,
+            _ => alt.kept,
+        })
+    }
+}
+
+/// The two smoothings [`Fair`] chooses between on a run
+/// ([`Fair::alternatives`]).
+#[derive(Clone, Debug)]
+pub struct FairAlternatives {
+    /// The curves the fairing cannot take kept as written, the rest (rational
+    /// and high-degree B-splines too) faired.
+    pub kept: SmoothedRun,
+    /// Where the run holds curves the fairing cannot take or cannot move
+    /// (and [`OtherCurves::Sampled`]): the run with them sampled as chords
+    /// within [`FAIR_SAMPLE_SHARE`] of the tolerance, fitted and faired as
+    /// lines in the rest of it; `None` elsewhere, and where one of its
+    /// curves stayed unfaired.
+    pub sampled: Option<SmoothedRun>,
+    /// The input lines of the sampled curves: where the two differ.
+    sampled_lines: Vec<(usize, usize)>,
+}
+
+impl FairAlternatives {
+    /// Whether `sampled` demands less than [`FairAlternatives::kept`] of
+    /// `pass`'s speed caps both at its peak and in all (the demand's
+    /// integral over the length: about the time at the caps' speeds),
+    /// compared where they differ: over the pieces from the input lines
+    /// of the sampled curves (the run's demand may peak elsewhere), but
+    /// the corner transitions, which replace corners the curves kept make
+    /// with their neighbours (a corner has no curvature to count). The
+    /// demand is taken at the pass' own feed, not the programmed one:
+    /// below it both would tie at the feed, and a fit that demands more at
+    /// a feed override is no gain (the writer keeps a run that plans
+    /// slower at the maximum feed as written). By the peak alone, fits
+    /// whose lower peak comes with more demand all along would pass
+    /// (measurements: docs/tuning.md, `OtherCurves::Sampled`). The choice
+    /// of [`Fair`] without a planner; `choose` judges by its objective.
+    pub fn sampled_demands_less(&self, sampled: &SmoothedRun, pass: PeakPass) -> bool {
+        let pass = match pass {
+            PeakPass::Off => PeakPass::Curvature,
+            pass => pass,
+        };
+        let lines = &self.sampled_lines;
+        let demand_there = |pieces: &[Piece]| {
+            let near: Vec<Piece> = pieces
+                .iter()
+                .filter(|p| {
+                    let transition =
+                        matches!(&p.curve, Curve::Nurbs(c) if c.knots == TRANSITION_KNOTS);
+                    !transition
+                        && lines
+                            .iter()
+                            .any(|l| p.source_lines.0 <= l.1 && l.0 <= p.source_lines.1)
+                })
+                .cloned()
+                .collect();
+            sampled_demands(&near, pass)
+        };
+        let ((s_peak, s_time), (k_peak, k_time)) = (
+            demand_there(&sampled.pieces),
+            demand_there(&self.kept.pieces),
+        );
+        s_peak < k_peak && s_time < k_time
+    }
+}
+
+impl Fair {
+    /// The smoothings [`Fair`] chooses between on `run` within
+    /// `tolerance` mm: the curves the fairing cannot take kept, and (where
+    /// the run has such curves) sampled; each is within `tolerance` of the
+    /// run.
+    pub fn alternatives(&self, run: &Run, tolerance: f64) -> Result<FairAlternatives, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
         let kept = self.smooth_lines(run, tolerance)?;
@@ -326,60 +406,26 @@ impl Smoother for Fair {
         if self.options.other_curves == OtherCurves::Kept
             || !run.pieces.iter().any(|p| other(&p.curve))
         {
-            return Ok(kept);
+            return Ok(FairAlternatives {
+                kept,
+                sampled: None,
+                sampled_lines: Vec::new(),
+            });
         }
         let chord = FAIR_SAMPLE_SHARE * tolerance;
         let sampled_run = run.sampled(chord, other);
         let sampled = self.smooth_lines(&sampled_run, tolerance - chord)?;
-        // Compared where they differ: over the pieces from the input lines
-        // of the sampled curves (the run's demand may peak elsewhere), but
-        // the corner transitions, which replace corners the curves kept
-        // make with their neighbours (a corner has no curvature to count).
-        let lines: Vec<(usize, usize)> = run
+        let sampled_lines = run
             .pieces
             .iter()
             .filter(|p| other(&p.curve))
             .map(|p| p.source_lines)
             .collect();
-        // At the pass' own feed, not the programmed one: below it both
-        // would tie at the feed, and a fit that demands more at a feed
-        // override is no gain (the writer keeps a run that plans slower
-        // at the maximum feed as written).
-        let pass = match self.options.peak_pass {
-            PeakPass::Off => PeakPass::Curvature,
-            pass => pass,
-        };
-        let demand_there = |pieces: &[Piece]| {
-            let near: Vec<Piece> = pieces
-                .iter()
-                .filter(|p| {
-                    let transition =
-                        matches!(&p.curve, Curve::Nurbs(c) if c.knots == TRANSITION_KNOTS);
-                    !transition
-                        && lines
-                            .iter()
-                            .any(|l| p.source_lines.0 <= l.1 && l.0 <= p.source_lines.1)
-                })
-                .cloned()
-                .collect();
-            sampled_demands(&near, pass)
-        };
-        // The sampled smoothing must demand less both at its peak and in
-        // all (the demand's integral over the length: about the time at
-        // the caps' speeds), which keeps out fits whose lower peak comes
-        // with more demand all along (a first version, by the peak alone
-        // and without the step's one-period term, wrote `fair` on
-        // `51MeanderAve.ngc` at 0.05 mm slower; measurements:
-        // docs/tuning.md, `OtherCurves::Sampled`).
-        let ((s_peak, s_time), (k_peak, k_time)) =
-            (demand_there(&sampled.pieces), demand_there(&kept.pieces));
-        Ok(
-            if sampled.unfaired.is_empty() && s_peak < k_peak && s_time < k_time {
-                sampled
-            } else {
-                kept
-            },
-        )
+        Ok(FairAlternatives {
+            kept,
+            sampled: sampled.unfaired.is_empty().then_some(sampled),
+            sampled_lines,
+        })
     }
 }
 

@@ -51,7 +51,7 @@ pub use bspline_fit::{
 pub use chains::{CornerReason, KeptCorner};
 pub use fair::{
     run_peak_curvature, run_turning, sampled_demand, sampled_demands, shallow_corner_sections,
-    Fair, FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS, TURNING_ACCURACY,
+    Fair, FairAlternatives, FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS, TURNING_ACCURACY,
 };
 pub use fit_sections::{
     dense_sections, through_corners_sections, SectionOptions, THROUGH_MAX_TURN,

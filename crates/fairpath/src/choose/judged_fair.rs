@@ -1,0 +1,39 @@
+//! `fair` as the registry builds it: its two smoothings of a run with arcs
+//! or curves it cannot fair itself (the curves kept, or sampled as chords
+//! and faired: [`FairAlternatives`]) judged by the objective, the planner
+//! on the user's machine, instead of by the demand of the fairing's speed
+//! caps ([`FairAlternatives::sampled_demands_less`]), which only
+//! estimates the time: a corner transition the sampled run gains in place
+//! of a corner its curves kept is left out of that estimate, and can cost
+//! more than the corner (`Ruota_dentata_p1.ngc` at 0.125 mm: sampled and
+//! faired it planned slower than the program at the maximum feed and was
+//! kept as written; the curves faired themselves plan faster at both
+//! feeds).
+
+use super::objective::Objective;
+use crate::path::Run;
+use crate::smooth::{Fair, FairAlternatives, SmoothError, SmoothedRun, Smoother};
+use alloc::sync::Arc;
+
+/// [`Fair`] choosing between its smoothings of a run by `objective`
+/// ([`Objective::prefers`]): the sampled one where the objective prefers
+/// it to the curves kept.
+#[derive(Debug)]
+pub struct JudgedFair {
+    pub fair: Fair,
+    pub objective: Arc<dyn Objective>,
+}
+
+impl Smoother for JudgedFair {
+    fn name(&self) -> &'static str {
+        self.fair.name()
+    }
+
+    fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        let FairAlternatives { kept, sampled, .. } = self.fair.alternatives(run, tolerance)?;
+        Ok(match sampled {
+            Some(s) if self.objective.prefers(&s.pieces, &kept.pieces) => s,
+            _ => kept,
+        })
+    }
+}
