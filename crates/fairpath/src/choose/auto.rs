@@ -77,7 +77,13 @@
 //!   as written keeps every corner, these only those next to an arc:
 //!   where they would be written, and are cheaper than the best G2
 //!   candidate where that may still be written, they are kept, and `auto`
-//!   is no slower than `bspline-corner` or `lotm` alone.
+//!   is no slower than `bspline-corner` or `lotm` alone. The fallback
+//!   also tries method `fair` on the curves as written, both of its
+//!   smoothings ([`crate::smooth::FairAlternatives`]: the arcs kept, or
+//!   sampled within its own share of the tolerance and faired with its
+//!   peak pass), under the same rule: where the best G2 candidate would
+//!   be kept as written, `fair`'s may be written (LinuxCNC's `cap.ngc`,
+//!   rounded rectangles of tangent arcs, at 0.01 mm).
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
@@ -113,7 +119,7 @@
 use super::candidate_set::CandidateSet;
 use super::candidates::{
     has_splines, is_corner_method, is_fair, is_g2, shallow_sections, widens_sections, Candidate,
-    CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR_MAX_PIECES,
+    CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR, FAIR_MAX_PIECES,
     THROUGH_MAX_PIECES,
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
@@ -124,7 +130,8 @@ use super::sections::{
 use crate::geom::Curve;
 use crate::path::Run;
 use crate::smooth::{
-    check_tolerance, require, FitMemo, OptionError, SmoothError, SmoothedRun, Smoother,
+    check_tolerance, require, Fair, FairOptions, FitMemo, OptionError, SmoothError, SmoothedRun,
+    Smoother,
 };
 use alloc::sync::Arc;
 use alloc::vec::Vec;
@@ -456,12 +463,14 @@ impl Smoother for Auto {
 
 impl Auto {
     /// The corner methods on the curves as written ([`Kind::CornerInPlace`]
-    /// rows of [`CANDIDATES`]) for a run with an arc or curve, when they are
+    /// rows of [`CANDIDATES`]), and `fair`'s two smoothings of the run
+    /// (unless left out), for a run with an arc or curve, when they are
     /// not offered beside the others and `best`, the best G2 candidate
     /// costing `time`, would leave the run as the program wrote it (see
-    /// the module documentation); the cheapest of them if it costs less
-    /// than `time` and would itself be written (is [`KEEP_MARGIN`] cheaper
-    /// than the run as written). `None`: nothing to change.
+    /// the module documentation); the cheapest of them that would itself
+    /// be written (is [`KEEP_MARGIN`] cheaper than the run as written at
+    /// every feed the writer judges at), if it costs less than `time`.
+    /// `None`: nothing to change.
     fn curves_as_written_fallback(
         &self,
         run: &Run,
@@ -499,7 +508,7 @@ impl Auto {
             })
             .map(|(_, r)| r)
             .collect();
-        let smoothed = map_candidates(rows.len(), |i| {
+        let mut smoothed = map_candidates(rows.len(), |i| {
             let mut cand = rows[i].kind.candidate().smooth(
                 (run, tolerance),
                 run,
@@ -512,6 +521,22 @@ impl Auto {
         })
         .into_iter()
         .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
+        // And method `fair` on the curves as written, both of its
+        // smoothings (the arcs kept, or sampled within its own share and
+        // faired with its peak pass): where the best G2 candidate would be
+        // kept as written, one of them may be written (LinuxCNC's
+        // `cap.ngc` at 0.01 mm; measurements: docs/tuning.md,
+        // `JudgedFair`).
+        if !self.options.leave_out.contains(FAIR) {
+            let fair = Fair {
+                options: fair_on(FairOptions::default(), objective),
+            };
+            let alt = fair.alternatives(run, tolerance)?;
+            for mut cand in core::iter::once(alt.kept).chain(alt.sampled) {
+                cand.chosen = alloc::vec![FAIR];
+                smoothed.push(cand);
+            }
+        }
         // Those whose cheap bound already says they would not be kept are
         // not costed.
         let could_win = |c: &SmoothedRun| {
@@ -524,17 +549,17 @@ impl Auto {
             return Ok(None);
         }
         let mut ranking = Ranking::new(objective, smoothed);
-        let Some((Some(t), i)) = ranking.fastest(|_| true) else {
+        // The cheapest that would be written: cheaper than the run as
+        // written by the writer's rule (else the run is written as the
+        // program wrote it either way, and the G2 curves stay what `auto`
+        // reports), and kept only where it is also cheaper than the best
+        // G2 candidate where that may be written.
+        let Some((t, i)) =
+            ranking.cheapest_kept(|c, t| objective.written_instead(&c.pieces, t, &run.pieces, own))
+        else {
             return Ok(None);
         };
-        // Kept only where it would be written: cheaper than the best G2
-        // candidate where that may be written, and than the run as written
-        // by the writer's rule (else the run is written as the program
-        // wrote it either way, and the G2 curves stay what `auto`
-        // reports).
-        if beat.is_some_and(|tw| t >= tw)
-            || !objective.written_instead(&ranking.cands[i].pieces, t, &run.pieces, own)
-        {
+        if beat.is_some_and(|tw| t >= tw) {
             return Ok(None);
         }
         Ok(Some(core::mem::take(&mut ranking.cands[i])))

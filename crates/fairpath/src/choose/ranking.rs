@@ -81,6 +81,22 @@ impl<'o> Ranking<'o> {
         self.costs[self.first_same[i]]
     }
 
+    /// The cheapest of all the candidates that `keep` accepts with their
+    /// cost, by index, with its cost (a tie goes to the earlier): every
+    /// candidate is costed (no bound prunes them), for a choice whose
+    /// rule needs the cost.
+    pub(super) fn cheapest_kept(
+        &mut self,
+        keep: impl Fn(&SmoothedRun, f64) -> bool,
+    ) -> Option<(f64, usize)> {
+        let all: Vec<usize> = (0..self.cands.len()).map(|i| self.first_same[i]).collect();
+        self.cost(&all);
+        (0..self.cands.len())
+            .filter_map(|i| self.costs[self.first_same[i]].flatten().map(|c| (c, i)))
+            .filter(|&(c, i)| keep(&self.cands[i], c))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+    }
+
     /// [`Ranking::fastest`], by index only: where `eligible` accepts
     /// candidates of one result only, the first of them, costed by nothing.
     pub(super) fn cheapest(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {
