@@ -119,8 +119,8 @@
 use super::candidate_set::CandidateSet;
 use super::candidates::{
     has_splines, is_corner_method, is_fair, is_g2, shallow_sections, widens_sections, Candidate,
-    CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR, FAIR_MAX_PIECES,
-    THROUGH_MAX_PIECES,
+    CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR, FAIR_CURVES_AS_WRITTEN,
+    FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
@@ -532,8 +532,9 @@ impl Auto {
                 options: fair_on(FairOptions::default(), objective),
             };
             let alt = fair.alternatives(run, tolerance)?;
-            for mut cand in core::iter::once(alt.kept).chain(alt.sampled) {
-                cand.chosen = alloc::vec![FAIR];
+            let named = [FAIR_CURVES_AS_WRITTEN, FAIR];
+            for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
+                cand.chosen = alloc::vec![name];
                 smoothed.push(cand);
             }
         }

@@ -144,10 +144,19 @@ pub const CURVES_AS_WRITTEN: [&str; 2] = [
     "lotm, curves as written",
 ];
 
+/// The name of method `fair` on the curves as written with its arcs and
+/// the curves it cannot fair kept ([`crate::smooth::FairAlternatives::kept`]),
+/// which may keep corners next to them as the [`CURVES_AS_WRITTEN`]
+/// candidates do: tried only in `auto`'s fallback where its best G2
+/// candidate would be kept as written ([`super::Auto`]).
+pub const FAIR_CURVES_AS_WRITTEN: &str = "fair, curves as written";
+
 /// Whether `c` is (or holds a section of) a [`CURVES_AS_WRITTEN`]
-/// candidate.
+/// candidate, or is [`FAIR_CURVES_AS_WRITTEN`].
 pub fn keeps_arc_joints(c: &SmoothedRun) -> bool {
-    c.chosen.iter().any(|n| CURVES_AS_WRITTEN.contains(n))
+    c.chosen
+        .iter()
+        .any(|n| CURVES_AS_WRITTEN.contains(n) || *n == FAIR_CURVES_AS_WRITTEN)
 }
 
 /// How a candidate smooths a run.
