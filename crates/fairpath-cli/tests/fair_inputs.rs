@@ -463,6 +463,33 @@ fn ruota_dentata_p1_at_0_125_mm_is_written_faster() {
     assert!(t_out < 0.995 * t_in, "written {t_out} against {t_in}");
 }
 
+/// `Curva_Mazatrol_p3.ngc` (LinuxCNC's G6.2 example): its peak curvature
+/// lies in the first span of its curve, next to the corner where the
+/// plunge meets it. `fair` kept the first and last three control points
+/// of every curve with a neighbour, as if each joint were G2, so that
+/// peak stayed (0.1371 1/mm at every radius); a curve's end at a corner
+/// now keeps only its point (where that is faster by its speed caps and
+/// no higher in peak), and the peak falls (0.1357 1/mm at 0.125 mm when
+/// this test was written, 104.558 -> 104.406 s).
+#[test]
+fn curva_mazatrol_p3_peak_next_to_its_plunge_falls() {
+    let rel = "linuxcnc-nurbs/G6/Curva_Mazatrol_p3.ngc";
+    let Some(v) = fair_shared(rel, "0.125mm", &[]) else {
+        return;
+    };
+    let (t_in, t_out) = times(&v);
+    assert!(t_out < t_in, "written {t_out} against {t_in}");
+    let input = common::shared(rel).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let none = smooth_checked(&input, &out, "0.125mm", "none", &["--json-summary"]);
+    let before = json_summary(&none)["peak_curvature_per_mm"]
+        .as_f64()
+        .unwrap();
+    let after = v["peak_curvature_per_mm"].as_f64().unwrap();
+    assert!(after < 0.995 * before, "peak {after} against {before}");
+}
+
 /// `Curva_Farfalla_p1.ngc` (LinuxCNC's rational G6.2 example, degree 4):
 /// sampled, fitted and faired at 0.25 mm its curve had a lower peak
 /// curvature but ripples of `dk/ds` that planned it 30% slower at the

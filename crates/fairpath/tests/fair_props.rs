@@ -737,6 +737,66 @@ fn the_method_fairs_a_spline_between_lines() {
     }
 }
 
+/// Method `fair` on a curve between a plunge and a retract (LinuxCNC's
+/// `Curva_Mazatrol_p3.ngc`: its peak curvature lies in the span next to
+/// the plunge): the joints are corners, so the ends keep only their
+/// points (where that is also faster by the speed caps and no higher in
+/// peak; at these radii it is) and the peak falls, which it did not with
+/// three control points kept at each end. Within the tolerance, ends
+/// exact, corners still corners.
+#[test]
+fn an_end_at_a_corner_keeps_only_its_point() {
+    let z = -1.0;
+    let pts: Vec<Vec3> = [
+        (0.0, 100.0),
+        (10.0, 100.0),
+        (10.0, 70.665),
+        (27.928, 59.258),
+        (34.093, 56.935),
+        (41.136, 54.281),
+        (63.112, 51.556),
+        (79.999, 60.0),
+        (99.998, 40.002),
+        (100.0, 0.012),
+    ]
+    .iter()
+    .map(|&(x, y)| v(x, y, z))
+    .collect();
+    let c = spline(pts);
+    let (a, b) = (c.points[0], *c.points.last().unwrap());
+    let run = Run::new(vec![
+        line(a + v(0.0, 0.0, 2.0), a, 1),
+        Piece {
+            source_lines: (2, 2),
+            ..piece(&c)
+        },
+        line(b, b + v(0.0, 0.0, 2.0), 3),
+    ]);
+    for tol in [0.125, 0.25] {
+        let out = Fair::default().smooth_run(&run, tol).unwrap();
+        let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+        assert!(rep.within(tol), "{tol}: {rep:?}");
+        assert_eq!(out.pieces.len(), 3);
+        let Curve::Nurbs(f) = &out.pieces[1].curve else {
+            panic!()
+        };
+        assert_eq!((f.points[0], *f.points.last().unwrap()), (a, b));
+        let jt = JointTolerances::from_tolerance(tol);
+        for w in out.pieces.windows(2) {
+            assert_eq!(w[0].end(), w[1].start());
+            assert_eq!(
+                classify_joint(&w[0].curve, &w[1].curve, &jt),
+                Continuity::G0
+            );
+        }
+        // Keeping three points at each end left the peak where it was
+        // (0.1371 1/mm against 0.1371 at both radii).
+        let (_, p, _) = metrics(f);
+        let (_, p0, _) = metrics(&c);
+        assert!(p < 0.995 * p0, "{tol}: {p} against {p0}");
+    }
+}
+
 /// Runs of lines: fitted (seed 002) on a share of the band, then faired on
 /// the rest. A dense noisy polyline: within the tolerance, endpoints exact,
 /// joints G2, and the fits flatter than the plain fit alone.

@@ -29,9 +29,12 @@
 //!   relaxation off: flattening is the thesis' method's job here).
 //! * Lines between sharp corners are kept as they are (the fit's
 //!   sections leave them).
-//! * **Joints**: a curve that joins another piece of the run keeps its
-//!   first (or last) three control points, so its position, tangent and
-//!   curvature at the joint do not change: a G2 joint stays G2. At the
+//! * **Joints**: a curve that joins another piece of the run tangent (G1
+//!   or G2) keeps its first (or last) three control points, so its
+//!   position, tangent and curvature at the joint do not change: a G2
+//!   joint stays G2. At a corner of the run it keeps only its end point,
+//!   where that is faster by its speed caps and no higher in peak
+//!   curvature than keeping three (`FairOptions::fair_between`). At the
 //!   run's ends only the end point is kept ([`FairOptions::ends`]: the end
 //!   tangent may turn, or with `slide-along-tangent` keeps its
 //!   direction). Run endpoints stay bit for bit.
@@ -95,10 +98,13 @@ use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
 use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::guard::{PEAK_ACCURACY, PEAK_SAMPLES};
 use crate::geom::tube_fair::{
-    as_fairable, fair_in_tube, Basis, EndRule, PeakPass, TubeFairError, TubeFairOptions,
+    as_fairable, fair_in_tube, Basis, EndRule, Faired, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
-use crate::geom::{sampled_peak, total_curvature, Curve, Extrema, Line, Nurbs, ParamCurve, Vec3};
+use crate::geom::{
+    classify_joint, sampled_peak, total_curvature, Continuity, Curve, Extrema, JointTolerances,
+    Line, Nurbs, ParamCurve, Vec3,
+};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -295,6 +301,85 @@ impl FairOptions {
             keep_g2_end: keep_end,
             peak_guard: self.peak_guard,
             peak_pass: self.peak_pass,
+        }
+    }
+}
+
+impl FairOptions {
+    /// Fairs `c`, the curve of `piece`, in a tube of `radius` between the
+    /// pieces `prev` and `next` of its run (`None` at the run's ends).
+    ///
+    /// An end that meets its neighbour tangent keeps its first three
+    /// control points, so the joint stays as it was (G2 where it was G2).
+    /// An end at a corner need only keep its point: the corner stays a
+    /// corner, and the curvature next to it may fall (the peak of
+    /// LinuxCNC's `Curva_Mazatrol_p3.ngc` lies in the span next to its
+    /// plunge). But a free end can also end the fairing sooner (the
+    /// thesis' iterations stop when any point touches the tube), so the
+    /// curve is then faired both ways and the free one is kept only where
+    /// its speed caps take less time ([`sampled_demands`] at the run's
+    /// feed) and its peak curvature is no higher ([`run_peak_curvature`]).
+    fn fair_between(
+        &self,
+        c: &Nurbs,
+        piece: &Piece,
+        radius: f64,
+        (prev, next): (Option<&Curve>, Option<&Curve>),
+        joints: &JointTolerances,
+    ) -> Result<Faired, TubeFairError> {
+        // The peak pass works only where the shape, not the programmed
+        // feed (mm/min), limits the speed (where the machine runs the
+        // programmed feeds).
+        let at_feed = |pass: PeakPass| {
+            if self.programmed_feeds {
+                pass.at_feed(piece.feed.map(|f| f / 60.0))
+            } else {
+                pass
+            }
+        };
+        let fair_keeping = |(keep_start, keep_end): (bool, bool)| {
+            let mut opts = self.tube(radius, keep_start, keep_end);
+            opts.peak_pass = at_feed(opts.peak_pass);
+            // Rational curves and those of degree 4 and above are faired
+            // as the thesis' cubics are (the module documentation),
+            // unless they are to be kept as written.
+            match beyond_thesis(c) {
+                Some(e) if self.other_curves == OtherCurves::Kept => Err(e),
+                _ => as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)),
+            }
+        };
+        let tangent = |a: &Curve, b: &Curve| classify_joint(a, b, joints) >= Continuity::G1;
+        let keep = (
+            prev.is_some_and(|a| tangent(a, &piece.curve)),
+            next.is_some_and(|b| tangent(&piece.curve, b)),
+        );
+        let both = (prev.is_some(), next.is_some());
+        let free = fair_keeping(keep);
+        if keep == both {
+            return free;
+        }
+        let pass = at_feed(match self.peak_pass {
+            PeakPass::Off => PeakPass::Curvature,
+            pass => pass,
+        });
+        let time_peak = |f: &Faired| {
+            let p = [Piece {
+                curve: Curve::from(f.curve.clone()),
+                ..piece.clone()
+            }];
+            (sampled_demands(&p, pass).1, run_peak_curvature(&p))
+        };
+        match (free, fair_keeping(both)) {
+            (Ok(free), Ok(kept)) => {
+                let ((t_free, k_free), (t_kept, k_kept)) = (time_peak(&free), time_peak(&kept));
+                Ok(if t_free < t_kept && k_free <= k_kept {
+                    free
+                } else {
+                    kept
+                })
+            }
+            (Ok(free), Err(_)) => Ok(free),
+            (Err(e), _) => Err(e),
         }
     }
 }
@@ -648,6 +733,7 @@ impl Fair {
             .filter(|p| !matches!(p.curve, Curve::Line(_)))
             .peekable();
         let n = out.pieces.len();
+        let joints = JointTolerances::from_tolerance(tolerance);
         for i in 0..n {
             let piece: &Piece = &out.pieces[i];
             let from_input = originals.peek().is_some_and(|p| p.curve == piece.curve);
@@ -664,24 +750,12 @@ impl Fair {
             } else {
                 (1.0 - o.fit_share) * tolerance
             };
-            let mut opts = o.tube(o.band_use * room, i > 0, i + 1 < n);
-            // The peak pass works only where the shape, not the programmed
-            // feed (mm/min), limits the speed (where the machine runs the
-            // programmed feeds).
-            if o.programmed_feeds {
-                opts.peak_pass = opts.peak_pass.at_feed(piece.feed.map(|f| f / 60.0));
-            }
-            // Rational curves and those of degree 4 and above are faired
-            // as the thesis' cubics are (the module documentation), unless
-            // they are to be kept as written.
-            let kept_as_written = match beyond_thesis(c) {
-                Some(e) if o.other_curves == OtherCurves::Kept => Err(e),
-                _ => Ok(()),
-            };
-            match kept_as_written
-                .and_then(|()| as_fairable(c))
-                .and_then(|c| fair_in_tube(&c, &opts))
-            {
+            let (prev, next) = (
+                i.checked_sub(1).map(|j| &out.pieces[j].curve),
+                out.pieces.get(i + 1).map(|p| &p.curve),
+            );
+            let faired = o.fair_between(c, piece, o.band_use * room, (prev, next), &joints);
+            match faired {
                 // Unmoved: the curve as written (not its cubic form).
                 Ok(f) if f.iterations.is_empty() => {}
                 Ok(f) => out.pieces[i].curve = Curve::from(f.curve),
