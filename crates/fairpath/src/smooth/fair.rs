@@ -32,9 +32,10 @@
 //! * **Joints**: a curve that joins another piece of the run tangent (G1
 //!   or G2) keeps its first (or last) three control points, so its
 //!   position, tangent and curvature at the joint do not change: a G2
-//!   joint stays G2. At a corner of the run it keeps only its end point,
-//!   where that is faster by its speed caps and no higher in peak
-//!   curvature than keeping three (`FairOptions::fair_between`). At the
+//!   joint stays G2. A curve of the program at a corner of the run keeps
+//!   only its end point, where that is faster by its speed caps and no
+//!   higher in peak curvature than keeping three
+//!   (`FairOptions::fair_between`). At the
 //!   run's ends only the end point is kept ([`FairOptions::ends`]: the end
 //!   tangent may turn, or with `slide-along-tangent` keeps its
 //!   direction). Run endpoints stay bit for bit.
@@ -306,6 +307,37 @@ impl FairOptions {
 }
 
 impl FairOptions {
+    /// `pass` at the feed of `piece` where the machine runs the programmed
+    /// feeds: the peak pass works only where the shape, not the feed
+    /// (mm/min), limits the speed.
+    fn at_feed(&self, pass: PeakPass, piece: &Piece) -> PeakPass {
+        if self.programmed_feeds {
+            pass.at_feed(piece.feed.map(|f| f / 60.0))
+        } else {
+            pass
+        }
+    }
+
+    /// Fairs `c`, the curve of `piece`, in a tube of `radius`, keeping its
+    /// first (last) three control points where `keep.0` (`keep.1`).
+    fn fair_keeping(
+        &self,
+        c: &Nurbs,
+        piece: &Piece,
+        radius: f64,
+        (keep_start, keep_end): (bool, bool),
+    ) -> Result<Faired, TubeFairError> {
+        let mut opts = self.tube(radius, keep_start, keep_end);
+        opts.peak_pass = self.at_feed(opts.peak_pass, piece);
+        // Rational curves and those of degree 4 and above are faired as
+        // the thesis' cubics are (the module documentation), unless they
+        // are to be kept as written.
+        match beyond_thesis(c) {
+            Some(e) if self.other_curves == OtherCurves::Kept => Err(e),
+            _ => as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)),
+        }
+    }
+
     /// Fairs `c`, the curve of `piece`, in a tube of `radius` between the
     /// pieces `prev` and `next` of its run (`None` at the run's ends).
     ///
@@ -318,7 +350,8 @@ impl FairOptions {
     /// thesis' iterations stop when any point touches the tube), so the
     /// curve is then faired both ways and the free one is kept only where
     /// its speed caps take less time ([`sampled_demands`] at the run's
-    /// feed) and its peak curvature is no higher ([`run_peak_curvature`]).
+    /// feed) and its peak curvature is no higher ([`run_peak_curvature`];
+    /// measurements: docs/tuning.md, `FairOptions::fair_between`).
     fn fair_between(
         &self,
         c: &Nurbs,
@@ -327,27 +360,7 @@ impl FairOptions {
         (prev, next): (Option<&Curve>, Option<&Curve>),
         joints: &JointTolerances,
     ) -> Result<Faired, TubeFairError> {
-        // The peak pass works only where the shape, not the programmed
-        // feed (mm/min), limits the speed (where the machine runs the
-        // programmed feeds).
-        let at_feed = |pass: PeakPass| {
-            if self.programmed_feeds {
-                pass.at_feed(piece.feed.map(|f| f / 60.0))
-            } else {
-                pass
-            }
-        };
-        let fair_keeping = |(keep_start, keep_end): (bool, bool)| {
-            let mut opts = self.tube(radius, keep_start, keep_end);
-            opts.peak_pass = at_feed(opts.peak_pass);
-            // Rational curves and those of degree 4 and above are faired
-            // as the thesis' cubics are (the module documentation),
-            // unless they are to be kept as written.
-            match beyond_thesis(c) {
-                Some(e) if self.other_curves == OtherCurves::Kept => Err(e),
-                _ => as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)),
-            }
-        };
+        let fair_keeping = |keep: (bool, bool)| self.fair_keeping(c, piece, radius, keep);
         let tangent = |a: &Curve, b: &Curve| classify_joint(a, b, joints) >= Continuity::G1;
         let keep = (
             prev.is_some_and(|a| tangent(a, &piece.curve)),
@@ -358,10 +371,13 @@ impl FairOptions {
         if keep == both {
             return free;
         }
-        let pass = at_feed(match self.peak_pass {
-            PeakPass::Off => PeakPass::Curvature,
-            pass => pass,
-        });
+        let pass = self.at_feed(
+            match self.peak_pass {
+                PeakPass::Off => PeakPass::Curvature,
+                pass => pass,
+            },
+            piece,
+        );
         let time_peak = |f: &Faired| {
             let p = [Piece {
                 curve: Curve::from(f.curve.clone()),
@@ -750,11 +766,24 @@ impl Fair {
             } else {
                 (1.0 - o.fit_share) * tolerance
             };
+            // The program's own curves get their ends freed at corners;
+            // the fits' ends (at a corner, a transition or a line the
+            // sections keep) stay as the fit made them (freeing them, on
+            // `LHchips4.ngc`, took 15% more time for 0.08% less planned).
             let (prev, next) = (
                 i.checked_sub(1).map(|j| &out.pieces[j].curve),
                 out.pieces.get(i + 1).map(|p| &p.curve),
             );
-            let faired = o.fair_between(c, piece, o.band_use * room, (prev, next), &joints);
+            let faired = if from_input {
+                o.fair_between(c, piece, o.band_use * room, (prev, next), &joints)
+            } else {
+                o.fair_keeping(
+                    c,
+                    piece,
+                    o.band_use * room,
+                    (prev.is_some(), next.is_some()),
+                )
+            };
             match faired {
                 // Unmoved: the curve as written (not its cubic form).
                 Ok(f) if f.iterations.is_empty() => {}
