@@ -412,11 +412,9 @@ impl Smoother for Fair {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
-        let alt = self.alternatives(run, tolerance)?;
-        Ok(match alt.sampled {
-            Some(sampled) if alt.sampled_demands_less(&sampled, self.options.peak_pass) => sampled,
-            _ => alt.kept,
-        })
+        Ok(self
+            .alternatives(run, tolerance)?
+            .chosen_by_demand(self.options.peak_pass))
     }
 }
 
@@ -438,7 +436,8 @@ pub struct FairAlternatives {
 }
 
 impl FairAlternatives {
-    /// Whether `sampled` demands less than [`FairAlternatives::kept`] of
+    /// Whether [`FairAlternatives::sampled`] (if any) demands less than
+    /// [`FairAlternatives::kept`] of
     /// `pass`'s speed caps both at its peak and in all (the demand's
     /// integral over the length: about the time at the caps' speeds),
     /// compared where they differ: over the pieces from the input lines
@@ -452,7 +451,10 @@ impl FairAlternatives {
     /// whose lower peak comes with more demand all along would pass
     /// (measurements: docs/tuning.md, `OtherCurves::Sampled`). The choice
     /// of [`Fair`] without a planner; `choose` judges by its objective.
-    pub fn sampled_demands_less(&self, sampled: &SmoothedRun, pass: PeakPass) -> bool {
+    pub fn sampled_demands_less(&self, pass: PeakPass) -> bool {
+        let Some(sampled) = &self.sampled else {
+            return false;
+        };
         let pass = match pass {
             PeakPass::Off => PeakPass::Curvature,
             pass => pass,
@@ -478,6 +480,17 @@ impl FairAlternatives {
             demand_there(&self.kept.pieces),
         );
         s_peak < k_peak && s_time < k_time
+    }
+
+    /// The smoothing [`Fair`] alone writes: the sampled one where it
+    /// [demands less](FairAlternatives::sampled_demands_less) of `pass`'s
+    /// speed caps, else the kept one.
+    pub fn chosen_by_demand(self, pass: PeakPass) -> SmoothedRun {
+        let less = self.sampled_demands_less(pass);
+        match self.sampled {
+            Some(sampled) if less => sampled,
+            _ => self.kept,
+        }
     }
 }
 
