@@ -781,8 +781,9 @@ impl Fair {
             };
             // The program's own curves get their ends freed at corners;
             // the fits' ends (at a corner, a transition or a line the
-            // sections keep) stay as the fit made them (freeing them, on
-            // `LHchips4.ngc`, took 15% more time for 0.08% less planned).
+            // sections keep) stay as the fit made them: freeing them too
+            // cost more computing than it gained (measurements:
+            // docs/tuning.md, `FairOptions::fair_between`).
             let (prev, next) = (
                 i.checked_sub(1).map(|j| &out.pieces[j].curve),
                 out.pieces.get(i + 1).map(|p| &p.curve),
