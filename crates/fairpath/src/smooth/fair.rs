@@ -304,9 +304,7 @@ impl FairOptions {
             peak_pass: self.peak_pass,
         }
     }
-}
 
-impl FairOptions {
     /// `pass` at the feed of `piece` where the machine runs the programmed
     /// feeds: the peak pass works only where the shape, not the feed
     /// (mm/min), limits the speed.
