@@ -70,6 +70,15 @@ fn times(v: &serde_json::Value) -> (f64, f64) {
     )
 }
 
+/// The input's peak curvature (1/mm), as `smooth --method none` reports
+/// it with `args` (which hold `--json-summary`), writing to `out`.
+fn input_peak(input: &Path, out: &Path, tol: &str, args: &[&str]) -> f64 {
+    let none = smooth_checked(input, out, tol, "none", args);
+    json_summary(&none)["peak_curvature_per_mm"]
+        .as_f64()
+        .unwrap()
+}
+
 /// The peak curvature `smooth` prints for the curves (0 for none).
 fn peak(summary: &str) -> f64 {
     let line = summary
@@ -482,10 +491,7 @@ fn curva_mazatrol_p3_peak_next_to_its_plunge_falls() {
     let input = common::shared(rel).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
-    let none = smooth_checked(&input, &out, "0.125mm", "none", &["--json-summary"]);
-    let before = json_summary(&none)["peak_curvature_per_mm"]
-        .as_f64()
-        .unwrap();
+    let before = input_peak(&input, &out, "0.125mm", &["--json-summary"]);
     let after = v["peak_curvature_per_mm"].as_f64().unwrap();
     assert!(after < 0.995 * before, "peak {after} against {before}");
 }
@@ -511,10 +517,7 @@ fn curva_farfalla_p1_rational_curve_is_faired_with_its_weights() {
     assert_eq!(v["not_faired"], serde_json::json!([]), "{v}");
     let (t_in, t_out) = (v["input_time_s"].as_f64(), v["written_time_s"].as_f64());
     assert!(t_out < t_in, "written {t_out:?} against {t_in:?}");
-    let none = smooth_checked(&input, &out, "0.25mm", "none", &args);
-    let before = json_summary(&none)["peak_curvature_per_mm"]
-        .as_f64()
-        .unwrap();
+    let before = input_peak(&input, &out, "0.25mm", &args);
     let after = v["peak_curvature_per_mm"].as_f64().unwrap();
     assert!(after < 0.8 * before, "peak {after} against {before}");
 }

@@ -698,6 +698,15 @@ fn line(a: Vec3, b: Vec3, l: usize) -> Piece {
     }
 }
 
+/// Every joint of `pieces` meets exactly and is of class `class`.
+fn assert_joints(pieces: &[Piece], tol: f64, class: Continuity) {
+    let jt = JointTolerances::from_tolerance(tol);
+    for w in pieces.windows(2) {
+        assert_eq!(w[0].end(), w[1].start());
+        assert_eq!(classify_joint(&w[0].curve, &w[1].curve, &jt), class);
+    }
+}
+
 /// Method `fair` on a run of a line, a rippled B-spline (as a G6.2 program
 /// gives it) and a line: within the tolerance, endpoints exact, the
 /// joints G2 as before, the curve's curvature lower.
@@ -719,14 +728,7 @@ fn the_method_fairs_a_spline_between_lines() {
         let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
         assert!(rep.within(tol), "{tol}: {rep:?}");
         assert_eq!(out.pieces.len(), 3);
-        let jt = JointTolerances::from_tolerance(tol);
-        for w in out.pieces.windows(2) {
-            assert_eq!(w[0].end(), w[1].start());
-            assert_eq!(
-                classify_joint(&w[0].curve, &w[1].curve, &jt),
-                Continuity::G2
-            );
-        }
+        assert_joints(&out.pieces, tol, Continuity::G2);
         let Curve::Nurbs(f) = &out.pieces[1].curve else {
             panic!()
         };
@@ -781,14 +783,7 @@ fn an_end_at_a_corner_keeps_only_its_point() {
             panic!()
         };
         assert_eq!((f.points[0], *f.points.last().unwrap()), (a, b));
-        let jt = JointTolerances::from_tolerance(tol);
-        for w in out.pieces.windows(2) {
-            assert_eq!(w[0].end(), w[1].start());
-            assert_eq!(
-                classify_joint(&w[0].curve, &w[1].curve, &jt),
-                Continuity::G0
-            );
-        }
+        assert_joints(&out.pieces, tol, Continuity::G0);
         // Keeping three points at each end left the peak where it was
         // (0.1371 1/mm against 0.1371 at both radii).
         let (_, p, _) = metrics(f);
