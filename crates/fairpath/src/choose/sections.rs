@@ -144,14 +144,7 @@ impl Auto {
                     return Ok(None);
                 }
             }
-            out.pieces.extend_from_slice(&best.pieces);
-            out.kept_corners.extend_from_slice(&best.kept_corners);
-            out.dropped_zero_length += best.dropped_zero_length;
-            out.merged_collinear += best.merged_collinear;
-            out.absorbed_jogs += best.absorbed_jogs;
-            out.transitions += best.transitions;
-            out.chosen.extend_from_slice(&best.chosen);
-            out.unfaired.extend_from_slice(&best.unfaired);
+            out.append(best);
         }
         Ok(Some(out))
     }

@@ -95,6 +95,21 @@ pub struct SmoothedRun {
     pub unfaired: Vec<Unfaired>,
 }
 
+impl SmoothedRun {
+    /// `next` appended: its pieces after these (the caller sees that they
+    /// meet), its reports and counts added to these.
+    pub fn append(&mut self, next: &SmoothedRun) {
+        self.pieces.extend_from_slice(&next.pieces);
+        self.kept_corners.extend_from_slice(&next.kept_corners);
+        self.dropped_zero_length += next.dropped_zero_length;
+        self.merged_collinear += next.merged_collinear;
+        self.absorbed_jogs += next.absorbed_jogs;
+        self.transitions += next.transitions;
+        self.chosen.extend_from_slice(&next.chosen);
+        self.unfaired.extend_from_slice(&next.unfaired);
+    }
+}
+
 /// Why smoothing could not be done.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SmoothError {
