@@ -24,6 +24,7 @@
 //! and lost at the maximum one, and the run was kept as written.
 //! `3D_Chips.ngc`: fits that pass only after knot insertion beyond the
 //! doubling's count were lost to a bound on that insertion.
+//! `parabolic_split1.ngc`: a near-reversal turned G2 inside the band.
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
@@ -95,6 +96,20 @@ fn surface_raster_auto_is_no_slower_than_fair_or_bspline_fit() {
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn square_wave_auto_ties_ctm() {
     with_shared("synthetic/square-wave.ngc", |p| check("square-wave", p));
+}
+
+/// `parabolic_split1.ngc`: a line, then an arc starting back along it (a
+/// turn of 165.5 degrees). Every curvature-continuous method but `auto`
+/// keeps the corners next to its arcs; `auto` turned that near-reversal G2
+/// inside the band (peak curvature 357 1/mm) and wrote 2.270 s against
+/// `bspline-corner`'s 2.220 s. It now also keeps near-reversals as corners
+/// where that plans faster (`choose::REVERSAL_TURN`).
+#[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
+fn parabolic_split1_auto_keeps_its_near_reversal() {
+    with_shared("linuxcnc/diagnostic/parabolic_split1.ngc", |p| {
+        check("parabolic_split1", p)
+    });
 }
 
 /// `3D_Chips.ngc`: where no control-point count of the doubling passed,

@@ -10,7 +10,7 @@ use fairpath::choose::{
 };
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
-use fairpath::geom::{Arc, Curve, Line, Vec3};
+use fairpath::geom::{Arc, Curve, Line, ParamCurve, Vec3};
 use fairpath::path::{Piece, Run};
 use fairpath::smooth::{BsplineCorner, CornerReason, Lotm, SmoothedRun, Smoother};
 use fairpath::verify::{verify_run, Continuity, VerifyOptions};
@@ -155,6 +155,74 @@ fn a_zigzag_within_the_tolerance_of_its_midline_is_fitted_straight() {
     println!("zigzag: auto {t_auto:.3} s, bspline-corner {t_corner:.3} s, raw {t_raw:.3} s");
     // 20.3 mm straight at 400 mm/s under A and J limits: well under 1 s.
     assert!(t_auto < 0.1 * t_raw.min(t_corner), "{t_auto} s");
+}
+
+/// LinuxCNC `diagnostic/parabolic_split1.ngc` in mm: a line along -X,
+/// then an arc (R 101.6 mm) that starts back along it, turning by 165.5
+/// degrees, then lines and an arc on. Turned G2 inside the band the
+/// near-reversal needs a curvature of hundreds per mm and its ramps
+/// (`auto` wrote 2.270 s against `bspline-corner`'s 2.220 s, which keeps
+/// the corners next to the arcs); kept as a corner (a reversal), the rest
+/// G2, it plans faster than every G2 smoothing of the whole run.
+#[test]
+fn a_near_reversal_is_kept_as_a_corner_where_that_plans_faster() {
+    let tol = 0.05;
+    let inch = 25.4;
+    let p = |x: f64, y: f64| Vec3::new(x * inch, y * inch, 0.0);
+    let cw = |a: Vec3, b: Vec3, r: f64| {
+        // Clockwise (G2) from `a` to `b` in XY, the shorter arc of radius `r`.
+        let mid = a.lerp(b, 0.5);
+        let half = a.dist(b) / 2.0;
+        let n = Vec3::new(b.y - a.y, a.x - b.x, 0.0)
+            .normalized(0.0)
+            .unwrap();
+        let centre = mid + n * (r * r - half * half).sqrt();
+        Curve::from(Arc::from_center(a, b, centre, Vec3::Z, true, 0, 1e-9).unwrap())
+    };
+    let pieces = vec![
+        piece(Curve::Line(Line::new(p(0.0, 0.0), p(-1.0, 0.0))), 1),
+        piece(cw(p(-1.0, 0.0), p(1.0, 0.0), 4.0 * inch), 2),
+        piece(Curve::Line(Line::new(p(1.0, 0.0), p(3.0, 0.0))), 3),
+        piece(cw(p(3.0, 0.0), p(4.0, 0.0), inch), 4),
+        piece(Curve::Line(Line::new(p(4.0, 0.0), p(5.0, 0.5))), 5),
+        piece(Curve::Line(Line::new(p(5.0, 0.5), p(6.0, 0.5))), 6),
+    ];
+    let run = Run::new(pieces);
+    for w in run.pieces.windows(2) {
+        assert!(w[0].curve.end().dist(w[1].curve.start()) < 1e-9);
+    }
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    let g2 = Auto {
+        options: AutoOptions {
+            reversal_turn: f64::INFINITY,
+            ..AutoOptions::default()
+        },
+        ..Auto::default()
+    }
+    .smooth_run(&run, tol)
+    .unwrap();
+    check(&run, &g2, tol);
+    assert!(g2.kept_corners.is_empty(), "{:?}", g2.kept_corners);
+    assert_eq!(out.kept_corners.len(), 1, "{:?}", out.kept_corners);
+    let k = &out.kept_corners[0];
+    assert_eq!(
+        (k.at, k.reason, k.source_line),
+        (p(-1.0, 0.0), CornerReason::Reversal, 1)
+    );
+    let (t, tg) = (planned(&out.pieces), planned(&g2.pieces));
+    println!("near-reversal kept: {t:.4} s; turned G2: {tg:.4} s");
+    assert!(t < tg, "{t} vs {tg}");
+    for bad in [0.0, -1.0, 3.5, f64::NAN] {
+        let auto = Auto {
+            options: AutoOptions {
+                reversal_turn: bad,
+                ..AutoOptions::default()
+            },
+            ..Auto::default()
+        };
+        assert!(auto.smooth_run(&run, tol).is_err(), "{bad}");
+    }
 }
 
 /// Regression, LinuxCNC `arc-intersections/line-arc-burnin.ngc`: lines
@@ -379,6 +447,46 @@ proptest! {
         let out = Auto::default().smooth_run(&run, tol).unwrap();
         check(&run, &out, tol);
         prop_assert!(planned(&out.pieces) <= corner_methods_time(&run, tol) * (1.0 + 1e-12));
+    }
+
+    /// Random zigzags whose tips turn back by 150 to 179.9 degrees: within
+    /// tolerance, every corner kept is a reversal at a vertex that turns by
+    /// at least `REVERSAL_TURN`, and no slower than with every joint but
+    /// exact reversals G2 (`reversal_turn` infinite), since the cut is kept
+    /// only where it plans faster.
+    #[test]
+    fn near_reversals_are_kept_only_where_faster(
+        legs in prop::collection::vec((2.0f64..15.0, 150.0f64..179.9), 2..6),
+        tol in 0.01f64..0.2,
+    ) {
+        use fairpath::choose::REVERSAL_TURN;
+        let mut pts = vec![Vec3::ZERO];
+        let mut heading = 0.0f64;
+        for (len, turn) in &legs {
+            let last = *pts.last().unwrap();
+            pts.push(last + Vec3::new(heading.cos(), heading.sin(), 0.0) * *len);
+            heading += turn.to_radians() * if pts.len() % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        let last = *pts.last().unwrap();
+        pts.push(last + Vec3::new(heading.cos(), heading.sin(), 0.0) * 5.0);
+        let run = polyline_run(&pts);
+        let out = Auto::default().smooth_run(&run, tol).unwrap();
+        check(&run, &out, tol);
+        let g2 = Auto {
+            options: AutoOptions { reversal_turn: f64::INFINITY, ..AutoOptions::default() },
+            ..Auto::default()
+        }
+        .smooth_run(&run, tol)
+        .unwrap();
+        check(&run, &g2, tol);
+        for k in &out.kept_corners {
+            let i = pts.iter().position(|p| *p == k.at);
+            prop_assert!(i.is_some_and(|i| i > 0 && i + 1 < pts.len()), "{k:?}");
+            let i = i.unwrap();
+            let turn = (pts[i] - pts[i - 1]).angle_to(pts[i + 1] - pts[i]);
+            prop_assert!(turn >= REVERSAL_TURN && k.reason == CornerReason::Reversal, "{k:?}: {turn}");
+        }
+        prop_assert!(planned(&out.pieces) <= planned(&g2.pieces), "{} vs {}", planned(&out.pieces), planned(&g2.pieces));
     }
 }
 

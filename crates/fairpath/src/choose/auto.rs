@@ -1,5 +1,6 @@
 //! Method `auto` (the default): for each run, the smoothing that the feed
-//! planner runs fastest, always within the tolerance and G2 (with
+//! planner runs fastest, always within the tolerance and G2 but at
+//! reversals and near-reversals (with
 //! [`AutoOptions::curves_as_written`], G2 unless a corner method that
 //! keeps the corners next to arcs plans faster: the last two candidates
 //! below).
@@ -115,6 +116,14 @@
 //! candidate for the whole run (and than the mixes of the other lengths),
 //! so `auto` stays no slower than any candidate; a mix whose cheap bound
 //! ([`Objective::bound`]) is not below the best time found is not costed.
+//!
+//! **Near-reversals.** A run of up to [`SECTION_MAX_PIECES`] pieces that
+//! turns by [`AutoOptions::reversal_turn`] or more at some vertex (160
+//! degrees by default) is also smoothed as the runs between those
+//! vertices, each as above, the vertices kept as corners (reported as
+//! reversals); that is kept where it plans faster than the best smoothing
+//! of the whole run ([`super::reversals`]: any G2 turn there is a
+//! near-cusp).
 
 use super::candidate_set::CandidateSet;
 use super::candidates::{
@@ -124,14 +133,15 @@ use super::candidates::{
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
+use super::reversals::{reversal_cuts, split_at, REVERSAL_TURN};
 use super::sections::{
     split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
 };
-use crate::geom::Curve;
+use crate::geom::{Curve, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    check_tolerance, require, Fair, FairOptions, FitMemo, OptionError, SmoothError, SmoothedRun,
-    Smoother,
+    check_tolerance, require, CornerReason, Fair, FairOptions, FitMemo, KeptCorner, OptionError,
+    SmoothError, SmoothedRun, Smoother,
 };
 use alloc::sync::Arc;
 use alloc::vec::Vec;
@@ -163,6 +173,13 @@ pub struct AutoOptions {
     /// offers them only where every G2 candidate would leave the run as the
     /// program wrote it (see the module documentation).
     pub curves_as_written: bool,
+    /// Turn (rad, in `(0, pi]`, or infinite) at and above which a vertex
+    /// is a near-reversal: the run is also smoothed as the runs between
+    /// such vertices, each kept as a corner (reported as a reversal), and
+    /// that is kept where it plans faster ([`REVERSAL_TURN`] by default,
+    /// about 160 degrees; infinite: every joint but exact reversals G2, as
+    /// before this option).
+    pub reversal_turn: f64,
     /// Candidates not offered on any run, by the names the summary gives
     /// them (none by default): fewer candidates, less computing time, and
     /// a written program that may plan slower (what each costs and gains:
@@ -190,6 +207,14 @@ impl AutoOptions {
             l,
             "must be positive lengths (mm) or infinite",
         )?;
+        let r = self.reversal_turn;
+        require(
+            r > 0.0 && (r <= core::f64::consts::PI || r == f64::INFINITY),
+            "auto",
+            "reversal_turn",
+            r,
+            "must be an angle (rad) in (0, pi], or infinite (no cut)",
+        )?;
         require(
             !self.leave_out.holds_every_one_always_offered(),
             "auto",
@@ -207,6 +232,7 @@ impl Default for AutoOptions {
             arc_share: ARC_SHARE,
             section_lines: SECTION_LINES,
             curves_as_written: false,
+            reversal_turn: REVERSAL_TURN,
             leave_out: CandidateSet::EMPTY,
         }
     }
@@ -399,6 +425,22 @@ impl Smoother for Auto {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
+        let (time, best) = self.smooth_whole(run, tolerance)?;
+        Ok(self
+            .between_reversals(run, tolerance, time)?
+            .unwrap_or(best))
+    }
+}
+
+impl Auto {
+    /// The cheapest smoothing of `run` as one run, with its cost: the
+    /// candidates, the section mixes and the fallback (see the module
+    /// documentation).
+    fn smooth_whole(
+        &self,
+        run: &Run,
+        tolerance: f64,
+    ) -> Result<(Option<f64>, SmoothedRun), SmoothError> {
         let lines = self.options.section_lines;
         // The fits of the run and of its sections, shared between the
         // candidates and the sections that cut a dense stretch alike.
@@ -408,7 +450,7 @@ impl Smoother for Auto {
         let mut best = core::mem::take(&mut ranking.cands[i]);
         drop(ranking);
         if run.pieces.len() > SECTION_MAX_PIECES {
-            return Ok(best);
+            return Ok((time, best));
         }
         let mut cache = SectionCache::default();
         let mut tried: Vec<usize> = Vec::new();
@@ -454,10 +496,58 @@ impl Smoother for Auto {
                 }
             }
         }
-        if let Some(kept) = self.curves_as_written_fallback(run, tolerance, (&best, time), &memo)? {
-            best = kept;
+        if let Some((t, kept)) =
+            self.curves_as_written_fallback(run, tolerance, (&best, time), &memo)?
+        {
+            (time, best) = (Some(t), kept);
         }
-        Ok(best)
+        Ok((time, best))
+    }
+
+    /// `run` smoothed as the runs between its near-reversals
+    /// ([`reversal_cuts`]), each by [`Auto::smooth_whole`], those vertices
+    /// kept as corners, where that costs less than `time` (the best
+    /// smoothing of the whole run); `None` where there is no such vertex,
+    /// the run is longer than [`SECTION_MAX_PIECES`], or it costs no less.
+    fn between_reversals(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        time: Option<f64>,
+    ) -> Result<Option<SmoothedRun>, SmoothError> {
+        let Some(time) = time else {
+            return Ok(None);
+        };
+        if run.pieces.len() > SECTION_MAX_PIECES {
+            return Ok(None);
+        }
+        let cuts = reversal_cuts(run, self.options.reversal_turn);
+        if cuts.is_empty() {
+            return Ok(None);
+        }
+        let mut out = SmoothedRun::default();
+        for (i, part) in split_at(run, &cuts).iter().enumerate() {
+            let (_, best) = self.smooth_whole(part, tolerance)?;
+            if i > 0 {
+                let before = &run.pieces[cuts[i - 1] - 1];
+                out.kept_corners.push(KeptCorner {
+                    at: before.curve.end(),
+                    source_line: before.source_lines.1,
+                    reason: CornerReason::Reversal,
+                });
+            }
+            out.append(&best);
+        }
+        if let Some(b) = self.objective.bound(&out.pieces) {
+            if b >= time {
+                return Ok(None);
+            }
+        }
+        Ok(self
+            .objective
+            .cost(&out.pieces)
+            .filter(|&t| t < time)
+            .map(|_| out))
     }
 }
 
@@ -477,7 +567,7 @@ impl Auto {
         tolerance: f64,
         (best, time): (&SmoothedRun, Option<f64>),
         memo: &FitMemo,
-    ) -> Result<Option<SmoothedRun>, SmoothError> {
+    ) -> Result<Option<(f64, SmoothedRun)>, SmoothError> {
         let has_curves = run
             .pieces
             .iter()
@@ -563,7 +653,7 @@ impl Auto {
         if beat.is_some_and(|tw| t >= tw) {
             return Ok(None);
         }
-        Ok(Some(core::mem::take(&mut ranking.cands[i])))
+        Ok(Some((t, core::mem::take(&mut ranking.cands[i]))))
     }
 }
 
