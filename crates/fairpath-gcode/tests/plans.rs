@@ -180,3 +180,39 @@ fn read_motion_streams_what_parse_reads() {
     }
     assert!(read > PROGRAMS.len() * 5, "{read} programs read");
 }
+
+/// The input's time of a run longer than a planning window
+/// (`PlanWindows::DEFAULT`), which the pipeline plans window by window to
+/// hold a window's plan instead of the run's: `simulate`'s whole plan, to
+/// the bit, at the programmed feeds and overridden.
+#[test]
+fn a_run_longer_than_a_window_plans_the_input_time_of_the_whole_run() {
+    use fairpath::feed::windowed::PlanWindows;
+    let w = PlanWindows::DEFAULT;
+    let n = w.step + 4 * w.overlap;
+    // A wavy raster of short moves: speeds vary along it, so the windows'
+    // plans must agree where they are stitched.
+    let mut text = String::from("G21 G90\nG0 X0 Y0 Z1\nG1 Z0 F3000\n");
+    for i in 1..=n {
+        let x = i as f64 * 0.2;
+        let y = (i as f64 * 0.05).sin() * 2.0 + if (i / 500) % 2 == 0 { 0.0 } else { 0.3 };
+        text.push_str(&format!("G1 X{x:.4} Y{y:.4}\n"));
+    }
+    text.push_str("G0 Z5\nM2\n");
+    for override_feed in [false, true] {
+        let mut opts =
+            SmoothOptions::new(0.05, None, "none", Some(Format::G1), Controller::Generic).unwrap();
+        let machine = *opts.machine();
+        opts.set_machine(machine, override_feed).unwrap();
+        let (_, report) = smooth_program(&text, &opts).unwrap();
+        let program = fairpath_gcode::parse(text.as_bytes()).unwrap();
+        let runs = program.runs();
+        assert!(runs.iter().any(|r| w.windows(r.pieces.len())));
+        let sim = simulate(&program.motions(&runs), &machine, override_feed, None).unwrap();
+        assert_eq!(
+            report.times.input.total.to_bits(),
+            sim.time().to_bits(),
+            "override {override_feed}"
+        );
+    }
+}

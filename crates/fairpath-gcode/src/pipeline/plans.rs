@@ -9,9 +9,9 @@
 use super::{PlanError, SmoothOptions, SmoothResult};
 use crate::Program;
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::plan::{plan_rapid, plan_run, plan_time_shaped, Corners, PlanOptions, RunPlan};
+use fairpath::feed::plan::{plan_rapid, plan_run, Corners, PlanOptions, RunPlan};
 use fairpath::feed::program::{simulate, ProgramPlanError, Simulation};
-use fairpath::feed::shaping::Shaping;
+use fairpath::feed::windowed::{plan_time_windowed, PlanWindows};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 
@@ -171,9 +171,11 @@ fn motion_times(
                     Ok(Some((plan.time, 0.0, Some((k, plan)))))
                 }
                 None => {
-                    let none = Shaping::none();
-                    let time = plan_time_shaped(pieces, &po, &none, Corners::Blended)
-                        .map_err(run_error)?;
+                    // Window by window on a long run (the same time, to
+                    // the bit, in a window's memory: `feed::windowed`).
+                    let time =
+                        plan_time_windowed(pieces, &po, Corners::Blended, PlanWindows::DEFAULT)
+                            .map_err(run_error)?;
                     Ok(Some((time, 0.0, None)))
                 }
             }
