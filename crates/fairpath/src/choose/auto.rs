@@ -119,11 +119,13 @@
 //!
 //! **Near-reversals.** A run of up to [`SECTION_MAX_PIECES`] pieces that
 //! turns by [`AutoOptions::reversal_turn`] or more at some vertex (160
-//! degrees by default) is also smoothed as the runs between those
-//! vertices, each as above, the vertices kept as corners (reported as
-//! reversals); that is kept where it plans faster than the best smoothing
-//! of the whole run ([`super::reversals`]: any G2 turn there is a
-//! near-cusp).
+//! degrees by default), and has at most [`REVERSAL_PIECES_PER_CUT`](super::REVERSAL_PIECES_PER_CUT)
+//! pieces per such vertex, is also smoothed as the runs between those
+//! vertices, each as above but offered only the candidates the whole
+//! run's best smoothing chose and the plain fit, the vertices kept as
+//! corners (reported as reversals); that is kept where it plans faster
+//! than the best smoothing of the whole run ([`super::reversals`]: any G2
+//! turn there is a near-cusp).
 
 use super::candidate_set::CandidateSet;
 use super::candidates::{
@@ -133,7 +135,7 @@ use super::candidates::{
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
-use super::reversals::{reversal_cuts, split_at, REVERSAL_TURN};
+use super::reversals::{reversal_cuts_bounded, split_at, REVERSAL_TURN};
 use super::sections::{
     split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
 };
@@ -427,7 +429,7 @@ impl Smoother for Auto {
         self.options.validate()?;
         let (time, best) = self.smooth_whole(run, tolerance)?;
         Ok(self
-            .between_reversals(run, tolerance, time)?
+            .between_reversals(run, (time, &best), tolerance)?
             .unwrap_or(best))
     }
 }
@@ -508,12 +510,14 @@ impl Auto {
     /// ([`reversal_cuts`]), each by [`Auto::smooth_whole`], those vertices
     /// kept as corners, where that costs less than `time` (the best
     /// smoothing of the whole run); `None` where there is no such vertex,
-    /// the run is longer than [`SECTION_MAX_PIECES`], or it costs no less.
+    /// the run is longer than [`SECTION_MAX_PIECES`] or than
+    /// [`REVERSAL_PIECES_PER_CUT`](super::REVERSAL_PIECES_PER_CUT) pieces per such vertex, or it costs no
+    /// less.
     fn between_reversals(
         &self,
         run: &Run,
+        (time, whole): (Option<f64>, &SmoothedRun),
         tolerance: f64,
-        time: Option<f64>,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let Some(time) = time else {
             return Ok(None);
@@ -521,13 +525,35 @@ impl Auto {
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(None);
         }
-        let cuts = reversal_cuts(run, self.options.reversal_turn);
+        let cuts = reversal_cuts_bounded(run, self.options.reversal_turn);
         if cuts.is_empty() {
             return Ok(None);
         }
+        // The runs between get the candidates the whole run's best
+        // smoothing chose somewhere, and the plain fit: every candidate
+        // again would double `auto`'s work on such runs for gains the
+        // survey did not find (docs/tuning.md, `REVERSAL_TURN`).
+        let mut leave_out = self.options.leave_out;
+        for (k, row) in CANDIDATES.iter().enumerate() {
+            if row.name != "bspline-fit" && !whole.chosen.contains(&row.name) {
+                leave_out.insert_row(k);
+            }
+        }
+        if leave_out.holds_every_one_always_offered() {
+            // (The user left the plain fit out, and the whole run's best
+            // took none of the others offered everywhere.)
+            return Ok(None);
+        }
+        let between = Auto {
+            options: AutoOptions {
+                leave_out,
+                ..self.options
+            },
+            objective: self.objective.clone(),
+        };
         let mut out = SmoothedRun::default();
         for (i, part) in split_at(run, &cuts).iter().enumerate() {
-            let (_, best) = self.smooth_whole(part, tolerance)?;
+            let (_, best) = between.smooth_whole(part, tolerance)?;
             if i > 0 {
                 let before = &run.pieces[cuts[i - 1] - 1];
                 out.kept_corners.push(KeptCorner {

@@ -55,6 +55,12 @@ impl CandidateSet {
             .map(|(_, r)| r.name)
     }
 
+    /// The row at `index` of [`CANDIDATES`] added to the set.
+    pub fn insert_row(&mut self, index: usize) {
+        assert!(index < CANDIDATES.len(), "no row {index}");
+        self.0 |= 1 << index;
+    }
+
     pub fn is_empty(self) -> bool {
         self.0 == 0
     }

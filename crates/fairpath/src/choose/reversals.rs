@@ -30,6 +30,14 @@ use crate::smooth::BsplineCornerOptions;
 /// near-cusp are cut.
 pub const REVERSAL_TURN: f64 = 2.8;
 
+/// Most pieces of a run per near-reversal in it for which the run is
+/// also smoothed between them: the runs between are smoothed anew in
+/// full, which doubles `auto`'s work on the run, so a long run with one
+/// near-reversal is not cut (LinuxCNC-style plotter output such as
+/// `makerblock_tinycnc.gcode`, one near-reversal in a run of thousands
+/// of moves; measurements: docs/tuning.md, `REVERSAL_TURN`).
+pub const REVERSAL_PIECES_PER_CUT: usize = 1000;
+
 /// The direction in which `p` leaves (`at_end` false) or reaches its end.
 fn tangent(p: &Piece, at_end: bool) -> crate::geom::Vec3 {
     let (t0, t1) = p.curve.domain();
@@ -55,6 +63,17 @@ pub fn reversal_cuts(run: &Run, turn: f64) -> alloc::vec::Vec<usize> {
             angle.is_finite() && angle >= turn && angle < exact
         })
         .collect()
+}
+
+/// [`reversal_cuts`] of `run`, or none where the run has more than
+/// [`REVERSAL_PIECES_PER_CUT`] pieces per cut (the work of smoothing it
+/// again between them is not offered).
+pub fn reversal_cuts_bounded(run: &Run, turn: f64) -> alloc::vec::Vec<usize> {
+    let cuts = reversal_cuts(run, turn);
+    if run.pieces.len() > cuts.len() * REVERSAL_PIECES_PER_CUT {
+        return alloc::vec::Vec::new();
+    }
+    cuts
 }
 
 /// `run` cut at `cuts` (sorted joint indices, see [`reversal_cuts`]) into
@@ -103,6 +122,39 @@ mod tests {
             parts[0].pieces[0].curve.end(),
             parts[1].pieces[0].curve.start()
         );
+    }
+
+    /// A run is cut only where it has at most [`REVERSAL_PIECES_PER_CUT`]
+    /// pieces per near-reversal.
+    #[test]
+    fn a_long_run_is_cut_only_with_near_reversals_enough() {
+        let tip = (10f64.to_radians() / 2.0).tan() * 10.0;
+        let run_with = |n: usize, tips: usize| {
+            let mut pts = vec![v(0.0, 0.0)];
+            for _ in 0..tips {
+                let last = *pts.last().unwrap();
+                pts.push(last + v(10.0, 0.0));
+                pts.push(last + v(0.0, tip * 2.0));
+            }
+            while pts.len() <= n {
+                let last = *pts.last().unwrap();
+                pts.push(last + v(0.0, 1.0));
+            }
+            Run::polyline(&pts, Some(1000.0))
+        };
+        let one = run_with(REVERSAL_PIECES_PER_CUT + 1, 1);
+        assert_eq!(reversal_cuts(&one, REVERSAL_TURN).len(), 1);
+        assert!(reversal_cuts_bounded(&one, REVERSAL_TURN).is_empty());
+        // Two tips: three near-reversals (each tip's turn back, and the
+        // turn into the next tip).
+        let two = run_with(3 * REVERSAL_PIECES_PER_CUT, 2);
+        assert_eq!(reversal_cuts(&two, REVERSAL_TURN).len(), 3);
+        assert_eq!(
+            reversal_cuts_bounded(&two, REVERSAL_TURN),
+            reversal_cuts(&two, REVERSAL_TURN)
+        );
+        let longer = run_with(3 * REVERSAL_PIECES_PER_CUT + 1, 2);
+        assert!(reversal_cuts_bounded(&longer, REVERSAL_TURN).is_empty());
     }
 
     /// An exact reversal is kept by every candidate: not cut.
