@@ -507,7 +507,7 @@ impl Auto {
     }
 
     /// `run` smoothed as the runs between its near-reversals
-    /// ([`reversal_cuts`]), each by [`Auto::smooth_whole`], those vertices
+    /// ([`reversal_cuts_bounded`]), each by [`Auto::smooth_whole`], those vertices
     /// kept as corners, where that costs less than `time` (the best
     /// smoothing of the whole run); `None` where there is no such vertex,
     /// the run is longer than [`SECTION_MAX_PIECES`] or than
