@@ -1131,9 +1131,9 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// With every candidate left out but one corner method, and no
-        /// sections, `auto` writes what that method writes, bit for bit
-        /// (random runs of lines).
+        /// With every candidate left out but one corner method, no
+        /// sections and no cuts at near-reversals, `auto` writes what that
+        /// method writes, bit for bit (random runs of lines).
         #[test]
         fn auto_with_one_candidate_is_that_method(
             pts in proptest::collection::vec((0.0f64..40.0, 0.0f64..40.0, 0.0f64..2.0), 3..12),
@@ -1163,6 +1163,7 @@ mod tests {
                 AutoOptions {
                     leave_out: all_but(&[name]),
                     section_lines: [f64::INFINITY; 3],
+                    reversal_turn: f64::INFINITY,
                     ..AutoOptions::default()
                 },
                 Arc::new(PlannedTime::default()),
