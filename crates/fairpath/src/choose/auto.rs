@@ -525,7 +525,7 @@ impl Auto {
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(None);
         }
-        let cuts = reversal_cuts_bounded(run, self.options.reversal_turn);
+        let cuts = reversal_cuts_bounded(run, self.options.reversal_turn, tolerance);
         if cuts.is_empty() {
             return Ok(None);
         }

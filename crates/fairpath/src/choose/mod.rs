@@ -31,6 +31,6 @@ pub use objective::{
     KEEP_MARGIN, RENDER_GAIN,
 };
 pub use registry::{by_name, method, Method, METHODS};
-pub use reversals::{reversal_cuts, REVERSAL_PIECES_PER_CUT, REVERSAL_TURN};
+pub use reversals::{reversal_cuts, REVERSAL_PIECES_PER_CUT, REVERSAL_TURN, REVERSAL_WALK_PIECES};
 pub use same_pieces::{pieces_digest, same_pieces};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};
