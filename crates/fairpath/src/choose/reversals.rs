@@ -94,7 +94,7 @@ fn far_point(run: &Run, at: Vec3, k: usize, forward: bool, min_leg: f64) -> Opti
 ///
 /// Nor are jogs the band absorbs: the chords from the vertex back to the
 /// first point `min_leg` (mm; `auto` passes its tolerance) or more
-/// before it, and on to the first such point after it ([`far_point`]),
+/// before it, and on to the first such point after it (`far_point`),
 /// must turn by `turn` too. A spike out and back on moves shorter than
 /// `min_leg` between two collinear long moves turns by nearly 180 degrees
 /// at its tip but not at all over those chords: a G2 path inside the
