@@ -25,6 +25,7 @@
 //! `3D_Chips.ngc`: fits that pass only after knot insertion beyond the
 //! doubling's count were lost to a bound on that insertion.
 //! `parabolic_split1.ngc`: a near-reversal turned G2 inside the band.
+//! `line-contouring-xz.ngc`: narrow U-turns at its step-overs turned G2.
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
@@ -109,6 +110,28 @@ fn square_wave_auto_ties_ctm() {
 fn parabolic_split1_auto_keeps_its_near_reversal() {
     with_shared("linuxcnc/diagnostic/parabolic_split1.ngc", |p| {
         check("parabolic_split1", p)
+    });
+}
+
+/// `line-contouring-xz.ngc`: a zigzag of arches in XZ whose step-overs
+/// (1.21 mm across in Y, most with a 4 um move down before the next arch)
+/// are narrow U-turns of two right angles. G2 through them (with the
+/// near-reversal cuts alone) `auto` wrote 15.173 s; with their corners
+/// kept where that plans faster (`choose::u_turn_cuts`), 13.150 s.
+#[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
+fn line_contouring_xz_auto_keeps_its_step_over_corners() {
+    with_shared("linuxcnc/performance/line-contouring-xz.ngc", |p| {
+        let kept = |v: &serde_json::Value| v["kept_corners"]["reversal"].as_u64().unwrap();
+        let with = summary(p, "auto", None);
+        let without = summary(p, "auto", Some("u_turn_width = 0\n"));
+        let (t, t0) = (
+            with["written_time_s"].as_f64().unwrap(),
+            without["written_time_s"].as_f64().unwrap(),
+        );
+        assert!(kept(&with) > kept(&without), "{with} {without}");
+        assert!(t < 0.9 * t0, "with U-turn corners {t} s, without {t0} s");
+        check("line-contouring-xz", p);
     });
 }
 

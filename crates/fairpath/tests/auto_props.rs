@@ -225,6 +225,67 @@ fn a_near_reversal_is_kept_as_a_corner_where_that_plans_faster() {
     }
 }
 
+/// Four passes of `line-contouring-xz.ngc`'s kind (arches in XZ, step-overs
+/// of 1.21 mm in Y with a 4 um move down before the next arch): `auto`
+/// keeps the corners of these narrow U-turns (`u_turn_width`) where that
+/// plans faster, as here, and stays within the tolerance;
+/// widths that are no widths are refused.
+#[test]
+fn narrow_u_turns_are_kept_where_that_plans_faster() {
+    let tol = 0.05;
+    let mut pts = Vec::new();
+    for pass in 0..4 {
+        let y = 1.21 * pass as f64;
+        let arch: Vec<Vec3> = (0..=24)
+            .map(|i| {
+                let a = core::f64::consts::PI * i as f64 / 24.0;
+                Vec3::new(-17.0 * a.cos(), y, 15.0 * a.sin() - 2.5)
+            })
+            .collect();
+        if pass % 2 == 0 {
+            pts.extend(arch);
+        } else {
+            pts.extend(arch.into_iter().rev());
+        }
+        // (The step-over and the hook join this pass's end to the next.)
+        let end = *pts.last().unwrap();
+        pts.push(end + Vec3::new(0.0, 1.21, 0.0));
+        pts.push(end + Vec3::new(0.0, 1.21, -0.004));
+    }
+    let run = Run::polyline(&pts, Some(6000.0));
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    let none = Auto {
+        options: AutoOptions {
+            u_turn_width: 0.0,
+            ..AutoOptions::default()
+        },
+        ..Auto::default()
+    }
+    .smooth_run(&run, tol)
+    .unwrap();
+    check(&run, &none, tol);
+    let (t, t0) = (planned(&out.pieces), planned(&none.pieces));
+    println!(
+        "U-turn corners kept: {} corners, {t:.4} s; none: {} corners, {t0:.4} s",
+        out.kept_corners.len(),
+        none.kept_corners.len()
+    );
+    // Here they are kept: 2.461 s against 2.623 s when this was written.
+    assert!(out.kept_corners.len() > none.kept_corners.len());
+    assert!(t < t0, "{t} vs {t0}");
+    for bad in [-1.0, f64::NAN] {
+        let auto = Auto {
+            options: AutoOptions {
+                u_turn_width: bad,
+                ..AutoOptions::default()
+            },
+            ..Auto::default()
+        };
+        assert!(auto.smooth_run(&run, tol).is_err(), "{bad}");
+    }
+}
+
 /// Regression, LinuxCNC `arc-intersections/line-arc-burnin.ngc`: lines
 /// along X and arcs of radius 2.54 mm over 2.54 mm chords, alternately
 /// clockwise and counter-clockwise, meeting at corners of 30 degrees. The

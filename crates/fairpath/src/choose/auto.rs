@@ -125,7 +125,10 @@
 //! run's best smoothing chose and the plain fit, the vertices kept as
 //! corners (reported as reversals); that is kept where it plans faster
 //! than the best smoothing of the whole run ([`super::reversals`]: any G2
-//! turn there is a near-cusp).
+//! turn there is a near-cusp). The two corners of a narrow U-turn (at
+//! most [`AutoOptions::u_turn_width`] apart, 3 mm by default, together
+//! turning by `reversal_turn` or more: the step-over of a zigzag) are cut
+//! the same way ([`super::u_turn_cuts`]).
 
 use super::candidate_set::CandidateSet;
 use super::candidates::{
@@ -135,7 +138,7 @@ use super::candidates::{
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
-use super::reversals::{reversal_cuts_bounded, split_at, REVERSAL_TURN};
+use super::reversals::{run_cuts_bounded, split_at, REVERSAL_TURN, U_TURN_WIDTH};
 use super::sections::{
     split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
 };
@@ -182,6 +185,12 @@ pub struct AutoOptions {
     /// about 160 degrees; infinite: every joint but exact reversals G2, as
     /// before this option).
     pub reversal_turn: f64,
+    /// Widest U-turn (mm, at least 0, or infinite) whose two corners are
+    /// kept the same way where that plans faster: two sharp corners this
+    /// close that together turn by `reversal_turn` or more, such as the
+    /// step-over between the passes of a zigzag ([`U_TURN_WIDTH`] by
+    /// default, 3 mm; 0: none; see [`super::u_turn_cuts`]).
+    pub u_turn_width: f64,
     /// Candidates not offered on any run, by the names the summary gives
     /// them (none by default): fewer candidates, less computing time, and
     /// a written program that may plan slower (what each costs and gains:
@@ -217,6 +226,14 @@ impl AutoOptions {
             r,
             "must be an angle (rad) in (0, pi], or infinite (no cut)",
         )?;
+        let w = self.u_turn_width;
+        require(
+            w >= 0.0,
+            "auto",
+            "u_turn_width",
+            w,
+            "must be a width (mm) of 0 or more, or infinite",
+        )?;
         require(
             !self.leave_out.holds_every_one_always_offered(),
             "auto",
@@ -235,6 +252,7 @@ impl Default for AutoOptions {
             section_lines: SECTION_LINES,
             curves_as_written: false,
             reversal_turn: REVERSAL_TURN,
+            u_turn_width: U_TURN_WIDTH,
             leave_out: CandidateSet::EMPTY,
         }
     }
@@ -506,8 +524,8 @@ impl Auto {
         Ok((time, best))
     }
 
-    /// `run` smoothed as the runs between its near-reversals
-    /// ([`reversal_cuts_bounded`]), each by [`Auto::smooth_whole`], those vertices
+    /// `run` smoothed as the runs between its near-reversals and the
+    /// corners of its narrow U-turns ([`run_cuts_bounded`]), each by [`Auto::smooth_whole`], those vertices
     /// kept as corners, where that costs less than `time` (the best
     /// smoothing of the whole run); `None` where there is no such vertex,
     /// the run is longer than [`SECTION_MAX_PIECES`] or than
@@ -525,7 +543,12 @@ impl Auto {
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(None);
         }
-        let cuts = reversal_cuts_bounded(run, self.options.reversal_turn, tolerance);
+        let cuts = run_cuts_bounded(
+            run,
+            self.options.reversal_turn,
+            tolerance,
+            self.options.u_turn_width,
+        );
         if cuts.is_empty() {
             return Ok(None);
         }

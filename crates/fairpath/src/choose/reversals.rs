@@ -128,11 +128,103 @@ pub fn reversal_cuts(run: &Run, turn: f64, min_leg: f64) -> alloc::vec::Vec<usiz
         .collect()
 }
 
-/// [`reversal_cuts`] of `run`, or none where the run has more than
-/// [`REVERSAL_PIECES_PER_CUT`] pieces per cut (the work of smoothing it
-/// again between them is not offered).
-pub fn reversal_cuts_bounded(run: &Run, turn: f64, min_leg: f64) -> alloc::vec::Vec<usize> {
-    let cuts = reversal_cuts(run, turn, min_leg);
+/// Least turn (rad, about 69 degrees) of each corner of a narrow U-turn
+/// ([`u_turn_cuts`]), at the joint and over the chords a tolerance away.
+pub const U_TURN_CORNER: f64 = 1.2;
+
+/// Default widest U-turn (mm) whose corners `auto` also tries to keep
+/// ([`u_turn_cuts`], `AutoOptions::u_turn_width`): the step-over between
+/// passes of a zigzag or raster, which is up to a few millimetres (1.2 mm
+/// on LinuxCNC's `line-contouring-xz.ngc`, 1.5 mm on
+/// `surface-raster.ngc`). Wider, the corners are corners of the path, and
+/// stay G2 as every joint but reversals does (issue 5).
+pub const U_TURN_WIDTH: f64 = 3.0;
+
+/// The corners of the narrow U-turns of `run`: two joints no more than
+/// `width` mm of path apart, each turning by [`U_TURN_CORNER`] or more
+/// (at the joint and over the chords to the first points `min_leg` away,
+/// as [`reversal_cuts`] judges them), with the path turning by `turn` or
+/// more from the chord into the first to the chord out of the second; of
+/// joints less than `min_leg` apart that pass, the sharper stands for
+/// them (a 4 um hook at a corner is the corner). Sorted joint indices (see
+/// [`reversal_cuts`]).
+///
+/// At the scale of the step-over such a turn is a reversal, and a G2
+/// path through it is a crawl: inside the band each of its right angles
+/// needs a curvature of the order of `1 / tolerance`, ramped within a
+/// tolerance, so that `|dk/ds| v^3 <= J` holds the machine to a few mm/s
+/// over the ramps, while a kept corner costs the braking alone. Each such
+/// corner between two step-overs of `line-contouring-xz.ngc` had planned
+/// faster kept (docs/methods.md, "Near-reversals"); `auto` keeps them only
+/// where the whole run plans faster so.
+pub fn u_turn_cuts(run: &Run, turn: f64, min_leg: f64, width: f64) -> alloc::vec::Vec<usize> {
+    if !(turn.is_finite() && width > 0.0) {
+        return alloc::vec::Vec::new();
+    }
+    let exact = core::f64::consts::PI - 2.0 * BsplineCornerOptions::default().min_half_angle;
+    // Corners: (joint, local turn, chord in, chord out).
+    let mut corners: alloc::vec::Vec<(usize, f64, Vec3, Vec3)> = alloc::vec::Vec::new();
+    for k in 1..run.pieces.len() {
+        let (before, after) = (&run.pieces[k - 1], &run.pieces[k]);
+        let local = tangent(before, true).angle_to(tangent(after, false));
+        if !(local.is_finite() && local >= U_TURN_CORNER && local < exact) {
+            continue;
+        }
+        let at = before.curve.end();
+        let (Some(back), Some(on)) = (
+            far_point(run, at, k - 1, false, min_leg),
+            far_point(run, at, k, true, min_leg),
+        ) else {
+            continue;
+        };
+        let (din, dout) = (at - back, on - at);
+        let far = din.angle_to(dout);
+        if !(far.is_finite() && far >= U_TURN_CORNER) {
+            continue;
+        }
+        match corners.last_mut() {
+            // (The chord into the first of them, out of the last.)
+            Some(last) if run.pieces[last.0 - 1].curve.end().dist(at) < min_leg => {
+                if local > last.1 {
+                    (last.0, last.1) = (k, local);
+                }
+                last.3 = dout;
+            }
+            _ => corners.push((k, local, din, dout)),
+        }
+    }
+    let mut cuts = alloc::vec::Vec::new();
+    for pair in corners.windows(2) {
+        let ((a, _, din, _), (b, _, _, dout)) = (pair[0], pair[1]);
+        let between: f64 = run.pieces[a..b]
+            .iter()
+            .map(|p| p.curve.length(min_leg))
+            .sum();
+        let back = din.angle_to(dout);
+        if between <= width && back.is_finite() && back >= turn {
+            if cuts.last() != Some(&a) {
+                cuts.push(a);
+            }
+            cuts.push(b);
+        }
+    }
+    cuts
+}
+
+/// The joints where `auto` cuts `run` ([`reversal_cuts`] and, for
+/// U-turns up to `u_turn_width` mm wide, [`u_turn_cuts`]), or none where
+/// the run has more than [`REVERSAL_PIECES_PER_CUT`] pieces per cut (the
+/// work of smoothing it again between them is not offered).
+pub fn run_cuts_bounded(
+    run: &Run,
+    turn: f64,
+    min_leg: f64,
+    u_turn_width: f64,
+) -> alloc::vec::Vec<usize> {
+    let mut cuts = reversal_cuts(run, turn, min_leg);
+    cuts.extend(u_turn_cuts(run, turn, min_leg, u_turn_width));
+    cuts.sort_unstable();
+    cuts.dedup();
     if run.pieces.len() > cuts.len() * REVERSAL_PIECES_PER_CUT {
         return alloc::vec::Vec::new();
     }
@@ -207,17 +299,17 @@ mod tests {
         };
         let one = run_with(REVERSAL_PIECES_PER_CUT + 1, 1);
         assert_eq!(reversal_cuts(&one, REVERSAL_TURN, 0.05).len(), 1);
-        assert!(reversal_cuts_bounded(&one, REVERSAL_TURN, 0.05).is_empty());
+        assert!(run_cuts_bounded(&one, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
         // Two tips: three near-reversals (each tip's turn back, and the
         // turn into the next tip).
         let two = run_with(3 * REVERSAL_PIECES_PER_CUT, 2);
         assert_eq!(reversal_cuts(&two, REVERSAL_TURN, 0.05).len(), 3);
         assert_eq!(
-            reversal_cuts_bounded(&two, REVERSAL_TURN, 0.05),
+            run_cuts_bounded(&two, REVERSAL_TURN, 0.05, U_TURN_WIDTH),
             reversal_cuts(&two, REVERSAL_TURN, 0.05)
         );
         let longer = run_with(3 * REVERSAL_PIECES_PER_CUT + 1, 2);
-        assert!(reversal_cuts_bounded(&longer, REVERSAL_TURN, 0.05).is_empty());
+        assert!(run_cuts_bounded(&longer, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
     }
 
     /// An exact reversal is kept by every candidate: not cut.
@@ -311,5 +403,137 @@ mod tests {
         assert!(reversal_cuts(&run, REVERSAL_TURN, 0.05).is_empty());
         // Judged joint by joint, the hook's end is a near-reversal.
         assert_eq!(reversal_cuts(&run, REVERSAL_TURN, 0.0), [2]);
+    }
+
+    /// The step-over of `line-contouring-xz.ngc` at its line 52: down the
+    /// end of an arch in XZ, 1.21 mm across in Y, a 4 um move down, and up
+    /// the next arch.
+    fn step_over() -> Run {
+        let p = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        Run::polyline(
+            &[
+                p(17.155, -16.967, -1.253),
+                p(17.26, -16.967, -2.525),
+                p(17.477, -15.773, -2.525),
+                p(17.477, -15.773, -2.529),
+                p(17.37, -15.773, -1.226),
+                p(17.146, -15.773, 0.113),
+            ],
+            Some(1000.0),
+        )
+    }
+
+    /// Its two right angles make a narrow U-turn: cut at the first and at
+    /// the hook's end (the sharper of the two joints 4 um apart), which
+    /// [`reversal_cuts`] leaves (over the chords the hook is a right
+    /// angle).
+    #[test]
+    fn line_contouring_xz_step_over_is_a_narrow_u_turn() {
+        let run = step_over();
+        assert!(reversal_cuts(&run, REVERSAL_TURN, 0.05).is_empty());
+        assert_eq!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, U_TURN_WIDTH), [1, 3]);
+        assert_eq!(
+            run_cuts_bounded(&run, REVERSAL_TURN, 0.05, U_TURN_WIDTH),
+            [1, 3]
+        );
+        // No U-turns of any width, or no reversals at all: no cut.
+        assert!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, 0.0).is_empty());
+        assert!(u_turn_cuts(&run, f64::INFINITY, 0.05, U_TURN_WIDTH).is_empty());
+        // The step-over is 1.21 mm: narrower U-turns only, none.
+        assert!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, 1.0).is_empty());
+    }
+
+    /// A U-turn wider than the width is two corners of the path, not cut;
+    /// within it, cut at both.
+    #[test]
+    fn a_wide_u_turn_is_not_cut() {
+        let run = Run::polyline(
+            &[v(0.0, 10.0), v(0.0, 0.0), v(5.0, 0.0), v(5.0, 10.0)],
+            Some(1000.0),
+        );
+        assert!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, 3.0).is_empty());
+        assert_eq!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, 6.0), [1, 2]);
+    }
+
+    /// A single right angle, and a step of two right angles turning
+    /// opposite ways (the path goes on), are no U-turns.
+    #[test]
+    fn a_right_angle_or_a_step_is_not_a_u_turn() {
+        let corner = Run::polyline(&[v(0.0, 10.0), v(0.0, 0.0), v(10.0, 0.0)], Some(1000.0));
+        assert!(u_turn_cuts(&corner, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
+        let step = Run::polyline(
+            &[v(0.0, 0.0), v(10.0, 0.0), v(10.0, 1.0), v(20.0, 1.0)],
+            Some(1000.0),
+        );
+        assert!(u_turn_cuts(&step, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
+    }
+
+    /// A U-turn already rounded by the program (a half circle of 0.6 mm
+    /// in 30 moves) has no sharp corner: not cut.
+    #[test]
+    fn a_rounded_u_turn_is_not_cut() {
+        let mut pts = vec![v(0.0, 10.0)];
+        for i in 0..=30 {
+            let a = core::f64::consts::PI * (1.0 - i as f64 / 30.0);
+            pts.push(v(0.6 + 0.6 * a.cos(), -0.6 * a.sin()));
+        }
+        pts.push(v(1.2, 10.0));
+        let run = Run::polyline(&pts, Some(1000.0));
+        assert!(u_turn_cuts(&run, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
+    }
+
+    /// Seeded random U-turns (each corner 70 to 110 degrees, the whole
+    /// turn from [`REVERSAL_TURN`] to 179 degrees, 0.2 to 2.5 mm across, in a random
+    /// orientation in 3D) are cut at both corners, and the cuts are joints
+    /// of the run, sorted.
+    #[test]
+    fn seeded_random_narrow_u_turns_are_cut_at_both_corners() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move |lo: f64, hi: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            lo + (hi - lo) * (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..200 {
+            let whole = uniform(REVERSAL_TURN + 1e-3, 179f64.to_radians());
+            let first = uniform(70.0, 110.0)
+                .to_radians()
+                .min(whole - 70f64.to_radians());
+            let width = uniform(0.2, 2.5);
+            // In the plane: down the y axis, turn by `first`, go `width`,
+            // turn by the rest.
+            let d0 = v(0.0, -1.0);
+            let rot =
+                |d: Vec3, a: f64| v(d.x * a.cos() - d.y * a.sin(), d.x * a.sin() + d.y * a.cos());
+            let d1 = rot(d0, first);
+            let d2 = rot(d0, whole);
+            let a = v(0.0, 0.0);
+            let b = a + d1 * width;
+            let pts2 = [a - d0 * 5.0, a, b, b + d2 * 5.0];
+            // A random orientation: rotate about x, then z.
+            let tau = core::f64::consts::TAU;
+            let (ax, az) = (uniform(0.0, tau), uniform(0.0, tau));
+            let orient = |p: Vec3| {
+                let q = Vec3::new(
+                    p.x,
+                    p.y * ax.cos() - p.z * ax.sin(),
+                    p.y * ax.sin() + p.z * ax.cos(),
+                );
+                Vec3::new(
+                    q.x * az.cos() - q.y * az.sin(),
+                    q.x * az.sin() + q.y * az.cos(),
+                    q.z,
+                )
+            };
+            let pts: alloc::vec::Vec<Vec3> = pts2.iter().map(|&p| orient(p)).collect();
+            let run = Run::polyline(&pts, Some(1000.0));
+            assert_eq!(
+                u_turn_cuts(&run, REVERSAL_TURN, 0.05, U_TURN_WIDTH),
+                [1, 2],
+                "case {case}: corners {first} rad and {} rad, {width} mm apart",
+                whole - first
+            );
+        }
     }
 }
