@@ -138,7 +138,7 @@ use super::candidates::{
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
-use super::reversals::{run_cuts_bounded, split_at, REVERSAL_TURN, U_TURN_WIDTH};
+use super::reversals::{cut_sets_bounded, split_at, REVERSAL_TURN, U_TURN_WIDTH};
 use super::sections::{
     split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
 };
@@ -524,8 +524,9 @@ impl Auto {
         Ok((time, best))
     }
 
-    /// `run` smoothed as the runs between its near-reversals and the
-    /// corners of its narrow U-turns ([`run_cuts_bounded`]), each by [`Auto::smooth_whole`], those vertices
+    /// `run` smoothed as the runs between its near-reversals, or between
+    /// those and the corners of its narrow U-turns ([`cut_sets_bounded`]:
+    /// the cheaper), each by [`Auto::smooth_whole`], those vertices
     /// kept as corners, where that costs less than `time` (the best
     /// smoothing of the whole run); `None` where there is no such vertex,
     /// the run is longer than [`SECTION_MAX_PIECES`] or than
@@ -543,13 +544,13 @@ impl Auto {
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok(None);
         }
-        let cuts = run_cuts_bounded(
+        let sets = cut_sets_bounded(
             run,
             self.options.reversal_turn,
             tolerance,
             self.options.u_turn_width,
         );
-        if cuts.is_empty() {
+        if sets.is_empty() {
             return Ok(None);
         }
         // The runs between get the candidates the whole run's best
@@ -574,29 +575,34 @@ impl Auto {
             },
             objective: self.objective.clone(),
         };
-        let mut out = SmoothedRun::default();
-        for (i, part) in split_at(run, &cuts).iter().enumerate() {
-            let (_, best) = between.smooth_whole(part, tolerance)?;
-            if i > 0 {
-                let before = &run.pieces[cuts[i - 1] - 1];
-                out.kept_corners.push(KeptCorner {
-                    at: before.curve.end(),
-                    source_line: before.source_lines.1,
-                    reason: CornerReason::Reversal,
-                });
+        let mut best: Option<(f64, SmoothedRun)> = None;
+        for cuts in &sets {
+            let mut out = SmoothedRun::default();
+            for (i, part) in split_at(run, cuts).iter().enumerate() {
+                let (_, best) = between.smooth_whole(part, tolerance)?;
+                if i > 0 {
+                    let before = &run.pieces[cuts[i - 1] - 1];
+                    out.kept_corners.push(KeptCorner {
+                        at: before.curve.end(),
+                        source_line: before.source_lines.1,
+                        reason: CornerReason::Reversal,
+                    });
+                }
+                out.append(&best);
             }
-            out.append(&best);
-        }
-        if let Some(b) = self.objective.bound(&out.pieces) {
-            if b >= time {
-                return Ok(None);
+            let to_beat = best.as_ref().map_or(time, |b| b.0);
+            if self
+                .objective
+                .bound(&out.pieces)
+                .is_some_and(|b| b >= to_beat)
+            {
+                continue;
+            }
+            if let Some(t) = self.objective.cost(&out.pieces).filter(|&t| t < to_beat) {
+                best = Some((t, out));
             }
         }
-        Ok(self
-            .objective
-            .cost(&out.pieces)
-            .filter(|&t| t < time)
-            .map(|_| out))
+        Ok(best.map(|(_, out)| out))
     }
 }
 
