@@ -33,7 +33,7 @@ pub use objective::{
 pub use registry::{by_name, method, Method, METHODS};
 pub use reversals::{
     reversal_cuts, u_turn_cuts, REVERSAL_PIECES_PER_CUT, REVERSAL_TURN, REVERSAL_WALK_PIECES,
-    U_TURN_CORNER, U_TURN_WIDTH,
+    U_TURN_CORNER, U_TURN_MAX_PIECES, U_TURN_WIDTH,
 };
 pub use same_pieces::{pieces_digest, same_pieces};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};

@@ -211,12 +211,22 @@ pub fn u_turn_cuts(run: &Run, turn: f64, min_leg: f64, width: f64) -> alloc::vec
     cuts
 }
 
+/// Most pieces of a run on which [`cut_sets_bounded`] offers the U-turns'
+/// corners: the runs between them are smoothed anew, which doubles
+/// `auto`'s work on the run, and on a long run of many U-turns that did
+/// not pay (`makerblock_tinycnc.gcode` at 0.05 mm, one run of 8,464 moves
+/// with 950 U-turn corners at its pixel steps, none kept: 36.0 -> 46.5 s
+/// of CPU for the same program; the runs where they paid on the survey
+/// have up to 2,979 pieces: docs/tuning.md, `U_TURN_CORNER`).
+pub const U_TURN_MAX_PIECES: usize = 4000;
+
 /// The sets of joints where `auto` tries cutting `run`: its
 /// near-reversals ([`reversal_cuts`]), and those with the corners of its
 /// U-turns up to `u_turn_width` mm wide ([`u_turn_cuts`]), each where it
 /// is not empty, differs from the set before and leaves at most
 /// [`REVERSAL_PIECES_PER_CUT`] pieces per cut (the work of smoothing the
-/// run again between them is not offered otherwise). Both are tried
+/// run again between them is not offered otherwise); the U-turns only on
+/// runs of at most [`U_TURN_MAX_PIECES`] pieces. Both are tried
 /// because a run is cut at every joint of a set or at none: the corners
 /// of a U-turn may plan faster kept on one run and slower on another
 /// (LinuxCNC's `adjustment.ngc` at 0.01 mm: 6.136 s with its U-turns' too,
@@ -229,7 +239,9 @@ pub fn cut_sets_bounded(
 ) -> alloc::vec::Vec<alloc::vec::Vec<usize>> {
     let reversals = reversal_cuts(run, turn, min_leg);
     let mut with_u_turns = reversals.clone();
-    with_u_turns.extend(u_turn_cuts(run, turn, min_leg, u_turn_width));
+    if run.pieces.len() <= U_TURN_MAX_PIECES {
+        with_u_turns.extend(u_turn_cuts(run, turn, min_leg, u_turn_width));
+    }
     with_u_turns.sort_unstable();
     with_u_turns.dedup();
     let mut sets: alloc::vec::Vec<alloc::vec::Vec<usize>> = alloc::vec::Vec::new();
@@ -486,6 +498,14 @@ mod tests {
         );
         let corner = Run::polyline(&[v(0.0, 10.0), v(0.0, 0.0), v(10.0, 0.0)], Some(1000.0));
         assert!(cut_sets_bounded(&corner, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
+        // The same U-turn at the end of a run longer than
+        // U_TURN_MAX_PIECES: not offered.
+        let mut pts: alloc::vec::Vec<Vec3> = (0..=U_TURN_MAX_PIECES)
+            .map(|i| v(0.0, 10.0 + (U_TURN_MAX_PIECES - i) as f64))
+            .collect();
+        pts.extend([v(0.0, 0.0), v(1.2, 0.0), v(1.2, 10.0)]);
+        let long = Run::polyline(&pts, Some(1000.0));
+        assert!(cut_sets_bounded(&long, REVERSAL_TURN, 0.05, U_TURN_WIDTH).is_empty());
     }
 
     /// A U-turn wider than the width is two corners of the path, not cut;
