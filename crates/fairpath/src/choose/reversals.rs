@@ -211,7 +211,7 @@ pub fn u_turn_cuts(run: &Run, turn: f64, min_leg: f64, width: f64) -> alloc::vec
     cuts
 }
 
-/// Most pieces of a run on which [`cut_sets_bounded`] offers the U-turns'
+/// Most pieces of a run on which `cut_sets_bounded` offers the U-turns'
 /// corners: the runs between them are smoothed anew, which doubles
 /// `auto`'s work on the run, and on a long run of many U-turns that did
 /// not pay (`makerblock_tinycnc.gcode` at 0.05 mm, one run of 8,464 moves
