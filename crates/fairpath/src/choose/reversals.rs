@@ -213,11 +213,9 @@ pub fn u_turn_cuts(run: &Run, turn: f64, min_leg: f64, width: f64) -> alloc::vec
 
 /// Most pieces of a run on which `cut_sets_bounded` offers the U-turns'
 /// corners: the runs between them are smoothed anew, which doubles
-/// `auto`'s work on the run, and on a long run of many U-turns that did
-/// not pay (`makerblock_tinycnc.gcode` at 0.05 mm, one run of 8,464 moves
-/// with 950 U-turn corners at its pixel steps, none kept: 36.0 -> 46.5 s
-/// of CPU for the same program; the runs where they paid on the survey
-/// have up to 2,979 pieces: docs/tuning.md, `U_TURN_CORNER`).
+/// `auto`'s work on the run, and on a long run of many U-turns (a plot's
+/// pixel steps) that did not pay (measurements: docs/tuning.md,
+/// `U_TURN_MAX_PIECES`).
 pub const U_TURN_MAX_PIECES: usize = 4000;
 
 /// The sets of joints where `auto` tries cutting `run`: its
@@ -229,8 +227,8 @@ pub const U_TURN_MAX_PIECES: usize = 4000;
 /// runs of at most [`U_TURN_MAX_PIECES`] pieces. Both are tried
 /// because a run is cut at every joint of a set or at none: the corners
 /// of a U-turn may plan faster kept on one run and slower on another
-/// (LinuxCNC's `adjustment.ngc` at 0.01 mm: 6.136 s with its U-turns' too,
-/// against 6.074 s with its near-reversals alone).
+/// (LinuxCNC's `adjustment.ngc` at 0.01 mm; measurements: docs/tuning.md,
+/// `U_TURN_CORNER`).
 pub fn cut_sets_bounded(
     run: &Run,
     turn: f64,
