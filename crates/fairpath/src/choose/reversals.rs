@@ -105,27 +105,29 @@ fn far_point(run: &Run, at: Vec3, k: usize, forward: bool, min_leg: f64) -> Opti
 /// the chords is no reversal and is not cut (`line-contouring-xz.ngc`:
 /// docs/tuning.md, `REVERSAL_WALK_PIECES`).
 pub fn reversal_cuts(run: &Run, turn: f64, min_leg: f64) -> alloc::vec::Vec<usize> {
-    let exact = core::f64::consts::PI - 2.0 * BsplineCornerOptions::default().min_half_angle;
     (1..run.pieces.len())
-        .filter(|&k| {
-            let (before, after) = (&run.pieces[k - 1], &run.pieces[k]);
-            let a = tangent(before, true);
-            let b = tangent(after, false);
-            let angle = a.angle_to(b);
-            if !(angle.is_finite() && angle >= turn && angle < exact) {
-                return false;
-            }
-            let at = before.curve.end();
-            let (Some(back), Some(on)) = (
-                far_point(run, at, k - 1, false, min_leg),
-                far_point(run, at, k, true, min_leg),
-            ) else {
-                return false;
-            };
-            let far = (at - back).angle_to(on - at);
-            far.is_finite() && far >= turn
-        })
+        .filter(|&k| sharp_joint(run, k, turn, min_leg).is_some())
         .collect()
+}
+
+/// Where joint `k` of `run` (between pieces `k - 1` and `k`) turns by
+/// `turn` or more both at the joint and over the chords to the first
+/// points `min_leg` away on either side (`far_point`), and is no exact
+/// reversal: its turn at the joint, its point, and the chords into and
+/// out of it; `None` otherwise (or where a piece has no direction).
+fn sharp_joint(run: &Run, k: usize, turn: f64, min_leg: f64) -> Option<(f64, Vec3, Vec3, Vec3)> {
+    let exact = core::f64::consts::PI - 2.0 * BsplineCornerOptions::default().min_half_angle;
+    let (before, after) = (&run.pieces[k - 1], &run.pieces[k]);
+    let local = tangent(before, true).angle_to(tangent(after, false));
+    if !(local.is_finite() && local >= turn && local < exact) {
+        return None;
+    }
+    let at = before.curve.end();
+    let back = far_point(run, at, k - 1, false, min_leg)?;
+    let on = far_point(run, at, k, true, min_leg)?;
+    let (din, dout) = (at - back, on - at);
+    let far = din.angle_to(dout);
+    (far.is_finite() && far >= turn).then_some((local, at, din, dout))
 }
 
 /// Least turn (rad, about 69 degrees) of each corner of a narrow U-turn
@@ -161,27 +163,12 @@ pub fn u_turn_cuts(run: &Run, turn: f64, min_leg: f64, width: f64) -> alloc::vec
     if !(turn.is_finite() && width > 0.0) {
         return alloc::vec::Vec::new();
     }
-    let exact = core::f64::consts::PI - 2.0 * BsplineCornerOptions::default().min_half_angle;
     // Corners: (joint, local turn, chord in, chord out).
     let mut corners: alloc::vec::Vec<(usize, f64, Vec3, Vec3)> = alloc::vec::Vec::new();
     for k in 1..run.pieces.len() {
-        let (before, after) = (&run.pieces[k - 1], &run.pieces[k]);
-        let local = tangent(before, true).angle_to(tangent(after, false));
-        if !(local.is_finite() && local >= U_TURN_CORNER && local < exact) {
-            continue;
-        }
-        let at = before.curve.end();
-        let (Some(back), Some(on)) = (
-            far_point(run, at, k - 1, false, min_leg),
-            far_point(run, at, k, true, min_leg),
-        ) else {
+        let Some((local, at, din, dout)) = sharp_joint(run, k, U_TURN_CORNER, min_leg) else {
             continue;
         };
-        let (din, dout) = (at - back, on - at);
-        let far = din.angle_to(dout);
-        if !(far.is_finite() && far >= U_TURN_CORNER) {
-            continue;
-        }
         match corners.last_mut() {
             // (The chord into the first of them, out of the last.)
             Some(last) if run.pieces[last.0 - 1].curve.end().dist(at) < min_leg => {
