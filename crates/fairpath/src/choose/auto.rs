@@ -145,7 +145,7 @@ use super::sections::{
 use crate::geom::{Curve, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    check_tolerance, require, CornerReason, Fair, FairOptions, FitMemo, KeptCorner, OptionError,
+    check_tolerance, require, CornerReason, Fair, FairOptions, KeptCorner, OptionError, RunMemo,
     SmoothError, SmoothedRun, Smoother,
 };
 use alloc::sync::Arc;
@@ -351,7 +351,7 @@ impl Auto {
         tolerance: f64,
     ) -> Result<Vec<(&'static str, SmoothedRun)>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
-        let memo = FitMemo::default();
+        let memo = RunMemo::default();
         list.iter()
             .map(|(name, c)| {
                 let cand = c.smooth((run, tolerance), input.run(), tol, (false, false), &memo)?;
@@ -421,7 +421,7 @@ impl Auto {
         run: &Run,
         tolerance: f64,
         cut_ends: (bool, bool),
-        memo: &FitMemo,
+        memo: &RunMemo,
     ) -> Result<Ranking<'_>, SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         let smoothed = map_candidates(list.len(), |i| {
@@ -464,7 +464,7 @@ impl Auto {
         let lines = self.options.section_lines;
         // The fits of the run and of its sections, shared between the
         // candidates and the sections that cut a dense stretch alike.
-        let memo = FitMemo::default();
+        let memo = RunMemo::default();
         let mut ranking = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
         let mut best = core::mem::take(&mut ranking.cands[i]);
@@ -621,7 +621,7 @@ impl Auto {
         run: &Run,
         tolerance: f64,
         (best, time): (&SmoothedRun, Option<f64>),
-        memo: &FitMemo,
+        memo: &RunMemo,
     ) -> Result<Option<(f64, SmoothedRun)>, SmoothError> {
         let has_curves = run
             .pieces
@@ -676,7 +676,7 @@ impl Auto {
             let fair = Fair {
                 options: fair_on(FairOptions::default(), objective),
             };
-            let alt = fair.alternatives(run, tolerance)?;
+            let alt = fair.alternatives_with(run, tolerance, memo)?;
             let named = [FAIR_CURVES_AS_WRITTEN, FAIR];
             for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
                 cand.chosen = alloc::vec![name];
@@ -757,7 +757,7 @@ mod tests {
         let counted = Arc::new(Counted::default());
         let auto = Auto::new(AutoOptions::default(), counted.clone());
         let run = zigzag();
-        let memo = FitMemo::default();
+        let memo = RunMemo::default();
         let mut ranking = auto
             .ranked_candidates(&run, 0.05, (false, false), &memo)
             .unwrap();
@@ -820,7 +820,7 @@ mod tests {
                 })
                 .collect(),
         );
-        let memo = FitMemo::default();
+        let memo = RunMemo::default();
         let mut ranking = auto
             .ranked_candidates(&run, 0.05, (false, false), &memo)
             .unwrap();

@@ -8,7 +8,7 @@ use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
     shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair,
-    FairOptions, FitMemo, LineFit, Lotm, SectionOptions, SmoothError, SmoothedRun, Smoother,
+    FairOptions, LineFit, Lotm, RunMemo, SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
 
@@ -387,7 +387,7 @@ impl Candidate {
         input: &Run,
         tol: f64,
         cut_ends: (bool, bool),
-        memo: &FitMemo,
+        memo: &RunMemo,
     ) -> Result<SmoothedRun, SmoothError> {
         match self {
             Candidate::AsIs => Ok(SmoothedRun {
@@ -418,7 +418,7 @@ impl Candidate {
                 // curves as written leave one): then on the sampled run,
                 // as the others.
                 if has_splines(original) {
-                    let out = fair.smooth_run(original, tolerance)?;
+                    let out = fair.smooth_run_with(original, tolerance, memo)?;
                     if out
                         .kept_corners
                         .iter()
@@ -439,7 +439,7 @@ impl Candidate {
                         ..fair.options
                     },
                 };
-                lines.smooth_run(input, tol)
+                lines.smooth_run_with(input, tol, memo)
             }
         }
     }

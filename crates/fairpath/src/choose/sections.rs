@@ -6,7 +6,7 @@ use super::candidates::{is_corner_method, is_fair};
 use crate::geom::{classify_joint, Continuity, JointTolerances};
 use crate::geom::{Curve, Line, ParamCurve, Vec3};
 use crate::path::{Piece, Run};
-use crate::smooth::{FitMemo, SmoothError, SmoothedRun};
+use crate::smooth::{RunMemo, SmoothError, SmoothedRun};
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
@@ -122,7 +122,7 @@ impl Auto {
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
         tolerance: f64,
-        (cache, memo): (&mut SectionCache, &FitMemo),
+        (cache, memo): (&mut SectionCache, &RunMemo),
         mix: Mix,
     ) -> Result<Option<SmoothedRun>, SmoothError> {
         let jt = JointTolerances::from_tolerance(tolerance);
@@ -158,7 +158,7 @@ impl Auto {
         (before, after): (Option<Vec3>, Option<Vec3>),
         tolerance: f64,
         jt: JointTolerances,
-        memo: &FitMemo,
+        memo: &RunMemo,
     ) -> Result<Choices, SmoothError> {
         let cut_ends = (before.is_some(), after.is_some());
         let mut ranking = self.ranked_candidates(run, tolerance, cut_ends, memo)?;

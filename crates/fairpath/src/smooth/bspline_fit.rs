@@ -92,9 +92,10 @@ use crate::path::Run;
 use crate::smooth::{require, OptionError};
 
 pub use super::fit_fairing::{
-    fit_polyline, fit_polyline_faired, fit_polyline_weighted, FitMemo, SectionFit, FAIRNESS_RAISE,
+    fit_polyline, fit_polyline_faired, fit_polyline_weighted, SectionFit, FAIRNESS_RAISE,
     FAIRNESS_RAISES,
 };
+pub use super::run_memo::RunMemo;
 
 /// Options of [`BsplineFit`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -223,7 +224,7 @@ impl BsplineFit {
         &self,
         run: &Run,
         tolerance: f64,
-        memo: &FitMemo,
+        memo: &RunMemo,
     ) -> Result<SmoothedRun, SmoothError> {
         self.smooth_run_memo(run, tolerance, Some(memo))
     }
@@ -232,7 +233,7 @@ impl BsplineFit {
         &self,
         run: &Run,
         tolerance: f64,
-        memo: Option<&FitMemo>,
+        memo: Option<&RunMemo>,
     ) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.check_options()?;

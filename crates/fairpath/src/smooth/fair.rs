@@ -93,13 +93,14 @@
 use super::bspline_corner::TRANSITION_KNOTS;
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fit_sections::SectionOptions;
+use super::run_memo::RunMemo;
 use super::unfaired::{Unfaired, UnfairedReason};
 use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
 use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
 use crate::geom::elevate::clamped_with_degree;
 use crate::geom::tube_fair::guard::{PEAK_ACCURACY, PEAK_SAMPLES};
 use crate::geom::tube_fair::{
-    as_fairable, fair_in_tube, Basis, EndRule, Faired, PeakPass, TubeFairError, TubeFairOptions,
+    as_fairable, Basis, EndRule, Faired, PeakPass, TubeFairError, TubeFairOptions,
     DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
 };
 use crate::geom::{
@@ -324,6 +325,7 @@ impl FairOptions {
         piece: &Piece,
         radius: f64,
         (keep_start, keep_end): (bool, bool),
+        memo: &RunMemo,
     ) -> Result<Faired, TubeFairError> {
         let mut opts = self.tube(radius, keep_start, keep_end);
         opts.peak_pass = self.at_feed(opts.peak_pass, piece);
@@ -332,7 +334,7 @@ impl FairOptions {
         // are to be kept as written.
         match beyond_thesis(c) {
             Some(e) if self.other_curves == OtherCurves::Kept => Err(e),
-            _ => as_fairable(c).and_then(|c| fair_in_tube(&c, &opts)),
+            _ => as_fairable(c).and_then(|c| memo.fair_in_tube(&c, &opts)),
         }
     }
 
@@ -357,8 +359,9 @@ impl FairOptions {
         radius: f64,
         (prev, next): (Option<&Curve>, Option<&Curve>),
         joints: &JointTolerances,
+        memo: &RunMemo,
     ) -> Result<Faired, TubeFairError> {
-        let fair_keeping = |keep: (bool, bool)| self.fair_keeping(c, piece, radius, keep);
+        let fair_keeping = |keep: (bool, bool)| self.fair_keeping(c, piece, radius, keep, memo);
         let tangent = |a: &Curve, b: &Curve| classify_joint(a, b, joints) >= Continuity::G1;
         let keep = (
             prev.is_some_and(|a| tangent(a, &piece.curve)),
@@ -410,9 +413,7 @@ impl Smoother for Fair {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
-        Ok(self
-            .alternatives(run, tolerance)?
-            .chosen_by_demand(self.options.peak_pass))
+        self.smooth_run_with(run, tolerance, &RunMemo::default())
     }
 }
 
@@ -498,9 +499,20 @@ impl Fair {
     /// the run has such curves) sampled; each is within `tolerance` of the
     /// run.
     pub fn alternatives(&self, run: &Run, tolerance: f64) -> Result<FairAlternatives, SmoothError> {
+        self.alternatives_with(run, tolerance, &RunMemo::default())
+    }
+
+    /// [`Fair::alternatives`], the fits and fairings shared through `memo`
+    /// with other smoothings of the same run.
+    pub fn alternatives_with(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        memo: &RunMemo,
+    ) -> Result<FairAlternatives, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
-        let kept = self.smooth_lines(run, tolerance)?;
+        let kept = self.smooth_lines(run, tolerance, memo)?;
         // Curves the fairing cannot take, or cannot move: sampled, then
         // fitted and faired as lines with what their chords leave of the
         // tolerance. (A curve that jumps at a knot, or is invalid, is not
@@ -526,7 +538,7 @@ impl Fair {
         }
         let chord = FAIR_SAMPLE_SHARE * tolerance;
         let sampled_run = run.sampled(chord, other);
-        let sampled = self.smooth_lines(&sampled_run, tolerance - chord)?;
+        let sampled = self.smooth_lines(&sampled_run, tolerance - chord, memo)?;
         let sampled_lines = run
             .pieces
             .iter()
@@ -545,7 +557,25 @@ impl Fair {
     /// [`Smoother::smooth_run`] with the curves the fairing cannot take
     /// kept as written (and reported): lines fitted as
     /// [`FairOptions::lines`] says, then faired.
-    fn smooth_lines(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+    /// [`Smoother::smooth_run`], the fits and fairings shared through
+    /// `memo` with other smoothings of the same run.
+    pub fn smooth_run_with(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        memo: &RunMemo,
+    ) -> Result<SmoothedRun, SmoothError> {
+        Ok(self
+            .alternatives_with(run, tolerance, memo)?
+            .chosen_by_demand(self.options.peak_pass))
+    }
+
+    fn smooth_lines(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        memo: &RunMemo,
+    ) -> Result<SmoothedRun, SmoothError> {
         let lines = run
             .pieces
             .iter()
@@ -553,16 +583,18 @@ impl Fair {
             .count();
         let through = shallow_corner_sections(&self.options.fit.sections);
         match self.options.lines {
-            LineFit::Sections => self.smooth_fitted(run, tolerance, self.options.fit.sections),
-            LineFit::ThroughShallowCorners => self.smooth_fitted(run, tolerance, through),
+            LineFit::Sections => {
+                self.smooth_fitted(run, tolerance, self.options.fit.sections, memo)
+            }
+            LineFit::ThroughShallowCorners => self.smooth_fitted(run, tolerance, through, memo),
             // (With fewer than two lines there is no corner between lines
             // for the two fits to differ at.)
             LineFit::Fairer if lines < 2 || through == self.options.fit.sections => {
-                self.smooth_fitted(run, tolerance, self.options.fit.sections)
+                self.smooth_fitted(run, tolerance, self.options.fit.sections, memo)
             }
             LineFit::Fairer => {
-                let a = self.smooth_fitted(run, tolerance, self.options.fit.sections)?;
-                let b = self.smooth_fitted(run, tolerance, through)?;
+                let a = self.smooth_fitted(run, tolerance, self.options.fit.sections, memo)?;
+                let b = self.smooth_fitted(run, tolerance, through, memo)?;
                 let lower_peak = run_peak_curvature(&b.pieces) < run_peak_curvature(&a.pieces);
                 Ok(
                     if lower_peak && run_turning(&b.pieces) <= run_turning(&a.pieces) {
@@ -734,6 +766,7 @@ impl Fair {
         run: &Run,
         tolerance: f64,
         sections: SectionOptions,
+        memo: &RunMemo,
     ) -> Result<SmoothedRun, SmoothError> {
         let o = &self.options;
         // Lines first: fitted within their share of the band, corners
@@ -751,7 +784,7 @@ impl Fair {
             }
             None => run,
         };
-        let mut out = BsplineFit { options: fit }.smooth_run(run, tolerance)?;
+        let mut out = BsplineFit { options: fit }.smooth_run_with(run, tolerance, memo)?;
         // The run's own curves come through the fit unchanged, in order:
         // they get the whole band, the fits what they leave of it.
         let mut originals = run
@@ -787,13 +820,14 @@ impl Fair {
                 out.pieces.get(i + 1).map(|p| &p.curve),
             );
             let faired = if from_input {
-                o.fair_between(c, piece, o.band_use * room, (prev, next), &joints)
+                o.fair_between(c, piece, o.band_use * room, (prev, next), &joints, memo)
             } else {
                 o.fair_keeping(
                     c,
                     piece,
                     o.band_use * room,
                     (prev.is_some(), next.is_some()),
+                    memo,
                 )
             };
             match faired {

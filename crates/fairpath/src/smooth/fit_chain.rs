@@ -15,7 +15,7 @@
 //! `extend_sections`).
 
 use super::bspline_corner::{BsplineCorner, BAND_USE};
-use super::bspline_fit::{fit_polyline_faired, BsplineFit, FitMemo};
+use super::bspline_fit::{fit_polyline_faired, BsplineFit, RunMemo};
 use super::chains::{min_feed, LineChain};
 use super::corner_engine::Band;
 use super::fit_sections::dense_sections;
@@ -163,7 +163,7 @@ impl BsplineFit {
         chain: &LineChain,
         tolerance: f64,
         keep_ends: (bool, bool),
-        memo: Option<&FitMemo>,
+        memo: Option<&RunMemo>,
         out: &mut SmoothedRun,
     ) {
         let o = &self.options;

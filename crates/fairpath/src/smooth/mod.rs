@@ -28,6 +28,7 @@ mod kept_joints;
 mod lotm;
 mod none;
 mod options;
+mod run_memo;
 mod unfaired;
 
 pub use arc_fit::{
@@ -46,7 +47,7 @@ pub use bspline_corner::{
 };
 pub use bspline_fit::{
     fit_polyline, fit_polyline_faired, fit_polyline_weighted, BsplineFit, BsplineFitOptions,
-    FitMemo, SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
+    SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
 pub use fair::{
@@ -63,6 +64,7 @@ pub use lotm::{
 pub use none::{NoSmoothing, NONE_GAP_SHARE};
 pub(crate) use options::require;
 pub use options::OptionError;
+pub use run_memo::RunMemo;
 pub use unfaired::{Unfaired, UnfairedReason};
 
 use crate::budget::ToleranceBudget;
