@@ -916,6 +916,62 @@ fn polylines_as_lines(run: &Run) -> Option<Run> {
 mod tests {
     use super::*;
 
+    /// Regression (LinuxCNC's `Ruota_dentata_p1.ngc`: one G6.2 curve of
+    /// degree 5, faired at the machine's maximum feed, where its peak pass
+    /// runs to its bound): `auto`'s two `fair` candidates differ only in
+    /// how they fit lines, so on a run of one spline they fair the same
+    /// curve. Sharing the run's memo, the second makes no fairing of its
+    /// own, and each gives what it gives alone.
+    #[cfg(feature = "std")]
+    #[test]
+    fn ruota_dentata_fair_candidates_on_a_spline_share_their_fairings() {
+        let (n, degree) = (40usize, 5usize);
+        let points: Vec<Vec3> = (0..n)
+            .map(|i| Vec3::new(i as f64, 0.3 * libm::sin(i as f64), 0.0))
+            .collect();
+        let inner = n - degree;
+        let knots: Vec<f64> = (0..n + degree + 1)
+            .map(|i| i.saturating_sub(degree).min(inner) as f64)
+            .collect();
+        let curve = Nurbs {
+            degree,
+            knots,
+            points,
+            weights: None,
+        };
+        curve.validate().unwrap();
+        let run = Run::new(alloc::vec![Piece {
+            curve: Curve::from(curve),
+            rapid: false,
+            source_lines: (1, 1),
+            feed: None,
+        }]);
+        let fair = |lines| Fair {
+            options: FairOptions {
+                lines,
+                ..FairOptions::default()
+            },
+        };
+        let memo = RunMemo::default();
+        let a = fair(LineFit::Sections)
+            .smooth_run_with(&run, 0.05, &memo)
+            .unwrap();
+        let made = memo.fairings_held();
+        assert!(made > 0);
+        let b = fair(LineFit::ThroughShallowCorners)
+            .smooth_run_with(&run, 0.05, &memo)
+            .unwrap();
+        assert_eq!(memo.fairings_held(), made);
+        assert_eq!(a, fair(LineFit::Sections).smooth_run(&run, 0.05).unwrap());
+        assert_eq!(
+            b,
+            fair(LineFit::ThroughShallowCorners)
+                .smooth_run(&run, 0.05)
+                .unwrap()
+        );
+        assert_eq!(a.pieces, b.pieces);
+    }
+
     /// Two arcs of radius 10 and 0.5 mm each joined tangentially into an
     /// S, or turning the same way: the S steps its curvature vector by 0.2
     /// 1/mm at the joint, which a planner passes at most at

@@ -101,6 +101,14 @@ impl RunMemo {
     }
 }
 
+#[cfg(all(test, feature = "std"))]
+impl RunMemo {
+    /// How many fairings it holds.
+    pub(super) fn fairings_held(&self) -> usize {
+        self.fairings.len()
+    }
+}
+
 /// What a fit of [`fit_polyline_faired`] depends on, every number by its
 /// bits: the points, the end conditions, the target, the weights, the
 /// raises and the relaxation.
