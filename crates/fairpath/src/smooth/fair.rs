@@ -554,9 +554,6 @@ impl Fair {
 }
 
 impl Fair {
-    /// [`Smoother::smooth_run`] with the curves the fairing cannot take
-    /// kept as written (and reported): lines fitted as
-    /// [`FairOptions::lines`] says, then faired.
     /// [`Smoother::smooth_run`], the fits and fairings shared through
     /// `memo` with other smoothings of the same run.
     pub fn smooth_run_with(
@@ -570,6 +567,9 @@ impl Fair {
             .chosen_by_demand(self.options.peak_pass))
     }
 
+    /// [`Smoother::smooth_run`] with the curves the fairing cannot take
+    /// kept as written (and reported): lines fitted as
+    /// [`FairOptions::lines`] says, then faired.
     fn smooth_lines(
         &self,
         run: &Run,

@@ -201,9 +201,7 @@ impl<K: PartialEq, V: Clone> Table<K, V> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::tube_fair::{
-        EndRule, PeakPass, DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
-    };
+    use crate::geom::tube_fair::PeakPass;
     use alloc::vec::Vec;
 
     /// A wavy polyline of 0.2 mm steps.
@@ -268,22 +266,7 @@ mod tests {
         let curve = fit.curve;
         let mut other = curve.clone();
         other.points[5].y += 0.01;
-        let base = TubeFairOptions {
-            radius: 0.05,
-            precision: THESIS_PRECISION,
-            accuracy: THESIS_ACCURACY,
-            max_iterations: DEFAULT_MAX_ITERATIONS,
-            ends: EndRule::Pinned,
-            keep_g2_start: false,
-            keep_g2_end: false,
-            peak_guard: true,
-            peak_pass: PeakPass::SpeedCaps {
-                max_feed: 400.0,
-                normal_acc: 4000.0,
-                jerk: 20000.0,
-                period: 0.001,
-            },
-        };
+        let base = TubeFairOptions::new(0.05);
         let options = [
             base,
             TubeFairOptions {
