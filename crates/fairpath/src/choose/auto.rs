@@ -414,8 +414,8 @@ fn cores() -> usize {
 }
 
 impl Auto {
-    /// Every candidate for `run`, smoothed (the fits shared through
-    /// `memo`), to be ranked by the objective.
+    /// Every candidate for `run`, smoothed (the fits and fairings shared
+    /// through `memo`), to be ranked by the objective.
     pub(super) fn ranked_candidates(
         &self,
         run: &Run,
@@ -462,8 +462,9 @@ impl Auto {
         tolerance: f64,
     ) -> Result<(Option<f64>, SmoothedRun), SmoothError> {
         let lines = self.options.section_lines;
-        // The fits of the run and of its sections, shared between the
-        // candidates and the sections that cut a dense stretch alike.
+        // The fits and fairings of the run and of its sections, shared
+        // between the candidates, the sections that cut a stretch alike
+        // and the fallback.
         let memo = RunMemo::default();
         let mut ranking = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;

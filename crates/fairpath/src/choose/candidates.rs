@@ -380,7 +380,8 @@ impl Candidate {
     /// where `auto` cut it into sections, so fits must keep that line.
     /// `original`: the run before its arcs were sampled into `input`,
     /// whose tolerance is `tolerance` (`input`'s is `tol`).
-    /// `memo`: the fits made for this run so far (by any candidate).
+    /// `memo`: the fits and tube fairings made for this run so far (by
+    /// any candidate).
     pub(super) fn smooth(
         &self,
         (original, tolerance): (&Run, f64),

@@ -117,7 +117,7 @@ impl Auto {
     /// cut lines G2 and that `mix` admits ([`Mix`]); `None` when some
     /// section has no such candidate or a cut joint is not G2 (the caller
     /// then chooses for the whole run). Sections found in `cache` are not
-    /// smoothed again, and fits found in `memo` not made again.
+    /// smoothed again, and fits and fairings found in `memo` not made again.
     pub(super) fn smooth_sections(
         &self,
         sections: &[(Run, Option<Vec3>, Option<Vec3>)],
