@@ -406,6 +406,13 @@ pub(super) fn map_candidates<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -
     (0..n).map(f).collect()
 }
 
+/// How far above the best candidate's cost (as a share of it) a `fair`
+/// candidate made without the peak pass may come and still be made again
+/// with it ([`Auto::fair_with_peak_pass`]): above the 1.3% the pass made
+/// up on `spiral_tight_circular.ngc` (measurements: docs/tuning.md,
+/// `Auto::fair_with_peak_pass`).
+const FAIR_PEAK_MARGIN: f64 = 0.02;
+
 /// The machine's cores (asked once: the answer reads system files).
 #[cfg(feature = "std")]
 fn cores() -> usize {
@@ -468,8 +475,12 @@ impl Auto {
         let memo = RunMemo::default();
         let mut ranking = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
+        let peaked = self.fair_with_peak_pass(run, tolerance, &ranking, time, &memo)?;
         let mut best = core::mem::take(&mut ranking.cands[i]);
         drop(ranking);
+        if let Some((t, cand)) = peaked {
+            (time, best) = (Some(t), cand);
+        }
         if run.pieces.len() > SECTION_MAX_PIECES {
             return Ok((time, best));
         }
@@ -523,6 +534,71 @@ impl Auto {
             (time, best) = (Some(t), kept);
         }
         Ok((time, best))
+    }
+
+    /// `fair`'s candidates on a run of lines (or of sampled arcs) made
+    /// again with the peak pass, where their cost without it came within
+    /// [`FAIR_PEAK_MARGIN`] of `time`, the best cost of `ranking`: the
+    /// cheapest of them with its cost, where that is below `time`.
+    ///
+    /// Why: the candidates fair such runs without the peak pass (see
+    /// [`Candidate::smooth`]), which method `fair` runs; where `fair` is
+    /// the fastest single method, `auto` was slower than it by what the
+    /// pass gains (`spiral_tight_circular.ngc` at 0.05 mm: a run whose
+    /// `fair` candidate came 1.3% behind the best fit, and 0.13% ahead of
+    /// it with the pass). Made again only where a `fair` candidate is
+    /// near the best, the pass costs little where it cannot change the
+    /// choice (measurements: docs/tuning.md, `Auto::fair_with_peak_pass`).
+    fn fair_with_peak_pass(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        ranking: &Ranking,
+        time: Option<f64>,
+        memo: &RunMemo,
+    ) -> Result<Option<(f64, SmoothedRun)>, SmoothError> {
+        let Some(time) = time else {
+            return Ok(None);
+        };
+        // (On a run with a B-spline `fair` works in place, with the pass.)
+        if has_splines(run) || self.objective.peak_pass().is_none() {
+            return Ok(None);
+        }
+        let near: Vec<&'static str> = ranking
+            .cands
+            .iter()
+            .enumerate()
+            .filter(|(k, c)| {
+                c.chosen.len() == 1
+                    && is_fair(c.chosen[0])
+                    && ranking
+                        .cost_of(*k)
+                        .flatten()
+                        .is_some_and(|t| t <= time * (1.0 + FAIR_PEAK_MARGIN))
+            })
+            .map(|(_, c)| c.chosen[0])
+            .collect();
+        if near.is_empty() {
+            return Ok(None);
+        }
+        // The rows as the ranking's candidates were made from them, with
+        // the objective's peak pass (`fair_on`).
+        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        let mut best: Option<(f64, SmoothedRun)> = None;
+        for (name, c) in &list {
+            let Candidate::Fair(o) = c else { continue };
+            if !near.contains(name) {
+                continue;
+            }
+            let mut cand = Fair { options: *o }.smooth_run_with(input.run(), tol, memo)?;
+            cand.chosen = alloc::vec![*name];
+            if let Some(t) = self.objective.cost(&cand.pieces) {
+                if t < best.as_ref().map_or(time, |b| b.0) {
+                    best = Some((t, cand));
+                }
+            }
+        }
+        Ok(best)
     }
 
     /// `run` smoothed as the runs between its near-reversals, or between

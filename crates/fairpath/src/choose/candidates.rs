@@ -433,7 +433,8 @@ impl Candidate {
                 // reference programs and changed no written time there
                 // (`docs/auto-fair.md`; measurements: docs/tuning.md,
                 // `Candidate::Fair`); the jerk-faired fits already weigh
-                // what it lowers.
+                // what it lowers. Those near the best are made again with
+                // it (`Auto::fair_with_peak_pass`).
                 let lines = Fair {
                     options: FairOptions {
                         peak_pass: PeakPass::Off,

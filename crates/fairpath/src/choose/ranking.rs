@@ -76,7 +76,6 @@ impl<'o> Ranking<'o> {
 
     /// The cost of candidate `i` where it was computed (`Some(None)`: the
     /// objective could not cost it).
-    #[cfg(test)]
     pub(super) fn cost_of(&self, i: usize) -> Option<Option<f64>> {
         self.costs[self.first_same[i]]
     }
