@@ -46,6 +46,8 @@ mod math;
 pub mod path;
 pub mod pipeline;
 pub mod render;
+#[cfg(test)]
+mod seeded;
 pub mod smooth;
 pub mod verify;
 

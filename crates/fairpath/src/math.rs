@@ -44,9 +44,21 @@ pub fn floor(x: f64) -> f64 {
 pub fn abs(x: f64) -> f64 {
     libm::fabs(x)
 }
+/// The cube root, correctly rounded (`libm`'s: the same bits on every
+/// platform, and monotonic).
 #[inline]
 pub fn cbrt(x: f64) -> f64 {
     libm::cbrt(x)
+}
+/// Whether `cbrt(x) >= v` surely (`v > 0`), without taking the root: `x`
+/// above `v^3` by more than the rounding of `v^3` and of the product (`v^3`
+/// computed is within 2 ulps; 16 ulps more put `x` above `v^3` itself, so
+/// the exact root is above `v` and [`cbrt`], correctly rounded, at least
+/// `v`). False where it cannot tell. The cube root is the slowest of a
+/// speed cap's operations: where it cannot set the cap, it is skipped.
+#[inline]
+pub fn cbrt_at_least(x: f64, v: f64) -> bool {
+    x > v * v * v * (1.0 + 16.0 * f64::EPSILON)
 }
 #[inline]
 pub fn tan(x: f64) -> f64 {

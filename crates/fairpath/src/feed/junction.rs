@@ -138,7 +138,13 @@ pub fn blend_cap(m: &MachineLimits, blend: &Blend, jump: f64) -> f64 {
 /// `min(sqrt(J Ts / dk), cbrt(J spacing / dk))`.
 pub fn step_cap(m: &MachineLimits, dk: f64, spacing: f64) -> f64 {
     if dk > 0.0 {
-        jump_cap(m, dk).min(math::cbrt(m.jerk * spacing.max(0.0) / dk))
+        let jump = jump_cap(m, dk);
+        let x = m.jerk * spacing.max(0.0) / dk;
+        if math::cbrt_at_least(x, jump) {
+            jump
+        } else {
+            jump.min(math::cbrt(x))
+        }
     } else {
         f64::INFINITY
     }
@@ -179,4 +185,29 @@ pub fn junction_cap(
         };
     }
     jump_cap(m, (k_out - k_in).norm())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::seeded::Rng;
+
+    /// [`step_cap`] with the cube root always taken gives the same bits.
+    #[test]
+    fn seeded_random_step_caps_as_with_the_root() {
+        let mut rng = Rng(0x57E9);
+        let mut roots = 0;
+        for _ in 0..100_000 {
+            let mut m = MachineLimits::thesis();
+            m.jerk = rng.decades(2.0, 6.0);
+            m.period = rng.decades(-4.0, -2.0);
+            let (dk, spacing) = (rng.decades(-8.0, 3.0), rng.decades(-6.0, 2.0));
+            let jump = jump_cap(&m, dk);
+            let root = math::cbrt(m.jerk * spacing / dk);
+            let want = jump.min(root);
+            assert_eq!(step_cap(&m, dk, spacing).to_bits(), want.to_bits());
+            roots += usize::from(root < jump);
+        }
+        assert!(roots > 10_000, "{roots} caps set by the root");
+    }
 }

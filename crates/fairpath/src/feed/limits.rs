@@ -155,16 +155,23 @@ pub struct PathPoint {
 /// [`Constraint`] order on ties).
 pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constraint) {
     let mut best = (feed.min(m.max_feed), Constraint::Feed);
-    let mut take = |v: f64, c: Constraint| {
+    let take = |best: &mut (f64, Constraint), v: f64, c: Constraint| {
         if v < best.0 {
-            best = (v, c);
+            *best = (v, c);
         }
     };
     let k = p.curvature.norm();
     if k > 0.0 {
-        take(math::sqrt(m.normal_acc / k), Constraint::NormalAcceleration);
+        take(
+            &mut best,
+            math::sqrt(m.normal_acc / k),
+            Constraint::NormalAcceleration,
+        );
         if m.jerk_on_curves {
-            take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+            let x = m.jerk / (k * k);
+            if !math::cbrt_at_least(x, best.0) {
+                take(&mut best, math::cbrt(x), Constraint::NormalJerk);
+            }
         }
         // A circle of diameter within the chord error lies within the
         // chord error of any chord across it: no cap.
@@ -172,6 +179,7 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
         let e = m.chord_error;
         if e < 2.0 * rho {
             take(
+                &mut best,
                 2.0 / m.period * math::sqrt(2.0 * rho * e - e * e),
                 Constraint::ChordError,
             );
@@ -181,21 +189,138 @@ pub fn speed_cap(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constrain
         for (i, &ni) in na.iter().enumerate() {
             let a = k * math::abs(ni);
             if a > 0.0 {
-                take(math::sqrt(m.axis_acc[i] / a), Constraint::AxisAcceleration);
+                take(
+                    &mut best,
+                    math::sqrt(m.axis_acc[i] / a),
+                    Constraint::AxisAcceleration,
+                );
             }
         }
     }
     if p.dkappa_ds != 0.0 && m.jerk_on_curves {
-        take(
-            math::cbrt(m.jerk / math::abs(p.dkappa_ds)),
-            Constraint::CurvatureChange,
-        );
+        let x = m.jerk / math::abs(p.dkappa_ds);
+        if !math::cbrt_at_least(x, best.0) {
+            take(&mut best, math::cbrt(x), Constraint::CurvatureChange);
+        }
     }
     let t = [p.tangent.x, p.tangent.y, p.tangent.z];
     for (i, &ti) in t.iter().enumerate() {
         if ti != 0.0 {
-            take(m.axis_vel[i] / math::abs(ti), Constraint::AxisVelocity);
+            take(
+                &mut best,
+                m.axis_vel[i] / math::abs(ti),
+                Constraint::AxisVelocity,
+            );
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::seeded::Rng;
+
+    /// [`speed_cap`] with every cube root taken.
+    fn speed_cap_every_root(m: &MachineLimits, feed: f64, p: &PathPoint) -> (f64, Constraint) {
+        let mut best = (feed.min(m.max_feed), Constraint::Feed);
+        let mut take = |v: f64, c: Constraint| {
+            if v < best.0 {
+                best = (v, c);
+            }
+        };
+        let k = p.curvature.norm();
+        if k > 0.0 {
+            take(math::sqrt(m.normal_acc / k), Constraint::NormalAcceleration);
+            if m.jerk_on_curves {
+                take(math::cbrt(m.jerk / (k * k)), Constraint::NormalJerk);
+            }
+            let rho = 1.0 / k;
+            let e = m.chord_error;
+            if e < 2.0 * rho {
+                take(
+                    2.0 / m.period * math::sqrt(2.0 * rho * e - e * e),
+                    Constraint::ChordError,
+                );
+            }
+            let n = p.curvature / k;
+            for (i, &ni) in [n.x, n.y, n.z].iter().enumerate() {
+                let a = k * math::abs(ni);
+                if a > 0.0 {
+                    take(math::sqrt(m.axis_acc[i] / a), Constraint::AxisAcceleration);
+                }
+            }
+        }
+        if p.dkappa_ds != 0.0 && m.jerk_on_curves {
+            take(
+                math::cbrt(m.jerk / math::abs(p.dkappa_ds)),
+                Constraint::CurvatureChange,
+            );
+        }
+        for (i, &ti) in [p.tangent.x, p.tangent.y, p.tangent.z].iter().enumerate() {
+            if ti != 0.0 {
+                take(m.axis_vel[i] / math::abs(ti), Constraint::AxisVelocity);
+            }
+        }
+        best
+    }
+
+    /// The cube roots skipped change nothing: the same cap and constraint,
+    /// bit for bit, over curvatures and curvature changes of many decades,
+    /// including those whose root lands on the cap.
+    #[test]
+    fn seeded_random_points_cap_as_with_every_root() {
+        let mut rng = Rng(0xCA95);
+        let mut roots_set = 0;
+        for i in 0..200_000 {
+            let mut m = MachineLimits::thesis();
+            m.jerk = rng.decades(2.0, 6.0);
+            m.normal_acc = rng.decades(2.0, 5.0);
+            m.max_feed = rng.decades(0.0, 3.0);
+            let tangent = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5)
+                .normalized(0.0)
+                .unwrap_or(Vec3::X);
+            let normal = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5);
+            let k = rng.decades(-6.0, 3.0);
+            let mut dkds = rng.decades(-6.0, 5.0);
+            let feed = rng.decades(0.0, 3.0);
+            if i % 4 == 0 {
+                // The curvature change's root exactly at the feed cap.
+                let v = feed.min(m.max_feed);
+                dkds = m.jerk / (v * v * v);
+            }
+            let p = PathPoint {
+                tangent,
+                curvature: normal.normalized(0.0).unwrap_or(Vec3::Y) * k,
+                dkappa_ds: dkds,
+            };
+            let want = speed_cap_every_root(&m, feed, &p);
+            let got = speed_cap(&m, feed, &p);
+            assert_eq!(got.0.to_bits(), want.0.to_bits(), "{m:?} {feed} {p:?}");
+            assert_eq!(got.1, want.1, "{m:?} {feed} {p:?}");
+            if matches!(want.1, Constraint::NormalJerk | Constraint::CurvatureChange) {
+                roots_set += 1;
+            }
+        }
+        assert!(roots_set > 10_000, "{roots_set} caps set by a root");
+    }
+
+    #[test]
+    fn a_root_just_above_the_cap_is_skipped_only_when_sure() {
+        for v in [1e-3f64, 0.7, 1.0, 3.0, 66.666_666_666_666_67, 400.0, 1e6] {
+            let v3 = v * v * v;
+            // At v^3 itself and a few ulps above, the root may round to
+            // v or below: it must be taken.
+            for ulps in 0..8 {
+                let x = f64::from_bits(v3.to_bits() + ulps);
+                assert!(
+                    !math::cbrt_at_least(x, v) || math::cbrt(x) >= v,
+                    "{v} {ulps}"
+                );
+            }
+            assert!(!math::cbrt_at_least(v3 * 0.999, v));
+            assert!(math::cbrt_at_least(v3 * 1.001, v));
+            assert!(math::cbrt(v3 * 1.001) >= v);
+        }
+    }
 }

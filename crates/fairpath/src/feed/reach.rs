@@ -40,7 +40,7 @@
 //! the caller takes the minimum with `vmax`.
 
 use super::{check_limit, check_value, FeedError};
-use crate::math::{abs, cbrt, sqrt};
+use crate::math::{abs, cbrt, cbrt_at_least, sqrt};
 
 /// The fastest jerk-limited velocity change between two velocities, starting
 /// and ending with zero acceleration.
@@ -139,9 +139,14 @@ pub(crate) fn reach_gain(v0: f64, length: f64, amax: f64, jmax: f64) -> f64 {
     }
     // Cubic g(dv) = dv (2 v0 + dv)^2 - J L^2, Newton from above.
     let rhs = j * l * l;
-    let mut dv = cbrt(rhs);
+    // The lower of the two upper bounds (the cube root taken only where it
+    // may be the lower).
+    let mut dv = f64::INFINITY;
     if v0 > 0.0 {
-        dv = dv.min(rhs / (4.0 * v0 * v0));
+        dv = rhs / (4.0 * v0 * v0);
+    }
+    if !cbrt_at_least(rhs, dv) {
+        dv = dv.min(cbrt(rhs));
     }
     for _ in 0..200 {
         let s = 2.0 * v0 + dv;
@@ -159,4 +164,66 @@ pub(crate) fn reach_gain(v0: f64, length: f64, amax: f64, jmax: f64) -> f64 {
         dv = next.max(0.0);
     }
     dv
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::seeded::Rng;
+
+    /// [`reach_gain`] as first written: Newton from the cube root, lowered
+    /// to `rhs / (4 v0^2)` where that is less.
+    fn reach_gain_from_the_root(v0: f64, length: f64, amax: f64, jmax: f64) -> f64 {
+        if length == 0.0 {
+            return 0.0;
+        }
+        let (a, j, l) = (amax, jmax, length);
+        let l_sat = (2.0 * v0 + a * a / j) * a / j;
+        if l > l_sat {
+            let b = a * a + 2.0 * v0 * j;
+            let m = l * j - v0 * a;
+            return 4.0 * a * m / (b + sqrt(b * b + 8.0 * a * j * m));
+        }
+        let rhs = j * l * l;
+        let mut dv = cbrt(rhs);
+        if v0 > 0.0 {
+            dv = dv.min(rhs / (4.0 * v0 * v0));
+        }
+        for _ in 0..200 {
+            let s = 2.0 * v0 + dv;
+            let g = dv * s * s - rhs;
+            let dg = s * (2.0 * v0 + 3.0 * dv);
+            if g <= 0.0 || dg <= 0.0 {
+                break;
+            }
+            let next = dv - g / dg;
+            if next >= dv {
+                break;
+            }
+            dv = next.max(0.0);
+        }
+        dv
+    }
+
+    /// Skipping the cube root where the other bound is lower changes no
+    /// bit, from rest and from speeds where either bound is the lower.
+    #[test]
+    fn seeded_random_gains_as_from_the_root() {
+        let mut rng = Rng(0x4EAC);
+        for i in 0..100_000 {
+            let (a, j) = (rng.decades(2.0, 5.0), rng.decades(3.0, 6.0));
+            let v0 = if i % 5 == 0 {
+                0.0
+            } else {
+                rng.decades(-3.0, 3.0)
+            };
+            let l = rng.decades(-5.0, 2.0);
+            let want = reach_gain_from_the_root(v0, l, a, j);
+            assert_eq!(
+                reach_gain(v0, l, a, j).to_bits(),
+                want.to_bits(),
+                "{v0} {l} {a} {j}"
+            );
+        }
+    }
 }

@@ -214,6 +214,7 @@ fn from_hom(p: usize, knots: Vec<f64>, pw: &[Hom], rational: bool) -> Nurbs {
 mod tests {
     use super::*;
     use crate::geom::ParamCurve;
+    use crate::seeded::Rng;
 
     fn sample() -> Nurbs {
         Nurbs::new(
@@ -300,21 +301,6 @@ mod tests {
             out.push(from_hom(p, kv, &pw[j - p..=j], c.weights.is_some()));
         }
         out
-    }
-
-    /// splitmix64, as the crate's other seeded tests.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn below(&mut self, n: usize) -> usize {
-            (self.next() * n as f64) as usize % n
-        }
     }
 
     /// A random valid curve: degree 1 to 5, clamped or not, knots of
