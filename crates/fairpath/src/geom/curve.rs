@@ -79,12 +79,12 @@ pub trait ParamCurve {
     }
 }
 
-/// The intervals of `c`'s smooth pieces ([`ParamCurve::breaks`]) within
-/// `[a, b]`, in order, covering it.
-fn smooth_intervals<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64) -> Vec<(f64, f64)> {
-    let mut cuts: Vec<f64> = Vec::new();
+/// The intervals of a curve's smooth pieces within `[a, b]`, in order,
+/// covering it, from its breaks strictly inside ([`ParamCurve::breaks_within`]).
+fn smooth_intervals_from(a: f64, inner: Vec<f64>, b: f64) -> Vec<(f64, f64)> {
+    let mut cuts: Vec<f64> = Vec::with_capacity(inner.len() + 2);
     cuts.push(a);
-    cuts.extend(c.breaks_within(a, b));
+    cuts.extend(inner);
     cuts.push(b);
     cuts.windows(2).map(|w| (w[0], w[1])).collect()
 }
@@ -176,7 +176,13 @@ fn integrate_pieces<C: ParamCurve + ?Sized>(
     // A few knot intervals at a time: each is smooth inside, and the
     // halving test over a handful of them does not converge by accident as
     // it did over hundreds (`QUADRATURE_INTERVALS`).
-    let pieces = smooth_intervals(c, a, b);
+    let inner = c.breaks_within(a, b);
+    if inner.is_empty() {
+        // One interval: the group below, without building the list (a plan
+        // asks for the length of each stretch, most inside one knot span).
+        return integrate(f, a, b, accuracy * (b - a) / (b - a));
+    }
+    let pieces = smooth_intervals_from(a, inner, b);
     pieces
         .chunks(QUADRATURE_INTERVALS)
         .map(|g| {
