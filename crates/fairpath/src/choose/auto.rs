@@ -423,13 +423,13 @@ fn cores() -> usize {
 impl Auto {
     /// Every candidate for `run`, smoothed (the fits and fairings shared
     /// through `memo`), to be ranked by the objective.
-    pub(super) fn ranked_candidates(
-        &self,
-        run: &Run,
+    pub(super) fn ranked_candidates<'s, 'r>(
+        &'s self,
+        run: &'r Run,
         tolerance: f64,
         cut_ends: (bool, bool),
         memo: &RunMemo,
-    ) -> Result<Ranking<'_>, SmoothError> {
+    ) -> Result<(Ranking<'s>, CandidateList<'r>), SmoothError> {
         let (input, tol, list) = self.plan_candidates(run, tolerance)?;
         let smoothed = map_candidates(list.len(), |i| {
             let mut cand = list[i]
@@ -440,7 +440,8 @@ impl Auto {
         })
         .into_iter()
         .collect::<Result<Vec<SmoothedRun>, SmoothError>>()?;
-        Ok(Ranking::new(self.objective.as_ref(), smoothed))
+        let ranking = Ranking::new(self.objective.as_ref(), smoothed);
+        Ok((ranking, (input, tol, list)))
     }
 }
 
@@ -473,9 +474,10 @@ impl Auto {
         // between the candidates, the sections that cut a stretch alike
         // and the fallback.
         let memo = RunMemo::default();
-        let mut ranking = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
+        let (mut ranking, list) = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
-        let peaked = self.fair_with_peak_pass(run, tolerance, &ranking, time, &memo)?;
+        let peaked = self.fair_with_peak_pass(run, &list, &ranking, time, &memo)?;
+        drop(list);
         let mut best = core::mem::take(&mut ranking.cands[i]);
         drop(ranking);
         if let Some((t, cand)) = peaked {
@@ -552,7 +554,7 @@ impl Auto {
     fn fair_with_peak_pass(
         &self,
         run: &Run,
-        tolerance: f64,
+        (input, tol, list): &CandidateList,
         ranking: &Ranking,
         time: Option<f64>,
         memo: &RunMemo,
@@ -581,16 +583,15 @@ impl Auto {
         if near.is_empty() {
             return Ok(None);
         }
-        // The rows as the ranking's candidates were made from them, with
-        // the objective's peak pass (`fair_on`).
-        let (input, tol, list) = self.plan_candidates(run, tolerance)?;
+        // The rows as the ranking's candidates were made from them (`list`,
+        // with the objective's peak pass: `fair_on`).
         let mut best: Option<(f64, SmoothedRun)> = None;
-        for (name, c) in &list {
+        for (name, c) in list {
             let Candidate::Fair(o) = c else { continue };
             if !near.contains(name) {
                 continue;
             }
-            let mut cand = Fair { options: *o }.smooth_run_with(input.run(), tol, memo)?;
+            let mut cand = Fair { options: *o }.smooth_run_with(input.run(), *tol, memo)?;
             cand.chosen = alloc::vec![*name];
             if let Some(t) = self.objective.cost(&cand.pieces) {
                 if t < best.as_ref().map_or(time, |b| b.0) {
@@ -837,6 +838,7 @@ mod tests {
         let memo = RunMemo::default();
         let mut ranking = auto
             .ranked_candidates(&run, 0.05, (false, false), &memo)
+            .map(|(ranking, _)| ranking)
             .unwrap();
         ranking.fastest(|_| true).unwrap();
         let plain = PlannedTime::default();
@@ -900,6 +902,7 @@ mod tests {
         let memo = RunMemo::default();
         let mut ranking = auto
             .ranked_candidates(&run, 0.05, (false, false), &memo)
+            .map(|(ranking, _)| ranking)
             .unwrap();
         let (_, i) = ranking.fastest(|_| true).unwrap();
         assert!(ranking.cands[i].pieces.len() <= 20);

@@ -161,7 +161,7 @@ impl Auto {
         memo: &RunMemo,
     ) -> Result<Choices, SmoothError> {
         let cut_ends = (before.is_some(), after.is_some());
-        let mut ranking = self.ranked_candidates(run, tolerance, cut_ends, memo)?;
+        let (mut ranking, _) = self.ranked_candidates(run, tolerance, cut_ends, memo)?;
         let eligible = |c: &SmoothedRun| {
             let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
                 return false;
