@@ -4,7 +4,7 @@
 //! there are no circles and the verifier stays independent of the methods.
 //!
 //! ```text
-//! 0 math, budget          numbers and the tolerance ledger
+//! 0 math, budget, seeded  numbers, the tolerance ledger, the unit tests' generator
 //! 1 geom                  curves, distances, continuity classes
 //! 2 path                  pieces tied to input lines, runs
 //! 3 smooth | feed | verify | controller   methods | planning | checking | controllers' arithmetic
@@ -18,7 +18,7 @@ use std::path::Path;
 
 fn layer(module: &str) -> Option<u32> {
     Some(match module {
-        "math" | "budget" => 0,
+        "math" | "budget" | "seeded" => 0,
         "geom" => 1,
         "path" => 2,
         "smooth" | "feed" | "verify" | "controller" => 3,
