@@ -623,19 +623,8 @@ pub(super) fn stretches(
 #[cfg(test)]
 mod tests {
     use super::flat_span;
+    use crate::seeded::Rng;
     use crate::geom::{flatten_params, Curve, Nurbs, Vec3};
-
-    /// splitmix64, as the crate's other seeded tests.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E3779B97F4A7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
 
     /// Wherever `flat_span` takes a span whole, the flattening it stands in
     /// for takes it whole too: the shortcut never changes the cut. Random
