@@ -623,8 +623,8 @@ pub(super) fn stretches(
 #[cfg(test)]
 mod tests {
     use super::flat_span;
-    use crate::seeded::Rng;
     use crate::geom::{flatten_params, Curve, Nurbs, Vec3};
+    use crate::seeded::Rng;
 
     /// Wherever `flat_span` takes a span whole, the flattening it stands in
     /// for takes it whole too: the shortcut never changes the cut. Random
