@@ -10,7 +10,8 @@ use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Result};
 use fairpath::pipeline::PipelineError;
 use fairpath_gcode::{
-    Evidence, OptionsError, PartsError, Prepared, SmoothOptions, SmoothProgramError, PART_LINES,
+    Evidence, OptionsError, PartSizes, PartsError, Prepared, SmoothOptions, SmoothProgramError,
+    PART_LINES,
 };
 use std::path::Path;
 
@@ -112,7 +113,8 @@ pub fn smooth_prepared(
     warn_passthrough(input, prepared.passthrough());
     let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
     let mut sink = crate::output::OutputSink::create(output)?;
-    let done = fairpath_gcode::smooth_in_parts(bytes, prepared, opts, PART_LINES, &mut sink, job);
+    let sizes = PartSizes::of(PART_LINES);
+    let done = fairpath_gcode::smooth_in_parts(bytes, prepared, opts, sizes, &mut sink, job);
     if let Some(p) = progress.as_mut() {
         p.finish();
     }

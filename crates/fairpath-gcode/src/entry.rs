@@ -11,7 +11,7 @@ mod report;
 
 pub use error::SmoothProgramError;
 pub use evidence::Evidence;
-pub use parts::{smooth_in_parts, PartsError, Prepared, PART_LINES};
+pub use parts::{smooth_in_parts, PartSizes, PartsError, Prepared, PART_LINES};
 pub use report::Report;
 
 use crate::emit::{
@@ -254,7 +254,7 @@ pub(crate) fn write_curves_part(
         kept: emitted.kept,
         method: opts.method_name().to_string(),
         block_capped: opts.method().writes_for_block_capped_planner(),
-        lines_in: program.lines().len(),
+        lines_in: program.source_lines(),
         lines_out: emitted.lines,
         rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
         no_moves: program.is_empty(),

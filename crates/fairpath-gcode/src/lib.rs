@@ -164,13 +164,13 @@ pub mod write_spline;
 
 pub use entry::{
     smooth_and_plan, smooth_in_parts, smooth_parsed, smooth_parsed_with, smooth_program,
-    write_curves, Curves, Evidence, Output, PartsError, Prepared, Report, SmoothProgramError,
-    PART_LINES,
+    write_curves, Curves, Evidence, Output, PartSizes, PartsError, Prepared, Report,
+    SmoothProgramError, PART_LINES,
 };
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use facts::ProgramFacts;
 pub use format::{Controller, Format};
-pub use interp::{parse, parse_motion, parse_with, read_motion};
+pub use interp::{parse, parse_motion, parse_with, read_motion, RunWindows};
 pub use motions::{json_motions, outline_motions};
 pub use pipeline::{OptionsError, SmoothOptions};
 pub use program::{

@@ -257,6 +257,10 @@ pub struct Program {
     /// force before its first line (what a run starting there is written
     /// in); `None` for a whole program.
     pub(crate) before: Option<(fairpath::geom::Plane, bool)>,
+    /// For a part of a program: its last line is not the program's but
+    /// the one [`crate::interp::PartReader`] put in to cut a long run at
+    /// the middle of the line after it ([`crate::interp::RunWindows`]).
+    pub(crate) window_cut: bool,
 }
 
 /// How an expanded program (one with LinuxCNC o-word control flow) was
@@ -319,6 +323,19 @@ impl Program {
     /// The lines numbered `first` to `last`, both included.
     pub fn lines_between(&self, first: usize, last: usize) -> &[ProgramLine] {
         &self.lines[first - self.first_number..=last - self.first_number]
+    }
+
+    /// Lines of the program's text this program (or part) holds: its
+    /// lines, less the one a window's cut put in ([`Program::window_cut`]).
+    pub fn source_lines(&self) -> usize {
+        self.lines.len() - usize::from(self.window_cut)
+    }
+
+    /// Whether the last line was put in to cut a long run into windows
+    /// (see [`crate::interp::RunWindows`]): the run that ends there goes
+    /// on in the next part.
+    pub fn window_cut(&self) -> bool {
+        self.window_cut
     }
 
     /// [`ProgramLine::number`] of the first line: 1, but for a part of a

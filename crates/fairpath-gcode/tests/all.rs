@@ -20,6 +20,7 @@ mod passthrough;
 mod plans;
 mod render_memo;
 mod roundtrip;
+mod run_windows;
 mod short_lines;
 mod splines;
 mod splines_rs274;

@@ -9,8 +9,8 @@ use crate::common;
 use fairpath_gcode::interp::{read_facts, PartReader};
 use fairpath_gcode::pipeline::Phases;
 use fairpath_gcode::{
-    parse, smooth_in_parts, smooth_parsed, Controller, Evidence, Format, ParseOptions, Prepared,
-    ProgramFacts, SmoothOptions,
+    parse, smooth_in_parts, smooth_parsed, Controller, Evidence, Format, ParseOptions, PartSizes,
+    Prepared, ProgramFacts, SmoothOptions,
 };
 
 /// The configurations compared: method, format, controller.
@@ -49,7 +49,8 @@ fn same_in_parts(text: &[u8], opts: &SmoothOptions, part_lines: usize) -> Result
     let whole = smooth_parsed(&program, opts);
     let prepared = Prepared::read(text, opts.format()).unwrap();
     let mut out = Vec::new();
-    let parts = smooth_in_parts(text, prepared, opts, part_lines, &mut out, Phases::new());
+    let sizes = PartSizes::of(part_lines);
+    let parts = smooth_in_parts(text, prepared, opts, sizes, &mut out, Phases::new());
     let (output, report) = match (whole, parts) {
         (Ok((o, r)), Ok((e, _))) => {
             if program.is_empty() {

@@ -589,7 +589,7 @@ mod tests {
             text.as_bytes(),
             prepared,
             &opts,
-            1,
+            crate::PartSizes::of(1),
             &mut file,
             crate::pipeline::Phases::new(),
         )

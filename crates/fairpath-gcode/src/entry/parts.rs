@@ -12,7 +12,7 @@
 
 use super::{write_curves_part, Curves, Evidence, SmoothProgramError};
 use crate::emit::PartContext;
-use crate::interp::PartReader;
+use crate::interp::{PartReader, RunWindows};
 use crate::pipeline::{
     plan_input_and_curves_from, smooth_curves_memo, Phases, RenderMemo, TimeSums,
 };
@@ -29,6 +29,25 @@ use std::sync::Arc;
 /// moves, as `auto`'s on `LHchips4.ngc`), for a little more time
 /// (measurements: docs/tuning.md, `PART_LINES`).
 pub const PART_LINES: usize = 256;
+
+/// How a program is cut into parts for [`smooth_in_parts`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PartSizes {
+    /// Lines a part holds at least ([`PART_LINES`]).
+    pub lines: usize,
+    /// Long runs cut into windows too ([`PartReader::windowed`]), or not.
+    pub windows: Option<RunWindows>,
+}
+
+impl PartSizes {
+    /// Parts of at least `lines` lines, runs not cut.
+    pub fn of(lines: usize) -> PartSizes {
+        PartSizes {
+            lines,
+            windows: None,
+        }
+    }
+}
 
 /// How a program is read for the job: a program without o-words in parts
 /// (with the facts of the whole, read first as a stream), or whole (a
@@ -101,7 +120,7 @@ pub enum PartsError {
 }
 
 /// The whole job ([`super::smooth_parsed_with`]) on `text`, read as
-/// `prepared` says (whole, or in parts of at least `part_lines` lines),
+/// `prepared` says (whole, or in parts as `sizes` says),
 /// its written text given to `out` as it is written (a part's text is read
 /// back from there for its check, and cut back there where the part is
 /// written again: [`TextOut`]). A program without moves is given to `out`
@@ -112,7 +131,7 @@ pub fn smooth_in_parts(
     text: &[u8],
     prepared: Prepared,
     opts: &SmoothOptions,
-    part_lines: usize,
+    sizes: PartSizes,
     out: &mut dyn TextOut,
     mut phases: Phases,
 ) -> Result<(Evidence, Phases), PartsError> {
@@ -141,7 +160,10 @@ pub fn smooth_in_parts(
     let mut evidence = Evidence::new(opts.method_name(), budget, block_capped);
     let block_delete = facts.block_delete;
     let total_lines = facts.lines;
-    let reader = PartReader::new(text, &ParseOptions::default(), part_lines, block_delete);
+    let mut reader = PartReader::new(text, &ParseOptions::default(), sizes.lines, block_delete);
+    if let Some(w) = sizes.windows {
+        reader = reader.windowed(w);
+    }
     let mut ctx = PartContext::new(facts);
     let front_phases = phases.sibling();
     // The front (reading, smoothing, verifying and planning each part, in
@@ -170,7 +192,7 @@ pub fn smooth_in_parts(
             let mut clock = core::mem::take(&mut phases);
             clock.restart();
             let chosen = Some(chosen);
-            let last_line = part.first_number() + part.lines().len() - 1;
+            let last_line = part.first_number() + part.source_lines() - 1;
             let part_written =
                 write_curves_part(&part, curves, chosen, opts, clock, &mut ctx, written, out);
             match part_written {

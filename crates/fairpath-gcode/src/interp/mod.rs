@@ -37,6 +37,7 @@ mod parts;
 mod reader;
 mod runs;
 mod state;
+mod window_cut;
 
 pub use arc::{ARC_RADIUS_TOLERANCE_INCH, ARC_RADIUS_TOLERANCE_MM, COINCIDENT_MM};
 pub use facts::read_facts;
@@ -44,6 +45,7 @@ pub use motion_sink::{MotionReader, PartRead, ReadBackError, RunStream, READ_BAC
 pub use parts::PartReader;
 pub use reader::{parse, parse_motion, parse_with, read_motion};
 pub(crate) use state::{FeedMode, State};
+pub use window_cut::RunWindows;
 
 use crate::error::{ErrorKind, GcodeError};
 use crate::lexer::Word;

@@ -17,6 +17,11 @@
 //!   written run before it ends there too), in a program without `/`
 //!   lines (so the writer's look-ahead after a run finds none).
 //!
+//! With [`RunWindows`] ([`PartReader::windowed`]), a run that holds a
+//! window's lines is also cut, at the middle of one of its lines: the
+//! part ends with a line the reader puts in, to that midpoint, and the
+//! next starts with the cut line ([`super::window_cut`]).
+//!
 //! The reader's state goes on from one part to the next: each part is read
 //! exactly as it is read within the whole program; what the writer needs
 //! of the line before a part (the arc plane and distance mode a run
@@ -25,6 +30,7 @@
 
 use super::reader::Reader;
 use super::runs::group_runs;
+use super::window_cut::{cut_before, RunWindows};
 use crate::error::GcodeError;
 use crate::lexer::line_slices;
 use crate::program::{Feed, MoveKind, Program, ProgramLine};
@@ -45,6 +51,10 @@ pub struct PartReader<'t> {
     before: Option<(Plane, bool)>,
     /// Parts may start at a feed change (the program has no `/` lines).
     feed_cuts: bool,
+    /// Long runs are cut into windows (the program has no `/` lines).
+    windows: Option<RunWindows>,
+    /// The line read before a window's cut, read first for the next part.
+    pending: Option<(&'t str, &'static str)>,
     done: bool,
 }
 
@@ -67,8 +77,17 @@ impl<'t> PartReader<'t> {
             feed_before: None,
             before: None,
             feed_cuts: !block_delete,
+            windows: None,
+            pending: None,
             done: false,
         }
+    }
+
+    /// Cuts long runs into windows too ([`RunWindows`]); not in a program
+    /// with `/` lines.
+    pub fn windowed(mut self, windows: RunWindows) -> PartReader<'t> {
+        self.windows = self.feed_cuts.then_some(windows);
+        self
     }
 
     /// The next part, or `None` after the last.
@@ -76,8 +95,26 @@ impl<'t> PartReader<'t> {
         if self.done {
             return Ok(None);
         }
-        while let Some(line) = self.lines.next() {
-            let (t, ending) = line?;
+        loop {
+            let (t, ending) = match self.pending.take() {
+                Some(l) => l,
+                None => match self.lines.next() {
+                    Some(l) => l?,
+                    None => break,
+                },
+            };
+            if let Some(cut) = self.window_cut(t) {
+                // The cut line is read first for the next part, and the
+                // line put in before it keeps its number.
+                let cut_ending = if ending.is_empty() { "\n" } else { ending };
+                self.r.step_in_place(self.next, &cut, cut_ending)?;
+                self.pending = Some((t, ending));
+                let n = self.r.lines.len();
+                let mut part = self.cut(n);
+                part.window_cut = true;
+                self.r.first_number -= 1;
+                return Ok(Some(part));
+            }
             self.r.step_in_place(self.next, t, ending)?;
             self.next += 1;
             let n = self.r.lines.len();
@@ -89,6 +126,24 @@ impl<'t> PartReader<'t> {
         self.r.check_closed()?;
         let n = self.r.lines.len();
         Ok((n > 0).then(|| self.cut(n)))
+    }
+
+    /// The line that cuts a window before the line `text`, where one is
+    /// due ([`RunWindows`]).
+    fn window_cut(&self, text: &str) -> Option<String> {
+        let w = self.windows?;
+        let held = self.r.lines.len();
+        let prev = self.r.lines.last()?;
+        if held < w.lines.max(1) || prev.moves.is_empty() {
+            return None;
+        }
+        let min_mm = if held < 2 * w.lines {
+            w.min_cut_mm
+        } else {
+            0.0
+        };
+        let prev_move = &self.r.moves[prev.moves.end - 1];
+        cut_before(&self.r.st, prev, prev_move, text, self.next, min_mm)
     }
 
     /// The first `k` lines held, as a part; the lines after them stay.
@@ -133,6 +188,7 @@ impl<'t> PartReader<'t> {
             passthrough: Vec::new(),
             first_number,
             before,
+            window_cut: false,
         }
     }
 

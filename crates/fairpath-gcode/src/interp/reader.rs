@@ -479,6 +479,7 @@ impl Reader {
             passthrough: self.st.passthrough,
             first_number: 1,
             before: None,
+            window_cut: false,
         })
     }
 }

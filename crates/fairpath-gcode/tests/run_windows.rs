@@ -1,0 +1,210 @@
+//! Long runs cut into windows (`RunWindows`): where the reader cuts them,
+//! that the parts hold the program's lines and path, and that the job in
+//! windows writes a text whose path is the original's within the
+//! tolerance, every line of the input kept in its place.
+
+use fairpath::geom::{Curve, Vec3};
+use fairpath_gcode::interp::{read_facts, read_motion, PartReader};
+use fairpath_gcode::pipeline::{compare_runs, Phases};
+use fairpath_gcode::{
+    parse, smooth_in_parts, Controller, Format, MoveKind, ParseOptions, PartSizes, Prepared,
+    Program, RunWindows, SmoothOptions,
+};
+
+/// A raster of one run: `rows` rows of `per_row` lines along X over a
+/// wavy Z, lines 0.3 to 3 mm long, step-overs in Y, with N numbers and a
+/// comment here and there, as a CAM system writes them.
+fn raster(rows: usize, per_row: usize) -> String {
+    let mut s = String::from("G21 G90 G17\nG0 Z5\nG0 X0 Y0\nG1 Z0 F2000\n");
+    let mut n = 10;
+    for r in 0..rows {
+        let y = r as f64 * 0.8;
+        let mut x = 0.0f64;
+        for i in 0..per_row {
+            // Deterministic lengths 0.3 .. 3 mm.
+            let step = 0.3 + 2.7 * (((i * 7919 + r * 104_729) % 97) as f64 / 96.0);
+            x += step;
+            let xr = if r % 2 == 0 { x } else { 150.0 - x };
+            let z = (xr * 0.21).sin() * 1.5 + (y * 0.13).cos();
+            if i % 50 == 7 {
+                s += &format!("N{n} X{xr:.3} Y{y:.3} Z{z:.4} (pass {r})\n");
+                n += 10;
+            } else {
+                s += &format!("X{xr:.3} Z{z:.4}\n");
+            }
+        }
+        s += &format!("Y{:.3}\n", y + 0.8);
+    }
+    s += "G0 Z5\nM2\n";
+    s
+}
+
+const WINDOWS: RunWindows = RunWindows {
+    lines: 40,
+    min_cut_mm: 2.0,
+};
+
+fn parts_of(text: &str, windows: RunWindows) -> Vec<Program> {
+    let opts = ParseOptions::default();
+    let facts = read_facts(text.as_bytes(), &opts).unwrap().unwrap();
+    let mut r = PartReader::new(text.as_bytes(), &opts, 1, facts.block_delete).windowed(windows);
+    let mut parts = Vec::new();
+    while let Some(p) = r.next_part().unwrap() {
+        parts.push(p);
+    }
+    parts
+}
+
+fn line_end(c: &Curve) -> (Vec3, Vec3) {
+    match c {
+        Curve::Line(l) => (l.p0, l.p1),
+        other => panic!("a line, not {other:?}"),
+    }
+}
+
+/// A run of a window's lines is cut at the middle of a line at least
+/// `min_cut_mm` long (or, past twice the window, of any plain line): the
+/// part ends with a `G1` to the midpoint, the next starts with the cut
+/// line, which goes on from there; every line of the text is in one part,
+/// with its number and text, and the moves are the program's with each
+/// cut line split in two.
+#[test]
+fn long_runs_are_cut_at_the_middle_of_long_lines() {
+    let text = raster(6, 60);
+    let whole = parse(text.as_bytes()).unwrap();
+    let parts = parts_of(&text, WINDOWS);
+    let cuts = parts.iter().filter(|p| p.window_cut()).count();
+    assert!(cuts >= 6, "{cuts} cuts");
+    let mut next_number = 1;
+    let mut moves = Vec::new();
+    for (k, p) in parts.iter().enumerate() {
+        assert_eq!(p.first_number(), next_number, "part {k}");
+        next_number += p.source_lines();
+        let held = p.source_lines();
+        for (i, l) in p.lines()[..held].iter().enumerate() {
+            let w = whole.line(p.first_number() + i);
+            assert_eq!((l.number, &l.text), (w.number, &w.text), "part {k}");
+        }
+        moves.extend(p.moves().iter().cloned());
+        if !p.window_cut() {
+            continue;
+        }
+        let cut = p.lines().last().unwrap();
+        assert!(cut.text.starts_with("G1 X"), "{}", cut.text);
+        assert_eq!(cut.number, parts[k + 1].first_number());
+        let (a, m) = line_end(&p.moves().last().unwrap().piece.curve);
+        let first = &parts[k + 1].moves()[0];
+        let (m2, b) = line_end(&first.piece.curve);
+        assert_eq!(m, m2, "the next part goes on from the midpoint");
+        assert!(m.dist(a.lerp(b, 0.5)) < 1e-12, "{m:?} is the midpoint");
+        assert!(a.dist(b) >= WINDOWS.min_cut_mm || p.lines().len() > 2 * WINDOWS.lines);
+        let w = whole.line(first.line);
+        assert_eq!(line_end(&whole.moves()[w.moves.start].piece.curve), (a, b));
+    }
+    assert_eq!(next_number - 1, whole.lines().len());
+    // The moves, each cut line's two halves as one, are the program's.
+    let mut joined: Vec<(Vec3, Vec3, usize)> = Vec::new();
+    for m in moves.iter().filter(|m| m.kind == MoveKind::Linear) {
+        let (a, b) = line_end(&m.piece.curve);
+        match joined.last_mut() {
+            Some(last) if last.2 == m.line && last.1 == a => last.1 = b,
+            _ => joined.push((a, b, m.line)),
+        }
+    }
+    let want: Vec<(Vec3, Vec3)> = whole
+        .moves()
+        .iter()
+        .filter(|m| m.kind == MoveKind::Linear)
+        .map(|m| line_end(&m.piece.curve))
+        .collect();
+    assert_eq!(joined.len(), want.len());
+    for (j, w) in joined.iter().zip(&want) {
+        assert!(
+            j.0.dist(w.0) < 1e-12 && j.1.dist(w.1) < 1e-12,
+            "{j:?} {w:?}"
+        );
+    }
+}
+
+/// No window is cut where the program has `/` lines, in G91, or on lines
+/// with more than N, G1 and X, Y, Z words.
+#[test]
+fn only_plain_lines_of_absolute_runs_are_cut() {
+    let cuts = |text: &str| {
+        parts_of(text, WINDOWS)
+            .iter()
+            .filter(|p| p.window_cut())
+            .count()
+    };
+    let text = raster(3, 60);
+    assert!(cuts(&text) > 0);
+    assert_eq!(cuts(&text.replace("G21 G90", "G21 G91")), 0);
+    assert_eq!(cuts(&text.replacen("G0 Z5\n", "G0 Z5\n/M1\n", 1)), 0);
+    assert_eq!(cuts(&text.replace(" Z", " A0 Z")), 0);
+    let feeds: String = text
+        .lines()
+        .map(|l| match l.starts_with(['X', 'Y', 'N']) {
+            true => format!("{l} F2000\n"),
+            false => format!("{l}\n"),
+        })
+        .collect();
+    assert_eq!(cuts(&feeds), 0);
+}
+
+fn options(method: &str) -> SmoothOptions {
+    SmoothOptions::new(0.05, None, method, Some(Format::Arcs), Controller::Generic).unwrap()
+}
+
+/// The job in windows: the written text reads back, whole, as a path
+/// within the tolerance of the original's with the same run ends; every
+/// line of the input is in it, in order, and with `none` it is the input
+/// with the cuts' lines put in.
+#[test]
+fn a_long_run_smoothed_in_windows_stays_within_the_tolerance() {
+    let text = raster(6, 60);
+    let (_, original) = read_motion(text.as_bytes()).unwrap();
+    for method in ["none", "bspline-corner", "bspline-fit", "auto"] {
+        let opts = options(method);
+        let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
+        let sizes = PartSizes {
+            lines: 1,
+            windows: Some(WINDOWS),
+        };
+        let mut out = Vec::new();
+        let (evidence, _) = smooth_in_parts(
+            text.as_bytes(),
+            prepared,
+            &opts,
+            sizes,
+            &mut out,
+            Phases::new(),
+        )
+        .unwrap_or_else(|e| panic!("{method}: {e}"));
+        assert_eq!(evidence.lines_in, text.lines().count(), "{method}");
+        let written = String::from_utf8(out).unwrap();
+        let (_, runs) = read_motion(written.as_bytes()).unwrap();
+        let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
+        assert!(check.within, "{method}: {}", check.max_deviation);
+        // Every N number and every comment, in order.
+        let marks = |t: &str, c: char| -> Vec<String> {
+            t.lines()
+                .filter(|l| !l.starts_with("(smoothed") && !l.contains("merged"))
+                .flat_map(|l| l.split_whitespace())
+                .filter(|w| w.starts_with(c))
+                .map(str::to_string)
+                .collect()
+        };
+        for c in ['N', '('] {
+            assert_eq!(marks(&written, c), marks(&text, c), "{method}");
+        }
+        if method == "none" {
+            let input: std::collections::HashSet<&str> = text.lines().collect();
+            let (kept, put_in): (Vec<&str>, Vec<&str>) = written
+                .lines()
+                .filter(|l| !l.starts_with("(smoothed"))
+                .partition(|l| input.contains(l));
+            assert_eq!(kept, text.lines().collect::<Vec<_>>(), "{method}");
+            assert!(!put_in.is_empty() && put_in.iter().all(|l| l.starts_with("G1 X")));
+        }
+    }
+}
