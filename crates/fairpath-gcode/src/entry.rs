@@ -18,8 +18,8 @@ use crate::emit::{
     choose_part, emit_part, take_long_run_speeds, write_chosen_part, Chosen, EmitError, PartContext,
 };
 use crate::pipeline::{
-    plan_input_and_curves_from, plan_text, plan_written_from, smooth_curves_memo, JobTimes, Phases,
-    RenderMemo, SmoothOptions, SmoothResult, TimeSums, Times,
+    plan_input_and_curves_from, plan_text, plan_written_carried, smooth_curves_memo, JobTimes,
+    Phases, RenderMemo, SmoothOptions, SmoothResult, TimeSums, Times,
 };
 use crate::text_out::TextOut;
 use crate::{Format, Program};
@@ -229,7 +229,8 @@ pub(crate) fn write_curves_part(
     // (JSON is written whole: its sums go nowhere.)
     let (written_times, written_sums) = match emitted.reading.take() {
         Some(reading) => {
-            let sums = plan_written_from(&reading, opts, written_from)?;
+            let cut = program.window_cut();
+            let sums = plan_written_carried(&reading, opts, written_from, &mut ctx.written, cut)?;
             (sums.times(), sums)
         }
         None => (

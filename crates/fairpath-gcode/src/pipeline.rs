@@ -24,7 +24,7 @@ use fairpath::verify::{Measures, RunReport, VerifyOptions};
 use std::sync::Arc;
 
 mod error;
-mod plans;
+pub(crate) mod plans;
 mod render_memo;
 pub mod written;
 
@@ -34,8 +34,9 @@ pub use error::{OptionsError, PlanError};
 pub use fairpath::pipeline::{RunResult, SmoothResult};
 pub use plans::{
     into_outline_and_runs, outline, plan_curves, plan_input, plan_input_and_curves,
-    plan_input_and_curves_from, plan_text, plan_written, plan_written_from, JobTimes,
-    MotionOutline, TimeSums, Times, WrittenReading,
+    plan_input_and_curves_carried, plan_input_and_curves_from, plan_text, plan_written,
+    plan_written_carried, plan_written_from, CarriedPlan, JobTimes, MotionOutline, RunCarry,
+    TimeSums, Times, WrittenReading,
 };
 
 /// What the user asked for.

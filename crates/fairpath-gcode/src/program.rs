@@ -261,6 +261,9 @@ pub struct Program {
     /// the one [`crate::interp::PartReader`] put in to cut a long run at
     /// the middle of the line after it ([`crate::interp::RunWindows`]).
     pub(crate) window_cut: bool,
+    /// For a part of a program: its first run goes on from the part
+    /// before, which ended in a window's cut.
+    pub(crate) window_continued: bool,
 }
 
 /// How an expanded program (one with LinuxCNC o-word control flow) was
@@ -336,6 +339,12 @@ impl Program {
     /// on in the next part.
     pub fn window_cut(&self) -> bool {
         self.window_cut
+    }
+
+    /// Whether the first run goes on from the part before, which ended in
+    /// a window's cut ([`Program::window_cut`]).
+    pub fn window_continued(&self) -> bool {
+        self.window_continued
     }
 
     /// [`ProgramLine::number`] of the first line: 1, but for a part of a

@@ -5,7 +5,7 @@
 
 use fairpath::geom::{Curve, Vec3};
 use fairpath_gcode::interp::{read_facts, read_motion, PartReader};
-use fairpath_gcode::pipeline::{compare_runs, Phases};
+use fairpath_gcode::pipeline::{compare_runs, plan_text, Phases};
 use fairpath_gcode::{
     parse, smooth_in_parts, Controller, Format, MoveKind, ParseOptions, PartSizes, Prepared,
     Program, RunWindows, SmoothOptions,
@@ -182,6 +182,11 @@ fn a_long_run_smoothed_in_windows_stays_within_the_tolerance() {
         .unwrap_or_else(|e| panic!("{method}: {e}"));
         assert_eq!(evidence.lines_in, text.lines().count(), "{method}");
         let written = String::from_utf8(out).unwrap();
+        // The times are those of the input and of the written text, planned
+        // whole as `fairpath simulate` plans them, to the bit.
+        let (input, wrote) = (evidence.times.input, evidence.times.written);
+        assert_eq!(input, plan_text(&text, &opts).unwrap(), "{method}");
+        assert_eq!(wrote, plan_text(&written, &opts).unwrap(), "{method}");
         let (_, runs) = read_motion(written.as_bytes()).unwrap();
         let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
         assert!(check.within, "{method}: {}", check.max_deviation);
@@ -207,4 +212,40 @@ fn a_long_run_smoothed_in_windows_stays_within_the_tolerance() {
             assert!(!put_in.is_empty() && put_in.iter().all(|l| l.starts_with("G1 X")));
         }
     }
+}
+
+/// A run longer than a plan's window ([`fairpath::feed::windowed`]: the
+/// carried plans stitch windows of the plan, not only of the parts): the
+/// times are still those of the input and of the written text planned
+/// whole, to the bit.
+#[test]
+fn a_run_longer_than_a_plan_window_is_timed_as_planned_whole() {
+    let text = raster(160, 250);
+    let opts = options("none");
+    let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
+    let windows = RunWindows {
+        lines: 4096,
+        min_cut_mm: 1.0,
+    };
+    let sizes = PartSizes {
+        lines: 256,
+        windows: Some(windows),
+    };
+    let mut out = Vec::new();
+    let (evidence, _) = smooth_in_parts(
+        text.as_bytes(),
+        prepared,
+        &opts,
+        sizes,
+        &mut out,
+        Phases::new(),
+    )
+    .unwrap();
+    assert!(evidence.parts >= 9, "{} parts", evidence.parts);
+    let written = String::from_utf8(out).unwrap();
+    assert_eq!(evidence.times.input, plan_text(&text, &opts).unwrap());
+    assert_eq!(evidence.times.written, plan_text(&written, &opts).unwrap());
+    // The curves of `none` are the input: the cut lines' halves planned as
+    // one line, as in the program.
+    assert_eq!(evidence.times.exact, evidence.times.input);
 }

@@ -160,7 +160,8 @@ pub(super) fn choose_run(
             .as_ref()
             .map(|(_, b)| b.count)
             .filter(|&n| n >= LONG_RUN_PIECES);
-        if let (Some(count), CurveForm::Lines, true) = (many, form, i > 0 && em.may_stream()) {
+        let streams = i > 0 && em.may_stream() && !em.goes_on(k);
+        if let (Some(count), CurveForm::Lines, true) = (many, form, streams) {
             let part = streamed_part_pieces(smoothed[k].len(), count);
             if let Some(ts) = em.streamed_times(k, (form, chord), part)? {
                 if ts.iter().enumerate().all(|(fi, &t)| !loses(fi, t)) {

@@ -273,10 +273,22 @@ impl<'a> Emitter<'a> {
     /// rendering of it.
     pub(super) fn streams(&self, k: usize, form: CurveForm, chord: f64) -> bool {
         self.may_stream()
+            && !self.goes_on(k)
             && self.smoothed[k].len() >= LONG_RUN_PIECES
             && self.memo.is_none()
             && chord == self.opts.budget.output
             && (form == CurveForm::Arcs || (self.forms.len() == 1 && form == CurveForm::Lines))
+    }
+
+    /// Whether run `k` goes on from the part before or into the next (a
+    /// long run cut into windows, [`crate::interp::RunWindows`]): its
+    /// written pieces are read back and held, for the plan carried across
+    /// the parts ([`crate::pipeline::CarriedPlan`]), never rendered as
+    /// they are written.
+    pub(super) fn goes_on(&self, k: usize) -> bool {
+        let p = self.program;
+        let last = p.run_spans().len().checked_sub(1);
+        (k == 0 && p.window_continued()) || (Some(k) == last && p.window_cut())
     }
 
     /// How a run is planned at the maximum feed (`true`) or the

@@ -164,6 +164,9 @@ pub struct PartContext {
     pub facts: ProgramFacts,
     pub carry: WriterCarry,
     pub reading: MotionReader,
+    /// The written plan of a run that goes on into the next part (a long
+    /// run cut into windows).
+    pub written: Option<crate::pipeline::CarriedPlan>,
 }
 
 impl PartContext {
@@ -173,6 +176,7 @@ impl PartContext {
             facts,
             carry: WriterCarry::new(),
             reading: MotionReader::new(),
+            written: None,
         }
     }
 

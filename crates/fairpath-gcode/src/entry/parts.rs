@@ -14,7 +14,8 @@ use super::{write_curves_part, Curves, Evidence, SmoothProgramError};
 use crate::emit::PartContext;
 use crate::interp::{PartReader, RunWindows};
 use crate::pipeline::{
-    plan_input_and_curves_from, smooth_curves_memo, Phases, RenderMemo, TimeSums,
+    plan_input_and_curves_carried, smooth_curves_memo, Phases, PlanError, RenderMemo, RunCarry,
+    TimeSums,
 };
 use crate::text_out::TextOut;
 use crate::{Format, GcodeError, ParseOptions, Program, ProgramFacts, SmoothOptions, Units};
@@ -127,7 +128,39 @@ pub enum PartsError {
 /// as it is. On an error, what `out` got is not an output (the caller
 /// drops it). Returns the evidence and the clock,
 /// which marks each step of each part (step names repeat).
+///
+/// Where a run cut into windows cannot be planned a window at a time
+/// ([`crate::pipeline::PlanError::Unstitched`]), the job is done again
+/// without windows, from where `out` stood.
 pub fn smooth_in_parts(
+    text: &[u8],
+    prepared: Prepared,
+    opts: &SmoothOptions,
+    sizes: PartSizes,
+    out: &mut dyn TextOut,
+    phases: Phases,
+) -> Result<(Evidence, Phases), PartsError> {
+    let again = match (&prepared, sizes.windows) {
+        (Prepared::Parts(facts), Some(_)) => Some((facts.clone(), phases.sibling())),
+        _ => None,
+    };
+    let start = out.written().map_err(PartsError::Write)?;
+    let done = in_parts(text, prepared, opts, sizes, out, phases);
+    match (done, again) {
+        (Err(PartsError::Job(SmoothProgramError::Plan(PlanError::Unstitched { .. }))), Some(a)) => {
+            out.cut(start).map_err(PartsError::Write)?;
+            let whole_runs = PartSizes {
+                windows: None,
+                ..sizes
+            };
+            in_parts(text, Prepared::Parts(a.0), opts, whole_runs, out, a.1)
+        }
+        (done, _) => done,
+    }
+}
+
+/// [`smooth_in_parts`], once.
+fn in_parts(
     text: &[u8],
     prepared: Prepared,
     opts: &SmoothOptions,
@@ -253,6 +286,7 @@ fn fronts(
     tx: std::sync::mpsc::SyncSender<Result<Front, SmoothProgramError>>,
 ) -> Phases {
     let (mut input, mut exact) = <(TimeSums, TimeSums)>::default();
+    let mut carry = RunCarry::default();
     loop {
         phases.restart();
         let front = (|| -> Result<Option<Front>, SmoothProgramError> {
@@ -264,8 +298,15 @@ fn fronts(
                 .smooths_for_format()
                 .then(|| Arc::new(RenderMemo::default()));
             let result = smooth_curves_memo(&part, facts, opts, &mut phases, memo.clone())?;
-            let (i, e, plans) =
-                plan_input_and_curves_from(&part, &result, opts, input, exact, memo.as_deref())?;
+            let sums = (input, exact);
+            let (i, e, plans) = plan_input_and_curves_carried(
+                &part,
+                &result,
+                opts,
+                sums,
+                memo.as_deref(),
+                &mut carry,
+            )?;
             phases.mark("plan input and curves");
             (input, exact) = (i, e);
             let mut curves = Curves {
@@ -311,4 +352,55 @@ fn unchanged(
     e.lines_in = lines;
     e.lines_out = lines;
     Ok((e, phases))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::plans::UNSTITCH_WRITTEN;
+    use crate::{Controller, Format};
+
+    /// Where a run cut into windows cannot be planned a window at a time,
+    /// the job is done again without windows: the text and the evidence
+    /// are those of the job without windows.
+    #[test]
+    fn a_job_whose_windows_do_not_stitch_is_done_without_them() {
+        let mut text = String::from("G21 G90\nG0 X0 Y0\nG1 Z0 F3000\n");
+        for i in 1..=300 {
+            let y = if i % 2 == 0 { 0.0 } else { 0.4 };
+            text += &format!("X{}.5 Y{y:.1}\n", 2 * i);
+        }
+        text += "G0 Z5\nM2\n";
+        let opts = SmoothOptions::new(0.05, None, "bspline-corner", Some(Format::Arcs), {
+            Controller::Generic
+        })
+        .unwrap();
+        let job = |windows: Option<RunWindows>, unstitch: bool| {
+            UNSTITCH_WRITTEN.with(|u| u.set(unstitch));
+            let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
+            let sizes = PartSizes { lines: 1, windows };
+            let mut out = b"(before)\n".to_vec();
+            let (e, _) = smooth_in_parts(
+                text.as_bytes(),
+                prepared,
+                &opts,
+                sizes,
+                &mut out,
+                Phases::new(),
+            )
+            .unwrap();
+            UNSTITCH_WRITTEN.with(|u| u.set(false));
+            (out, e)
+        };
+        let w = RunWindows {
+            lines: 50,
+            min_cut_mm: 1.0,
+        };
+        let (plain, plain_e) = job(None, false);
+        let (windowed, _) = job(Some(w), false);
+        assert_ne!(windowed, plain, "the windows cut the run");
+        let (again, again_e) = job(Some(w), true);
+        assert_eq!(again, plain);
+        assert_eq!(again_e, plain_e);
+    }
 }

@@ -55,6 +55,8 @@ pub struct PartReader<'t> {
     windows: Option<RunWindows>,
     /// The line read before a window's cut, read first for the next part.
     pending: Option<(&'t str, &'static str)>,
+    /// The last part ended in a window's cut.
+    continued: bool,
     done: bool,
 }
 
@@ -79,6 +81,7 @@ impl<'t> PartReader<'t> {
             feed_cuts: !block_delete,
             windows: None,
             pending: None,
+            continued: false,
             done: false,
         }
     }
@@ -112,6 +115,7 @@ impl<'t> PartReader<'t> {
                 let n = self.r.lines.len();
                 let mut part = self.cut(n);
                 part.window_cut = true;
+                self.continued = true;
                 self.r.first_number -= 1;
                 return Ok(Some(part));
             }
@@ -189,6 +193,7 @@ impl<'t> PartReader<'t> {
             first_number,
             before,
             window_cut: false,
+            window_continued: core::mem::take(&mut self.continued),
         }
     }
 

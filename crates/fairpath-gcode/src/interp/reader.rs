@@ -480,6 +480,7 @@ impl Reader {
             first_number: 1,
             before: None,
             window_cut: false,
+            window_continued: false,
         })
     }
 }

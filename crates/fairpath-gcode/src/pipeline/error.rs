@@ -57,4 +57,10 @@ pub enum PlanError {
     ReadWritten(#[source] GcodeError),
     #[error("the written program does not read back")]
     ReadWrittenJson(#[source] JsonError),
+    /// A run cut into windows ([`crate::interp::RunWindows`]) whose plan,
+    /// made a window at a time, did not stitch: it must be planned whole,
+    /// which the job in windows cannot (it no longer holds the run). The
+    /// job is then done again without windows.
+    #[error("{what}: a run cut into windows must be planned whole")]
+    Unstitched { what: &'static str },
 }

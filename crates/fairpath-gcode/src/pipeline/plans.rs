@@ -11,7 +11,8 @@ use crate::Program;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_rapid, plan_run, Corners, PlanOptions, RunPlan};
 use fairpath::feed::program::{simulate, ProgramPlanError, Simulation};
-use fairpath::feed::windowed::{plan_time_windowed, PlanWindows};
+use fairpath::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
+use fairpath::geom::{Curve, Line};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::par_map;
 
@@ -54,6 +55,164 @@ impl TimeSums {
             feed: self.feed,
         }
     }
+}
+
+/// The plans of a run that goes on from one part to the next (a long run
+/// cut into windows: [`crate::interp::RunWindows`]): the input's and the
+/// curves', each made a window at a time as the parts come
+/// ([`CarriedPlan`]) and its time added where the run ends, in program
+/// order; each part's own plans (the renderer's, the writer's choices)
+/// plan its window from rest to rest.
+#[derive(Default)]
+pub struct RunCarry {
+    input: Option<CarriedPlan>,
+    exact: Option<CarriedPlan>,
+}
+
+/// The plan of a run that goes on into the next part: made a window at a
+/// time ([`WindowedTimer`], which plans as [`plan_time_windowed`] does, so
+/// the time is the whole run's to the bit wherever its windows stitch;
+/// elsewhere [`PlanError::Unstitched`]).
+#[derive(Clone)]
+pub struct CarriedPlan {
+    timer: WindowedTimer,
+    /// The piece before the cut, not yet planned: where it is a line of
+    /// the cut line and the next part's run starts with one, the two are
+    /// planned as one line (a part's reading splits the cut line; the
+    /// program does not, nor do curves that keep it straight there).
+    half: Option<Piece>,
+}
+
+#[cfg(test)]
+std::thread_local! {
+    /// The written plan of a run cut into windows is taken for one that
+    /// does not stitch (on this thread).
+    pub(crate) static UNSTITCH_WRITTEN: core::cell::Cell<bool> =
+        const { core::cell::Cell::new(false) };
+}
+
+/// The windows a carried plan is made in: smaller than
+/// [`PlanWindows::DEFAULT`] (a carried plan holds up to a window and two
+/// overlaps of pieces, and a job holds three: the input's, the curves' and
+/// the written text's), with the same overlap. Windows that stitch give
+/// the whole run's time to the bit whatever their step
+/// ([`fairpath::feed::windowed`]), so the time is `simulate`'s all the
+/// same; a step of four overlaps plans each piece 1.5 times.
+const CARRIED_WINDOWS: PlanWindows = PlanWindows {
+    step: 4 * PlanWindows::DEFAULT.overlap,
+    overlap: PlanWindows::DEFAULT.overlap,
+};
+
+/// How [`carry_runs`] takes a part's runs.
+struct Carrying<'a> {
+    outline: &'a [MotionOutline],
+    runs: &'a [&'a [Piece]],
+    /// The part ends in a window's cut: its last run goes on.
+    cut: bool,
+    /// The cut line's halves are joined again (the input's and the
+    /// curves' plans; the written text has the cut where it wrote one).
+    join: bool,
+    po: &'a PlanOptions,
+    what: &'static str,
+}
+
+/// Gives the runs of a part that go on across parts their times in
+/// `done`: the first, where `carry` holds the run it goes on (its pieces
+/// join the plan, and where the run ends here its time is the carried
+/// plan's); the last, where the part is cut (its pieces start or join the
+/// plan carried on, and it adds nothing here).
+fn carry_runs(
+    done: &mut [Option<Done>],
+    carry: &mut Option<CarriedPlan>,
+    c: Carrying<'_>,
+) -> Result<()> {
+    let at: Vec<(usize, usize)> = c
+        .outline
+        .iter()
+        .enumerate()
+        .filter_map(|(j, m)| match m {
+            MotionOutline::Run(k) => Some((j, *k)),
+            _ => None,
+        })
+        .collect();
+    let what = c.what;
+    let error = |pieces: &[Piece], source| PlanError::Plan {
+        what,
+        source: ProgramPlanError::Run {
+            line: pieces.first().map_or(0, |p| p.source_lines.0),
+            source,
+        },
+    };
+    let set = |done: &mut [Option<Done>], j: usize, t: f64| {
+        if let Some(d) = &mut done[j] {
+            d.0 = t;
+        }
+    };
+    // Pushes a run's pieces, the cut line's halves joined where asked (a
+    // line piece of the cut line on either side of the cut is one line),
+    // the last held back where it may be the first of them.
+    let push = |plan: &mut CarriedPlan, pieces: &[Piece], cut_after: bool| -> Result<()> {
+        let mut pieces = pieces;
+        if let Some(half) = plan.half.take() {
+            let joined = match (pieces.first(), &half.curve) {
+                (Some(first), Curve::Line(a)) if first.source_lines == half.source_lines => {
+                    match &first.curve {
+                        Curve::Line(b) => Some(Piece {
+                            curve: Curve::Line(Line::new(a.p0, b.p1)),
+                            ..first.clone()
+                        }),
+                        _ => None,
+                    }
+                }
+                _ => None,
+            };
+            match joined {
+                Some(whole) => {
+                    plan.timer.push(&[whole]).map_err(|e| error(pieces, e))?;
+                    pieces = &pieces[1..];
+                }
+                None => plan.timer.push(&[half]).map_err(|e| error(pieces, e))?,
+            }
+        }
+        if cut_after && c.join {
+            if let Some((last, rest)) = pieces.split_last() {
+                if matches!(last.curve, Curve::Line(_)) {
+                    plan.half = Some(last.clone());
+                    pieces = rest;
+                }
+            }
+        }
+        plan.timer.push(pieces).map_err(|e| error(pieces, e))
+    };
+    let Some(&(j_last, k_last)) = at.last() else {
+        return Ok(());
+    };
+    if let Some(plan) = carry.as_mut() {
+        let (j, k) = at[0];
+        let goes_on = c.cut && at.len() == 1;
+        push(plan, c.runs[k], goes_on)?;
+        if goes_on {
+            set(done, j, 0.0);
+            return Ok(());
+        }
+        let plan = carry.take().expect("held");
+        debug_assert!(plan.half.is_none());
+        let t = plan
+            .timer
+            .finish()
+            .map_err(|e| error(c.runs[k], e))?
+            .ok_or(PlanError::Unstitched { what })?;
+        set(done, j, t);
+    }
+    if c.cut {
+        let timer = WindowedTimer::new(c.po, Corners::Blended, CARRIED_WINDOWS)
+            .ok_or(PlanError::Unstitched { what })?;
+        let mut plan = CarriedPlan { timer, half: None };
+        push(&mut plan, c.runs[k_last], true)?;
+        set(done, j_last, 0.0);
+        *carry = Some(plan);
+    }
+    Ok(())
 }
 
 /// The three plans of a job: the input, the exact curves and the written
@@ -247,7 +406,7 @@ pub fn plan_curves(
     opts: &SmoothOptions,
 ) -> Result<(Times, Vec<RunPlan>)> {
     let none = TimeSums::default();
-    let (_, exact, plans) = plan_job(program, result, opts, None, none, None)?;
+    let (_, exact, plans) = plan_job(program, result, opts, None, none, None, None)?;
     Ok((exact.times(), plans))
 }
 
@@ -278,7 +437,24 @@ pub fn plan_input_and_curves_from(
     exact: TimeSums,
     memo: Option<&super::RenderMemo>,
 ) -> Result<(TimeSums, TimeSums, Vec<RunPlan>)> {
-    let (input, exact, plans) = plan_job(program, result, opts, Some(input), exact, memo)?;
+    let mut carry = RunCarry::default();
+    plan_input_and_curves_carried(program, result, opts, (input, exact), memo, &mut carry)
+}
+
+/// [`plan_input_and_curves_from`] of a part whose first run may go on
+/// from the part before and whose last may go on into the next
+/// ([`Program::window_cut`]): their plans are carried in `carry`
+/// ([`RunCarry`]).
+pub fn plan_input_and_curves_carried(
+    program: &Program,
+    result: &SmoothResult,
+    opts: &SmoothOptions,
+    (input, exact): (TimeSums, TimeSums),
+    memo: Option<&super::RenderMemo>,
+    carry: &mut RunCarry,
+) -> Result<(TimeSums, TimeSums, Vec<RunPlan>)> {
+    let (input, exact, plans) =
+        plan_job(program, result, opts, Some(input), exact, memo, Some(carry))?;
     Ok((input.expect("the input is planned"), exact, plans))
 }
 
@@ -293,6 +469,7 @@ fn plan_job(
     input_from: Option<TimeSums>,
     exact_from: TimeSums,
     memo: Option<&super::RenderMemo>,
+    carry: Option<&mut RunCarry>,
 ) -> Result<(Option<TimeSums>, TimeSums, Vec<RunPlan>)> {
     let input = input_from.is_some();
     #[derive(Clone, Copy)]
@@ -403,7 +580,51 @@ fn plan_job(
             _ => unreachable!("each task gives its kind"),
         }
     }
-    let exact_done = exact_done.expect("the curves are planned");
+    let mut exact_done = exact_done.expect("the curves are planned");
+    if let Some(carry) = carry {
+        let cut = program.window_cut();
+        let po = PlanOptions {
+            limits: *m,
+            override_feed,
+            window: None,
+            ends: Default::default(),
+        };
+        if carry.input.is_some() || cut {
+            let originals: Vec<&[Piece]> = result
+                .runs
+                .iter()
+                .map(|r| r.original.pieces.as_slice())
+                .collect();
+            if let Some(done) = &mut input_done {
+                let c = Carrying {
+                    outline: &outline,
+                    runs: &originals,
+                    cut,
+                    join: true,
+                    po: &po,
+                    what: "the input",
+                };
+                carry_runs(done, &mut carry.input, c)?;
+            }
+            // The curves' runs that go on across parts are planned for
+            // the curves too (their windows may be smoothed into
+            // themselves in one part and not in the next).
+            for (j, d) in exact_done.iter_mut().enumerate() {
+                if d.is_none() {
+                    *d = input_done.as_ref().and_then(|i| i[j].clone());
+                }
+            }
+            let c = Carrying {
+                outline: &outline,
+                runs: &curves,
+                cut,
+                join: true,
+                po: &po,
+                what: "the curves",
+            };
+            carry_runs(&mut exact_done, &mut carry.exact, c)?;
+        }
+    }
     // The curves' shared runs take the input's times, motion by motion.
     let exact_planned = add_up(
         exact_from,
@@ -484,9 +705,68 @@ pub fn plan_written_from(
     opts: &SmoothOptions,
     start: TimeSums,
 ) -> Result<TimeSums> {
+    plan_written_carried(reading, opts, start, &mut None, false)
+}
+
+/// [`plan_written_from`] of a part whose first run may go on from the
+/// part before (`carry` then holds its plan) and whose last goes on into
+/// the next where the part is `cut` ([`Program::window_cut`]): see
+/// [`RunCarry`]. A run that goes on must be held by the reading.
+pub fn plan_written_carried(
+    reading: &WrittenReading,
+    opts: &SmoothOptions,
+    start: TimeSums,
+    carry: &mut Option<CarriedPlan>,
+    cut: bool,
+) -> Result<TimeSums> {
     let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
     let what = "the written program";
     let known = &reading.run_times;
-    Ok(plan_outline(start, &reading.outline, &pieces, known, m, o, false, what)?.sums)
+    let outline = &reading.outline;
+    let mut done = motion_times(outline, &pieces, known, &[], m, o, false, what)?;
+    #[cfg(test)]
+    if cut && UNSTITCH_WRITTEN.with(|u| u.get()) {
+        return Err(PlanError::Unstitched { what });
+    }
+    if carry.is_some() || cut {
+        let po = PlanOptions {
+            limits: *m,
+            override_feed: o,
+            window: None,
+            ends: Default::default(),
+        };
+        // (A run checked as it was read holds no pieces.)
+        let held = |k: usize| {
+            !reading.runs[k].pieces.is_empty() || known.get(k).copied().flatten().is_none()
+        };
+        let ends: Vec<usize> = outline
+            .iter()
+            .filter_map(|m| match m {
+                MotionOutline::Run(k) => Some(*k),
+                _ => None,
+            })
+            .collect();
+        let goes_on = [
+            ends.first().filter(|_| carry.is_some()),
+            ends.last().filter(|_| cut),
+        ];
+        if goes_on.iter().flatten().any(|&&k| !held(k)) {
+            return Err(PlanError::Unstitched { what });
+        }
+        let c = Carrying {
+            outline,
+            runs: &pieces,
+            cut,
+            join: false,
+            po: &po,
+            what,
+        };
+        carry_runs(&mut done, carry, c)?;
+    }
+    Ok(add_up(
+        start,
+        done.into_iter().map(|d| d.unwrap_or((0.0, 0.0, None))),
+    )
+    .sums)
 }

@@ -192,6 +192,7 @@ fn applies(opts: &PlanOptions, w: PlanWindows) -> bool {
 
 /// Where the windows of a run stand: the last one planned and its
 /// segments not yet added (see the module docs).
+#[derive(Clone)]
 struct Stitcher {
     w: PlanWindows,
     /// Pieces a window spans: its step and an overlap at each end.
@@ -296,6 +297,7 @@ impl Stitcher {
 /// [`plan_time_windowed`] of a run whose pieces come a part at a time (a
 /// written run as it is read back): it holds the pieces of the window
 /// being filled, not the run.
+#[derive(Clone)]
 pub struct WindowedTimer {
     opts: PlanOptions,
     corners: Corners,
