@@ -40,7 +40,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .truncate(true)
         .open(output)?;
     let start = std::time::Instant::now();
-    let (evidence, _) = smooth_in_parts(&text, prepared, &opts, sizes, &mut out, Phases::new())?;
+    let (evidence, phases) =
+        smooth_in_parts(&text, prepared, &opts, sizes, &mut out, Phases::new())?;
     eprintln!(
         "{method}, windows of {window} lines: {} lines in, {} out, {} parts, {:.2} s",
         evidence.lines_in,
@@ -53,5 +54,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "planned: input {:?} s, curves {:?} s, written {:?} s",
         t.input.total, t.exact.total, t.written.total
     );
+    if std::env::var_os("FAIRPATH_TIMING").is_some() {
+        eprintln!("{}", phases.report());
+    }
     Ok(())
 }

@@ -199,6 +199,7 @@ pub(crate) fn write_curves_part(
         "render, write, check"
     };
     let start = out.written().map_err(EmitError::Output)?;
+    let cut_line_held = ctx.carry.cut_line().is_some();
     let emitted = match chosen {
         None => emit_part(
             program,
@@ -229,7 +230,10 @@ pub(crate) fn write_curves_part(
     // (JSON is written whole: its sums go nowhere.)
     let (written_times, written_sums) = match emitted.reading.take() {
         Some(reading) => {
-            let cut = program.window_cut();
+            // (The cut line held back before is dropped where the run
+            // going on is kept here too.)
+            let dropped = cut_line_held && emitted.kept.first() == Some(&true);
+            let cut = (program.window_cut(), dropped);
             let sums = plan_written_carried(&reading, opts, written_from, &mut ctx.written, cut)?;
             (sums.times(), sums)
         }

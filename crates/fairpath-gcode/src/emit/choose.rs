@@ -186,7 +186,7 @@ pub(super) fn choose_run(
         // check below plans what reads back at every feed and keeps the
         // run as the program wrote it where that is slower).
         let sole = i + 1 == forms.len() || (form == CurveForm::Arcs && long_with_few_lines(&c));
-        if best.is_none() && sole && smoothed[k].len() >= LONG_RUN_PIECES {
+        if best.is_none() && sole && em.is_long(k) {
             return Ok(c);
         }
         let ts = if c.pieces.len() >= PARALLEL_FEEDS_PIECES {

@@ -291,6 +291,14 @@ impl<'a> Emitter<'a> {
         (k == 0 && p.window_continued()) || (Some(k) == last && p.window_cut())
     }
 
+    /// Whether run `k` is chosen for as a long run: of at least
+    /// [`LONG_RUN_PIECES`] pieces, or a window of a longer run
+    /// ([`Emitter::goes_on`]), which is written as the run it is part of
+    /// would be.
+    pub(super) fn is_long(&self, k: usize) -> bool {
+        self.smoothed[k].len() >= LONG_RUN_PIECES || self.goes_on(k)
+    }
+
     /// How a run is planned at the maximum feed (`true`) or the
     /// programmed ones: on the user's machine, from rest to rest, with the
     /// whole look-ahead.
@@ -403,8 +411,7 @@ impl<'a> Emitter<'a> {
     /// Whether a rendering of run `k` is a long run's whose arcs fell back
     /// to G1 on few blocks (the all-G1 candidate is not tried on it).
     pub(super) fn long_with_few_lines(&self, k: usize, c: &Choice) -> bool {
-        self.smoothed[k].len() >= LONG_RUN_PIECES
-            && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.count as f64
+        self.is_long(k) && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.count as f64
     }
 }
 

@@ -28,6 +28,7 @@ use fairpath::pipeline::par_map;
 use fairpath::render::{CurveForm, RenderStats};
 use fairpath::verify::RunReport;
 use std::cell::RefCell;
+use std::io::Read;
 
 /// Writes `chosen`, the renderings of `em`'s runs, from where `ctx`
 /// stands, and leaves it standing after the text (see the module docs).
@@ -94,8 +95,17 @@ pub(super) fn write_chosen(
         // and runs' pieces; no lines held: on long outputs the reading is
         // the largest thing held); the runs rendered as they were written
         // checked and timed as they are read, not held.
+        // (Without the cut line the part before held back, where it is
+        // written here; with the one this part holds back.)
+        let rewritten_first = choices.first().is_some_and(|c| c.form.is_some());
+        let prefix = ctx
+            .carry
+            .cut_line()
+            .filter(|_| em.program.window_continued() && rewritten_first)
+            .map_or(0, str::len);
+        let cut = (start + prefix as u64, carry.cut_line().unwrap_or(""));
         let (reading_after, reread_outline, reread, streamed) =
-            read_back(em, ctx, original, &choices, out, start, tolerance)?;
+            read_back(em, ctx, original, &choices, out, cut, tolerance)?;
         let known: Vec<(usize, RunReport)> = streamed
             .iter()
             .map(|r| (r.candidate, r.report.clone()))
@@ -218,7 +228,8 @@ pub(super) fn write_chosen(
 }
 
 /// Reads the part written with `choices` back from `out`, where it starts
-/// at byte `start`, from where `ctx` stands. The runs rendered as they
+/// at byte `start`, followed by `held` (the cut line the part holds back:
+/// [`WriterCarry::cut_line`]), from where `ctx` stands. The runs rendered as they
 /// were written ([`Choice::streamed`]) are checked and timed as they are
 /// read ([`streamed::read_checking`]);
 /// where one of them could not be timed that way (windows that do not
@@ -230,14 +241,15 @@ fn read_back(
     original: &[Run],
     choices: &[Choice],
     out: &mut dyn TextOut,
-    start: u64,
+    (start, held): (u64, &str),
     tolerance: f64,
 ) -> Result<streamed::Checked> {
     if streamed::takes_any(choices) {
         let reading = &ctx.reading;
-        let mut text = out.read_from(start).map_err(EmitError::Output)?;
+        let text = out.read_from(start).map_err(EmitError::Output)?;
+        let mut text = text.chain(held.as_bytes());
         let (after, outline, runs, done) =
-            streamed::read_checking(em, reading, &mut *text, original, choices, tolerance)?;
+            streamed::read_checking(em, reading, &mut text, original, choices, tolerance)?;
         let timed = done.iter().all(|r| r.times.iter().all(Option::is_some));
         #[cfg(test)]
         let timed = timed && !super::tests::UNSTITCHED.with(|n| n.get());
@@ -255,8 +267,9 @@ fn read_back(
         #[cfg(test)]
         super::tests::READ_AGAIN.with(|n| n.set(n.get() + 1));
     }
-    let mut text = out.read_from(start).map_err(EmitError::Output)?;
-    let (after, outline, runs) = ctx.reading.read_part_from(&mut *text)?;
+    let text = out.read_from(start).map_err(EmitError::Output)?;
+    let mut text = text.chain(held.as_bytes());
+    let (after, outline, runs) = ctx.reading.read_part_from(&mut text)?;
     Ok((after, outline, runs, Vec::new()))
 }
 

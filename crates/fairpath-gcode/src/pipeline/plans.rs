@@ -109,9 +109,12 @@ struct Carrying<'a> {
     runs: &'a [&'a [Piece]],
     /// The part ends in a window's cut: its last run goes on.
     cut: bool,
-    /// The cut line's halves are joined again (the input's and the
-    /// curves' plans; the written text has the cut where it wrote one).
-    join: bool,
+    /// Whether the piece held back before the cut and the first piece of
+    /// the run going on are planned as one line: `None`, where they are
+    /// line pieces of the same line (the input's and the curves' plans:
+    /// the cut line's two halves); `Some(join)` as given (the written
+    /// plan: where the cut line was dropped).
+    join: Option<bool>,
     po: &'a PlanOptions,
     what: &'static str,
 }
@@ -143,10 +146,10 @@ fn carry_runs(
             source,
         },
     };
-    let set = |done: &mut [Option<Done>], j: usize, t: f64| {
-        if let Some(d) = &mut done[j] {
-            d.0 = t;
-        }
+    // (A run not planned for its part gets its time here.)
+    let set = |done: &mut [Option<Done>], j: usize, t: f64| match &mut done[j] {
+        Some(d) => d.0 = t,
+        None => done[j] = Some((t, 0.0, None)),
     };
     // Pushes a run's pieces, the cut line's halves joined where asked (a
     // line piece of the cut line on either side of the cut is one line),
@@ -154,16 +157,16 @@ fn carry_runs(
     let push = |plan: &mut CarriedPlan, pieces: &[Piece], cut_after: bool| -> Result<()> {
         let mut pieces = pieces;
         if let Some(half) = plan.half.take() {
+            let join = c.join.unwrap_or(true);
+            let same = |first: &Piece| c.join.is_some() || first.source_lines == half.source_lines;
             let joined = match (pieces.first(), &half.curve) {
-                (Some(first), Curve::Line(a)) if first.source_lines == half.source_lines => {
-                    match &first.curve {
-                        Curve::Line(b) => Some(Piece {
-                            curve: Curve::Line(Line::new(a.p0, b.p1)),
-                            ..first.clone()
-                        }),
-                        _ => None,
-                    }
-                }
+                (Some(first), Curve::Line(a)) if join && same(first) => match &first.curve {
+                    Curve::Line(b) => Some(Piece {
+                        curve: Curve::Line(Line::new(a.p0, b.p1)),
+                        ..first.clone()
+                    }),
+                    _ => None,
+                },
                 _ => None,
             };
             match joined {
@@ -174,7 +177,7 @@ fn carry_runs(
                 None => plan.timer.push(&[half]).map_err(|e| error(pieces, e))?,
             }
         }
-        if cut_after && c.join {
+        if cut_after {
             if let Some((last, rest)) = pieces.split_last() {
                 if matches!(last.curve, Curve::Line(_)) {
                     plan.half = Some(last.clone());
@@ -534,6 +537,22 @@ fn plan_job(
     } else {
         Vec::new()
     };
+    // The runs that go on across parts: their times are the carried
+    // plans' (`carry_runs`), not planned here.
+    let continued = carry.as_ref().is_some_and(|c| c.input.is_some());
+    let n_runs = result.runs.len();
+    let goes_on: Vec<bool> = (0..n_runs)
+        .map(|k| (k == 0 && continued) || (k + 1 == n_runs && program.window_cut()))
+        .collect();
+    let any_goes_on = goes_on.iter().any(|&g| g);
+    let skip_exact: Vec<bool> = if any_goes_on && !override_feed {
+        (0..n_runs)
+            .map(|k| goes_on[k] || shared.get(k).copied().unwrap_or(false))
+            .collect()
+    } else {
+        shared.clone()
+    };
+    let skip_input: &[bool] = if any_goes_on { &goes_on } else { &[] };
     enum Out {
         Motions(Vec<Option<Done>>),
         Plans(Vec<RunPlan>),
@@ -546,7 +565,8 @@ fn plan_job(
                 .map(|r| r.original.pieces.as_slice())
                 .collect();
             let what = "the input";
-            motion_times(&outline, &runs, &[], &[], m, override_feed, false, what).map(Out::Motions)
+            let o = override_feed;
+            motion_times(&outline, &runs, &[], skip_input, m, o, false, what).map(Out::Motions)
         }
         Task::Exact => {
             let what = "the curves";
@@ -561,7 +581,7 @@ fn plan_job(
                 &outline,
                 &curves,
                 &known,
-                &shared,
+                &skip_exact,
                 m,
                 override_feed,
                 keep,
@@ -600,7 +620,7 @@ fn plan_job(
                     outline: &outline,
                     runs: &originals,
                     cut,
-                    join: true,
+                    join: None,
                     po: &po,
                     what: "the input",
                 };
@@ -618,7 +638,7 @@ fn plan_job(
                 outline: &outline,
                 runs: &curves,
                 cut,
-                join: true,
+                join: None,
                 po: &po,
                 what: "the curves",
             };
@@ -705,19 +725,23 @@ pub fn plan_written_from(
     opts: &SmoothOptions,
     start: TimeSums,
 ) -> Result<TimeSums> {
-    plan_written_carried(reading, opts, start, &mut None, false)
+    plan_written_carried(reading, opts, start, &mut None, (false, false))
 }
 
 /// [`plan_written_from`] of a part whose first run may go on from the
 /// part before (`carry` then holds its plan) and whose last goes on into
 /// the next where the part is `cut` ([`Program::window_cut`]): see
 /// [`RunCarry`]. A run that goes on must be held by the reading.
+/// `dropped`: the cut line the part before held back was dropped (the
+/// run was kept as written on both sides of the cut:
+/// [`crate::write_gcode::WriterCarry::cut_line`]), so the written text
+/// goes on with the program's own cut line from the line before the cut.
 pub fn plan_written_carried(
     reading: &WrittenReading,
     opts: &SmoothOptions,
     start: TimeSums,
     carry: &mut Option<CarriedPlan>,
-    cut: bool,
+    (cut, dropped): (bool, bool),
 ) -> Result<TimeSums> {
     let pieces: Vec<&[Piece]> = reading.runs.iter().map(|r| r.pieces.as_slice()).collect();
     let (m, o) = (&opts.machine, opts.override_feed);
@@ -758,7 +782,7 @@ pub fn plan_written_carried(
             outline,
             runs: &pieces,
             cut,
-            join: false,
+            join: Some(dropped),
             po: &po,
             what,
         };

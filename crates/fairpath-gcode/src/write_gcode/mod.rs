@@ -190,6 +190,13 @@ pub struct WriterCarry {
     path: Option<String>,
     /// The input's path control in force ([`blend::before_runs`]).
     path_in_force: Option<PathControl>,
+    /// The line a window's cut put in at the end of the part before
+    /// ([`Program::window_cut`]), held back where that part's run was
+    /// kept as written: it is written before this part's text where the
+    /// run going on is rewritten here, and dropped where it is kept too
+    /// (the program's own line then goes on from the line before the
+    /// cut, as the program has it).
+    cut_line: Option<String>,
 }
 
 impl Default for WriterCarry {
@@ -206,7 +213,14 @@ impl WriterCarry {
             motion: MotionMode::None,
             path: None,
             path_in_force: None,
+            cut_line: None,
         }
+    }
+
+    /// The line held back at the end of the part written last
+    /// ([`WriterCarry::cut_line`]), with its ending.
+    pub fn cut_line(&self) -> Option<&str> {
+        self.cut_line.as_deref()
     }
 }
 
@@ -263,6 +277,17 @@ pub fn write_part(
     // Modal state as the written program leaves it.
     let mut written_motion = carry.motion;
     let mut written_path: Option<String> = carry.path.take();
+    // The cut line held back by the part before: written where the run
+    // going on is rewritten.
+    if let Some(cut) = carry.cut_line.take() {
+        let kept = matches!(smoothed.first(), Some(RunOutput::Original));
+        if program.window_continued() && !kept {
+            out.push_str(&cut);
+        }
+    }
+    // This part's cut line, held back where its run is kept.
+    let hold_last = program.window_cut() && matches!(smoothed.last(), Some(RunOutput::Original));
+    let mut held = None;
     let mut i = 0;
     let mut run_idx = 0;
     while i < lines.len() {
@@ -329,6 +354,11 @@ pub fn write_part(
             written_path = line.path_control_after.clone();
         }
         spill.spill(&mut out).map_err(WriteError::Output)?;
+        if hold_last && i + 1 == lines.len() {
+            held = Some(format!("{}{}", line.text, line.ending));
+            i += 1;
+            continue;
+        }
         out.push_str(&line.text);
         out.push_str(line.ending);
         if i == 0 && leading_percent && program.expanded() {
@@ -347,6 +377,7 @@ pub fn write_part(
         motion: written_motion,
         path: written_path,
         path_in_force: path_after,
+        cut_line: held,
     };
     spill.finish(&mut out).map_err(WriteError::Output)
 }
