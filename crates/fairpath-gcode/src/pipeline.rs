@@ -501,8 +501,11 @@ pub fn smooth_curves_memo(
         m.expect_runs(&runs);
     }
     let for_program = opts.method_with_memo(facts, memo);
-    fairpath::pipeline::smooth_runs_observed(
+    // (A part's first and last runs may be windows of a longer run.)
+    let cut = (program.window_continued(), program.window_cut());
+    fairpath::pipeline::smooth_windows_observed(
         runs,
+        cut,
         for_program.as_deref().unwrap_or(opts.method.as_ref()),
         &opts.budget,
         &mut |stage| {

@@ -140,10 +140,11 @@ use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
 use super::reversals::{cut_sets_bounded, split_at, REVERSAL_TURN, U_TURN_WIDTH};
 use super::sections::{
-    split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES, SECTION_MAX_PIECES,
+    meets_cut_lines, split_at_long_lines, Mix, SectionCache, MIXES, SECTION_LINES,
+    SECTION_MAX_PIECES,
 };
-use crate::geom::{Curve, ParamCurve};
-use crate::path::Run;
+use crate::geom::{Curve, JointTolerances, ParamCurve};
+use crate::path::{Piece, Run};
 use crate::smooth::{
     check_tolerance, require, CornerReason, Fair, FairOptions, KeptCorner, OptionError, RunMemo,
     SmoothError, SmoothedRun, Smoother,
@@ -457,6 +458,38 @@ impl Smoother for Auto {
         Ok(self
             .between_reversals(run, (time, &best), tolerance)?
             .unwrap_or(best))
+    }
+
+    /// A window of a longer run: its fastest candidate that meets the cut
+    /// lines G2 (fits keep their halves as lines, as at a section's cut),
+    /// the fastest of all where none does; as for a run longer than
+    /// [`SECTION_MAX_PIECES`] (the longer run is), without sections or
+    /// near-reversals.
+    fn smooth_window(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        cut: (bool, bool),
+    ) -> Result<SmoothedRun, SmoothError> {
+        if cut == (false, false) {
+            return self.smooth_run(run, tolerance);
+        }
+        check_tolerance(tolerance)?;
+        self.options.validate()?;
+        let memo = RunMemo::default();
+        let (mut ranking, _) = self.ranked_candidates(run, tolerance, cut, &memo)?;
+        let direction = |p: Option<&Piece>| match p.map(|p| &p.curve) {
+            Some(Curve::Line(l)) => Some(l.p1 - l.p0),
+            _ => None,
+        };
+        let before = direction(run.pieces.first()).filter(|_| cut.0);
+        let after = direction(run.pieces.last()).filter(|_| cut.1);
+        let jt = JointTolerances::from_tolerance(tolerance);
+        let i = match ranking.cheapest(|c| meets_cut_lines(c, (before, after), jt)) {
+            Some(i) => i,
+            None => ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?.1,
+        };
+        Ok(core::mem::take(&mut ranking.cands[i]))
     }
 }
 
@@ -969,6 +1002,52 @@ mod tests {
             }
         }
         Run::polyline(&pts, Some(3000.0))
+    }
+
+    /// A window of a longer run (its first and last lines the halves of
+    /// cut lines) is smoothed so that it goes on straight across each cut
+    /// (G2 with the cut line), its ends exact: by `auto` and by
+    /// `bspline-fit` alone.
+    #[test]
+    fn a_window_goes_on_straight_across_its_cuts() {
+        let wavy = wavy_raster();
+        let first = wavy.pieces.first().unwrap().curve.start();
+        let last = wavy.pieces.last().unwrap().curve.end();
+        let mut pts = vec![first - Vec3::new(1.5, 0.0, 0.0)];
+        pts.extend(wavy.pieces.iter().map(|p| p.curve.start()));
+        pts.push(last);
+        pts.push(last - Vec3::new(1.5, 0.0, 0.0));
+        let run = Run::polyline(&pts, Some(3000.0));
+        let direction = |p: &Piece| p.curve.end() - p.curve.start();
+        let cuts = (
+            Some(direction(&run.pieces[0])),
+            Some(direction(run.pieces.last().unwrap())),
+        );
+        let jt = JointTolerances::from_tolerance(0.05);
+        let fit = crate::smooth::BsplineFit::default();
+        let methods: [&dyn Smoother; 2] = [&Auto::default(), &fit];
+        for method in methods {
+            let name = method.name();
+            let window = method.smooth_window(&run, 0.05, (true, true)).unwrap();
+            assert!(
+                meets_cut_lines(&window, cuts, jt),
+                "{name}: {:?}",
+                window.chosen
+            );
+            let (a, b) = (
+                window.pieces.first().unwrap(),
+                window.pieces.last().unwrap(),
+            );
+            assert_eq!(a.curve.start(), pts[0], "{name}");
+            assert_eq!(b.curve.end(), *pts.last().unwrap(), "{name}");
+            // As a run of its own, its ends are not kept straight.
+            let whole = method.smooth_run(&run, 0.05).unwrap();
+            assert!(
+                !meets_cut_lines(&whole, cuts, jt),
+                "{name}: {:?}",
+                whole.chosen
+            );
+        }
     }
 
     #[test]

@@ -162,26 +162,35 @@ impl Auto {
     ) -> Result<Choices, SmoothError> {
         let cut_ends = (before.is_some(), after.is_some());
         let (mut ranking, _) = self.ranked_candidates(run, tolerance, cut_ends, memo)?;
-        let eligible = |c: &SmoothedRun| {
-            let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
-                return false;
-            };
-            let starts_straight = before.is_none_or(|d| {
-                let p = first.curve.start();
-                let line = Curve::Line(Line::new(p - d, p));
-                classify_joint(&line, &first.curve, &jt) == Continuity::G2
-            });
-            let ends_straight = after.is_none_or(|d| {
-                let p = last.curve.end();
-                let line = Curve::Line(Line::new(p, p + d));
-                classify_joint(&last.curve, &line, &jt) == Continuity::G2
-            });
-            starts_straight && ends_straight
-        };
+        let eligible = |c: &SmoothedRun| meets_cut_lines(c, (before, after), jt);
         let chosen = MIXES
             .map(|mix| ranking.cheapest(|c| c.chosen.iter().all(|n| mix.admits(n)) && eligible(c)));
         Ok(chosen.map(|i| i.map(|i| ranking.cands[i].clone())))
     }
+}
+
+/// Whether `c` meets the cut lines before and after it (their directions,
+/// `None` where it is not cut there) G2: tangent along them, without
+/// curvature.
+pub(super) fn meets_cut_lines(
+    c: &SmoothedRun,
+    (before, after): (Option<Vec3>, Option<Vec3>),
+    jt: JointTolerances,
+) -> bool {
+    let (Some(first), Some(last)) = (c.pieces.first(), c.pieces.last()) else {
+        return false;
+    };
+    let starts_straight = before.is_none_or(|d| {
+        let p = first.curve.start();
+        let line = Curve::Line(Line::new(p - d, p));
+        classify_joint(&line, &first.curve, &jt) == Continuity::G2
+    });
+    let ends_straight = after.is_none_or(|d| {
+        let p = last.curve.end();
+        let line = Curve::Line(Line::new(p, p + d));
+        classify_joint(&last.curve, &line, &jt) == Continuity::G2
+    });
+    starts_straight && ends_straight
 }
 
 /// `run` cut at the middle of every line longer than `min_line` into

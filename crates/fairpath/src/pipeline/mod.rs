@@ -122,20 +122,39 @@ pub fn smooth_runs_observed(
     budget: &ToleranceBudget,
     observe: &mut dyn FnMut(Stage),
 ) -> Result<SmoothResult, PipelineError> {
+    smooth_windows_observed(runs, (false, false), method, budget, observe)
+}
+
+/// [`smooth_runs_observed`] of the runs of a part of a program whose first
+/// run may start, and whose last may end, at a cut of a longer run
+/// (`cut`: the first run's start, the last run's end): those runs are
+/// smoothed as windows ([`Smoother::smooth_window`]).
+pub fn smooth_windows_observed(
+    runs: Vec<Run>,
+    cut: (bool, bool),
+    method: &dyn Smoother,
+    budget: &ToleranceBudget,
+    observe: &mut dyn FnMut(Stage),
+) -> Result<SmoothResult, PipelineError> {
     let share = budget.smoothing();
+    let n = runs.len();
+    let cut_of = |i: usize| (i == 0 && cut.0, i + 1 == n && cut.1);
     // Runs are independent: smoothed on all cores (with `std`), results in
     // order, so the output and the first error reported do not depend on
     // the number of threads.
-    let smoothed_runs = par_map(runs.len(), |i| method.smooth_run(&runs[i], share))
-        .into_iter()
-        .zip(&runs)
-        .map(|(smoothed, run)| {
-            smoothed.map_err(|source| PipelineError::Smooth {
-                line: first_line(run),
-                source,
-            })
+    let smoothed_runs = par_map(n, |i| match cut_of(i) {
+        (false, false) => method.smooth_run(&runs[i], share),
+        c => method.smooth_window(&runs[i], share, c),
+    })
+    .into_iter()
+    .zip(&runs)
+    .map(|(smoothed, run)| {
+        smoothed.map_err(|source| PipelineError::Smooth {
+            line: first_line(run),
+            source,
         })
-        .collect::<Result<Vec<_>, _>>()?;
+    })
+    .collect::<Result<Vec<_>, _>>()?;
     observe(Stage::Smoothed);
     let pairs: Vec<(&[Piece], &[Piece])> = runs
         .iter()

@@ -213,6 +213,21 @@ impl Smoother for BsplineFit {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         self.smooth_run_memo(run, tolerance, None)
     }
+
+    /// A window of a longer run: its cut ends keep their segments (the cut
+    /// line's halves) out of the fits, so that the run goes on straight
+    /// across each cut ([`BsplineFitOptions::line_at_start`]).
+    fn smooth_window(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        cut: (bool, bool),
+    ) -> Result<SmoothedRun, SmoothError> {
+        let mut options = self.options;
+        options.line_at_start |= cut.0;
+        options.line_at_end |= cut.1;
+        BsplineFit { options }.smooth_run_memo(run, tolerance, None)
+    }
 }
 
 impl BsplineFit {

@@ -150,6 +150,21 @@ pub trait Smoother: Sync {
     ) -> Result<SmoothedRun, SmoothError> {
         self.smooth_run(run, budget.smoothing())
     }
+    /// [`Smoother::smooth_run`] of a window of a longer run: `cut` says
+    /// which of its ends (start, end) cut the longer run at the middle of
+    /// a line, where the run goes on straight. A method that can keeps the
+    /// cut line straight there and chooses as it would for the whole run;
+    /// by default the window is smoothed as a run of its own (its ends
+    /// kept exactly, as a cut needs).
+    fn smooth_window(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        cut: (bool, bool),
+    ) -> Result<SmoothedRun, SmoothError> {
+        let _ = cut;
+        self.smooth_run(run, tolerance)
+    }
     /// Whether the method writes for a planner that caps the speed at the
     /// end of every block (LinuxCNC master's S-curve planner): its output
     /// is then judged by that model (`feed::plan::Corners::BlockCapped`)
