@@ -345,7 +345,11 @@ impl<'a> RunWriter<'a> {
             self.push_line(last.plane_after.gword());
             self.plane = last.plane_after;
         }
-        if self.opts.g64_blend_mm.is_some() {
+        // A run that goes on into the next part (a window's cut) keeps our
+        // blending command: a path-control line would end the run there.
+        let goes_on = self.program.window_cut()
+            && self.program.lines().last().map(|l| l.number) == Some(self.run.last_line);
+        if self.opts.g64_blend_mm.is_some() && !goes_on {
             if let Some(orig) = &last.path_control_after {
                 if self.path.as_ref() != Some(orig) {
                     let orig = orig.clone();
