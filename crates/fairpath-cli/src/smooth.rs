@@ -53,6 +53,9 @@ pub fn option_error(e: OptionsError) -> anyhow::Error {
         OptionsError::StepShare(s) => {
             format!("--step-share must be a positive number or inf; got {s}")
         }
+        OptionsError::RunWindows(lines, _) => {
+            format!("--window-lines must be a positive number of lines; got {lines}")
+        }
         e @ (OptionsError::UnknownMethod(_) | OptionsError::Machine(_)) => e.to_string(),
     })
 }
@@ -113,7 +116,10 @@ pub fn smooth_prepared(
     warn_passthrough(input, prepared.passthrough());
     let timing = std::env::var_os("FAIRPATH_TIMING").is_some();
     let mut sink = crate::output::OutputSink::create(output)?;
-    let sizes = PartSizes::of(PART_LINES);
+    let sizes = PartSizes {
+        lines: PART_LINES,
+        windows: opts.run_windows(),
+    };
     let done = fairpath_gcode::smooth_in_parts(bytes, prepared, opts, sizes, &mut sink, job);
     if let Some(p) = progress.as_mut() {
         p.finish();

@@ -69,3 +69,58 @@ fn none_expands_a_parameterised_program() {
         "{written}"
     );
 }
+
+/// `--window-lines`: a long run cut into windows is written back, with
+/// `none`, as the program wrote it, and the summary counts it as the one
+/// run it is; a window of no lines is a usage error.
+#[test]
+fn none_in_windows_writes_the_program_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("raster.ngc");
+    let mut text = String::from("G21 G90 G17\nG0 X0 Y0 Z1\nG1 Z0 F2000\n");
+    for i in 1..=2000 {
+        let x = (i % 100) as f64 * 1.5;
+        text += &format!("X{x:.3} Y{:.3} Z{:.4}\n", (i / 100) as f64, (x * 0.3).sin());
+    }
+    text += "G0 Z5\nM2\n";
+    std::fs::write(&input, &text).unwrap();
+    let out = dir.path().join("out.ngc");
+    let run = |window: &str| {
+        Command::new(env!("CARGO_BIN_EXE_fairpath"))
+            .args([
+                "smooth",
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args([
+                "--tolerance",
+                "0.05mm",
+                "--method",
+                "none",
+                "--window-lines",
+                window,
+            ])
+            .output()
+            .unwrap()
+    };
+    let o = run("300");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert!(summary.contains("2001 feed moves in 1 runs"), "{summary}");
+    // (The curves hold each cut line as its two halves: the run was cut.)
+    let pieces: usize = summary
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("curves:"))
+        .and_then(|l| l.split_whitespace().next()?.parse().ok())
+        .unwrap();
+    assert!(pieces > 2001 + 3, "{summary}");
+    let written = std::fs::read_to_string(&out).unwrap();
+    let body: Vec<&str> = written
+        .lines()
+        .filter(|l| !l.starts_with("(smoothed"))
+        .collect();
+    assert_eq!(body, text.lines().collect::<Vec<_>>());
+    let bad = run("0");
+    assert_eq!(bad.status.code(), Some(2));
+}

@@ -263,6 +263,7 @@ pub(crate) fn write_curves_part(
         lines_out: emitted.lines,
         rapids: program.moves().iter().filter(|m| m.piece.rapid).count(),
         no_moves: program.is_empty(),
+        window_ends: (program.window_continued(), program.window_cut()),
         phases,
     };
     if !report.written.within {

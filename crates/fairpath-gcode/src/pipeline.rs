@@ -62,6 +62,9 @@ pub struct SmoothOptions {
     override_feed: bool,
     /// See [`fairpath::render::RenderOptions::step_share`].
     step_share: f64,
+    /// Long runs cut into windows by the job in parts, or not
+    /// ([`crate::interp::RunWindows`]).
+    run_windows: Option<crate::interp::RunWindows>,
 }
 
 impl SmoothOptions {
@@ -108,6 +111,7 @@ impl SmoothOptions {
             machine,
             override_feed: false,
             step_share: STEP_SHARE,
+            run_windows: None,
         })
     }
 
@@ -191,6 +195,27 @@ impl SmoothOptions {
         }
         self.step_share = step_share;
         Ok(())
+    }
+
+    /// Cuts the long runs of a program processed in parts into windows
+    /// (`None`, the default: not). A window of `lines` lines must hold at
+    /// least one; `min_cut_mm` must be a positive length.
+    pub fn set_run_windows(
+        &mut self,
+        windows: Option<crate::interp::RunWindows>,
+    ) -> Result<(), OptionsError> {
+        if let Some(w) = windows {
+            if w.lines == 0 || !(w.min_cut_mm.is_finite() && w.min_cut_mm > 0.0) {
+                return Err(OptionsError::RunWindows(w.lines, w.min_cut_mm));
+            }
+        }
+        self.run_windows = windows;
+        Ok(())
+    }
+
+    /// How long runs are cut into windows ([`SmoothOptions::set_run_windows`]).
+    pub fn run_windows(&self) -> Option<crate::interp::RunWindows> {
+        self.run_windows
     }
 
     /// The user's tolerance (mm).

@@ -63,7 +63,7 @@ fn line_end(c: &Curve) -> (Vec3, Vec3) {
 }
 
 /// A run of a window's lines is cut at the middle of a line at least
-/// `min_cut_mm` long (or, past twice the window, of any plain line): the
+/// `min_cut_mm` long: the
 /// part ends with a `G1` to the midpoint, the next starts with the cut
 /// line, which goes on from there; every line of the text is in one part,
 /// with its number and text, and the moves are the program's with each
@@ -97,7 +97,7 @@ fn long_runs_are_cut_at_the_middle_of_long_lines() {
         let (m2, b) = line_end(&first.piece.curve);
         assert_eq!(m, m2, "the next part goes on from the midpoint");
         assert!(m.dist(a.lerp(b, 0.5)) < 1e-12, "{m:?} is the midpoint");
-        assert!(a.dist(b) >= WINDOWS.min_cut_mm || p.lines().len() > 2 * WINDOWS.lines);
+        assert!(a.dist(b) >= WINDOWS.min_cut_mm);
         let w = whole.line(first.line);
         assert_eq!(line_end(&whole.moves()[w.moves.start].piece.curve), (a, b));
     }
@@ -216,7 +216,12 @@ fn in_windows_within_the_tolerance(text: &str) {
         }
         // Where the run is kept as written on both sides of a cut, the
         // line put in is dropped: with `none`, the text is the input's.
+        // The run cut into windows counts once, as it is in the program.
+        assert_eq!(evidence.runs, original.len(), "{method}");
+        let moves: usize = original.iter().map(|r| r.pieces.len()).sum();
+        assert_eq!(evidence.feed_moves_in, moves, "{method}");
         if method == "none" {
+            assert_eq!(evidence.kept_runs, original.len());
             let lines: Vec<&str> = written
                 .lines()
                 .filter(|l| !l.starts_with("(smoothed"))

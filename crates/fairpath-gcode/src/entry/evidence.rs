@@ -72,6 +72,9 @@ pub struct Evidence {
     pub g91_spline_runs: usize,
     /// See [`Report::block_capped`].
     pub block_capped: bool,
+    /// The last part added ended in a window's cut with its run kept as
+    /// written (a run cut into windows counts once, and once kept).
+    pub cut_run_kept: bool,
     /// The program has no moves: nothing was smoothed.
     pub no_moves: bool,
     /// Parts the program was processed in ([`super::smooth_in_parts`]; 1
@@ -135,6 +138,7 @@ impl Evidence {
             kept_runs: 0,
             g91_spline_runs: 0,
             block_capped,
+            cut_run_kept: false,
             no_moves: true,
             parts: 0,
         }
@@ -204,6 +208,16 @@ impl Evidence {
             self.peak_curvature = self.peak_curvature.max(r.report.peak_curvature);
             self.cusps += r.report.cusps;
         }
+        // A run that goes on from the part before is that run, and its
+        // first move the rest of the cut line.
+        let (continued, cut) = report.window_ends;
+        if continued && !report.result.runs.is_empty() {
+            self.runs -= 1;
+            self.feed_moves_in -= 1;
+        }
+        let first_kept = report.kept.first() == Some(&true);
+        let kept_twice = continued && first_kept && self.cut_run_kept;
+        self.cut_run_kept = cut && report.kept.last() == Some(&true);
         self.chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
         self.unfaired.sort();
         self.times = report.times;
@@ -219,7 +233,7 @@ impl Evidence {
         self.lines_in += report.lines_in;
         self.lines_out += report.lines_out;
         self.retried_runs += report.retried_runs;
-        self.kept_runs += report.kept_runs;
+        self.kept_runs += report.kept_runs - usize::from(kept_twice);
         self.g91_spline_runs += report.g91_spline_runs;
         self.rapids += report.rapids;
         self.no_moves &= report.no_moves;

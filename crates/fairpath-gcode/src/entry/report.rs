@@ -49,6 +49,10 @@ pub struct Report {
     /// The program has no moves (tool changes, coolant ...): nothing was
     /// smoothed.
     pub no_moves: bool,
+    /// For a part of a long run cut into windows: its first run goes on
+    /// from the part before ([`crate::Program::window_continued`]), its
+    /// last into the next ([`crate::Program::window_cut`]).
+    pub window_ends: (bool, bool),
     /// Wall-clock time of each step.
     pub phases: Phases,
 }

@@ -141,13 +141,8 @@ impl<'t> PartReader<'t> {
         if held < w.lines.max(1) || prev.moves.is_empty() {
             return None;
         }
-        let min_mm = if held < 2 * w.lines {
-            w.min_cut_mm
-        } else {
-            0.0
-        };
         let prev_move = &self.r.moves[prev.moves.end - 1];
-        cut_before(&self.r.st, prev, prev_move, text, self.next, min_mm)
+        cut_before(&self.r.st, prev, prev_move, text, self.next, w.min_cut_mm)
     }
 
     /// The first `k` lines held, as a part; the lines after them stay.

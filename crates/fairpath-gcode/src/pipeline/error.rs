@@ -41,6 +41,11 @@ pub enum OptionsError {
     StepShare(f64),
     #[error("machine")]
     Machine(#[source] LimitError),
+    #[error(
+        "run windows must hold at least one line and cut at a positive length; got {0} lines, \
+         {1} mm"
+    )]
+    RunWindows(usize, f64),
 }
 
 /// Why a program's time could not be planned.
