@@ -40,10 +40,14 @@ pub struct RunWindows {
 }
 
 impl RunWindows {
-    /// Windows of 4,096 lines cut at lines of 1 mm or more (`auto`'s
-    /// shortest section cut, [`fairpath::choose::SECTION_LINES`]).
+    /// Windows of 2,048 lines cut at lines of 1 mm or more (`auto`'s
+    /// shortest section cut, [`fairpath::choose::SECTION_LINES`]). On the
+    /// one-run raster `surface-raster-large.ngc` (3.7 MB) that holds the
+    /// job under 20 times the input with every method, for about a tenth
+    /// more time than the run whole with `bspline-corner` and `auto`
+    /// (docs/performance.md, "Long runs cut into windows").
     pub const DEFAULT: RunWindows = RunWindows {
-        lines: 4096,
+        lines: 2048,
         min_cut_mm: 1.0,
     };
 }
