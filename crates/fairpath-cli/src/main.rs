@@ -479,7 +479,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             )?;
             opts.set_step_share(step_share)
                 .map_err(smooth::option_error)?;
-            let windows = (window_lines > 0).then(|| fairpath_gcode::RunWindows {
+            let windows = (window_lines > 0).then_some(fairpath_gcode::RunWindows {
                 lines: window_lines as usize,
                 ..fairpath_gcode::RunWindows::DEFAULT
             });

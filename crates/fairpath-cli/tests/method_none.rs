@@ -124,5 +124,8 @@ fn none_in_windows_writes_the_program_as_it_was() {
     let whole = run("0");
     assert!(whole.status.success());
     let summary = String::from_utf8_lossy(&whole.stdout);
-    assert!(summary.contains("curves:          2001 pieces"), "{summary}");
+    assert!(
+        summary.contains("curves:          2001 pieces"),
+        "{summary}"
+    );
 }
