@@ -14,7 +14,7 @@ use fairpath_gcode::{
 };
 
 /// The configurations compared: method, format, controller.
-const CONFIGS: [(&str, Format, Controller); 6] = [
+pub const CONFIGS: [(&str, Format, Controller); 6] = [
     ("bspline-corner", Format::Arcs, Controller::Generic),
     ("none", Format::Arcs, Controller::Generic),
     ("lotm", Format::G1, Controller::Linuxcnc),
@@ -26,7 +26,7 @@ const CONFIGS: [(&str, Format, Controller); 6] = [
 /// Programs of our own that part in many places: feed changes, rapids,
 /// plane changes, R arcs, G64, inch and mm, `/` lines, a spline block,
 /// comments and N numbers in runs, a line relying on the modal motion.
-const OWN: [&str; 4] = [
+pub const OWN: [&str; 4] = [
     "%\nG21 G90 G64 P0.2\nG0 X0 Y0\nN10 G1 X10 F1000 (first)\nN20 X10 Y10\nX20 Y10 F600\n\
      X20 Y20\nG0 Z5\nG0 X30 Y0\nG1 Z0 F300\nX40\nG2 X50 Y10 R10\nG1 X60 F900\nX60 Y20\n\
      X70 Y20 F1200\nG18\nG2 X80 Z-10 R10\nG1 X90\nG17\nG0 X0 Y0\nG1 X5 Y5\nX10 Y0\nM30\n%\n",

@@ -162,8 +162,10 @@ fn options(method: &str) -> SmoothOptions {
 #[test]
 fn a_long_run_smoothed_in_windows_stays_within_the_tolerance() {
     // Also with a blending command looser than the blending share, which
-    // the writer tightens around the runs it rewrites: not at a cut (a
-    // path-control line there would end the run in the written text).
+    // the writer tightens around the runs it rewrites: there no run is cut
+    // (a window kept as written and the next rewritten would get the
+    // command between them, inside the run: `Cereal.ngc`, `auto`, windows
+    // of one line, read back as 51 runs where the program has 50).
     let plain = raster(6, 60);
     let g64 = plain.replacen("G21 G90 G17", "G21 G90 G17 G64 P0.5", 1);
     for text in [plain, g64] {
@@ -266,4 +268,68 @@ fn a_run_longer_than_a_plan_window_is_timed_as_planned_whole() {
     // The curves of `none` are the input: the cut lines' halves planned as
     // one line, as in the program.
     assert_eq!(evidence.times.exact, evidence.times.input);
+}
+
+/// Windows of one line cut at every plain line of 0.5 mm or more, on our
+/// programs that part in many places (feed changes, rapids, plane changes,
+/// R arcs, G64, inch and mm, `/` lines, a spline block, comments and N
+/// numbers in runs, a line relying on the modal motion), in every
+/// configuration of
+/// `parts.rs`: each job writes a text whose runs are the program's, within
+/// the tolerance, and times that are the input's and the text's planned
+/// whole.
+#[test]
+fn windows_at_every_line_keep_our_programs_runs_path_and_times() {
+    let windows = RunWindows {
+        lines: 1,
+        min_cut_mm: 0.5,
+    };
+    let cuts: usize = crate::parts::OWN
+        .iter()
+        .map(|t| {
+            parts_of(t, windows)
+                .iter()
+                .filter(|p| p.window_cut())
+                .count()
+        })
+        .sum();
+    assert!(cuts >= 8, "{cuts} cuts");
+    for (i, text) in crate::parts::OWN.iter().enumerate() {
+        for (method, format, controller) in crate::parts::CONFIGS {
+            if format == Format::Json {
+                continue;
+            }
+            let opts = SmoothOptions::new(0.05, None, method, Some(format), controller).unwrap();
+            let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
+            let sizes = PartSizes {
+                lines: 1,
+                windows: Some(windows),
+            };
+            let mut out = Vec::new();
+            let what = format!("program {i}, {method} {format:?} {controller:?}");
+            let (evidence, _) = smooth_in_parts(
+                text.as_bytes(),
+                prepared,
+                &opts,
+                sizes,
+                &mut out,
+                Phases::new(),
+            )
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+            let written = String::from_utf8(out).unwrap();
+            let (_, original) = read_motion(text.as_bytes()).unwrap();
+            let (_, runs) = read_motion(written.as_bytes()).unwrap();
+            assert_eq!(runs.len(), original.len(), "{what}: runs\n{written}");
+            let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
+            assert!(check.within, "{what}: {}", check.max_deviation);
+            assert_eq!(evidence.runs, original.len(), "{what}");
+            assert_eq!(
+                evidence.times.input,
+                plan_text(text, &opts).unwrap(),
+                "{what}"
+            );
+            let wrote = plan_text(&written, &opts).unwrap();
+            assert_eq!(evidence.times.written, wrote, "{what}");
+        }
+    }
 }
