@@ -151,6 +151,31 @@ fn only_plain_lines_of_absolute_runs_are_cut() {
     assert_eq!(cuts(&feeds), 0);
 }
 
+/// The job in parts of `lines` lines and `windows`: its evidence and text.
+fn windowed_job(
+    text: &str,
+    opts: &SmoothOptions,
+    lines: usize,
+    windows: RunWindows,
+) -> Result<(fairpath_gcode::Evidence, String), String> {
+    let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
+    let sizes = PartSizes {
+        lines,
+        windows: Some(windows),
+    };
+    let mut out = Vec::new();
+    let (evidence, _) = smooth_in_parts(
+        text.as_bytes(),
+        prepared,
+        opts,
+        sizes,
+        &mut out,
+        Phases::new(),
+    )
+    .map_err(|e| e.to_string())?;
+    Ok((evidence, String::from_utf8(out).unwrap()))
+}
+
 fn options(method: &str) -> SmoothOptions {
     SmoothOptions::new(0.05, None, method, Some(Format::Arcs), Controller::Generic).unwrap()
 }
@@ -178,23 +203,9 @@ fn in_windows_within_the_tolerance(text: &str) {
     let (_, original) = read_motion(text.as_bytes()).unwrap();
     for method in ["none", "bspline-corner", "bspline-fit", "auto"] {
         let opts = options(method);
-        let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
-        let sizes = PartSizes {
-            lines: 1,
-            windows: Some(WINDOWS),
-        };
-        let mut out = Vec::new();
-        let (evidence, _) = smooth_in_parts(
-            text.as_bytes(),
-            prepared,
-            &opts,
-            sizes,
-            &mut out,
-            Phases::new(),
-        )
-        .unwrap_or_else(|e| panic!("{method}: {e}"));
+        let (evidence, written) =
+            windowed_job(&text, &opts, 1, WINDOWS).unwrap_or_else(|e| panic!("{method}: {e}"));
         assert_eq!(evidence.lines_in, text.lines().count(), "{method}");
-        let written = String::from_utf8(out).unwrap();
         // The times are those of the input and of the written text, planned
         // whole as `fairpath simulate` plans them, to the bit.
         let (input, wrote) = (evidence.times.input, evidence.times.written);
@@ -242,27 +253,12 @@ fn in_windows_within_the_tolerance(text: &str) {
 fn a_run_longer_than_a_plan_window_is_timed_as_planned_whole() {
     let text = raster(160, 250);
     let opts = options("none");
-    let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
     let windows = RunWindows {
         lines: 4096,
         min_cut_mm: 1.0,
     };
-    let sizes = PartSizes {
-        lines: 256,
-        windows: Some(windows),
-    };
-    let mut out = Vec::new();
-    let (evidence, _) = smooth_in_parts(
-        text.as_bytes(),
-        prepared,
-        &opts,
-        sizes,
-        &mut out,
-        Phases::new(),
-    )
-    .unwrap();
+    let (evidence, written) = windowed_job(&text, &opts, 256, windows).unwrap();
     assert!(evidence.parts >= 9, "{} parts", evidence.parts);
-    let written = String::from_utf8(out).unwrap();
     assert_eq!(evidence.times.input, plan_text(&text, &opts).unwrap());
     assert_eq!(evidence.times.written, plan_text(&written, &opts).unwrap());
     // The curves of `none` are the input: the cut lines' halves planned as
@@ -300,23 +296,9 @@ fn windows_at_every_line_keep_our_programs_runs_path_and_times() {
                 continue;
             }
             let opts = SmoothOptions::new(0.05, None, method, Some(format), controller).unwrap();
-            let prepared = Prepared::read(text.as_bytes(), opts.format()).unwrap();
-            let sizes = PartSizes {
-                lines: 1,
-                windows: Some(windows),
-            };
-            let mut out = Vec::new();
             let what = format!("program {i}, {method} {format:?} {controller:?}");
-            let (evidence, _) = smooth_in_parts(
-                text.as_bytes(),
-                prepared,
-                &opts,
-                sizes,
-                &mut out,
-                Phases::new(),
-            )
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
-            let written = String::from_utf8(out).unwrap();
+            let (evidence, written) =
+                windowed_job(text, &opts, 1, windows).unwrap_or_else(|e| panic!("{what}: {e}"));
             let (_, original) = read_motion(text.as_bytes()).unwrap();
             let (_, runs) = read_motion(written.as_bytes()).unwrap();
             assert_eq!(runs.len(), original.len(), "{what}: runs\n{written}");

@@ -57,6 +57,17 @@ impl TimeSums {
     }
 }
 
+/// How `simulate` plans a run: on `machine`, at its maximum feed or the
+/// programmed ones, from rest to rest, with the whole look-ahead.
+fn whole_run_options(machine: &MachineLimits, override_feed: bool) -> PlanOptions {
+    PlanOptions {
+        limits: *machine,
+        override_feed,
+        window: None,
+        ends: Default::default(),
+    }
+}
+
 /// The plans of a run that goes on from one part to the next (a long run
 /// cut into windows: [`crate::interp::RunWindows`]): the input's and the
 /// curves', each made a window at a time as the parts come
@@ -311,12 +322,7 @@ fn motion_times(
     what: &'static str,
 ) -> Result<Vec<Option<Done>>> {
     let error = |source| PlanError::Plan { what, source };
-    let po = PlanOptions {
-        limits: *machine,
-        override_feed,
-        window: None,
-        ends: Default::default(),
-    };
+    let po = whole_run_options(machine, override_feed);
     par_map(outline.len(), |j| {
         let feed_run = |k: Option<usize>, pieces: &[Piece]| -> Result<Option<Done>> {
             if k.is_some_and(|k| skip.get(k).copied().unwrap_or(false)) {
@@ -500,12 +506,7 @@ fn plan_job(
         tasks.push(Task::Plans);
     }
     let renderer_plans = || -> Result<Vec<RunPlan>> {
-        let po = PlanOptions {
-            limits: *m,
-            override_feed: true,
-            window: None,
-            ends: Default::default(),
-        };
+        let po = whole_run_options(m, true);
         par_map(curves.len(), |k| {
             // Not rendered (smoothed into itself), or rendered already by
             // `auto`'s objective (the writer plans it if it must render it
@@ -603,12 +604,7 @@ fn plan_job(
     let mut exact_done = exact_done.expect("the curves are planned");
     if let Some(carry) = carry {
         let cut = program.window_cut();
-        let po = PlanOptions {
-            limits: *m,
-            override_feed,
-            window: None,
-            ends: Default::default(),
-        };
+        let po = whole_run_options(m, override_feed);
         if carry.input.is_some() || cut {
             let originals: Vec<&[Piece]> = result
                 .runs
@@ -748,33 +744,34 @@ pub fn plan_written_carried(
     let what = "the written program";
     let known = &reading.run_times;
     let outline = &reading.outline;
-    let mut done = motion_times(outline, &pieces, known, &[], m, o, false, what)?;
+    // The runs that go on across parts: timed by the carried plan, not
+    // here (their first and last runs where a part starts or ends at a cut).
+    let ends: Vec<usize> = outline
+        .iter()
+        .filter_map(|m| match m {
+            MotionOutline::Run(k) => Some(*k),
+            _ => None,
+        })
+        .collect();
+    let goes_on = [
+        ends.first().filter(|_| carry.is_some()),
+        ends.last().filter(|_| cut),
+    ];
+    let mut skip = vec![false; pieces.len()];
+    for &&k in goes_on.iter().flatten() {
+        skip[k] = true;
+    }
+    let mut done = motion_times(outline, &pieces, known, &skip, m, o, false, what)?;
     #[cfg(test)]
     if cut && UNSTITCH_WRITTEN.with(|u| u.get()) {
         return Err(PlanError::Unstitched { what });
     }
     if carry.is_some() || cut {
-        let po = PlanOptions {
-            limits: *m,
-            override_feed: o,
-            window: None,
-            ends: Default::default(),
-        };
+        let po = whole_run_options(m, o);
         // (A run checked as it was read holds no pieces.)
         let held = |k: usize| {
             !reading.runs[k].pieces.is_empty() || known.get(k).copied().flatten().is_none()
         };
-        let ends: Vec<usize> = outline
-            .iter()
-            .filter_map(|m| match m {
-                MotionOutline::Run(k) => Some(*k),
-                _ => None,
-            })
-            .collect();
-        let goes_on = [
-            ends.first().filter(|_| carry.is_some()),
-            ends.last().filter(|_| cut),
-        ];
         if goes_on.iter().flatten().any(|&&k| !held(k)) {
             return Err(PlanError::Unstitched { what });
         }
