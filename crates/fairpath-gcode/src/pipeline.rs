@@ -270,6 +270,7 @@ impl SmoothOptions {
             } else {
                 Corners::Blended
             },
+            keeps_every_run: self.method.keeps_every_run(),
         }
     }
 }
@@ -300,6 +301,11 @@ pub struct EmitOptions {
     /// against the program's own runs: [`Corners::BlockCapped`] for a
     /// method that writes for LinuxCNC's S-curve planner (`arc-fit`).
     pub judged_by: Corners,
+    /// The method keeps every run as the program wrote it (`none`): no
+    /// run is rewritten, so no blending command is written around one,
+    /// nor around the windows of a run cut into windows (the text is the
+    /// program's).
+    pub keeps_every_run: bool,
 }
 
 impl EmitOptions {

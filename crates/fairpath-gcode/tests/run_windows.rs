@@ -315,3 +315,47 @@ fn windows_at_every_line_keep_our_programs_runs_path_and_times() {
         }
     }
 }
+
+/// `Cereal.ngc` (`G64 P0.1`, which blends beyond the blending share, so
+/// the writer tightens it around the runs it rewrites) in windows of one
+/// line: windows kept as written lie next to windows rewritten, and the
+/// writer's command goes before a cut run's first window, kept or not,
+/// and the program's own after its last, so no path-control line falls
+/// inside a run (the writer's command between a kept window and a
+/// rewritten one made the text read back as 51 runs where the program has
+/// 50). A run counts as kept only where all its windows are. Read in
+/// place; nothing to check without `shared/paths`.
+#[test]
+fn cereal_in_windows_of_one_line_keeps_its_runs_under_one_blending_command() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/paths/linuxcnc/performance/Cereal.ngc");
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return;
+    };
+    let windows = RunWindows {
+        lines: 1,
+        min_cut_mm: 1.0,
+    };
+    let (_, original) = read_motion(text.as_bytes()).unwrap();
+    for controller in [Controller::Generic, Controller::Linuxcnc] {
+        let opts = SmoothOptions::new(0.05, None, "bspline-corner", Some(Format::Arcs), controller)
+            .unwrap();
+        let (evidence, written) = windowed_job(&text, &opts, 1, windows).unwrap();
+        let (_, runs) = read_motion(written.as_bytes()).unwrap();
+        assert_eq!(runs.len(), original.len(), "{controller:?}: runs");
+        let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
+        assert!(check.within, "{controller:?}: {}", check.max_deviation);
+        assert_eq!(evidence.runs, original.len(), "{controller:?}");
+        assert!(
+            evidence.kept_runs < evidence.runs,
+            "{controller:?}: {} of {} runs kept",
+            evidence.kept_runs,
+            evidence.runs
+        );
+        assert_eq!(
+            evidence.times.written,
+            plan_text(&written, &opts).unwrap(),
+            "{controller:?}"
+        );
+    }
+}

@@ -653,6 +653,7 @@ mod tests {
             step_share: fairpath::render::arcs::STEP_SHARE,
             override_feed: false,
             judged_by: fairpath::feed::plan::Corners::Blended,
+            keeps_every_run: false,
         }
     }
 

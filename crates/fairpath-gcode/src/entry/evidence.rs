@@ -72,8 +72,9 @@ pub struct Evidence {
     pub g91_spline_runs: usize,
     /// See [`Report::block_capped`].
     pub block_capped: bool,
-    /// The last part added ended in a window's cut with its run kept as
-    /// written (a run cut into windows counts once, and once kept).
+    /// The last part added ended in a window's cut, and every window of
+    /// its run so far was kept as written (a run cut into windows counts
+    /// once, and as kept only where all of it is).
     pub cut_run_kept: bool,
     /// The program has no moves: nothing was smoothed.
     pub no_moves: bool,
@@ -210,14 +211,17 @@ impl Evidence {
         }
         // A run that goes on from the part before is that run, and its
         // first move the rest of the cut line.
-        let (continued, cut) = report.window_ends;
+        let (continued, _) = report.window_ends;
         if continued && !report.result.runs.is_empty() {
             self.runs -= 1;
             self.feed_moves_in -= 1;
         }
-        let first_kept = report.kept.first() == Some(&true);
-        let kept_twice = continued && first_kept && self.cut_run_kept;
-        self.cut_run_kept = cut && report.kept.last() == Some(&true);
+        let kept = kept_runs_of_part(
+            &mut self.cut_run_kept,
+            report.window_ends,
+            &report.kept,
+            report.kept_runs,
+        );
         self.chosen.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
         self.unfaired.sort();
         self.times = report.times;
@@ -233,7 +237,7 @@ impl Evidence {
         self.lines_in += report.lines_in;
         self.lines_out += report.lines_out;
         self.retried_runs += report.retried_runs;
-        self.kept_runs += report.kept_runs - usize::from(kept_twice);
+        self.kept_runs += kept;
         self.g91_spline_runs += report.g91_spline_runs;
         self.rapids += report.rapids;
         self.no_moves &= report.no_moves;
@@ -263,5 +267,102 @@ impl Evidence {
     /// True when the written program plans slower than the input.
     pub fn slower_than_input(&self) -> bool {
         self.times.written.total > self.times.input.total
+    }
+}
+
+/// The runs of a part kept as the program wrote them, where a run cut
+/// into windows counts once, in the part where it ends, and as kept only
+/// where every window of it is: `kept` says which of the part's runs (or
+/// windows) were kept, `ends` whether its first run goes on from the part
+/// before and its last into the next ([`Report::window_ends`]), and
+/// `cut_kept` whether every window so far of the run going on was kept
+/// (updated for the next part); `count` is the part's own count of kept
+/// runs ([`Report::kept_runs`]).
+fn kept_runs_of_part(
+    cut_kept: &mut bool,
+    ends: (bool, bool),
+    kept: &[bool],
+    mut count: usize,
+) -> usize {
+    let (continued, cut) = ends;
+    let n = kept.len();
+    let first_kept = kept.first() == Some(&true);
+    let last_kept = kept.last() == Some(&true);
+    let goes_on_from_before = continued && n > 0;
+    // The part is one window in the middle of a run.
+    let middle = goes_on_from_before && cut && n == 1;
+    let kept_so_far = goes_on_from_before && *cut_kept && first_kept;
+    // The windows of cut runs are counted where their run ends.
+    if goes_on_from_before && first_kept {
+        count -= 1;
+    }
+    if cut && last_kept && !middle {
+        count -= 1;
+    }
+    if goes_on_from_before && !middle && kept_so_far {
+        count += 1;
+    }
+    *cut_kept = if middle {
+        kept_so_far
+    } else {
+        cut && last_kept
+    };
+    count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kept_runs_of_part;
+
+    /// The runs kept, counted part after part: `parts` gives each part's
+    /// window ends and kept runs.
+    fn count(parts: &[((bool, bool), &[bool])]) -> usize {
+        let mut cut_kept = false;
+        parts
+            .iter()
+            .map(|(ends, kept)| {
+                let n = kept.iter().filter(|&&k| k).count();
+                kept_runs_of_part(&mut cut_kept, *ends, kept, n)
+            })
+            .sum()
+    }
+
+    #[test]
+    fn a_run_cut_into_windows_counts_once_and_as_kept_only_where_all_of_it_is() {
+        // Runs not cut.
+        assert_eq!(count(&[((false, false), &[true, false, true])]), 2);
+        // One run in three windows, all kept: once.
+        let all = [
+            ((false, true), &[true][..]),
+            ((true, true), &[true][..]),
+            ((true, false), &[true][..]),
+        ];
+        assert_eq!(count(&all), 1);
+        // Kept, rewritten, kept: not kept (`Cereal.ngc` in windows of one
+        // line counted 74 of its 50 runs kept).
+        let mixed = [
+            ((false, true), &[true][..]),
+            ((true, true), &[false][..]),
+            ((true, false), &[true][..]),
+        ];
+        assert_eq!(count(&mixed), 0);
+        // Runs before and after the cut run, in its first and last parts.
+        let around = [
+            ((false, true), &[true, true][..]),
+            ((true, false), &[true, false, true][..]),
+        ];
+        assert_eq!(count(&around), 3);
+        let around_rewritten = [
+            ((false, true), &[true, false][..]),
+            ((true, false), &[true, true][..]),
+        ];
+        assert_eq!(count(&around_rewritten), 2);
+        // Two cut runs one after the other, the first kept, the second not.
+        let two = [
+            ((false, true), &[true][..]),
+            ((true, true), &[true, false][..]),
+            ((true, false), &[true][..]),
+        ];
+        assert_eq!(count(&two), 1);
     }
 }

@@ -194,12 +194,11 @@ fn in_parts(
     let block_delete = facts.block_delete;
     let total_lines = facts.lines;
     let mut reader = PartReader::new(text, &ParseOptions::default(), sizes.lines, block_delete);
-    // Not where the writer writes a blending command around the runs it
-    // rewrites (LinuxCNC, or a program whose G64 blends beyond the share):
-    // a window kept as written and the next rewritten would get it between
-    // them, inside the run. (It would have to be in force from the run's
-    // first window, kept or not, to its last.)
-    if let Some(w) = sizes.windows.filter(|_| budget.blend <= 0.0) {
+    // (Where the writer writes a blending command around the runs it
+    // rewrites, LinuxCNC or a program whose G64 blends beyond the share,
+    // it is in force from a cut run's first window, kept or not, to its
+    // last: `write_gcode::kept_window_blending`.)
+    if let Some(w) = sizes.windows {
         reader = reader.windowed(w);
     }
     let mut ctx = PartContext::new(facts);

@@ -157,8 +157,9 @@ pub fn write_options(opts: &EmitOptions, program_degree: usize) -> GcodeWriteOpt
         decimal_point: opts.controller == Controller::Fanuc,
         // Written around every run for LinuxCNC, and for any controller
         // around runs where the program's own G64 blends beyond the share
-        // (EmitOptions::budget_for gives one then).
-        g64_blend_mm: (blend > 0.0).then_some(blend),
+        // (EmitOptions::budget_for gives one then); never where no run is
+        // rewritten.
+        g64_blend_mm: (blend > 0.0 && !opts.keeps_every_run).then_some(blend),
         g64_always: opts.controller == Controller::Linuxcnc,
         // For every controller: a Fanuc control reads these decimals only
         // with a fine increment system (IS-D/IS-E); with IS-C (4 decimals

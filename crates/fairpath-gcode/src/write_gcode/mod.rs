@@ -288,13 +288,33 @@ pub fn write_part(
     // This part's cut line, held back where its run is kept.
     let hold_last = program.window_cut() && matches!(smoothed.last(), Some(RunOutput::Original));
     let mut held = None;
+    // The last line of a kept window that ends a run cut into windows,
+    // after which the program's own path control is written back.
+    let mut restore_after = None;
     let mut i = 0;
     let mut run_idx = 0;
     while i < lines.len() {
         let line = &lines[i];
         let smoothed_run = match smoothed.get(run_idx) {
             Some(RunOutput::Original) if runs[run_idx].first_line == line.number => {
-                // Copied line by line below.
+                // Copied line by line below; a window of a run that is
+                // cut into windows under our blending command keeps it
+                // in force (`kept_window_blending`).
+                let run = &runs[run_idx];
+                match kept_window_blending(program, run_idx, opts, &path_before) {
+                    Some(WindowBlending::Begin) => {
+                        let scale = run.units.mm_per_unit();
+                        if let Some(pc) = run::g64_command(opts, scale, style) {
+                            if written_path.as_ref() != Some(&pc) {
+                                out.push_str(&pc);
+                                out.push_str(eol);
+                                written_path = Some(pc);
+                            }
+                        }
+                    }
+                    Some(WindowBlending::End) => restore_after = Some(run.last_line),
+                    None => {}
+                }
                 run_idx += 1;
                 None
             }
@@ -361,6 +381,19 @@ pub fn write_part(
         }
         out.push_str(&line.text);
         out.push_str(line.ending);
+        if restore_after == Some(line.number) {
+            restore_after = None;
+            if let Some(orig) = &line.path_control_after {
+                if written_path.as_ref() != Some(orig) {
+                    if line.ending.is_empty() {
+                        out.push_str(eol);
+                    }
+                    out.push_str(orig);
+                    out.push_str(eol);
+                    written_path = Some(orig.clone());
+                }
+            }
+        }
         if i == 0 && leading_percent && program.expanded() {
             out.push_str(EXPANDED_HEADER);
             out.push_str(if line.ending.is_empty() { "" } else { eol });
@@ -380,6 +413,47 @@ pub fn write_part(
         cut_line: held,
     };
     spill.finish(&mut out).map_err(WriteError::Output)
+}
+
+/// Where a kept window of a run cut into windows stands in our blending
+/// command ([`kept_window_blending`]).
+enum WindowBlending {
+    /// The run's first window: the command goes before it.
+    Begin,
+    /// The run's last window: the program's own path control is written
+    /// back after it.
+    End,
+}
+
+/// For run `k` of `program`, kept as the program wrote it: where it is a
+/// window of a run cut into windows ([`Program::window_cut`]) around which
+/// the writer writes its blending command ([`run::tightens_blending`]),
+/// whether it is the run's first window or its last.
+///
+/// Why: the command goes before the run's first window and the program's
+/// own after its last, whichever windows are rewritten. A window written
+/// between a kept one and a rewritten one would put a path-control line
+/// inside the run, which ends it there (`Cereal.ngc`, `auto`, windows of
+/// one line: 51 runs read back where the program has 50). A kept window
+/// under our command is the program's own path blended within the share,
+/// which is closer to it than the program's own blending; the planned
+/// times do not depend on the blending command.
+fn kept_window_blending(
+    program: &Program,
+    k: usize,
+    opts: &GcodeWriteOptions,
+    path_before: &[Option<PathControl>],
+) -> Option<WindowBlending> {
+    let goes_on = program.window_cut() && k + 1 == program.run_spans().len();
+    let continued = program.window_continued() && k == 0;
+    if !run::tightens_blending(opts, path_before[k].as_ref()) {
+        return None;
+    }
+    match (continued, goes_on) {
+        (false, true) => Some(WindowBlending::Begin),
+        (true, false) => Some(WindowBlending::End),
+        _ => None,
+    }
 }
 
 /// After a written run whose motion mode differs from the program's, a

@@ -13,6 +13,47 @@ use crate::text_out::Spiller;
 use fairpath::geom::{Curve, Plane, Vec3};
 use fairpath::path::Piece;
 
+/// The blending command of [`GcodeWriteOptions::g64_blend_mm`] in units
+/// of `scale` mm, in `style`: P with enough decimals to be within 1% of the
+/// asked blend (rounded down). `None` when the blend is not positive
+/// (LinuxCNC reads `P0` as no tolerance at all).
+pub(super) fn g64_command(
+    opts: &GcodeWriteOptions,
+    scale: f64,
+    style: NumberStyle,
+) -> Option<String> {
+    let b = opts.g64_blend_mm? / scale;
+    if !(b.is_finite() && b > 0.0) {
+        return None;
+    }
+    let mut d = 4;
+    while d < MAX_DECIMALS && 10f64.powi(-(d as i32)) > 0.01 * b {
+        d += 1;
+    }
+    let p = (b * 10f64.powi(d as i32)).floor() / 10f64.powi(d as i32);
+    (p > 0.0).then(|| {
+        format!(
+            "G64 P{} Q{}",
+            style.apply(fmt_fixed(p, d)),
+            style.apply("0".into())
+        )
+    })
+}
+
+/// Whether our blending command goes before a run where the input's path
+/// control in force is `path_before`: always when asked
+/// ([`GcodeWriteOptions::g64_always`]), or when that control blends beyond
+/// the share ([`PathControl::exceeds`]).
+pub(super) fn tightens_blending(
+    opts: &GcodeWriteOptions,
+    path_before: Option<&PathControl>,
+) -> bool {
+    let Some(blend) = opts.g64_blend_mm else {
+        return false;
+    };
+    opts.g64_always || path_before.is_some_and(|p| p.exceeds(blend))
+}
+
 /// The state of writing one run.
 pub(super) struct RunWriter<'a> {
     pub(super) program: &'a Program,
@@ -115,37 +156,15 @@ impl<'a> RunWriter<'a> {
     }
 
     /// The blending command of [`GcodeWriteOptions::g64_blend_mm`] in the
-    /// run's units: P with enough decimals to be within 1% of the asked
-    /// blend (rounded down).
-    /// `None` when the blend is not positive (LinuxCNC reads `P0` as no
-    /// tolerance at all).
+    /// run's units ([`g64_command`]).
     pub(super) fn g64(&self) -> Option<String> {
-        let b = self.opts.g64_blend_mm? / self.scale;
-        if !(b.is_finite() && b > 0.0) {
-            return None;
-        }
-        let mut d = 4;
-        while d < MAX_DECIMALS && 10f64.powi(-(d as i32)) > 0.01 * b {
-            d += 1;
-        }
-        let p = (b * 10f64.powi(d as i32)).floor() / 10f64.powi(d as i32);
-        (p > 0.0).then(|| {
-            format!(
-                "G64 P{} Q{}",
-                self.style.apply(fmt_fixed(p, d)),
-                self.style.apply("0".into())
-            )
-        })
+        g64_command(self.opts, self.scale, self.style)
     }
 
-    /// Whether our blending command goes before this run: always when
-    /// asked, or when the input's path control in force blends beyond the
-    /// share ([`PathControl::exceeds`]).
+    /// Whether our blending command goes before this run
+    /// ([`tightens_blending`]).
     pub(super) fn tightens_blending(&self) -> bool {
-        let Some(blend) = self.opts.g64_blend_mm else {
-            return false;
-        };
-        self.opts.g64_always || self.path_before.as_ref().is_some_and(|p| p.exceeds(blend))
+        tightens_blending(self.opts, self.path_before.as_ref())
     }
 
     pub(super) fn push_line(&mut self, text: &str) {

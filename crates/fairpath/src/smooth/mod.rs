@@ -172,6 +172,11 @@ pub trait Smoother: Sync {
     fn writes_for_block_capped_planner(&self) -> bool {
         false
     }
+    /// Whether the method keeps every run as it is (`none`): its output is
+    /// the program's own text, which no writer's command may change.
+    fn keeps_every_run(&self) -> bool {
+        false
+    }
 }
 
 /// Rejects tolerances that are not positive and finite, or absurdly small

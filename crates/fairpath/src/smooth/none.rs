@@ -29,6 +29,10 @@ impl Smoother for NoSmoothing {
         "none"
     }
 
+    fn keeps_every_run(&self) -> bool {
+        true
+    }
+
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         let gap = NONE_GAP_SHARE * tolerance;
