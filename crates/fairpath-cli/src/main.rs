@@ -208,10 +208,11 @@ enum Command {
         /// checked one after the other: memory grows with a window, not
         /// with the run (a one-run raster of 3.7 MB: 38 MB with `none`,
         /// against 194 MB whole). Near each cut the path keeps the cut
-        /// line straight; the times are the whole file's. Not for the
-        /// LinuxCNC controller, nor for a program whose own G64 blends
-        /// beyond the blending share (around whose runs fairpath writes
-        /// its own G64). 0: runs are not cut.
+        /// line straight; the times are the whole file's. Where fairpath
+        /// writes its own G64 around the runs it rewrites (LinuxCNC, or a
+        /// program whose G64 blends beyond the blending share), it goes
+        /// before a cut run's first window and the program's after its
+        /// last. 0: runs are not cut.
         #[arg(long, value_name = "N", default_value_t = fairpath_gcode::RunWindows::DEFAULT.lines as u32)]
         window_lines: u32,
         /// Print the summary as JSON.
