@@ -158,6 +158,12 @@ impl ParamCurve for Curve {
             Curve::Nurbs(_) => None,
         }
     }
+    fn quadratic_deriv1(&self) -> bool {
+        match self {
+            Curve::Nurbs(c) => c.quadratic_deriv1(),
+            _ => false,
+        }
+    }
     fn curvature(&self, t: f64) -> f64 {
         match self {
             Curve::Line(_) => 0.0,

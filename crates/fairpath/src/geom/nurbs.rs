@@ -485,6 +485,10 @@ impl ParamCurve for Nurbs {
         let [_, d1, d2] = self.derivs(t);
         super::curvature_vector_from(d1, d2)
     }
+    /// Non-rational, of degree at most 3.
+    fn quadratic_deriv1(&self) -> bool {
+        self.weights.is_none() && self.degree <= 3
+    }
     /// The distinct knots in the domain ([`Nurbs::breakpoints`]).
     fn breaks(&self) -> Vec<f64> {
         self.breakpoints()
