@@ -25,7 +25,7 @@ use super::plan::{Corners, Part, PlanOptions};
 use super::shaping::Shaping;
 use super::{max_reachable_velocity, FeedError};
 use crate::geom::{classify_joint, Continuity, JointTolerances};
-use crate::geom::{flatten_params, Curve, ParamCurve, Vec3};
+use crate::geom::{flatten_params, flatten_params_between, CubicBezier, Curve, ParamCurve, Vec3};
 use crate::path::Piece;
 use alloc::vec::Vec;
 
@@ -87,7 +87,7 @@ fn flat_span(b: &[Vec3], chord: f64) -> bool {
     hull <= chord && 0.75 * second <= chord
 }
 
-fn point(c: &Curve, t: f64) -> (PathPoint, f64) {
+fn point<C: ParamCurve + ?Sized>(c: &C, t: f64) -> (PathPoint, f64) {
     let (d1, d2) = c.derivs12(t);
     let tangent = d1.normalized(0.0).unwrap_or(crate::geom::Vec3::X);
     let k = crate::geom::curvature_vector_from(d1, d2);
@@ -419,8 +419,13 @@ pub(super) fn stretches(
     // intervals to do with their end points where known.
     let mut ts: Vec<f64> = Vec::new();
     let mut caps: Vec<(f64, f64, f64)> = Vec::new();
+    // A cubic spline's Bezier spans, and the span each interval of `ts`
+    // lies in (that of `ts[k - 1]..ts[k]` at `k`): a stretch of a span is
+    // measured and sampled on its Bezier form (`CubicBezier`).
+    let mut beziers: Vec<CubicBezier> = Vec::new();
+    let mut span_of: Vec<usize> = Vec::new();
     type Known = Option<(PathPoint, f64)>;
-    let mut todo: Vec<(f64, f64, u32, Known, Known)> = Vec::new();
+    let mut todo: Vec<(f64, f64, u32, Known, Known, usize)> = Vec::new();
     for (vi, &(pi, len_total)) in valid.iter().enumerate() {
         let p = &pieces[pi];
         let feed = if opts.override_feed {
@@ -450,6 +455,8 @@ pub(super) fn stretches(
         // three small vectors per piece.)
         ts.clear();
         caps.clear();
+        beziers.clear();
+        span_of.clear();
         match c {
             Curve::Line(_) => {
                 let (tin, tout) = (jin.tangent_length, jout.tangent_length);
@@ -502,6 +509,13 @@ pub(super) fn stretches(
             // whole without sampling it (`flat_span`: what the flattening
             // would decide at its first test), which on a long fit of short,
             // nearly straight spans is most of them.
+            //
+            // Each span of a polynomial cubic is flattened, measured and
+            // sampled as the Bezier curve it is there (the same curve but
+            // for rounding, at a fraction of the B-spline's evaluation:
+            // `plan curves` of `surface-raster.ngc`'s fits in the stages
+            // benchmark; measurements: docs/performance.md, "Fits
+            // evaluated span by span").
             Curve::Nurbs(n) => {
                 let breaks = n.breakpoints();
                 let bezier = if n.weights.is_none() && n.degree == 3 {
@@ -509,17 +523,32 @@ pub(super) fn stretches(
                 } else {
                     Vec::new()
                 };
+                if bezier.len() + 1 == breaks.len() {
+                    beziers.extend(breaks.windows(2).zip(&bezier).filter_map(|(w, b)| {
+                        let p = <[Vec3; 4]>::try_from(&b.points[..]).ok()?;
+                        CubicBezier::new(p, w[0], w[1])
+                    }));
+                }
+                if beziers.len() + 1 != breaks.len() {
+                    beziers.clear();
+                }
                 ts.push(breaks[0]);
+                span_of.push(usize::MAX);
                 for (i, w) in breaks.windows(2).enumerate() {
                     if bezier
                         .get(i)
                         .is_some_and(|b| flat_span(&b.points, m.chord_error))
                     {
                         ts.push(w[1]);
+                        span_of.push(i);
                         continue;
                     }
-                    let span = crate::geom::flatten_params_between(c, w[0], w[1], m.chord_error);
+                    let span = match beziers.get(i) {
+                        Some(b) => flatten_params_between(b, w[0], w[1], m.chord_error),
+                        None => flatten_params_between(c, w[0], w[1], m.chord_error),
+                    };
                     ts.extend_from_slice(&span[1..]);
+                    span_of.extend(core::iter::repeat_n(i, span.len() - 1));
                 }
             }
             _ => ts.extend(flatten_params(c, m.chord_error)),
@@ -532,9 +561,17 @@ pub(super) fn stretches(
         // share its ends and middle; an interval starts where the one
         // before it ended): each point is evaluated once.
         todo.clear();
-        todo.extend(ts.windows(2).rev().map(|w| (w[0], w[1], 0, None, None)));
+        todo.extend(ts.windows(2).enumerate().rev().map(|(k, w)| {
+            let span = span_of.get(k + 1).copied().unwrap_or(usize::MAX);
+            (w[0], w[1], 0, None, None, span)
+        }));
         let mut last_end: Option<(f64, (PathPoint, f64))> = None;
-        while let Some((t0, t1, depth, known0, known1)) = todo.pop() {
+        while let Some((t0, t1, depth, known0, known1, span)) = todo.pop() {
+            // The curve the stretch is measured and sampled on.
+            let on: &dyn ParamCurve = match beziers.get(span) {
+                Some(b) => b,
+                None => c,
+            };
             let (blend_cap, blend_len, entry) =
                 blend_caps
                     .next()
@@ -545,16 +582,16 @@ pub(super) fn stretches(
             let len = match c {
                 Curve::Line(_) if blend_len > 0.0 => blend_len,
                 Curve::Line(_) => len_total * (t1 - t0),
-                _ => crate::geom::arc_length_between(c, t0, t1, m.chord_error * 1e-4),
+                _ => crate::geom::arc_length_between(on, t0, t1, m.chord_error * 1e-4),
             };
             if len.is_nan() || len <= 0.0 {
                 continue;
             }
             let (p0, k0) = known0
                 .or_else(|| last_end.filter(|l| l.0 == t0).map(|l| l.1))
-                .unwrap_or_else(|| point(c, t0));
-            let (pm, km) = point(c, 0.5 * (t0 + t1));
-            let (p1, k1) = known1.unwrap_or_else(|| point(c, t1));
+                .unwrap_or_else(|| point(on, t0));
+            let (pm, km) = point(on, 0.5 * (t0 + t1));
+            let (p1, k1) = known1.unwrap_or_else(|| point(on, t1));
             last_end = Some((t1, (p1, k1)));
             let dk = (k1 - k0) / len;
             let dk_mid = crate::math::abs(k1 - km).max(crate::math::abs(km - k0)) * 2.0 / len;
@@ -578,8 +615,8 @@ pub(super) fn stretches(
                 && !matches!(c, Curve::Line(_))
             {
                 let tm = 0.5 * (t0 + t1);
-                todo.push((tm, t1, depth + 1, Some((pm, km)), Some((p1, k1))));
-                todo.push((t0, tm, depth + 1, Some((p0, k0)), Some((pm, km))));
+                todo.push((tm, t1, depth + 1, Some((pm, km)), Some((p1, k1)), span));
+                todo.push((t0, tm, depth + 1, Some((p0, k0)), Some((pm, km)), span));
                 continue;
             }
             let j = core::mem::replace(&mut jcap, f64::INFINITY) * cap_factor;

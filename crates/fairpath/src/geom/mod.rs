@@ -9,6 +9,7 @@ pub mod basis;
 mod bezier_spans;
 pub mod biarc;
 pub mod continuity;
+mod cubic_bezier;
 mod cubic_span;
 mod curve;
 pub mod elevate;
@@ -31,6 +32,7 @@ mod vec3;
 
 pub use arc::{Arc, ArcError};
 pub use continuity::{classify_joint, Continuity, JointTolerances};
+pub use cubic_bezier::CubicBezier;
 pub use curve::{
     arc_length, arc_length_between, curvature_from, curvature_vector_from, flatten_params,
     flatten_params_between, total_curvature, ParamCurve,
