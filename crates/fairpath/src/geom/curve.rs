@@ -198,7 +198,7 @@ const MAX_LENGTH_INTERVALS: u32 = 1 << 16;
 ///
 /// Where `C'` is quadratic between breaks ([`ParamCurve::quadratic_deriv1`])
 /// each break interval is integrated on its own, from three values of
-/// `C'` ([`QuadraticDeriv`]), with the share of `accuracy` its parameter
+/// `C'` (its Lagrange interpolant), with the share of `accuracy` its parameter
 /// length owns.
 pub fn arc_length_between<C: ParamCurve + ?Sized>(c: &C, a: f64, b: f64, accuracy: f64) -> f64 {
     if b > a {
