@@ -299,19 +299,7 @@ fn windows_at_every_line_keep_our_programs_runs_path_and_times() {
             let what = format!("program {i}, {method} {format:?} {controller:?}");
             let (evidence, written) =
                 windowed_job(text, &opts, 1, windows).unwrap_or_else(|e| panic!("{what}: {e}"));
-            let (_, original) = read_motion(text.as_bytes()).unwrap();
-            let (_, runs) = read_motion(written.as_bytes()).unwrap();
-            assert_eq!(runs.len(), original.len(), "{what}: runs\n{written}");
-            let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
-            assert!(check.within, "{what}: {}", check.max_deviation);
-            assert_eq!(evidence.runs, original.len(), "{what}");
-            assert_eq!(
-                evidence.times.input,
-                plan_text(text, &opts).unwrap(),
-                "{what}"
-            );
-            let wrote = plan_text(&written, &opts).unwrap();
-            assert_eq!(evidence.times.written, wrote, "{what}");
+            keeps_runs_path_and_times(text, &opts, &evidence, &written, &what);
         }
     }
 }
@@ -336,26 +324,43 @@ fn cereal_in_windows_of_one_line_keeps_its_runs_under_one_blending_command() {
         lines: 1,
         min_cut_mm: 1.0,
     };
-    let (_, original) = read_motion(text.as_bytes()).unwrap();
     for controller in [Controller::Generic, Controller::Linuxcnc] {
         let opts = SmoothOptions::new(0.05, None, "bspline-corner", Some(Format::Arcs), controller)
             .unwrap();
         let (evidence, written) = windowed_job(&text, &opts, 1, windows).unwrap();
-        let (_, runs) = read_motion(written.as_bytes()).unwrap();
-        assert_eq!(runs.len(), original.len(), "{controller:?}: runs");
-        let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
-        assert!(check.within, "{controller:?}: {}", check.max_deviation);
-        assert_eq!(evidence.runs, original.len(), "{controller:?}");
+        let what = format!("{controller:?}");
+        keeps_runs_path_and_times(&text, &opts, &evidence, &written, &what);
         assert!(
             evidence.kept_runs < evidence.runs,
             "{controller:?}: {} of {} runs kept",
             evidence.kept_runs,
             evidence.runs
         );
-        assert_eq!(
-            evidence.times.written,
-            plan_text(&written, &opts).unwrap(),
-            "{controller:?}"
-        );
     }
+}
+
+/// The text `written` of a job on `text` with `opts` reads back with the
+/// program's runs, within the tolerance of its path, and `evidence` counts
+/// those runs and gives the times of the input and of the text, each
+/// planned whole (`what` names the job in messages).
+fn keeps_runs_path_and_times(
+    text: &str,
+    opts: &SmoothOptions,
+    evidence: &fairpath_gcode::Evidence,
+    written: &str,
+    what: &str,
+) {
+    let (_, original) = read_motion(text.as_bytes()).unwrap();
+    let (_, runs) = read_motion(written.as_bytes()).unwrap();
+    assert_eq!(runs.len(), original.len(), "{what}: runs\n{written}");
+    let check = compare_runs(&original, &runs, opts.tolerance()).unwrap();
+    assert!(check.within, "{what}: {}", check.max_deviation);
+    assert_eq!(evidence.runs, original.len(), "{what}");
+    assert_eq!(
+        evidence.times.input,
+        plan_text(text, opts).unwrap(),
+        "{what}"
+    );
+    let wrote = plan_text(written, opts).unwrap();
+    assert_eq!(evidence.times.written, wrote, "{what}");
 }

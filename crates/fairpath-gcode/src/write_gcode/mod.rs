@@ -305,11 +305,7 @@ pub fn write_part(
                     Some(WindowBlending::Begin) => {
                         let scale = run.units.mm_per_unit();
                         if let Some(pc) = run::g64_command(opts, scale, style) {
-                            if written_path.as_ref() != Some(&pc) {
-                                out.push_str(&pc);
-                                out.push_str(eol);
-                                written_path = Some(pc);
-                            }
+                            run::put_path_control(&mut out, eol, &mut written_path, &pc);
                         }
                     }
                     Some(WindowBlending::End) => restore_after = Some(run.last_line),
@@ -384,14 +380,10 @@ pub fn write_part(
         if restore_after == Some(line.number) {
             restore_after = None;
             if let Some(orig) = &line.path_control_after {
-                if written_path.as_ref() != Some(orig) {
-                    if line.ending.is_empty() {
-                        out.push_str(eol);
-                    }
-                    out.push_str(orig);
+                if written_path.as_ref() != Some(orig) && line.ending.is_empty() {
                     out.push_str(eol);
-                    written_path = Some(orig.clone());
                 }
+                run::put_path_control(&mut out, eol, &mut written_path, orig);
             }
         }
         if i == 0 && leading_percent && program.expanded() {

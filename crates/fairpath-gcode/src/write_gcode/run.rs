@@ -54,6 +54,21 @@ pub(super) fn tightens_blending(
     opts.g64_always || path_before.is_some_and(|p| p.exceeds(blend))
 }
 
+/// Writes the path-control command `pc` as a line of `out` unless it is
+/// the one `in_force` in the written program, which it then is.
+pub(super) fn put_path_control(
+    out: &mut String,
+    eol: &str,
+    in_force: &mut Option<String>,
+    pc: &str,
+) {
+    if in_force.as_deref() != Some(pc) {
+        out.push_str(pc);
+        out.push_str(eol);
+        *in_force = Some(pc.to_string());
+    }
+}
+
 /// The state of writing one run.
 pub(super) struct RunWriter<'a> {
     pub(super) program: &'a Program,
@@ -220,10 +235,7 @@ impl<'a> RunWriter<'a> {
     fn begin(&mut self) {
         if self.tightens_blending() {
             if let Some(pc) = self.g64() {
-                if self.path.as_ref() != Some(&pc) {
-                    self.push_line(&pc);
-                    self.path = Some(pc);
-                }
+                put_path_control(self.out, self.eol, &mut self.path, &pc);
             }
         }
     }
@@ -370,11 +382,7 @@ impl<'a> RunWriter<'a> {
             && self.program.lines().last().map(|l| l.number) == Some(self.run.last_line);
         if self.opts.g64_blend_mm.is_some() && !goes_on {
             if let Some(orig) = &last.path_control_after {
-                if self.path.as_ref() != Some(orig) {
-                    let orig = orig.clone();
-                    self.push_line(&orig);
-                    self.path = Some(orig);
-                }
+                put_path_control(self.out, self.eol, &mut self.path, orig);
             }
         }
     }
