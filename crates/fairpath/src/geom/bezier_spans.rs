@@ -123,6 +123,35 @@ impl Nurbs {
     }
 }
 
+impl Nurbs {
+    /// A polynomial cubic's Bezier spans as control points, with its
+    /// breakpoints (`breaks.len() == spans.len() + 1`): the points of
+    /// [`Nurbs::bezier_spans`] (the same knot insertions) without a
+    /// [`Nurbs`] per span. `None` for a rational curve, another degree, a
+    /// curve that fails [`Nurbs::validate`], or knots that leave a span out.
+    pub fn cubic_bezier_points(&self) -> Option<(Vec<f64>, Vec<[Vec3; 4]>)> {
+        if self.degree != 3 || self.weights.is_some() || self.validate().is_err() {
+            return None;
+        }
+        let breaks = self.breakpoints();
+        let (knots, pw) = raise_breakpoints(3, &self.knots, &to_hom(self), &breaks);
+        let point = |h: &Hom| Vec3::new(h[0], h[1], h[2]);
+        let mut out = Vec::with_capacity(breaks.len().saturating_sub(1));
+        let mut j = 0usize;
+        for &t0 in &breaks[..breaks.len() - 1] {
+            while j + 1 < knots.len() && knots[j + 1] <= t0 {
+                j += 1;
+            }
+            if knots[j] != t0 || j < 3 {
+                return None;
+            }
+            let q = &pw[j - 3..=j];
+            out.push([point(&q[0]), point(&q[1]), point(&q[2]), point(&q[3])]);
+        }
+        Some((breaks, out))
+    }
+}
+
 /// `knots`/`pw` (degree `p`) with each of `breaks` (increasing, in the
 /// domain) inserted until its multiplicity is `p`: the result of
 /// [`insert_once`] applied breakpoint after breakpoint, with the same

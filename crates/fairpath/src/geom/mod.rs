@@ -7,6 +7,7 @@ mod arc;
 pub mod band_fit;
 pub mod basis;
 mod bezier_spans;
+mod bezier_spline;
 pub mod biarc;
 pub mod continuity;
 mod cubic_bezier;
@@ -31,6 +32,7 @@ mod turn_bound;
 mod vec3;
 
 pub use arc::{Arc, ArcError};
+pub use bezier_spline::BezierSpline;
 pub use continuity::{classify_joint, Continuity, JointTolerances};
 pub use cubic_bezier::CubicBezier;
 pub use curve::{

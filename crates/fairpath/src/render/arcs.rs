@@ -135,8 +135,8 @@ enum Outcome {
     PieceLines,
 }
 
-struct Fitter<'a> {
-    c: &'a Curve,
+struct Fitter<'a, C: ParamCurve + ?Sized> {
+    c: &'a C,
     piece: usize,
     speed: &'a PlannedSpeed,
     opts: &'a RenderOptions,
@@ -146,7 +146,7 @@ struct Fitter<'a> {
     planar: f64,
 }
 
-impl Fitter<'_> {
+impl<C: ParamCurve + ?Sized> Fitter<'_, C> {
     /// The curvature step a joint planned at `v` mm/s can take without
     /// slowing the machine: `J Ts / v^2`.
     fn step(&self, v: f64) -> f64 {
@@ -347,6 +347,21 @@ fn count_piece(a: &Curve, counts: &mut RenderStats) {
 /// curve is better all arcs or all lines.
 pub(crate) fn arcs_for_curve(
     c: &Curve,
+    piece: usize,
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+    out: &mut Emitted,
+    stats: &mut RenderStats,
+) {
+    match super::bezier_spline_of(c) {
+        Some(spans) => arcs_for(&spans, piece, speed, opts, out, stats),
+        None => arcs_for(c, piece, speed, opts, out, stats),
+    }
+}
+
+/// [`arcs_for_curve`] on `c` as it is given.
+fn arcs_for<C: ParamCurve + ?Sized>(
+    c: &C,
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,

@@ -94,8 +94,8 @@ fn walk(p: [f64; 2], theta: f64, h: &[f64], k: &[f64]) -> (Vec<[f64; 2]>, f64) {
 /// tangent to the curve there, within [`DEVIATION_USE`] of the chord share
 /// of the curve (the curve sampled at a tenth of the share, both ways);
 /// `None` where the curve does not lend itself (then biarcs).
-pub(crate) fn even_arcs(
-    c: &Curve,
+pub(crate) fn even_arcs<C: ParamCurve + ?Sized>(
+    c: &C,
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
@@ -412,8 +412,8 @@ pub(crate) fn joint_speed_ratio(
 /// the planned speed passes (against the curve at its ends, between each
 /// other inside), and leave the curve's end tangent by no kink the speed
 /// does not pass.
-fn checks_pass(
-    c: &Curve,
+fn checks_pass<C: ParamCurve + ?Sized>(
+    c: &C,
     arcs: &[Curve],
     (ts, pts, bounds, s): (&[f64], &[Vec3], &[f64], &[f64]),
     piece: usize,

@@ -74,8 +74,8 @@ pub(crate) const FINE_CHORD: f64 = 0.1;
 
 /// Lines for curve `c` (piece `piece` of the run) appended to `out`, from
 /// `c.start()` to `c.end()` exactly.
-pub(crate) fn lines_for_curve(
-    c: &Curve,
+pub(crate) fn lines_for_curve<C: ParamCurve + ?Sized>(
+    c: &C,
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
@@ -118,8 +118,8 @@ pub(crate) struct Spacing {
 impl Spacing {
     /// The spacing curve `c` (piece `piece` of the run) needs; `None` for
     /// a curve of no length.
-    pub(crate) fn of(
-        c: &Curve,
+    pub(crate) fn of<C: ParamCurve + ?Sized>(
+        c: &C,
         piece: usize,
         speed: &PlannedSpeed,
         opts: &RenderOptions,
@@ -241,8 +241,8 @@ pub(crate) fn caps_between(
 /// `c.start()` to `c.end()` exactly, the moves next to its ends no longer
 /// than `caps` allow.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn lines_with(
-    c: &Curve,
+pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
+    c: &C,
     piece: usize,
     sp: &Spacing,
     caps: Caps,
@@ -330,7 +330,7 @@ pub(crate) fn lines_with(
 /// the linear guess alone, where the parameter's speed varies along a
 /// long flat segment, made them differ by about 1% from one to the next,
 /// and every change of spacing is a curvature step (module docs).
-fn at_length(c: &Curve, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
+fn at_length<C: ParamCurve + ?Sized>(c: &C, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
     let (t0, t1) = t;
     let span = c.eval(t1).dist(p0);
     if span.is_nan() || span <= 0.0 {
@@ -361,8 +361,8 @@ fn at_length(c: &Curve, t: (f64, f64), p0: Vec3, d: f64) -> f64 {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn emit(
-    c: &Curve,
+fn emit<C: ParamCurve + ?Sized>(
+    c: &C,
     fine: (&[f64], &[Vec3]),
     (ta, tb): (f64, f64),
     (pa, pb): (Vec3, Vec3),

@@ -26,7 +26,7 @@ pub use absorb::absorb_short_lines;
 pub use speed::PlannedSpeed;
 
 use crate::feed::limits::MachineLimits;
-use crate::geom::{Curve, ParamCurve};
+use crate::geom::{BezierSpline, Curve, ParamCurve};
 use crate::path::Piece;
 use alloc::vec::Vec;
 
@@ -331,6 +331,17 @@ impl LineAbsorber {
     }
 }
 
+/// `c` as its Bezier spans where it is a polynomial cubic B-spline: the
+/// same curve up to rounding, with its own end points, which the
+/// renderers sample hundreds of times a piece at a fraction of the cost
+/// ([`BezierSpline`]); `None` for any other curve (rendered as it is).
+fn bezier_spline_of(c: &Curve) -> Option<BezierSpline> {
+    match c {
+        Curve::Nurbs(n) => BezierSpline::of(n),
+        _ => None,
+    }
+}
+
 /// [`render_run`] of the pieces `range` of the run `pieces` only. Each
 /// piece is rendered on its own (from its curve and the planned speed
 /// along it), so the renderings of consecutive ranges, concatenated, are
@@ -354,7 +365,10 @@ pub fn render_range(
         (spaced_from..(range.end + 1).min(pieces.len()))
             .map(|i| match &pieces[i].curve {
                 Curve::Line(_) => None,
-                c => lines::Spacing::of(c, i, speed, opts),
+                c => match bezier_spline_of(c) {
+                    Some(spans) => lines::Spacing::of(&spans, i, speed, opts),
+                    None => lines::Spacing::of(c, i, speed, opts),
+                },
             })
             .collect()
     } else {
@@ -398,7 +412,13 @@ pub fn render_range(
                 if let Some(sp) = spacing(i) {
                     let before = i.checked_sub(1).and_then(spacing);
                     let caps = lines::caps_between(before, sp, spacing(i + 1));
-                    lines::lines_with(c, i, sp, caps, speed, opts, &mut curves, &mut out.stats)
+                    let (curves, stats) = (&mut curves, &mut out.stats);
+                    match bezier_spline_of(c) {
+                        Some(spans) => {
+                            lines::lines_with(&spans, i, sp, caps, speed, opts, curves, stats)
+                        }
+                        None => lines::lines_with(c, i, sp, caps, speed, opts, curves, stats),
+                    }
                 }
             }
         }
