@@ -517,28 +517,24 @@ pub(super) fn stretches(
             // benchmark; measurements: docs/performance.md, "Fits
             // evaluated span by span").
             Curve::Nurbs(n) => {
+                // (Span `i`'s points, where the spline is a polynomial
+                // cubic: one per interval of `breaks`, none left out.)
                 let breaks = n.breakpoints();
-                let bezier = if n.weights.is_none() && n.degree == 3 {
-                    n.bezier_spans()
-                } else {
-                    Vec::new()
-                };
-                if bezier.len() + 1 == breaks.len() {
-                    beziers.extend(breaks.windows(2).zip(&bezier).filter_map(|(w, b)| {
-                        let p = <[Vec3; 4]>::try_from(&b.points[..]).ok()?;
-                        CubicBezier::new(p, w[0], w[1])
-                    }));
-                }
+                let points = n.cubic_bezier_points().map(|(_, p)| p);
+                let points = points.as_deref().unwrap_or(&[]);
+                beziers.extend(
+                    breaks
+                        .windows(2)
+                        .zip(points)
+                        .filter_map(|(w, p)| CubicBezier::new(*p, w[0], w[1])),
+                );
                 if beziers.len() + 1 != breaks.len() {
                     beziers.clear();
                 }
                 ts.push(breaks[0]);
                 span_of.push(usize::MAX);
                 for (i, w) in breaks.windows(2).enumerate() {
-                    if bezier
-                        .get(i)
-                        .is_some_and(|b| flat_span(&b.points, m.chord_error))
-                    {
+                    if points.get(i).is_some_and(|b| flat_span(b, m.chord_error)) {
                         ts.push(w[1]);
                         span_of.push(i);
                         continue;

@@ -104,7 +104,7 @@ mod tests {
     use crate::geom::{Nurbs, ParamCurve, Vec3};
     use crate::seeded::Rng;
 
-    /// A random clamped cubic B-spline and the same as Bezier spans have the
+    /// A random cubic B-spline (clamped or not) and the same as Bezier spans have the
     /// same points and first two derivatives at random parameters (the
     /// knots and the ends included) but for rounding, the same ends to the
     /// bit, and the same breakpoints.
@@ -124,9 +124,16 @@ mod tests {
                 inner[1] = inner[0];
             }
             inner.sort_by(f64::total_cmp);
-            let mut knots = vec![0.0; 4];
+            // Clamped, or (one case in four) with knots outside the
+            // domain at both ends, unclamped.
+            let (lo, hi) = if rng.below(4) == 0 {
+                ([-0.3, -0.2, -0.1, 0.0], [1.0, 1.1, 1.2, 1.3])
+            } else {
+                ([0.0; 4], [1.0; 4])
+            };
+            let mut knots = lo.to_vec();
             knots.extend(inner);
-            knots.extend(vec![1.0; 4]);
+            knots.extend(hi);
             let Ok(spline) = Nurbs::new(3, knots, points, None) else {
                 continue;
             };
