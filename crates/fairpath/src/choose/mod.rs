@@ -7,7 +7,9 @@
 //! imports it.
 
 mod auto;
+mod auto_options;
 mod candidate_set;
+mod candidate_threads;
 mod candidates;
 mod judged_fair;
 mod objective;
@@ -17,7 +19,8 @@ mod reversals;
 mod same_pieces;
 mod sections;
 
-pub use auto::{sample_curves, Auto, AutoOptions, ARC_SHARE};
+pub use auto::{sample_curves, Auto, ARC_SHARE};
+pub use auto_options::AutoOptions;
 pub use candidate_set::{candidate_names, CandidateSet};
 pub use candidates::{
     keeps_arc_joints, through_corners_sections, CandidateRow, CornerMethod, Kind, Offered,

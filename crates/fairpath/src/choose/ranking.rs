@@ -18,7 +18,7 @@
 //! are costed side by side (on a program of one long run, the cores
 //! would otherwise wait: `surface-raster-large.ngc`'s two fits).
 
-use super::auto::map_candidates;
+use super::candidate_threads::map_candidates;
 use super::objective::Objective;
 use super::same_pieces::same_pieces;
 use crate::smooth::SmoothedRun;

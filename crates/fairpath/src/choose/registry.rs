@@ -2,7 +2,8 @@
 //! uses. Options are validated once, at the front door ([`Method::validate`]),
 //! with errors naming the method, the option and the value.
 
-use super::auto::{Auto, AutoOptions};
+use super::auto::Auto;
+use super::auto_options::AutoOptions;
 use super::judged_fair::JudgedFair;
 use super::objective::{fair_on, Objective, PlannedTime};
 use crate::smooth::{

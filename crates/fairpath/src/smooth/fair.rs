@@ -92,207 +92,26 @@
 
 use super::bspline_corner::TRANSITION_KNOTS;
 use super::bspline_fit::{BsplineFit, BsplineFitOptions};
+use super::fair_measures::{
+    run_peak_curvature, run_turning, sampled_demands, shallow_corner_sections,
+};
+use super::fair_options::{FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS};
 use super::fit_sections::SectionOptions;
 use super::run_memo::RunMemo;
 use super::unfaired::{Unfaired, UnfairedReason};
-use super::{check_tolerance, require, OptionError, SmoothError, SmoothedRun, Smoother};
-use crate::budget::{BAND_USE, FAIR_FIT_SHARE, FAIR_SAMPLE_SHARE};
+use super::{check_tolerance, OptionError, SmoothError, SmoothedRun, Smoother};
+use crate::budget::FAIR_SAMPLE_SHARE;
 use crate::geom::elevate::clamped_with_degree;
-use crate::geom::tube_fair::guard::{PEAK_ACCURACY, PEAK_SAMPLES};
 use crate::geom::tube_fair::{
-    as_fairable, Basis, EndRule, Faired, PeakPass, TubeFairError, TubeFairOptions,
-    DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
+    as_fairable, Basis, Faired, PeakPass, TubeFairError, TubeFairOptions,
 };
-use crate::geom::{
-    classify_joint, sampled_peak, total_curvature, Continuity, Curve, Extrema, JointTolerances,
-    Line, Nurbs, ParamCurve, Vec3,
-};
+use crate::geom::{classify_joint, Continuity, Curve, JointTolerances, Line, Nurbs};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
-/// Most control points of a cubic (three spans) that the fairing cannot
-/// move once it keeps the first and last three where the curve joins its
-/// neighbours G2: the spans LinuxCNC's G5.2 blocks are read as, one piece
-/// each (`fairpath_gcode`), are such curves, and only sampled
-/// ([`OtherCurves::Sampled`]) can they be faired.
-pub const MOST_FIXED_POINTS: usize = 6;
-
-/// Options of [`Fair`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-pub struct FairOptions {
-    /// The fit of runs of lines (`bspline-fit`'s options; its `band_use`
-    /// is scaled by `fit_share`).
-    pub fit: BsplineFitOptions,
-    /// Share of the band the fits of runs of lines may use, in (0, 1); the
-    /// fairing of the fitted curves gets the rest.
-    pub fit_share: f64,
-    /// Share of the tolerance (or of what the fit leaves) the tube's
-    /// radius is, in (0, 0.998]: the rest covers the cleaning of the run
-    /// and the verifier's accuracy.
-    pub band_use: f64,
-    /// Samples per knot interval of the thesis' allowance (its precision).
-    pub precision: usize,
-    /// Share of the radius within which the curve touches the tube (its
-    /// accuracy).
-    pub accuracy: f64,
-    /// Most iterations per curve.
-    pub max_iterations: usize,
-    /// What the run's ends do.
-    pub ends: EndRule,
-    /// Put back moves that raise the peak curvature locally (the thesis'
-    /// U-to-V failure).
-    pub peak_guard: bool,
-    /// After the thesis' iterations, lower the highest curvature peaks
-    /// with the room left in the tube (ours: the thesis' iterations stop
-    /// where the curve first touches the tube and carry the top of a wide
-    /// bend along unchanged; `geom::tube_fair::peak`). By default the
-    /// default machine's speed caps ([`PeakPass::DEFAULT_MACHINE`]), which
-    /// the verified pipeline and `auto` replace by the job's machine's
-    /// (`choose::fair_on`: its speed caps, or the curvature where it caps
-    /// curves by their normal acceleration alone, the thesis' model).
-    pub peak_pass: PeakPass,
-    /// Whether the peak pass works up to each curve's programmed feed
-    /// only (the default: where the program asks for less speed than the
-    /// shape allows, lowering the shape's demand buys nothing,
-    /// [`PeakPass::at_feed`]), or up to its own `max_feed` whatever the
-    /// program's feeds: where every move is run at the machine's maximum
-    /// feed (`--override-feed`; the verified pipeline and `auto` set it
-    /// from their objective, `choose::fair_on`), the programmed feeds are
-    /// not what the machine runs.
-    pub programmed_feeds: bool,
-    /// How runs of lines are fitted before they are faired.
-    pub lines: LineFit,
-    /// What becomes of the curves the thesis' fairing cannot take.
-    pub other_curves: OtherCurves,
-}
-
-/// What [`Fair`] does with the curves the thesis' fairing cannot take
-/// (arcs), cannot move (at most [`MOST_FIXED_POINTS`] control points), or
-/// takes beyond the thesis (rational, degree 4 and above).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(rename_all = "kebab-case")
-)]
-pub enum OtherCurves {
-    /// Sampled as chords within [`FAIR_SAMPLE_SHARE`] of the tolerance,
-    /// fitted and faired as lines, where that lowers the demand of
-    /// [`FairOptions::peak_pass`]'s speed caps there, at its peak and in all
-    /// ([`sampled_demands`]);
-    /// kept as written otherwise (see the module documentation).
-    #[default]
-    Sampled,
-    /// Kept as written, and reported (rational and high-degree B-splines
-    /// too: not faired).
-    Kept,
-}
-
-/// How [`Fair`] fits a run of lines before the thesis' fairing (the
-/// thesis starts from a CAM spline; a G1 program has none).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(rename_all = "kebab-case")
-)]
-pub enum LineFit {
-    /// `bspline-fit`'s sections ([`BsplineFitOptions::sections`]): dense
-    /// vertices fitted, sparse corners blended by transitions, which the
-    /// fairing leaves as they are. Best where the tube is narrow beside
-    /// the corners.
-    Sections,
-    /// Every vertex that turns no more than `bspline-fit`'s sections allow
-    /// ([`SectionOptions::max_turn`]) fitted, however long its segments
-    /// ([`shallow_corner_sections`]), so the fairing has one curve across
-    /// the shallow corners to straighten: a line with two points 0.2 mm
-    /// off (the thesis' case 5, as G1: its vertices are sparse only by
-    /// their 31 mm segments) becomes straight in a 0.25 mm tube, where
-    /// transitions at its corners use 0.025 mm of it. Sharper corners keep
-    /// their transitions: fits of a quarter of the band through them fail
-    /// and are split again and again (through every corner up to 143
-    /// degrees, `makerblock_tinycnc.gcode` took many times as long;
-    /// measurements: docs/tuning.md, `LineFit::ThroughShallowCorners`).
-    ThroughShallowCorners,
-    /// Both, keeping `ThroughShallowCorners` where it has the lower sampled
-    /// peak curvature ([`run_peak_curvature`]) and no more turning
-    /// ([`run_turning`]), `Sections` otherwise: the speed a curve allows
-    /// falls with its curvature (`v <= sqrt(A / k)`), and which fit gives
-    /// the lower one depends on the tube (on the noisy line at 0.25 mm the
-    /// sections give 0.11 1/mm against 0). A geometric proxy, not a plan
-    /// (the method knows no machine): on `LHchips4.ngc` at 0.05 mm the
-    /// pick plans slightly slower than the sections alone (measurements:
-    /// docs/tuning.md, `LineFit::Fairer`).
-    #[default]
-    Fairer,
-}
-
-impl Default for FairOptions {
-    fn default() -> Self {
-        FairOptions {
-            fit: BsplineFitOptions {
-                fairness_raises: 0,
-                relax: None,
-                ..BsplineFitOptions::default()
-            },
-            fit_share: FAIR_FIT_SHARE,
-            band_use: BAND_USE,
-            precision: THESIS_PRECISION,
-            accuracy: THESIS_ACCURACY,
-            max_iterations: DEFAULT_MAX_ITERATIONS,
-            ends: EndRule::Pinned,
-            peak_guard: true,
-            peak_pass: PeakPass::DEFAULT_MACHINE,
-            programmed_feeds: true,
-            lines: LineFit::Fairer,
-            other_curves: OtherCurves::Sampled,
-        }
-    }
-}
-
 impl FairOptions {
-    /// Checks the ranges of the options.
-    pub fn validate(&self) -> Result<(), OptionError> {
-        let m = "fair";
-        self.fit.validate().map_err(|e| OptionError {
-            method: m,
-            option: "fit",
-            value: alloc::format!("{}: {}", e.option, e.value),
-            expected: e.expected,
-        })?;
-        let f = self.fit_share;
-        require(f > 0.0 && f < 1.0, m, "fit_share", f, "must be in (0, 1)")?;
-        let b = self.band_use;
-        require(
-            b > 0.0 && b <= BAND_USE,
-            m,
-            "band_use",
-            b,
-            "must be in (0, 0.998]",
-        )?;
-        match self.tube(1.0, false, false).validate() {
-            Ok(()) => Ok(()),
-            Err(TubeFairError::BadOption {
-                option,
-                value,
-                expected,
-            }) => Err(OptionError {
-                method: m,
-                option,
-                value,
-                expected,
-            }),
-            Err(_) => Ok(()),
-        }
-    }
-
     /// The tube options for radius `radius`, keeping the G2 joints asked.
-    fn tube(&self, radius: f64, keep_start: bool, keep_end: bool) -> TubeFairOptions {
+    pub(super) fn tube(&self, radius: f64, keep_start: bool, keep_end: bool) -> TubeFairOptions {
         TubeFairOptions {
             radius,
             precision: self.precision,
@@ -608,157 +427,6 @@ impl Fair {
     }
 }
 
-/// `sections` with every vertex up to its turn dense whatever its
-/// segments' lengths and chord error ([`LineFit::ThroughShallowCorners`];
-/// the bounds are finite, as the options require, and far beyond any tool
-/// path: a segment of 1 km, a chord error of a million tolerances).
-pub fn shallow_corner_sections(sections: &SectionOptions) -> SectionOptions {
-    SectionOptions {
-        max_segment: 1e6,
-        chord_error_per_tol: 1e6,
-        ..*sections
-    }
-}
-
-/// Accuracy (rad) of [`run_turning`]'s integrals: far below the turning
-/// a fairing changes (a 0.2 mm bump over 30 mm turns 0.03 rad).
-pub const TURNING_ACCURACY: f64 = 1e-6;
-
-/// Total turning (rad) of the curves among smoothed pieces, the integral
-/// of the curvature over the arc length (to [`TURNING_ACCURACY`] each).
-/// Joints are not counted: [`LineFit::Fairer`] compares two fits of one
-/// run, whose corners between pieces are the same.
-pub fn run_turning(pieces: &[Piece]) -> f64 {
-    pieces
-        .iter()
-        .filter(|p| !matches!(p.curve, Curve::Line(_)))
-        .map(|p| total_curvature(&p.curve, TURNING_ACCURACY))
-        .sum()
-}
-
-/// Peak curvature (1/mm) of smoothed pieces: each NURBS at
-/// [`PEAK_SAMPLES`] steps per knot span, ends included (its cubic Bezier
-/// spans; other NURBS at as many steps over their domain), refined
-/// between the samples to [`PEAK_ACCURACY`] of its span where they show a
-/// peak narrower than their step ([`sampled_peak`], [`Extrema::Narrow`]:
-/// a near-cusp between samples counts at its height);
-/// arcs their own, lines none. A lower bound, exact to that accuracy at
-/// every peak the samples bracket.
-pub fn run_peak_curvature(pieces: &[Piece]) -> f64 {
-    pieces
-        .iter()
-        .map(|p| match &p.curve {
-            Curve::Line(_) => 0.0,
-            Curve::Arc(a) => a.curvature(a.domain().0),
-            Curve::Nurbs(c) => knot_spans(c)
-                .into_iter()
-                .map(|(a, b)| {
-                    let derivs = |t: f64| c.derivs12(t);
-                    let accuracy = PEAK_ACCURACY * (b - a);
-                    sampled_peak(derivs, (a, b), PEAK_SAMPLES, accuracy, Extrema::Narrow)
-                })
-                .fold(0.0, f64::max),
-        })
-        .fold(0.0, f64::max)
-}
-
-/// The non-empty knot spans of a NURBS's domain.
-fn knot_spans(c: &Nurbs) -> Vec<(f64, f64)> {
-    let (t0, t1) = c.domain();
-    let mut knots: Vec<f64> = c.knots.clone();
-    knots.dedup();
-    knots
-        .windows(2)
-        .filter(|w| w[0] >= t0 && w[1] <= t1 && w[1] > w[0])
-        .map(|w| (w[0], w[1]))
-        .collect()
-}
-
-/// The parameters [`sampled_demand`] samples a NURBS at: [`PEAK_SAMPLES`]
-/// steps over each non-empty knot span of its domain, both ends of each
-/// span included.
-fn span_samples(c: &Nurbs) -> impl Iterator<Item = f64> {
-    knot_spans(c).into_iter().flat_map(|(a, b)| {
-        (0..=PEAK_SAMPLES).map(move |j| a + (b - a) * j as f64 / PEAK_SAMPLES as f64)
-    })
-}
-
-/// Highest demand of `pass` ([`PeakPass::demand`]: for its speed caps,
-/// the inverse of the lowest of `sqrt(A / k)`, `cbrt(J / k^2)`,
-/// `cbrt(J / |dk/ds|)` and the feed) over the curves among `pieces`, each
-/// NURBS sampled at [`PEAK_SAMPLES`] steps per knot span, `dk/ds` from the
-/// differences of neighbouring samples' curvature vectors, across joints
-/// too (a rational curve has no cubic spans to take it from in closed
-/// form); a step `dk` of the curvature vector at a joint demands what the
-/// planner's `feed::junction::step_cap` caps it at, `sqrt(J Ts / dk)`
-/// ([`PeakPass::jump_demand`]) and, spread over the step after it, a
-/// `dk/ds`; arcs and lines at their ends, with their curvature. A sample,
-/// not a bound: it
-/// compares a run's curves kept as written with the same curves sampled,
-/// fitted and faired, like with like ([`OtherCurves::Sampled`]).
-pub fn sampled_demand(pieces: &[Piece], pass: PeakPass) -> f64 {
-    sampled_demands(pieces, pass).0
-}
-
-/// [`sampled_demand`], and the integral of the demand over the length
-/// sampled: about the time the pieces would take at their caps' speeds
-/// (each step at the lower cap of its two ends, a step of the curvature
-/// vector at a joint charged over the step after it).
-pub fn sampled_demands(pieces: &[Piece], pass: PeakPass) -> (f64, f64) {
-    let (mut k_max, mut jerk_max, mut jump_max, mut time) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    // The sample before, across joints too: a step of the curvature
-    // vector where two pieces meet (the arcs LinuxCNC runs a G5.2 block
-    // as meet G1, as do the spans of a G5.2 quadratic) caps the speed
-    // there (`PeakPass::jump_demand`) and shows as a steep `dk/ds` over
-    // the next step. A sample at the point of the one before (a joint)
-    // does not replace it, so the step is charged over the next one.
-    // Vectors, not magnitudes: arcs that turn opposite ways have equal
-    // curvatures and the largest step between them.
-    let mut prev: Option<(Vec3, Vec3)> = None;
-    let mut jump = 0.0f64;
-    let mut sample = |q: Vec3, kv: Vec3| {
-        let k = kv.norm();
-        k_max = k_max.max(k);
-        let mut jerk_term = k * k;
-        match prev {
-            Some((q0, kv0)) => {
-                let ds = q.dist(q0);
-                if ds > 0.0 {
-                    jerk_term = jerk_term.max((kv - kv0).norm() / ds);
-                    let step = pass.demand(k.max(kv0.norm()), jerk_term).max(jump);
-                    time += ds * step;
-                    jump = 0.0;
-                    prev = Some((q, kv));
-                } else {
-                    jump = jump.max(pass.jump_demand((kv - kv0).norm()));
-                    jump_max = jump_max.max(jump);
-                }
-            }
-            None => prev = Some((q, kv)),
-        }
-        jerk_max = jerk_max.max(jerk_term);
-    };
-    for p in pieces {
-        match &p.curve {
-            Curve::Line(l) => {
-                sample(l.p0, Vec3::ZERO);
-                sample(l.p1, Vec3::ZERO);
-            }
-            Curve::Arc(a) => {
-                let (t0, t1) = a.domain();
-                sample(a.p0, a.curvature_vector(t0));
-                sample(a.p1, a.curvature_vector(t1));
-            }
-            Curve::Nurbs(c) => {
-                for t in span_samples(c) {
-                    sample(c.eval(t), c.curvature_vector(t));
-                }
-            }
-        }
-    }
-    (pass.demand(k_max, jerk_max).max(jump_max), time)
-}
-
 impl Fair {
     /// The method with runs of lines fitted by `sections`.
     fn smooth_fitted(
@@ -915,6 +583,7 @@ fn polylines_as_lines(run: &Run) -> Option<Run> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::Vec3;
 
     /// Regression (LinuxCNC's `Ruota_dentata_p1.ngc`: one G6.2 curve of
     /// degree 5, faired at the machine's maximum feed, where its peak pass

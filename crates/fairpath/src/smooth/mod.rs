@@ -19,6 +19,8 @@ mod bspline_fit;
 mod chains;
 mod corner_engine;
 mod fair;
+mod fair_measures;
+mod fair_options;
 mod fit_chain;
 mod fit_fairing;
 mod fit_fill;
@@ -50,10 +52,12 @@ pub use bspline_fit::{
     SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
-pub use fair::{
+pub use fair::{Fair, FairAlternatives};
+pub use fair_measures::{
     run_peak_curvature, run_turning, sampled_demand, sampled_demands, shallow_corner_sections,
-    Fair, FairAlternatives, FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS, TURNING_ACCURACY,
+    TURNING_ACCURACY,
 };
+pub use fair_options::{FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS};
 pub use fit_sections::{
     dense_sections, through_corners_sections, SectionOptions, THROUGH_MAX_TURN,
 };
