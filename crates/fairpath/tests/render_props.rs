@@ -691,3 +691,65 @@ fn test_active_states_reversal_is_rendered_in_few_lines() {
         "{made} lines made for a {length:.3} mm curve"
     );
 }
+
+/// `lines_keep_their_spacing_across_a_joint_passed_fast` written as arcs
+/// (`test_12mmflat.ngc`'s 3D step-overs at 0.05 mm): out of every
+/// principal plane, arcs cannot follow the curves and each is written as
+/// G1, and those lines were cut with no regard to their neighbours', so
+/// the spacing jumped where two such curves meet and the machine passes
+/// fast. They are now cut as the G1 format cuts them: the moves on both
+/// sides of the joint alike.
+#[test]
+fn test_12mmflat_curves_written_as_lines_among_arcs_keep_their_spacing() {
+    // Turned by 0.5 rad about X, then about Y: out of every plane.
+    let turn = |p: Vec3| {
+        let (s, c) = 0.5f64.sin_cos();
+        let p = Vec3::new(p.x, c * p.y - s * p.z, s * p.y + c * p.z);
+        Vec3::new(c * p.x + s * p.z, p.y, -s * p.x + c * p.z)
+    };
+    let cubic = |q: [Vec3; 4]| {
+        Nurbs::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+            q.to_vec(),
+            None,
+        )
+        .unwrap()
+    };
+    // A quarter circle of radius 10 as a cubic, then a cubic leaving it G2
+    // and turning the other way within a few millimetres.
+    let k = 10.0 * 0.5523;
+    let p = |x: f64, y: f64| turn(Vec3::new(x, y, 0.0));
+    let round = cubic([p(10.0, 0.0), p(10.0, k), p(k, 10.0), p(0.0, 10.0)]);
+    let kv = round.curvature_vector(1.0);
+    let (kappa, n) = (kv.norm(), kv.normalized(0.0).unwrap());
+    let t = round.deriv1(1.0).normalized(0.0).unwrap();
+    let p0 = round.eval(1.0);
+    let p1 = p0 + t * 1.0;
+    let p2 = p1 + t * 1.0 + n * (1.5 * kappa);
+    let p3 = p2 + t * 1.0 - n * 0.5;
+    let pieces = vec![
+        piece(Curve::from(round)),
+        piece(Curve::from(cubic([p0, p1, p2, p3]))),
+    ];
+    assert_eq!(
+        fairpath::geom::classify_joint(
+            &pieces[0].curve,
+            &pieces[1].curve,
+            &fairpath::geom::JointTolerances::from_tolerance(1e-3)
+        ),
+        fairpath::geom::Continuity::G2
+    );
+    let out = render(&pieces, &opts(CurveForm::Arcs, 0.005));
+    assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+    let at = out
+        .iter()
+        .position(|p| p.end() == p0)
+        .expect("the joint is a vertex");
+    let (before, after) = (out[at].curve.length(1e-9), out[at + 1].curve.length(1e-9));
+    let ratio = before.max(after) / before.min(after);
+    assert!(
+        ratio <= fairpath::render::lines::SPACING_RATIO,
+        "moves of {before} and {after} mm at the joint"
+    );
+}

@@ -350,12 +350,13 @@ pub(crate) fn arcs_for_curve(
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
+    caps_of: &dyn Fn(&super::lines::Spacing) -> super::lines::Caps,
     out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
     match super::bezier_spline_of(c) {
-        Some(spans) => arcs_for(&spans, piece, speed, opts, out, stats),
-        None => arcs_for(c, piece, speed, opts, out, stats),
+        Some(spans) => arcs_for(&spans, piece, speed, opts, caps_of, out, stats),
+        None => arcs_for(c, piece, speed, opts, caps_of, out, stats),
     }
 }
 
@@ -365,6 +366,7 @@ fn arcs_for<C: ParamCurve + ?Sized>(
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
+    caps_of: &dyn Fn(&super::lines::Spacing) -> super::lines::Caps,
     out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
@@ -425,7 +427,7 @@ fn arcs_for<C: ParamCurve + ?Sized>(
             }
             Outcome::PieceLines => {
                 let before = stats.lines;
-                super::lines::lines_for_curve(c, piece, speed, opts, out, stats);
+                super::lines::lines_for_curve(c, piece, speed, opts, caps_of, out, stats);
                 stats.fallback_lines += stats.lines - before;
                 return;
             }

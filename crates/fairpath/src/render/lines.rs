@@ -73,17 +73,21 @@ pub const MIN_CHORD_SPACING_PER_E: f64 = 2.0;
 pub(crate) const FINE_CHORD: f64 = 0.1;
 
 /// Lines for curve `c` (piece `piece` of the run) appended to `out`, from
-/// `c.start()` to `c.end()` exactly.
+/// `c.start()` to `c.end()` exactly, the moves next to its ends no longer
+/// than the caps `caps_of` gives for its spacing (from its neighbours,
+/// [`caps_between`]).
 pub(crate) fn lines_for_curve<C: ParamCurve + ?Sized>(
     c: &C,
     piece: usize,
     speed: &PlannedSpeed,
     opts: &RenderOptions,
+    caps_of: &dyn Fn(&Spacing) -> Caps,
     out: &mut Emitted,
     stats: &mut RenderStats,
 ) {
     if let Some(sp) = Spacing::of(c, piece, speed, opts) {
-        lines_with(c, piece, &sp, Caps::NONE, speed, opts, out, stats);
+        let caps = caps_of(&sp);
+        lines_with(c, piece, &sp, caps, speed, opts, out, stats);
     }
 }
 
@@ -93,13 +97,6 @@ pub(crate) fn lines_for_curve<C: ParamCurve + ?Sized>(
 pub(crate) struct Caps {
     pub start: f64,
     pub end: f64,
-}
-
-impl Caps {
-    pub const NONE: Caps = Caps {
-        start: f64::INFINITY,
-        end: f64::INFINITY,
-    };
 }
 
 /// The spacing a curve needs, sample by sample (module docs), and where

@@ -342,6 +342,23 @@ fn bezier_spline_of(c: &Curve) -> Option<BezierSpline> {
     }
 }
 
+/// The spacing piece `i` of `pieces` needs as lines ([`lines::Spacing`]);
+/// `None` for a straight line, a curve of no length or past the run's end.
+fn spacing_of(
+    pieces: &[Piece],
+    i: usize,
+    speed: &PlannedSpeed,
+    opts: &RenderOptions,
+) -> Option<lines::Spacing> {
+    match &pieces.get(i)?.curve {
+        Curve::Line(_) => None,
+        c => match bezier_spline_of(c) {
+            Some(spans) => lines::Spacing::of(&spans, i, speed, opts),
+            None => lines::Spacing::of(c, i, speed, opts),
+        },
+    }
+}
+
 /// [`render_run`] of the pieces `range` of the run `pieces` only. Each
 /// piece is rendered on its own (from its curve and the planned speed
 /// along it), so the renderings of consecutive ranges, concatenated, are
@@ -363,13 +380,7 @@ pub fn render_range(
     let spaced_from = start.saturating_sub(1);
     let spacings: Vec<Option<lines::Spacing>> = if opts.form == CurveForm::Lines {
         (spaced_from..(range.end + 1).min(pieces.len()))
-            .map(|i| match &pieces[i].curve {
-                Curve::Line(_) => None,
-                c => match bezier_spline_of(c) {
-                    Some(spans) => lines::Spacing::of(&spans, i, speed, opts),
-                    None => lines::Spacing::of(c, i, speed, opts),
-                },
-            })
+            .map(|i| spacing_of(pieces, i, speed, opts))
             .collect()
     } else {
         Vec::new()
@@ -406,7 +417,19 @@ pub fn render_range(
                 if matches!(opts.form, CurveForm::Nurbs(_)) {
                     out.stats.nurbs_as_arcs += 1;
                 }
-                arcs::arcs_for_curve(c, i, speed, opts, &mut curves, &mut out.stats)
+                // A curve that arcs cannot follow is written as lines,
+                // cut at joints passed fast as the curves next to it would
+                // be cut as lines ([`lines::caps_between`]; arcs stay
+                // arcs).
+                let as_lines = |k: usize| match pieces.get(k).map(|p| &p.curve) {
+                    Some(Curve::Arc(_)) => None,
+                    _ => spacing_of(pieces, k, speed, opts),
+                };
+                let caps_of = |sp: &lines::Spacing| {
+                    let before = i.checked_sub(1).and_then(as_lines);
+                    lines::caps_between(before.as_ref(), sp, as_lines(i + 1).as_ref())
+                };
+                arcs::arcs_for_curve(c, i, speed, opts, &caps_of, &mut curves, &mut out.stats)
             }
             (c, CurveForm::Lines) => {
                 if let Some(sp) = spacing(i) {
