@@ -133,7 +133,10 @@ fn spiral_tight_circular_auto_fairs_near_candidates_with_the_peak_pass() {
 /// (1.21 mm across in Y, most with a 4 um move down before the next arch)
 /// are narrow U-turns of two right angles. G2 through them (with the
 /// near-reversal cuts alone) `auto` wrote 15.173 s; with their corners
-/// kept where that plans faster (`choose::u_turn_cuts`), 13.150 s.
+/// kept where that plans faster (`choose::u_turn_cuts`), 13.150 s. Since
+/// curves that arcs cannot follow are cut as lines like the G1 format's
+/// (their neighbours' caps), G2 through them writes 14.555 s and the
+/// corners 13.149 s: still kept, 9.7% faster.
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn line_contouring_xz_auto_keeps_its_step_over_corners() {
@@ -146,7 +149,7 @@ fn line_contouring_xz_auto_keeps_its_step_over_corners() {
             without["written_time_s"].as_f64().unwrap(),
         );
         assert!(kept(&with) > kept(&without), "{with} {without}");
-        assert!(t < 0.9 * t0, "with U-turn corners {t} s, without {t0} s");
+        assert!(t < 0.95 * t0, "with U-turn corners {t} s, without {t0} s");
         check("line-contouring-xz", p);
     });
 }
