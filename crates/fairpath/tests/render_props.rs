@@ -599,6 +599,12 @@ fn lines_keep_their_spacing_across_a_joint_passed_fast() {
     let pieces = vec![piece(Curve::from(arc)), piece(Curve::from(bez))];
     let o = opts(CurveForm::Lines, 0.005);
     let out = render(&pieces, &o);
+    assert_g2_joint(&pieces);
+    assert_spacing_kept_at(&out, p0);
+}
+
+/// Asserts that the two pieces of `pieces` meet G2.
+fn assert_g2_joint(pieces: &[Piece]) {
     assert_eq!(
         fairpath::geom::classify_joint(
             &pieces[0].curve,
@@ -607,9 +613,15 @@ fn lines_keep_their_spacing_across_a_joint_passed_fast() {
         ),
         fairpath::geom::Continuity::G2
     );
+}
+
+/// Asserts that the written moves `out` meet at `joint` and that the
+/// moves on either side of it differ in length by at most
+/// `SPACING_RATIO`.
+fn assert_spacing_kept_at(out: &[Piece], joint: Vec3) {
     let at = out
         .iter()
-        .position(|p| p.end() == p0)
+        .position(|p| p.end() == joint)
         .expect("the joint is a vertex");
     let (before, after) = (out[at].curve.length(1e-9), out[at + 1].curve.length(1e-9));
     let ratio = before.max(after) / before.min(after);
@@ -732,24 +744,8 @@ fn test_12mmflat_curves_written_as_lines_among_arcs_keep_their_spacing() {
         piece(Curve::from(round)),
         piece(Curve::from(cubic([p0, p1, p2, p3]))),
     ];
-    assert_eq!(
-        fairpath::geom::classify_joint(
-            &pieces[0].curve,
-            &pieces[1].curve,
-            &fairpath::geom::JointTolerances::from_tolerance(1e-3)
-        ),
-        fairpath::geom::Continuity::G2
-    );
+    assert_g2_joint(&pieces);
     let out = render(&pieces, &opts(CurveForm::Arcs, 0.005));
     assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
-    let at = out
-        .iter()
-        .position(|p| p.end() == p0)
-        .expect("the joint is a vertex");
-    let (before, after) = (out[at].curve.length(1e-9), out[at + 1].curve.length(1e-9));
-    let ratio = before.max(after) / before.min(after);
-    assert!(
-        ratio <= fairpath::render::lines::SPACING_RATIO,
-        "moves of {before} and {after} mm at the joint"
-    );
+    assert_spacing_kept_at(&out, p0);
 }
