@@ -26,6 +26,8 @@ pub struct MachineFile {
     /// Whether the jerk limit caps the speed on curves (default true;
     /// false: the thesis' time model, see `MachineLimits::jerk_on_curves`).
     pub jerk_on_curves: Option<bool>,
+    /// Least time the control spends on a block, s (0: none).
+    pub block_time: Option<f64>,
     /// Per-axis jerk limits, mm/s^3 (`fairpath stream`; default: the
     /// path's jerk).
     pub axis_jerk: Option<[f64; 3]>,
@@ -39,6 +41,8 @@ pub struct MachineFlags {
     pub jerk: Option<f64>,
     pub period: Option<f64>,
     pub junction_deviation: Option<f64>,
+    /// Least time the control spends on a block, s (0: none).
+    pub block_time: Option<f64>,
     /// `Some(false)`: the thesis' time model (no jerk caps on curves).
     pub jerk_on_curves: Option<bool>,
 }
@@ -84,6 +88,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
         if let Some(v) = mf.jerk_on_curves {
             m.jerk_on_curves = v;
         }
+        if let Some(v) = mf.block_time {
+            m.block_time = v;
+        }
     }
     if let Some(v) = flags.max_feed {
         m.max_feed = v / 60.0;
@@ -105,6 +112,9 @@ pub fn machine(file: Option<&Path>, flags: MachineFlags) -> Result<MachineLimits
     }
     if let Some(v) = flags.jerk_on_curves {
         m.jerk_on_curves = v;
+    }
+    if let Some(v) = flags.block_time {
+        m.block_time = v;
     }
     m.validate().map_err(crate::usage::usage)?;
     Ok(m)

@@ -86,7 +86,7 @@ a number with a unit (0.05mm, 0.002in) or a bare number in the program's units \
 struct MachineArgs {
     /// Machine file (TOML: max_feed [mm/min], acc, normal_acc, jerk,
     /// period, chord_error, junction_deviation, axis_feed, axis_acc,
-    /// jerk_on_curves).
+    /// jerk_on_curves, block_time).
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Maximum feed, mm/min (default 24000).
@@ -104,6 +104,11 @@ struct MachineArgs {
     /// Junction deviation for corners of G1 moves, mm (default 0.01).
     #[arg(long)]
     junction_deviation: Option<f64>,
+    /// Least time the control spends on a block, s (default 0: none; a
+    /// control that takes one block per interpolation period has the
+    /// period, one of 1,000 blocks a second 0.001).
+    #[arg(long)]
+    block_time: Option<f64>,
     /// Run every feed move at the machine's maximum feed.
     #[arg(long)]
     override_feed: bool,
@@ -125,6 +130,7 @@ impl MachineArgs {
                 jerk: self.jerk,
                 period: self.period,
                 junction_deviation: self.junction_deviation,
+                block_time: self.block_time,
                 jerk_on_curves: self.time_model.map(TimeModel::jerk_on_curves),
             },
         )

@@ -53,12 +53,17 @@ impl Summary {
     pub fn new(input: &Path, output: &Path, opts: &SmoothOptions, e: &Evidence) -> Summary {
         let m = opts.machine();
         let planned_on = format!(
-            "V {} mm/s, A {} mm/s^2, J {} mm/s^3, Ts {} ms, junction deviation {} mm, {}",
+            "V {} mm/s, A {} mm/s^2, J {} mm/s^3, Ts {} ms, junction deviation {} mm, {}{}",
             m.max_feed,
             m.acc,
             m.jerk,
             m.period * 1e3,
             m.junction_deviation,
+            if m.block_time > 0.0 {
+                format!("block time {} ms, ", m.block_time * 1e3)
+            } else {
+                String::new()
+            },
             if opts.override_feed() {
                 "feeds overridden to V"
             } else {

@@ -126,6 +126,7 @@ fn bad_machine_limits_are_named() {
         (vec!["--jerk", "0"], "jerk"),
         (vec!["--acc=-5"], "acceleration"),
         (vec!["--period", "NaN"], "interpolation period"),
+        (vec!["--block-time=-0.001"], "block time"),
     ] {
         let mut a = vec!["simulate".to_string(), example()];
         a.extend(args.iter().map(|s| s.to_string()));
@@ -251,6 +252,41 @@ fn segments_csv_names_the_limiting_constraint_of_each_segment() {
         feed_time += r[6].parse::<f64>().unwrap();
     }
     assert!((feed_time - v["feed_time_s"].as_f64().unwrap()).abs() < 1e-3);
+}
+
+/// `--block-time T` (or `block_time` in the machine file): every block
+/// of the program takes at least `T`, so the example's short moves plan
+/// slower, and the segments that block time limits are named so; without
+/// it (the default, or 0) the plan is the one without a block time.
+#[test]
+fn a_block_time_caps_short_blocks_and_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("m.toml");
+    std::fs::write(&machine, "block_time = 0.02\n").unwrap();
+    let run = |extra: &[&str]| {
+        let seg = dir.path().join("seg.csv");
+        let o = bin()
+            .args(["simulate", &example(), "--override-feed"])
+            .args(["--format", "json", "--segments", seg.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let csv = std::fs::read_to_string(&seg).unwrap();
+        let by_block = csv.lines().filter(|l| l.contains("block time")).count();
+        (v["time_s"].as_f64().unwrap(), by_block)
+    };
+    let (free, free_blocks) = run(&[]);
+    let (zero, _) = run(&["--block-time", "0"]);
+    let (capped, blocks) = run(&["--block-time", "0.02"]);
+    let (file, _) = run(&["--machine", machine.to_str().unwrap()]);
+    println!("free {free} s, block time 20 ms {capped} s ({blocks} segments)");
+    assert_eq!(free, zero);
+    assert_eq!(free_blocks, 0);
+    assert!(blocks > 0);
+    assert!(capped > free, "{capped} s against {free} s");
+    assert_eq!(capped, file);
 }
 
 /// `--time-model thesis` (or `jerk_on_curves = false` in the machine file):

@@ -34,3 +34,27 @@ fn random_lines_0_001in_arcs_format_writes_what_g1_writes() {
     assert!(arcs < 1.2, "arcs {arcs} s (1.294 s at the arcs' chord)");
     assert!(g1_text.lines().count() > 0);
 }
+
+/// The same program and method on a machine with a block time of 1 ms
+/// (`MachineLimits::block_time`): a stretch of equal moves is no longer cut
+/// at the spacing of its slowest sample all through its fast part, where
+/// each move would then take the block time (1.944 s written when it was;
+/// `render::lines::FLOOR_CUT_SHARE`).
+#[test]
+fn random_lines_0_001in_with_a_block_time_keeps_fast_moves_above_it() {
+    let Some(dir) = common::shared_paths() else {
+        return;
+    };
+    let path = dir.join("linuxcnc/performance/random_lines_0.001in.ngc");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut opts =
+        SmoothOptions::new(0.05, None, "bspline-fit", None, Controller::Generic).unwrap();
+    let machine = fairpath::feed::limits::MachineLimits {
+        block_time: 0.001,
+        ..*opts.machine()
+    };
+    opts.set_machine(machine, false).unwrap();
+    let (_, report) = smooth_program(&text, &opts).unwrap();
+    let written = report.times.written.total;
+    assert!(written < 1.6, "written {written} s (1.944 s before)");
+}

@@ -27,6 +27,14 @@ fn bad_limits_are_named() {
     let e = m.validate().unwrap_err();
     assert_eq!(e.name, "Z acceleration");
     assert!(e.to_string().contains("Z acceleration"));
+    m.axis_acc[2] = 5.0;
+    // A block time may be 0 (none), not negative or infinite.
+    m.block_time = 0.0;
+    assert!(m.validate().is_ok());
+    for bad in [-0.001, f64::INFINITY, f64::NAN] {
+        m.block_time = bad;
+        assert!(m.validate().unwrap_err().name.starts_with("block time"));
+    }
 }
 
 #[test]

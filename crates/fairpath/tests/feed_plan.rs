@@ -130,6 +130,57 @@ fn seeded_random_paths_never_exceed_limits() {
     }
 }
 
+/// With a block time `T` every piece of a run takes at least `T`, the
+/// limits still hold, and the plan is never faster than without it (the
+/// block time only lowers caps). Seeded random chords of gentle circles
+/// and random polylines: without a block time the machine runs the chords
+/// faster than one per `T`.
+#[test]
+fn seeded_random_paths_take_at_least_the_block_time_per_piece() {
+    let mut rng = Rng(11);
+    let mut floored = 0;
+    for case in 0..200 {
+        let pts: Vec<Vec3> = if case % 4 == 3 {
+            random_polyline(&mut rng, case).0
+        } else {
+            let r = 5.0 + rng.unit() * 50.0;
+            let step = (0.01 + rng.unit() * 0.3) / r;
+            let n = 50 + (rng.unit() * 250.0) as usize;
+            (0..=n)
+                .map(|i| {
+                    let a = step * i as f64;
+                    Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+                })
+                .collect()
+        };
+        let run = run_of(&pts, &[24000.0, 24000.0]);
+        let free = MachineLimits::thesis();
+        let m = MachineLimits {
+            block_time: 1e-4 + rng.unit() * 2e-3,
+            ..free
+        };
+        let t_free = check_limits(&run.pieces, &free);
+        let t = check_limits(&run.pieces, &m);
+        let blocks = run.pieces.len() as f64;
+        assert!(
+            t >= blocks * m.block_time * (1.0 - 1e-9),
+            "case {case}: {t} s for {blocks} blocks of at least {} s",
+            m.block_time
+        );
+        assert!(
+            t >= t_free * (1.0 - 1e-9),
+            "case {case}: {t} s < {t_free} s"
+        );
+        if t_free < blocks * m.block_time {
+            floored += 1;
+        }
+    }
+    assert!(
+        floored >= 20,
+        "{floored} runs faster than one block per T without it"
+    );
+}
+
 /// A plan for its time alone (no segments kept, so no stretch located on
 /// the run) is the plan with its segments, to the bit, on random paths raw
 /// and smoothed, at the programmed feeds and overridden, with each way of

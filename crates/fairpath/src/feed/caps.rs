@@ -433,6 +433,12 @@ pub(super) fn stretches(
         } else {
             p.feed.map(|f| f / 60.0).unwrap_or(m.max_feed)
         };
+        // The block's least time caps its speed (`MachineLimits::block_time`).
+        let block_cap = if m.block_time > 0.0 {
+            len_total / m.block_time
+        } else {
+            f64::INFINITY
+        };
         if !(feed > 0.0 && feed.is_finite()) {
             return Err(FeedError::BadValue {
                 name: "feed",
@@ -603,6 +609,9 @@ pub(super) fn stretches(
             }
             if blend_cap < cap.0 {
                 cap = (blend_cap, Constraint::Junction);
+            }
+            if block_cap < cap.0 {
+                cap = (block_cap, Constraint::BlockTime);
             }
             let (cap_factor, tangential) = shaping.factors(s_run, s_run + len);
             if high > CAP_SPLIT_RATIO * cap.0

@@ -56,6 +56,14 @@ pub struct MachineLimits {
     /// the jerk limit shapes the S-curves between the caps. Corners of G1
     /// moves are capped as in [`super::junction`] either way.
     pub jerk_on_curves: bool,
+    /// Least time (s) the control spends on a block, 0 for none: a block
+    /// of length `L` is run at no more than `L / block_time`. A control
+    /// that reads or prepares at most one block per interpolation period
+    /// (LinuxCNC's motion queue takes one per servo cycle, and caps a
+    /// block's speed at its length over 1.02 periods, `tp.c`) has about
+    /// one period; a control with a stated block processing rate has its
+    /// inverse. Each piece of a run is taken as one block.
+    pub block_time: f64,
 }
 
 /// A limit that is not a positive finite number.
@@ -82,6 +90,7 @@ impl MachineLimits {
             chord_error: 0.001,
             junction_deviation: 0.01,
             jerk_on_curves: true,
+            block_time: 0.0,
         }
     }
 
@@ -107,6 +116,12 @@ impl MachineLimits {
                 return Err(LimitError { name, value });
             }
         }
+        if !(self.block_time.is_finite() && self.block_time >= 0.0) {
+            return Err(LimitError {
+                name: "block time (0 for none)",
+                value: self.block_time,
+            });
+        }
         Ok(())
     }
 }
@@ -122,6 +137,8 @@ pub enum Constraint {
     AxisVelocity,
     AxisAcceleration,
     Junction,
+    /// The block's least time ([`MachineLimits::block_time`]).
+    BlockTime,
 }
 
 impl Constraint {
@@ -135,6 +152,7 @@ impl Constraint {
             Constraint::AxisVelocity => "axis velocity",
             Constraint::AxisAcceleration => "axis acceleration",
             Constraint::Junction => "junction",
+            Constraint::BlockTime => "block time",
         }
     }
 }

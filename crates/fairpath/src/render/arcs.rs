@@ -161,8 +161,7 @@ impl<C: ParamCurve + ?Sized> Fitter<'_, C> {
     fn try_interval(&self, ta: f64, tb: f64, pa: Vec3, pb: Vec3, depth: u32) -> Outcome {
         let c = self.c;
         let v = self.speed.max_over(self.piece, ta, tb);
-        let min_len = (self.opts.min_block_periods * self.opts.limits.period * v)
-            .max(self.opts.min_arc_length);
+        let min_len = self.opts.block_length(v).max(self.opts.min_arc_length);
         let chord = pa.dist(pb);
         // Splitting for the deviation may go down to what a written
         // coordinate resolves; splitting for speed stops at one block time.

@@ -196,7 +196,7 @@ pub(crate) fn even_arcs<C: ParamCurve + ?Sized>(
         } else {
             total
         };
-        let block = (opts.min_block_periods * m.period * v).max(opts.min_arc_length);
+        let block = opts.block_length(v).max(opts.min_arc_length);
         floor[j] = need < block;
         want[j] = need.max(block).min(total);
     }

@@ -41,8 +41,16 @@
 //!   differ by no more than the planned speed `v` can pass, but
 //! * never below the length covered in `min_block_periods` interpolation
 //!   periods at the planned speed (LinuxCNC spends at least 1.02 periods on
-//!   a block, and caps the speed of shorter ones), unless the chord error
-//!   asks for it.
+//!   a block, and caps the speed of shorter ones), or in the machine's
+//!   block time, unless the chord error asks for it.
+//!
+//! With a block time (`MachineLimits::block_time`) the planner caps a
+//! move of length `l` at `l / block_time`, so a stretch cut at the
+//! spacing of its slow end would crawl through its fast end: where no
+//! sample lets the spacing change and the moves would fall below the
+//! block floor, the stretch ends at the sample where a change asks least
+//! of the jerk, if the step left there passes faster
+//! ([`FLOOR_CUT_SHARE`]).
 
 use super::speed::PlannedSpeed;
 use super::{Emitted, RenderOptions, RenderStats};
@@ -67,6 +75,14 @@ pub use crate::budget::CHORD_USE;
 /// `MIN_CHORD_SPACING_PER_E`). The moves are still checked at their
 /// middles and halved where off, and the text is verified when read back.
 pub const MIN_CHORD_SPACING_PER_E: f64 = 2.0;
+
+/// With a block time, a stretch whose moves would fall below the block
+/// floor where the machine is fast is ended early where the step it
+/// leaves passes at least this share of the speed the floor allows
+/// (`l / block_time`): the floor caps every move of the fast part, the
+/// step one vertex. Chosen on four programs at 1 ms (docs/tuning.md,
+/// "Block time").
+pub const FLOOR_CUT_SHARE: f64 = 0.5;
 
 /// Sampling of the curve that the spacing is computed on, as a share of
 /// the chord tolerance.
@@ -110,6 +126,14 @@ pub(crate) struct Spacing {
     h: Vec<f64>,
     /// Whether the spacing may change at each sample.
     free: Vec<bool>,
+    /// The shortest move the machine's block time
+    /// ([`crate::feed::limits::MachineLimits::block_time`]) lets the
+    /// planned speed at each sample pass (0 without one).
+    floor: Vec<f64>,
+    /// The curvature at each sample.
+    kappa: Vec<f64>,
+    /// The planned speed at each sample.
+    v: Vec<f64>,
 }
 
 impl Spacing {
@@ -141,6 +165,9 @@ impl Spacing {
         }
         let mut h = alloc::vec![total; n];
         let mut free = alloc::vec![false; n];
+        let mut floor = alloc::vec![0.0f64; n];
+        let mut kappas = alloc::vec![0.0f64; n];
+        let mut vs = alloc::vec![0.0f64; n];
         for i in 0..n {
             let kappa = ks[i].norm();
             // (At least `2 e`: a move of arc length `2 e` lies within `e`
@@ -164,7 +191,10 @@ impl Spacing {
             } else {
                 total
             };
-            let block_h = opts.min_block_periods * m.period * v;
+            let block_h = opts.block_length(v);
+            floor[i] = m.block_time * v;
+            kappas[i] = kappa;
+            vs[i] = v;
             // Whether the spacing may change here (module docs).
             free[i] = kappa * v * v <= opts.step_share * m.jerk * m.period;
             h[i] = chord_h
@@ -178,6 +208,9 @@ impl Spacing {
             s,
             h,
             free,
+            floor,
+            kappa: kappas,
+            v: vs,
         })
     }
 
@@ -249,6 +282,7 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
     stats: &mut RenderStats,
 ) {
     let e = CHORD_USE * opts.chord;
+    let m = &opts.limits;
     let (ts, pts, s, free) = (&sp.ts, &sp.pts, &sp.s, &sp.free);
     let n = ts.len();
     let mut h = sp.h.clone();
@@ -268,9 +302,18 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
         // The last sample of the stretch so far where the spacing may
         // change, with the smallest spacing up to it.
         let mut last_free: Option<(usize, f64)> = None;
+        // With a block time: the sample where a change of spacing asks
+        // least of the jerk (`kappa v^2`), with the smallest spacing up to
+        // it; and the longest block floor in the stretch.
+        let mut softest: Option<(usize, f64)> = None;
+        let mut top = sp.floor[a].max(sp.floor[b]);
         while b + 1 < n {
             if free[b] {
                 last_free = Some((b, lo));
+            }
+            let stiff = |i: usize| sp.kappa[i] * sp.v[i] * sp.v[i];
+            if m.block_time > 0.0 && softest.is_none_or(|(c, _)| stiff(b) < stiff(c)) {
+                softest = Some((b, lo));
             }
             let (l2, h2) = (lo.min(h[b + 1]), hi.max(h[b + 1]));
             if h2 > SPACING_RATIO * l2 {
@@ -279,7 +322,26 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
                     lo = l;
                     break;
                 }
+                // Moves at `l2` would take less than the block time where
+                // the machine is fast, which caps the speed there at `l2 /
+                // block_time`: end the stretch where a change of spacing
+                // costs least, if the step it leaves (a circle's `kappa (1
+                // + ratio) / 2`, module docs) passes faster than that.
+                if let Some((c, l)) = softest.filter(|_| l2 < top.max(sp.floor[b + 1])) {
+                    let step = 0.5 * sp.kappa[c] * (1.0 + SPACING_RATIO);
+                    let passes = if step > 0.0 {
+                        crate::math::sqrt(m.jerk * m.period / step)
+                    } else {
+                        f64::INFINITY
+                    };
+                    if passes.min(sp.v[c]) > FLOOR_CUT_SHARE * l2 / m.block_time {
+                        b = c;
+                        lo = l;
+                        break;
+                    }
+                }
             }
+            top = top.max(sp.floor[b + 1]);
             lo = l2;
             hi = h2;
             b += 1;

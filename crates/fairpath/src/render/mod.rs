@@ -97,6 +97,13 @@ pub enum RenderError {
 }
 
 impl RenderOptions {
+    /// The shortest block (mm) worth writing where the planned speed is
+    /// `v` (mm/s): what the machine covers in `min_block_periods` periods
+    /// or in its block time ([`MachineLimits::block_time`]), the longer.
+    pub fn block_length(&self, v: f64) -> f64 {
+        (self.min_block_periods * self.limits.period).max(self.limits.block_time) * v
+    }
+
     /// Checks every option, naming the first bad one.
     pub fn validate(&self) -> Result<(), RenderError> {
         let positive = [("chord", self.chord)];
