@@ -41,6 +41,10 @@ use serde_json::json;
 use std::fmt::Write as _;
 use std::path::Path;
 
+/// Share of the tolerance the flattening of a path's curves may take when
+/// it is checked against the in-order gates: far below the gates' radius.
+const GATE_CHECK_ACCURACY_SHARE: f64 = 1e-4;
+
 /// Relative accuracy of the curvature variation energy in the table.
 const ENERGY_ACCURACY: f64 = 1e-3;
 
@@ -368,9 +372,7 @@ impl<'a> InOrderGates<'a> {
                 .iter()
                 .map(|r| in_order_gates_of(&r.pieces, o))
                 .collect(),
-            // The flattening of a path's curves for the check: far below
-            // the gates' radius.
-            accuracy: o.tolerance * 1e-4,
+            accuracy: o.tolerance * GATE_CHECK_ACCURACY_SHARE,
         }
     }
 

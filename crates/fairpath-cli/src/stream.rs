@@ -161,9 +161,13 @@ pub fn run(a: &StreamArgs) -> Result<()> {
             Some(tol) => {
                 // The servo interpolates between samples along chords; the
                 // planner holds them within the machine's chord error, so
-                // that share of the tolerance goes to them and the rest to
-                // the smoothing.
-                let chord = a.machine.chord_error.min(0.5 * tol);
+                // that share of the tolerance (at most the budget's
+                // largest output share) goes to them and the rest to the
+                // smoothing.
+                let chord = a
+                    .machine
+                    .chord_error
+                    .min(fairpath::budget::MAX_OUTPUT_SHARE * tol);
                 // The stream runs the exact curves (no G-code is written):
                 // `auto` ranks its candidates by their time, as for JSON.
                 let mut opts = crate::smooth::options(

@@ -81,10 +81,11 @@ impl SmoothOptions {
         smooth::check_tolerance(tolerance).map_err(|_| OptionsError::Tolerance(tolerance))?;
         let format = format.unwrap_or(controller.default_format());
         let output = output.unwrap_or(fairpath::budget::OUTPUT_SHARE * tolerance);
-        if !(output.is_finite() && output > 0.0 && output <= 0.5 * tolerance) {
+        let most = fairpath::budget::MAX_OUTPUT_SHARE * tolerance;
+        if !(output.is_finite() && output > 0.0 && output <= most) {
             return Err(OptionsError::OutputShare {
                 value: output,
-                half: 0.5 * tolerance,
+                half: most,
             });
         }
         let blend = EmitOptions::blend_share(controller, format, output);

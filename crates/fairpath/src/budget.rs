@@ -55,6 +55,11 @@
 /// Default share of the output approximation: a tenth of the tolerance.
 pub const OUTPUT_SHARE: f64 = 0.1;
 
+/// Largest share of the tolerance the output approximation may be given
+/// (`--chord`; the chords of a streamed motion): at least half is left
+/// to the smoothing, which a method needs to round a corner at all.
+pub const MAX_OUTPUT_SHARE: f64 = 0.5;
+
 /// Share of the output share that the rounding of written coordinates may
 /// take (more decimals are written until it fits): what it leaves is for
 /// the chords, arcs or spline blocks themselves.
@@ -108,6 +113,12 @@ pub const ARC_SAMPLING_SHARE: f64 = 0.05;
 /// moves dropped and vertices merged within this share (below any written
 /// decimal), by every method (`smooth/chains.rs`, `none`).
 pub const CLEAN_SHARE: f64 = 1e-3;
+
+/// Share of the tolerance within which a vertex counts as straight on:
+/// cleaning merges it where it lies within this distance of the merged
+/// segment (`smooth/chains.rs`, `merge_collinear`), which moves the path
+/// by no more than that.
+pub const COLLINEAR_SHARE: f64 = 1e-6;
 
 /// Share of the tolerance that absorbing moves far inside it (jogs, moves
 /// up to twice this long) into their neighbours may move one segment of a

@@ -99,7 +99,7 @@ impl CleanTolerances {
     pub fn from_tolerance(tol: f64) -> Self {
         CleanTolerances {
             min_segment: tol * crate::budget::CLEAN_SHARE,
-            collinear: tol * 1e-6,
+            collinear: tol * crate::budget::COLLINEAR_SHARE,
         }
     }
 }
