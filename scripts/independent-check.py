@@ -470,12 +470,12 @@ CLAIM_SLACK = 2.0
 JOINTS = re.compile(r"joints:\s+(\d+) C2 .*?(\d+) C1 .*?(\d+) C0 .*?(\d+) gaps")
 
 
-def continuity_check(prog, method, tol_text, tol, tmp):
+def continuity_check(prog, method, tol_text, tol, tmp, extra=()):
     """fairpath's claim of C2 joints for `prog` and `method` against the
     joints of its exact curves (-f json) classed here: (text, failed)."""
     out = os.path.join(tmp, "out.json")
     r = subprocess.run([BIN, "smooth", prog, "-t", tol_text, "-m", method, "-f", "json",
-                        "-o", out], capture_output=True, text=True)
+                        "-o", out, *extra], capture_output=True, text=True)
     if r.returncode != 0:
         return "refused", False
     m = JOINTS.search(r.stdout + r.stderr)
@@ -510,6 +510,8 @@ def main():
                     help="in directories, only programs up to this size")
     ap.add_argument("--generated", action="store_true",
                     help="also the programs scripts/check-programs.py writes")
+    ap.add_argument("--smooth-args", default="",
+                    help="more arguments for every `fairpath smooth` (e.g. '--block-time 0.001')")
     ap.add_argument("programs", nargs="*", help="programs, or directories to search")
     a = ap.parse_args()
     generated = tempfile.mkdtemp()
@@ -532,7 +534,8 @@ def main():
                 for fmt in a.formats.split(","):
                     out = os.path.join(tmp, "out.ngc")
                     r = subprocess.run([BIN, "smooth", prog, "-t", a.tolerance, "-m", method,
-                                        "-f", fmt, "-o", out], capture_output=True, text=True)
+                                        "-f", fmt, "-o", out, *a.smooth_args.split()],
+                                       capture_output=True, text=True)
                     name = os.path.basename(prog)
                     if r.returncode != 0:
                         lines = r.stderr.strip().splitlines() or ["?"]
@@ -555,7 +558,8 @@ def main():
                 if a.continuity:
                     name = os.path.basename(prog)
                     try:
-                        text, bad = continuity_check(prog, method, a.tolerance, tol, tmp)
+                        text, bad = continuity_check(prog, method, a.tolerance, tol, tmp,
+                                                     a.smooth_args.split())
                     except ValueError as e:
                         text, bad = f"not checked: {e}", False
                     except (KeyError, ZeroDivisionError, OverflowError) as e:

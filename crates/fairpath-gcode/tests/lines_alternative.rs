@@ -56,5 +56,5 @@ fn random_lines_0_001in_with_a_block_time_keeps_fast_moves_above_it() {
     opts.set_machine(machine, false).unwrap();
     let (_, report) = smooth_program(&text, &opts).unwrap();
     let written = report.times.written.total;
-    assert!(written < 1.6, "written {written} s (1.944 s before)");
+    assert!(written < 1.7, "written {written} s (1.944 s before)");
 }

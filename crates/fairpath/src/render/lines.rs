@@ -326,9 +326,17 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
                 // the machine is fast, which caps the speed there at `l2 /
                 // block_time`: end the stretch where a change of spacing
                 // costs least, if the step it leaves (a circle's `kappa (1
-                // + ratio) / 2`, module docs) passes faster than that.
+                // + ratio) / 2` for the ratio of the spacings on its two
+                // sides, module docs) passes faster than that.
                 if let Some((c, l)) = softest.filter(|_| l2 < top.max(sp.floor[b + 1])) {
-                    let step = 0.5 * sp.kappa[c] * (1.0 + SPACING_RATIO);
+                    // The spacings on either side: the stretch's up to
+                    // `c`, and at least the smallest needed after it.
+                    let after = h[c + 1..=b + 1]
+                        .iter()
+                        .copied()
+                        .fold(f64::INFINITY, f64::min);
+                    let ratio = l.max(after) / l.min(after);
+                    let step = 0.5 * sp.kappa[c] * (1.0 + ratio);
                     let passes = if step > 0.0 {
                         crate::math::sqrt(m.jerk * m.period / step)
                     } else {
