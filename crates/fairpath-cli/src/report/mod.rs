@@ -67,6 +67,7 @@ fn constraint_colour(name: &str) -> &'static str {
         "axis velocity" => "#17becf",
         "axis acceleration" => "#1f77b4",
         "junction" => "#8c564b",
+        "block time" => "#e377c2",
         _ => "#bbbbbb",
     }
 }
