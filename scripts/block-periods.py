@@ -10,6 +10,10 @@ order; the planned speed is read from `fairpath simulate --profile` of the
 same program (pass the same machine flags as to `smooth`). Blocks of a
 G0 (or of modal G0) are left out.
 
+fairpath's planner does this itself with a block time (`simulate
+--block-time 0.001`, or `smooth` and `compare` with it): this script
+counts the blocks and estimates their cost from the plan without one.
+
 Usage: scripts/block-periods.py PROGRAM [SIMULATE FLAGS...]
 (FAIRPATH_BIN for another binary than target/release/fairpath.)
 """

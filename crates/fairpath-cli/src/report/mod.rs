@@ -176,12 +176,17 @@ pub fn report_program(
     ));
     let machine = &opts.machine;
     let subtitle = format!(
-        "tolerance {} mm; machine V {} mm/s, A {} mm/s², J {} mm/s³, Ts {} ms; {}",
+        "tolerance {} mm; machine V {} mm/s, A {} mm/s², J {} mm/s³, Ts {} ms{}; {}",
         opts.tolerance,
         machine.max_feed,
         machine.acc,
         machine.jerk,
         machine.period * 1e3,
+        if machine.block_time > 0.0 {
+            format!(", block time {} ms", machine.block_time * 1e3)
+        } else {
+            String::new()
+        },
         if opts.override_feed {
             "feeds overridden to V"
         } else {

@@ -234,7 +234,7 @@ impl Simulation {
 
     pub fn text(&self, m: &MachineLimits) -> String {
         let mut s = String::new();
-        let _ = writeln!(
+        let _ = write!(
             s,
             "machine: max feed {} mm/min, acc {} mm/s^2, jerk {} mm/s^3, period {} s",
             m.max_feed * 60.0,
@@ -242,6 +242,10 @@ impl Simulation {
             m.jerk,
             m.period
         );
+        if m.block_time > 0.0 {
+            let _ = write!(s, ", block time {} s", m.block_time);
+        }
+        s.push('\n');
         let _ = writeln!(
             s,
             "  time:            {:.4} s ({:.4} s feed, {:.4} s rapid)",
