@@ -66,12 +66,15 @@ pub struct MachineLimits {
     pub block_time: f64,
 }
 
-/// A limit that is not a positive finite number.
+/// A limit out of its range: not a positive finite number (the block
+/// time: not finite or negative).
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
-#[error("machine limit {name} must be a positive number, got {value}")]
+#[error("machine limit {name} must be {expected}, got {value}")]
 pub struct LimitError {
     pub name: &'static str,
     pub value: f64,
+    /// What the limit must be, in words.
+    pub expected: &'static str,
 }
 
 impl MachineLimits {
@@ -113,13 +116,18 @@ impl MachineLimits {
         ];
         for (name, value) in named {
             if !(value.is_finite() && value > 0.0) {
-                return Err(LimitError { name, value });
+                return Err(LimitError {
+                    name,
+                    value,
+                    expected: "a positive number",
+                });
             }
         }
         if !(self.block_time.is_finite() && self.block_time >= 0.0) {
             return Err(LimitError {
-                name: "block time (0 for none)",
+                name: "block time",
                 value: self.block_time,
+                expected: "0 (none) or a positive number",
             });
         }
         Ok(())
