@@ -254,6 +254,32 @@ fn segments_csv_names_the_limiting_constraint_of_each_segment() {
     assert!((feed_time - v["feed_time_s"].as_f64().unwrap()).abs() < 1e-3);
 }
 
+/// `fairpath simulate PROGRAM --override-feed` with `extra` arguments
+/// (its segments written in `dir`): the planned time, and how many
+/// segments are limited by one of `constraints`.
+fn simulate_counting(
+    dir: &Path,
+    program: &str,
+    extra: &[&str],
+    constraints: &[&str],
+) -> (f64, usize) {
+    let seg = dir.join("seg.csv");
+    let o = bin()
+        .args(["simulate", program, "--override-feed"])
+        .args(["--format", "json", "--segments", seg.to_str().unwrap()])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let csv = std::fs::read_to_string(&seg).unwrap();
+    let limited = csv
+        .lines()
+        .filter(|l| constraints.iter().any(|c| l.contains(c)))
+        .count();
+    (v["time_s"].as_f64().unwrap(), limited)
+}
+
 /// `--block-time T` (or `block_time` in the machine file): every block
 /// of the program takes at least `T`, so the example's short moves plan
 /// slower, and the segments that block time limits are named so; without
@@ -263,20 +289,7 @@ fn a_block_time_caps_short_blocks_and_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let machine = dir.path().join("m.toml");
     std::fs::write(&machine, "block_time = 0.02\n").unwrap();
-    let run = |extra: &[&str]| {
-        let seg = dir.path().join("seg.csv");
-        let o = bin()
-            .args(["simulate", &example(), "--override-feed"])
-            .args(["--format", "json", "--segments", seg.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let csv = std::fs::read_to_string(&seg).unwrap();
-        let by_block = csv.lines().filter(|l| l.contains("block time")).count();
-        (v["time_s"].as_f64().unwrap(), by_block)
-    };
+    let run = |extra: &[&str]| simulate_counting(dir.path(), &example(), extra, &["block time"]);
     let (free, free_blocks) = run(&[]);
     let (zero, _) = run(&["--block-time", "0"]);
     let (capped, blocks) = run(&["--block-time", "0.02"]);
@@ -307,21 +320,12 @@ fn the_thesis_time_model_drops_the_jerk_caps_on_curves() {
     let machine = dir.path().join("m.toml");
     std::fs::write(&machine, "jerk_on_curves = false\n").unwrap();
     let run = |extra: &[&str]| {
-        let seg = dir.path().join("seg.csv");
-        let o = bin()
-            .args(["simulate", json.to_str().unwrap(), "--override-feed"])
-            .args(["--format", "json", "--segments", seg.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let csv = std::fs::read_to_string(&seg).unwrap();
-        let jerk_limited = csv
-            .lines()
-            .filter(|l| l.contains("normal jerk") || l.contains("curvature change"))
-            .count();
-        (v["time_s"].as_f64().unwrap(), jerk_limited)
+        simulate_counting(
+            dir.path(),
+            json.to_str().unwrap(),
+            extra,
+            &["normal jerk", "curvature change"],
+        )
     };
     let (full, full_jerk) = run(&[]);
     let (thesis, thesis_jerk) = run(&["--time-model", "thesis"]);
