@@ -126,10 +126,6 @@ pub(crate) struct Spacing {
     h: Vec<f64>,
     /// Whether the spacing may change at each sample.
     free: Vec<bool>,
-    /// The shortest move the machine's block time
-    /// ([`crate::feed::limits::MachineLimits::block_time`]) lets the
-    /// planned speed at each sample pass (0 without one).
-    floor: Vec<f64>,
     /// The curvature at each sample.
     kappa: Vec<f64>,
     /// The planned speed at each sample.
@@ -165,7 +161,6 @@ impl Spacing {
         }
         let mut h = alloc::vec![total; n];
         let mut free = alloc::vec![false; n];
-        let mut floor = alloc::vec![0.0f64; n];
         let mut kappas = alloc::vec![0.0f64; n];
         let mut vs = alloc::vec![0.0f64; n];
         for i in 0..n {
@@ -192,7 +187,6 @@ impl Spacing {
                 total
             };
             let block_h = opts.block_length(v);
-            floor[i] = m.block_time * v;
             kappas[i] = kappa;
             vs[i] = v;
             // Whether the spacing may change here (module docs).
@@ -208,7 +202,6 @@ impl Spacing {
             s,
             h,
             free,
-            floor,
             kappa: kappas,
             v: vs,
         })
@@ -304,9 +297,10 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
         let mut last_free: Option<(usize, f64)> = None;
         // With a block time: the sample where a change of spacing asks
         // least of the jerk (`kappa v^2`), with the smallest spacing up to
-        // it; and the longest block floor in the stretch.
+        // it; and the highest planned speed in the stretch, where the
+        // block time asks for the longest moves.
         let mut softest: Option<(usize, f64)> = None;
-        let mut top = sp.floor[a].max(sp.floor[b]);
+        let mut fastest = sp.v[a].max(sp.v[b]);
         while b + 1 < n {
             if free[b] {
                 last_free = Some((b, lo));
@@ -328,7 +322,8 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
                 // costs least, if the step it leaves (a circle's `kappa (1
                 // + ratio) / 2` for the ratio of the spacings on its two
                 // sides, module docs) passes faster than that.
-                if let Some((c, l)) = softest.filter(|_| l2 < top.max(sp.floor[b + 1])) {
+                let floor = m.block_time * fastest.max(sp.v[b + 1]);
+                if let Some((c, l)) = softest.filter(|_| l2 < floor) {
                     // The spacings on either side: the stretch's up to
                     // `c`, and at least the smallest needed after it.
                     let after = h[c + 1..=b + 1]
@@ -349,7 +344,7 @@ pub(crate) fn lines_with<C: ParamCurve + ?Sized>(
                     }
                 }
             }
-            top = top.max(sp.floor[b + 1]);
+            fastest = fastest.max(sp.v[b + 1]);
             lo = l2;
             hi = h2;
             b += 1;
