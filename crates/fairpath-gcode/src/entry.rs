@@ -11,7 +11,7 @@ mod report;
 
 pub use error::SmoothProgramError;
 pub use evidence::Evidence;
-pub use parts::{smooth_in_parts, PartSizes, PartsError, Prepared, PART_LINES};
+pub use parts::{smooth_in_parts, PartSizes, PartsError, Prepared, PART_LINES, WINDOWS_UNSTITCHED};
 pub use report::Report;
 
 use crate::emit::{

@@ -165,7 +165,7 @@ pub mod write_spline;
 pub use entry::{
     smooth_and_plan, smooth_in_parts, smooth_parsed, smooth_parsed_with, smooth_program,
     write_curves, Curves, Evidence, Output, PartSizes, PartsError, Prepared, Report,
-    SmoothProgramError, PART_LINES,
+    SmoothProgramError, PART_LINES, WINDOWS_UNSTITCHED,
 };
 pub use error::{CycleError, ErrorKind, GcodeError, JsonError, SplineError, WriteError};
 pub use facts::ProgramFacts;

@@ -364,3 +364,36 @@ fn keeps_runs_path_and_times(
     let wrote = plan_text(written, opts).unwrap();
     assert_eq!(evidence.times.written, wrote, "{what}");
 }
+
+/// Regression (`surface-raster-large.ngc`, `auto` at 0.05 mm, the job
+/// the CLI runs): its written raster runs whole passes at the maximum
+/// feed, one planner segment for thousands of arcs. With carried windows
+/// of 2,048 pieces of overlap the written run did not stitch and the job
+/// was done again without windows: twice the time and ten times the
+/// memory (548 MB for a 3.7 MB input). The job must stitch.
+#[test]
+#[ignore = "slow: auto on a 3.7 MB program, a minute or two"]
+fn surface_raster_large_auto_written_stitches_in_windows() {
+    let Some(shared) = super::common::shared_paths() else {
+        return;
+    };
+    let path = shared.join("synthetic/surface-raster-large.ngc");
+    let text = std::fs::read(&path).unwrap();
+    let opts = options("auto");
+    let prepared = Prepared::read(&text, opts.format()).unwrap();
+    let sizes = PartSizes {
+        lines: fairpath_gcode::PART_LINES,
+        windows: Some(RunWindows::DEFAULT),
+    };
+    let mut out = Vec::new();
+    // (An output that does not verify is an error.)
+    let (evidence, phases) =
+        smooth_in_parts(&text, prepared, &opts, sizes, &mut out, Phases::new()).unwrap();
+    assert_eq!(
+        phases.duration(fairpath_gcode::WINDOWS_UNSTITCHED),
+        std::time::Duration::ZERO,
+        "the written run did not stitch in windows; the steps: {}",
+        phases.report()
+    );
+    assert_eq!(evidence.feed_moves_in, 138_804);
+}

@@ -120,6 +120,12 @@ pub enum PartsError {
     Write(#[source] std::io::Error),
 }
 
+/// The step [`smooth_in_parts`] marks on its clock ([`Phases`]) where a run
+/// cut into windows could not be planned a window at a time and the job
+/// was done again without windows: its time is the attempt's, lost
+/// (printed with `FAIRPATH_TIMING=1`).
+pub const WINDOWS_UNSTITCHED: &str = "windows did not stitch: done again";
+
 /// The whole job ([`super::smooth_parsed_with`]) on `text`, read as
 /// `prepared` says (whole, or in parts as `sizes` says),
 /// its written text given to `out` as it is written (a part's text is read
@@ -149,11 +155,14 @@ pub fn smooth_in_parts(
     match (done, again) {
         (Err(PartsError::Job(SmoothProgramError::Plan(PlanError::Unstitched { .. }))), Some(a)) => {
             out.cut(start).map_err(PartsError::Write)?;
+            let (facts, mut phases) = a;
+            // The time of the attempt in windows, lost.
+            phases.mark(WINDOWS_UNSTITCHED);
             let whole_runs = PartSizes {
                 windows: None,
                 ..sizes
             };
-            in_parts(text, Prepared::Parts(a.0), opts, whole_runs, out, a.1)
+            in_parts(text, Prepared::Parts(facts), opts, whole_runs, out, phases)
         }
         (done, _) => done,
     }

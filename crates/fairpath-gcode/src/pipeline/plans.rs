@@ -105,13 +105,22 @@ std::thread_local! {
 /// The windows a carried plan is made in: smaller than
 /// [`PlanWindows::DEFAULT`] (a carried plan holds up to a window and two
 /// overlaps of pieces, and a job holds three: the input's, the curves' and
-/// the written text's), with the same overlap. Windows that stitch give
-/// the whole run's time to the bit whatever their step
-/// ([`fairpath::feed::windowed`]), so the time is `simulate`'s all the
-/// same; a step of four overlaps plans each piece 1.5 times.
+/// the written text's). Windows that stitch give the whole run's time to
+/// the bit whatever their step ([`fairpath::feed::windowed`]), so the time
+/// is `simulate`'s all the same; a step of four overlaps plans each piece
+/// 1.5 times.
+///
+/// The overlap, 4,096 pieces, is twice [`PlanWindows::DEFAULT`]'s: two
+/// windows stitch only where both hold a few segments alike inside their
+/// overlap, and a raster written fast enough to run a whole pass at the
+/// maximum feed is one segment for thousands of arcs. With 2,048,
+/// `auto`'s written `surface-raster-large.ngc` at 0.05 mm did not stitch
+/// (since the renderer's lines capped by their neighbours), and the job
+/// was done again without windows: 38.4 s and 548 MB instead of 19.2 s
+/// and 62 MB (docs/tuning.md, `CARRIED_WINDOWS`).
 const CARRIED_WINDOWS: PlanWindows = PlanWindows {
-    step: 4 * PlanWindows::DEFAULT.overlap,
-    overlap: PlanWindows::DEFAULT.overlap,
+    step: 4 * 4096,
+    overlap: 4096,
 };
 
 /// How [`carry_runs`] takes a part's runs.
