@@ -106,9 +106,7 @@
 //! at the middle of every line longer than a length
 //! ([`split_at_long_lines`]; each of [`AutoOptions::section_lines`], 5, 3
 //! and 1 mm by default, gives one mix) and each section gets its own fastest
-//! candidate by the objective's cheap bound (for a G-code output the
-//! section's curves planned from rest to rest, not rendered: the mix is
-//! costed, the sections are not). At a cut every candidate must
+//! candidate (planned from rest to rest). At a cut every candidate must
 //! meet the line G2 (tangent along it, zero curvature): fits keep the cut
 //! halves as lines ([`BsplineFitOptions::line_at_start`]), and a candidate
 //! that does not is not eligible there. A raster whose passes want fits

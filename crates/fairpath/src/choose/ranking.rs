@@ -96,29 +96,6 @@ impl<'o> Ranking<'o> {
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
     }
 
-    /// The candidate that `eligible` accepts with the least bound, by index
-    /// (a tie goes to the earlier), costed by nothing; where some accepted
-    /// candidate has no bound, [`Ranking::cheapest`].
-    pub(super) fn least_bound(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {
-        let accepted: Vec<usize> = (0..self.cands.len())
-            .filter(|&i| eligible(&self.cands[i]))
-            .collect();
-        let mut reps: Vec<usize> = accepted.iter().map(|&i| self.first_same[i]).collect();
-        reps.sort_unstable();
-        reps.dedup();
-        self.bound(&reps);
-        let mut best: Option<(f64, usize)> = None;
-        for &i in &accepted {
-            let Some(b) = self.bounds[self.first_same[i]].flatten() else {
-                return self.cheapest(eligible);
-            };
-            if best.is_none_or(|(bb, _)| b < bb) {
-                best = Some((b, i));
-            }
-        }
-        best.map(|(_, i)| i)
-    }
-
     /// [`Ranking::fastest`], by index only: where `eligible` accepts
     /// candidates of one result only, the first of them, costed by nothing.
     pub(super) fn cheapest(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {
@@ -302,37 +279,6 @@ mod tests {
             let want = want.map(|(t, i)| (Some(t), i)).or(fallback.map(|i| (None, i)));
             let mut ranking = Ranking::new(&table, cands);
             prop_assert_eq!(ranking.fastest(eligible), want);
-        }
-
-        /// `least_bound` keeps the accepted candidate whose bound is least
-        /// (the earlier on a tie) and costs nothing; where an accepted one
-        /// has no bound, it keeps what `cheapest` keeps.
-        #[test]
-        fn least_bound_keeps_the_least_bound_and_costs_nothing(
-            results in proptest::collection::vec(0usize..6, 1..10),
-            bounds in proptest::collection::vec(proptest::option::weighted(0.9, 0u32..8), 6),
-            accepted in proptest::collection::vec(any::<bool>(), 10),
-        ) {
-            let bounds: Vec<Option<f64>> = bounds.iter().map(|b| b.map(f64::from)).collect();
-            // Costs the reverse of the bounds: a choice by cost would differ.
-            let costs = bounds.iter().map(|b| b.map(|b| 10.0 - b)).collect();
-            let table = Table { costs, bounds: bounds.clone(), slack: 0.0 };
-            let cands: Vec<SmoothedRun> = results.iter().map(|&r| candidate(r)).collect();
-            let eligible = |c: &SmoothedRun| accepted[result(&c.pieces) % accepted.len()];
-            let takes: Vec<usize> = (0..cands.len()).filter(|&i| eligible(&cands[i])).collect();
-            let mut ranking = Ranking::new(&table, cands.clone());
-            let got = ranking.least_bound(eligible);
-            if takes.iter().any(|&i| bounds[results[i]].is_none()) {
-                let mut other = Ranking::new(&table, cands);
-                prop_assert_eq!(got, other.cheapest(eligible));
-            } else {
-                let want = takes.iter().copied().fold(None, |best: Option<usize>, i| match best {
-                    Some(b) if bounds[results[b]] <= bounds[results[i]] => Some(b),
-                    _ => Some(i),
-                });
-                prop_assert_eq!(got, want);
-                prop_assert!(ranking.costs.iter().all(|c| c.is_none()));
-            }
         }
     }
 }

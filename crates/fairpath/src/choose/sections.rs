@@ -151,16 +151,7 @@ impl Auto {
 
     /// The fastest candidate for one section that meets its cut lines
     /// (directions `before`, `after`) G2, among those each of [`MIXES`]
-    /// admits ([`Choices`]), by the objective's cheap bound where it has
-    /// one ([`Ranking::least_bound`]: for a G-code output the curves'
-    /// planned time, not the time of their rendering).
-    ///
-    /// Why the bound: the mix is costed as a whole and kept only where it
-    /// beats the best candidate for the whole run, so a section choice
-    /// that renders slower than its curves cannot make `auto` slower than
-    /// its candidates; rendering and planning every section's candidates
-    /// was a fifth of `auto`'s time on LinuxCNC's `LHchips4.ngc`
-    /// (measurements: docs/tuning.md, `best_for_section`).
+    /// admits ([`Choices`]).
     fn best_for_section(
         &self,
         run: &Run,
@@ -172,9 +163,8 @@ impl Auto {
         let cut_ends = (before.is_some(), after.is_some());
         let (mut ranking, _) = self.ranked_candidates(run, tolerance, cut_ends, memo)?;
         let eligible = |c: &SmoothedRun| meets_cut_lines(c, (before, after), jt);
-        let chosen = MIXES.map(|mix| {
-            ranking.least_bound(|c| c.chosen.iter().all(|n| mix.admits(n)) && eligible(c))
-        });
+        let chosen = MIXES
+            .map(|mix| ranking.cheapest(|c| c.chosen.iter().all(|n| mix.admits(n)) && eligible(c)));
         Ok(chosen.map(|i| i.map(|i| ranking.cands[i].clone())))
     }
 }
