@@ -102,25 +102,31 @@ std::thread_local! {
         const { core::cell::Cell::new(false) };
 }
 
-/// The windows a carried plan is made in: smaller than
-/// [`PlanWindows::DEFAULT`] (a carried plan holds up to a window and two
-/// overlaps of pieces, and a job holds three: the input's, the curves' and
-/// the written text's). Windows that stitch give the whole run's time to
-/// the bit whatever their step ([`fairpath::feed::windowed`]), so the time
-/// is `simulate`'s all the same; a step of four overlaps plans each piece
-/// 1.5 times.
-///
-/// The overlap, 4,096 pieces, is twice [`PlanWindows::DEFAULT`]'s: two
-/// windows stitch only where both hold a few segments alike inside their
-/// overlap, and a raster written fast enough to run a whole pass at the
-/// maximum feed is one segment for thousands of arcs. With 2,048,
-/// `auto`'s written `surface-raster-large.ngc` at 0.05 mm did not stitch
-/// (since the renderer's lines capped by their neighbours), and the job
-/// was done again without windows: 38.4 s and 548 MB instead of 19.2 s
-/// and 62 MB (docs/tuning.md, `CARRIED_WINDOWS`).
+/// The windows the carried plans of the input and of the curves are made
+/// in: smaller than [`PlanWindows::DEFAULT`] (a carried plan holds up to a
+/// window and two overlaps of pieces, and a job holds three: the input's,
+/// the curves' and the written text's), with the same overlap. Windows
+/// that stitch give the whole run's time to the bit whatever their step
+/// ([`fairpath::feed::windowed`]), so the time is `simulate`'s all the
+/// same; a step of four overlaps plans each piece 1.5 times.
 const CARRIED_WINDOWS: PlanWindows = PlanWindows {
-    step: 4 * 4096,
-    overlap: 4096,
+    step: 4 * PlanWindows::DEFAULT.overlap,
+    overlap: PlanWindows::DEFAULT.overlap,
+};
+
+/// The windows the carried plan of the written text is made in: twice
+/// [`CARRIED_WINDOWS`]' overlap. Two windows stitch only where both hold
+/// a few segments alike inside their overlap, and a raster written fast
+/// enough to run a whole pass at the maximum feed is one segment for
+/// thousands of arcs: with 2,048 pieces of overlap, `auto`'s written
+/// `surface-raster-large.ngc` at 0.05 mm did not stitch (since the
+/// renderer's lines capped by their neighbours), and the job was done
+/// again without windows: 38.4 s and 548 MB instead of about 20 s and 60
+/// MB. The other plans keep the smaller windows, which hold less
+/// (docs/tuning.md, `CARRIED_WINDOWS`).
+const WRITTEN_CARRIED_WINDOWS: PlanWindows = PlanWindows {
+    step: 4 * 2 * PlanWindows::DEFAULT.overlap,
+    overlap: 2 * PlanWindows::DEFAULT.overlap,
 };
 
 /// How [`carry_runs`] takes a part's runs.
@@ -136,6 +142,8 @@ struct Carrying<'a> {
     /// plan: where the cut line was dropped).
     join: Option<bool>,
     po: &'a PlanOptions,
+    /// The windows the plan is made in.
+    windows: PlanWindows,
     what: &'static str,
 }
 
@@ -228,7 +236,7 @@ fn carry_runs(
         set(done, j, t);
     }
     if c.cut {
-        let timer = WindowedTimer::new(c.po, Corners::Blended, CARRIED_WINDOWS)
+        let timer = WindowedTimer::new(c.po, Corners::Blended, c.windows)
             .ok_or(PlanError::Unstitched { what })?;
         let mut plan = CarriedPlan { timer, half: None };
         push(&mut plan, c.runs[k_last], true)?;
@@ -627,6 +635,7 @@ fn plan_job(
                     cut,
                     join: None,
                     po: &po,
+                    windows: CARRIED_WINDOWS,
                     what: "the input",
                 };
                 carry_runs(done, &mut carry.input, c)?;
@@ -645,6 +654,7 @@ fn plan_job(
                 cut,
                 join: None,
                 po: &po,
+                windows: CARRIED_WINDOWS,
                 what: "the curves",
             };
             carry_runs(&mut exact_done, &mut carry.exact, c)?;
@@ -790,6 +800,7 @@ pub fn plan_written_carried(
             cut,
             join: Some(dropped),
             po: &po,
+            windows: WRITTEN_CARRIED_WINDOWS,
             what,
         };
         carry_runs(&mut done, carry, c)?;
