@@ -1,7 +1,7 @@
 //! Verification of many runs on all cores: the verifier is
 //! single-threaded, so this splits the work into jobs (whole runs, and
-//! chunks of long runs) and, with the `std` feature, runs them on rayon's
-//! work-stealing pool (without it, one after the other: the same results).
+//! chunks of long runs) and, with the `std` feature, runs them on scoped
+//! threads (without it, one after the other: the same results).
 
 use crate::path::Piece;
 use crate::verify::{report_measuring, Deviation, Measures, RunReport, Verifier, VerifyOptions};
@@ -14,9 +14,8 @@ pub const VERIFY_CHUNK: usize = 4096;
 const CHUNK: usize = VERIFY_CHUNK;
 
 /// Runs `f(i)` for `i in 0..n`, results in order: with the `std` feature
-/// on rayon's global pool, each index a job of its own (the jobs are few
-/// and uneven: runs, chunks, candidates), nested calls sharing the pool's
-/// threads; without it in order on this thread.
+/// on as many scoped threads as the machine has cores (at most `n`), each
+/// taking the next index when done; without it in order on this thread.
 pub fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
     #[cfg(feature = "std")]
     {
@@ -30,9 +29,35 @@ pub fn par_map<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
 
 #[cfg(feature = "std")]
 fn threaded<T: Send, F: Fn(usize) -> T + Sync>(n: usize, f: F) -> Vec<T> {
-    use rayon::prelude::*;
-    let f = &f;
-    (0..n).into_par_iter().with_max_len(1).map(f).collect()
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let threads = std::thread::available_parallelism()
+        .map(|t| t.get())
+        .unwrap_or(1)
+        .min(n)
+        .max(1);
+    if threads <= 1 {
+        return (0..n).map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let out: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= n {
+                    break;
+                }
+                let r = f(i);
+                out.lock().unwrap()[i] = Some(r);
+            });
+        }
+    });
+    out.into_inner()
+        .unwrap()
+        .into_iter()
+        .map(|r| r.unwrap())
+        .collect()
 }
 
 /// The same reports as `verify_run` on each `(original, smoothed)` pair.
