@@ -372,7 +372,7 @@ fn keeps_runs_path_and_times(
 /// was done again without windows: twice the time and ten times the
 /// memory (548 MB for a 3.7 MB input). The job must stitch.
 #[test]
-#[ignore = "slow: auto on a 3.7 MB program, a minute or two"]
+#[ignore = "slow: auto on a 3.7 MB program, about 20 s in the test profile"]
 fn surface_raster_large_auto_written_stitches_in_windows() {
     let Some(shared) = super::common::shared_paths() else {
         return;
