@@ -749,3 +749,130 @@ fn test_12mmflat_curves_written_as_lines_among_arcs_keep_their_spacing() {
     assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
     assert_spacing_kept_at(&out, p0);
 }
+
+/// A wave (amplitude `amp` mm, wavelength `wl` mm) in `plane`, sampled
+/// every `step` mm over `n` vertices, its coordinates rounded to `round`
+/// mm as a CAM system writes them, smoothed corner by corner
+/// (`bspline-corner` at 0.045 mm): lines and transitions, a bump of
+/// curvature at every vertex.
+fn corner_smoothed_wave(
+    n: usize,
+    step: f64,
+    amp: f64,
+    wl: f64,
+    round: f64,
+    plane: Plane,
+) -> Vec<Piece> {
+    use fairpath::smooth::{BsplineCorner, Smoother};
+    let pts: Vec<Vec3> = (0..n)
+        .map(|i| {
+            let x = i as f64 * step;
+            let y = amp * (std::f64::consts::TAU * x / wl).sin();
+            let r = |v: f64| (v / round).round() * round;
+            plane.point([r(x), r(y), 2.0])
+        })
+        .collect();
+    let mut run = fairpath::Run::polyline(&pts, None);
+    for p in run.pieces.iter_mut() {
+        p.feed = Some(4000.0);
+    }
+    BsplineCorner::default()
+        .smooth_run(&run, 0.045)
+        .unwrap()
+        .pieces
+}
+
+/// At the programmed feed (4000 mm/min, as the raster's), a densely
+/// sampled wave smoothed corner by corner is written a chain of
+/// arcs, about one per corner (`render::chain_arcs`), not a dozen arcs
+/// following each corner's bump: within the chord share of the curves
+/// (the independent verifier), from the first curve's start to the last
+/// one's end, tangent throughout, and planned at least as fast as the
+/// curves (the regression of `surface-raster-large.ngc`, whose arcs were
+/// 12 times its lines and planned 14% slower than its curves).
+#[test]
+fn a_densely_sampled_wave_smoothed_at_its_corners_is_written_an_arc_per_corner() {
+    for plane in Plane::ALL {
+        let curves = corner_smoothed_wave(400, 0.5, 3.0, 60.0, 0.0001, plane);
+        let corners = curves
+            .iter()
+            .filter(|p| !matches!(p.curve, Curve::Line(_)))
+            .count();
+        let o = opts(CurveForm::Arcs, 0.005);
+        let po = PlanOptions {
+            override_feed: false,
+            ..plan_opts()
+        };
+        let plan = plan_run(&curves, &po).unwrap();
+        let speed = PlannedSpeed::new(curves.len(), &plan, o.limits.period);
+        let r = render_run(&curves, &speed, &o).unwrap();
+        assert!(r.stats.chained > curves.len() * 9 / 10, "{:?}", r.stats);
+        assert!(
+            r.pieces.len() < 2 * corners,
+            "{} pieces for {corners} corners",
+            r.pieces.len()
+        );
+        assert_eq!(r.pieces[0].start(), curves[0].start());
+        assert_eq!(r.pieces.last().unwrap().end(), curves.last().unwrap().end());
+        for w in r.pieces.windows(2) {
+            assert_eq!(w[0].end(), w[1].start());
+            let (a, b) = (w[0].curve.unit_tangent(1.0), w[1].curve.unit_tangent(0.0));
+            let kink = a.zip(b).map_or(0.0, |(a, b)| a.angle_to(b));
+            assert!(kink < 1e-6, "kink {kink}");
+        }
+        let rep = verify_run(&curves, &r.pieces, &VerifyOptions::new(o.chord));
+        assert!(
+            rep.deviation_bound <= o.chord,
+            "deviation {}",
+            rep.deviation_bound
+        );
+        let written = plan_run(&r.pieces, &po).unwrap();
+        assert!(
+            written.time <= plan.time,
+            "written {} s, curves {} s",
+            written.time,
+            plan.time
+        );
+    }
+}
+
+/// A run of chains rendered in parts whose bounds are multiples of
+/// [`CHAIN_PIECES`] is the run rendered whole.
+#[test]
+fn chains_rendered_in_parts_at_chain_bounds_are_the_run_rendered_whole() {
+    use fairpath::render::CHAIN_PIECES;
+    let curves = corner_smoothed_wave(700, 0.5, 3.0, 60.0, 0.001, Plane::Xy);
+    assert!(curves.len() > CHAIN_PIECES);
+    let o = opts(CurveForm::Arcs, 0.005);
+    let plan = plan_run(&curves, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(curves.len(), &plan, o.limits.period);
+    let whole = render_run(&curves, &speed, &o).unwrap();
+    let mut joined = render_range(&curves, 0..CHAIN_PIECES, &speed, &o).unwrap();
+    let b = render_range(&curves, CHAIN_PIECES..curves.len(), &speed, &o).unwrap();
+    joined.pieces.extend(b.pieces);
+    joined.speeds.extend(b.speeds);
+    joined.stats.add(&b.stats);
+    absorb_lines(&mut joined, &o);
+    assert_eq!(joined.pieces, whole.pieces);
+    assert_eq!(joined.speeds, whole.speeds);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Chains of arcs keep the renderer's invariants on random waves,
+    /// whatever their noise and plane: within the chord share of the
+    /// curves, ends exact, joined exactly.
+    #[test]
+    fn chains_of_arcs_stay_within_the_chord(
+        amp in 0.5..8.0f64,
+        wl in 10.0..120.0f64,
+        step in 0.2..1.5f64,
+        round in prop::sample::select(vec![0.0001, 0.001, 0.01]),
+        plane in 0usize..3,
+        chord in 0.002..0.01f64,
+    ) {
+        let curves = corner_smoothed_wave(120, step, amp, wl, round, Plane::ALL[plane]);
+        check(&curves, &opts(CurveForm::Arcs, chord))?;
+    }
+}

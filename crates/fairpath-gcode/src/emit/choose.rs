@@ -218,10 +218,18 @@ pub(super) fn choose_run(
 /// Curves per part of a run of `curves` curves rendered part after part
 /// where a rendering of it held `count` pieces: parts that render to
 /// about [`STREAMED_PART_RENDERED`] pieces each, at most
-/// [`RENDER_PART_PIECES`] curves.
+/// [`RENDER_PART_PIECES`] curves; a multiple of the renderer's chains
+/// ([`fairpath::render::CHAIN_PIECES`]) where it is longer than one, so
+/// that the parts render as the whole.
 fn streamed_part_pieces(curves: usize, count: usize) -> usize {
     let per_curve = count.div_ceil(curves.max(1)).max(1);
-    (STREAMED_PART_RENDERED / per_curve).clamp(1, RENDER_PART_PIECES)
+    let part = (STREAMED_PART_RENDERED / per_curve).clamp(1, RENDER_PART_PIECES);
+    let chain = fairpath::render::CHAIN_PIECES;
+    if part >= chain {
+        part / chain * chain
+    } else {
+        part
+    }
 }
 
 #[cfg(test)]
@@ -237,6 +245,6 @@ mod tests {
         assert_eq!(streamed_part_pieces(649, 400_000), 48);
         assert_eq!(streamed_part_pieces(3, 200_000), 1);
         assert_eq!(streamed_part_pieces(200_000, 400_000), RENDER_PART_PIECES);
-        assert_eq!(streamed_part_pieces(10, 100), 3000);
+        assert_eq!(streamed_part_pieces(10, 100), 2560);
     }
 }

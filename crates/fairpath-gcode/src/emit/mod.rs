@@ -93,8 +93,10 @@ const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
 /// docs/tuning.md, `LONG_RUN_PIECES` and `LINES_CANDIDATE_SHARE`).
 const LINES_CANDIDATE_SHARE: f64 = 0.1;
 
-/// Pieces per part when a long run is rendered in parts side by side.
+/// Pieces per part when a long run is rendered in parts side by side (a
+/// multiple of the renderer's chains, [`fairpath::render::CHAIN_PIECES`]).
 const RENDER_PART_PIECES: usize = 4096;
+const _: () = assert!(RENDER_PART_PIECES % fairpath::render::CHAIN_PIECES == 0);
 
 /// Pieces a part of a rendering timed as it is rendered renders to, about
 /// ([`emitter::Emitter::streamed_times`]): a part's arcs or lines stay

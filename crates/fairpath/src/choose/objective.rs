@@ -292,8 +292,10 @@ pub struct WrittenTime {
     pub kept_rendering_pieces: Option<usize>,
 }
 
-/// Curves rendered at a time where [`WrittenTime`] costs a candidate.
-pub const COST_PART_PIECES: usize = 512;
+/// Curves rendered at a time where [`WrittenTime`] costs a candidate: the
+/// renderer's chains of arcs ([`crate::render::CHAIN_PIECES`]), so that
+/// the parts render as the whole.
+pub const COST_PART_PIECES: usize = crate::render::CHAIN_PIECES;
 
 /// The default [`WrittenTime::render_gain`]: 3%, above the largest gain of
 /// a written program over its curves that `scripts/render-gain.sh` finds

@@ -325,7 +325,7 @@ pub(super) fn points_near_polyline<'a>(
 }
 
 /// Counts `a` in `counts` (an arc, helical or not, or a line).
-fn count_piece(a: &Curve, counts: &mut RenderStats) {
+pub(super) fn count_piece(a: &Curve, counts: &mut RenderStats) {
     match a {
         Curve::Arc(arc) => {
             counts.arcs += 1;

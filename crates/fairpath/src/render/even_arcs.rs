@@ -74,7 +74,7 @@ fn sinc(x: f64) -> f64 {
 /// In-plane points where each of arcs of lengths `h` and curvatures `k`
 /// from `p` at angle `theta` starts, and where the last ends, and the
 /// direction there.
-fn walk(p: [f64; 2], theta: f64, h: &[f64], k: &[f64]) -> (Vec<[f64; 2]>, f64) {
+pub(super) fn walk(p: [f64; 2], theta: f64, h: &[f64], k: &[f64]) -> (Vec<[f64; 2]>, f64) {
     let mut pts = Vec::with_capacity(k.len() + 1);
     let (mut x, mut y, mut a) = (p[0], p[1], theta);
     pts.push([x, y]);
@@ -480,7 +480,7 @@ fn checks_pass<C: ParamCurve + ?Sized>(
 
 /// The solution of the 3x3 system `m x = b` (Cramer's rule); `None` when
 /// it is singular.
-fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+pub(super) fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
     let det = |a: [[f64; 3]; 3]| {
         a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
             - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])

@@ -18,6 +18,7 @@
 
 pub mod absorb;
 pub mod arcs;
+mod chain_arcs;
 mod even_arcs;
 pub mod lines;
 pub mod speed;
@@ -29,6 +30,12 @@ use crate::feed::limits::MachineLimits;
 use crate::geom::{BezierSpline, Curve, ParamCurve};
 use crate::path::Piece;
 use alloc::vec::Vec;
+
+/// Most pieces of a run written as one chain of arcs, a cell per corner
+/// ([`chain_arcs`]); chains start at multiples of it in the run's piece
+/// numbers, so that [`render_range`]s whose bounds are multiples of it,
+/// concatenated, are the rendering of the whole.
+pub const CHAIN_PIECES: usize = 512;
 
 /// What the output format can say for a curve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -150,6 +157,8 @@ pub struct RenderStats {
     /// Short lines merged into the piece before them ([`absorb`]; not in
     /// `lines`).
     pub absorbed_lines: usize,
+    /// Pieces written as chains of arcs, a cell per corner ([`chain_arcs`]).
+    pub chained: usize,
 }
 
 impl RenderStats {
@@ -162,6 +171,7 @@ impl RenderStats {
         self.nurbs += o.nurbs;
         self.nurbs_as_arcs += o.nurbs_as_arcs;
         self.absorbed_lines += o.absorbed_lines;
+        self.chained += o.chained;
     }
 }
 
@@ -397,8 +407,38 @@ pub fn render_range(
             .and_then(|k| spacings.get(k))
             .and_then(Option::as_ref)
     };
-    for (j, p) in pieces[range].iter().enumerate() {
-        let i = start + j;
+    // Chains of arcs found for the pieces up to `chained_to`, in order.
+    let mut chained_to = start;
+    let mut chains: alloc::collections::VecDeque<chain_arcs::Chained> = Default::default();
+    let mut i = start;
+    while i < range.end {
+        if opts.form == CurveForm::Arcs && i >= chained_to {
+            let j = chain_arcs::chain_end(pieces, i, range.end, opts.chord);
+            if j > i {
+                chains.extend(chain_arcs::cover(pieces, i..j, speed, opts));
+                chained_to = j;
+            }
+        }
+        if chains.front().is_some_and(|c| c.range.start == i) {
+            let Some(c) = chains.pop_front() else { break };
+            let feed = pieces[i].feed;
+            for ((curve, v), source_lines) in c.arcs.into_iter().zip(c.speeds).zip(c.lines) {
+                arcs::count_piece(&curve, &mut out.stats);
+                out.speeds.push(v);
+                out.pieces.push(Piece {
+                    curve,
+                    rapid: false,
+                    source_lines,
+                    feed,
+                });
+            }
+            out.stats.chained += c.range.end - c.range.start;
+            i = c.range.end;
+            continue;
+        }
+        let p = &pieces[i];
+        i += 1;
+        let i = i - 1;
         curves.clear();
         let whole = || {
             let (t0, t1) = p.curve.domain();
