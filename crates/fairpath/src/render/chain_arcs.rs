@@ -48,7 +48,7 @@
 //! [`CELL_BULGE`] chord shares. Input arcs stay arcs (they break chains).
 
 use super::arcs::{arc_plane, points_near_polyline, MAX_SWEEP, MIN_IN_PLANE};
-use super::even_arcs::{solve3, walk};
+use super::even_arcs::walk;
 use super::lines::FINE_CHORD;
 use super::speed::PlannedSpeed;
 use super::{RenderOptions, CHAIN_PIECES};
@@ -72,17 +72,17 @@ const CELL_BULGE: f64 = 4.0;
 /// Gauss-Newton iterations at most.
 const MAX_ITERATIONS: usize = 12;
 
-/// Arcs per stretch whose end is held to the chain's point and direction.
-const SEGMENT_CELLS: usize = 8;
+/// Arcs between two points held to the chain's.
+const CHECK_CELLS: usize = 8;
 
 /// Passes of the `[1 2 1]` smoothing of the cells' curvatures.
 const SMOOTH_PASSES: usize = 2;
 
 /// Most cells a ramp at an end of the chain replaces.
-const RAMP_CELLS: usize = 4;
+const RAMP_CELLS: usize = 8;
 
 /// Most arcs of a ramp at an end of the chain.
-const MAX_RAMP: usize = 16;
+const MAX_RAMP: usize = 64;
 
 /// Share of the steps allowed that a ramp takes (the correction of the
 /// segment's end changes them a little).
@@ -279,6 +279,10 @@ pub(crate) fn chain_arcs(
     }
     cuts.push(n - 1);
     cuts.dedup();
+    // The chain's ends exactly as its pieces have them (a spline's Bezier
+    // spans evaluate its ends to within rounding only).
+    samples[0].p = pieces[range.start].curve.start();
+    samples[n - 1].p = pieces[last_piece].curve.end();
     let pts: Vec<Vec3> = samples.iter().map(|s| s.p).collect();
     let frames: Vec<(Vec3, Vec3)> = samples.iter().map(|s| (s.tangent, s.kvec)).collect();
     let Some(plane) = arc_plane(&pts, &frames, planar) else {
@@ -368,12 +372,16 @@ pub(crate) fn chain_arcs(
         .windows(2)
         .map(|w| (theta_at(w[1]) - theta_at(w[0])) / (w[1] - w[0]))
         .collect();
-    // The end cells ramp from the chain's own curvature at its ends to
-    // their mean in steps the planned speed passes.
-    let in_plane_k = |j0: usize, j1: usize| {
-        let ds = s[j1] - s[j0];
-        if ds > 0.0 {
-            (theta[j1] - theta[j0]) / ds
+    // The chain's own in-plane curvature at sample `j`, signed as the
+    // turns: what the ends are checked against.
+    let signed_k = |j: usize| {
+        let (t, kv) = (
+            plane.local(samples[j].tangent),
+            plane.local(samples[j].kvec),
+        );
+        let tn = math::hypot(t[0], t[1]);
+        if tn > 0.0 {
+            (t[0] * kv[1] - t[1] * kv[0]) / tn
         } else {
             0.0
         }
@@ -409,18 +417,18 @@ pub(crate) fn chain_arcs(
     let v_head = v_over(0, bounds[reach]);
     let v_tail = v_over(bounds[bounds.len() - 1 - reach], n - 1);
     let block = |v: f64| opts.block_length(v).max(opts.min_arc_length);
-    ramp_start(
+    let head = ramp_start(
         (&mut h, &mut k, &mut weight),
-        in_plane_k(0, 1),
+        signed_k(0),
         EVEN_MARGIN * step(v_head),
         block(v_head),
     );
     h.reverse();
     k.reverse();
     weight.reverse();
-    ramp_start(
+    let tail = ramp_start(
         (&mut h, &mut k, &mut weight),
-        in_plane_k(n - 2, n - 1),
+        signed_k(n - 1),
         EVEN_MARGIN * step(v_tail),
         block(v_tail),
     );
@@ -441,70 +449,87 @@ pub(crate) fn chain_arcs(
     let l1 = plane.local(pts[n - 1]);
     let (theta0, theta1) = (theta[0], theta[n - 1]);
     let accuracy = GN_ACCURACY * chord;
-    // Segment after segment of SEGMENT_CELLS arcs, from where the one
-    // before ends: its curvatures corrected (least norm) so that it ends
-    // at the chain's point and direction there.
-    let mut at = [l0[0], l0[1]];
-    let mut dir = theta0;
-    let mut i0 = 0;
-    while i0 < count {
-        let mut i1 = (i0 + SEGMENT_CELLS).min(count);
-        if count - i1 < SEGMENT_CELLS / 2 {
-            i1 = count;
-        }
-        let target = if i1 == count {
-            [l1[0], l1[1]]
-        } else {
-            point_at(b[i1])
-        };
-        let target_dir = if i1 == count { theta1 } else { theta_at(b[i1]) };
-        let (hs, ks, ws) = (&h[i0..i1], &mut k[i0..i1], &weight[i0..i1]);
-        let scale = (b[i1] - b[i0]) / (i1 - i0) as f64;
-        let mut converged = false;
-        for _ in 0..MAX_ITERATIONS {
-            let (p, a) = walk(at, dir, hs, ks);
-            let end = p[i1 - i0];
-            let r = [
-                end[0] - target[0],
-                end[1] - target[1],
-                (a - target_dir) * scale,
-            ];
-            if r.iter().all(|v| math::abs(*v) <= accuracy) {
-                converged = true;
-                break;
+    // The least-norm correction of the curvatures (each arc's share
+    // `weight`) that puts the arcs' points at every CHECK_CELLS-th
+    // boundary, and the end, on the chain's, and the end direction on
+    // the chain's. One correction for the whole chain: corrections of
+    // separate stretches would step where they meet.
+    // (None in the ramps, whose arcs take little of the correction, nor
+    // within CHECK_CELLS of them: there a few arcs would take it all.)
+    let first_check = head + CHECK_CELLS;
+    let last_check = count.saturating_sub(tail + CHECK_CELLS);
+    let mut checks: Vec<usize> = (first_check..=last_check).step_by(CHECK_CELLS).collect();
+    checks.push(count);
+    let targets: Vec<[f64; 2]> = checks
+        .iter()
+        .map(|&i| {
+            if i == count {
+                [l1[0], l1[1]]
+            } else {
+                point_at(b[i])
             }
-            let col = |i: usize| {
-                let mid = [0.5 * (p[i][0] + p[i + 1][0]), 0.5 * (p[i][1] + p[i + 1][1])];
-                let (dx, dy) = (end[0] - mid[0], end[1] - mid[1]);
-                [-hs[i] * dy, hs[i] * dx, hs[i] * scale]
-            };
-            let mut jjt = [[0.0f64; 3]; 3];
-            for i in 0..hs.len() {
-                let cl = col(i);
-                for (a, row) in jjt.iter_mut().enumerate() {
-                    for (c, x) in row.iter_mut().enumerate() {
-                        *x += ws[i] * cl[a] * cl[c];
-                    }
+        })
+        .collect();
+    let rows = 2 * checks.len() + 1;
+    let scale = total / count as f64;
+    let start = [l0[0], l0[1]];
+    let mut converged = false;
+    let mut jjt = alloc::vec![0.0f64; rows * rows];
+    let mut cl = alloc::vec![0.0f64; rows];
+    for _ in 0..MAX_ITERATIONS {
+        let (p, a) = walk(start, theta0, &h, &k);
+        let mut r: Vec<f64> = Vec::with_capacity(rows);
+        for (c, &i) in checks.iter().enumerate() {
+            r.push(targets[c][0] - p[i][0]);
+            r.push(targets[c][1] - p[i][1]);
+        }
+        r.push((theta1 - a) * scale);
+        if r.iter().all(|v| math::abs(*v) <= accuracy) {
+            converged = true;
+            break;
+        }
+        // Column of the Jacobian for k_i: the turn of the path after arc
+        // i about its middle moves each later checked point.
+        let col = |i: usize, out: &mut [f64]| -> usize {
+            let mid = [0.5 * (p[i][0] + p[i + 1][0]), 0.5 * (p[i][1] + p[i + 1][1])];
+            let first = checks.partition_point(|&q| q <= i);
+            for (c, &q) in checks.iter().enumerate().skip(first) {
+                let (dx, dy) = (p[q][0] - mid[0], p[q][1] - mid[1]);
+                out[2 * c] = -h[i] * dy;
+                out[2 * c + 1] = h[i] * dx;
+            }
+            out[rows - 1] = h[i] * scale;
+            2 * first
+        };
+        jjt.iter_mut().for_each(|v| *v = 0.0);
+        for i in 0..count {
+            if weight[i] == 0.0 {
+                continue;
+            }
+            let lo = col(i, &mut cl);
+            for x in lo..rows {
+                let f = weight[i] * cl[x];
+                for y in lo..rows {
+                    jjt[x * rows + y] += f * cl[y];
                 }
             }
-            let y = solve3(jjt, [-r[0], -r[1], -r[2]])?;
-            for i in 0..hs.len() {
-                let cl = col(i);
-                ks[i] += ws[i] * (cl[0] * y[0] + cl[1] * y[1] + cl[2] * y[2]);
-            }
-            if !ks.iter().all(|v| v.is_finite()) {
-                return None;
-            }
         }
-        if !converged {
+        let y = solve(&mut jjt, r, rows)?;
+        for i in 0..count {
+            if weight[i] == 0.0 {
+                continue;
+            }
+            let lo = col(i, &mut cl);
+            let d: f64 = (lo..rows).map(|x| cl[x] * y[x]).sum();
+            k[i] += weight[i] * d;
+        }
+        if !k.iter().all(|v| v.is_finite()) {
             return None;
         }
-        let (p, a) = walk(at, dir, hs, ks);
-        at = p[i1 - i0];
-        dir = a;
-        i0 = i1;
     }
-    let start = [l0[0], l0[1]];
+    if !converged {
+        return None;
+    }
     let (p, _) = walk(start, theta0, &h, &k);
     let rise = |x: f64| l0[2] + (l1[2] - l0[2]) * x / total;
     let mut out: Vec<Curve> = Vec::with_capacity(count);
@@ -557,49 +582,87 @@ pub(crate) fn chain_arcs(
 }
 
 /// Replaces the first cells of `(h, k, weight)` (lengths, curvatures,
-/// shares of the correction) by a ramp from curvature `from` to the mean
-/// of the cell after them, in steps of at most `room`, of sub-cells no
-/// shorter than `block`: over as few cells as give it room (at most
-/// [`RAMP_CELLS`]).
+/// shares of the correction) by a ramp of equal sub-cells, no shorter
+/// than `block`, from curvature `from` to the mean of the cell after them
+/// in steps of at most `room`, that turns the path as much as the cells
+/// it replaces: a linear ramp plus a half-sine bump that puts back the
+/// turn the ramp misses (the correction of the segment's end would else
+/// put it into a few arcs). Over as few cells as give it room (at most
+/// [`RAMP_CELLS`]), in as few sub-cells as keep the steps (at most
+/// [`MAX_RAMP`]); where none do, the most sub-cells of the most cells.
+/// Returns the ramp's sub-cells.
 fn ramp_start(
     (h, k, w): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>),
     from: f64,
     room: f64,
     block: f64,
-) {
+) -> usize {
     let cells = h.len();
     if cells < 2 || !(room > 0.0) {
-        return;
+        return 0;
     }
-    let mut chosen = None;
-    for c in 1..=RAMP_CELLS.min(cells - 1) {
+    // The ramp over the first `c` cells in `r` sub-cells, and its largest
+    // step (against `from`, inside, and into the cell after it).
+    let ramp = |c: usize, r: usize| -> (f64, Vec<f64>, f64) {
         let len: f64 = h[..c].iter().sum();
+        let turn: f64 = h[..c].iter().zip(&k[..c]).map(|(a, b)| a * b).sum();
         let target = k[c];
-        let r = math::ceil(math::abs(target - from) / room).max(1.0);
-        if r <= MAX_RAMP as f64 && len / r >= block {
-            chosen = Some((c, r as usize, len, target));
-            break;
+        let sub = len / r as f64;
+        let lin: Vec<f64> = (0..r)
+            .map(|i| from + (target - from) * (i + 1) as f64 / (r + 1) as f64)
+            .collect();
+        let bump: Vec<f64> = (0..r)
+            .map(|i| math::sin(core::f64::consts::PI * (i as f64 + 0.5) / r as f64))
+            .collect();
+        let (lin_turn, bump_turn) = (
+            lin.iter().sum::<f64>() * sub,
+            bump.iter().sum::<f64>() * sub,
+        );
+        let amp = if bump_turn > 0.0 {
+            (turn - lin_turn) / bump_turn
+        } else {
+            0.0
+        };
+        let ks: Vec<f64> = lin.iter().zip(&bump).map(|(a, b)| a + amp * b).collect();
+        let mut worst = math::abs(ks[0] - from).max(math::abs(target - ks[r - 1]));
+        for p in ks.windows(2) {
+            worst = worst.max(math::abs(p[1] - p[0]));
+        }
+        (sub, ks, worst)
+    };
+    let most_cells = RAMP_CELLS.min(cells - 1);
+    let mut chosen = None;
+    'cells: for c in 1..=most_cells {
+        let len: f64 = h[..c].iter().sum();
+        for r in 1..=MAX_RAMP {
+            if len / (r as f64) < block {
+                break;
+            }
+            let (sub, ks, worst) = ramp(c, r);
+            if worst <= room {
+                chosen = Some((c, sub, ks));
+                break 'cells;
+            }
         }
     }
-    let (c, r, len, target) = match chosen {
+    let (c, sub, ks) = match chosen {
         Some(x) => x,
         None => {
-            let c = RAMP_CELLS.min(cells - 1);
-            let len: f64 = h[..c].iter().sum();
+            let len: f64 = h[..most_cells].iter().sum();
             let r = if block > 0.0 {
                 math::floor(len / block)
             } else {
                 1.0
             };
-            (c, (r as usize).clamp(1, MAX_RAMP), len, k[c])
+            let (sub, ks, _) = ramp(most_cells, (r as usize).clamp(1, MAX_RAMP));
+            (most_cells, sub, ks)
         }
     };
-    h.splice(0..c, core::iter::repeat_n(len / r as f64, r));
-    k.splice(
-        0..c,
-        (0..r).map(|i| from + (target - from) * (i + 1) as f64 / (r + 1) as f64),
-    );
+    let r = ks.len();
+    h.splice(0..c, core::iter::repeat_n(sub, r));
+    k.splice(0..c, ks);
     w.splice(0..c, (0..r).map(|i| i as f64 / r as f64));
+    r
 }
 
 /// Whether `arcs` (planned speeds `v` over each) pass: curvature steps at
@@ -650,4 +713,45 @@ fn passes(
         }
     }
     points_near_polyline(arcs, pts, lim)
+}
+
+/// `m x = rhs` for the `n` by `n` symmetric positive semidefinite `m`
+/// (row-major; overwritten), by Gaussian elimination with partial
+/// pivoting; `None` where it is singular.
+fn solve(m: &mut [f64], mut rhs: Vec<f64>, n: usize) -> Option<Vec<f64>> {
+    let scale = m.iter().fold(0.0f64, |a, v| a.max(math::abs(*v)));
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    for c in 0..n {
+        let piv =
+            (c..n).max_by(|&a, &b| math::abs(m[a * n + c]).total_cmp(&math::abs(m[b * n + c])))?;
+        if math::abs(m[piv * n + c]) <= f64::EPSILON * scale {
+            return None;
+        }
+        if piv != c {
+            for j in 0..n {
+                m.swap(c * n + j, piv * n + j);
+            }
+            rhs.swap(c, piv);
+        }
+        for r in c + 1..n {
+            let f = m[r * n + c] / m[c * n + c];
+            if f != 0.0 {
+                for j in c..n {
+                    m[r * n + j] -= f * m[c * n + j];
+                }
+                rhs[r] -= f * rhs[c];
+            }
+        }
+    }
+    let mut x = alloc::vec![0.0; n];
+    for r in (0..n).rev() {
+        let mut acc = rhs[r];
+        for j in r + 1..n {
+            acc -= m[r * n + j] * x[j];
+        }
+        x[r] = acc / m[r * n + r];
+    }
+    Some(x)
 }
