@@ -5,9 +5,9 @@
 //! to its peak and falls back, so the exact curves carry a bump of
 //! curvature at every input vertex, and arcs that follow each bump
 //! ([`super::even_arcs`], [`super::arcs`]) need a dozen arcs per corner on
-//! a densely sampled surface (`surface-raster-large.ngc`: 1.5 million arcs
-//! for 139 thousand lines). Within the chord share the written path need
-//! not follow the bumps: an arc per corner, whose curvature is the turn of
+//! a densely sampled surface (`surface-raster-large.ngc`; measurements:
+//! docs/tuning.md, `render::chain_arcs`). Within the chord share the
+//! written path need not follow the bumps: an arc per corner, whose curvature is the turn of
 //! the corner over the stretch from the middle of the line before it to
 //! the middle of the line after it (the discrete curvature of the
 //! input's vertices), stays near the curves where the corners turn little
@@ -24,15 +24,18 @@
 //! `(theta(b_{i+1}) - theta(b_i)) / h_i`; the means are smoothed
 //! ([`SMOOTH_PASSES`] passes of `[1 2 1]`, weighted by length so that
 //! the turn is kept), because a short cell's turn carries the noise of
-//! the input's vertices. At each end of the chain the cells ramp from the
-//! chain's own curvature there (a line's none) to the means, in steps the
-//! planned speed passes. The arcs' points drift from the chain's by what
-//! the staircase misses in each cell, so the arcs go in segments of
-//! [`SEGMENT_CELLS`], each from where the one before ends, whose
-//! curvatures take the least-norm correction (Gauss-Newton, as
-//! [`super::even_arcs`] does for one curve) that ends it at the chain's
-//! point and direction there; the ramps' arcs take less of it the nearer
-//! the chain's end, so that they stay graded. The arcs are written only
+//! the input's vertices. At each end of the chain the first cells become
+//! a ramp from the chain's own curvature there (a line's none) to the
+//! next cell's mean, in steps the planned speed passes, that turns the
+//! path as much as the cells it replaces (a linear ramp plus a half-sine
+//! bump). The arcs' points drift from the chain's by what the staircase
+//! misses in each cell, so the curvatures take the least-norm correction
+//! (Gauss-Newton, as [`super::even_arcs`] does for one curve) that puts
+//! the arcs' points on the chain's every [`CHECK_CELLS`] cells and at its
+//! end, and the end direction on the chain's: one correction for the whole
+//! chain, which the ramps' arcs take less of the nearer they are to the
+//! chain's end, and with no point held in the ramps or near them, so that
+//! they stay graded. The arcs are written only
 //! where they pass what the renderer's other arcs pass: the chord share
 //! both ways (every sample near an arc, every arc's points near the
 //! samples' polyline), and curvature steps, at the chain's ends against
@@ -285,9 +288,7 @@ pub(crate) fn chain_arcs(
     samples[n - 1].p = pieces[last_piece].curve.end();
     let pts: Vec<Vec3> = samples.iter().map(|s| s.p).collect();
     let frames: Vec<(Vec3, Vec3)> = samples.iter().map(|s| (s.tangent, s.kvec)).collect();
-    let Some(plane) = arc_plane(&pts, &frames, planar) else {
-        return None;
-    };
+    let plane = arc_plane(&pts, &frames, planar)?;
     let mut theta: Vec<f64> = Vec::with_capacity(n);
     let mut s: Vec<f64> = Vec::with_capacity(n);
     let mut prev: Option<[f64; 2]> = None;
@@ -502,13 +503,13 @@ pub(crate) fn chain_arcs(
             2 * first
         };
         jjt.iter_mut().for_each(|v| *v = 0.0);
-        for i in 0..count {
-            if weight[i] == 0.0 {
+        for (i, &wi) in weight.iter().enumerate() {
+            if wi == 0.0 {
                 continue;
             }
             let lo = col(i, &mut cl);
             for x in lo..rows {
-                let f = weight[i] * cl[x];
+                let f = wi * cl[x];
                 for y in lo..rows {
                     jjt[x * rows + y] += f * cl[y];
                 }
@@ -598,7 +599,7 @@ fn ramp_start(
     block: f64,
 ) -> usize {
     let cells = h.len();
-    if cells < 2 || !(room > 0.0) {
+    if cells < 2 || room.is_nan() || room <= 0.0 {
         return 0;
     }
     // The ramp over the first `c` cells in `r` sub-cells, and its largest

@@ -32,7 +32,7 @@ use crate::path::Piece;
 use alloc::vec::Vec;
 
 /// Most pieces of a run written as one chain of arcs, a cell per corner
-/// ([`chain_arcs`]); chains start at multiples of it in the run's piece
+/// (`chain_arcs`); chains start at multiples of it in the run's piece
 /// numbers, so that [`render_range`]s whose bounds are multiples of it,
 /// concatenated, are the rendering of the whole.
 pub const CHAIN_PIECES: usize = 512;
@@ -157,7 +157,7 @@ pub struct RenderStats {
     /// Short lines merged into the piece before them ([`absorb`]; not in
     /// `lines`).
     pub absorbed_lines: usize,
-    /// Pieces written as chains of arcs, a cell per corner ([`chain_arcs`]).
+    /// Pieces written as chains of arcs, a cell per corner (`chain_arcs`).
     pub chained: usize,
 }
 
