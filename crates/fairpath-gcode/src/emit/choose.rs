@@ -97,13 +97,16 @@ pub(super) fn choose_run(
             continue;
         }
         // G1 is the other candidate for curves that arcs could not
-        // follow: where they all became arcs, it is not tried; nor on
-        // a long run where few did.
+        // follow: where they all became arcs one curve at a time, it is
+        // not tried; nor on a long run where few did. Chains of arcs
+        // (`fairpath::render::RenderStats::chained`) smooth over the
+        // curves' bumps, which G1 may follow faster (measurements:
+        // docs/tuning.md, `render::chain_arcs`): there it is tried.
         if i > 0
             && form == CurveForm::Lines
-            && best
-                .as_ref()
-                .is_some_and(|(_, b)| b.stats.fallback_lines == 0 || long_with_few_lines(b))
+            && best.as_ref().is_some_and(|(_, b)| {
+                (b.stats.fallback_lines == 0 && b.stats.chained == 0) || long_with_few_lines(b)
+            })
         {
             continue;
         }

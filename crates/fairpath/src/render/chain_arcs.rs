@@ -38,9 +38,10 @@
 //! they stay graded. The arcs are written only
 //! where they pass what the renderer's other arcs pass: the chord share
 //! both ways (every sample near an arc, every arc's points near the
-//! samples' polyline), and curvature steps, at the chain's ends against
-//! its curves and between arcs, that the speed planned for the curves
-//! passes (`step_share J Ts / v^2` each side). A chain that does not pass
+//! samples' polyline), curvature steps, at the chain's ends against its
+//! curves and between arcs, that the speed planned for the curves passes
+//! (`step_share J Ts / v^2` each side), and no arc whose own curvature
+//! caps the speed below the curves' plan over it. A chain that does not pass
 //! is halved, down to [`MIN_CHAIN`] pieces; the pieces of no chain are
 //! rendered one by one.
 //!
@@ -56,6 +57,7 @@ use super::lines::FINE_CHORD;
 use super::speed::PlannedSpeed;
 use super::{RenderOptions, CHAIN_PIECES};
 use crate::budget::DEVIATION_USE;
+use crate::feed::limits::{speed_cap, PathPoint};
 use crate::geom::biarc::{arc_from_tangent, in_plane_direction, piece_distance_bound};
 use crate::geom::{
     curvature_vector_from, flatten_params_between, BezierSpline, Curve, ParamCurve, Vec3,
@@ -685,6 +687,25 @@ fn passes(
         }
     };
     let n = arcs.len();
+    // Each arc's own speed caps (its curvature's, at both ends and the
+    // middle) at least the speed planned for the curves over it: a mean
+    // curvature above the curves' where they are fast would slow the
+    // machine there.
+    for (a, &va) in arcs.iter().zip(v) {
+        for t in [0.0, 0.5, 1.0] {
+            let Some(tangent) = a.unit_tangent(t) else {
+                return false;
+            };
+            let p = PathPoint {
+                tangent,
+                curvature: a.curvature_vector(t),
+                dkappa_ds: 0.0,
+            };
+            if speed_cap(m, f64::INFINITY, &p).0 < va {
+                return false;
+            }
+        }
+    }
     let (first, last) = (&samples[0], &samples[samples.len() - 1]);
     if (arcs[0].curvature_vector(0.0) - first.kvec).norm() > step(v[0])
         || (arcs[n - 1].curvature_vector(1.0) - last.kvec).norm() > step(v[n - 1])
