@@ -361,14 +361,7 @@ pub(crate) fn chain_arcs(
         let (a, c) = (plane.local(pts[j - 1]), plane.local(pts[j]));
         [a[0] + (c[0] - a[0]) * f, a[1] + (c[1] - a[1]) * f]
     };
-    let m = &opts.limits;
-    let step = |v: f64| {
-        if v > 0.0 {
-            opts.step_share * m.jerk * m.period / (v * v)
-        } else {
-            f64::INFINITY
-        }
-    };
+    let step = |v: f64| opts.step_room(v);
     // Cells (lengths, curvatures): the chain's mean curvature over each.
     let mut h: Vec<f64> = b.windows(2).map(|w| w[1] - w[0]).collect();
     let mut k: Vec<f64> = b
@@ -679,13 +672,7 @@ fn passes(
     opts: &RenderOptions,
 ) -> bool {
     let m = &opts.limits;
-    let step = |v: f64| {
-        if v > 0.0 {
-            opts.step_share * m.jerk * m.period / (v * v)
-        } else {
-            f64::INFINITY
-        }
-    };
+    let step = |v: f64| opts.step_room(v);
     let n = arcs.len();
     // Each arc's own speed caps (its curvature's, at both ends and the
     // middle) at least the speed planned for the curves over it: a mean

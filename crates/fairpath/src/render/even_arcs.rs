@@ -421,14 +421,7 @@ fn checks_pass<C: ParamCurve + ?Sized>(
     opts: &RenderOptions,
     at_floor: &[bool],
 ) -> bool {
-    let m = &opts.limits;
-    let step = |v: f64| {
-        if v > 0.0 {
-            opts.step_share * m.jerk * m.period / (v * v)
-        } else {
-            f64::INFINITY
-        }
-    };
+    let step = |v: f64| opts.step_room(v);
     let (t0, t1) = c.domain();
     let (va, vb) = (speed.at(piece, t0), speed.at(piece, t1));
     let n = arcs.len();

@@ -111,6 +111,19 @@ impl RenderOptions {
         (self.min_block_periods * self.limits.period).max(self.limits.block_time) * v
     }
 
+    /// How far the curvature of a written piece may step, at each side of
+    /// a joint the machine is planned to pass at `v` mm/s, from the
+    /// curve's: `step_share J Ts / v^2` (a jerk-limited controller passes
+    /// a step `dk` at most at `sqrt(J Ts / dk)`); unbounded at rest.
+    pub fn step_room(&self, v: f64) -> f64 {
+        let m = &self.limits;
+        if v > 0.0 {
+            self.step_share * m.jerk * m.period / (v * v)
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Checks every option, naming the first bad one.
     pub fn validate(&self) -> Result<(), RenderError> {
         let positive = [("chord", self.chord)];
