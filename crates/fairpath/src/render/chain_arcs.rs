@@ -90,11 +90,12 @@ const RAMP_CELLS: usize = 8;
 const MAX_RAMP: usize = 64;
 
 /// Share of the steps allowed that a ramp takes (the correction of the
-/// segment's end changes them a little).
+/// chain's points changes them a little).
 const EVEN_MARGIN: f64 = 0.8;
 
-/// Accuracy of the segments' ends, in chord shares (far below what the
-/// chord share and the written decimals resolve).
+/// Accuracy of the points and the end direction the correction holds, in
+/// chord shares (far below what the chord share and the written decimals
+/// resolve).
 const GN_ACCURACY: f64 = 1e-5;
 
 /// A piece's curve as it is sampled: polynomial splines by their Bezier
@@ -387,7 +388,7 @@ pub(crate) fn chain_arcs(
     // curvature, where the path moves little): smoothed a few passes,
     // weighted by the cells' lengths so that the turn is kept, the steps
     // are the path's and the points move by about `dk h^2 / 8`, which the
-    // segments' ends then hold (the deviation is checked below).
+    // correction then holds (the deviation is checked below).
     for _ in 0..SMOOTH_PASSES {
         let turn: Vec<f64> = k.iter().zip(&h).map(|(a, b)| a * b).collect();
         let cells = k.len();
@@ -405,7 +406,7 @@ pub(crate) fn chain_arcs(
     let v_over = |j0: usize, j1: usize| (j0..=j1).map(v_at).fold(0.0f64, f64::max);
     // The end cells ramp from the chain's own curvature at its ends to
     // the cells' means, in steps the planned speed passes; how much of
-    // the correction of its segment's end each arc takes: the ramps' arcs
+    // the correction of the chain's points each arc takes: the ramps' arcs
     // less the nearer the chain's end (the end arcs none), so that the
     // ramps stay graded.
     let mut weight: Vec<f64> = alloc::vec![1.0; h.len()];
@@ -582,7 +583,7 @@ pub(crate) fn chain_arcs(
 /// than `block`, from curvature `from` to the mean of the cell after them
 /// in steps of at most `room`, that turns the path as much as the cells
 /// it replaces: a linear ramp plus a half-sine bump that puts back the
-/// turn the ramp misses (the correction of the segment's end would else
+/// turn the ramp misses (the correction of the chain's points would else
 /// put it into a few arcs). Over as few cells as give it room (at most
 /// [`RAMP_CELLS`]), in as few sub-cells as keep the steps (at most
 /// [`MAX_RAMP`]); where none do, the most sub-cells of the most cells.
