@@ -184,8 +184,8 @@ impl Summary {
         if r.lines > 0 {
             held.push(if r.fallback_lines > 0 {
                 format!(
-                    "{} lines ({} where arcs could not follow a curve)",
-                    r.lines, r.fallback_lines
+                    "{} lines ({} where arcs could not follow {} curves)",
+                    r.lines, r.fallback_lines, r.fallback_pieces
                 )
             } else {
                 format!("{} lines", r.lines)
@@ -364,6 +364,7 @@ impl Summary {
             "lines_in": self.e.lines_in, "lines_out": self.e.lines_out,
             "written_arcs": self.e.rendered.arcs, "written_helical_arcs": self.e.rendered.helical,
             "written_lines": self.e.rendered.lines, "written_fallback_lines": self.e.rendered.fallback_lines,
+            "written_fallback_curves": self.e.rendered.fallback_pieces,
             "written_nurbs": self.e.rendered.nurbs, "retried_runs": self.e.retried_runs,
             "g91_spline_runs": self.e.g91_spline_runs,
             "nurbs_written_as_arcs": self.e.rendered.nurbs_as_arcs,

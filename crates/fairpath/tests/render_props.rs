@@ -261,6 +261,46 @@ fn a_curve_that_leaves_every_plane_is_written_as_g1() {
     assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
 }
 
+/// The counts tell the curves that fell back to G1 from the lines
+/// written for them (the writer judges a long run's all-G1 candidate by
+/// the former): a tilted curve between two planar ones is one curve and
+/// many lines.
+#[test]
+fn a_curve_written_as_g1_counts_as_one_curve_of_many_lines() {
+    let n = Vec3::new(1.0, 1.0, 1.0).normalized(0.0).unwrap();
+    let u = n.any_perpendicular().normalized(0.0).unwrap();
+    let w = n.cross(u);
+    let tilted: Vec<Vec3> = (0..9)
+        .map(|i| {
+            let a = i as f64 * 0.5;
+            u * (10.0 * a.cos()) + w * (10.0 * a.sin())
+        })
+        .collect();
+    let (a, b) = (tilted[0], tilted[8]);
+    let planar = |from: Vec3, dir: f64| -> Vec<Vec3> {
+        (0..6)
+            .map(|i| {
+                let x = i as f64 * dir;
+                from + Vec3::new(x, 0.2 * x * x, 0.0)
+            })
+            .collect()
+    };
+    let mut before = planar(a, -1.0);
+    before.reverse();
+    let curves = vec![
+        piece(Curve::from(bspline(&before))),
+        piece(Curve::from(bspline(&tilted))),
+        piece(Curve::from(bspline(&planar(b, 1.0)))),
+    ];
+    let o = opts(CurveForm::Arcs, 0.005);
+    let plan = plan_run(&curves, &plan_opts()).unwrap();
+    let speed = PlannedSpeed::new(curves.len(), &plan, o.limits.period);
+    let r = render_run(&curves, &speed, &o).unwrap();
+    assert_eq!(r.stats.fallback_pieces, 1, "{:?}", r.stats);
+    assert!(r.stats.fallback_lines > 10, "{:?}", r.stats);
+    assert!(r.stats.arcs > 0, "{:?}", r.stats);
+}
+
 #[test]
 fn lines_are_equal_within_stretches_that_change_by_at_most_a_factor() {
     let arc = Arc::from_center(

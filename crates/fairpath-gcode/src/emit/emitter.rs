@@ -409,9 +409,14 @@ impl<'a> Emitter<'a> {
     }
 
     /// Whether a rendering of run `k` is a long run's whose arcs fell back
-    /// to G1 on few blocks (the all-G1 candidate is not tried on it).
+    /// to G1 on few of its curves (the all-G1 candidate is not tried on
+    /// it). Counted in curves, not blocks: a curve that falls back is
+    /// written as many short lines, and the fewer blocks the arcs take
+    /// elsewhere (chains of arcs, [`fairpath::render::RenderStats::chained`])
+    /// the larger those lines' share of the blocks, for the same curves.
     pub(super) fn long_with_few_lines(&self, k: usize, c: &Choice) -> bool {
-        self.is_long(k) && (c.stats.fallback_lines as f64) < LINES_CANDIDATE_SHARE * c.count as f64
+        let curves = self.smoothed[k].len();
+        self.is_long(k) && (c.stats.fallback_pieces as f64) < LINES_CANDIDATE_SHARE * curves as f64
     }
 }
 

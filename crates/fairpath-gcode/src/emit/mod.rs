@@ -82,11 +82,11 @@ const PARALLEL_FEEDS_PIECES: usize = 10_000;
 /// A run of at least this many curves is long: its only candidate
 /// rendering is not planned before it is written (the written text is), and
 /// the all-G1 candidate is not tried where the arcs fell back to lines on
-/// fewer than [`LINES_CANDIDATE_SHARE`] of their blocks. Each plan of such a
+/// fewer than [`LINES_CANDIDATE_SHARE`] of its curves. Each plan of such a
 /// run costs seconds (`docs/scale.md`).
 const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
 
-/// Share of a long run's arc rendering that fell back to G1 below which
+/// Share of a long run's curves whose arcs fell back to G1 below which
 /// the all-G1 rendering is not tried: where arcs follow nearly all of a
 /// long run, G1 throughout plans slower (on the reference programs it won
 /// on a few short runs and on none of the long ones; measurements:

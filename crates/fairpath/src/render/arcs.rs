@@ -428,9 +428,13 @@ fn arcs_for<C: ParamCurve + ?Sized>(
                 let before = stats.lines;
                 super::lines::lines_for_curve(c, piece, speed, opts, caps_of, out, stats);
                 stats.fallback_lines += stats.lines - before;
+                stats.fallback_pieces += 1;
                 return;
             }
         }
+    }
+    if counts.fallback_lines > 0 {
+        counts.fallback_pieces = 1;
     }
     // Arcs stepping evenly (`even_arcs`), where the curve lends itself and
     // the planner passes their joints faster than the biarcs' (as fast and

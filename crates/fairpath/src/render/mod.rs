@@ -162,6 +162,9 @@ pub struct RenderStats {
     /// Lines written for stretches of curves that arcs could not follow
     /// (too steep to every plane, or too sharp for the smallest arc).
     pub fallback_lines: usize,
+    /// Pieces (curves of the run) some stretch of which arcs could not
+    /// follow: those `fallback_lines` were written for.
+    pub fallback_pieces: usize,
     /// NURBS pieces written as they are.
     pub nurbs: usize,
     /// NURBS pieces a spline format could not say (degree, not in a
@@ -181,6 +184,7 @@ impl RenderStats {
         self.helical += o.helical;
         self.lines += o.lines;
         self.fallback_lines += o.fallback_lines;
+        self.fallback_pieces += o.fallback_pieces;
         self.nurbs += o.nurbs;
         self.nurbs_as_arcs += o.nurbs_as_arcs;
         self.absorbed_lines += o.absorbed_lines;
