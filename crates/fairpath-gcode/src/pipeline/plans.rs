@@ -147,6 +147,30 @@ struct Carrying<'a> {
     what: &'static str,
 }
 
+/// Sets motion `j`'s time in `done` to `t` (a run not planned for its
+/// part gets its time here).
+fn set_time(done: &mut [Option<Done>], j: usize, t: f64) {
+    match &mut done[j] {
+        Some(d) => d.0 = t,
+        None => done[j] = Some((t, 0.0, None)),
+    }
+}
+
+/// Sets in `done` the times `carried` gives (those [`carry_runs`] set in
+/// an empty `done`).
+fn set_carried(done: &mut [Option<Done>], carried: &[Option<Done>]) {
+    for (j, c) in carried.iter().enumerate() {
+        if let Some((t, _, _)) = c {
+            set_time(done, j, *t);
+        }
+    }
+}
+
+/// An empty `done` for `n` motions.
+fn alloc_done(n: usize) -> Vec<Option<Done>> {
+    (0..n).map(|_| None).collect()
+}
+
 /// Gives the runs of a part that go on across parts their times in
 /// `done`: the first, where `carry` holds the run it goes on (its pieces
 /// join the plan, and where the run ends here its time is the carried
@@ -174,11 +198,7 @@ fn carry_runs(
             source,
         },
     };
-    // (A run not planned for its part gets its time here.)
-    let set = |done: &mut [Option<Done>], j: usize, t: f64| match &mut done[j] {
-        Some(d) => d.0 = t,
-        None => done[j] = Some((t, 0.0, None)),
-    };
+    let set = set_time;
     // Pushes a run's pieces, the cut line's halves joined where asked (a
     // line piece of the cut line on either side of the cut is one line),
     // the last held back where it may be the first of them.
@@ -575,39 +595,83 @@ fn plan_job(
         Motions(Vec<Option<Done>>),
         Plans(Vec<RunPlan>),
     }
-    let done: Vec<Result<Out>> = par_map(tasks.len(), |i| match tasks[i] {
-        Task::Input => {
-            let runs: Vec<&[Piece]> = result
-                .runs
-                .iter()
-                .map(|r| r.original.pieces.as_slice())
-                .collect();
-            let what = "the input";
-            let o = override_feed;
-            motion_times(&outline, &runs, &[], skip_input, m, o, false, what).map(Out::Motions)
-        }
-        Task::Exact => {
-            let what = "the curves";
-            let keep = override_feed;
-            // The curves `auto`'s objective planned already (at the same
-            // feeds, with the same options: not where the plans are kept).
-            let known: Vec<Option<f64>> = match memo.filter(|_| !keep) {
-                Some(m) => curves.iter().map(|c| m.bound_of(c)).collect(),
-                None => Vec::new(),
+    // The runs that go on across parts are timed by the plans carried
+    // across the parts (`carry_runs`): the input's and the curves', side
+    // by side with the tasks, which they do not need (each sets only the
+    // times of the runs that go on, applied below).
+    let cut = program.window_cut();
+    let po = whole_run_options(m, override_feed);
+    let carried = carry.filter(|c| c.input.is_some() || cut);
+    let originals: Vec<&[Piece]> = result
+        .runs
+        .iter()
+        .map(|r| r.original.pieces.as_slice())
+        .collect();
+    let (originals, curves_ref) = (&originals, &curves);
+    let carrying = |runs, what| Carrying {
+        outline: &outline,
+        runs,
+        cut,
+        join: None,
+        po: &po,
+        windows: CARRIED_WINDOWS,
+        what,
+    };
+    let n_motions = outline.len();
+    type Carried = Result<Vec<Option<Done>>>;
+    let (done, carried): (_, Option<(Option<Carried>, Carried)>) = std::thread::scope(|sc| {
+        let carries = carried.map(|c| {
+            let RunCarry {
+                input: ci,
+                exact: ce,
+            } = c;
+            let times = move |runs, what, plan: &mut Option<CarriedPlan>| -> Carried {
+                let mut t = alloc_done(n_motions);
+                carry_runs(&mut t, plan, carrying(runs, what)).map(|()| t)
             };
-            motion_times(
-                &outline,
-                &curves,
-                &known,
-                &skip_exact,
-                m,
-                override_feed,
-                keep,
-                what,
-            )
-            .map(Out::Motions)
-        }
-        Task::Plans => renderer_plans().map(Out::Plans),
+            let hi = input.then(|| sc.spawn(move || times(originals, "the input", ci)));
+            let he = sc.spawn(move || times(curves_ref, "the curves", ce));
+            (hi, he)
+        });
+        let done: Vec<Result<Out>> = par_map(tasks.len(), |i| match tasks[i] {
+            Task::Input => {
+                let runs: Vec<&[Piece]> = result
+                    .runs
+                    .iter()
+                    .map(|r| r.original.pieces.as_slice())
+                    .collect();
+                let what = "the input";
+                let o = override_feed;
+                motion_times(&outline, &runs, &[], skip_input, m, o, false, what).map(Out::Motions)
+            }
+            Task::Exact => {
+                let what = "the curves";
+                let keep = override_feed;
+                // The curves `auto`'s objective planned already (at the same
+                // feeds, with the same options: not where the plans are kept).
+                let known: Vec<Option<f64>> = match memo.filter(|_| !keep) {
+                    Some(m) => curves.iter().map(|c| m.bound_of(c)).collect(),
+                    None => Vec::new(),
+                };
+                motion_times(
+                    &outline,
+                    &curves,
+                    &known,
+                    &skip_exact,
+                    m,
+                    override_feed,
+                    keep,
+                    what,
+                )
+                .map(Out::Motions)
+            }
+            Task::Plans => renderer_plans().map(Out::Plans),
+        });
+        let join = |h: std::thread::ScopedJoinHandle<'_, Carried>| {
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
+        };
+        let carried = carries.map(|(hi, he)| (hi.map(join), join(he)));
+        (done, carried)
     });
     let (mut input_done, mut exact_done, mut plans) = (None, None, Vec::new());
     for (task, d) in tasks.into_iter().zip(done) {
@@ -619,46 +683,19 @@ fn plan_job(
         }
     }
     let mut exact_done = exact_done.expect("the curves are planned");
-    if let Some(carry) = carry {
-        let cut = program.window_cut();
-        let po = whole_run_options(m, override_feed);
-        if carry.input.is_some() || cut {
-            let originals: Vec<&[Piece]> = result
-                .runs
-                .iter()
-                .map(|r| r.original.pieces.as_slice())
-                .collect();
-            if let Some(done) = &mut input_done {
-                let c = Carrying {
-                    outline: &outline,
-                    runs: &originals,
-                    cut,
-                    join: None,
-                    po: &po,
-                    windows: CARRIED_WINDOWS,
-                    what: "the input",
-                };
-                carry_runs(done, &mut carry.input, c)?;
+    if let Some((input_carried, exact_carried)) = carried {
+        // The curves' runs that go on across parts are planned for the
+        // curves too (their windows may be smoothed into themselves in
+        // one part and not in the next).
+        for (j, d) in exact_done.iter_mut().enumerate() {
+            if d.is_none() {
+                *d = input_done.as_ref().and_then(|i| i[j].clone());
             }
-            // The curves' runs that go on across parts are planned for
-            // the curves too (their windows may be smoothed into
-            // themselves in one part and not in the next).
-            for (j, d) in exact_done.iter_mut().enumerate() {
-                if d.is_none() {
-                    *d = input_done.as_ref().and_then(|i| i[j].clone());
-                }
-            }
-            let c = Carrying {
-                outline: &outline,
-                runs: &curves,
-                cut,
-                join: None,
-                po: &po,
-                windows: CARRIED_WINDOWS,
-                what: "the curves",
-            };
-            carry_runs(&mut exact_done, &mut carry.exact, c)?;
         }
+        if let (Some(done), Some(times)) = (&mut input_done, input_carried) {
+            set_carried(done, &times?);
+        }
+        set_carried(&mut exact_done, &exact_carried?);
     }
     // The curves' shared runs take the input's times, motion by motion.
     let exact_planned = add_up(
