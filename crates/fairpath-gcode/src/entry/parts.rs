@@ -217,10 +217,19 @@ fn in_parts(
     // it, which goes on from the part before): both keep the cores busy
     // where one part's steps would leave one idle, and at most three parts
     // are held (one in each, one waiting).
+    // The front is two steps in two threads, each a part ahead of the
+    // next: smoothing, verifying and planning a part (`fronts`), and
+    // choosing its renderings (`choosers`), whose plans need the part's
+    // and nothing of the next one's.
+    let (tx_planned, rx_planned) =
+        std::sync::mpsc::sync_channel::<Result<PlannedPart, SmoothProgramError>>(1);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Result<Front, SmoothProgramError>>(1);
     let facts = ctx.facts.clone();
+    let chooser_phases = phases.sibling();
     std::thread::scope(|s| {
-        let front = s.spawn(move || fronts(reader, &facts, opts, front_phases, tx));
+        let facts = &facts;
+        let front = s.spawn(move || fronts(reader, facts, opts, front_phases, tx_planned));
+        let chooser = s.spawn(move || choosers(facts, opts, chooser_phases, rx_planned, tx));
         let mut written = TimeSums::default();
         let mut back = Ok(());
         for front in rx {
@@ -271,12 +280,23 @@ fn in_parts(
         }
         // On an error the channel is dropped: the front stops at its next
         // part.
+        let chooser_phases = chooser
+            .join()
+            .expect("the choice of renderings does not panic");
         let front_phases = front.join().expect("the front does not panic");
         back?;
         let mut all = front_phases;
+        all.merge(chooser_phases);
         all.merge(phases);
         Ok((evidence, all))
     })
+}
+
+/// A part smoothed, verified and planned: what its renderings are chosen
+/// for.
+struct PlannedPart {
+    part: Program,
+    curves: Curves,
 }
 
 /// A part smoothed, verified and planned, and its renderings chosen: what
@@ -287,22 +307,23 @@ struct Front {
     chosen: Option<crate::emit::Chosen>,
 }
 
-/// The front of [`smooth_in_parts`]: each part of `reader` smoothed,
-/// verified and planned (the input's and the curves' times going on from
-/// the parts before), sent in order until the reader ends, a step fails
-/// (the error is sent) or the back stops listening. Returns its clock.
+/// The first step of the front of [`smooth_in_parts`]: each part of
+/// `reader` smoothed, verified and planned (the input's and the curves'
+/// times going on from the parts before), sent in order until the reader
+/// ends, a step fails (the error is sent) or the next step stops
+/// listening. Returns its clock.
 fn fronts(
     mut reader: PartReader<'_>,
     facts: &ProgramFacts,
     opts: &SmoothOptions,
     mut phases: Phases,
-    tx: std::sync::mpsc::SyncSender<Result<Front, SmoothProgramError>>,
+    tx: std::sync::mpsc::SyncSender<Result<PlannedPart, SmoothProgramError>>,
 ) -> Phases {
     let (mut input, mut exact) = <(TimeSums, TimeSums)>::default();
     let mut carry = RunCarry::default();
     loop {
         phases.restart();
-        let front = (|| -> Result<Option<Front>, SmoothProgramError> {
+        let front = (|| -> Result<Option<PlannedPart>, SmoothProgramError> {
             let Some(part) = reader.next_part()? else {
                 return Ok(None);
             };
@@ -322,22 +343,14 @@ fn fronts(
             )?;
             phases.mark("plan input and curves");
             (input, exact) = (i, e);
-            let mut curves = Curves {
+            let curves = Curves {
                 result,
                 input: i.times(),
                 exact: e.times(),
                 plans,
                 memo,
             };
-            let chosen = super::choose_renderings(&part, facts, &mut curves, opts)?;
-            // The renderings not chosen are not needed any more.
-            curves.memo = None;
-            phases.mark("render");
-            Ok(Some(Front {
-                part,
-                curves,
-                chosen,
-            }))
+            Ok(Some(PlannedPart { part, curves }))
         })();
         let stop = !matches!(front, Ok(Some(_)));
         let sent = match front {
@@ -349,6 +362,38 @@ fn fronts(
             return phases;
         }
     }
+}
+
+/// The second step of the front of [`smooth_in_parts`]: the renderings of
+/// each part `rx` gives chosen, sent in order until `rx` ends, a step
+/// fails (the error is sent) or the back stops listening. Returns its
+/// clock.
+fn choosers(
+    facts: &ProgramFacts,
+    opts: &SmoothOptions,
+    mut phases: Phases,
+    rx: std::sync::mpsc::Receiver<Result<PlannedPart, SmoothProgramError>>,
+    tx: std::sync::mpsc::SyncSender<Result<Front, SmoothProgramError>>,
+) -> Phases {
+    for planned in rx {
+        phases.restart();
+        let front = planned.and_then(|PlannedPart { part, mut curves }| {
+            let chosen = super::choose_renderings(&part, facts, &mut curves, opts)?;
+            // The renderings not chosen are not needed any more.
+            curves.memo = None;
+            phases.mark("render");
+            Ok(Front {
+                part,
+                curves,
+                chosen,
+            })
+        });
+        let stop = front.is_err();
+        if tx.send(front).is_err() || stop {
+            break;
+        }
+    }
+    phases
 }
 
 /// A program without moves: given to `out` as it is (nothing to smooth).
