@@ -479,7 +479,6 @@ pub(crate) fn chain_arcs(
     let start = [l0[0], l0[1]];
     let mut converged = false;
     let mut jjt = alloc::vec![0.0f64; rows * rows];
-    let mut cl = alloc::vec![0.0f64; rows];
     for _ in 0..MAX_ITERATIONS {
         let (p, a) = walk(start, theta0, &h, &k);
         let mut r: Vec<f64> = Vec::with_capacity(rows);
@@ -493,40 +492,100 @@ pub(crate) fn chain_arcs(
             break;
         }
         // Column of the Jacobian for k_i: the turn of the path after arc
-        // i about its middle moves each later checked point.
-        let col = |i: usize, out: &mut [f64]| -> usize {
-            let mid = [0.5 * (p[i][0] + p[i + 1][0]), 0.5 * (p[i][1] + p[i + 1][1])];
-            let first = checks.partition_point(|&q| q <= i);
-            for (c, &q) in checks.iter().enumerate().skip(first) {
-                let (dx, dy) = (p[q][0] - mid[0], p[q][1] - mid[1]);
-                out[2 * c] = -h[i] * dy;
-                out[2 * c + 1] = h[i] * dx;
-            }
-            out[rows - 1] = h[i] * scale;
-            2 * first
+        // i about its middle `m_i` moves each later checked point `P`,
+        // by `h_i (-(P - m_i)_y, (P - m_i)_x)`, and the end direction by
+        // `h_i` (times `scale`). With the norm's weights `weight_i / h_i`,
+        // `J W J^T` is made of sums over the arcs before each checked
+        // point of `weight_i h_i` times 1, `m`, and `m m^T` (prefix sums,
+        // about the chain's start so that they keep their digits): O(arcs
+        // + checks^2) where the columns one by one were O(arcs checks^2).
+        let o = p[0];
+        let mid = |i: usize| {
+            [
+                0.5 * (p[i][0] + p[i + 1][0]) - o[0],
+                0.5 * (p[i][1] + p[i + 1][1]) - o[1],
+            ]
         };
-        jjt.iter_mut().for_each(|v| *v = 0.0);
-        for (i, &wi) in weight.iter().enumerate() {
+        let nc = checks.len();
+        // [1, m_x, m_y, m_x^2, m_x m_y, m_y^2], summed over the arcs
+        // before each checked point.
+        let mut sums = [0.0f64; 6];
+        let mut before: Vec<[f64; 6]> = Vec::with_capacity(nc);
+        for i in 0..count {
+            while before.len() < nc && checks[before.len()] <= i {
+                before.push(sums);
+            }
+            let wi = weight[i] * h[i];
             if wi == 0.0 {
                 continue;
             }
-            let wi = wi / h[i];
-            let lo = col(i, &mut cl);
-            for x in lo..rows {
-                let f = wi * cl[x];
-                for y in lo..rows {
-                    jjt[x * rows + y] += f * cl[y];
+            let m = mid(i);
+            sums[0] += wi;
+            sums[1] += wi * m[0];
+            sums[2] += wi * m[1];
+            sums[3] += wi * m[0] * m[0];
+            sums[4] += wi * m[0] * m[1];
+            sums[5] += wi * m[1] * m[1];
+        }
+        while before.len() < nc {
+            before.push(sums);
+        }
+        let at = |c: usize| [p[checks[c]][0] - o[0], p[checks[c]][1] - o[1]];
+        jjt.iter_mut().for_each(|v| *v = 0.0);
+        for c1 in 0..nc {
+            let p1 = at(c1);
+            for c2 in c1..nc {
+                let p2 = at(c2);
+                let sm = &before[c1];
+                // sum w h^2 (P1 - m)_u (P2 - m)_v for u, v in x, y.
+                let xx = p1[0] * p2[0] * sm[0] - p1[0] * sm[1] - p2[0] * sm[1] + sm[3];
+                let xy = p1[0] * p2[1] * sm[0] - p1[0] * sm[2] - p2[1] * sm[1] + sm[4];
+                let yx = p1[1] * p2[0] * sm[0] - p1[1] * sm[1] - p2[0] * sm[2] + sm[4];
+                let yy = p1[1] * p2[1] * sm[0] - p1[1] * sm[2] - p2[1] * sm[2] + sm[5];
+                let (r1, r2) = (2 * c1, 2 * c2);
+                let block = [
+                    (r1, r2, yy),
+                    (r1, r2 + 1, -yx),
+                    (r1 + 1, r2, -xy),
+                    (r1 + 1, r2 + 1, xx),
+                ];
+                for (x, y, v) in block {
+                    jjt[x * rows + y] = v;
+                    jjt[y * rows + x] = v;
                 }
             }
+            let sm = &before[c1];
+            let (ey, ex) = (
+                -scale * (p1[1] * sm[0] - sm[2]),
+                scale * (p1[0] * sm[0] - sm[1]),
+            );
+            let last = rows - 1;
+            jjt[2 * c1 * rows + last] = ey;
+            jjt[last * rows + 2 * c1] = ey;
+            jjt[(2 * c1 + 1) * rows + last] = ex;
+            jjt[last * rows + 2 * c1 + 1] = ex;
         }
+        jjt[rows * rows - 1] = scale * scale * sums[0];
         let y = solve(&mut jjt, r, rows)?;
-        for i in 0..count {
+        // Each arc's change: `weight_i` times the sum, over the checked
+        // points after it, of `-(P - m_i)_y y_P,x + (P - m_i)_x y_P,y`,
+        // plus `scale` times the direction's (suffix sums over the checks).
+        let (mut t0, mut ty, mut tx) = (0.0f64, 0.0f64, 0.0f64);
+        let mut c = nc;
+        for i in (0..count).rev() {
+            while c > 0 && checks[c - 1] > i {
+                c -= 1;
+                let pc = at(c);
+                t0 += -pc[1] * y[2 * c] + pc[0] * y[2 * c + 1];
+                ty += y[2 * c];
+                tx += y[2 * c + 1];
+            }
             if weight[i] == 0.0 {
                 continue;
             }
-            let lo = col(i, &mut cl);
-            let d: f64 = (lo..rows).map(|x| cl[x] * y[x]).sum();
-            k[i] += weight[i] / h[i] * d;
+            let m = mid(i);
+            let d = t0 + m[1] * ty - m[0] * tx + scale * y[rows - 1];
+            k[i] += weight[i] * d;
         }
         if !k.iter().all(|v| v.is_finite()) {
             return None;
