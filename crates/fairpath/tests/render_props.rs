@@ -244,18 +244,23 @@ fn joints_step_no_more_than_the_planned_speed_passes() {
     );
 }
 
-#[test]
-fn a_curve_that_leaves_every_plane_is_written_as_g1() {
-    // A circle of a sphere tilted 45 degrees to every axis plane.
+/// Nine points of a circle of radius 10 tilted 45 degrees to every axis
+/// plane.
+fn tilted_circle_points() -> Vec<Vec3> {
     let n = Vec3::new(1.0, 1.0, 1.0).normalized(0.0).unwrap();
     let u = n.any_perpendicular().normalized(0.0).unwrap();
     let w = n.cross(u);
-    let pts: Vec<Vec3> = (0..9)
+    (0..9)
         .map(|i| {
             let a = i as f64 * 0.5;
             u * (10.0 * a.cos()) + w * (10.0 * a.sin())
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn a_curve_that_leaves_every_plane_is_written_as_g1() {
+    let pts = tilted_circle_points();
     let original = vec![piece(Curve::from(bspline(&pts)))];
     let out = check(&original, &opts(CurveForm::Arcs, 0.005)).unwrap();
     assert!(out.iter().all(|p| matches!(p.curve, Curve::Line(_))));
@@ -267,15 +272,7 @@ fn a_curve_that_leaves_every_plane_is_written_as_g1() {
 /// many lines.
 #[test]
 fn a_curve_written_as_g1_counts_as_one_curve_of_many_lines() {
-    let n = Vec3::new(1.0, 1.0, 1.0).normalized(0.0).unwrap();
-    let u = n.any_perpendicular().normalized(0.0).unwrap();
-    let w = n.cross(u);
-    let tilted: Vec<Vec3> = (0..9)
-        .map(|i| {
-            let a = i as f64 * 0.5;
-            u * (10.0 * a.cos()) + w * (10.0 * a.sin())
-        })
-        .collect();
+    let tilted = tilted_circle_points();
     let (a, b) = (tilted[0], tilted[8]);
     let planar = |from: Vec3, dir: f64| -> Vec<Vec3> {
         (0..6)
