@@ -213,14 +213,14 @@ fn in_parts(
     let mut ctx = PartContext::new(facts);
     let front_phases = phases.sibling();
     // The front (reading, smoothing, verifying and planning each part, in
-    // order) runs a part ahead of the back (writing, checking and timing
-    // it, which goes on from the part before): both keep the cores busy
-    // where one part's steps would leave one idle, and at most three parts
-    // are held (one in each, one waiting).
+    // order, and choosing its renderings) runs ahead of the back (writing,
+    // checking and timing it, which goes on from the part before): they
+    // keep the cores busy where one part's steps would leave one idle.
     // The front is two steps in two threads, each a part ahead of the
     // next: smoothing, verifying and planning a part (`fronts`), and
     // choosing its renderings (`choosers`), whose plans need the part's
-    // and nothing of the next one's.
+    // and nothing of the next one's. At most five parts are held (one in
+    // each thread, one waiting before each of the two later ones).
     let (tx_planned, rx_planned) =
         std::sync::mpsc::sync_channel::<Result<PlannedPart, SmoothProgramError>>(1);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Result<Front, SmoothProgramError>>(1);
