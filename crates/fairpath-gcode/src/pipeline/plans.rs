@@ -198,7 +198,6 @@ fn carry_runs(
             source,
         },
     };
-    let set = set_time;
     // Pushes a run's pieces, the cut line's halves joined where asked (a
     // line piece of the cut line on either side of the cut is one line),
     // the last held back where it may be the first of them.
@@ -243,7 +242,7 @@ fn carry_runs(
         let goes_on = c.cut && at.len() == 1;
         push(plan, c.runs[k], goes_on)?;
         if goes_on {
-            set(done, j, 0.0);
+            set_time(done, j, 0.0);
             return Ok(());
         }
         let plan = carry.take().expect("held");
@@ -253,14 +252,14 @@ fn carry_runs(
             .finish()
             .map_err(|e| error(c.runs[k], e))?
             .ok_or(PlanError::Unstitched { what })?;
-        set(done, j, t);
+        set_time(done, j, t);
     }
     if c.cut {
         let timer = WindowedTimer::new(c.po, Corners::Blended, c.windows)
             .ok_or(PlanError::Unstitched { what })?;
         let mut plan = CarriedPlan { timer, half: None };
         push(&mut plan, c.runs[k_last], true)?;
-        set(done, j_last, 0.0);
+        set_time(done, j_last, 0.0);
         *carry = Some(plan);
     }
     Ok(())
@@ -635,14 +634,10 @@ fn plan_job(
         });
         let done: Vec<Result<Out>> = par_map(tasks.len(), |i| match tasks[i] {
             Task::Input => {
-                let runs: Vec<&[Piece]> = result
-                    .runs
-                    .iter()
-                    .map(|r| r.original.pieces.as_slice())
-                    .collect();
                 let what = "the input";
                 let o = override_feed;
-                motion_times(&outline, &runs, &[], skip_input, m, o, false, what).map(Out::Motions)
+                motion_times(&outline, originals, &[], skip_input, m, o, false, what)
+                    .map(Out::Motions)
             }
             Task::Exact => {
                 let what = "the curves";

@@ -453,8 +453,8 @@ pub(crate) fn chain_arcs(
     // `weight`; the norm `sum h_i dk_i^2 / weight_i`: each arc's change
     // is `weight_i` times the same smooth function of the length, where
     // the plain `sum dk_i^2` gave the longer cells more, a step at each
-    // change of cell length; 267,283 against 249,408 lines written on
-    // `surface-raster-large.ngc`) that puts the arcs' points at every CHECK_CELLS-th
+    // change of cell length: docs/tuning.md, `render::chain_arcs`) that
+    // puts the arcs' points at every CHECK_CELLS-th
     // boundary, and the end, on the chain's, and the end direction on
     // the chain's. One correction for the whole chain: corrections of
     // separate stretches would step where they meet.
