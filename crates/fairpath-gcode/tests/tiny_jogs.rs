@@ -164,6 +164,60 @@ fn three_moves_x3_06164_y4_01768_inch() {
     }
 }
 
+/// LinuxCNC's `line-contouring-xz.ngc`, lines 46 to 55: down an arch in
+/// XZ to `X17.26 Z-2.525`, 1.2 mm across to `X17.477 Y-15.773`, 4 um down
+/// (`Z-2.529`) and up the next arch. The 4 um move was no jog at 5% of
+/// the tolerance: its corners' transitions were squeezed into it (942
+/// 1/mm with `auto`, 923,813 with `bspline-corner`). At 0.05 mm it is
+/// absorbed (at 0.01 mm it is 40% of the tolerance: not checked there).
+#[test]
+fn line_contouring_xz_step_over_down_4um() {
+    let arch_down = [
+        v(16.163, -16.967, 2.627),
+        v(16.603, -16.967, 1.362),
+        v(16.934, -16.967, 0.066),
+        v(17.155, -16.967, -1.253),
+        v(17.26, -16.967, -2.525),
+    ];
+    let (across, down) = (v(17.477, -15.773, -2.525), v(17.477, -15.773, -2.529));
+    let arch_up = [
+        v(17.37, -15.773, -1.226),
+        v(17.146, -15.773, 0.113),
+        v(16.81, -15.773, 1.428),
+        v(16.363, -15.773, 2.711),
+    ];
+    let with_jog: Vec<Vec3> = arch_down
+        .iter()
+        .chain(&[across, down])
+        .chain(&arch_up)
+        .copied()
+        .collect();
+    let without: Vec<Vec3> = arch_down
+        .iter()
+        .chain(&[down])
+        .chain(&arch_up)
+        .copied()
+        .collect();
+    let tol = 0.05;
+    let text = program(&with_jog, false);
+    let bound = PEAK_OVER_ARC * needed_curvature(&without, 0.8 * tol);
+    for method in BLENDING {
+        let (k, peak) = smooth(&text, method, tol);
+        let total: usize = k.iter().map(|(_, n)| n).sum();
+        let reversals = kept(&k, CornerReason::Reversal);
+        let allowed = if method == "auto" {
+            u_turns(&with_jog, tol).max(u_turns(&without, tol))
+        } else {
+            0
+        };
+        assert!(
+            total == reversals && reversals <= allowed,
+            "{method}: kept {k:?}, {allowed} U-turn corners"
+        );
+        assert!(peak <= bound, "{method}: peak {peak} 1/mm, bound {bound}");
+    }
+}
+
 /// The same three moves read in mm: the 46 nm move and its neighbours.
 #[test]
 fn three_moves_x3_06164_y4_01768_mm() {

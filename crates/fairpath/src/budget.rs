@@ -128,9 +128,17 @@ pub const COLLINEAR_SHARE: f64 = 1e-6;
 /// (`LineChain::absorbed`), so by the triangle inequality the result stays
 /// within the band of the original program and the shares below add up as
 /// before. Where nothing is absorbed, the
-/// bands are unchanged. 5%: a 0.28 um jog is 0.6% of 0.05 mm and 2.8% of
-/// 0.01 mm; a micrometre of rounding between moves is 2% of 0.05 mm.
-pub const ABSORB_SHARE: f64 = 0.05;
+/// bands are unchanged. A tenth: CAM programs step over with moves of a
+/// few micrometres (LinuxCNC's `line-contouring-xz.ngc` goes down an arch,
+/// 1.2 mm across and 4 um down, then up the next arch; `LHchips4.ngc` has
+/// moves of 5 to 7 um in Z between long ones), which at 5% of 0.05 mm
+/// were no jogs, and their corners' transitions were squeezed into them
+/// (942 1/mm in `auto`'s and `bspline-corner`'s output). Not more: at a
+/// quarter, the 10 um chords of a spiral (`spiral_tangent_test.ngc`) were
+/// all jogs, collapsed in turn into segments of uneven length whose
+/// transitions peaked at 198,000 1/mm (measurements: docs/tuning.md,
+/// `ABSORB_SHARE`).
+pub const ABSORB_SHARE: f64 = 0.1;
 
 /// Longest move, in tolerances, that absorbing may skip next to a sharp
 /// corner it hides (`smooth/absorb.rs`: within [`ABSORB_SHARE`] all the
