@@ -186,3 +186,111 @@ fn design_wave_fair_in_the_thesis_model_lowers_the_curvature_it_caps() {
         "{written_s} against {input_s}"
     );
 }
+
+/// Planned time (s) of `c` alone in the thesis' model (section 4.5:
+/// curvature caps only, starting and ending at the feed) on its machine.
+fn thesis_model_time(c: &Nurbs) -> f64 {
+    use fairpath::feed::limits::MachineLimits;
+    use fairpath::feed::plan::{PlanOptions, RunEnds};
+    use fairpath::feed::program::{simulate_with, Motion};
+    use fairpath::geom::Curve;
+    use fairpath::path::{Piece, Run};
+    let mut limits = MachineLimits::thesis();
+    limits.jerk_on_curves = false;
+    let opts = PlanOptions {
+        limits,
+        override_feed: true,
+        window: None,
+        ends: RunEnds::AtCap,
+    };
+    let run = Run::new(vec![Piece {
+        curve: Curve::from(c.clone()),
+        rapid: false,
+        source_lines: (1, 1),
+        feed: None,
+    }]);
+    simulate_with(&[Motion::Feed(run)], &opts).unwrap().time()
+}
+
+/// The square at R = 0.025 mm, the one cell of the thesis' Table 4-4 its
+/// method beat ours on: the thesis planned its square 2.4% faster (1.97
+/// -> 1.922 s), ours 1.7% with the peak pass (1.508 -> 1.482 s), and a
+/// global optimiser found no more than 1.8% with the tube measured at
+/// equal parameters (docs/tuning.md, "straightening"). With the turning
+/// minimised inside the tube measured to the original curve (the sliding
+/// tube), the ripples beside the corners flatten and the time falls by
+/// more than the thesis'; the curve stays within R of the original path
+/// (checked against a dense polyline of it, not by the fairing's bound)
+/// and keeps its ends.
+#[test]
+fn square_ripples_straightened_in_the_sliding_tube_beats_the_thesis_at_0_025_mm() {
+    use fairpath::geom::tube_fair::TubeMeasure;
+    let case = cases::cases()
+        .into_iter()
+        .find(|c| c.name == "square-ripples")
+        .expect("the square case");
+    let r = 0.025;
+    let opts = TubeFairOptions {
+        tube: TubeMeasure::Sliding,
+        straighten: true,
+        ..TubeFairOptions::new(r)
+    };
+    let f = fair_in_tube(&case.curve, &opts).unwrap();
+    let (before, after) = (thesis_model_time(&case.curve), thesis_model_time(&f.curve));
+    let thesis_share = 1.0 - 1.922 / 1.97;
+    assert!(
+        after <= (1.0 - thesis_share) * before,
+        "{before} -> {after} s: less than the thesis' {:.2}%",
+        100.0 * thesis_share
+    );
+    assert_eq!(f.curve.points[0], case.curve.points[0]);
+    assert_eq!(f.curve.points.last(), case.curve.points.last());
+    // Within R of the original path: each of 10,000 points of the result
+    // against the chords of 100,000 points of the original (chords of
+    // about 1.2 um, whose sag at the highest curvature, 3.3 1/mm, is under
+    // a nanometre).
+    let dense = |c: &Nurbs, n: usize| -> Vec<fairpath::geom::Vec3> {
+        let (a, b) = c.domain();
+        (0..=n)
+            .map(|i| c.eval(a + (b - a) * i as f64 / n as f64))
+            .collect()
+    };
+    let line = dense(&case.curve, 100_000);
+    let mut from = 0usize;
+    for p in dense(&f.curve, 10_000) {
+        // The nearest chord near the last one (the curves run alike).
+        let window = from.saturating_sub(5_000)..(from + 5_000).min(line.len() - 1);
+        let (i, d) = window
+            .map(|i| {
+                let (a, b) = (line[i], line[i + 1]);
+                let ab = b - a;
+                let t = ((p - a).dot(ab) / ab.dot(ab)).clamp(0.0, 1.0);
+                (i, p.dist(a + ab * t))
+            })
+            .fold((0, f64::INFINITY), |x, y| if y.1 < x.1 { y } else { x });
+        assert!(d <= r, "{p:?}: {d} mm from the original");
+        from = i;
+    }
+}
+
+/// The bundled `examples/options/fair-straighten.toml` turns on the
+/// straightening in the sliding tube for `fair`: on the square at 0.25 mm
+/// the written program checks (`smooth_summary`) and plans faster on the
+/// default machine than `fair`'s default (2.716 against 2.779 s when
+/// measured).
+#[test]
+fn the_bundled_straightening_options_plan_the_square_faster() {
+    let opts = common::example("options/fair-straighten.toml");
+    let with = smooth_summary(
+        "square-ripples",
+        "0.25mm",
+        "fair",
+        &["--options", opts.to_str().unwrap()],
+    );
+    let without = smooth_summary("square-ripples", "0.25mm", "fair", &[]);
+    let (a, b) = (
+        time(&with, "written_time_s"),
+        time(&without, "written_time_s"),
+    );
+    assert!(a < 0.99 * b, "{a} against {b}");
+}

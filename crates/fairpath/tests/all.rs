@@ -31,5 +31,6 @@ mod lower_bound;
 mod memory_layout;
 mod pipeline_parallel;
 mod render_props;
+mod straighten_props;
 mod stream_props;
 mod verify_detects;

@@ -34,7 +34,7 @@ use cases::{cases, Case};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{PlanOptions, RunEnds};
 use fairpath::feed::program::{simulate_with, Motion};
-use fairpath::geom::tube_fair::{fair_in_tube, PeakPass, TubeFairOptions};
+use fairpath::geom::tube_fair::{fair_in_tube, PeakPass, TubeFairOptions, TubeMeasure};
 use fairpath::geom::{arc_length, total_curvature, Curve, Nurbs, ParamCurve};
 use fairpath::path::{Piece, Run};
 use std::fmt::Write as _;
@@ -45,10 +45,32 @@ const RADII: [f64; 3] = [0.025, 0.125, 0.25];
 /// The variants of the method in the tables: the thesis' iterations
 /// alone, then followed by the peak pass (ours) on fairpath's full model's
 /// speed caps (the default) or on curvature (the thesis' model's measure).
-const VARIANTS: [(&str, PeakPass); 3] = [
-    ("thesis", PeakPass::Off),
-    ("+ pass (speed caps)", PeakPass::DEFAULT_MACHINE),
-    ("+ pass (curvature)", PeakPass::Curvature),
+const VARIANTS: [(&str, PeakPass, TubeMeasure, bool); 5] = [
+    ("thesis", PeakPass::Off, TubeMeasure::EqualParameter, false),
+    (
+        "+ pass (speed caps)",
+        PeakPass::DEFAULT_MACHINE,
+        TubeMeasure::EqualParameter,
+        false,
+    ),
+    (
+        "+ pass (curvature)",
+        PeakPass::Curvature,
+        TubeMeasure::EqualParameter,
+        false,
+    ),
+    (
+        "+ straighten, pass (speed caps), sliding",
+        PeakPass::DEFAULT_MACHINE,
+        TubeMeasure::Sliding,
+        true,
+    ),
+    (
+        "+ straighten, pass (curvature), sliding",
+        PeakPass::Curvature,
+        TubeMeasure::Sliding,
+        true,
+    ),
 ];
 
 /// Accuracy of lengths and curvature integrals (mm, radians).
@@ -136,7 +158,10 @@ fn main() {
          0.125 and 0.25 mm: its iterations alone (`thesis`), and followed by the peak pass (ours,\n\
          `fairpath::geom::tube_fair::peak`; the library's default) lowering the highest demand of\n\
          fairpath's full model (`speed caps`: `sqrt(k/A)`, `cbrt(k^2/J)`, `cbrt(|dk/ds|/J)`) or the\n\
-         highest curvature (`curvature`, what the thesis' model caps). Curvature is the average over\n\
+         highest curvature (`curvature`, what the thesis' model caps); `+ straighten, ..., sliding`:\n\
+         the tube measured to the original curve (`fairpath::geom::tube_fair::slide`, ours) and the\n\
+         turning minimised inside it after the iterations (`fairpath::geom::tube_fair::straighten`,\n\
+         ours; off by default), then the pass. Curvature is the average over\n\
          the length (integral of the curvature over the arc length, divided by it), as the thesis'\n\
          Table 4-1; times are planned on the thesis' machine (400 mm/s, 4000 mm/s^2, 20000 mm/s^3) by\n\
          its own model (`thesis`: curvature caps `v = sqrt(A/k)` only, the path starting and ending at\n\
@@ -170,9 +195,11 @@ fn main() {
             published(0)
         );
         for (j, &r) in RADII.iter().enumerate() {
-            for (v, &(name, pass)) in VARIANTS.iter().enumerate() {
+            for (v, &(name, pass, tube, straighten)) in VARIANTS.iter().enumerate() {
                 let opts = TubeFairOptions {
                     peak_pass: pass,
+                    tube,
+                    straighten,
                     ..TubeFairOptions::new(r)
                 };
                 let shown = if v == 0 {
@@ -214,7 +241,7 @@ fn main() {
          |---|---|---|---|---|---|---|"
     );
     for (j, &r) in RADII.iter().enumerate() {
-        for (v, &(name, _)) in VARIANTS.iter().enumerate() {
+        for (v, &(name, _, _, _)) in VARIANTS.iter().enumerate() {
             let n = reductions[v][j].len().max(1) as f64;
             let avg = |i: usize| reductions[v][j].iter().map(|x| x[i]).sum::<f64>() / n;
             let shown = if v == 0 {

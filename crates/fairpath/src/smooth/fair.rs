@@ -122,6 +122,8 @@ impl FairOptions {
             keep_g2_end: keep_end,
             peak_guard: self.peak_guard,
             peak_pass: self.peak_pass,
+            tube: self.tube,
+            straighten: self.straighten,
         }
     }
 

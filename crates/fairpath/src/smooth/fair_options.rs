@@ -5,7 +5,8 @@ use super::bspline_fit::BsplineFitOptions;
 use super::{require, OptionError};
 use crate::budget::{BAND_USE, FAIR_FIT_SHARE};
 use crate::geom::tube_fair::{
-    EndRule, PeakPass, TubeFairError, DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY, THESIS_PRECISION,
+    EndRule, PeakPass, TubeFairError, TubeMeasure, DEFAULT_MAX_ITERATIONS, THESIS_ACCURACY,
+    THESIS_PRECISION,
 };
 
 /// Most control points of a cubic (three spans) that the fairing cannot
@@ -54,6 +55,18 @@ pub struct FairOptions {
     /// (`choose::fair_on`: its speed caps, or the curvature where it caps
     /// curves by their normal acceleration alone, the thesis' model).
     pub peak_pass: PeakPass,
+    /// How the tube is measured in the straightening and the peak pass:
+    /// at equal parameters (the thesis' difference spline, the default),
+    /// or to the original path, its points matched by projection (ours,
+    /// `geom::tube_fair::slide`: the project's tolerance, looser).
+    pub tube: TubeMeasure,
+    /// After the thesis' iterations, minimise the turning inside the tube
+    /// (ours, `geom::tube_fair::straighten`; off by default: with the
+    /// sliding tube it plans the thesis' square faster, but over the
+    /// thesis' cases and LinuxCNC's G6.2 examples as many programs plan
+    /// slower as faster, at several times the computing time;
+    /// docs/tuning.md, "Straightening and the sliding tube").
+    pub straighten: bool,
     /// Whether the peak pass works up to each curve's programmed feed
     /// only (the default: where the program asks for less speed than the
     /// shape allows, lowering the shape's demand buys nothing,
@@ -146,6 +159,8 @@ impl Default for FairOptions {
             ends: EndRule::Pinned,
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
+            tube: TubeMeasure::EqualParameter,
+            straighten: false,
             programmed_feeds: true,
             lines: LineFit::Fairer,
             other_curves: OtherCurves::Sampled,

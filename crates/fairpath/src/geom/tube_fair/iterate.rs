@@ -39,6 +39,8 @@ use super::directions::{directions, Direction, STILL_SHARE};
 use super::guard::{undo_rises, PeakReference};
 use super::polygon::Polygon;
 use super::sensitivity::{move_distances, point_parameters, scaled_inverse, sensitivities};
+use super::slide::{sampled_sliding, sliding_bound_on, Original, TubeMeasure};
+use super::spans::nonempty_spans;
 use super::spans::Basis;
 use super::tube::{deviation_bound, difference, hull_bound, sampled_deviation};
 use super::{IterationRecord, Termination, TubeFairOptions};
@@ -58,6 +60,8 @@ pub(super) struct Setup<'a> {
     /// Original lengths of the two end legs.
     pub legs: [f64; 2],
     pub opts: &'a TubeFairOptions,
+    /// The original's spans, for the sliding tube.
+    pub original: Option<&'a Original<'a>>,
 }
 
 /// What the iterations did.
@@ -110,6 +114,39 @@ impl Setup<'_> {
         step
     }
 
+    /// A sure bound of `pts`' distance from the original, as the tube is
+    /// measured.
+    fn bound(&self, pts: &[Vec3]) -> f64 {
+        let (basis, orig, res) = (&self.basis, self.orig, self.opts.resolution());
+        let diff = difference(pts, orig);
+        match self.opts.tube {
+            TubeMeasure::EqualParameter => deviation_bound(&diff, basis, res),
+            TubeMeasure::Sliding => {
+                let spans = nonempty_spans(basis, orig.len());
+                sliding_bound_on(pts, self.original, &diff, basis, &spans, res)
+            }
+        }
+    }
+
+    /// `pts`' distance from the original sampled at `precision` steps of
+    /// every span, as the tube is measured.
+    fn sampled(&self, pts: &[Vec3]) -> f64 {
+        let (basis, orig, precision) = (&self.basis, self.orig, self.opts.precision);
+        match self.opts.tube {
+            TubeMeasure::EqualParameter => {
+                sampled_deviation(&difference(pts, orig), basis, precision)
+            }
+            TubeMeasure::Sliding => sampled_sliding(
+                pts,
+                orig,
+                self.original,
+                basis,
+                precision,
+                self.opts.resolution(),
+            ),
+        }
+    }
+
     /// Which of the `m` control points move under `dirs`.
     fn moving(&self, dirs: &[Direction]) -> Vec<bool> {
         (0..self.orig.len())
@@ -156,7 +193,7 @@ impl Setup<'_> {
             }
             let s_inv = scaled_inverse(&sens, &moving);
             let mut new = add(&cur, &self.step(&dirs, &move_distances(&s_inv, d_allow)));
-            let mut bound = deviation_bound(&difference(&new, orig), basis, res);
+            let mut bound = self.bound(&new);
             let mut sure_step = false;
             if bound > r {
                 let d_sure = r - cur_bound - res;
@@ -166,7 +203,7 @@ impl Setup<'_> {
                 }
                 sure_step = true;
                 new = add(&cur, &self.step(&dirs, &move_distances(&s_inv, d_sure)));
-                bound = deviation_bound(&difference(&new, orig), basis, res);
+                bound = self.bound(&new);
                 if bound > r {
                     termination = Termination::TubeFull;
                     break;
@@ -177,7 +214,7 @@ impl Setup<'_> {
                 undone = undo_rises(basis, &cur, &mut new, reference);
                 if undone > 0 {
                     undone_total += undone;
-                    bound = deviation_bound(&difference(&new, orig), basis, res);
+                    bound = self.bound(&new);
                     if bound > r {
                         termination = Termination::TubeFull;
                         break;
@@ -193,7 +230,7 @@ impl Setup<'_> {
             sens = sensitivities(&step, basis, &params);
             cur = new;
             cur_bound = bound;
-            sampled = sampled_deviation(&difference(&cur, orig), basis, opts.precision);
+            sampled = self.sampled(&cur);
             records.push(IterationRecord {
                 max_deviation: sampled,
                 deviation_bound: bound,

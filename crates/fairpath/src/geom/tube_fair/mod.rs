@@ -26,6 +26,9 @@
 //! | 5.1 the U-to-V failure | [`guard`] |
 //! | 5.1.1 closed paths | [`polygon`] |
 //! | 5.1.2 3D | [`categories`], [`directions`] |
+//! | beyond: the highest peaks lowered | [`peak`] |
+//! | beyond: the turning minimised inside the tube | [`straighten`] |
+//! | beyond: the tube measured to the original curve | [`slide`] |
 //!
 //! Where the thesis is silent or inconsistent, the choices (each
 //! explained where it is made):
@@ -82,13 +85,16 @@ mod iterate;
 pub mod peak;
 pub mod polygon;
 pub mod sensitivity;
+pub mod slide;
 mod spans;
+pub mod straighten;
 pub mod tube;
 
 pub use spans::Basis;
 
 pub use directions::{APEX_WEIGHT, MIN_END_LEG_SHARE, RIPPLE_REACH_SHARE, STILL_SHARE};
 pub use peak::PeakPass;
+pub use slide::TubeMeasure;
 
 use super::elevate::ElevateError;
 use super::{Nurbs, NurbsError};
@@ -146,7 +152,8 @@ pub enum EndRule {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TubeFairOptions {
     /// Radius `R` of the tube (mm): every point of the result lies within
-    /// `R` of the original at the same parameter.
+    /// `R` of the original at the same parameter (of the original curve
+    /// where [`TubeFairOptions::tube`] slides).
     pub radius: f64,
     /// Samples per knot interval of the thesis' maximum allowable distance
     /// ([`THESIS_PRECISION`]).
@@ -170,6 +177,14 @@ pub struct TubeFairOptions {
     /// or of what it costs a planner with the room left in the tube
     /// ([`peak`], ours); [`PeakPass::Off`] for the thesis' method alone.
     pub peak_pass: PeakPass,
+    /// How the iterations, the straightening and the peak pass measure
+    /// the distance from the original ([`TubeMeasure`]: at equal
+    /// parameters, the thesis' and the default, or to the original curve,
+    /// ours).
+    pub tube: TubeMeasure,
+    /// After the thesis' iterations, minimise the turning inside the tube
+    /// ([`straighten`], ours).
+    pub straighten: bool,
 }
 
 impl TubeFairOptions {
@@ -186,6 +201,8 @@ impl TubeFairOptions {
             keep_g2_end: false,
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
+            tube: TubeMeasure::EqualParameter,
+            straighten: false,
         }
     }
 
@@ -341,21 +358,25 @@ pub struct Faired {
     pub closed: bool,
     /// Control points the curvature guard put back, in all.
     pub undone: usize,
-    /// Sure bound of the distance from the original at equal parameters
+    /// Sure bound of the distance from the original as the tube measures
+    /// it ([`TubeFairOptions::tube`]; the iterations' at equal parameters)
     /// (mm), at most `R`.
     pub deviation_bound: f64,
     /// That distance sampled (mm).
     pub max_deviation: f64,
     /// What the peak pass did (all zero when it is off).
     pub peak_pass: peak::PeakPassRecord,
+    /// What the straightening did (all zero when it is off).
+    pub straightened: straighten::StraightenRecord,
 }
 
 /// Fairs the clamped B-spline `curve` (the thesis' non-rational cubic, or
 /// of degree 2 and above, rational or not: the weights stay) inside a tube
 /// of radius `opts.radius` around it (see the module documentation): every
 /// point of the result lies within the radius of the original at the same
-/// parameter (on a sure bound), its end points are the original's bit for
-/// bit, its knots and weights are the original's.
+/// parameter, or with [`TubeMeasure::Sliding`] of the original curve (on a
+/// sure bound either way), its end points are the original's bit for bit,
+/// its knots and weights are the original's.
 pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, TubeFairError> {
     opts.validate()?;
     curve.validate()?;
@@ -393,6 +414,7 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         }
     }
     let legs = poly.end_legs().map(|(e, s)| pts[e].dist(pts[s]));
+    let original = slide::Original::new(&basis, pts);
     let setup = iterate::Setup {
         basis,
         orig: pts,
@@ -400,22 +422,40 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         pinned,
         legs,
         opts,
+        original: original.as_ref(),
     };
     let mut out = setup.run();
     let mut peak_pass = peak::PeakPassRecord::default();
+    let mut straightened = straighten::StraightenRecord::default();
+    let reference = guard::PeakReference::new(&basis, pts, opts.accuracy);
+    let movable: Vec<bool> = (0..m)
+        .map(|i| {
+            // Ring point of control point i (a closed path's last is
+            // the seam), and whether the end rule lets it turn the
+            // end tangent.
+            let ring = if closed && i == m - 1 { 0 } else { i };
+            let next_to_end = i == 1 || i + 2 == m;
+            let slides = next_to_end && opts.ends == EndRule::SlideAlongTangent;
+            !setup.pinned[ring] && !slides
+        })
+        .collect();
+    if opts.straighten {
+        let s = straighten::Straightening {
+            basis,
+            orig: pts,
+            movable: movable.clone(),
+            radius: opts.radius,
+            resolution: opts.resolution(),
+            reference: opts.peak_guard.then_some(&reference),
+            tube: opts.tube,
+            original: original.as_ref(),
+        };
+        straightened = s.run(&mut out.points, out.bound);
+        if straightened.kept > 0.0 {
+            out.bound = straightened.deviation_bound;
+        }
+    }
     if opts.peak_pass != PeakPass::Off {
-        let reference = guard::PeakReference::new(&basis, pts, opts.accuracy);
-        let movable = (0..m)
-            .map(|i| {
-                // Ring point of control point i (a closed path's last is
-                // the seam), and whether the end rule lets it turn the
-                // end tangent.
-                let ring = if closed && i == m - 1 { 0 } else { i };
-                let next_to_end = i == 1 || i + 2 == m;
-                let slides = next_to_end && opts.ends == EndRule::SlideAlongTangent;
-                !setup.pinned[ring] && !slides
-            })
-            .collect();
         let pass = peak::Lowering {
             basis,
             orig: pts,
@@ -426,13 +466,29 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
             measure: opts.peak_pass,
             floor: reference.floor,
             bound: out.bound,
+            tube: opts.tube,
+            original: original.as_ref(),
         };
         peak_pass = pass.run(&mut out.points);
         if peak_pass.moves > 0 {
             out.bound = peak_pass.deviation_bound;
-            let diff = tube::difference(&out.points, pts);
-            out.sampled = tube::sampled_deviation(&diff, &basis, opts.precision);
         }
+    }
+    if peak_pass.moves > 0 || straightened.kept > 0.0 {
+        out.sampled = match opts.tube {
+            TubeMeasure::EqualParameter => {
+                let diff = tube::difference(&out.points, pts);
+                tube::sampled_deviation(&diff, &basis, opts.precision)
+            }
+            TubeMeasure::Sliding => slide::sampled_sliding(
+                &out.points,
+                pts,
+                original.as_ref(),
+                &basis,
+                opts.precision,
+                opts.resolution(),
+            ),
+        };
     }
     let mut faired = curve.clone();
     faired.points = out.points;
@@ -446,5 +502,6 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         deviation_bound: out.bound,
         max_deviation: out.sampled,
         peak_pass,
+        straightened,
     })
 }

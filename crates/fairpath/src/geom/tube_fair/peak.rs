@@ -39,6 +39,7 @@
 
 use super::directions::RIPPLE_REACH_SHARE;
 use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
+use super::slide::{sliding_bound_on, Original, TubeMeasure};
 use super::spans::{nonempty_spans, Basis, Span};
 use super::tube::deviation_bound_on;
 use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3, NARROW};
@@ -383,6 +384,11 @@ pub(super) struct Lowering<'a> {
     pub floor: f64,
     /// Sure bound of the starting curve's distance from the original (mm).
     pub bound: f64,
+    /// How the distance from the original is measured.
+    pub tube: TubeMeasure,
+    /// The original's spans, for the sliding tube (`None`: equal
+    /// parameters, or a curve the sliding tube does not measure).
+    pub original: Option<&'a Original<'a>>,
 }
 
 /// A span peak in the heap, ordered by its bits (peaks are finite and not
@@ -390,6 +396,19 @@ pub(super) struct Lowering<'a> {
 type Entry = (u64, usize);
 
 impl Lowering<'_> {
+    /// A sure bound of span `t`'s distance from the original, as the tube
+    /// is measured (`cur` and its difference `diff` from the original).
+    fn span_bound(&self, cur: &[Vec3], diff: &[Vec3], t: usize) -> f64 {
+        match self.tube {
+            TubeMeasure::EqualParameter => {
+                deviation_bound_on(diff, &self.basis, &[t], self.resolution)
+            }
+            TubeMeasure::Sliding => {
+                sliding_bound_on(cur, self.original, diff, &self.basis, &[t], self.resolution)
+            }
+        }
+    }
+
     /// The non-empty spans control point `j` belongs to.
     fn spans_of(&self, j: usize) -> impl Iterator<Item = usize> + '_ {
         let (m, p, u) = (self.orig.len(), self.basis.degree, self.basis.knots);
@@ -612,35 +631,42 @@ impl Lowering<'_> {
                         }
                     }
                 }
-                for (&(j, _), &p) in moved.iter().zip(&old) {
-                    cur[j] = p;
-                }
                 if !lower {
+                    for (&(j, _), &p) in moved.iter().zip(&old) {
+                        cur[j] = p;
+                    }
                     continue;
                 }
                 let high = both.iter().map(|(_, b)| b.demand).fold(0.0, f64::max);
                 // (Laid on a chord, points often leave the turning as it
                 // was: equal within TRIAL_TIE is not more.)
                 let turning_after: f64 = both.iter().map(|(_, b)| b.turning).sum();
-                if turning_after > turning_before * (1.0 + TRIAL_TIE) {
-                    continue;
-                }
-                if let Some(r) = self.reference {
-                    if both.iter().any(|&(t, b)| r.is_rise(t, b.peak)) {
-                        continue;
+                let rejected = turning_after > turning_before * (1.0 + TRIAL_TIE)
+                    || self
+                        .reference
+                        .is_some_and(|r| both.iter().any(|&(t, b)| r.is_rise(t, b.peak)));
+                let bounds: Vec<f64> = if rejected {
+                    Vec::new()
+                } else {
+                    for &(j, p) in &moved {
+                        diff[j] = p - self.orig[j];
                     }
-                }
-                for &(j, p) in &moved {
-                    diff[j] = p - self.orig[j];
-                }
-                // Span by span, so each span keeps the bound that admitted
-                // it (the curve's bound is their largest).
-                let bounds: Vec<f64> = spans
-                    .iter()
-                    .map(|&t| deviation_bound_on(diff, &self.basis, &[t], self.resolution))
-                    .collect();
+                    // Span by span, so each span keeps the bound that
+                    // admitted it (the curve's bound is their largest).
+                    let bounds = spans
+                        .iter()
+                        .map(|&t| self.span_bound(cur, diff, t))
+                        .collect();
+                    for (&(j, _), &p) in moved.iter().zip(&old) {
+                        diff[j] = p - self.orig[j];
+                    }
+                    bounds
+                };
                 for (&(j, _), &p) in moved.iter().zip(&old) {
-                    diff[j] = p - self.orig[j];
+                    cur[j] = p;
+                }
+                if rejected {
+                    continue;
                 }
                 if bounds.iter().all(|&b| b <= self.radius) {
                     let peaks = both
@@ -776,6 +802,8 @@ mod tests {
                 measure,
                 floor: reference.floor,
                 bound: 0.0,
+                tube: TubeMeasure::EqualParameter,
+                original: None,
             };
             let mut cur = orig.clone();
             let rec = pass.run(&mut cur);
