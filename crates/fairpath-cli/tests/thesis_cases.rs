@@ -273,24 +273,27 @@ fn square_ripples_straightened_in_the_sliding_tube_beats_the_thesis_at_0_025_mm(
     }
 }
 
-/// The bundled `examples/options/fair-straighten.toml` turns on the
-/// straightening in the sliding tube for `fair`: on the square at 0.25 mm
-/// the written program checks (`smooth_summary`) and plans faster on the
-/// default machine than `fair`'s default (2.716 against 2.779 s when
-/// measured).
+/// `fair`'s straightening on the square at 0.25 mm: forced on by the
+/// bundled `examples/options/fair-straighten.toml`, the written program
+/// checks (`smooth_summary`) and plans faster on the default machine than
+/// with it off (2.720 against 2.779 s when measured); by default `fair`
+/// judges, and writes a program no slower than either.
 #[test]
 fn the_bundled_straightening_options_plan_the_square_faster() {
-    let opts = common::example("options/fair-straighten.toml");
-    let with = smooth_summary(
-        "square-ripples",
-        "0.25mm",
-        "fair",
-        &["--options", opts.to_str().unwrap()],
+    let on = common::example("options/fair-straighten.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let off = dir.path().join("off.toml");
+    std::fs::write(&off, "straighten = \"off\"\n").unwrap();
+    let run = |extra: &[&str]| {
+        let v = smooth_summary("square-ripples", "0.25mm", "fair", extra);
+        time(&v, "written_time_s")
+    };
+    let with = run(&["--options", on.to_str().unwrap()]);
+    let without = run(&["--options", off.to_str().unwrap()]);
+    let judged = run(&[]);
+    assert!(with < 0.99 * without, "{with} against {without}");
+    assert!(
+        judged <= with.min(without) * (1.0 + 1e-9),
+        "judged {judged}: on {with}, off {without}"
     );
-    let without = smooth_summary("square-ripples", "0.25mm", "fair", &[]);
-    let (a, b) = (
-        time(&with, "written_time_s"),
-        time(&without, "written_time_s"),
-    );
-    assert!(a < 0.99 * b, "{a} against {b}");
 }

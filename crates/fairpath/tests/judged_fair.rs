@@ -121,3 +121,70 @@ fn planned_time_prefers_only_what_is_faster_at_every_feed() {
     let short_fast = [line(o, Vec3::new(20.0, 0.0, 0.0), 1, 24000.0)];
     assert!(programmed.prefers(&short_fast, &long_fast));
 }
+
+/// With `straighten = "judged"` (the default) `fair` smooths a run with
+/// and without the straightening and keeps the faster by the objective:
+/// on a spline of rippled corners (a saw-tooth of control points) and on
+/// a smooth wave, with the planner on the thesis' machine, the judged
+/// smoothing plans no slower than either, and on the saw-tooth at 0.025
+/// mm the straightened one is the faster (so the judgement changes
+/// something; at 0.125 mm both are straight).
+#[test]
+fn fair_keeps_the_straightening_only_where_it_plans_faster() {
+    use fairpath::geom::Nurbs;
+    use fairpath::smooth::Straighten;
+    let spline = |pts: Vec<Vec3>| {
+        let m = pts.len();
+        let mut k = vec![0.0; 4];
+        k.extend((1..m - 3).map(|i| i as f64));
+        k.extend([(m - 3) as f64; 4]);
+        Run::new(vec![piece(
+            Curve::from(Nurbs::new(3, k, pts, None).unwrap()),
+            1,
+            24000.0,
+        )])
+    };
+    let saw = spline(
+        (0..24)
+            .map(|i| Vec3::new(2.0 * i as f64, if i % 2 == 0 { 0.0 } else { 0.3 }, 0.0))
+            .collect(),
+    );
+    let wave = spline(
+        (0..30)
+            .map(|i| Vec3::new(2.0 * i as f64, 3.0 * (0.3 * i as f64).sin(), 0.0))
+            .collect(),
+    );
+    let objective: Shared<dyn Objective> =
+        Shared::new(PlannedTime::new(MachineLimits::thesis(), false));
+    let time = |run: &Run, straighten: Straighten, tol: f64| {
+        let judged = JudgedFair {
+            fair: Fair {
+                options: FairOptions {
+                    straighten,
+                    ..FairOptions::default()
+                },
+            },
+            objective: objective.clone(),
+        };
+        let out = judged.smooth_run(run, tol).unwrap();
+        let rep = verify_run(&run.pieces, &out.pieces, &VerifyOptions::new(tol));
+        assert!(rep.within(tol), "{rep:?}");
+        objective.cost(&out.pieces).unwrap()
+    };
+    for (name, run) in [("saw", &saw), ("wave", &wave)] {
+        for tol in [0.025, 0.125] {
+            let (off, on, judged) = (
+                time(run, Straighten::Off, tol),
+                time(run, Straighten::On, tol),
+                time(run, Straighten::Judged, tol),
+            );
+            assert!(
+                judged <= off.min(on) * (1.0 + 1e-12),
+                "{name} {tol}: judged {judged}, off {off}, on {on}"
+            );
+            if name == "saw" && tol == 0.025 {
+                assert!(on < off, "{name} {tol}: on {on}, off {off}");
+            }
+        }
+    }
+}

@@ -8,11 +8,16 @@
 //! more than the corner (`Ruota_dentata_p1.ngc` at 0.125 mm: sampled and
 //! faired it planned slower than the program at the maximum feed and was
 //! kept as written; the curves faired themselves plan faster at both
-//! feeds).
+//! feeds). With [`Straighten::Judged`] (the default) each run is also
+//! smoothed with the straightening in the sliding tube, and the
+//! objective keeps the faster of the two.
 
 use super::objective::Objective;
+use crate::geom::tube_fair::TubeMeasure;
 use crate::path::Run;
-use crate::smooth::{Fair, FairAlternatives, SmoothError, SmoothedRun, Smoother};
+use crate::smooth::{
+    Fair, FairAlternatives, FairOptions, RunMemo, SmoothError, SmoothedRun, Smoother, Straighten,
+};
 use alloc::sync::Arc;
 
 /// [`Fair`] choosing between its smoothings of a run by `objective`
@@ -30,7 +35,39 @@ impl Smoother for JudgedFair {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
-        let FairAlternatives { kept, sampled, .. } = self.fair.alternatives(run, tolerance)?;
+        // One memo for both: the fits of the run's lines are shared.
+        let memo = RunMemo::default();
+        let best = self.judged(&self.fair, run, tolerance, &memo)?;
+        if self.fair.options.straighten != Straighten::Judged {
+            return Ok(best);
+        }
+        let straight = Fair {
+            options: FairOptions {
+                straighten: Straighten::On,
+                tube: TubeMeasure::Sliding,
+                ..self.fair.options
+            },
+        };
+        let other = self.judged(&straight, run, tolerance, &memo)?;
+        Ok(if self.objective.prefers(&other.pieces, &best.pieces) {
+            other
+        } else {
+            best
+        })
+    }
+}
+
+impl JudgedFair {
+    /// `fair`'s smoothings of `run`, the faster by the objective.
+    fn judged(
+        &self,
+        fair: &Fair,
+        run: &Run,
+        tolerance: f64,
+        memo: &RunMemo,
+    ) -> Result<SmoothedRun, SmoothError> {
+        let FairAlternatives { kept, sampled, .. } =
+            fair.alternatives_with(run, tolerance, memo)?;
         Ok(match sampled {
             Some(s) if self.objective.prefers(&s.pieces, &kept.pieces) => s,
             _ => kept,

@@ -95,7 +95,7 @@ use super::bspline_fit::{BsplineFit, BsplineFitOptions};
 use super::fair_measures::{
     run_peak_curvature, run_turning, sampled_demands, shallow_corner_sections,
 };
-use super::fair_options::{FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS};
+use super::fair_options::{FairOptions, LineFit, OtherCurves, Straighten, MOST_FIXED_POINTS};
 use super::fit_sections::SectionOptions;
 use super::run_memo::RunMemo;
 use super::unfaired::{Unfaired, UnfairedReason};
@@ -123,7 +123,7 @@ impl FairOptions {
             peak_guard: self.peak_guard,
             peak_pass: self.peak_pass,
             tube: self.tube,
-            straighten: self.straighten,
+            straighten: self.straighten == Straighten::On,
         }
     }
 

@@ -60,13 +60,10 @@ pub struct FairOptions {
     /// or to the original path, its points matched by projection (ours,
     /// `geom::tube_fair::slide`: the project's tolerance, looser).
     pub tube: TubeMeasure,
-    /// After the thesis' iterations, minimise the turning inside the tube
-    /// (ours, `geom::tube_fair::straighten`; off by default: with the
-    /// sliding tube it plans the thesis' square faster, but over the
-    /// thesis' cases and LinuxCNC's G6.2 examples as many programs plan
-    /// slower as faster, at several times the computing time;
-    /// docs/tuning.md, "Straightening and the sliding tube").
-    pub straighten: bool,
+    /// Whether, after the thesis' iterations, the turning is minimised
+    /// inside the tube (ours, `geom::tube_fair::straighten`): see
+    /// [`Straighten`].
+    pub straighten: Straighten,
     /// Whether the peak pass works up to each curve's programmed feed
     /// only (the default: where the program asks for less speed than the
     /// shape allows, lowering the shape's demand buys nothing,
@@ -80,6 +77,39 @@ pub struct FairOptions {
     pub lines: LineFit,
     /// What becomes of the curves the thesis' fairing cannot take.
     pub other_curves: OtherCurves,
+}
+
+/// Whether [`Fair`](super::Fair) straightens its curves
+/// (`geom::tube_fair::straighten`: the turning minimised inside the tube,
+/// after the thesis' iterations and before the peak pass).
+///
+/// Why not always: it plans the thesis' square of rippled corners faster
+/// than the peak pass alone (fairpath's full model: 14.7% less time than
+/// the input at R = 0.25 mm against 12.1%), but on a smooth design
+/// curve the curvature it lowers between the peaks steepens the ramps,
+/// which a jerk-limited planner pays for, and over the thesis' cases and
+/// LinuxCNC's G6.2 examples as many programs planned slower with it as
+/// faster, at several times the computing time (docs/tuning.md,
+/// "Straightening and the sliding tube").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum Straighten {
+    /// Never.
+    Off,
+    /// Always, in the tube as `FairOptions::tube` measures it.
+    On,
+    /// The default: where a planner judges the method (`fair` as the
+    /// pipeline builds it, `choose::JudgedFair`), each run is also
+    /// smoothed with the straightening in the sliding tube, and the
+    /// smoothing that plans faster on the user's machine is kept; without
+    /// a planner (the method alone, and `auto`'s candidates, whose
+    /// computing time it would multiply), as [`Straighten::Off`].
+    #[default]
+    Judged,
 }
 
 /// What [`Fair`](super::Fair) does with the curves the thesis' fairing cannot take
@@ -160,7 +190,7 @@ impl Default for FairOptions {
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
             tube: TubeMeasure::EqualParameter,
-            straighten: false,
+            straighten: Straighten::Judged,
             programmed_feeds: true,
             lines: LineFit::Fairer,
             other_curves: OtherCurves::Sampled,

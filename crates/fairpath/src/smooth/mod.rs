@@ -57,7 +57,7 @@ pub use fair_measures::{
     run_peak_curvature, run_turning, sampled_demand, sampled_demands, shallow_corner_sections,
     TURNING_ACCURACY,
 };
-pub use fair_options::{FairOptions, LineFit, OtherCurves, MOST_FIXED_POINTS};
+pub use fair_options::{FairOptions, LineFit, OtherCurves, Straighten, MOST_FIXED_POINTS};
 pub use fit_sections::{
     dense_sections, through_corners_sections, SectionOptions, THROUGH_MAX_TURN,
 };
