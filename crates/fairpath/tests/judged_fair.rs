@@ -122,7 +122,7 @@ fn planned_time_prefers_only_what_is_faster_at_every_feed() {
     assert!(programmed.prefers(&short_fast, &long_fast));
 }
 
-/// With `straighten = "judged"` (the default) `fair` smooths a run with
+/// With `straighten = "judged"` `fair` smooths a run with
 /// and without the straightening and keeps the faster by the objective:
 /// on a spline of rippled corners (a saw-tooth of control points) and on
 /// a smooth wave, with the planner on the thesis' machine, the judged

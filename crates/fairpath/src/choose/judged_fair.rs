@@ -8,7 +8,7 @@
 //! more than the corner (`Ruota_dentata_p1.ngc` at 0.125 mm: sampled and
 //! faired it planned slower than the program at the maximum feed and was
 //! kept as written; the curves faired themselves plan faster at both
-//! feeds). With [`Straighten::Judged`] (the default) each run is also
+//! feeds). With [`Straighten::Judged`] each run is also
 //! smoothed with the straightening in the sliding tube, and the
 //! objective keeps the faster of the two.
 

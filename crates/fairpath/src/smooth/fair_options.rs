@@ -98,17 +98,19 @@ pub struct FairOptions {
     serde(rename_all = "kebab-case")
 )]
 pub enum Straighten {
-    /// Never.
+    /// Never: the default. Judged by default, `fair` planned faster than
+    /// `auto` (which does not straighten: its computing time) on
+    /// LinuxCNC's `cap.ngc`, against `auto`'s rule of being no slower than
+    /// any method.
+    #[default]
     Off,
     /// Always, in the tube as `FairOptions::tube` measures it.
     On,
-    /// The default: where a planner judges the method (`fair` as the
-    /// pipeline builds it, `choose::JudgedFair`), each run is also
-    /// smoothed with the straightening in the sliding tube, and the
-    /// smoothing that plans faster on the user's machine is kept; without
-    /// a planner (the method alone, and `auto`'s candidates, whose
-    /// computing time it would multiply), as [`Straighten::Off`].
-    #[default]
+    /// Where a planner judges the method (`fair` as the pipeline builds
+    /// it, `choose::JudgedFair`), each run is also smoothed with the
+    /// straightening in the sliding tube, and the smoothing that plans
+    /// faster on the user's machine is kept; without a planner (the method
+    /// alone, and `auto`'s candidates), as [`Straighten::Off`].
     Judged,
 }
 
@@ -190,7 +192,7 @@ impl Default for FairOptions {
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
             tube: TubeMeasure::EqualParameter,
-            straighten: Straighten::Judged,
+            straighten: Straighten::Off,
             programmed_feeds: true,
             lines: LineFit::Fairer,
             other_curves: OtherCurves::Sampled,
