@@ -5,7 +5,7 @@
 //!
 //! One iteration:
 //! 1. `D_allow = R - max |P_orig(t) - P_cur(t)|`, sampled (eq. 3-39,
-//!    [`sampled_deviation`]). Within `accuracy * R` of the tube: stop
+//!    [`super::tube::sampled_deviation`]). Within `accuracy * R` of the tube: stop
 //!    ([`Termination::Touching`], section 3.11).
 //! 2. Categories and directions of the current polygon
 //!    ([`categorize`], [`directions`]).
@@ -13,7 +13,7 @@
 //!    of the previous move (the mock iteration's before the first), each
 //!    move at most the point's reach; the new polygon.
 //! 4. **Acceptance on a sure bound**: the new polygon passes when
-//!    [`deviation_bound`] (exact to `accuracy * R`) of its difference from
+//!    [`super::tube::deviation_bound`] (exact to `accuracy * R`) of its difference from
 //!    the original is at most `R`. The thesis moves by the sampled
 //!    allowance and, on termination, returns "the previous iteration
 //!    control polygon ... because the spline has passed the tolerance
@@ -39,10 +39,10 @@ use super::directions::{directions, Direction, STILL_SHARE};
 use super::guard::{undo_rises, PeakReference};
 use super::polygon::Polygon;
 use super::sensitivity::{move_distances, point_parameters, scaled_inverse, sensitivities};
-use super::slide::{sampled_sliding, sliding_bound_on, Original, TubeMeasure};
+use super::slide::Original;
 use super::spans::nonempty_spans;
 use super::spans::Basis;
-use super::tube::{deviation_bound, difference, hull_bound, sampled_deviation};
+use super::tube::{difference, hull_bound};
 use super::{IterationRecord, Termination, TubeFairOptions};
 use crate::geom::Vec3;
 use alloc::vec;
@@ -117,34 +117,27 @@ impl Setup<'_> {
     /// A sure bound of `pts`' distance from the original, as the tube is
     /// measured.
     fn bound(&self, pts: &[Vec3]) -> f64 {
-        let (basis, orig, res) = (&self.basis, self.orig, self.opts.resolution());
+        let (basis, orig) = (&self.basis, self.orig);
+        let spans = nonempty_spans(basis, orig.len());
         let diff = difference(pts, orig);
-        match self.opts.tube {
-            TubeMeasure::EqualParameter => deviation_bound(&diff, basis, res),
-            TubeMeasure::Sliding => {
-                let spans = nonempty_spans(basis, orig.len());
-                sliding_bound_on(pts, self.original, &diff, basis, &spans, res)
-            }
-        }
+        let res = self.opts.resolution();
+        self.opts
+            .tube
+            .bound_on(pts, self.original, &diff, basis, &spans, res)
     }
 
     /// `pts`' distance from the original sampled at `precision` steps of
     /// every span, as the tube is measured.
     fn sampled(&self, pts: &[Vec3]) -> f64 {
-        let (basis, orig, precision) = (&self.basis, self.orig, self.opts.precision);
-        match self.opts.tube {
-            TubeMeasure::EqualParameter => {
-                sampled_deviation(&difference(pts, orig), basis, precision)
-            }
-            TubeMeasure::Sliding => sampled_sliding(
-                pts,
-                orig,
-                self.original,
-                basis,
-                precision,
-                self.opts.resolution(),
-            ),
-        }
+        let o = self.opts;
+        o.tube.sampled(
+            pts,
+            self.orig,
+            self.original,
+            &self.basis,
+            o.precision,
+            o.resolution(),
+        )
     }
 
     /// Which of the `m` control points move under `dirs`.

@@ -475,20 +475,14 @@ pub fn fair_in_tube(curve: &Nurbs, opts: &TubeFairOptions) -> Result<Faired, Tub
         }
     }
     if peak_pass.moves > 0 || straightened.kept > 0.0 {
-        out.sampled = match opts.tube {
-            TubeMeasure::EqualParameter => {
-                let diff = tube::difference(&out.points, pts);
-                tube::sampled_deviation(&diff, &basis, opts.precision)
-            }
-            TubeMeasure::Sliding => slide::sampled_sliding(
-                &out.points,
-                pts,
-                original.as_ref(),
-                &basis,
-                opts.precision,
-                opts.resolution(),
-            ),
-        };
+        out.sampled = opts.tube.sampled(
+            &out.points,
+            pts,
+            original.as_ref(),
+            &basis,
+            opts.precision,
+            opts.resolution(),
+        );
     }
     let mut faired = curve.clone();
     faired.points = out.points;

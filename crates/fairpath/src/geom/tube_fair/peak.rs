@@ -24,7 +24,7 @@
 //! `Lowering::chord_trials`, for bends made over short legs), the whole
 //! way first, then halving; keep the trial whose four spans' highest peak is
 //! lowest, if it is below the peak being lowered, the spans are inside the
-//! tube on the sure bound ([`deviation_bound_on`], within `accuracy * R`;
+//! tube on the sure bound ([`TubeMeasure::bound_on`], within `accuracy * R`;
 //! nothing is asked of the control points' own moves, which the thesis'
 //! iterations may already have taken past `R` where the difference
 //! spline's points alternate in sign and its curve stays inside),
@@ -39,9 +39,8 @@
 
 use super::directions::RIPPLE_REACH_SHARE;
 use super::guard::{PeakReference, PEAK_ACCURACY, PEAK_SAMPLES};
-use super::slide::{sliding_bound_on, Original, TubeMeasure};
+use super::slide::{Original, TubeMeasure};
 use super::spans::{nonempty_spans, Basis, Span};
-use super::tube::deviation_bound_on;
 use crate::geom::{curvature_candidates, curvature_from, refined_peak, Extrema, Vec3, NARROW};
 use crate::math;
 use alloc::collections::BinaryHeap;
@@ -399,14 +398,8 @@ impl Lowering<'_> {
     /// A sure bound of span `t`'s distance from the original, as the tube
     /// is measured (`cur` and its difference `diff` from the original).
     fn span_bound(&self, cur: &[Vec3], diff: &[Vec3], t: usize) -> f64 {
-        match self.tube {
-            TubeMeasure::EqualParameter => {
-                deviation_bound_on(diff, &self.basis, &[t], self.resolution)
-            }
-            TubeMeasure::Sliding => {
-                sliding_bound_on(cur, self.original, diff, &self.basis, &[t], self.resolution)
-            }
-        }
+        self.tube
+            .bound_on(cur, self.original, diff, &self.basis, &[t], self.resolution)
     }
 
     /// The non-empty spans control point `j` belongs to.

@@ -28,8 +28,9 @@
 //! Non-rational cubics only (the thesis' curves); other curves keep the
 //! equal-parameter bound.
 
-use super::spans::{bezier_of_span, bezier_point, split_half, Basis};
-use super::tube::{deviation_bound_on, MAX_BOUND_DEPTH};
+use super::spans::Span;
+use super::spans::{bezier_of_span, bezier_point, Basis};
+use super::tube::{deviation_bound_on, pieces_bound};
 use crate::geom::cubic_span::span_of;
 use crate::geom::Vec3;
 use crate::math;
@@ -233,7 +234,10 @@ fn span_bound(o: &Original, c: &[Vec3; 4], ab: (f64, f64), tol: f64) -> f64 {
             continue;
         }
         if depth >= MAX_SLIDE_DEPTH {
-            bound = bound.max(hull_bound(pieces, tol));
+            bound = bound.max(pieces_bound(
+                pieces.into_iter().map(Span::Cubic).collect(),
+                tol,
+            ));
             continue;
         }
         let tm = 0.5 * (n0.0 + n1.0);
@@ -280,37 +284,6 @@ fn node_pieces(o: &Original, c: &[Vec3; 4], n0: (f64, f64), n1: (f64, f64)) -> V
     pieces
 }
 
-/// Branch and bound over difference Bezier pieces, as
-/// [`deviation_bound_on`]: a piece whose hull bound is within `tol` of the
-/// largest value found (at ends and middles) is accepted; others halved.
-fn hull_bound(pieces: Vec<[Vec3; 4]>, tol: f64) -> f64 {
-    let norm = |b: &[Vec3; 4]| b.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    let mut found: f64 = 0.0;
-    for b in &pieces {
-        found = found
-            .max(b[0].norm())
-            .max(b[3].norm())
-            .max(bezier_point(b, 0.5).norm());
-    }
-    let mut stack: Vec<([Vec3; 4], u32)> = pieces.into_iter().map(|b| (b, 0)).collect();
-    let mut bound: f64 = 0.0;
-    while let Some((b, depth)) = stack.pop() {
-        let h = norm(&b);
-        if h <= found + tol || depth >= MAX_BOUND_DEPTH || !h.is_finite() {
-            bound = bound.max(h);
-            continue;
-        }
-        let (l, r) = split_half(&b);
-        found = found
-            .max(bezier_point(&l, 0.5).norm())
-            .max(bezier_point(&r, 0.5).norm())
-            .max(l[3].norm());
-        stack.push((l, depth + 1));
-        stack.push((r, depth + 1));
-    }
-    bound
-}
-
 /// The largest distance from the curve `cur` to the curve `orig` (the
 /// same clamped, non-rational cubic `basis`) at `precision` equal steps of
 /// every non-empty knot interval, each sample's nearest point found as in
@@ -325,43 +298,55 @@ pub fn sampled_sliding(
     precision: usize,
     tol: f64,
 ) -> f64 {
-    sampled_sliding_spans(cur, orig, original, basis, precision, tol)
-        .into_iter()
-        .fold(0.0, f64::max)
-}
-
-/// [`sampled_sliding`] span by span: entry `s` is the largest sample of
-/// span `s` (`knots[s]` to `knots[s + 1]`), 0 for empty spans; `cur.len()`
-/// entries.
-pub fn sampled_sliding_spans(
-    cur: &[Vec3],
-    orig: &[Vec3],
-    original: Option<&Original>,
-    basis: &Basis,
-    precision: usize,
-    tol: f64,
-) -> Vec<f64> {
     let Some(o) = original else {
         let diff = super::tube::difference(cur, orig);
-        let mut out = alloc::vec![0.0f64; cur.len()];
-        for s in super::spans::nonempty_spans(basis, cur.len()) {
-            let b = super::spans::Span::of(basis, &diff, s);
-            out[s] = (0..=precision)
-                .map(|j| b.point(j as f64 / precision as f64).norm())
-                .fold(0.0, f64::max);
-        }
-        return out;
+        return super::tube::sampled_deviation(&diff, basis, precision);
     };
-    let mut out = alloc::vec![0.0f64; cur.len()];
     let u = basis.knots;
+    let mut best: f64 = 0.0;
     for s in super::spans::nonempty_spans(basis, cur.len()) {
         let c = bezier_of_span(u, cur, s);
         for j in 0..=precision {
             let tau = j as f64 / precision as f64;
             let p = bezier_point(&c, tau);
             let (_, d) = o.project(p, u[s] + (u[s + 1] - u[s]) * tau, tol);
-            out[s] = out[s].max(d);
+            best = best.max(d);
         }
     }
-    out
+    best
+}
+
+impl TubeMeasure {
+    /// A sure bound of the distance from the spans `spans` of `cur`
+    /// (difference `diff` from the original) to the original as this
+    /// measure measures it: [`sliding_bound_on`] with `original`, or
+    /// [`deviation_bound_on`] at equal parameters.
+    pub fn bound_on(
+        self,
+        cur: &[Vec3],
+        original: Option<&Original>,
+        diff: &[Vec3],
+        basis: &Basis,
+        spans: &[usize],
+        tol: f64,
+    ) -> f64 {
+        let original = original.filter(|_| self == TubeMeasure::Sliding);
+        sliding_bound_on(cur, original, diff, basis, spans, tol)
+    }
+
+    /// The distance from `cur` to the original `orig` sampled at
+    /// `precision` steps of every span, as this measure measures it
+    /// ([`sampled_sliding`]).
+    pub fn sampled(
+        self,
+        cur: &[Vec3],
+        orig: &[Vec3],
+        original: Option<&Original>,
+        basis: &Basis,
+        precision: usize,
+        tol: f64,
+    ) -> f64 {
+        let original = original.filter(|_| self == TubeMeasure::Sliding);
+        sampled_sliding(cur, orig, original, basis, precision, tol)
+    }
 }

@@ -50,9 +50,9 @@
 //! is halved towards the start until they hold, or dropped.
 
 use super::guard::PeakReference;
-use super::slide::{sliding_bound_on, Original, TubeMeasure};
+use super::slide::{Original, TubeMeasure};
 use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, Basis};
-use super::tube::{deviation_bound_on, difference};
+use super::tube::difference;
 use crate::geom::cubic_span::cubic_basis;
 use crate::geom::{curvature_from, Vec3};
 use crate::math;
@@ -576,14 +576,9 @@ impl Straightening<'_> {
         let floor = self.reference.map_or(0.0, |r| r.floor);
         let mut bound: f64 = 0.0;
         for &s in &spans {
-            let b = match self.tube {
-                TubeMeasure::EqualParameter => {
-                    deviation_bound_on(&diff, &self.basis, &[s], self.resolution)
-                }
-                TubeMeasure::Sliding => {
-                    sliding_bound_on(x, self.original, &diff, &self.basis, &[s], self.resolution)
-                }
-            };
+            let b = self
+                .tube
+                .bound_on(x, self.original, &diff, &self.basis, &[s], self.resolution);
             if b.is_nan() || b > self.radius {
                 return None;
             }

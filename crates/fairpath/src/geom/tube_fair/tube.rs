@@ -77,17 +77,26 @@ pub fn deviation_bound(diff: &[Vec3], basis: &Basis, tol: f64) -> f64 {
 /// indices: span `s` runs from `knots[s]` to `knots[s + 1]`): a sure bound
 /// of `|D(t)|` there, within `tol` of the largest value on them.
 pub fn deviation_bound_on(diff: &[Vec3], basis: &Basis, spans: &[usize], tol: f64) -> f64 {
-    let mut stack: Vec<(Span, u32)> = Vec::with_capacity(spans.len());
+    pieces_bound(
+        spans.iter().map(|&s| Span::of(basis, diff, s)).collect(),
+        tol,
+    )
+}
+
+/// A sure upper bound of `|D|` over Bezier pieces of a difference curve,
+/// within `tol` of the largest value found on them (at piece ends and
+/// middles): the branch and bound of [`deviation_bound`], on pieces made
+/// elsewhere too ([`super::slide`]).
+pub(super) fn pieces_bound(pieces: Vec<Span>, tol: f64) -> f64 {
     let mut found: f64 = 0.0;
-    for &s in spans {
-        let b = Span::of(basis, diff, s);
+    for b in &pieces {
         let (first, last) = b.ends();
         found = found
             .max(first.norm())
             .max(last.norm())
             .max(b.point(0.5).norm());
-        stack.push((b, 0));
     }
+    let mut stack: Vec<(Span, u32)> = pieces.into_iter().map(|b| (b, 0)).collect();
     let mut bound: f64 = 0.0;
     while let Some((b, depth)) = stack.pop() {
         let h = b.hull_norm();
