@@ -28,6 +28,18 @@ pub enum Format {
 }
 
 impl Format {
+    /// The default share of the tolerance for writing the curves
+    /// (`--chord`): [`fairpath::budget::EXACT_OUTPUT_SHARE`] for the
+    /// formats that write the smoothed B-splines exactly (G6.2, JSON),
+    /// [`fairpath::budget::OUTPUT_SHARE`] for those that approximate them
+    /// (G1 chords, arcs, and G5.2, which LinuxCNC runs as arcs).
+    pub fn default_output_share(self) -> f64 {
+        match self {
+            Format::G6_2 | Format::Json => fairpath::budget::EXACT_OUTPUT_SHARE,
+            Format::G1 | Format::Arcs | Format::G5_2 => fairpath::budget::OUTPUT_SHARE,
+        }
+    }
+
     /// The name on the command line.
     pub fn name(self) -> &'static str {
         match self {

@@ -68,8 +68,8 @@ pub struct SmoothOptions {
 }
 
 impl SmoothOptions {
-    /// Options for `tolerance` mm with output share `output` (default a
-    /// tenth of the tolerance), `method`, `format` (default: the
+    /// Options for `tolerance` mm with output share `output` (default
+    /// [`Format::default_output_share`] of the tolerance), `method`, `format` (default: the
     /// controller's), on the default machine with programmed feeds.
     pub fn new(
         tolerance: f64,
@@ -80,7 +80,7 @@ impl SmoothOptions {
     ) -> Result<Self, OptionsError> {
         smooth::check_tolerance(tolerance).map_err(|_| OptionsError::Tolerance(tolerance))?;
         let format = format.unwrap_or(controller.default_format());
-        let output = output.unwrap_or(fairpath::budget::OUTPUT_SHARE * tolerance);
+        let output = output.unwrap_or(format.default_output_share() * tolerance);
         let most = fairpath::budget::MAX_OUTPUT_SHARE * tolerance;
         if !(output.is_finite() && output > 0.0 && output <= most) {
             return Err(OptionsError::OutputShare {

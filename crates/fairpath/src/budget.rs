@@ -55,6 +55,18 @@
 /// Default share of the output approximation: a tenth of the tolerance.
 pub const OUTPUT_SHARE: f64 = 0.1;
 
+/// Default share of the output approximation for formats that write the
+/// smoothed B-splines exactly (G6.2 blocks, JSON): a fiftieth of the
+/// tolerance. There the output share pays for the rounding of written
+/// coordinates and for the few pieces the format cannot say exactly (a
+/// B-spline above the controller's degree, rendered within it), not for
+/// chords of every curve; the rest goes to the smoothing, whose gain grows
+/// with the tube (the thesis' square of rippled corners at 0.025 mm:
+/// straightened in a tube of 0.9 of the tolerance 2.0% less time in the
+/// thesis' model, in 0.98 of it 3.7%; measurements: docs/tuning.md,
+/// "The output share of exact formats").
+pub const EXACT_OUTPUT_SHARE: f64 = 0.02;
+
 /// Largest share of the tolerance the output approximation may be given
 /// (`--chord`; the chords of a streamed motion): at least half is left
 /// to the smoothing, which a method needs to round a corner at all.
