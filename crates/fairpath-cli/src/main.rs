@@ -187,8 +187,8 @@ enum Command {
         /// Share of the tolerance for writing the curves in the output
         /// format (chords, arcs, rounding; LinuxCNC's blending comes out of
         /// it too), with a unit or in the program's units as --tolerance.
-        /// Default: a tenth of the tolerance; a fiftieth for g6.2 and json,
-        /// which write the smoothed B-splines exactly.
+        /// Default: a tenth of the tolerance; a fiftieth for g6.2, which
+        /// writes the smoothed B-splines exactly.
         #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
         chord: Option<Length>,
         /// How much curvature step a joint of written pieces may take, as a

@@ -29,14 +29,20 @@ pub enum Format {
 
 impl Format {
     /// The default share of the tolerance for writing the curves
-    /// (`--chord`): [`fairpath::budget::EXACT_OUTPUT_SHARE`] for the
-    /// formats that write the smoothed B-splines exactly (G6.2, JSON),
-    /// [`fairpath::budget::OUTPUT_SHARE`] for those that approximate them
-    /// (G1 chords, arcs, and G5.2, which LinuxCNC runs as arcs).
+    /// (`--chord`): [`fairpath::budget::EXACT_OUTPUT_SHARE`] for G6.2,
+    /// which writes the smoothed B-splines exactly,
+    /// [`fairpath::budget::OUTPUT_SHARE`] for the formats that approximate
+    /// them (G1 chords, arcs, and G5.2, which LinuxCNC runs as arcs), and
+    /// for JSON: exact too, but it holds the curves the G-code formats are
+    /// written from (`fairpath compare` smooths once as JSON and writes
+    /// each format from those curves, and a JSON output is what a G1 or
+    /// arcs output of the same options approximates).
     pub fn default_output_share(self) -> f64 {
         match self {
-            Format::G6_2 | Format::Json => fairpath::budget::EXACT_OUTPUT_SHARE,
-            Format::G1 | Format::Arcs | Format::G5_2 => fairpath::budget::OUTPUT_SHARE,
+            Format::G6_2 => fairpath::budget::EXACT_OUTPUT_SHARE,
+            Format::G1 | Format::Arcs | Format::G5_2 | Format::Json => {
+                fairpath::budget::OUTPUT_SHARE
+            }
         }
     }
 
@@ -119,6 +125,46 @@ impl Controller {
             Controller::Generic => "generic",
             Controller::Linuxcnc => "linuxcnc",
             Controller::Fanuc => "fanuc",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SmoothOptions;
+
+    /// G6.2, which writes the smoothed B-splines exactly, takes a fiftieth
+    /// of the tolerance for writing by default and leaves the rest to the
+    /// smoothing; the formats that approximate them, and JSON (the curves
+    /// `compare` writes every format from), a tenth; `--chord` overrides
+    /// both.
+    #[test]
+    fn only_g6_2_writes_within_a_fiftieth_of_the_tolerance() {
+        let tol = 0.05;
+        for (format, share) in [
+            (Format::G6_2, fairpath::budget::EXACT_OUTPUT_SHARE),
+            (Format::G5_2, fairpath::budget::OUTPUT_SHARE),
+            (Format::Arcs, fairpath::budget::OUTPUT_SHARE),
+            (Format::G1, fairpath::budget::OUTPUT_SHARE),
+            (Format::Json, fairpath::budget::OUTPUT_SHARE),
+        ] {
+            let b = SmoothOptions::new(tol, None, "fair", Some(format), Controller::Generic)
+                .unwrap()
+                .budget();
+            assert!(
+                (b.output + b.blend - share * tol).abs() < 1e-15,
+                "{format:?}"
+            );
+            assert!((b.smoothing() - (1.0 - share) * tol).abs() < 1e-15);
+            let asked =
+                SmoothOptions::new(tol, Some(0.004), "fair", Some(format), Controller::Generic)
+                    .unwrap()
+                    .budget();
+            assert!(
+                (asked.output + asked.blend - 0.004).abs() < 1e-15,
+                "{format:?}"
+            );
         }
     }
 }

@@ -55,8 +55,8 @@
 /// Default share of the output approximation: a tenth of the tolerance.
 pub const OUTPUT_SHARE: f64 = 0.1;
 
-/// Default share of the output approximation for formats that write the
-/// smoothed B-splines exactly (G6.2 blocks, JSON): a fiftieth of the
+/// Default share of the output approximation for G-code formats that
+/// write the smoothed B-splines exactly (G6.2 blocks): a fiftieth of the
 /// tolerance. There the output share pays for the rounding of written
 /// coordinates and for the few pieces the format cannot say exactly (a
 /// B-spline above the controller's degree, rendered within it), not for

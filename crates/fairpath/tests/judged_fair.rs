@@ -44,6 +44,29 @@ fn lines_and_arcs() -> Run {
     Run::new(pieces)
 }
 
+/// A run of one uniform cubic B-spline through `pts`' control points.
+fn spline(pts: Vec<Vec3>) -> Run {
+    use fairpath::geom::Nurbs;
+    let m = pts.len();
+    let mut k = vec![0.0; 4];
+    k.extend((1..m - 3).map(|i| i as f64));
+    k.extend([(m - 3) as f64; 4]);
+    Run::new(vec![piece(
+        Curve::from(Nurbs::new(3, k, pts, None).unwrap()),
+        1,
+        24000.0,
+    )])
+}
+
+/// A spline of rippled corners: its control points a saw-tooth.
+fn saw_tooth() -> Run {
+    spline(
+        (0..24)
+            .map(|i| Vec3::new(2.0 * i as f64, if i % 2 == 0 { 0.0 } else { 0.3 }, 0.0))
+            .collect(),
+    )
+}
+
 /// Says whether the sampled smoothing is better, whatever it is.
 #[derive(Debug)]
 struct Fixed(bool);
@@ -131,24 +154,8 @@ fn planned_time_prefers_only_what_is_faster_at_every_feed() {
 /// something; at 0.125 mm both are straight).
 #[test]
 fn fair_keeps_the_straightening_only_where_it_plans_faster() {
-    use fairpath::geom::Nurbs;
     use fairpath::smooth::Straighten;
-    let spline = |pts: Vec<Vec3>| {
-        let m = pts.len();
-        let mut k = vec![0.0; 4];
-        k.extend((1..m - 3).map(|i| i as f64));
-        k.extend([(m - 3) as f64; 4]);
-        Run::new(vec![piece(
-            Curve::from(Nurbs::new(3, k, pts, None).unwrap()),
-            1,
-            24000.0,
-        )])
-    };
-    let saw = spline(
-        (0..24)
-            .map(|i| Vec3::new(2.0 * i as f64, if i % 2 == 0 { 0.0 } else { 0.3 }, 0.0))
-            .collect(),
-    );
+    let saw = saw_tooth();
     let wave = spline(
         (0..30)
             .map(|i| Vec3::new(2.0 * i as f64, 3.0 * (0.3 * i as f64).sin(), 0.0))
@@ -187,4 +194,60 @@ fn fair_keeps_the_straightening_only_where_it_plans_faster() {
             }
         }
     }
+}
+
+/// `fair`'s default (`Straighten::Judged`) straightens only runs that hold
+/// a B-spline, and `auto` offers the straightened smoothing
+/// (`FAIR_STRAIGHTENED`) on exactly those, so it plans no slower than
+/// `fair`: on the saw-tooth spline at 0.025 mm (where the straightened
+/// smoothing is the faster) `auto`'s time is at most judged `fair`'s; on
+/// a run of lines and arcs judged `fair` writes what `Straighten::Off`
+/// writes, and `auto` has no straightened candidate.
+#[test]
+fn auto_offers_the_straightening_fair_judges_and_only_on_splines() {
+    use fairpath::choose::{Auto, AutoOptions, FAIR_STRAIGHTENED};
+    use fairpath::smooth::Straighten;
+    let objective: Shared<dyn Objective> =
+        Shared::new(PlannedTime::new(MachineLimits::thesis(), false));
+    let fair = |straighten: Straighten| JudgedFair {
+        fair: Fair {
+            options: FairOptions {
+                straighten,
+                ..FairOptions::default()
+            },
+        },
+        objective: objective.clone(),
+    };
+    assert_eq!(FairOptions::default().straighten, Straighten::Judged);
+    let auto = Auto::new(AutoOptions::default(), objective.clone());
+    let tol = 0.025;
+    let saw = saw_tooth();
+    let names = |run: &Run| -> Vec<&'static str> {
+        auto.candidates(run, tol)
+            .unwrap()
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect()
+    };
+    assert!(names(&saw).contains(&FAIR_STRAIGHTENED));
+    let judged = fair(Straighten::Judged).smooth_run(&saw, tol).unwrap();
+    let off = fair(Straighten::Off).smooth_run(&saw, tol).unwrap();
+    let cost = |pieces: &[Piece]| objective.cost(pieces).unwrap();
+    assert!(cost(&judged.pieces) < cost(&off.pieces));
+    let by_auto = auto.smooth_run(&saw, tol).unwrap();
+    let rep = verify_run(&saw.pieces, &by_auto.pieces, &VerifyOptions::new(tol));
+    assert!(rep.within(tol), "{rep:?}");
+    assert!(
+        cost(&by_auto.pieces) <= cost(&judged.pieces) * (1.0 + 1e-9),
+        "auto {} against fair {}",
+        cost(&by_auto.pieces),
+        cost(&judged.pieces)
+    );
+    let arcs = lines_and_arcs();
+    assert!(!names(&arcs).contains(&FAIR_STRAIGHTENED));
+    let (judged, off) = (
+        fair(Straighten::Judged).smooth_run(&arcs, 0.05).unwrap(),
+        fair(Straighten::Off).smooth_run(&arcs, 0.05).unwrap(),
+    );
+    assert_eq!(judged.pieces, off.pieces);
 }

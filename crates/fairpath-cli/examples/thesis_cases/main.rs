@@ -161,7 +161,8 @@ fn main() {
          highest curvature (`curvature`, what the thesis' model caps); `+ straighten, ..., sliding`:\n\
          the tube measured to the original curve (`fairpath::geom::tube_fair::slide`, ours) and the\n\
          turning minimised inside it after the iterations (`fairpath::geom::tube_fair::straighten`,\n\
-         ours; off by default), then the pass. Curvature is the average over\n\
+         ours; off in the library's tube options, judged by the planner in method `fair`), then\n\
+         the pass. Curvature is the average over\n\
          the length (integral of the curvature over the arc length, divided by it), as the thesis'\n\
          Table 4-1; times are planned on the thesis' machine (400 mm/s, 4000 mm/s^2, 20000 mm/s^3) by\n\
          its own model (`thesis`: curvature caps `v = sqrt(A/k)` only, the path starting and ending at\n\

@@ -49,6 +49,12 @@
 //!   which method `fair` also tries by default), on runs of at most
 //!   [`THROUGH_MAX_PIECES`] pieces where that makes some vertex dense that
 //!   the sections leave sparse.
+//! * **fair, straightened**, on runs with a B-spline piece: method `fair`
+//!   with its straightening forced on in the sliding tube
+//!   ([`FairOptions::straightened`]), which method `fair` judges there by
+//!   default ([`crate::smooth::Straighten::Judged`]): offered so that
+//!   `auto` stays no slower than `fair` (the fallback below tries it
+//!   too).
 //! * **as is**: the run untouched, when every joint in it is already G2
 //!   (one arc between two `S` words of a plasma program, say): sampled and
 //!   refitted, an arc's curvature ripples and can plan slower. Last in the
@@ -135,7 +141,7 @@ use super::candidate_threads::map_candidates;
 use super::candidates::{
     has_splines, is_corner_method, is_fair, is_g2, shallow_sections, widens_sections, Candidate,
     CandidateList, Input, Kind, Offered, SectionRule, CANDIDATES, FAIR, FAIR_CURVES_AS_WRITTEN,
-    FAIR_MAX_PIECES, THROUGH_MAX_PIECES,
+    FAIR_MAX_PIECES, FAIR_STRAIGHTENED, THROUGH_MAX_PIECES,
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
@@ -225,6 +231,7 @@ impl Auto {
                 Offered::OnSplinesOrShortRuns => {
                     has_splines(run) || input.run().pieces.len() <= FAIR_MAX_PIECES
                 }
+                Offered::OnSplines => has_splines(run),
                 Offered::WhenShallowCornersWiden => {
                     input.run().pieces.len() <= THROUGH_MAX_PIECES
                         && widens_sections(input.run(), tol, &shallow_sections())
@@ -637,6 +644,19 @@ impl Auto {
             for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
                 cand.chosen = alloc::vec![name];
                 smoothed.push(cand);
+            }
+            // And straightened, where method `fair` judges that
+            // (`Straighten::Judged`: runs with a B-spline).
+            if has_splines(run) && !self.options.leave_out.contains(FAIR_STRAIGHTENED) {
+                let straight = Fair {
+                    options: fair.options.straightened(),
+                };
+                let alt = straight.alternatives_with(run, tolerance, memo)?;
+                let named = [FAIR_CURVES_AS_WRITTEN, FAIR_STRAIGHTENED];
+                for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
+                    cand.chosen = alloc::vec![name];
+                    smoothed.push(cand);
+                }
             }
         }
         // Those whose cheap bound already says they would not be kept are

@@ -122,10 +122,17 @@ pub const FAIR: &str = "fair";
 /// `FAIR_THROUGH_SHALLOW`).
 pub const FAIR_THROUGH_SHALLOW: &str = "fair, through shallow corners";
 
+/// The name of the `fair` candidate that straightens the run's B-splines
+/// after the thesis' iterations ([`crate::smooth::Straighten::On`] in the sliding tube):
+/// method `fair` judges its straightening by the planner on such runs
+/// ([`crate::smooth::Straighten::Judged`], its default), so `auto` offers both smoothings
+/// and stays no slower than it.
+pub const FAIR_STRAIGHTENED: &str = "fair, straightened";
+
 /// Whether the candidate named `name` is a `fair` one (they may leave the
 /// joint of a cut section not G2: [`super::auto::Auto`]).
 pub fn is_fair(name: &str) -> bool {
-    name == FAIR || name == FAIR_THROUGH_SHALLOW
+    name == FAIR || name == FAIR_THROUGH_SHALLOW || name == FAIR_STRAIGHTENED
 }
 
 /// Whether the candidate named `name` is a corner method: its row of
@@ -207,6 +214,9 @@ pub enum Kind {
     /// Method `fair` (seed 003) with its default options, fitting runs of
     /// lines as this says.
     Fair(LineFit),
+    /// Method `fair` with its straightening forced on in the sliding tube
+    /// ([`FairOptions::straightened`]).
+    FairStraightened,
     /// The run untouched.
     AsIs,
 }
@@ -229,6 +239,8 @@ pub enum Offered {
     /// On runs with a B-spline piece, and on runs of at most
     /// [`FAIR_MAX_PIECES`] pieces (after sampling).
     OnSplinesOrShortRuns,
+    /// On runs with a B-spline piece.
+    OnSplines,
     /// On runs of at most [`THROUGH_MAX_PIECES`] pieces (after sampling)
     /// where [`shallow_corner_sections`] makes some vertex dense that the
     /// default sections do not (else it is the `fair` candidate again).
@@ -308,6 +320,11 @@ pub const CANDIDATES: &[CandidateRow] = &[
         offered: Offered::WhenShallowCornersWiden,
     },
     CandidateRow {
+        name: FAIR_STRAIGHTENED,
+        kind: Kind::FairStraightened,
+        offered: Offered::OnSplines,
+    },
+    CandidateRow {
         name: "as is",
         kind: Kind::AsIs,
         offered: Offered::AlreadyG2,
@@ -359,6 +376,7 @@ impl Kind {
                 lines,
                 ..FairOptions::default()
             }),
+            Kind::FairStraightened => Candidate::Fair(FairOptions::default().straightened()),
             Kind::AsIs => Candidate::AsIs,
         }
     }

@@ -8,15 +8,15 @@
 //! more than the corner (`Ruota_dentata_p1.ngc` at 0.125 mm: sampled and
 //! faired it planned slower than the program at the maximum feed and was
 //! kept as written; the curves faired themselves plan faster at both
-//! feeds). With [`Straighten::Judged`] each run is also
-//! smoothed with the straightening in the sliding tube, and the
-//! objective keeps the faster of the two.
+//! feeds). With [`Straighten::Judged`] (the default) each run that holds
+//! a B-spline is also smoothed with the straightening in the sliding tube,
+//! and the objective keeps the faster of the two.
 
+use super::candidates::has_splines;
 use super::objective::Objective;
-use crate::geom::tube_fair::TubeMeasure;
 use crate::path::Run;
 use crate::smooth::{
-    Fair, FairAlternatives, FairOptions, RunMemo, SmoothError, SmoothedRun, Smoother, Straighten,
+    Fair, FairAlternatives, RunMemo, SmoothError, SmoothedRun, Smoother, Straighten,
 };
 use alloc::sync::Arc;
 
@@ -38,15 +38,11 @@ impl Smoother for JudgedFair {
         // One memo for both: the fits of the run's lines are shared.
         let memo = RunMemo::default();
         let best = self.judged(&self.fair, run, tolerance, &memo)?;
-        if self.fair.options.straighten != Straighten::Judged {
+        if self.fair.options.straighten != Straighten::Judged || !has_splines(run) {
             return Ok(best);
         }
         let straight = Fair {
-            options: FairOptions {
-                straighten: Straighten::On,
-                tube: TubeMeasure::Sliding,
-                ..self.fair.options
-            },
+            options: self.fair.options.straightened(),
         };
         let other = self.judged(&straight, run, tolerance, &memo)?;
         Ok(if self.objective.prefers(&other.pieces, &best.pieces) {

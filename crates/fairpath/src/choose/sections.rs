@@ -225,7 +225,9 @@ pub fn split_at_long_lines(run: &Run, min_line: f64) -> Vec<(Run, Option<Vec3>, 
 
 #[cfg(test)]
 mod tests {
-    use super::super::candidates::{CANDIDATES, CURVES_AS_WRITTEN, FAIR, FAIR_THROUGH_SHALLOW};
+    use super::super::candidates::{
+        CANDIDATES, CURVES_AS_WRITTEN, FAIR, FAIR_STRAIGHTENED, FAIR_THROUGH_SHALLOW,
+    };
     use super::*;
 
     /// Each mix admits what its name says, the fits every mix, and a
@@ -237,7 +239,7 @@ mod tests {
         }
         for row in CANDIDATES.iter() {
             let n = row.name;
-            let fair = n == FAIR || n == FAIR_THROUGH_SHALLOW;
+            let fair = n == FAIR || n == FAIR_THROUGH_SHALLOW || n == FAIR_STRAIGHTENED;
             let corner = matches!(n, "bspline-corner" | "lotm") || CURVES_AS_WRITTEN.contains(&n);
             assert!(Mix::All.admits(n), "{n}");
             assert_eq!(Mix::WithoutFair.admits(n), !fair, "{n}");

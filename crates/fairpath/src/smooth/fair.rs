@@ -87,6 +87,13 @@
 //!   CLI's summary show. Not an error: the rest of the program is faired
 //!   and the kept curves are within the tolerance of themselves, while
 //!   refusing the whole program for one exact arc would help no one.
+//! * **Straightening** (ours, `geom::tube_fair::straighten`: the turning
+//!   minimised inside the tube measured to the original curve, after the
+//!   thesis' iterations): by default ([`Straighten::Judged`]) a run that
+//!   holds a B-spline of the program is smoothed with and without it, and
+//!   the planner on the user's machine keeps the faster
+//!   (`choose::JudgedFair`); this type alone straightens only with
+//!   [`Straighten::On`].
 //!
 //! The pipeline verifies the result as for every method.
 

@@ -84,13 +84,12 @@ pub struct FairOptions {
 /// after the thesis' iterations and before the peak pass).
 ///
 /// Why not always: it plans the thesis' square of rippled corners faster
-/// than the peak pass alone (fairpath's full model: 14.7% less time than
-/// the input at R = 0.25 mm against 12.1%), but on a smooth design
-/// curve the curvature it lowers between the peaks steepens the ramps,
-/// which a jerk-limited planner pays for, and over the thesis' cases and
-/// LinuxCNC's G6.2 examples as many programs planned slower with it as
-/// faster, at several times the computing time (docs/tuning.md,
-/// "Straightening and the sliding tube").
+/// than the peak pass alone, but on a smooth design curve the curvature
+/// it lowers between the peaks steepens the ramps, which a jerk-limited
+/// planner pays for: forced on over the thesis' cases and LinuxCNC's G6.2
+/// examples, 28 programs planned faster and 43 slower, at several times
+/// the computing time (docs/tuning.md, "Straightening and the sliding
+/// tube"). So by default the planner judges it, run by run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde",
@@ -98,19 +97,21 @@ pub struct FairOptions {
     serde(rename_all = "kebab-case")
 )]
 pub enum Straighten {
-    /// Never: the default. Judged by default, `fair` planned faster than
-    /// `auto` (which does not straighten: its computing time) on
-    /// LinuxCNC's `cap.ngc`, against `auto`'s rule of being no slower than
-    /// any method.
-    #[default]
+    /// Never.
     Off,
     /// Always, in the tube as `FairOptions::tube` measures it.
     On,
-    /// Where a planner judges the method (`fair` as the pipeline builds
-    /// it, `choose::JudgedFair`), each run is also smoothed with the
-    /// straightening in the sliding tube, and the smoothing that plans
-    /// faster on the user's machine is kept; without a planner (the method
-    /// alone, and `auto`'s candidates), as [`Straighten::Off`].
+    /// The default. Where a planner judges the method (`fair` as the
+    /// pipeline builds it, `choose::JudgedFair`), each run that holds a
+    /// B-spline of the program (the thesis' input) is also smoothed with
+    /// the straightening in the sliding tube, and the smoothing that plans
+    /// faster on the user's machine is kept; runs of lines and arcs alone
+    /// are not (their fits were not measured to gain, and the work would
+    /// grow with every fitted run), nor is anything without a planner (the
+    /// method alone). `auto` offers the straightened smoothing as a
+    /// candidate of its own on the same runs (`choose::FAIR_STRAIGHTENED`),
+    /// so it stays no slower than `fair`.
+    #[default]
     Judged,
 }
 
@@ -192,7 +193,7 @@ impl Default for FairOptions {
             peak_guard: true,
             peak_pass: PeakPass::DEFAULT_MACHINE,
             tube: TubeMeasure::EqualParameter,
-            straighten: Straighten::Off,
+            straighten: Straighten::Judged,
             programmed_feeds: true,
             lines: LineFit::Fairer,
             other_curves: OtherCurves::Sampled,
@@ -201,6 +202,16 @@ impl Default for FairOptions {
 }
 
 impl FairOptions {
+    /// These options with the straightening forced on, in the sliding tube
+    /// (what [`Straighten::Judged`] weighs against them).
+    pub fn straightened(self) -> Self {
+        FairOptions {
+            straighten: Straighten::On,
+            tube: TubeMeasure::Sliding,
+            ..self
+        }
+    }
+
     /// Checks the ranges of the options.
     pub fn validate(&self) -> Result<(), OptionError> {
         let m = "fair";

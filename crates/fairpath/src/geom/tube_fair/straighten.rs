@@ -18,7 +18,8 @@
 //! monotone bend is its angle, whatever its shape). Even so, on a smooth
 //! curve the curvature lowered between its peaks steepens its ramps,
 //! which a jerk-limited planner pays for (`|dk/ds| v^3 <= J`): the
-//! straightening is an option, off by default in method `fair`.
+//! straightening is off in [`super::TubeFairOptions`] by default, and
+//! method `fair` has the planner judge it run by run.
 //!
 //! The problem, with `C` the curve, `O` the original and `u_i` the
 //! [`STRAIGHTEN_SAMPLES`] midpoints of equal steps of each span:
@@ -96,9 +97,28 @@ pub const BARRIER_ROUNDS: usize = 4;
 /// What `mu` is divided by between rounds.
 pub const BARRIER_DIVISOR: f64 = 10.0;
 
-/// Most L-BFGS iterations per round (ours): bounds the work by the size of
-/// the curve.
+/// Most L-BFGS iterations per round (ours): what a small curve (the
+/// thesis' square, 26 spans) may take.
 pub const ROUND_ITERATIONS: usize = 400;
+
+/// Fewest L-BFGS iterations per round a large curve is allowed (ours).
+pub const MIN_ROUND_ITERATIONS: usize = 50;
+
+/// Sample evaluations (samples times iterations) one round may spend
+/// (ours): a curve of up to 32 spans gets [`ROUND_ITERATIONS`], a larger
+/// one proportionally fewer, down to [`MIN_ROUND_ITERATIONS`], so the work
+/// per curve is bounded whatever its size (the line search's extra
+/// evaluations aside). On LinuxCNC's `Ruota_dentata_p3.ngc` (curves of 64
+/// spans) straightening at 400 iterations a round planned no faster than
+/// at 100 and took several times the computing time (measurements:
+/// docs/tuning.md, "Straightening and the sliding tube").
+pub const ROUND_WORK: usize = ROUND_ITERATIONS * STRAIGHTEN_SAMPLES * 32;
+
+/// The iterations a round over `samples` samples may take
+/// ([`ROUND_WORK`]).
+pub fn round_iterations(samples: usize) -> usize {
+    (ROUND_WORK / samples.max(1)).clamp(MIN_ROUND_ITERATIONS, ROUND_ITERATIONS)
+}
 
 /// Pairs L-BFGS remembers.
 const MEMORY: usize = 6;
@@ -486,7 +506,7 @@ impl Straightening<'_> {
         let mut memory: Vec<(Vec<Vec3>, Vec<Vec3>, f64)> = Vec::new();
         let mut iterations = 0;
         let mut window_start = cur.f;
-        for _ in 0..ROUND_ITERATIONS {
+        for _ in 0..round_iterations(samples.len()) {
             // The two-loop recursion: d = -H g.
             let mut q = cur.grad.clone();
             let mut alphas = Vec::with_capacity(memory.len());
