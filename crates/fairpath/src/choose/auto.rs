@@ -635,28 +635,22 @@ impl Auto {
         // kept as written, one of them may be written (LinuxCNC's
         // `cap.ngc` at 0.01 mm; measurements: docs/tuning.md,
         // `JudgedFair`).
-        if !self.options.leave_out.contains(FAIR) {
-            let fair = Fair {
-                options: fair_on(FairOptions::default(), objective),
-            };
-            let alt = fair.alternatives_with(run, tolerance, memo)?;
-            let named = [FAIR_CURVES_AS_WRITTEN, FAIR];
+        // And straightened, where method `fair` judges that
+        // (`Straighten::Judged`: runs with a B-spline).
+        let options = fair_on(FairOptions::default(), objective);
+        let fairs = [
+            (FAIR, options, true),
+            (FAIR_STRAIGHTENED, options.straightened(), has_splines(run)),
+        ];
+        for (name, options, offered) in fairs {
+            if !offered || self.options.leave_out.contains(name) {
+                continue;
+            }
+            let alt = Fair { options }.alternatives_with(run, tolerance, memo)?;
+            let named = [FAIR_CURVES_AS_WRITTEN, name];
             for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
                 cand.chosen = alloc::vec![name];
                 smoothed.push(cand);
-            }
-            // And straightened, where method `fair` judges that
-            // (`Straighten::Judged`: runs with a B-spline).
-            if has_splines(run) && !self.options.leave_out.contains(FAIR_STRAIGHTENED) {
-                let straight = Fair {
-                    options: fair.options.straightened(),
-                };
-                let alt = straight.alternatives_with(run, tolerance, memo)?;
-                let named = [FAIR_CURVES_AS_WRITTEN, FAIR_STRAIGHTENED];
-                for (mut cand, name) in core::iter::once(alt.kept).chain(alt.sampled).zip(named) {
-                    cand.chosen = alloc::vec![name];
-                    smoothed.push(cand);
-                }
             }
         }
         // Those whose cheap bound already says they would not be kept are
