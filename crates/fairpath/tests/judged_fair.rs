@@ -149,7 +149,8 @@ fn planned_time_prefers_only_what_is_faster_at_every_feed() {
 /// and without the straightening and keeps the faster by the objective:
 /// on a spline of rippled corners (a saw-tooth of control points) and on
 /// a smooth wave, with the planner on the thesis' machine, the judged
-/// smoothing plans no slower than either, and on the saw-tooth at 0.025
+/// smoothing plans no slower than either (straightened as `Judged`
+/// straightens: in the sliding tube), and on the saw-tooth at 0.025
 /// mm the straightened one is the faster (so the judgement changes
 /// something; at 0.125 mm both are straight).
 #[test]
@@ -163,14 +164,17 @@ fn fair_keeps_the_straightening_only_where_it_plans_faster() {
     );
     let objective: Shared<dyn Objective> =
         Shared::new(PlannedTime::new(MachineLimits::thesis(), false));
+    // `On` as `Judged` tries it: the sliding tube (`FairOptions::straightened`).
     let time = |run: &Run, straighten: Straighten, tol: f64| {
-        let judged = JudgedFair {
-            fair: Fair {
-                options: FairOptions {
-                    straighten,
-                    ..FairOptions::default()
-                },
+        let options = match straighten {
+            Straighten::On => FairOptions::default().straightened(),
+            _ => FairOptions {
+                straighten,
+                ..FairOptions::default()
             },
+        };
+        let judged = JudgedFair {
+            fair: Fair { options },
             objective: objective.clone(),
         };
         let out = judged.smooth_run(run, tol).unwrap();
