@@ -52,12 +52,12 @@ pub(super) fn has_foreign_words(lx: &LexedLine) -> bool {
     lx.words.iter().any(|w| FOREIGN_WORDS.contains(w.letter))
 }
 
-/// What [`Program::passthrough`] calls a line with [`FOREIGN_WORDS`].
+/// What [`Program::passthrough`](crate::program::Program::passthrough) calls a line with [`FOREIGN_WORDS`].
 const FOREIGN_NOTE: &str = "extruder word E (3D printers)";
-/// What [`Program::passthrough`] calls a canned-cycle line.
+/// What [`Program::passthrough`](crate::program::Program::passthrough) calls a canned-cycle line.
 const CYCLE_NOTE: &str = "canned cycle";
 
-/// What [`Program::passthrough`] calls a line whose feed move is pinned
+/// What [`Program::passthrough`](crate::program::Program::passthrough) calls a line whose feed move is pinned
 /// for what it runs in or with, not for what the line itself says (its
 /// own words or state changes end runs as any program's do): the machine
 /// runs it as written, and the user is told why that stretch was left as

@@ -276,7 +276,7 @@ impl<'a> RunWriter<'a> {
     }
 
     /// Handles the span's lines from `next` on that a piece ending on line
-    /// `end` reaches (see [`write_gcode`]): lines without moves before
+    /// `end` reaches (see [`write_gcode`](super::write_gcode)): lines without moves before
     /// `end` are copied, replaced lines up to `end` give their comments (a
     /// line) and N words (the next block's, or merged into it).
     pub(super) fn reach(&mut self, next: &mut usize, end: usize) {

@@ -17,17 +17,17 @@
 //!   slows the machine as much as a corner of small angle). The chords lie
 //!   within `arc_share * tolerance` of the arc and the fit within the rest
 //!   of the chords, so the fit is within the tolerance of the arc.
-//! * **fit, wide wiggles**: the same with [`WIDE_WIGGLE_PER_TOL`], when it
+//! * **fit, wide wiggles**: the same with [`WIDE_WIGGLE_PER_TOL`](super::candidates::WIDE_WIGGLE_PER_TOL), when it
 //!   makes some vertex dense that the default rule does not (a zigzag whose
 //!   midline lies within the tolerance).
 //! * **fit, through corners**, on runs of at most [`THROUGH_MAX_PIECES`]
-//!   pieces (after sampling): every vertex up to [`THROUGH_MAX_TURN`] is
+//!   pieces (after sampling): every vertex up to [`THROUGH_MAX_TURN`](crate::smooth::THROUGH_MAX_TURN) is
 //!   dense, so the fit runs through the corners (next to arcs, or between
 //!   lines) instead of meeting zero-curvature corner transitions there.
 //! * **fit, jerk-faired**, on the same runs: `bspline-fit` with the jerk
-//!   term [`JERK_FAIRNESS`], which spreads the curvature ramps of sampled
+//!   term [`JERK_FAIRNESS`](super::candidates::JERK_FAIRNESS), which spreads the curvature ramps of sampled
 //!   arcs between corners over more length; and through corners with a
-//!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`]. These are offered on
+//!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`](super::candidates::THROUGH_JERK_FAIRNESS). These are offered on
 //!   runs of lines too (the survey found each chosen somewhere).
 //! * the corner methods `bspline-corner` and `lotm` (not `ctm`: with its
 //!   default coefficient its transitions are `bspline-corner`'s uniform
@@ -114,7 +114,7 @@
 //! and 1 mm by default, gives one mix) and each section gets its own fastest
 //! candidate (planned from rest to rest). At a cut every candidate must
 //! meet the line G2 (tangent along it, zero curvature): fits keep the cut
-//! halves as lines ([`BsplineFitOptions::line_at_start`]), and a candidate
+//! halves as lines ([`BsplineFitOptions::line_at_start`](crate::smooth::BsplineFitOptions::line_at_start)), and a candidate
 //! that does not is not eligible there. A raster whose passes want fits
 //! and whose step-overs want corner transitions, or a program of lines
 //! and of arcs between corners, then gets the best of both. The mix is

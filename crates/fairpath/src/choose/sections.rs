@@ -73,7 +73,7 @@ type Choices = [Option<SmoothedRun>; 3];
 
 /// Sections already smoothed, with the candidates kept for each
 /// ([`Choices`]). `auto` cuts a run at several line lengths
-/// ([`super::auto::SECTION_LINES`]); a section between two long lines is
+/// ([`SECTION_LINES`]); a section between two long lines is
 /// the same at every length and is smoothed once.
 #[derive(Default)]
 pub(super) struct SectionCache {

@@ -49,7 +49,7 @@
 //! rendered one by one.
 //!
 //! A chain holds lines and NURBS of one feed, at most
-//! [`CHAIN_PIECES`](super::CHAIN_PIECES) of them, and never crosses a
+//! [`super::CHAIN_PIECES`] of them, and never crosses a
 //! multiple of it in the run's piece numbers. A curve joins a chain only
 //! if one arc over it can stay near it: its turn times its length within
 //! [`CELL_BULGE`] chord shares. Input arcs stay arcs (they break chains).

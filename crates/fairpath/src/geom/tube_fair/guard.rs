@@ -43,7 +43,7 @@ use alloc::vec::Vec;
 /// curvature of a cubic span has few local maxima, and 16 equal steps
 /// bracket each (the thesis' `precision` of 5 misses V corners that form
 /// between samples); where the samples show a peak narrower than their
-/// step, it is refined between them ([`sampled_peak`],
+/// step, it is refined between them ([`sampled_peak()`],
 /// [`Extrema::Narrow`]), so that a near-cusp's spike between two samples
 /// counts at its height (LinuxCNC's `homer_p1.ngc`: its peak of 955 1/mm
 /// samples as 73, and a fairing judged by the samples raised it to 8,021).
@@ -62,7 +62,7 @@ pub const REACH: usize = super::spans::DEGREE;
 /// Peak curvature (1/mm) of the non-empty span `s` of the clamped
 /// B-spline (`basis`, `pts`): [`PEAK_SAMPLES`] equal steps, ends included, refined
 /// between them to [`PEAK_ACCURACY`] of the span where the samples show a
-/// peak narrower than their step ([`sampled_peak`], [`Extrema::Narrow`]:
+/// peak narrower than their step ([`sampled_peak()`], [`Extrema::Narrow`]:
 /// a near-cusp). A lower bound; the guard compares like with like (the
 /// peak pass measures its trials so too: refining every sampled extremum
 /// made `fair` several times slower over the shared programs at 0.01 mm;
