@@ -24,6 +24,15 @@ pub fn v(x: f64, y: f64, z: f64) -> Vec3 {
     Vec3::new(x, y, z)
 }
 
+/// `p` turned about the axis (1, 2, 3) by 0.7 rad, then shifted by
+/// (5, -3, 2): a rigid motion that takes a planar path out of every
+/// principal plane.
+pub fn rotate(p: Vec3) -> Vec3 {
+    let k = v(1.0, 2.0, 3.0).normalized(0.0).unwrap();
+    let (s, c) = (0.7f64.sin(), 0.7f64.cos());
+    p * c + k.cross(p) * s + k * (k.dot(p) * (1.0 - c)) + v(5.0, -3.0, 2.0)
+}
+
 use fairpath::smooth::{SmoothedRun, Smoother};
 use fairpath::verify::{verify_run, Continuity, RunReport, VerifyOptions};
 use proptest::prelude::*;

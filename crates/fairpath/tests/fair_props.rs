@@ -5,7 +5,7 @@
 //! closed paths; the U-to-V guard; random splines; the method on runs.
 use crate::common;
 
-use common::v;
+use common::{rotate, v};
 use fairpath::geom::tube_fair::{
     fair_in_tube, EndRule, Faired, Termination, TubeFairError, TubeFairOptions,
 };
@@ -238,13 +238,6 @@ fn single_ripples_flatten_more_in_wider_tubes() {
             last = p;
         }
     }
-}
-
-fn rotate(p: Vec3) -> Vec3 {
-    // About the axis (1, 2, 3) by 0.7 rad, then shifted.
-    let k = v(1.0, 2.0, 3.0).normalized(0.0).unwrap();
-    let (s, c) = (0.7f64.sin(), 0.7f64.cos());
-    p * c + k.cross(p) * s + k * (k.dot(p) * (1.0 - c)) + v(5.0, -3.0, 2.0)
 }
 
 /// A planar path tilted into 3D is faired as in its plane: the same

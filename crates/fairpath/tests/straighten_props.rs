@@ -7,7 +7,7 @@
 //! the planar result; random splines.
 use crate::common;
 
-use common::v;
+use common::{rotate, v};
 use fairpath::geom::tube_fair::slide::{sliding_bound_on, Original};
 use fairpath::geom::tube_fair::tube::{deviation_bound, difference};
 use fairpath::geom::tube_fair::{
@@ -302,13 +302,6 @@ fn a_saw_tooth_is_straightened_in_both_tubes() {
             );
         }
     }
-}
-
-fn rotate(p: Vec3) -> Vec3 {
-    // About the axis (1, 2, 3) by 0.7 rad, then shifted.
-    let k = v(1.0, 2.0, 3.0).normalized(0.0).unwrap();
-    let (s, c) = (0.7f64.sin(), 0.7f64.cos());
-    p * c + k.cross(p) * s + k * (k.dot(p) * (1.0 - c)) + v(5.0, -3.0, 2.0)
 }
 
 /// A planar path tilted into 3D is straightened as in its plane. With the
