@@ -317,8 +317,9 @@ fn tangent_entry_into_a_sampled_arc_is_g2_everywhere() {
 /// meets a sampled arc (radius 4.3 mm, chords of about 0.29 mm) at a corner
 /// of 15 degrees. Regression: the fit started at that vertex along the
 /// line, so it had to make the whole turn there on the arc's first chords;
-/// it now leads in along the last 4 mm of the line (at 0.05 mm) and rounds
-/// the corner inside the band, which the machine runs faster.
+/// it now leads in along the line (0.4 of its 20 mm, below the cap of 200
+/// tolerances) and rounds the corner inside the band, which the machine
+/// runs faster.
 #[test]
 fn a_fit_leads_in_along_the_line_before_a_corner() {
     let tol = 0.05;
@@ -338,15 +339,15 @@ fn a_fit_leads_in_along_the_line_before_a_corner() {
     assert!(rep.within(tol), "{rep:?}");
     assert!(out.kept_corners.is_empty());
     assert!(rep.joints.iter().all(|j| j.class == Continuity::G2));
-    // The fit starts on the line, 4 mm (80 tolerances) before the vertex,
-    // and the path no longer passes through the vertex.
+    // The fit starts on the line, 8 mm (0.4 of it) before the vertex, and
+    // the path no longer passes through the vertex.
     let fit = out
         .pieces
         .iter()
         .find(|p| matches!(&p.curve, Curve::Nurbs(n) if n.knots != TRANSITION_KNOTS))
         .expect("a fitted piece");
     assert!(
-        fit.curve.start().dist(v(-4.0, 0.0, 0.0)) < 1e-9,
+        fit.curve.start().dist(v(-8.0, 0.0, 0.0)) < 1e-9,
         "{:?}",
         fit.curve.start()
     );

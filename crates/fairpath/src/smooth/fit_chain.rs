@@ -60,11 +60,15 @@ pub(super) fn extend_sections(sections: &mut [(usize, usize)], q: &[Vec3], max_t
 }
 
 /// Longest lead-in (lead-out) of a fit into the kept segment before (after)
-/// it, in tolerances (4 mm at 0.05 mm). On the issue-5 survey shorter and
-/// longer leads planned about the same, except on `test_12mmflat.ngc`,
-/// where shorter ones were slower (measurements: docs/tuning.md,
+/// it, in tolerances (10 mm at 0.05 mm). A corner of angle `theta` rounded
+/// by a circle within the band `e` needs `4 e / theta` of each leg (radius
+/// `8 e / theta^2`, from the deviation `R (1 / cos(theta / 2) - 1) ~ R
+/// theta^2 / 8` at its bisector), so 200 tolerances let the fit round
+/// corners down to about 1.1 degrees with all the band; a curvature ramp
+/// shorter than the corner asks is what slowed the shallow corners of
+/// `test_12mmflat.ngc` at 80 (measurements: docs/tuning.md,
 /// `LEAD_PER_TOLERANCE`).
-const LEAD_PER_TOLERANCE: f64 = 80.0;
+const LEAD_PER_TOLERANCE: f64 = 200.0;
 /// Largest share of a kept segment a lead-in (lead-out) takes: the corner
 /// at the segment's other end keeps the rest (a segment between two fits
 /// keeps a fifth as a line). Chosen on the issue-5 survey, where a larger
