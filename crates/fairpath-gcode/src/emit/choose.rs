@@ -83,7 +83,8 @@ pub(super) fn choose_run(
     let (smoothed, feeds, forms, opts) = (em.smoothed, &em.feeds, &em.forms[..], &em.opts);
     let rendered_time = |c: &Choice, f: bool| em.rendered_time(c, f);
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
-    let mut best: Option<(f64, Choice)> = None;
+    // The fastest rendering so far, with its time at each feed.
+    let mut best: Option<(Vec<f64>, Choice)> = None;
     // Whether the arcs rendering holds no arc.
     let mut arcs_all_lines = false;
     // A long run whose arcs fell back to G1 on few blocks.
@@ -152,7 +153,7 @@ pub(super) fn choose_run(
             .any(|p| matches!(p.curve, Curve::Nurbs(_)));
         let margin = if splines { 0.0 } else { KEEP_MARGIN };
         let loses = |fi: usize, t: f64| {
-            t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0))
+            t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0[0]))
         };
         // The all-G1 alternative to a rendering of many pieces (a long
         // run's, or one whose every curve renders to hundreds of blocks:
@@ -172,7 +173,7 @@ pub(super) fn choose_run(
                         part_pieces: part,
                         ..Choice::streamed(form, chord)
                     };
-                    best = Some((ts[0], c));
+                    best = Some((ts, c));
                 }
                 continue;
             }
@@ -211,8 +212,42 @@ pub(super) fn choose_run(
         if ts.len() < feeds.len() || ts.iter().enumerate().any(|(fi, &t)| loses(fi, t)) {
             continue;
         }
-        if best.as_ref().is_none_or(|(b, _)| ts[0] < *b) {
-            best = Some((ts[0], c));
+        if best.as_ref().is_none_or(|(b, _)| ts[0] < b[0]) {
+            best = Some((ts, c));
+        }
+    }
+    // Arcs won: they are also tried at a finer curvature step
+    // ([`super::FINER_STEP`]), where their joints pass faster than the
+    // speed they were shaped for at the cost of more blocks, and kept where
+    // that plans faster at every feed (not at the first alone, as the forms
+    // are: the finer arcs must not slow the programmed feeds), by
+    // [`KEEP_MARGIN`]: their written coordinates round by a larger share
+    // of their length. Not on a long run (it would be
+    // rendered and planned twice more) nor where the arcs hold none.
+    if let Some((t_best, c)) = &best {
+        let arcs = c.form == Some(CurveForm::Arcs) && !c.streamed && c.stats.arcs > 0;
+        let share = opts.step_share * super::FINER_STEP;
+        #[cfg(test)]
+        let arcs = arcs && !super::tests::NO_FINER_STEP.with(|n| n.get());
+        if arcs && !em.is_long(k) && share > 0.0 {
+            let finer = em.render(k, CurveForm::Arcs, c.chord, Some(share))?;
+            let splines = original[k]
+                .pieces
+                .iter()
+                .any(|p| matches!(p.curve, Curve::Nurbs(_)));
+            let margin = if splines { 0.0 } else { KEEP_MARGIN };
+            let mut ts = Vec::with_capacity(feeds.len());
+            for &f in feeds.iter() {
+                let t = rendered_time(&finer, f)?;
+                let fi = ts.len();
+                if t * (1.0 + margin) > own[fi] || t * (1.0 + KEEP_MARGIN) >= t_best[fi] {
+                    break;
+                }
+                ts.push(t);
+            }
+            if ts.len() == feeds.len() {
+                best = Some((ts, finer));
+            }
         }
     }
     Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))

@@ -45,6 +45,11 @@ pub(super) struct Choice {
     /// ([`RENDER_PART_PIECES`], fewer where each curve renders to many
     /// pieces: [`Emitter::streamed_times`]).
     pub(super) part_pieces: usize,
+    /// The curvature step share it was rendered with
+    /// ([`fairpath::render::RenderOptions::step_share`]): `None` for the
+    /// options' ([`EmitOptions::step_share`]), else the finer one tried for
+    /// arcs ([`super::FINER_STEP`]).
+    pub(super) step_share: Option<f64>,
 }
 
 impl Choice {
@@ -59,6 +64,7 @@ impl Choice {
             count: 0,
             streamed: false,
             part_pieces: RENDER_PART_PIECES,
+            step_share: None,
         }
     }
 
@@ -72,8 +78,9 @@ impl Choice {
         }
     }
 
-    /// The run rendered in `form` with output share `chord`.
-    fn rendered(form: CurveForm, chord: f64, r: Rendered) -> Choice {
+    /// The run rendered in `form` with output share `chord` and step
+    /// share `step_share` ([`Choice::step_share`]).
+    fn rendered(form: CurveForm, chord: f64, step_share: Option<f64>, r: Rendered) -> Choice {
         Choice {
             form: Some(form),
             chord,
@@ -83,6 +90,7 @@ impl Choice {
             speeds: r.speeds,
             streamed: false,
             part_pieces: RENDER_PART_PIECES,
+            step_share,
         }
     }
 }
@@ -152,13 +160,19 @@ impl<'a> Emitter<'a> {
     }
 
     /// Run `k` rendered in `form` with output share `chord`.
-    pub(super) fn render(&self, k: usize, form: CurveForm, chord: f64) -> Result<Choice> {
-        let (ro, speed) = self.render_setup(k, form, chord)?;
+    pub(super) fn render(
+        &self,
+        k: usize,
+        form: CurveForm,
+        chord: f64,
+        step_share: Option<f64>,
+    ) -> Result<Choice> {
+        let (ro, speed) = self.render_setup(k, form, chord, step_share)?;
         let pieces = &self.smoothed[k];
         if pieces.len() < PARALLEL_FEEDS_PIECES {
             let error = |source| EmitError::Render { run: k, source };
             let r = render_run(pieces, &speed, &ro).map_err(error)?;
-            return Ok(Choice::rendered(form, chord, r));
+            return Ok(Choice::rendered(form, chord, step_share, r));
         }
         // A long run in parts side by side, joined as they come.
         let group = RENDER_GROUP_PARTS;
@@ -172,23 +186,27 @@ impl<'a> Emitter<'a> {
             return Err(e);
         }
         joined.stats = parts.stats;
-        Ok(Choice::rendered(form, chord, joined))
+        Ok(Choice::rendered(form, chord, step_share, joined))
     }
 
-    /// How run `k` is rendered in `form` with output share `chord`: the
-    /// options and the speed the renderer shapes it by (`auto`'s
-    /// objective's, where it kept a rendering of these pieces; else their
-    /// plan's).
+    /// How run `k` is rendered in `form` with output share `chord` and
+    /// step share `step_share` ([`Choice::step_share`]): the options and
+    /// the speed the renderer shapes it by (`auto`'s objective's, where it
+    /// kept a rendering of these pieces; else their plan's).
     pub(super) fn render_setup(
         &self,
         k: usize,
         form: CurveForm,
         chord: f64,
+        step_share: Option<f64>,
     ) -> Result<(RenderOptions, Arc<PlannedSpeed>)> {
         let (program, smoothed) = (self.program, self.smoothed);
         let (opts, wo) = (&self.opts, &self.wo);
         let units = program.run_spans()[k].units;
-        let ro = render_options(opts, form, chord, units, wo);
+        let mut ro = render_options(opts, form, chord, units, wo);
+        if let Some(share) = step_share {
+            ro.step_share = share;
+        }
         // A given speed goes to the first rendering (the run's plan was
         // dropped for it: a form tried after that plans the run again).
         let given = || self.given.get(k)?.lock().ok()?.take();
@@ -230,7 +248,7 @@ impl<'a> Emitter<'a> {
         (form, chord): (CurveForm, f64),
         part_pieces: usize,
     ) -> Result<Option<Vec<f64>>> {
-        let (ro, speed) = self.render_setup(k, form, chord)?;
+        let (ro, speed) = self.render_setup(k, form, chord, None)?;
         let windows = PlanWindows::DEFAULT;
         let corners = self.opts.judged_by;
         let Some(timers) = self
@@ -403,9 +421,9 @@ impl<'a> Emitter<'a> {
             .filter(|_| same_units)
             .and_then(|m| m.take(&self.smoothed[k], i))
         {
-            return Ok((Choice::rendered(form, chord, r), Some(t)));
+            return Ok((Choice::rendered(form, chord, None, r), Some(t)));
         }
-        Ok((self.render(k, form, chord)?, None))
+        Ok((self.render(k, form, chord, None)?, None))
     }
 
     /// Whether a rendering of run `k` is a long run's whose arcs fell back

@@ -117,6 +117,18 @@ fn streamed_group_parts() -> usize {
     std::thread::available_parallelism().map_or(2, |n| n.get())
 }
 
+/// The finer curvature step share arcs are also rendered at, as a share
+/// of [`crate::pipeline::EmitOptions::step_share`] (`--step-share`, default
+/// [`fairpath::render::arcs::STEP_SHARE`]): each run written as arcs gets
+/// the faster of the two. At half the share a joint of arcs passes at
+/// `sqrt(2)` times the speed the curves were planned for, which leaves
+/// the planner room where chains of short arcs and block lengths bind; it
+/// costs more blocks, and where the share is already small the extra
+/// arcs can be slower (`130207L.ngc`, `helix.ngc` with `auto` at 0.25),
+/// hence a choice per run rather than a smaller default (measurements:
+/// docs/tuning.md, `FINER_STEP`).
+pub const FINER_STEP: f64 = 0.5;
+
 /// Times a failing run is rendered again with half the chord.
 pub const RETRIES: usize = 3;
 
@@ -394,6 +406,8 @@ mod tests {
         /// Every run rendered whole and read back whole (the path before
         /// long runs were rendered as they are written).
         pub(super) static NO_STREAMING: Cell<bool> = const { Cell::new(false) };
+        /// Arcs not tried at the finer step ([`super::FINER_STEP`]).
+        pub(super) static NO_FINER_STEP: Cell<bool> = const { Cell::new(false) };
         /// Runs checked as they were read back, on this thread.
         pub(super) static STREAMED_RUNS: Cell<usize> = const { Cell::new(0) };
         /// Texts read again whole after a reading in parts.
@@ -624,6 +638,88 @@ mod tests {
         )
         .unwrap();
         (text, opts)
+    }
+
+    /// A chirp (a sine of amplitude `amp` mm whose frequency grows as
+    /// `growth t` along the run), sampled every 0.5 mm at `feed` mm/min:
+    /// its fit's curvature changes faster and faster, and its arcs at the
+    /// default step share slow the machine at their joints where the
+    /// finer share's do not.
+    fn chirp(amp: f64, growth: f64, feed: f64) -> String {
+        let mut text = String::from("G21 G90\nG0 X0 Y0\n");
+        for i in 1..=120 {
+            let t = 3.0 * i as f64 / 120.0;
+            let (x, y) = (20.0 * t, amp * (growth * t * t).sin());
+            let feed = if i == 1 {
+                format!(" F{feed}")
+            } else {
+                String::new()
+            };
+            text.push_str(&format!("G1 X{x:.4} Y{y:.4}{feed}\n"));
+        }
+        text.push_str("M30\n");
+        text
+    }
+
+    /// `text` smoothed by `opts` with the finer step tried or not.
+    fn with_finer(
+        text: &str,
+        opts: &crate::SmoothOptions,
+        finer: bool,
+    ) -> (crate::Output, crate::Report) {
+        NO_FINER_STEP.with(|n| n.set(!finer));
+        let out = crate::smooth_program(text, opts);
+        NO_FINER_STEP.with(|n| n.set(false));
+        out.unwrap()
+    }
+
+    /// Arcs are also rendered at the finer step share and kept where that
+    /// plans faster: faster on the chirp, more blocks, within the
+    /// tolerance as read back; where it is no faster (a zigzag's corner
+    /// transitions) the program is written as before.
+    #[test]
+    fn arcs_at_the_finer_step_are_kept_where_they_plan_faster() {
+        let text = chirp(8.0, 2.0, 6000.0);
+        let opts = crate::SmoothOptions::new(0.05, None, "bspline-fit", None, Controller::Generic)
+            .unwrap();
+        let (plain, plain_report) = with_finer(&text, &opts, false);
+        let (finer, report) = with_finer(&text, &opts, true);
+        assert!(report.written.within && plain_report.written.within);
+        let (t_plain, t_finer) = (plain_report.times.written.total, report.times.written.total);
+        assert!(t_finer < 0.99 * t_plain, "{t_finer} s against {t_plain} s");
+        assert!(finer.text.lines().count() > plain.text.lines().count());
+        let (text, opts) = two_zigzags();
+        assert_eq!(
+            with_finer(text, &opts, true).0.text,
+            with_finer(text, &opts, false).0.text
+        );
+    }
+
+    /// The finer step never makes a program slower: on chirps of two
+    /// amplitudes, two growths and two feeds, by three methods, the
+    /// written time with it is at most the time without, up to the
+    /// rounding of the written coordinates, which the choice, made on the
+    /// renderings, does not see (it asks them for [`KEEP_MARGIN`] for it).
+    /// Faster on 9 of the 24.
+    #[test]
+    fn the_finer_step_is_never_slower() {
+        for method in ["bspline-fit", "bspline-corner", "fair"] {
+            let opts =
+                crate::SmoothOptions::new(0.05, None, method, None, Controller::Generic).unwrap();
+            for (amp, growth, feed) in [2.0, 8.0]
+                .into_iter()
+                .flat_map(|a| [1.0, 2.0].map(|g| (a, g)))
+                .flat_map(|(a, g)| [3000.0, 12000.0].map(|f| (a, g, f)))
+            {
+                let text = chirp(amp, growth, feed);
+                let t = |finer| with_finer(&text, &opts, finer).1.times.written.total;
+                let (t_plain, t_finer) = (t(false), t(true));
+                assert!(
+                    t_finer <= t_plain * (1.0 + KEEP_MARGIN),
+                    "{method} amp {amp} growth {growth} F{feed}: {t_finer} s against {t_plain} s"
+                );
+            }
+        }
     }
 
     #[test]

@@ -43,7 +43,7 @@ pub(super) fn write_chosen(
     let tolerance = opts.budget.written();
     let nf = feeds.len();
     let time = |pieces: &[fairpath::path::Piece], f: bool| em.time(pieces, f);
-    let render = |k: usize, form, chord: f64| em.render(k, form, chord);
+    let render = |k: usize, form, chord: f64, share| em.render(k, form, chord, share);
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     let Chosen {
         mut choices,
@@ -213,7 +213,7 @@ pub(super) fn write_chosen(
                     part_pieces: c.part_pieces,
                     ..Choice::streamed(form, 0.5 * c.chord)
                 },
-                Some(form) if attempt < RETRIES => render(k, form, 0.5 * c.chord)?,
+                Some(form) if attempt < RETRIES => render(k, form, 0.5 * c.chord, c.step_share)?,
                 _ => Choice::original(c.chord),
             };
         }
@@ -221,7 +221,7 @@ pub(super) fn write_chosen(
         // (those rendered as they are written, as they are written again).
         for (k, c) in choices.iter_mut().enumerate() {
             if let (Some(form), true, false) = (c.form, c.pieces.is_empty(), c.streamed) {
-                *c = render(k, form, c.chord)?;
+                *c = render(k, form, c.chord, c.step_share)?;
             }
         }
     }
@@ -300,7 +300,7 @@ fn write_text<'e>(
             renderers.push(None);
             continue;
         };
-        let (ro, speed) = em.render_setup(k, form, c.chord)?;
+        let (ro, speed) = em.render_setup(k, form, c.chord, c.step_share)?;
         let group = super::streamed_group_parts();
         let parts = PartsRenderer::new(k, &em.smoothed[k], ro, speed, (group, c.part_pieces));
         renderers.push(Some(RefCell::new(parts)));
