@@ -7,7 +7,7 @@
 # A target still missed at four times the tolerance is not one a better
 # choice inside the band is likely to reach on that program.
 # Usage: scripts/peer-reach.sh [TOLERANCE_MM] [PROGRAM...]
-#   (programs relative to ../shared/paths; default: the four that miss the
+#   (programs relative to ../shared/paths; default: the three that miss the
 #   target in docs/peer-ratio.md; build first: cargo build --release -p
 #   fairpath-cli; FAIRPATH_BIN times another build; REACH_MD=FILE also
 #   writes the table there, with the date and commit)
@@ -18,8 +18,8 @@ shift || true
 bin=${FAIRPATH_BIN:-target/release/fairpath}
 [ -x "$bin" ] || { echo "build first: cargo build --release -p fairpath-cli" >&2; exit 1; }
 if [ $# -eq 0 ]; then
-  set -- linuxcnc/performance/test_12mmflat.ngc linuxcnc/performance/blur_torus.ngc \
-    linuxcnc/wz-tests/130207L.ngc linuxcnc/XYtests/51MeanderAve.ngc
+  set -- linuxcnc/performance/blur_torus.ngc linuxcnc/wz-tests/130207L.ngc \
+    linuxcnc/XYtests/51MeanderAve.ngc
 fi
 python3 - "$bin" "$tol" "${REACH_MD:-}" "$(git rev-parse --short HEAD)" "$(nproc)" "$@" <<'PY'
 import json, subprocess, sys, time
