@@ -216,21 +216,26 @@ pub(super) fn choose_run(
             best = Some((ts, c));
         }
     }
-    // Arcs won: they are also tried at a finer curvature step
+    // Arcs or G1 won: they are also tried at a finer curvature step
     // ([`super::FINER_STEP`]), where their joints pass faster than the
     // speed they were shaped for at the cost of more blocks, and kept where
     // that plans faster at every feed (not at the first alone, as the forms
-    // are: the finer arcs must not slow the programmed feeds), by
+    // are: the finer pieces must not slow the programmed feeds), by
     // [`KEEP_MARGIN`]: their written coordinates round by a larger share
-    // of their length. Not on a long run (it would be
-    // rendered and planned twice more) nor where the arcs hold none.
+    // of their length. Not on a long run (it would be rendered and
+    // planned twice more) nor on arcs that hold no arc.
     if let Some((t_best, c)) = &best {
-        let arcs = c.form == Some(CurveForm::Arcs) && !c.streamed && c.stats.arcs > 0;
+        let form = match c.form {
+            Some(CurveForm::Arcs) if c.stats.arcs > 0 => Some(CurveForm::Arcs),
+            Some(CurveForm::Lines) => Some(CurveForm::Lines),
+            _ => None,
+        }
+        .filter(|_| !c.streamed);
         let share = opts.step_share * super::FINER_STEP;
         #[cfg(test)]
-        let arcs = arcs && !super::tests::NO_FINER_STEP.with(|n| n.get());
-        if arcs && !em.is_long(k) && share > 0.0 {
-            let finer = em.render(k, CurveForm::Arcs, c.chord, Some(share))?;
+        let form = form.filter(|_| !super::tests::NO_FINER_STEP.with(|n| n.get()));
+        if let Some(form) = form.filter(|_| !em.is_long(k) && share > 0.0) {
+            let finer = em.render(k, form, c.chord, Some(share))?;
             let splines = original[k]
                 .pieces
                 .iter()

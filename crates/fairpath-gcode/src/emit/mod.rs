@@ -119,8 +119,8 @@ fn streamed_group_parts() -> usize {
 
 /// The finer curvature step share arcs are also rendered at, as a share
 /// of [`crate::pipeline::EmitOptions::step_share`] (`--step-share`, default
-/// [`fairpath::render::arcs::STEP_SHARE`]): each run written as arcs gets
-/// the faster of the two. At half the share a joint of arcs passes at
+/// [`fairpath::render::arcs::STEP_SHARE`]): each run written as arcs or
+/// G1 gets the faster of the two. At half the share a joint of arcs passes at
 /// `sqrt(2)` times the speed the curves were planned for, which leaves
 /// the planner room where chains of short arcs and block lengths bind; it
 /// costs more blocks, and where the share is already small the extra
@@ -696,16 +696,20 @@ mod tests {
     }
 
     /// The finer step never makes a program slower: on chirps of two
-    /// amplitudes, two growths and two feeds, by three methods, the
-    /// written time with it is at most the time without, up to the
-    /// rounding of the written coordinates, which the choice, made on the
-    /// renderings, does not see (it asks them for [`KEEP_MARGIN`] for it).
-    /// Faster on 9 of the 24.
+    /// amplitudes, two growths and two feeds, by three methods, written as
+    /// arcs and as G1, the written time with it is at most the time
+    /// without, up to the rounding of the written coordinates, which the
+    /// choice, made on the renderings, does not see (it asks them for
+    /// [`KEEP_MARGIN`] for it).
     #[test]
     fn the_finer_step_is_never_slower() {
-        for method in ["bspline-fit", "bspline-corner", "fair"] {
+        let methods = ["bspline-fit", "bspline-corner", "fair"];
+        for (method, format) in methods
+            .into_iter()
+            .flat_map(|m| [None, Some(crate::Format::G1)].map(|f| (m, f)))
+        {
             let opts =
-                crate::SmoothOptions::new(0.05, None, method, None, Controller::Generic).unwrap();
+                crate::SmoothOptions::new(0.05, None, method, format, Controller::Generic).unwrap();
             for (amp, growth, feed) in [2.0, 8.0]
                 .into_iter()
                 .flat_map(|a| [1.0, 2.0].map(|g| (a, g)))
@@ -716,7 +720,7 @@ mod tests {
                 let (t_plain, t_finer) = (t(false), t(true));
                 assert!(
                     t_finer <= t_plain * (1.0 + KEEP_MARGIN),
-                    "{method} amp {amp} growth {growth} F{feed}: {t_finer} s against {t_plain} s"
+                    "{method} {format:?} amp {amp} growth {growth} F{feed}: {t_finer} s against {t_plain} s"
                 );
             }
         }
