@@ -85,6 +85,16 @@ pub(super) fn choose_run(
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     // The fastest rendering so far, with its time at each feed.
     let mut best: Option<(Vec<f64>, Choice)> = None;
+    // A run of splines (a fairing of them, at a feed their ripples do not
+    // slow) is rewritten when it plans no slower: what the method changes
+    // there is the curvature, which it lowers. A run of lines must gain the
+    // margin: at an equal time its rendering would trade the program's
+    // corners for more blocks, for nothing.
+    let splines = original[k]
+        .pieces
+        .iter()
+        .any(|p| matches!(p.curve, Curve::Nurbs(_)));
+    let margin = if splines { 0.0 } else { KEEP_MARGIN };
     // Whether the arcs rendering holds no arc.
     let mut arcs_all_lines = false;
     // A long run whose arcs fell back to G1 on few blocks.
@@ -141,17 +151,6 @@ pub(super) fn choose_run(
         // feeds after that are not planned. A long run is planned at
         // every feed side by side (once it beats the chosen one at the
         // first).
-        // A run of splines (a fairing of them, at a feed their ripples
-        // do not slow) is rewritten when it plans no slower: what the
-        // method changes there is the curvature, which it lowers. A run
-        // of lines must gain the margin: at an equal time its rendering
-        // would trade the program's corners for more blocks, for
-        // nothing.
-        let splines = original[k]
-            .pieces
-            .iter()
-            .any(|p| matches!(p.curve, Curve::Nurbs(_)));
-        let margin = if splines { 0.0 } else { KEEP_MARGIN };
         let loses = |fi: usize, t: f64| {
             t * (1.0 + margin) > own[fi] || (fi == 0 && best.as_ref().is_some_and(|b| t >= b.0[0]))
         };
@@ -236,11 +235,6 @@ pub(super) fn choose_run(
         let form = form.filter(|_| !super::tests::NO_FINER_STEP.with(|n| n.get()));
         if let Some(form) = form.filter(|_| !em.is_long(k) && share > 0.0) {
             let finer = em.render(k, form, c.chord, Some(share))?;
-            let splines = original[k]
-                .pieces
-                .iter()
-                .any(|p| matches!(p.curve, Curve::Nurbs(_)));
-            let margin = if splines { 0.0 } else { KEEP_MARGIN };
             let mut ts = Vec::with_capacity(feeds.len());
             for &f in feeds.iter() {
                 let t = rendered_time(&finer, f)?;
