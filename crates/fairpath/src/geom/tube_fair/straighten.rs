@@ -46,16 +46,17 @@
 //! The samples are not a bound: the result is kept only when the sure
 //! bound of the tube ([`super::slide::sliding_bound_on`] or
 //! [`super::tube::deviation_bound_on`]) is within `R` on every span and
-//! no span's peak (measured as the barrier measures it, its highest
-//! sample refined) rises above the original's near it; otherwise the move
+//! no span's peak (its samples, each maximum of the curvature and
+//! minimum of the speed refined: a near-cusp between samples is a spike
+//! the sampled turning does not see) rises above the original's near it; otherwise the move
 //! is halved towards the start until they hold, or dropped.
 
-use super::guard::PeakReference;
+use super::guard::{PeakReference, PEAK_ACCURACY};
 use super::slide::{Original, TubeMeasure};
 use super::spans::{bezier_derivatives, bezier_of_span, nonempty_spans, Basis};
 use super::tube::difference;
 use crate::geom::cubic_span::cubic_basis;
-use crate::geom::{curvature_from, Vec3};
+use crate::geom::{curvature_from, sampled_peak, Extrema, Vec3, NARROW};
 use crate::math;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -271,29 +272,28 @@ impl Straightening<'_> {
         record
     }
 
-    /// Each span's highest curvature on `x` as [`Straightening::eval`]
-    /// finds it (0 for empty spans), by knot index.
+    /// Each span's highest curvature on `x` (0 for empty spans), by knot
+    /// index: [`STRAIGHTEN_SAMPLES`] equal steps, every sampled maximum of
+    /// the curvature and minimum of the speed refined to [`PEAK_ACCURACY`]
+    /// ([`sampled_peak`], [`Extrema::All`]). The speed minima matter: the
+    /// turning the barrier minimises is sampled, and a move that folds a
+    /// span into a near-cusp between samples (its turning, up to a half
+    /// turn, concentrated where no sample sees it) looks straighter to it;
+    /// the curvature's own samples and their refinement miss such a spike,
+    /// its speed's minimum finds it (seed 17415750764187490486 of the
+    /// property tests: a peak of 8.5e27 1/mm passed).
     fn own_peaks(&self, x: &[Vec3]) -> Vec<f64> {
         let u = self.basis.knots;
         let mut own = vec![0.0f64; x.len()];
         for s in nonempty_spans(&self.basis, x.len()) {
             let bez = bezier_of_span(u, x, s);
-            let k = |tau: f64| {
-                let (d1, d2) = bezier_derivatives(&bez, tau);
-                curvature_from(d1, d2)
-            };
-            let taus: Vec<f64> = (0..STRAIGHTEN_SAMPLES)
-                .map(|j| (j as f64 + 0.5) / STRAIGHTEN_SAMPLES as f64)
-                .collect();
-            let ks: Vec<f64> = taus.iter().map(|&t| k(t)).collect();
-            let j = (0..ks.len()).fold(0, |b, i| if ks[i] > ks[b] { i } else { b });
-            let left = if j == 0 { 0.0 } else { taus[j - 1] };
-            let right = if j + 1 == taus.len() {
-                1.0
-            } else {
-                taus[j + 1]
-            };
-            own[s] = k(golden_max(k, left, right)).max(ks[j]);
+            own[s] = sampled_peak(
+                |tau| bezier_derivatives(&bez, tau),
+                (0.0, 1.0),
+                STRAIGHTEN_SAMPLES,
+                PEAK_ACCURACY,
+                Extrema::All,
+            );
         }
         own
     }
@@ -371,6 +371,8 @@ impl Straightening<'_> {
             let s = group[0].span;
             let first = s - 3;
             let mut top = (0usize, -1.0f64);
+            // The least sampled speed, where a near-cusp hides.
+            let mut slow = (0usize, f64::INFINITY);
             for (j, smp) in group.iter().enumerate() {
                 let i = i0 + j;
                 let (p, d1, d2) = at(x, first, &smp.n);
@@ -384,6 +386,9 @@ impl Straightening<'_> {
                 let k = cn / (s2 * sp);
                 if k > top.1 {
                     top = (j, k);
+                }
+                if sp < slow.1 {
+                    slow = (j, sp);
                 }
                 let term = cn / s2;
                 turning += smp.w * term;
@@ -451,14 +456,30 @@ impl Straightening<'_> {
             };
             let bez = bezier_of_span(u, x, s);
             let h = hi - lo;
-            let t = golden_max(
-                |t| {
-                    let (d1, d2) = bezier_derivatives(&bez, (t - lo) / h);
-                    curvature_from(d1, d2)
-                },
-                left,
-                right,
-            );
+            let k_at = |t: f64| {
+                let (d1, d2) = bezier_derivatives(&bez, (t - lo) / h);
+                curvature_from(d1, d2)
+            };
+            let mut t = golden_max(k_at, left, right);
+            // A near-cusp between samples (the least sampled speed, with
+            // a neighbour, or the span's end, more than `NARROW` times
+            // faster): its spike is weighed where the speed is least (the
+            // curvature's maximum is there to first order), as
+            // [`Straightening::own_peaks`] judges it.
+            let speed = |t: f64| bezier_derivatives(&bez, (t - lo) / h).0.norm();
+            let j = slow.0;
+            let left = if j == 0 { lo } else { group[j - 1].t };
+            let right = if j + 1 == group.len() {
+                hi
+            } else {
+                group[j + 1].t
+            };
+            if NARROW * slow.1 < speed(left).max(speed(right)) {
+                let tm = golden_max(|t| -speed(t), left, right);
+                if k_at(tm) > k_at(t) {
+                    t = tm;
+                }
+            }
             let n = cubic_basis(u, s, t);
             let (_, d1, d2) = at(x, first, &n);
             let sp = d1.norm();
