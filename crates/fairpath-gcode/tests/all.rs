@@ -17,6 +17,7 @@ mod modal;
 mod motion_reading;
 mod parts;
 mod passthrough;
+mod planar_passes;
 mod plans;
 mod render_memo;
 mod roundtrip;

@@ -25,6 +25,7 @@ mod feed_limits;
 mod feed_plan;
 mod feed_windowed;
 mod fit_kernels_same_bits;
+mod fit_planar;
 mod judged_fair;
 mod layers;
 mod lower_bound;

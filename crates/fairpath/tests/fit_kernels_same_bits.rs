@@ -17,7 +17,9 @@ use proptest::prelude::*;
 /// The pivot share of `geom::fit`.
 const PIVOT_REL: f64 = 1e-12;
 
-/// The fit as `FitSystem::new` and `solve` built it before `FitData`.
+/// The fit as `FitSystem::new` and `solve` built it before `FitData`, the
+/// data and the fixed control points taken relative to the start point (as
+/// `FitData` solves them).
 fn reference_fit(
     pts: &[Vec3],
     params: &[f64],
@@ -52,6 +54,8 @@ fn reference_fit(
             *c = ends.1 - d * (ub - greville(i));
         }
     }
+    let origin = ends.0;
+    let rel: Vec<Vec3> = ctrl.iter().map(|&c| c - origin).collect();
     let free = |i: usize| i >= lo && i < hi;
     let mut a = BandedSpd::zeros(hi - lo);
     let mut fixed_rhs = vec![Vec3::ZERO; hi - lo];
@@ -69,7 +73,7 @@ fn reference_fit(
                         a.add(gj - lo, gk - lo, v);
                     }
                 } else {
-                    fixed_rhs[gj - lo] -= ctrl[gk] * v;
+                    fixed_rhs[gj - lo] -= rel[gk] * v;
                 }
             }
         }
@@ -111,12 +115,14 @@ fn reference_fit(
         for (j, &bj) in b.iter().enumerate() {
             let gj = s - 3 + j;
             if gj >= lo && gj < hi && bj != 0.0 {
-                rhs[gj - lo] += *q * bj;
+                rhs[gj - lo] += (*q - origin) * bj;
             }
         }
     }
     chol.solve(&mut rhs);
-    ctrl[lo..hi].copy_from_slice(&rhs);
+    for (c, r) in ctrl[lo..hi].iter_mut().zip(&rhs) {
+        *c = *r + origin;
+    }
     if ctrl.iter().any(|p| !p.is_finite()) {
         return None;
     }

@@ -136,6 +136,9 @@ pub struct FitSystem {
     fixed_rhs: Vec<Vec3>,
     /// Knot span and basis values at each data parameter.
     basis: Vec<(usize, [f64; 4])>,
+    /// The start point, which the system solves relative to (see
+    /// [`FitData`]).
+    origin: Vec3,
 }
 
 /// The part of a fit's normal equations that does not depend on the
@@ -158,6 +161,17 @@ pub struct FitData {
     /// points.
     fixed_rhs: Vec<Vec3>,
     basis: Vec<(usize, [f64; 4])>,
+    /// The start point: the right-hand sides hold the data and the fixed
+    /// control points relative to it, and the solution is shifted back.
+    /// The same least-squares problem (the basis is a partition of unity
+    /// and the fairness terms vanish on constants), but a coordinate that
+    /// every point of the data shares is then exactly 0 in every sum and
+    /// comes out as that coordinate to the bit: a fit of a pass in the
+    /// plane `Y = 36.449` stays in it, where solving the absolute
+    /// coordinates left its control points up to 4e-8 mm off the plane
+    /// and the writer turned its arcs into helices (LinuxCNC's
+    /// `blur_torus.ngc`).
+    origin: Vec3,
 }
 
 /// A non-empty knot span: its index, its length and `N''` of its four
@@ -241,6 +255,8 @@ impl FitData {
                 *c = ends.1 - d * (ub - greville(i));
             }
         }
+        let origin = ends.0;
+        let rel: Vec<Vec3> = ctrl.iter().map(|&c| c - origin).collect();
         let mut a = BandedSpd::zeros(hi - lo);
         let mut fixed_rhs = vec![Vec3::ZERO; hi - lo];
         // Data term.
@@ -251,7 +267,7 @@ impl FitData {
                 s += 1;
             }
             let b = cubic_basis_values(knots, s, t);
-            add_term((&mut a, &mut fixed_rhs), &ctrl, (lo, hi), s, &b, 1.0);
+            add_term((&mut a, &mut fixed_rhs), &rel, (lo, hi), s, &b, 1.0);
             basis.push((s, b));
         }
         Ok(FitData {
@@ -262,6 +278,7 @@ impl FitData {
             a,
             fixed_rhs,
             basis,
+            origin,
         })
     }
 
@@ -286,8 +303,10 @@ impl FitData {
             mut a,
             mut fixed_rhs,
             basis,
+            origin,
         } = self;
         let h = ctrl.len();
+        let rel: Vec<Vec3> = ctrl.iter().map(|&c| c - origin).collect();
         let u = &knots;
         // Non-empty spans with their length and `N''` at their ends (once,
         // for both terms).
@@ -311,7 +330,7 @@ impl FitData {
                     let b: [f64; 4] = core::array::from_fn(|k| e0[k] * (1.0 - x) + e1[k] * x);
                     add_term(
                         (&mut a, &mut fixed_rhs),
-                        &ctrl,
+                        &rel,
                         (lo, hi),
                         s,
                         &b,
@@ -324,7 +343,7 @@ impl FitData {
         if mu > 0.0 {
             for (s, len, (e0, e1)) in spans() {
                 let d3: [f64; 4] = core::array::from_fn(|k| (e1[k] - e0[k]) / len);
-                add_term((&mut a, &mut fixed_rhs), &ctrl, (lo, hi), s, &d3, mu * len);
+                add_term((&mut a, &mut fixed_rhs), &rel, (lo, hi), s, &d3, mu * len);
             }
         }
         let chol = a.cholesky(PIVOT_REL).map_err(|_| FitError::Singular)?;
@@ -336,6 +355,7 @@ impl FitData {
             chol,
             fixed_rhs,
             basis,
+            origin,
         })
     }
 }
@@ -393,14 +413,16 @@ impl FitSystem {
             for (j, &bj) in b.iter().enumerate() {
                 let gj = s - 3 + j;
                 if gj >= lo && gj < hi && bj != 0.0 {
-                    rhs[gj - lo] += *q * bj;
+                    rhs[gj - lo] += (*q - self.origin) * bj;
                 }
             }
         }
         self.chol.solve(rhs);
         ctrl.clear();
         ctrl.extend_from_slice(&self.ctrl);
-        ctrl[lo..hi].copy_from_slice(rhs);
+        for (c, r) in ctrl[lo..hi].iter_mut().zip(rhs.iter()) {
+            *c = *r + self.origin;
+        }
         if ctrl.iter().any(|p| !p.is_finite()) {
             return Err(FitError::Singular);
         }
