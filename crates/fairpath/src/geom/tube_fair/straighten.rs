@@ -275,7 +275,7 @@ impl Straightening<'_> {
     /// Each span's highest curvature on `x` (0 for empty spans), by knot
     /// index: [`STRAIGHTEN_SAMPLES`] equal steps, every sampled maximum of
     /// the curvature and minimum of the speed refined to [`PEAK_ACCURACY`]
-    /// ([`sampled_peak`], [`Extrema::All`]). The speed minima matter: the
+    /// ([`sampled_peak()`], [`Extrema::All`]). The speed minima matter: the
     /// turning the barrier minimises is sampled, and a move that folds a
     /// span into a near-cusp between samples (its turning, up to a half
     /// turn, concentrated where no sample sees it) looks straighter to it;
