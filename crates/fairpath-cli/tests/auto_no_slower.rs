@@ -277,6 +277,20 @@ fn cap_auto_is_no_slower_than_any_method() {
     });
 }
 
+/// LinuxCNC's `Curva_Chitarra_p1.ngc` (a G6.2 guitar outline) at 0.05 mm:
+/// `fair`'s curves lose as arcs at the machine's maximum feed and gain as
+/// G1 at both feeds, which the writer tries wherever the arcs do not win,
+/// by no margin on a run of splines; `auto`'s judge of what the writer
+/// writes (`Objective::written_instead`) tried neither, so `auto` kept
+/// the run as written: 58.076 s against `fair`'s 58.024 s. It now judges
+/// the all-G1 rendering and the writer's margin as the writer does.
+#[test]
+fn curva_chitarra_p1_auto_is_no_slower_than_fair() {
+    with_shared("linuxcnc-nurbs/G6/Curva_Chitarra_p1.ngc", |p| {
+        check("Curva_Chitarra_p1", p)
+    });
+}
+
 /// The run of `tort.ngc` at lines 83-90, moved to end its first arc at
 /// the origin: a 270-degree arc of radius 8 mm, two lines with a corner
 /// between them, an arc of radius 6 mm, at a feed the machine caps.

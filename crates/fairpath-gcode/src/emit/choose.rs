@@ -9,7 +9,6 @@ use super::{
     Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES, RENDER_PART_PIECES,
     STREAMED_PART_RENDERED,
 };
-use fairpath::geom::Curve;
 use fairpath::path::Run;
 use fairpath::pipeline::par_map;
 use fairpath::render::CurveForm;
@@ -85,16 +84,10 @@ pub(super) fn choose_run(
     let at_feeds = |len: usize, t: &(dyn Fn(bool) -> Result<f64> + Sync)| em.at_feeds(len, t);
     // The fastest rendering so far, with its time at each feed.
     let mut best: Option<(Vec<f64>, Choice)> = None;
-    // A run of splines (a fairing of them, at a feed their ripples do not
-    // slow) is rewritten when it plans no slower: what the method changes
-    // there is the curvature, which it lowers. A run of lines must gain the
-    // margin: at an equal time its rendering would trade the program's
-    // corners for more blocks, for nothing.
-    let splines = original[k]
-        .pieces
-        .iter()
-        .any(|p| matches!(p.curve, Curve::Nurbs(_)));
-    let margin = if splines { 0.0 } else { KEEP_MARGIN };
+    // The margin a rendering must gain on the run as written (none on a
+    // run of splines, `KEEP_MARGIN` on others), as `auto`'s objective
+    // judges it (`Objective::written_instead`).
+    let margin = fairpath::choose::rewrite_margin(&original[k].pieces);
     // Whether the arcs rendering holds no arc.
     let mut arcs_all_lines = false;
     // A long run whose arcs fell back to G1 on few blocks.

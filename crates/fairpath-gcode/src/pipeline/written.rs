@@ -132,6 +132,13 @@ pub fn objective_for(
         .map(|(_, &form)| render_options(opts, form, budget.output, units, &wo))
         .collect();
     let mut written = WrittenTime::new(opts.machine, opts.override_feed, renders);
+    // The writer's all-G1 rendering where the arcs do not win, judged by
+    // `written_instead` as the writer judges it.
+    written.lines_alternative = forms
+        .iter()
+        .skip(1)
+        .any(|&f| f == CurveForm::Lines)
+        .then(|| render_options(opts, CurveForm::Lines, budget.output, units, &wo));
     written.corners = opts.judged_by;
     written.observer = memo.map(|m| m as Arc<dyn fairpath::choose::RenderObserver>);
     Arc::new(written)

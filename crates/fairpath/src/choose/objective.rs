@@ -14,6 +14,7 @@ use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, Corners, PlanOptions};
 use crate::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
 use crate::geom::tube_fair::PeakPass;
+use crate::geom::Curve;
 use crate::path::Piece;
 use crate::render::{
     linuxcnc_g5_2_motion, render_range, render_run, CurveForm, LineAbsorber, PlannedSpeed,
@@ -290,6 +291,16 @@ pub struct WrittenTime {
     /// default (measurements: docs/tuning.md,
     /// `WrittenTime::kept_rendering_pieces`).
     pub kept_rendering_pieces: Option<usize>,
+    /// The writer's all-G1 rendering of a run whose other renderings do
+    /// not gain on it ([`CurveForm::Lines`] options; `None`: the format
+    /// has none). [`Objective::cost`] does not render it (it rarely wins
+    /// and would double the cost of ranking), but the writer tries it on
+    /// every run whose arcs do not win, so
+    /// [`Objective::written_instead`] does too (LinuxCNC's
+    /// `Curva_Chitarra_p1.ngc` at 0.05 mm: `fair`'s curves lose as arcs at
+    /// the maximum feed and gain as G1 at both feeds, and `auto` kept the
+    /// run as written, slower than `fair`).
+    pub lines_alternative: Option<RenderOptions>,
 }
 
 /// Curves rendered at a time where [`WrittenTime`] costs a candidate: the
@@ -357,7 +368,39 @@ impl WrittenTime {
             observer: None,
             render_gain: RENDER_GAIN,
             kept_rendering_pieces: None,
+            lines_alternative: None,
         }
+    }
+
+    /// Whether [`WrittenTime::lines_alternative`] of `candidate` plans
+    /// `margin` faster than the run as written (`own` on
+    /// [`WrittenTime::plan`], `own_max` on [`WrittenTime::shape`] where
+    /// the two differ) at every feed the writer judges at.
+    fn lines_gain(
+        &self,
+        candidate: &[Piece],
+        (own, own_max): (f64, Option<f64>),
+        margin: f64,
+    ) -> bool {
+        let Some(ro) = &self.lines_alternative else {
+            return false;
+        };
+        let Ok(plan) = plan_run(candidate, &self.shape) else {
+            return false;
+        };
+        let speed = Arc::new(PlannedSpeed::new(
+            candidate.len(),
+            &plan,
+            self.shape.limits.period,
+        ));
+        drop(plan);
+        let Ok(r) = render_run(candidate, &speed, ro) else {
+            return false;
+        };
+        let gains = |t: Option<f64>, own: f64| t.is_some_and(|t| t * (1.0 + margin) <= own);
+        gains(self.rendered_time(&r.pieces, ro.form), own)
+            && own_max
+                .is_none_or(|m| gains(self.rendered_time_on(&r.pieces, ro.form, &self.shape), m))
     }
 
     /// The planned time of a rendering on [`WrittenTime::plan`] (LinuxCNC's
@@ -593,7 +636,7 @@ impl Objective for WrittenTime {
     }
 
     /// The G-code writer's rule: a run is rewritten where one rendering of
-    /// it plans [`KEEP_MARGIN`] faster than the run as written at every
+    /// it plans [`rewrite_margin`] faster than the run as written at every
     /// feed the writer judges at: the user's, and, where those are the
     /// programmed feeds, the machine's maximum (so that a feed override
     /// never makes the written program slower). [`Objective::cost`] costs
@@ -604,8 +647,56 @@ impl Objective for WrittenTime {
     /// `bspline-corner`'s; measurements: docs/tuning.md,
     /// `WrittenTime::written_instead`). The forms are rendered as
     /// [`Objective::cost`] renders them, each judged at both feeds.
+    ///
+    /// Where no form gains so, the writer's all-G1 rendering
+    /// ([`WrittenTime::lines_alternative`]) is judged the same way, as the
+    /// writer tries it on such a run.
     fn written_instead(&self, candidate: &[Piece], cost: f64, run: &[Piece], own: f64) -> bool {
-        if cost * (1.0 + KEEP_MARGIN) > own {
+        let own_max = || {
+            if self.plan == self.shape {
+                Some(None)
+            } else {
+                plan_time_windowed(run, &self.shape, self.corners, WINDOWS)
+                    .ok()
+                    .map(Some)
+            }
+        };
+        let margin = rewrite_margin(run);
+        if self.forms_gain(candidate, cost, run, own, margin) {
+            return true;
+        }
+        own_max().is_some_and(|m| self.lines_gain(candidate, (own, m), margin))
+    }
+}
+
+/// The margin by which the writer rewrites run `run` (its pieces as the
+/// program wrote them): none on a run with a spline (a fairing of it, at a
+/// feed its ripples do not slow, is rewritten when it plans no slower: what
+/// changes is the curvature, which it lowers), [`KEEP_MARGIN`] on others
+/// (at an equal time a rendering would trade the program's corners for more
+/// blocks, for nothing). The writer's rule (`fairpath_gcode`'s
+/// `emit::choose_run`), which [`Objective::written_instead`] must follow.
+pub fn rewrite_margin(run: &[Piece]) -> f64 {
+    let splines = run.iter().any(|p| matches!(p.curve, Curve::Nurbs(_)));
+    if splines {
+        0.0
+    } else {
+        KEEP_MARGIN
+    }
+}
+
+impl WrittenTime {
+    /// [`Objective::written_instead`] by the forms of
+    /// [`WrittenTime::renders`] alone.
+    fn forms_gain(
+        &self,
+        candidate: &[Piece],
+        cost: f64,
+        run: &[Piece],
+        own: f64,
+        margin: f64,
+    ) -> bool {
+        if cost * (1.0 + margin) > own {
             return false;
         }
         if self.plan == self.shape {
@@ -614,7 +705,7 @@ impl Objective for WrittenTime {
         let Some(own_max) = plan_time_windowed(run, &self.shape, self.corners, WINDOWS).ok() else {
             return false;
         };
-        let gains = |t: Option<f64>, own: f64| t.is_some_and(|t| t * (1.0 + KEEP_MARGIN) <= own);
+        let gains = |t: Option<f64>, own: f64| t.is_some_and(|t| t * (1.0 + margin) <= own);
         let mut written = false;
         let rendered = self.each_rendering(candidate, |_, ro, r, _| {
             written = gains(self.rendered_time(&r.pieces, ro.form), own)
