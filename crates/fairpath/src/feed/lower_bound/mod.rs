@@ -147,7 +147,15 @@
 //! turn it round: slowing for a turn costs the envelopes almost nothing.
 //! Charging that needs the speed's local extrema (`a = 0` there, so
 //! `a^2 <= 2 J |v - v_extremum|` beside each) in place of `F` and `c`,
-//! run-wide, not zone by zone.
+//! run-wide, not zone by zone. At the slow point part of it holds
+//! already: every run starts and ends at rest with `a = 0`, so
+//! `a^2 - 2 J v` does not grow while `a > 0` and `|a| <= sqrt(2 J v)`
+//! along the whole run (by time reversal when braking). Envelopes from
+//! the slow point built with that cap changed no bound of the reference
+//! programs nor of the right angle (docs/tuning.md, "The acceleration cap
+//! at the slow point"): what lets the slow point stay fast is the turn,
+//! whose windows of a few short chords keep little of its angle once the
+//! gates' slack is taken off (0.21 rad of a right angle's 1.57).
 //!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).
