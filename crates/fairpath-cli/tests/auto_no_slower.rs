@@ -291,6 +291,19 @@ fn curva_chitarra_p1_auto_is_no_slower_than_fair() {
     });
 }
 
+/// LinuxCNC's `helix_slowdown.ngc` at 0.05 mm: `auto`'s best G2
+/// candidate (fits) loses as arcs at the maximum feed and gains as G1;
+/// `auto` falls back to the corner methods on the curves as written
+/// (`bspline-corner`'s 3.642 s). Judging the G1 rendering in place of that
+/// fallback wrote the fits' G1, 3.698 s: G1 is judged only where no
+/// fallback candidate would be written from its forms.
+#[test]
+fn helix_slowdown_auto_is_no_slower_than_any_method() {
+    with_shared("linuxcnc/diagnostic/helix_slowdown.ngc", |p| {
+        check("helix_slowdown", p)
+    });
+}
+
 /// The run of `tort.ngc` at lines 83-90, moved to end its first arc at
 /// the origin: a 270-degree arc of radius 8 mm, two lines with a corner
 /// between them, an arc of radius 6 mm, at a feed the machine caps.

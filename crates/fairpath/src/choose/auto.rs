@@ -670,8 +670,19 @@ impl Auto {
         // program wrote it either way, and the G2 curves stay what `auto`
         // reports), and kept only where it is also cheaper than the best
         // G2 candidate where that may be written.
-        let Some((t, i)) =
-            ranking.cheapest_kept(|c, t| objective.written_instead(&c.pieces, t, &run.pieces, own))
+        // Where none would be written from its forms and no G2 candidate
+        // may be, the cheapest the writer would write as G1 (it tries G1
+        // on every run whose arcs do not win: LinuxCNC's
+        // `Curva_Chitarra_p1.ngc`, where `fair`'s curves gain only so).
+        let Some((t, i)) = ranking
+            .cheapest_kept(|c, t| objective.written_instead(&c.pieces, t, &run.pieces, own))
+            .or_else(|| {
+                beat.is_none().then(|| {
+                    ranking.cheapest_kept(|c, _| {
+                        objective.written_as_lines(&c.pieces, &run.pieces, own)
+                    })
+                })?
+            })
         else {
             return Ok(None);
         };

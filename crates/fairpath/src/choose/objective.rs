@@ -72,6 +72,15 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
         cost * (1.0 + KEEP_MARGIN) <= own
     }
 
+    /// Whether a writer that keeps `candidate` from its forms
+    /// ([`Objective::written_instead`] false) writes it as G1 in place of
+    /// `run` (costing `own` as written) all the same: the G-code writer
+    /// tries its all-G1 rendering on every run whose other forms do not
+    /// gain ([`WrittenTime::lines_alternative`]). None by default.
+    fn written_as_lines(&self, _candidate: &[Piece], _run: &[Piece], _own: f64) -> bool {
+        false
+    }
+
     /// Whether `a` is the better of two smoothings of one run, `b` the
     /// other: by default where it costs less ([`Objective::cost`]; one
     /// that cannot be run is never better). An objective whose writer
@@ -296,7 +305,7 @@ pub struct WrittenTime {
     /// has none). [`Objective::cost`] does not render it (it rarely wins
     /// and would double the cost of ranking), but the writer tries it on
     /// every run whose arcs do not win, so
-    /// [`Objective::written_instead`] does too (LinuxCNC's
+    /// [`Objective::written_as_lines`] judges it (LinuxCNC's
     /// `Curva_Chitarra_p1.ngc` at 0.05 mm: `fair`'s curves lose as arcs at
     /// the maximum feed and gain as G1 at both feeds, and `auto` kept the
     /// run as written, slower than `fair`).
@@ -647,25 +656,23 @@ impl Objective for WrittenTime {
     /// `bspline-corner`'s; measurements: docs/tuning.md,
     /// `WrittenTime::written_instead`). The forms are rendered as
     /// [`Objective::cost`] renders them, each judged at both feeds.
-    ///
-    /// Where no form gains so, the writer's all-G1 rendering
-    /// ([`WrittenTime::lines_alternative`]) is judged the same way, as the
-    /// writer tries it on such a run.
     fn written_instead(&self, candidate: &[Piece], cost: f64, run: &[Piece], own: f64) -> bool {
-        let own_max = || {
-            if self.plan == self.shape {
-                Some(None)
-            } else {
-                plan_time_windowed(run, &self.shape, self.corners, WINDOWS)
-                    .ok()
-                    .map(Some)
+        self.forms_gain(candidate, cost, run, own, rewrite_margin(run))
+    }
+
+    /// The writer's all-G1 rendering ([`WrittenTime::lines_alternative`])
+    /// judged as [`Objective::written_instead`] judges the forms: at every
+    /// feed the writer judges at, by [`rewrite_margin`].
+    fn written_as_lines(&self, candidate: &[Piece], run: &[Piece], own: f64) -> bool {
+        let own_max = if self.plan == self.shape {
+            None
+        } else {
+            match plan_time_windowed(run, &self.shape, self.corners, WINDOWS) {
+                Ok(t) => Some(t),
+                Err(_) => return false,
             }
         };
-        let margin = rewrite_margin(run);
-        if self.forms_gain(candidate, cost, run, own, margin) {
-            return true;
-        }
-        own_max().is_some_and(|m| self.lines_gain(candidate, (own, m), margin))
+        self.lines_gain(candidate, (own, own_max), rewrite_margin(run))
     }
 }
 
