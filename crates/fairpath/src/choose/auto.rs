@@ -90,7 +90,14 @@
 //!   sampled within its own share of the tolerance and faired with its
 //!   peak pass), under the same rule: where the best G2 candidate would
 //!   be kept as written, `fair`'s may be written (LinuxCNC's `cap.ngc`,
-//!   rounded rectangles of tangent arcs, at 0.01 mm).
+//!   rounded rectangles of tangent arcs, at 0.01 mm). Where none of the
+//!   fallback's candidates would be written from its forms either, the
+//!   cheapest the writer would write as G1 ([`Objective::written_as_lines`]:
+//!   the writer tries G1 on every run whose arcs do not win) is kept
+//!   (LinuxCNC's `Curva_Chitarra_p1.ngc`, whose `fair` curves gain only as
+//!   G1). Not earlier: judged for the best G2 candidate, it skipped the
+//!   fallback where a corner method on the curves as written is written
+//!   faster (`helix_slowdown.ngc`).
 //!
 //! The candidates are a table, [`CANDIDATES`]: each row says how the
 //! candidate smooths and when it is offered. The measurements that chose
