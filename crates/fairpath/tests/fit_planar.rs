@@ -5,6 +5,7 @@
 //! came out up to 4e-8 mm off its plane, and its arcs were written as
 //! helices.
 
+use crate::common;
 use fairpath::geom::fit::{averaged_knots, chord_params, fit_cubic_weighted, EndCondition};
 use fairpath::geom::Vec3;
 use proptest::prelude::*;
@@ -12,13 +13,8 @@ use proptest::prelude::*;
 /// A wavy polyline of `n` points in the plane where coordinate `axis` is
 /// `level`, from `seed`.
 fn planar(n: usize, axis: usize, level: f64, step: f64, seed: u64) -> Vec<Vec3> {
-    let mut r = seed | 1;
-    let mut rnd = move || {
-        r ^= r << 13;
-        r ^= r >> 7;
-        r ^= r << 17;
-        (r >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut rng = common::Rng(seed);
+    let mut rnd = move || rng.unit() - 0.5;
     (0..n)
         .map(|i| {
             let u = 3.7 + i as f64 * step;

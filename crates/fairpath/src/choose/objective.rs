@@ -394,15 +394,9 @@ impl WrittenTime {
         let Some(ro) = &self.lines_alternative else {
             return false;
         };
-        let Ok(plan) = plan_run(candidate, &self.shape) else {
+        let Some(speed) = self.shaping_speed(candidate) else {
             return false;
         };
-        let speed = Arc::new(PlannedSpeed::new(
-            candidate.len(),
-            &plan,
-            self.shape.limits.period,
-        ));
-        drop(plan);
         let Ok(r) = render_run(candidate, &speed, ro) else {
             return false;
         };
@@ -410,6 +404,29 @@ impl WrittenTime {
         gains(self.rendered_time(&r.pieces, ro.form), own)
             && own_max
                 .is_none_or(|m| gains(self.rendered_time_on(&r.pieces, ro.form, &self.shape), m))
+    }
+
+    /// The speed the renderer reads for `pieces`: planned on
+    /// [`WrittenTime::shape`], as the writer plans the curves.
+    fn shaping_speed(&self, pieces: &[Piece]) -> Option<Arc<PlannedSpeed>> {
+        let plan = plan_run(pieces, &self.shape).ok()?;
+        Some(Arc::new(PlannedSpeed::new(
+            pieces.len(),
+            &plan,
+            self.shape.limits.period,
+        )))
+    }
+
+    /// The time of `run` as written on [`WrittenTime::shape`], where the
+    /// writer judges it there too (`Some(None)`: the user's feeds are the
+    /// machine's maximum); `None` where it cannot be planned.
+    fn own_at_max(&self, run: &[Piece]) -> Option<Option<f64>> {
+        if self.plan == self.shape {
+            return Some(None);
+        }
+        plan_time_windowed(run, &self.shape, self.corners, WINDOWS)
+            .ok()
+            .map(Some)
     }
 
     /// The planned time of a rendering on [`WrittenTime::plan`] (LinuxCNC's
@@ -566,13 +583,7 @@ impl WrittenTime {
         pieces: &[Piece],
         mut form: impl FnMut(usize, &RenderOptions, &Arc<PlannedSpeed>) -> Option<bool>,
     ) -> Option<()> {
-        let plan = plan_run(pieces, &self.shape).ok()?;
-        let speed = Arc::new(PlannedSpeed::new(
-            pieces.len(),
-            &plan,
-            self.shape.limits.period,
-        ));
-        drop(plan);
+        let speed = self.shaping_speed(pieces)?;
         let mut fell_back = false;
         for (i, ro) in self.renders.iter().enumerate() {
             if i > 0 && ro.form == CurveForm::Lines && !fell_back {
@@ -664,15 +675,8 @@ impl Objective for WrittenTime {
     /// judged as [`Objective::written_instead`] judges the forms: at every
     /// feed the writer judges at, by [`rewrite_margin`].
     fn written_as_lines(&self, candidate: &[Piece], run: &[Piece], own: f64) -> bool {
-        let own_max = if self.plan == self.shape {
-            None
-        } else {
-            match plan_time_windowed(run, &self.shape, self.corners, WINDOWS) {
-                Ok(t) => Some(t),
-                Err(_) => return false,
-            }
-        };
-        self.lines_gain(candidate, (own, own_max), rewrite_margin(run))
+        self.own_at_max(run)
+            .is_some_and(|m| self.lines_gain(candidate, (own, m), rewrite_margin(run)))
     }
 }
 
@@ -706,11 +710,11 @@ impl WrittenTime {
         if cost * (1.0 + margin) > own {
             return false;
         }
-        if self.plan == self.shape {
-            return true;
-        }
-        let Some(own_max) = plan_time_windowed(run, &self.shape, self.corners, WINDOWS).ok() else {
+        let Some(own_max) = self.own_at_max(run) else {
             return false;
+        };
+        let Some(own_max) = own_max else {
+            return true;
         };
         let gains = |t: Option<f64>, own: f64| t.is_some_and(|t| t * (1.0 + margin) <= own);
         let mut written = false;
