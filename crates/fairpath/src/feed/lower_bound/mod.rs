@@ -127,35 +127,39 @@
 //!    it, so it adds only some `G sqrt(2 / K) / F` (about 10 ms at a right
 //!    angle on the thesis machine) and does not reach the speed cap
 //!    `sqrt(A_n R)` of the largest radius that fits the band.
+//! 8. **The tightest turn** (`tightest_turn`). For gates `i < j <= k < l`
+//!    near a turn window, step 2 gives a least turn `alpha` of the tangent
+//!    over `[tau_i, tau_l]`, and the path's positions at `tau_i` and
+//!    `tau_l` are at most `D = |q_l - q_i| + rho_i + rho_l` apart. Let `L`
+//!    be the path's length there and `K` its largest curvature. The turn
+//!    needs `K L >= alpha`. If `L <= pi / K`, Schur's comparison theorem
+//!    (a space curve of curvature at most `K` is no shorter in chord than
+//!    the circular arc of curvature `K` and the same length, while that
+//!    arc turns by at most `pi`; S. S. Chern, *Curves and surfaces in
+//!    Euclidean space*, MAA Studies in Mathematics 4, 1967) puts its ends
+//!    at least `(2 / K) sin(K L / 2) >= (2 / K) sin(alpha / 2)` apart, so
+//!    `K >= k_need = 2 sin(alpha / 2) / D`. Otherwise `L > pi / K`. With
+//!    least speed `c` in the window, the caps give `K <= K(c)` (step 7,
+//!    (v)); so where `K(c) < k_need` the window is at least `pi / K(c)`
+//!    long, and the zone is bounded as in step 5 with that length. Of the
+//!    quadruples within a few gates of the window, the one with the
+//!    largest `k_need` is used.
 //!
 //! # Where it is loose
-//! At a sharp turn the bound is about the rest-to-rest floor of step 6
-//! (a right angle between 50 mm legs: 0.541 s, where the widest turn
-//! inside the band plans in 0.931 s; test
+//! At a sharp turn, step 8 caps the slow point's speed through the
+//! gates nearest the vertex (the nearest straight gates stand a few
+//! tolerances from it, and their radii take some of the turn), and steps
+//! 4-5 let the acceleration jump from `+A` to `-A` at the top of a speed
+//! bump, where a jerk-limited profile needs `A / J` (0.2 s on the thesis
+//! machine) to turn it round. A right angle between 50 mm legs is bounded
+//! at 0.636 s, where the widest turn inside the band plans in 0.931 s and
+//! `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
-//! Capping the turn's speed is not what is missing: a sound cap (a path
-//! that crosses the turn's bisector farther from a point `p` inside the
-//! turn than it passes a gate on each side has a farthest point from `p`
-//! in between, where `|x - p|'' >= 0` fails unless its curvature is at
-//! least `1 / |x - p|`, so at the feed it must swing far out) was tried
-//! and changed neither bound of the right angle above nor of the
-//! reference programs (measurements: docs/tuning.md, "A cap on the turn's
-//! speed (not kept)"). Step 4's envelopes let the
-//! acceleration jump from `+A` to `-A` at the top of a speed bump and
-//! leave the slow point of a window at any acceleration, where a
-//! jerk-limited profile needs `A / J` (0.2 s on the thesis machine) to
-//! turn it round: slowing for a turn costs the envelopes almost nothing.
-//! Charging that needs the speed's local extrema (`a = 0` there, so
-//! `a^2 <= 2 J |v - v_extremum|` beside each) in place of `F` and `c`,
-//! run-wide, not zone by zone. At the slow point part of it holds
-//! already: every run starts and ends at rest with `a = 0`, so
-//! `a^2 - 2 J v` does not grow while `a > 0` and `|a| <= sqrt(2 J v)`
-//! along the whole run (by time reversal when braking). Envelopes from
-//! the slow point built with that cap changed no bound of the reference
-//! programs nor of the right angle (docs/tuning.md, "The acceleration cap
-//! at the slow point"): what lets the slow point stay fast is the turn,
-//! whose windows of a few short chords keep little of its angle once the
-//! gates' slack is taken off (0.21 rad of a right angle's 1.57).
+//! Charging the turn-round needs the speed's local extrema (`a = 0`
+//! there, so `a^2 <= 2 J |v - v_extremum|` beside each) in place of `F`
+//! and `c`, run-wide, not zone by zone. Steps 4 and 8 did not change
+//! the bound of `arc_parabolic.ngc` or `random_lines_0.001in.ngc`
+//! (docs/lower-bound.md), where `auto` writes 2.4-2.6 times it.
 //!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).
@@ -173,7 +177,7 @@ mod gates;
 mod samples;
 mod width;
 pub use gates::in_order_gates_of;
-use gates::{chain_length, gates, polyline};
+use gates::{chain_length, gates, polyline, Gate};
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
 /// Which paths the bound holds for.
@@ -274,9 +278,7 @@ pub enum BoundError {
 }
 
 /// Speed grid of an envelope table.
-const SPEED_NODES: usize = 96;
-/// Steps of the quadrature of a stretch's time.
-const TIME_STEPS: usize = 32;
+const SPEED_NODES: usize = 512;
 /// Cells of the grid over the least speed `c` of a window.
 const C_CELLS: usize = 24;
 /// Cells of the grid over the slow point's place in its window.
@@ -290,19 +292,36 @@ const MAX_SAMPLES: usize = 1 << 21;
 
 /// The fastest the speed can be at a distance from a point: from a speed
 /// `c`, or from rest with zero acceleration (module docs, step 4).
-/// `dist[i]` is a lower bound of the distance needed to reach `speed[i]`.
+///
+/// Between nodes `speed[i - 1]` and `speed[i]` the acceleration is taken
+/// at its largest there, `accel[i]` (the speed's square grows linearly
+/// with distance at that rate), so `dist[i]` is a lower bound of the
+/// distance needed to reach `speed[i]` and `time[i]` of the time: the
+/// envelope is the profile of a piecewise-constant acceleration above the
+/// true one, and its time over a distance, `dt = dv / a`, is exact for it.
 struct Envelope {
     speed: Vec<f64>,
+    accel: Vec<f64>,
     dist: Vec<f64>,
+    time: Vec<f64>,
+    feed: f64,
 }
 
 impl Envelope {
     fn new(c: f64, from_rest: bool, f: f64, acc: f64, jerk: f64) -> Envelope {
         let c = c.clamp(0.0, f);
-        let mut speed = Vec::with_capacity(SPEED_NODES + 1);
-        let mut dist = Vec::with_capacity(SPEED_NODES + 1);
-        speed.push(c);
-        dist.push(0.0);
+        let n = SPEED_NODES + 1;
+        let mut e = Envelope {
+            speed: Vec::with_capacity(n),
+            accel: Vec::with_capacity(n),
+            dist: Vec::with_capacity(n),
+            time: Vec::with_capacity(n),
+            feed: f,
+        };
+        e.speed.push(c);
+        e.accel.push(0.0);
+        e.dist.push(0.0);
+        e.time.push(0.0);
         let g = |v: f64| {
             let mut a = acc.min(math::sqrt(2.0 * jerk * (f - v).max(0.0)));
             if from_rest {
@@ -311,9 +330,10 @@ impl Envelope {
             a
         };
         for i in 1..=SPEED_NODES {
-            let u0 = *speed.last().unwrap_or(&c);
-            let u1 = c + (f - c) * (i as f64 / SPEED_NODES as f64);
-            // dx = v dv / a: at least u0 du / (largest g on [u0, u1]).
+            let u0 = e.speed[i - 1];
+            // Nodes dense near `c`, where the speed changes fastest.
+            let t = i as f64 / SPEED_NODES as f64;
+            let u1 = c + (f - c) * t * t;
             let gmax = if from_rest {
                 // g rises with v up to F / 2 and falls after: its largest
                 // value on [u0, u1] is at F / 2 clamped into it.
@@ -321,60 +341,165 @@ impl Envelope {
             } else {
                 g(u0)
             };
-            let dx = if gmax > 0.0 {
-                u0 * (u1 - u0) / gmax
+            // At constant acceleration: dx = (u1^2 - u0^2) / 2a, dt =
+            // (u1 - u0) / a.
+            let (dx, dt) = if gmax > 0.0 {
+                (0.5 * (u1 - u0) * (u1 + u0) / gmax, (u1 - u0) / gmax)
             } else {
-                f64::INFINITY
+                (f64::INFINITY, f64::INFINITY)
             };
-            speed.push(u1);
-            dist.push(dist[i - 1] + dx);
+            e.speed.push(u1);
+            e.accel.push(gmax);
+            e.dist.push(e.dist[i - 1] + dx);
+            e.time.push(e.time[i - 1] + dt);
         }
-        Envelope { speed, dist }
+        e
     }
 
-    /// An upper bound of the speed at distance `x`.
+    /// An upper bound of the speed at distance `x` (at most the feed).
     fn at(&self, x: f64) -> f64 {
-        // The first node whose distance exceeds x bounds the speed there.
         let i = self.dist.partition_point(|&d| d <= x);
         if i >= self.speed.len() {
-            *self.speed.last().unwrap_or(&0.0)
-        } else {
-            self.speed[i]
+            return self.feed;
         }
+        // On segment i: v^2 = u0^2 + 2 a (x - dist[i - 1]).
+        let (u0, a) = (self.speed[i - 1], self.accel[i]);
+        let v2 = u0 * u0 + 2.0 * a * (x - self.dist[i - 1]).max(0.0);
+        math::sqrt(v2).min(self.speed[i])
+    }
+
+    /// A lower bound of the time to travel `x` at speeds at most
+    /// [`Envelope::at`].
+    fn time_to(&self, x: f64) -> f64 {
+        if x <= 0.0 {
+            return 0.0;
+        }
+        let i = self.dist.partition_point(|&d| d <= x);
+        let last = self.speed.len() - 1;
+        if i > last {
+            return self.time[last] + (x - self.dist[last]) / self.feed;
+        }
+        let (u0, a) = (self.speed[i - 1], self.accel[i]);
+        if !(a > 0.0 && a.is_finite()) {
+            return f64::INFINITY;
+        }
+        let v = math::sqrt(u0 * u0 + 2.0 * a * (x - self.dist[i - 1]).max(0.0));
+        self.time[i - 1] + (v.min(self.speed[i]) - u0) / a
     }
 }
 
+/// Bisection steps for the meeting point of two envelopes.
+const MEET_STEPS: usize = 48;
+
 /// A lower bound of the time over `len` mm with the speed at distance `x`
 /// at most `start.at(x)` and `end.at(len - x)` (`None`: free, the feed).
+///
+/// For any split `x*`, the time is at least the start envelope's time
+/// over `[0, x*]` plus the end envelope's over `[x*, len]` (each bounds
+/// the speed everywhere); the split where they meet gives the largest.
 fn stretch_time(len: f64, f: f64, start: Option<&Envelope>, end: Option<&Envelope>) -> f64 {
     if len <= 0.0 {
         return 0.0;
     }
-    let at = |e: Option<&Envelope>, x: f64| e.map_or(f, |e| e.at(x)).min(f);
-    // Nodes dense near both ends, where the envelopes change fastest.
-    let node = |k: usize| {
-        let t = k as f64 / TIME_STEPS as f64;
-        let cube = |z: f64| z * z * z;
-        let u = if t < 0.5 {
-            0.5 * cube(2.0 * t)
+    let speed = |e: Option<&Envelope>, x: f64| e.map_or(f, |e| e.at(x)).min(f);
+    let time = |e: Option<&Envelope>, x: f64| e.map_or(x / f, |e| e.time_to(x));
+    // The meeting point: the start's speed rises with x, the end's falls.
+    let (mut lo, mut hi) = (0.0, len);
+    for _ in 0..MEET_STEPS {
+        let mid = 0.5 * (lo + hi);
+        if speed(start, mid) < speed(end, len - mid) {
+            lo = mid;
         } else {
-            1.0 - 0.5 * cube(2.0 - 2.0 * t)
-        };
-        len * u
-    };
-    let mut time = 0.0;
-    let mut x0 = 0.0;
-    for k in 1..=TIME_STEPS {
-        let x1 = if k == TIME_STEPS { len } else { node(k) };
-        let v = at(start, x1).min(at(end, len - x0));
-        time += if v > 0.0 {
-            (x1 - x0) / v
-        } else {
-            f64::INFINITY
-        };
-        x0 = x1;
+            hi = mid;
+        }
     }
-    time
+    let x = 0.5 * (lo + hi);
+    time(start, x) + time(end, len - x)
+}
+
+/// The least turn of the tangent of a band path between its mean
+/// directions over the gate pairs `first` and `second` (passed in this
+/// order; step 2): the chords' angle less each chord's slack
+/// `asin((rho_i + rho_j) / |q_j - q_i|)`. `None` where a chord is no
+/// longer than its gates' radii.
+fn turn_between(gates: &[Gate], first: (usize, usize), second: (usize, usize)) -> Option<f64> {
+    let chord = |(i, j): (usize, usize)| {
+        let d = gates[j].at - gates[i].at;
+        let (len, rad) = (d.norm(), gates[i].radius + gates[j].radius);
+        if len > rad {
+            Some((d.normalized(0.0)?, asin(rad / len)))
+        } else {
+            None
+        }
+    };
+    let (u1, s1) = chord(first)?;
+    let (u2, s2) = chord(second)?;
+    Some(u1.angle_to(u2) - s1 - s2)
+}
+
+/// A turn of step 8: gate pairs `first` and `second` passed in order, the
+/// least turn `alpha` of the tangent between their mean directions, and
+/// the curvature `k_need` the window from `first.0` to `second.1` reaches
+/// somewhere unless its length exceeds `pi / K` (`K` its largest
+/// curvature).
+#[derive(Clone, Copy, Debug)]
+struct TightTurn {
+    first: (usize, usize),
+    second: (usize, usize),
+    alpha: f64,
+    k_need: f64,
+}
+
+/// Gates searched on each side of a turn window for step 8, and the
+/// longest end chord, in gates.
+const SCHUR_SPREAD: usize = 4;
+
+/// The turn of step 8 with the largest `k_need` among gate quadruples
+/// `i < j <= k < l` within `SCHUR_SPREAD` gates of the turn window
+/// `window` (gate indices) and inside `zone`: a path that turns by `alpha`
+/// over an arc of length `L <= pi / K` with curvature at most `K` has its
+/// ends at least `(2 / K) sin(K L / 2) >= (2 / K) sin(alpha / 2)` apart
+/// (Schur's comparison theorem for space curves against a circular arc;
+/// S. S. Chern, *Curves and surfaces in Euclidean space*, 1967), and the
+/// ends of the window are at most `D = |q_l - q_i| + rho_i + rho_l` apart;
+/// so `K >= 2 sin(alpha / 2) / D` or `L > pi / K`.
+fn tightest_turn(
+    gates: &[Gate],
+    window: (usize, usize),
+    zone: (usize, usize),
+    opts: &BoundOptions,
+) -> Option<TightTurn> {
+    let lo = window.0.saturating_sub(SCHUR_SPREAD).max(zone.0);
+    let hi = (window.1 + SCHUR_SPREAD).min(zone.1);
+    let mut best: Option<TightTurn> = None;
+    for j in lo + 1..=hi {
+        for k in j..hi {
+            for i in j.saturating_sub(SCHUR_SPREAD).max(lo)..j {
+                for l in k + 1..=(k + SCHUR_SPREAD).min(hi) {
+                    let Some(alpha) = turn_between(gates, (i, j), (k, l)) else {
+                        continue;
+                    };
+                    if alpha < opts.min_turn {
+                        continue;
+                    }
+                    let d = gates[l].at.dist(gates[i].at) + gates[i].radius + gates[l].radius;
+                    if d <= 0.0 {
+                        continue;
+                    }
+                    let k_need = 2.0 * math::sin(0.5 * alpha.min(core::f64::consts::PI)) / d;
+                    if best.is_none_or(|b| k_need > b.k_need) {
+                        best = Some(TightTurn {
+                            first: (i, j),
+                            second: (k, l),
+                            alpha,
+                            k_need,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    best
 }
 
 /// `asin(x)` for `x` in `[0, 1]`.
@@ -486,8 +611,9 @@ pub fn lower_bound_time(
             .collect();
         let envs: Vec<Envelope> = cs
             .iter()
-            .map(|&c| Envelope::new(c, false, f, m.acc, m.jerk))
+            .map(|&c| Envelope::new(c, true, f, m.acc, m.jerk))
             .collect();
+        let jerk = m.jerk_on_curves.then_some(m.jerk);
         // Zone boundaries: the chord index where each zone starts.
         let mut zone_start = 0;
         for (w, &(a, b, alpha)) in windows.iter().enumerate() {
@@ -500,8 +626,16 @@ pub fn lower_bound_time(
             let right = chord_sum(b + 1, zone_end);
             let start_env = (zone_start == 0).then_some(&rest);
             let end_env = (zone_end == chords.len()).then_some(&rest);
-            let zone_time = |win: f64, cap: &dyn Fn(f64) -> f64| {
-                let p_time = |k: usize| {
+            // The zone's time with the turn `alpha` in a window of length
+            // `win` between `left` and `right` (steps 3-5), and the width
+            // cap of step 7 (`cap`, 0 for none).
+            let zone_time = |left: f64,
+                             win: f64,
+                             right: f64,
+                             alpha: f64,
+                             cap: &dyn Fn(f64) -> f64,
+                             k_need: f64| {
+                let p_time = |k: usize, win: f64| {
                     let env = &envs[k];
                     (0..P_CELLS)
                         .map(|pc| {
@@ -512,18 +646,40 @@ pub fn lower_bound_time(
                         })
                         .fold(f64::INFINITY, f64::min)
                 };
-                let rot = |c: f64| {
+                let rot = |c: f64, win: f64| {
                     let mut per = c / m.normal_acc;
                     if m.jerk_on_curves {
                         per = per.max(math::sqrt(c / m.jerk));
                     }
-                    (alpha * per).max(cap(c)) + (left + right) / f
+                    (alpha * per).max(cap(c)).max(win / f) + (left + right) / f
                 };
                 (0..C_CELLS)
-                    .map(|k| p_time(k + 1).max(rot(cs[k])))
+                    .map(|k| {
+                        // Step 8: a window whose every speed is at least
+                        // `cs[k]` has curvature at most `kc`; below
+                        // `k_need` it is longer than `pi / kc`.
+                        let kc = curvature_cap(cs[k], m.normal_acc, jerk);
+                        let win = if kc < k_need {
+                            win.max(core::f64::consts::PI / kc)
+                        } else {
+                            win
+                        };
+                        p_time(k + 1, win).max(rot(cs[k], win))
+                    })
                     .fold(f64::INFINITY, f64::min)
             };
-            let mut zone = zone_time(win, &|_| 0.0);
+            let mut zone = zone_time(left, win, right, alpha, &|_| 0.0, 0.0);
+            // Step 8: the tightest turn near the window (Schur's
+            // comparison), a window of its own in the zone.
+            if let Some(t) = tightest_turn(&gates, (a, b + 1), (zone_start, zone_end), opts) {
+                let (left, win, right) = (
+                    chord_sum(zone_start, t.first.0),
+                    chord_sum(t.first.0, t.second.1),
+                    chord_sum(t.second.1, zone_end),
+                );
+                let zt = zone_time(left, win, right, t.alpha, &|_| 0.0, t.k_need);
+                zone = zone.max(zt);
+            }
             // Step 7: the band's width at the turn, in a ball of each
             // radius; outside the ball the window is long (case A).
             let (qa, qb) = (gates[a], gates[b + 1]);
@@ -569,7 +725,6 @@ pub fn lower_bound_time(
                     if rises.is_empty() {
                         continue;
                     }
-                    let jerk = m.jerk_on_curves.then_some(m.jerk);
                     let cap = |c: f64| {
                         let k = curvature_cap(c, m.normal_acc, jerk);
                         rises
@@ -577,9 +732,9 @@ pub fn lower_bound_time(
                             .map(|&(g, rest)| rise_time(g, f, k) + rest / f)
                             .fold(0.0, f64::max)
                     };
-                    let inside = zone_time(win, &cap);
+                    let inside = zone_time(left, win, right, alpha, &cap, 0.0);
                     let long = 2.0 * rb - qa.at.dist(mid) - qb.at.dist(mid) - qa.radius - qb.radius;
-                    let outside = zone_time(win.max(long), &|_| 0.0);
+                    let outside = zone_time(left, win.max(long), right, alpha, &|_| 0.0, 0.0);
                     zone = zone.max(inside.min(outside));
                 }
             }
@@ -622,4 +777,51 @@ pub fn program_lower_bound(
         }
     }
     Ok(total)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The thesis machine's feed, acceleration and jerk.
+    const F: f64 = 400.0;
+    const A: f64 = 4000.0;
+    const J: f64 = 20000.0;
+
+    #[test]
+    fn rest_to_rest_stretch_time_is_the_jerk_limited_rise_within_three_percent() {
+        // Below F / 2 and A, the envelopes from rest are the profile of
+        // jerk J from rest (a = sqrt(2 J v)), meeting in the middle: each
+        // half takes (6 (L / 2) / J)^(1/3).
+        let rest = Envelope::new(0.0, true, F, A, J);
+        for len in [0.5, 2.0, 8.0] {
+            let exact = 2.0 * math::cbrt(3.0 * len / J);
+            assert!(exact * J * exact / 8.0 < 0.5 * F, "{len}: rises past F / 2");
+            let t = stretch_time(len, F, Some(&rest), Some(&rest));
+            assert!(t <= exact * (1.0 + 1e-12), "{len}: {t} above {exact}");
+            assert!(t >= 0.97 * exact, "{len}: {t} loose against {exact}");
+        }
+    }
+
+    #[test]
+    fn an_envelope_is_above_every_constant_jerk_rise() {
+        // From speed c with zero acceleration, jerk J until F / 2: the
+        // speed at each distance stays below the envelope, and the time to
+        // each distance above the envelope's.
+        for c in [0.0, 5.0, 50.0] {
+            let env = Envelope::new(c, false, F, A, J);
+            let from_rest = Envelope::new(c, true, F, A, J);
+            for k in 1..200 {
+                let t = k as f64 * 1e-3;
+                let (v, x) = (c + 0.5 * J * t * t, c * t + J * t * t * t / 6.0);
+                if v > 0.5 * F || J * t > A {
+                    break;
+                }
+                for e in [&env, &from_rest] {
+                    assert!(e.at(x) >= v * (1.0 - 1e-12), "c {c}, t {t}");
+                    assert!(e.time_to(x) <= t * (1.0 + 1e-12), "c {c}, t {t}");
+                }
+            }
+        }
+    }
 }
