@@ -62,12 +62,30 @@
 //!    `a <= sqrt(2 J v)` (and the same towards the end at rest). With
 //!    `|a| <= A`, `d v / d x = a / v <= g(v) / v`: the speed at distance `x`
 //!    from a point of speed `<= c` is at most the solution of that
-//!    equation (tabulated conservatively, `Envelope`).
+//!    equation (tabulated conservatively, `Envelope`: between speed nodes
+//!    the acceleration is taken at its largest there, and the time along
+//!    that profile, `dv / a` per node, is exact for it). Both caps from
+//!    rest hold along the whole run (`Rise::RunWide`). From a point `P`
+//!    of speed `c` where the acceleration away from it is at most 0, `a <=
+//!    J t` after it, so the speed is at most that of the profile that
+//!    rises at jerk `J` from `c`, where `a^2 = 2 J (v - c)`
+//!    (`Rise::Valley`; by comparison of the solutions of `dv/dt <=
+//!    min(J t, A, sqrt(2 J (F - v)))`); its time to a distance is the
+//!    least of any such start, a lower start speed only taking longer.
+//!    A stretch's time under two envelopes, one from each end, is at
+//!    least the first's time up to any split point plus the second's
+//!    after it; the split where they meet gives the most.
 //! 5. **Zones.** Turns with disjoint windows split the run at gates between
 //!    them into zones, whose times add up. In a zone with a turn, let `c`
-//!    be the least speed in its window. Its time is at least the time over
-//!    its length under the envelopes from its ends (free: `F`; run ends:
-//!    from rest) and from a point of speed `c` somewhere in the window, and
+//!    be the least speed in its window, at a point `P`. Inside the window
+//!    `a(P) = 0` (a minimum of a smooth speed), so both sides of `P` are
+//!    valleys; at the window's start the speed does not fall after `P`
+//!    (`a(P) >= 0`: a valley before it), at its end it does not rise
+//!    before it (a valley after it); the other side has the run-wide
+//!    caps. The zone's time is at least the time over its length under
+//!    the envelopes from its ends (free: `F`; run ends: from rest) and
+//!    from `P`, the least over these places of `P` (inside the window a
+//!    grid of cells, each bounded by its ends plus its width at `F`), and
 //!    at least the rotation time plus the rest of its length at `F`. The
 //!    bound takes the least over `c` (a grid, each cell bounded by its
 //!    ends, both terms being monotone in `c`). Longer stretches never take
@@ -148,16 +166,17 @@
 //! # Where it is loose
 //! At a sharp turn, step 8 caps the slow point's speed through the
 //! gates nearest the vertex (the nearest straight gates stand a few
-//! tolerances from it, and their radii take some of the turn), and steps
+//! tolerances from it, and their radii take some of the turn: a right
+//! angle's slow point is capped near 29 mm/s on the thesis machine, where
+//! the widest circular turn inside the band allows 13 mm/s), and steps
 //! 4-5 let the acceleration jump from `+A` to `-A` at the top of a speed
 //! bump, where a jerk-limited profile needs `A / J` (0.2 s on the thesis
 //! machine) to turn it round. A right angle between 50 mm legs is bounded
-//! at 0.636 s, where the widest turn inside the band plans in 0.931 s and
+//! at 0.693 s, where the widest turn inside the band plans in 0.931 s and
 //! `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
-//! Charging the turn-round needs the speed's local extrema (`a = 0`
-//! there, so `a^2 <= 2 J |v - v_extremum|` beside each) in place of `F`
-//! and `c`, run-wide, not zone by zone. Steps 4 and 8 did not change
+//! Charging that needs the speed's local maxima (`a = 0` there) in place
+//! of `F`, run-wide, not zone by zone. Steps 4, 5 and 8 did not change
 //! the bound of `arc_parabolic.ngc` or `random_lines_0.001in.ngc`
 //! (docs/lower-bound.md), where `auto` writes 2.4-2.6 times it.
 //!
@@ -290,6 +309,19 @@ const ROUNDING: f64 = 1e-12;
 /// runs are sampled more coarsely, the step added to each distance).
 const MAX_SAMPLES: usize = 1 << 21;
 
+/// How the speed may rise from an envelope's start point (module docs,
+/// step 4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Rise {
+    /// The caps of every point of a run: `|a| <= A`, `a^2 <= 2 J (F - v)`
+    /// and, every run starting and ending at rest, `a^2 <= 2 J v`.
+    RunWide,
+    /// From a point where the acceleration away from it is at most 0 (a
+    /// speed minimum of a window, step 5): `a <= J t` after it, so along
+    /// the fastest profile `a^2 <= 2 J (v - c)` besides the run-wide caps.
+    Valley,
+}
+
 /// The fastest the speed can be at a distance from a point: from a speed
 /// `c`, or from rest with zero acceleration (module docs, step 4).
 ///
@@ -308,7 +340,7 @@ struct Envelope {
 }
 
 impl Envelope {
-    fn new(c: f64, from_rest: bool, f: f64, acc: f64, jerk: f64) -> Envelope {
+    fn new(c: f64, rise: Rise, f: f64, acc: f64, jerk: f64) -> Envelope {
         let c = c.clamp(0.0, f);
         let n = SPEED_NODES + 1;
         let mut e = Envelope {
@@ -322,25 +354,23 @@ impl Envelope {
         e.accel.push(0.0);
         e.dist.push(0.0);
         e.time.push(0.0);
+        // The rising cap: from rest, or from the valley's speed `c`.
+        let floor = match rise {
+            Rise::RunWide => 0.0,
+            Rise::Valley => c,
+        };
         let g = |v: f64| {
-            let mut a = acc.min(math::sqrt(2.0 * jerk * (f - v).max(0.0)));
-            if from_rest {
-                a = a.min(math::sqrt(2.0 * jerk * v));
-            }
-            a
+            acc.min(math::sqrt(2.0 * jerk * (f - v).max(0.0)))
+                .min(math::sqrt(2.0 * jerk * (v - floor).max(0.0)))
         };
         for i in 1..=SPEED_NODES {
             let u0 = e.speed[i - 1];
             // Nodes dense near `c`, where the speed changes fastest.
             let t = i as f64 / SPEED_NODES as f64;
             let u1 = c + (f - c) * t * t;
-            let gmax = if from_rest {
-                // g rises with v up to F / 2 and falls after: its largest
-                // value on [u0, u1] is at F / 2 clamped into it.
-                g((0.5 * f).clamp(u0, u1))
-            } else {
-                g(u0)
-            };
+            // g rises with v up to (F + floor) / 2 and falls after: its
+            // largest value on [u0, u1] is there, clamped into it.
+            let gmax = g((0.5 * (f + floor)).clamp(u0, u1));
             // At constant acceleration: dx = (u1^2 - u0^2) / 2a, dt =
             // (u1 - u0) / a.
             let (dx, dt) = if gmax > 0.0 {
@@ -601,7 +631,7 @@ pub fn lower_bound_time(
     // the gates' radii only where the chain turns.
     let chord_sum = |a: usize, b: usize| chain_length(&gates, a, b, opts.max_chain);
     let length = chord_sum(0, chords.len());
-    let rest = Envelope::new(0.0, true, f, m.acc, m.jerk);
+    let rest = Envelope::new(0.0, Rise::RunWide, f, m.acc, m.jerk);
     let mut time = 0.0;
     if windows.is_empty() {
         time = stretch_time(length, f, Some(&rest), Some(&rest));
@@ -611,7 +641,11 @@ pub fn lower_bound_time(
             .collect();
         let envs: Vec<Envelope> = cs
             .iter()
-            .map(|&c| Envelope::new(c, true, f, m.acc, m.jerk))
+            .map(|&c| Envelope::new(c, Rise::RunWide, f, m.acc, m.jerk))
+            .collect();
+        let valleys: Vec<Envelope> = cs
+            .iter()
+            .map(|&c| Envelope::new(c, Rise::Valley, f, m.acc, m.jerk))
             .collect();
         let jerk = m.jerk_on_curves.then_some(m.jerk);
         // Zone boundaries: the chord index where each zone starts.
@@ -636,15 +670,37 @@ pub fn lower_bound_time(
                              cap: &dyn Fn(f64) -> f64,
                              k_need: f64| {
                 let p_time = |k: usize, win: f64| {
-                    let env = &envs[k];
-                    (0..P_CELLS)
-                        .map(|pc| {
-                            let y0 = win * pc as f64 / P_CELLS as f64;
-                            let y1 = win * (pc + 1) as f64 / P_CELLS as f64;
-                            stretch_time(left + y0, f, start_env, Some(env))
-                                + stretch_time(right + win - y1, f, Some(env), end_env)
-                        })
-                        .fold(f64::INFINITY, f64::min)
+                    let (wide, valley) = (&envs[k], &valleys[k]);
+                    let total = left + win + right;
+                    // The slow point `P` (least speed of the window) with
+                    // the envelope `before` towards the zone's start and
+                    // `after` towards its end, somewhere in a span `span`
+                    // long after `lead` of the zone: each cell of places
+                    // bounded by its ends, the zone being at least its
+                    // cell's width longer than that.
+                    let slow_in = |lead: f64,
+                                   span: f64,
+                                   cells: usize,
+                                   before: &Envelope,
+                                   after: &Envelope| {
+                        (0..cells)
+                            .map(|pc| {
+                                let y0 = lead + span * pc as f64 / cells as f64;
+                                let y1 = lead + span * (pc + 1) as f64 / cells as f64;
+                                stretch_time(y0, f, start_env, Some(before))
+                                    + stretch_time(total - y1, f, Some(after), end_env)
+                                    + (y1 - y0) / f
+                            })
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    // Inside the window the speed's minimum has a = 0.
+                    let inside = slow_in(left, win, P_CELLS, valley, valley);
+                    // At the window's start the speed falls into `P` from
+                    // before it (a valley that way); at its end it rises
+                    // out of `P` after it.
+                    let at_start = slow_in(left, 0.0, 1, valley, wide);
+                    let at_end = slow_in(left + win, 0.0, 1, wide, valley);
+                    inside.min(at_start).min(at_end)
                 };
                 let rot = |c: f64, win: f64| {
                     let mut per = c / m.normal_acc;
@@ -793,7 +849,7 @@ mod tests {
         // Below F / 2 and A, the envelopes from rest are the profile of
         // jerk J from rest (a = sqrt(2 J v)), meeting in the middle: each
         // half takes (6 (L / 2) / J)^(1/3).
-        let rest = Envelope::new(0.0, true, F, A, J);
+        let rest = Envelope::new(0.0, Rise::RunWide, F, A, J);
         for len in [0.5, 2.0, 8.0] {
             let exact = 2.0 * math::cbrt(3.0 * len / J);
             assert!(exact * J * exact / 8.0 < 0.5 * F, "{len}: rises past F / 2");
@@ -809,8 +865,8 @@ mod tests {
         // speed at each distance stays below the envelope, and the time to
         // each distance above the envelope's.
         for c in [0.0, 5.0, 50.0] {
-            let env = Envelope::new(c, false, F, A, J);
-            let from_rest = Envelope::new(c, true, F, A, J);
+            let env = Envelope::new(c, Rise::Valley, F, A, J);
+            let from_rest = Envelope::new(c, Rise::RunWide, F, A, J);
             for k in 1..200 {
                 let t = k as f64 * 1e-3;
                 let (v, x) = (c + 0.5 * J * t * t, c * t + J * t * t * t / 6.0);
