@@ -52,7 +52,7 @@ fn a_right_angle_and_a_step_over_raise_the_bound_above_the_straight_one() {
     let straight = polyline_run(&[v(0.0, 0.0, 0.0), v(100.0, 0.0, 0.0)]);
     let corner = polyline_run(&[v(0.0, 0.0, 0.0), v(50.0, 0.0, 0.0), v(50.0, 50.0, 0.0)]);
     // The corner's slow point is capped by the tightest turn (step 8 of
-    // the module docs) and is a valley of the speed (step 5): 0.693 s for
+    // the module docs) and is a valley of the speed (step 5): 0.720 s for
     // the corner (planned 0.891 s), where the straight run's rest-to-rest
     // floor is 0.5418 s; before steps 5 and 8 and the envelopes' exact
     // times the corner was bounded at 0.5413 s.
@@ -186,7 +186,7 @@ fn the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound() {
     // outer edges has radius 2 e / (1 - 1 / sqrt 2) = 0.341 mm at 0.05 mm:
     // no circular turn inside the band is wider, and the band path planned
     // here is as fast as a turn of that shape gets (0.931 s). The bound of
-    // the sharp corner (0.693 s, both kinds) must stay below it. (The
+    // the sharp corner (0.720 s; 0.753 s in order) must stay below it. (The
     // envelopes let the acceleration reverse at once at the top of a
     // speed bump, so the bound does not charge all that slowing for the
     // turn costs; the module docs of `feed::lower_bound`.)

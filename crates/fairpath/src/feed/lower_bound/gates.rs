@@ -15,6 +15,25 @@ use alloc::vec::Vec;
 pub(super) struct Gate {
     pub(super) at: Vec3,
     pub(super) radius: f64,
+    /// Arc length of the gate's point along the run's polyline.
+    pub(super) along: f64,
+}
+
+/// Where the run comes back within `2e` of itself farther than the reach
+/// along it (step 1's bridges): `(starts, reach)` sorted by start, `reach`
+/// a running maximum.
+pub(super) struct Bridges {
+    starts: Vec<f64>,
+    reach: Vec<f64>,
+}
+
+impl Bridges {
+    /// Whether a bridge spans arc length `x`: two points `s1 <= x <= s2`
+    /// farther apart along the run than the reach come within `2e`.
+    pub(super) fn spans(&self, x: f64) -> bool {
+        let i = self.starts.partition_point(|&st| st <= x);
+        i > 0 && self.reach[i - 1] >= x
+    }
 }
 
 /// The polyline of a run within `chord` of it, with arc lengths.
@@ -54,7 +73,7 @@ pub(super) fn point_at(pts: &[Vec3], s: &[f64], x: f64) -> Vec3 {
 /// For each arc length, the farthest arc length a bridge starting at or
 /// before it reaches (module docs, step 1): `(starts, reach)` sorted by
 /// start, `reach` a running maximum.
-fn bridges(pts: &[Vec3], s: &[f64], e: f64, r: f64) -> (Vec<f64>, Vec<f64>) {
+fn bridges(pts: &[Vec3], s: &[f64], e: f64, r: f64) -> Bridges {
     let total = *s.last().unwrap_or(&0.0);
     let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
     let reach_d = 2.0 * e + step;
@@ -74,17 +93,24 @@ fn bridges(pts: &[Vec3], s: &[f64], e: f64, r: f64) -> (Vec<f64>, Vec<f64>) {
         run = run.max(*v);
         *v = run;
     }
-    (starts, reach)
+    Bridges { starts, reach }
 }
 
-/// The gates of a run (module docs, step 1), run ends included.
-pub(super) fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Gate> {
+/// The gates of a run (module docs, step 1), run ends included, and the
+/// run's bridges (`None` for [`BandPaths::InOrder`], which needs none).
+pub(super) fn gates(
+    pts: &[Vec3],
+    s: &[f64],
+    e: f64,
+    o: &BoundOptions,
+) -> (Vec<Gate>, Option<Bridges>) {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
     let r = o.reach * tol;
     let mut out = alloc::vec![Gate {
         at: pts[0],
-        radius: 0.0
+        radius: 0.0,
+        along: 0.0,
     }];
     let spacing = o.gate_spacing * tol;
     if o.paths == BandPaths::InOrder {
@@ -92,17 +118,14 @@ pub(super) fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Ga
         out.push(Gate {
             at: *pts.last().unwrap_or(&pts[0]),
             radius: 0.0,
+            along: total,
         });
-        return out;
+        return (out, None);
     }
-    let (starts, reach) = bridges(pts, s, e, r);
+    let bridges = bridges(pts, s, e, r);
     let mut x = r.max(spacing);
     while x < total - r {
-        let bridged = {
-            let i = starts.partition_point(|&st| st <= x);
-            i > 0 && reach[i - 1] >= x
-        };
-        if !bridged {
+        if !bridges.spans(x) {
             if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
                 out.push(g);
             }
@@ -112,8 +135,9 @@ pub(super) fn gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<Ga
     out.push(Gate {
         at: *pts.last().unwrap_or(&pts[0]),
         radius: 0.0,
+        along: total,
     });
-    out
+    (out, Some(bridges))
 }
 
 /// The inner gates of [`BandPaths::InOrder`] on the polyline `pts` (arc
@@ -175,6 +199,7 @@ fn straight_gate(pts: &[Vec3], s: &[f64], x: f64, r: f64, e: f64, max_delta: f64
     (delta <= max_delta).then_some(Gate {
         at: q,
         radius: e + delta,
+        along: x,
     })
 }
 

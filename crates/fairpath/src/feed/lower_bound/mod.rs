@@ -82,9 +82,14 @@
 //!    valleys; at the window's start the speed does not fall after `P`
 //!    (`a(P) >= 0`: a valley before it), at its end it does not rise
 //!    before it (a valley after it); the other side has the run-wide
-//!    caps. The zone's time is at least the time over its length under
-//!    the envelopes from its ends (free: `F`; run ends: from rest) and
-//!    from `P`, the least over these places of `P` (inside the window a
+//!    caps. At the window's end the speed goes on falling after `P` to
+//!    the next zero `m` of the acceleration; for a distance `d`, either
+//!    `m` lies within `d` after `P` (a valley both ways at `m`, of speed
+//!    at most `c`), or the speed stays at most `c` for `d` after `P` and
+//!    is still falling there (a valley after that point); mirrored at the
+//!    window's start. The zone's time is at least the time over its
+//!    length under the envelopes from its ends (free: `F`; run ends: from
+//!    rest) and from these slow points, the least over their places (a
 //!    grid of cells, each bounded by its ends plus its width at `F`), and
 //!    at least the rotation time plus the rest of its length at `F`. The
 //!    bound takes the least over `c` (a grid, each cell bounded by its
@@ -162,23 +167,52 @@
 //!    long, and the zone is bounded as in step 5 with that length. Of the
 //!    quadruples within a few gates of the window, the one with the
 //!    largest `k_need` is used.
+//! 9. **The corner's walls** (`walls.rs`). At the vertex `V = c(x)` of
+//!    the window where the run turns most, with legs `u1` in and `u2`
+//!    out, take the walls `n1` (outer normal of the first leg, away from
+//!    the second), `n2` (of the second leg, away from the first) and
+//!    `+-b` (`b = u1 x u2`, across the turn's plane). In a ball `B` of
+//!    radius `R` around `V` every band point has `n . y <= H_n + e` (`H_n`
+//!    the highest polyline point within `R + e`, as in step 7). The path
+//!    passes `x` at a point `p` within `e` of `c(x1)` and `c(x2)`, `x - r
+//!    <= x1 <= x <= x2 <= x + r` (step 1; `p` within `e` of `V` for paths
+//!    in order), so `w_n = e - (n . p - H_n) <= 2e + H_n - m_n` with `m_n`
+//!    the larger of the least `n . c` over `[x - r, x]` and over `[x, x +
+//!    r]`. If the path's curvature is at most `kappa` within arc length
+//!    `S = pi / (2 kappa)` of `p`, and that arc stays in `B` (`S + e + r <=
+//!    R`, the run's ends outside `B`), step 7 (ii) holds at `p` for each
+//!    wall both ways along the path (the tangent's angle `beta` to the
+//!    wall's plane falls at most at rate `kappa`, so the path rises
+//!    `(1 - cos beta) / kappa` towards the wall within arc length `beta /
+//!    kappa`): `(n . T)^2 <= 2 kappa w_n`. Averaged over the three walls,
+//!    `kappa >= lambda_min(sum n n^T / w_n) / 6 = K_wall`. So for every
+//!    `kappa < K_wall` whose `S` fits, the curvature exceeds `kappa`
+//!    within `S` of `p`, where the speed is then below that of `kappa`
+//!    under the caps: the least speed of a window holding every path
+//!    point within `S + e + r` of `V` is at most the speed of `K_wall`
+//!    (a right angle's: `1 / (12 e)`, about 21 mm/s on the thesis machine
+//!    at 0.05 mm). The zone is bounded as in step 5 with that window and
+//!    its least speed so capped.
 //!
 //! # Where it is loose
-//! At a sharp turn, step 8 caps the slow point's speed through the
-//! gates nearest the vertex (the nearest straight gates stand a few
-//! tolerances from it, and their radii take some of the turn: a right
-//! angle's slow point is capped near 29 mm/s on the thesis machine, where
-//! the widest circular turn inside the band allows 13 mm/s), and steps
-//! 4-5 let the acceleration jump from `+A` to `-A` at the top of a speed
-//! bump, where a jerk-limited profile needs `A / J` (0.2 s on the thesis
-//! machine) to turn it round. A right angle between 50 mm legs is bounded
-//! at 0.693 s, where the widest turn inside the band plans in 0.931 s and
-//! `auto` writes 0.870 s (test
+//! At a sharp turn, step 8 caps the slow point's speed through the gates
+//! nearest the vertex (the nearest straight gates stand a few tolerances
+//! from it, and their radii take some of the turn): a right angle's slow
+//! point near 29 mm/s on the thesis machine at 0.05 mm. Step 9's walls
+//! cap it near 21 mm/s for paths in order, but only somewhere within a
+//! millimetre of the vertex. The widest circular turn inside the band
+//! allows 13 mm/s. Steps 4-5 let the acceleration jump from `+A` to `-A`
+//! at the top of a speed bump, where a jerk-limited profile needs `A /
+//! J` (0.2 s on the thesis machine) to turn it round; charging that needs
+//! the speed's local maxima (`a = 0` there) in place of `F`, run-wide, not
+//! zone by zone. A right angle between 50 mm legs is bounded at 0.720 s
+//! (0.753 s for paths in order), where the widest turn inside the band
+//! plans in 0.931 s and `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
-//! Charging that needs the speed's local maxima (`a = 0` there) in place
-//! of `F`, run-wide, not zone by zone. Steps 4, 5 and 8 did not change
-//! the bound of `arc_parabolic.ngc` or `random_lines_0.001in.ngc`
-//! (docs/lower-bound.md), where `auto` writes 2.4-2.6 times it.
+//! On gentle curves (`arc_parabolic.ngc`: arcs of 5 mm radius turning 30
+//! degrees) and on noise (`random_lines_0.001in.ngc`) no window turns by
+//! much more than its gates' slack, and `auto` writes 2.3-2.6 times the
+//! bound (docs/lower-bound.md).
 //!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).
@@ -194,9 +228,11 @@ use alloc::vec::Vec;
 
 mod gates;
 mod samples;
+mod walls;
 mod width;
 pub use gates::in_order_gates_of;
 use gates::{chain_length, gates, polyline, Gate};
+use walls::Corner;
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
 /// Which paths the bound holds for.
@@ -245,6 +281,9 @@ pub struct BoundOptions {
     pub max_chain: usize,
     /// Radii of the balls of the width argument (step 7), in tolerances.
     pub ball_radii: [f64; 2],
+    /// Radii of the balls of the walls argument (step 9), in tolerances;
+    /// at most the largest of `ball_radii`.
+    pub wall_radii: [f64; 4],
 }
 
 impl BoundOptions {
@@ -261,6 +300,7 @@ impl BoundOptions {
             max_window: 6,
             max_chain: 48,
             ball_radii: [20.0, 100.0],
+            wall_radii: [20.0, 30.0, 45.0, 70.0],
         }
     }
 }
@@ -302,6 +342,9 @@ const SPEED_NODES: usize = 512;
 const C_CELLS: usize = 24;
 /// Cells of the grid over the slow point's place in its window.
 const P_CELLS: usize = 4;
+/// Shares of a zone's side beyond its window over which step 5 splits
+/// where the speed stops falling after the window's slowest point.
+const SPLIT_SHARES: [f64; 2] = [0.25, 1.0];
 /// Relative rounding of the double-S time of step 6: its peak speed is
 /// found by bisection to the last bit, the time a few ulps from exact.
 const ROUNDING: f64 = 1e-12;
@@ -532,6 +575,21 @@ fn tightest_turn(
     best
 }
 
+/// The polyline vertex strictly between arc lengths `lo` and `hi` where
+/// the run turns the most (its arc length), or `None`.
+fn sharpest_vertex(pts: &[Vec3], s: &[f64], lo: f64, hi: f64) -> Option<f64> {
+    let a = s.partition_point(|&v| v <= lo).max(1);
+    let b = s.partition_point(|&v| v < hi).min(pts.len() - 1);
+    let mut best: Option<(f64, f64)> = None;
+    for i in a..b {
+        let turn = (pts[i] - pts[i - 1]).angle_to(pts[i + 1] - pts[i]);
+        if best.is_none_or(|(t, _)| turn > t) {
+            best = Some((turn, s[i]));
+        }
+    }
+    best.map(|(_, x)| x)
+}
+
 /// `asin(x)` for `x` in `[0, 1]`.
 fn asin(x: f64) -> f64 {
     math::atan2(x, math::sqrt((1.0 - x * x).max(0.0)))
@@ -575,11 +633,12 @@ pub fn lower_bound_time(
     if pts.len() < 2 {
         return Ok(LowerBound::default());
     }
-    let gates = gates(&pts, &s, e, opts);
+    let (gates, bridges) = gates(&pts, &s, e, opts);
+    // The largest ball of steps 7 and 9.
+    let rmax = opts.ball_radii.iter().fold(0.0f64, |a, &b| a.max(b)) * tol;
     let heights = {
         let total = *s.last().unwrap_or(&0.0);
         let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
-        let rmax = opts.ball_radii.iter().fold(0.0f64, |a, &b| a.max(b)) * tol;
         Heights::new(&pts, &s, step, rmax + e + step)
     };
     // Chords between consecutive gates: length lower bound, direction,
@@ -648,6 +707,32 @@ pub fn lower_bound_time(
             .map(|&c| Envelope::new(c, Rise::Valley, f, m.acc, m.jerk))
             .collect();
         let jerk = m.jerk_on_curves.then_some(m.jerk);
+        let corner = Corner {
+            pts: &pts,
+            s: &s,
+            e,
+            reach: match opts.paths {
+                BandPaths::Any => opts.reach * tol,
+                BandPaths::InOrder => 0.0,
+            },
+            bridges: bridges.as_ref(),
+            heights: &heights,
+        };
+        let wall_radii: Vec<f64> = opts
+            .wall_radii
+            .iter()
+            .map(|&rb| rb * tol)
+            .filter(|&rb| rb <= rmax)
+            .collect();
+        // The fastest a curvature can be run: `k v^2 <= A_n`, and with the
+        // jerk cap `k^2 v^3 <= J`.
+        let speed_of = |k: f64| {
+            let mut v = math::sqrt(m.normal_acc / k);
+            if m.jerk_on_curves {
+                v = v.min(math::cbrt(m.jerk / (k * k)));
+            }
+            v
+        };
         // Zone boundaries: the chord index where each zone starts.
         let mut zone_start = 0;
         for (w, &(a, b, alpha)) in windows.iter().enumerate() {
@@ -668,9 +753,12 @@ pub fn lower_bound_time(
                              right: f64,
                              alpha: f64,
                              cap: &dyn Fn(f64) -> f64,
-                             k_need: f64| {
+                             k_need: f64,
+                             c_max: f64| {
                 let p_time = |k: usize, win: f64| {
                     let (wide, valley) = (&envs[k], &valleys[k]);
+                    // `k` is the upper end of the cell of `c`.
+                    let c_hi = cs[k];
                     let total = left + win + right;
                     // The slow point `P` (least speed of the window) with
                     // the envelope `before` towards the zone's start and
@@ -695,11 +783,37 @@ pub fn lower_bound_time(
                     };
                     // Inside the window the speed's minimum has a = 0.
                     let inside = slow_in(left, win, P_CELLS, valley, valley);
-                    // At the window's start the speed falls into `P` from
-                    // before it (a valley that way); at its end it rises
-                    // out of `P` after it.
-                    let at_start = slow_in(left, 0.0, 1, valley, wide);
-                    let at_end = slow_in(left + win, 0.0, 1, wide, valley);
+                    // At the window's end the speed does not rise at `P`
+                    // (a valley after it, the run-wide caps before it);
+                    // it goes on falling to the next zero `m` of the
+                    // acceleration. For a distance `d`: either `m` is
+                    // within `d` after `P` (a valley both ways there), or
+                    // the speed is at most `c` for `d` after `P` and still
+                    // falling there (a valley after that point). The same
+                    // mirrored at the window's start.
+                    let below_c = |len: f64| {
+                        if c_hi > 0.0 {
+                            len / c_hi
+                        } else {
+                            f64::INFINITY
+                        }
+                    };
+                    let mut at_end = slow_in(left + win, 0.0, 1, wide, valley);
+                    let mut at_start = slow_in(left, 0.0, 1, valley, wide);
+                    for share in SPLIT_SHARES {
+                        let d = right * share;
+                        let near = slow_in(left + win, d, 2, valley, valley);
+                        let far = stretch_time(left + win, f, start_env, Some(wide))
+                            + below_c(d)
+                            + stretch_time(right - d, f, Some(valley), end_env);
+                        at_end = at_end.max(near.min(far));
+                        let d = left * share;
+                        let near = slow_in(left - d, d, 2, valley, valley);
+                        let far = stretch_time(left - d, f, start_env, Some(valley))
+                            + below_c(d)
+                            + stretch_time(win + right, f, Some(wide), end_env);
+                        at_start = at_start.max(near.min(far));
+                    }
                     inside.min(at_start).min(at_end)
                 };
                 let rot = |c: f64, win: f64| {
@@ -711,6 +825,11 @@ pub fn lower_bound_time(
                 };
                 (0..C_CELLS)
                     .map(|k| {
+                        // Step 9: the window's least speed is at most
+                        // `c_max`.
+                        if cs[k] >= c_max {
+                            return f64::INFINITY;
+                        }
                         // Step 8: a window whose every speed is at least
                         // `cs[k]` has curvature at most `kc`; below
                         // `k_need` it is longer than `pi / kc`.
@@ -724,7 +843,7 @@ pub fn lower_bound_time(
                     })
                     .fold(f64::INFINITY, f64::min)
             };
-            let mut zone = zone_time(left, win, right, alpha, &|_| 0.0, 0.0);
+            let mut zone = zone_time(left, win, right, alpha, &|_| 0.0, 0.0, f64::INFINITY);
             // Step 8: the tightest turn near the window (Schur's
             // comparison), a window of its own in the zone.
             if let Some(t) = tightest_turn(&gates, (a, b + 1), (zone_start, zone_end), opts) {
@@ -733,8 +852,40 @@ pub fn lower_bound_time(
                     chord_sum(t.first.0, t.second.1),
                     chord_sum(t.second.1, zone_end),
                 );
-                let zt = zone_time(left, win, right, t.alpha, &|_| 0.0, t.k_need);
-                zone = zone.max(zt);
+                zone = zone.max(zone_time(
+                    left,
+                    win,
+                    right,
+                    t.alpha,
+                    &|_| 0.0,
+                    t.k_need,
+                    f64::INFINITY,
+                ));
+            }
+            // Step 9: the corner's walls cap the speed near its sharpest
+            // vertex, in a window of gates beyond the cap's ball.
+            if let Some(w) = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along)
+                .and_then(|x| corner.cap(x, &wall_radii, speed_of))
+            {
+                let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
+                let i = (zone_start..=a).rev().find(|&g| clear(g));
+                let l = (b + 1..=zone_end).find(|&g| clear(g));
+                if let (Some(i), Some(l)) = (i, l) {
+                    let alpha = if l > i + 1 {
+                        turn_between(&gates, (i, i + 1), (l - 1, l)).unwrap_or(0.0)
+                    } else {
+                        0.0
+                    };
+                    zone = zone.max(zone_time(
+                        chord_sum(zone_start, i),
+                        chord_sum(i, l),
+                        chord_sum(l, zone_end),
+                        alpha.max(0.0),
+                        &|_| 0.0,
+                        0.0,
+                        w.speed,
+                    ));
+                }
             }
             // Step 7: the band's width at the turn, in a ball of each
             // radius; outside the ball the window is long (case A).
@@ -788,9 +939,17 @@ pub fn lower_bound_time(
                             .map(|&(g, rest)| rise_time(g, f, k) + rest / f)
                             .fold(0.0, f64::max)
                     };
-                    let inside = zone_time(left, win, right, alpha, &cap, 0.0);
+                    let inside = zone_time(left, win, right, alpha, &cap, 0.0, f64::INFINITY);
                     let long = 2.0 * rb - qa.at.dist(mid) - qb.at.dist(mid) - qa.radius - qb.radius;
-                    let outside = zone_time(left, win.max(long), right, alpha, &|_| 0.0, 0.0);
+                    let outside = zone_time(
+                        left,
+                        win.max(long),
+                        right,
+                        alpha,
+                        &|_| 0.0,
+                        0.0,
+                        f64::INFINITY,
+                    );
                     zone = zone.max(inside.min(outside));
                 }
             }

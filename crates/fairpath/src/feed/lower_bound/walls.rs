@@ -1,0 +1,195 @@
+//! The walls of a corner (module docs of [`super`], step 9): where the
+//! band is bounded on the outer sides of both legs and across the turn's
+//! plane, a path that passes the corner must turn there, and its speed
+//! somewhere near it is capped.
+
+use super::gates::{point_at, Bridges};
+use super::width::Heights;
+use crate::geom::Vec3;
+use crate::math;
+
+/// A speed every band path falls below near a corner: at most `speed`
+/// somewhere within distance `reach` of the corner's vertex `at` (within
+/// arc length `pi / (2 K)` of where the path passes it, `K` the walls'
+/// least curvature, which is within `e + r` of the vertex).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct WallCap {
+    pub(super) at: Vec3,
+    pub(super) speed: f64,
+    pub(super) reach: f64,
+}
+
+/// The polyline's run and the band's constants the walls are built from.
+pub(super) struct Corner<'a> {
+    pub(super) pts: &'a [Vec3],
+    pub(super) s: &'a [f64],
+    /// The band's half-width `e` (tolerance plus flattening chord).
+    pub(super) e: f64,
+    /// Step 1's reach `r`: where the path passes a point `c(x)` of the run
+    /// it is within `e` of a point of `c([x - r, x])` and of one of
+    /// `c([x, x + r])` (`0`: within `e` of `c(x)`, paths in order).
+    pub(super) reach: f64,
+    /// Bridges of the run (`None`: paths in order, which need none).
+    pub(super) bridges: Option<&'a Bridges>,
+    pub(super) heights: &'a Heights,
+}
+
+/// The least of `n . c(y)` over the polyline between arc lengths `lo` and
+/// `hi` (a linear function's least on a polyline is at a vertex or an
+/// end).
+fn least_along(pts: &[Vec3], s: &[f64], lo: f64, hi: f64, n: Vec3) -> f64 {
+    let mut least = n.dot(point_at(pts, s, lo)).min(n.dot(point_at(pts, s, hi)));
+    let a = s.partition_point(|&v| v < lo);
+    let b = s.partition_point(|&v| v <= hi);
+    for p in &pts[a..b.max(a)] {
+        least = least.min(n.dot(*p));
+    }
+    least
+}
+
+/// The least eigenvalue of `sum n_i n_i^T / w_i` over the two unit
+/// vectors `n1`, `n2` (a 2x2 problem in their plane).
+fn least_eigen_pair(n1: Vec3, w1: f64, n2: Vec3, w2: f64) -> f64 {
+    let tr = 1.0 / w1 + 1.0 / w2;
+    let sin2 = n1.cross(n2).norm_sq();
+    let det = sin2 / (w1 * w2);
+    0.5 * (tr - math::sqrt((tr * tr - 4.0 * det).max(0.0)))
+}
+
+impl Corner<'_> {
+    /// The cap of step 9 at the polyline's point of arc length `x` (a
+    /// vertex where the run turns), for balls of radius `radii` (mm)
+    /// around it: the largest of the speeds it proves, or `None`. `speed_of`
+    /// gives the largest speed at which a curvature can be run.
+    pub(super) fn cap(
+        &self,
+        x: f64,
+        radii: &[f64],
+        speed_of: impl Fn(f64) -> f64,
+    ) -> Option<WallCap> {
+        let (pts, s, e, r) = (self.pts, self.s, self.e, self.reach);
+        let total = *s.last()?;
+        if x - r <= 0.0 || x + r >= total {
+            return None;
+        }
+        if self.bridges.is_some_and(|b| b.spans(x)) {
+            return None;
+        }
+        let v = point_at(pts, s, x);
+        // The legs' directions within the reach, or a polyline step.
+        let back = point_at(pts, s, (x - r.max(e)).max(0.0));
+        let ahead = point_at(pts, s, (x + r.max(e)).min(total));
+        let u1 = (v - back).normalized(e * 1e-6)?;
+        let u2 = (ahead - v).normalized(e * 1e-6)?;
+        let cos = u1.dot(u2);
+        // Outer normals of the legs (away from the other leg) and the
+        // turn's plane normal.
+        let n1 = (u1 * cos - u2).normalized(1e-9)?;
+        let n2 = (u1 - u2 * cos).normalized(1e-9)?;
+        let b = u1.cross(u2).normalized(1e-9)?;
+        let (start, end) = (pts[0], *pts.last()?);
+        let mut best: Option<WallCap> = None;
+        for &rb in radii {
+            // Run ends farther than the ball: the path goes on for at
+            // least `rb - (e + r)` either side of where it passes `x`.
+            if start.dist(v) < rb || end.dist(v) < rb {
+                continue;
+            }
+            // w = e - (n . p - H) at the path's point p passing x: that
+            // point is within e of c(x1) and of c(x2), x - r <= x1 <= x
+            // <= x2 <= x + r.
+            let w = |n: Vec3| {
+                let top = self.heights.top(v, rb + e, n);
+                let m = least_along(pts, s, x - r, x, n).max(least_along(pts, s, x, x + r, n));
+                2.0 * e + top - m
+            };
+            let (w1, w2) = (w(n1), w(n2));
+            let wb = w(b).min(w(-b));
+            if !(w1 > 0.0 && w2 > 0.0 && wb > 0.0) {
+                continue;
+            }
+            // K >= max_i (n_i . T)^2 / (2 w_i) >= lambda_min(sum n_i n_i^T
+            // / (6 w_i)) over the three walls.
+            let k_wall = (least_eigen_pair(n1, w1, n2, w2).min(1.0 / wb)) / 6.0;
+            // For every kappa < k_wall whose quarter turn pi / (2 kappa)
+            // fits in the ball's room, the curvature exceeds kappa within
+            // that arc length of the passing point: its speed is below
+            // the speed of kappa, so at most that of k_wall.
+            let room = rb - e - r;
+            if !(room > 0.0 && k_wall.is_finite() && k_wall > core::f64::consts::PI / (2.0 * room))
+            {
+                continue;
+            }
+            let speed = speed_of(k_wall);
+            if best.is_none_or(|c| speed < c.speed) {
+                best = Some(WallCap {
+                    at: v,
+                    speed,
+                    reach: core::f64::consts::PI / (2.0 * k_wall) + e + r,
+                });
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_least_eigenvalue_of_two_walls_is_the_weaker_when_square_and_zero_when_parallel() {
+        let (x, y) = (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        let l = least_eigen_pair(x, 0.1, y, 0.2);
+        assert!((l - 5.0).abs() < 1e-12, "{l}");
+        assert!(least_eigen_pair(x, 0.1, x, 0.1).abs() < 1e-12);
+        // At 60 degrees, equal weights: eigenvalues (1 +- cos 60) / w.
+        let n = Vec3::new(0.5, 0.75f64.sqrt(), 0.0);
+        let l = least_eigen_pair(x, 0.1, n, 0.1);
+        assert!((l - 5.0).abs() < 1e-9, "{l}");
+    }
+
+    /// The right angle (0,0) -> (10,0) -> (10,10) in the plane z = 0.
+    fn right_angle() -> (alloc::vec::Vec<Vec3>, alloc::vec::Vec<f64>) {
+        let pts = alloc::vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(10.0, 10.0, 0.0),
+        ];
+        (pts, alloc::vec![0.0, 10.0, 20.0])
+    }
+
+    #[test]
+    fn a_right_angle_caps_the_speed_by_a_twelfth_of_the_band() {
+        // Every wall is 2e from where a path in order passes the vertex
+        // (plus half the heights' sampling step): K >= 1 / (6 w).
+        let (pts, s) = right_angle();
+        let e = 0.05;
+        let step = 0.5 * e;
+        let heights = Heights::new(&pts, &s, step, 5.0 + e + step);
+        let corner = Corner {
+            pts: &pts,
+            s: &s,
+            e,
+            reach: 0.0,
+            bridges: None,
+            heights: &heights,
+        };
+        let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
+        let cap = corner.cap(10.0, &[1.0, 1.5, 3.0], speed_of).expect("a cap");
+        let k = 1.0 / (6.0 * (2.0 * e + 0.5 * step));
+        // The 2x2 eigenvalue loses some digits to its square root.
+        assert!(
+            (cap.speed - speed_of(k)).abs() < 1e-6 * cap.speed,
+            "{cap:?}"
+        );
+        assert!(cap.at.dist(Vec3::new(10.0, 0.0, 0.0)) < 1e-12);
+        // The arc length within which the speed falls below the cap, plus
+        // the path's distance from the vertex.
+        let reach = core::f64::consts::PI / (2.0 * k) + e;
+        assert!((cap.reach - reach).abs() < 1e-6, "{cap:?}");
+        // Straight on, no cap; a ball too small for the quarter turn, none.
+        assert!(corner.cap(5.0, &[1.0, 1.5, 3.0], speed_of).is_none());
+        assert!(corner.cap(10.0, &[0.5], speed_of).is_none());
+    }
+}
