@@ -453,10 +453,17 @@ impl Envelope {
             return self.time[last] + (x - self.dist[last]) / self.feed;
         }
         let (u0, a) = (self.speed[i - 1], self.accel[i]);
+        let dx = (x - self.dist[i - 1]).max(0.0);
         if !(a > 0.0 && a.is_finite()) {
-            return f64::INFINITY;
+            // No acceleration left (an envelope from the feed itself):
+            // the speed stays at `u0`.
+            return if u0 > 0.0 {
+                self.time[i - 1] + dx / u0
+            } else {
+                f64::INFINITY
+            };
         }
-        let v = math::sqrt(u0 * u0 + 2.0 * a * (x - self.dist[i - 1]).max(0.0));
+        let v = math::sqrt(u0 * u0 + 2.0 * a * dx);
         self.time[i - 1] + (v.min(self.speed[i]) - u0) / a
     }
 }
@@ -1015,6 +1022,20 @@ mod tests {
             let t = stretch_time(len, F, Some(&rest), Some(&rest));
             assert!(t <= exact * (1.0 + 1e-12), "{len}: {t} above {exact}");
             assert!(t >= 0.97 * exact, "{len}: {t} loose against {exact}");
+        }
+    }
+
+    #[test]
+    fn an_envelope_from_the_feed_runs_at_the_feed() {
+        // Regression: an envelope whose start speed is the feed has no
+        // acceleration left; its time to a distance was infinite, which
+        // made a window's top cell of least speeds look impossible.
+        for rise in [Rise::RunWide, Rise::Valley] {
+            let env = Envelope::new(F, rise, F, A, J);
+            assert!((env.time_to(10.0) - 10.0 / F).abs() < 1e-12);
+            assert_eq!(env.at(10.0), F);
+            let t = stretch_time(10.0, F, Some(&env), None);
+            assert!((t - 10.0 / F).abs() < 1e-12, "{t}");
         }
     }
 
