@@ -422,7 +422,7 @@ fn wide_arcs_run_near_the_feed_stay_above_their_bound() {
         let n = (2.0 * degrees) as usize;
         let pts: Vec<Vec3> = (0..=n)
             .map(|k| {
-                let a = (degrees as f64).to_radians() * k as f64 / n as f64;
+                let a = f64::to_radians(degrees) * k as f64 / n as f64;
                 v(radius * a.sin(), radius * (1.0 - a.cos()), 0.0)
             })
             .collect();
