@@ -834,7 +834,7 @@ pub fn lower_bound_time(
                     .map(|k| {
                         // Step 9: the window's least speed is at most
                         // `c_max`.
-                        if cs[k] >= c_max {
+                        if cs[k] > c_max {
                             return f64::INFINITY;
                         }
                         // Step 8: a window whose every speed is at least
