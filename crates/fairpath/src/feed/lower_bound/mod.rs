@@ -282,7 +282,9 @@ pub struct BoundOptions {
     /// Radii of the balls of the width argument (step 7), in tolerances.
     pub ball_radii: [f64; 2],
     /// Radii of the balls of the walls argument (step 9), in tolerances;
-    /// at most the largest of `ball_radii`.
+    /// at most the largest of `ball_radii`. Wide enough for a quarter turn
+    /// at the walls' curvature, narrow enough to miss the rest of the run
+    /// (measurements: docs/tuning.md, `BoundOptions::wall_radii`).
     pub wall_radii: [f64; 4],
 }
 
@@ -336,14 +338,17 @@ pub enum BoundError {
     Feed(#[from] FeedError),
 }
 
-/// Speed grid of an envelope table.
+/// Speed grid of an envelope table: the rise from rest comes within a few
+/// percent of exact (measurements: docs/tuning.md, `Envelope`,
+/// `SPEED_NODES`).
 const SPEED_NODES: usize = 512;
 /// Cells of the grid over the least speed `c` of a window.
 const C_CELLS: usize = 24;
 /// Cells of the grid over the slow point's place in its window.
 const P_CELLS: usize = 4;
 /// Shares of a zone's side beyond its window over which step 5 splits
-/// where the speed stops falling after the window's slowest point.
+/// where the speed stops falling after the window's slowest point
+/// (measurements: docs/tuning.md, `Rise::Valley` and `SPLIT_SHARES`).
 const SPLIT_SHARES: [f64; 2] = [0.25, 1.0];
 /// Relative rounding of the double-S time of step 6: its peak speed is
 /// found by bisection to the last bit, the time a few ulps from exact.
@@ -531,7 +536,8 @@ struct TightTurn {
 }
 
 /// Gates searched on each side of a turn window for step 8, and the
-/// longest end chord, in gates.
+/// longest end chord, in gates (measurements: docs/tuning.md,
+/// `SCHUR_SPREAD`).
 const SCHUR_SPREAD: usize = 4;
 
 /// The turn of step 8 with the largest `k_need` among gate quadruples
