@@ -59,7 +59,7 @@ fn least_eigen_pair(n1: Vec3, w1: f64, n2: Vec3, w2: f64) -> f64 {
 impl Corner<'_> {
     /// The cap of step 9 at the polyline's point of arc length `x` (a
     /// vertex where the run turns), for balls of radius `radii` (mm)
-    /// around it: the largest of the speeds it proves, or `None`. `speed_of`
+    /// around it: the lowest of the speeds it proves, or `None`. `speed_of`
     /// gives the largest speed at which a curvature can be run.
     pub(super) fn cap(
         &self,
