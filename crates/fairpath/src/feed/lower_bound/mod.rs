@@ -173,7 +173,12 @@
 //!    the second), `n2` (of the second leg, away from the first) and
 //!    `+-b` (`b = u1 x u2`, across the turn's plane). In a ball `B` of
 //!    radius `R` around `V` every band point has `n . y <= H_n + e` (`H_n`
-//!    the highest polyline point within `R + e`, as in step 7). The path
+//!    the highest polyline point within `R + e`, as in step 7; for paths
+//!    in order, of the run's stretch through `V` up to where it first
+//!    leaves that ball: the path's points in `B` around where it passes
+//!    `V` are matched to a connected stretch of the run through `V`
+//!    within `R + e` of it, so a raster's neighbouring pass does not
+//!    count). The path
 //!    passes `x` at a point `p` within `e` of `c(x1)` and `c(x2)`, `x - r
 //!    <= x1 <= x <= x2 <= x + r` (step 1; `p` within `e` of `V` for paths
 //!    in order), so `w_n = e - (n . p - H_n) <= 2e + H_n - m_n` with `m_n`
@@ -193,6 +198,41 @@
 //!    (a right angle's: `1 / (12 e)`, about 21 mm/s on the thesis machine
 //!    at 0.05 mm). The zone is bounded as in step 5 with that window and
 //!    its least speed so capped.
+//! 10. **The chain of slow points** (`chain.rs`). Steps 4-5 bound each
+//!    zone on its own, with the speed free at zone boundaries, and let the
+//!    acceleration jump from `+A` to `-A` at the top of a speed bump. The
+//!    chain bounds the whole run at once. Take disjoint windows of gates,
+//!    each holding a point `y_i` of speed at most a cap: step 9's walls
+//!    (the nearest gates clear of the cap's reach), and for paths in
+//!    order step 8's turns with both cases closed: a path in order stays
+//!    within `e` of the run between the window's end gates, a set of
+//!    diameter at most `Delta` (their arc length plus `2e`), and an arc
+//!    of curvature at most `K` and length `pi / K` has its ends `2 / K`
+//!    apart (Schur), so the long case has `K >= 2 / Delta` and the window
+//!    holds curvature `min(k_need, 2 / Delta)`. The `y_i` are passed in
+//!    order; the run's time is the sum over the links between them (the
+//!    run's ends, at rest, included). In a link whose fastest point is
+//!    inside, the acceleration is 0 there, so over the `t1` seconds
+//!    before it the acceleration is at most `min(a0 + J s, J (t1 - s),
+//!    A)` (`s` from the link's start, `a0` its acceleration there), and
+//!    mirrored after it: the link covers at most the integral of the
+//!    speed under both rises and the peak, and its time is at least the
+//!    least `t1 + t2` that covers the link's length (branch and bound
+//!    over cells of `(t1, t2)`, the distance growing with both). A
+//!    fastest point at an end keeps the speed under that end's cap. At
+//!    each `y_i` the acceleration is `>= 0` or `<= 0`; the side it does
+//!    not fall into is a valley (`a0 = 0`), the other has `|a0| <=
+//!    sqrt(2 J cap)` (the speed changed by `a0^2 / (2 J)` within `|a0| /
+//!    J` of it and stays at least 0). Each `y_i` lies in one of a few
+//!    parts of its window (cut at gates), which bounds the links'
+//!    lengths from below; the bound is the least over parts and signs at
+//!    every point (a dynamic programme along the chain). Any choice of
+//!    windows bounds the run, but a point whose cap is high adds little
+//!    and cuts the link it sits in (the speed there is only known to be
+//!    under the cap), so two choices are tried: the walls' windows alone,
+//!    and the walls' with step 8's windows of caps below a quarter of the
+//!    feed, picked greedily by how fast a window's slow point could rise
+//!    over half its length.
 //!
 //! # Where it is loose
 //! At a sharp turn, step 8 caps the slow point's speed through the gates
@@ -201,12 +241,12 @@
 //! point near 29 mm/s on the thesis machine at 0.05 mm. Step 9's walls
 //! cap it near 21 mm/s for paths in order, but only somewhere within a
 //! millimetre of the vertex. The widest circular turn inside the band
-//! allows 13 mm/s. Steps 4-5 let the acceleration jump from `+A` to `-A`
-//! at the top of a speed bump, where a jerk-limited profile needs `A /
-//! J` (0.2 s on the thesis machine) to turn it round; charging that needs
-//! the speed's local maxima (`a = 0` there) in place of `F`, run-wide, not
-//! zone by zone. A right angle between 50 mm legs is bounded at 0.720 s
-//! (0.753 s for paths in order), where the widest turn inside the band
+//! allows 13 mm/s. For paths in order, step 10 charges the climb to each
+//! peak and back with the jerk-limited turn-round; for any path (where a
+//! corner sharper than a right angle holds a bridge, and step 9 gives no
+//! cap), steps 4-5 still let the acceleration reverse at once at the top
+//! of a speed bump. A right angle between 50 mm legs is bounded at 0.720
+//! s (0.801 s for paths in order), where the widest turn inside the band
 //! plans in 0.931 s and `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
 //! On gentle curves (`arc_parabolic.ngc`: arcs of 5 mm radius turning 30
@@ -226,10 +266,12 @@ use crate::math;
 use crate::path::Piece;
 use alloc::vec::Vec;
 
+mod chain;
 mod gates;
 mod samples;
 mod walls;
 mod width;
+use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, Tangential};
 pub use gates::in_order_gates_of;
 use gates::{chain_length, gates, polyline, Gate};
 use walls::Corner;
@@ -749,6 +791,8 @@ pub fn lower_bound_time(
             }
             v
         };
+        // Step 10's slow windows, from step 9's caps.
+        let mut slow: Vec<SlowWindow> = Vec::new();
         // Zone boundaries: the chord index where each zone starts.
         let mut zone_start = 0;
         for (w, &(a, b, alpha)) in windows.iter().enumerate() {
@@ -770,6 +814,7 @@ pub fn lower_bound_time(
                              alpha: f64,
                              cap: &dyn Fn(f64) -> f64,
                              k_need: f64,
+                             k_long: f64,
                              c_max: f64| {
                 let p_time = |k: usize, win: f64| {
                     let (wide, valley) = (&envs[k], &valleys[k]);
@@ -848,9 +893,13 @@ pub fn lower_bound_time(
                         }
                         // Step 8: a window whose every speed is at least
                         // `cs[k]` has curvature at most `kc`; below
-                        // `k_need` it is longer than `pi / kc`.
+                        // `k_need` it is longer than `pi / kc`, which
+                        // for paths in order takes `kc >= k_long`.
                         let kc = curvature_cap(cs[k], m.normal_acc, jerk);
                         let win = if kc < k_need {
+                            if kc < k_long {
+                                return f64::INFINITY;
+                            }
                             win.max(core::f64::consts::PI / kc)
                         } else {
                             win
@@ -859,7 +908,7 @@ pub fn lower_bound_time(
                     })
                     .fold(f64::INFINITY, f64::min)
             };
-            let mut zone = zone_time(left, win, right, alpha, &|_| 0.0, 0.0, f64::INFINITY);
+            let mut zone = zone_time(left, win, right, alpha, &|_| 0.0, 0.0, 0.0, f64::INFINITY);
             // Step 8: the tightest turn near the window (Schur's
             // comparison), a window of its own in the zone.
             if let Some(t) = tightest_turn(&gates, (a, b + 1), (zone_start, zone_end), opts) {
@@ -868,6 +917,17 @@ pub fn lower_bound_time(
                     chord_sum(t.first.0, t.second.1),
                     chord_sum(t.second.1, zone_end),
                 );
+                // Paths in order stay within `e` of the run between the
+                // window's end gates, a set of diameter at most `Delta`;
+                // an arc of curvature at most `K` and length `pi / K`
+                // has its ends `2 / K` apart, so a long window has `K >=
+                // 2 / Delta`.
+                let k_long = match opts.paths {
+                    BandPaths::InOrder => {
+                        2.0 / (gates[t.second.1].along - gates[t.first.0].along + 2.0 * e)
+                    }
+                    BandPaths::Any => 0.0,
+                };
                 zone = zone.max(zone_time(
                     left,
                     win,
@@ -875,14 +935,29 @@ pub fn lower_bound_time(
                     t.alpha,
                     &|_| 0.0,
                     t.k_need,
+                    k_long,
                     f64::INFINITY,
                 ));
             }
             // Step 9: the corner's walls cap the speed near its sharpest
             // vertex, in a window of gates beyond the cap's ball.
-            if let Some(w) = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along)
-                .and_then(|x| corner.cap(x, &wall_radii, speed_of))
-            {
+            let wall = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along)
+                .and_then(|x| corner.cap(x, &wall_radii, speed_of));
+            if let Some(w) = wall {
+                // Step 10's slow window: the nearest gates clear of the
+                // cap's reach, anywhere along the run.
+                let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
+                let i = (0..=a).rev().find(|&g| clear(g));
+                let l = (b + 1..gates.len()).find(|&g| clear(g));
+                if let (Some(first), Some(last)) = (i, l) {
+                    slow.push(SlowWindow {
+                        first,
+                        last,
+                        cap: w.speed,
+                    });
+                }
+            }
+            if let Some(w) = wall {
                 let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
                 let i = (zone_start..=a).rev().find(|&g| clear(g));
                 let l = (b + 1..=zone_end).find(|&g| clear(g));
@@ -898,6 +973,7 @@ pub fn lower_bound_time(
                         chord_sum(l, zone_end),
                         alpha.max(0.0),
                         &|_| 0.0,
+                        0.0,
                         0.0,
                         w.speed,
                     ));
@@ -955,7 +1031,7 @@ pub fn lower_bound_time(
                             .map(|&(g, rest)| rise_time(g, f, k) + rest / f)
                             .fold(0.0, f64::max)
                     };
-                    let inside = zone_time(left, win, right, alpha, &cap, 0.0, f64::INFINITY);
+                    let inside = zone_time(left, win, right, alpha, &cap, 0.0, 0.0, f64::INFINITY);
                     let long = 2.0 * rb - qa.at.dist(mid) - qb.at.dist(mid) - qa.radius - qb.radius;
                     let outside = zone_time(
                         left,
@@ -964,6 +1040,7 @@ pub fn lower_bound_time(
                         alpha,
                         &|_| 0.0,
                         0.0,
+                        0.0,
                         f64::INFINITY,
                     );
                     zone = zone.max(inside.min(outside));
@@ -971,6 +1048,22 @@ pub fn lower_bound_time(
             }
             time += zone;
             zone_start = zone_end;
+        }
+        // Step 10: the chain of slow points over the whole run.
+        let lim = Tangential {
+            feed: f,
+            acc: m.acc,
+            jerk: m.jerk,
+        };
+        // Any choice of slow windows bounds the run; a slow point with a
+        // high cap may weaken the chain (the speed there is only known
+        // to be under it), so the walls' alone are tried too.
+        let along = |a: usize, b: usize| gates[b].along - gates[a].along;
+        time = time.max(chain_time(slow.clone(), chords.len(), chord_sum, lim));
+        if opts.paths == BandPaths::InOrder {
+            slow.extend(schur_windows(&gates, e, opts.min_turn, speed_of, f));
+            let slow = pick_disjoint(slow, along, m.jerk);
+            time = time.max(chain_time(slow, chords.len(), chord_sum, lim));
         }
     }
     // Step 6: the rest-to-rest double-S over the run's length.

@@ -47,6 +47,51 @@ fn least_along(pts: &[Vec3], s: &[f64], lo: f64, hi: f64, n: Vec3) -> f64 {
     least
 }
 
+/// The highest `n . c` over the stretch of the run through arc length
+/// `x` that stays within `radius` of `c(x)` (to where it first leaves
+/// that ball either way): where a path in order can be matched while it
+/// stays in the ball around where it passes `c(x)`. Its matched stretch
+/// of the run is connected, holds `x` and stays within the ball, so the
+/// run's other passes through the ball (a raster's neighbouring pass)
+/// do not count.
+fn top_connected(pts: &[Vec3], s: &[f64], x: f64, radius: f64, n: Vec3) -> f64 {
+    let v = point_at(pts, s, x);
+    // Where the segment from `a` (inside) to `b` (outside) leaves the
+    // ball.
+    let exit = |a: Vec3, b: Vec3| {
+        let (d, w) = (b - a, a - v);
+        let (dd, wd) = (d.dot(d), w.dot(d));
+        let t = if dd > 0.0 {
+            let disc = (wd * wd - dd * (w.dot(w) - radius * radius)).max(0.0);
+            ((-wd + math::sqrt(disc)) / dd).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        a + d * t
+    };
+    let mut top = n.dot(v);
+    let i = s.partition_point(|&u| u <= x);
+    let mut prev = v;
+    for &p in &pts[i.min(pts.len())..] {
+        if p.dist(v) > radius {
+            top = top.max(n.dot(exit(prev, p)));
+            break;
+        }
+        top = top.max(n.dot(p));
+        prev = p;
+    }
+    prev = v;
+    for &p in pts[..i.min(pts.len())].iter().rev() {
+        if p.dist(v) > radius {
+            top = top.max(n.dot(exit(prev, p)));
+            break;
+        }
+        top = top.max(n.dot(p));
+        prev = p;
+    }
+    top
+}
+
 /// The least eigenvalue of `sum n_i n_i^T / w_i` over the two unit
 /// vectors `n1`, `n2` (a 2x2 problem in their plane).
 fn least_eigen_pair(n1: Vec3, w1: f64, n2: Vec3, w2: f64) -> f64 {
@@ -99,7 +144,10 @@ impl Corner<'_> {
             // point is within e of c(x1) and of c(x2), x - r <= x1 <= x
             // <= x2 <= x + r.
             let w = |n: Vec3| {
-                let top = self.heights.top(v, rb + e, n);
+                let top = match self.bridges {
+                    Some(_) => self.heights.top(v, rb + e, n),
+                    None => top_connected(pts, s, x, rb + e, n),
+                };
                 let m = least_along(pts, s, x - r, x, n).max(least_along(pts, s, x, x + r, n));
                 2.0 * e + top - m
             };
@@ -162,7 +210,8 @@ mod tests {
     #[test]
     fn a_right_angle_caps_the_speed_by_a_twelfth_of_the_band() {
         // Every wall is 2e from where a path in order passes the vertex
-        // (plus half the heights' sampling step): K >= 1 / (6 w).
+        // (the run's own stretch through the ball, exact): K >= 1 / (6
+        // w).
         let (pts, s) = right_angle();
         let e = 0.05;
         let step = 0.5 * e;
@@ -177,7 +226,7 @@ mod tests {
         };
         let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
         let cap = corner.cap(10.0, &[1.0, 1.5, 3.0], speed_of).expect("a cap");
-        let k = 1.0 / (6.0 * (2.0 * e + 0.5 * step));
+        let k = 1.0 / (6.0 * (2.0 * e));
         // The 2x2 eigenvalue loses some digits to its square root.
         assert!(
             (cap.speed - speed_of(k)).abs() < 1e-6 * cap.speed,
@@ -191,5 +240,27 @@ mod tests {
         // Straight on, no cap; a ball too small for the quarter turn, none.
         assert!(corner.cap(5.0, &[1.0, 1.5, 3.0], speed_of).is_none());
         assert!(corner.cap(10.0, &[0.5], speed_of).is_none());
+    }
+
+    #[test]
+    fn a_neighbouring_pass_does_not_raise_the_walls_of_paths_in_order() {
+        // A raster: along y = 0, a step-over, back along y = 1. Around
+        // (5, 0) the ball of radius 1.5 holds the return pass, 1 above;
+        // a path in order there is matched to the first pass only.
+        let pts = alloc::vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(10.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let s = alloc::vec![0.0, 10.0, 11.0, 21.0];
+        let up = Vec3::new(0.0, 1.0, 0.0);
+        assert_eq!(top_connected(&pts, &s, 5.0, 1.5, up), 0.0);
+        let heights = Heights::new(&pts, &s, 0.025, 2.0);
+        let all = heights.top(Vec3::new(5.0, 0.0, 0.0), 1.5, up);
+        assert!(all >= 1.0, "{all}");
+        // The stretch leaves the ball along the pass: its ends there.
+        let along = Vec3::new(1.0, 0.0, 0.0);
+        assert!((top_connected(&pts, &s, 5.0, 1.5, along) - 6.5).abs() < 1e-12);
     }
 }
