@@ -199,40 +199,40 @@
 //!    at 0.05 mm). The zone is bounded as in step 5 with that window and
 //!    its least speed so capped.
 //! 10. **The chain of slow points** (`chain.rs`). Steps 4-5 bound each
-//!    zone on its own, with the speed free at zone boundaries, and let the
-//!    acceleration jump from `+A` to `-A` at the top of a speed bump. The
-//!    chain bounds the whole run at once. Take disjoint windows of gates,
-//!    each holding a point `y_i` of speed at most a cap: step 9's walls
-//!    (the nearest gates clear of the cap's reach), and for paths in
-//!    order step 8's turns with both cases closed: a path in order stays
-//!    within `e` of the run between the window's end gates, a set of
-//!    diameter at most `Delta` (their arc length plus `2e`), and an arc
-//!    of curvature at most `K` and length `pi / K` has its ends `2 / K`
-//!    apart (Schur), so the long case has `K >= 2 / Delta` and the window
-//!    holds curvature `min(k_need, 2 / Delta)`. The `y_i` are passed in
-//!    order; the run's time is the sum over the links between them (the
-//!    run's ends, at rest, included). In a link whose fastest point is
-//!    inside, the acceleration is 0 there, so over the `t1` seconds
-//!    before it the acceleration is at most `min(a0 + J s, J (t1 - s),
-//!    A)` (`s` from the link's start, `a0` its acceleration there), and
-//!    mirrored after it: the link covers at most the integral of the
-//!    speed under both rises and the peak, and its time is at least the
-//!    least `t1 + t2` that covers the link's length (branch and bound
-//!    over cells of `(t1, t2)`, the distance growing with both). A
-//!    fastest point at an end keeps the speed under that end's cap. At
-//!    each `y_i` the acceleration is `>= 0` or `<= 0`; the side it does
-//!    not fall into is a valley (`a0 = 0`), the other has `|a0| <=
-//!    sqrt(2 J cap)` (the speed changed by `a0^2 / (2 J)` within `|a0| /
-//!    J` of it and stays at least 0). Each `y_i` lies in one of a few
-//!    parts of its window (cut at gates), which bounds the links'
-//!    lengths from below; the bound is the least over parts and signs at
-//!    every point (a dynamic programme along the chain). Any choice of
-//!    windows bounds the run, but a point whose cap is high adds little
-//!    and cuts the link it sits in (the speed there is only known to be
-//!    under the cap), so two choices are tried: the walls' windows alone,
-//!    and the walls' with step 8's windows of caps below a quarter of the
-//!    feed, picked greedily by how fast a window's slow point could rise
-//!    over half its length.
+//!     zone on its own, with the speed free at zone boundaries, and let the
+//!     acceleration jump from `+A` to `-A` at the top of a speed bump. The
+//!     chain bounds the whole run at once. Take disjoint windows of gates,
+//!     each holding a point `y_i` of speed at most a cap: step 9's walls
+//!     (the nearest gates clear of the cap's reach), and for paths in
+//!     order step 8's turns with both cases closed: a path in order stays
+//!     within `e` of the run between the window's end gates, a set of
+//!     diameter at most `Delta` (their arc length plus `2e`), and an arc
+//!     of curvature at most `K` and length `pi / K` has its ends `2 / K`
+//!     apart (Schur), so the long case has `K >= 2 / Delta` and the window
+//!     holds curvature `min(k_need, 2 / Delta)`. The `y_i` are passed in
+//!     order; the run's time is the sum over the links between them (the
+//!     run's ends, at rest, included). In a link whose fastest point is
+//!     inside, the acceleration is 0 there, so over the `t1` seconds
+//!     before it the acceleration is at most `min(a0 + J s, J (t1 - s),
+//!     A)` (`s` from the link's start, `a0` its acceleration there), and
+//!     mirrored after it: the link covers at most the integral of the
+//!     speed under both rises and the peak, and its time is at least the
+//!     least `t1 + t2` that covers the link's length (branch and bound
+//!     over cells of `(t1, t2)`, the distance growing with both). A
+//!     fastest point at an end keeps the speed under that end's cap. At
+//!     each `y_i` the acceleration is `>= 0` or `<= 0`; the side it does
+//!     not fall into is a valley (`a0 = 0`), the other has `|a0| <=
+//!     sqrt(2 J cap)` (the speed changed by `a0^2 / (2 J)` within `|a0| /
+//!     J` of it and stays at least 0). Each `y_i` lies in one of a few
+//!     parts of its window (cut at gates), which bounds the links'
+//!     lengths from below; the bound is the least over parts and signs at
+//!     every point (a dynamic programme along the chain). Any choice of
+//!     windows bounds the run, but a point whose cap is high adds little
+//!     and cuts the link it sits in (the speed there is only known to be
+//!     under the cap), so two choices are tried: the walls' windows alone,
+//!     and the walls' with step 8's windows of caps below a quarter of the
+//!     feed, picked greedily by how fast a window's slow point could rise
+//!     over half its length.
 //!
 //! # Where it is loose
 //! At a sharp turn, step 8 caps the slow point's speed through the gates
