@@ -1059,7 +1059,8 @@ pub fn lower_bound_time(
         // high cap may weaken the chain (the speed there is only known
         // to be under it), so the walls' alone are tried too.
         let along = |a: usize, b: usize| gates[b].along - gates[a].along;
-        time = time.max(chain_time(slow.clone(), chords.len(), chord_sum, lim));
+        let walls = pick_disjoint(slow.clone(), along, m.jerk);
+        time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
         if opts.paths == BandPaths::InOrder {
             slow.extend(schur_windows(&gates, e, opts.min_turn, speed_of, f));
             let slow = pick_disjoint(slow, along, m.jerk);
