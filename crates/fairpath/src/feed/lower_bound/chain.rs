@@ -447,13 +447,8 @@ mod tests {
         // Seeded: random lengths and end speeds; wherever the planner
         // finds a double-S from v0 to v1 (zero end accelerations), the
         // link with caps at least v0, v1 takes no longer.
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::seeded::Rng(0x2545_F491_4F6C_DD1D);
+        let mut next = || rng.next();
         let mut checked = 0;
         for _ in 0..400 {
             let d = 0.05 + 80.0 * next() * next();
