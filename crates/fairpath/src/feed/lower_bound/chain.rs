@@ -471,6 +471,44 @@ mod tests {
     }
 
     #[test]
+    fn seeded_picks_are_disjoint_in_order_and_keep_a_stop() {
+        // Any disjoint choice bounds the run; overlapping windows would
+        // let two slow points share one stretch.
+        let mut rng = crate::seeded::Rng(0x5EED_0092);
+        for _ in 0..50 {
+            let mut candidates: Vec<SlowWindow> = (0..40)
+                .map(|_| {
+                    let first = rng.below(200);
+                    SlowWindow {
+                        first,
+                        last: first + 1 + rng.below(30),
+                        cap: 400.0 * rng.next(),
+                    }
+                })
+                .collect();
+            // A stop one gate long: the lowest cap and the shortest
+            // window score least (the rise grows with both), so it is
+            // always kept.
+            let first = rng.below(200);
+            let stop = SlowWindow {
+                first,
+                last: first + 1,
+                cap: 0.0,
+            };
+            candidates.push(stop);
+            let picked = pick_disjoint(candidates.clone(), |a, b| 0.3 * (b - a) as f64, LIM.jerk);
+            assert!(!picked.is_empty());
+            for w in picked.windows(2) {
+                assert!(w[0].last <= w[1].first, "{:?}", w);
+            }
+            for w in &picked {
+                assert!(candidates.contains(w));
+            }
+            assert!(picked.contains(&stop), "{stop:?}");
+        }
+    }
+
+    #[test]
     fn a_slow_point_between_two_rests_costs_more_than_none() {
         // 40 mm from rest to rest through a point capped at 20 mm/s in the
         // middle: two rises to it and back are slower than one.
