@@ -5,8 +5,8 @@
 
 use alloc::vec::Vec;
 
-/// A stretch of the run where some point is at most `cap` mm/s: the
-/// gates `first..=last` (gate indices) hold it strictly inside.
+/// A stretch of the run where some point is at most `cap` mm/s: the path
+/// passes it between passing gates `first` and `last` (gate indices).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct SlowWindow {
     pub(super) first: usize,
@@ -43,7 +43,8 @@ impl LinkEnd {
 const SCHUR_CHORDS: [usize; 5] = [1, 2, 4, 8, 16];
 /// Lengths of those turns' windows, in end chords.
 const SCHUR_SPANS: [usize; 5] = [2, 3, 4, 6, 8];
-/// Share of the feed below which a Schur cap makes a slow point.
+/// Share of the feed below which a Schur cap makes a slow point
+/// (measurements: docs/tuning.md, `SCHUR_CAP_SHARE`).
 const SCHUR_CAP_SHARE: f64 = 0.25;
 
 /// Slow windows of paths in order from Schur's comparison (module docs,
@@ -164,7 +165,8 @@ fn merged(mut slow: Vec<SlowWindow>) -> Vec<SlowWindow> {
 }
 
 /// Parts a slow window is cut into (by its gates) for where its slow
-/// point lies: the link lengths lose at most a part on each side.
+/// point lies: the link lengths lose at most a part on each side
+/// (measurements: docs/tuning.md, `WINDOW_PARTS`).
 const WINDOW_PARTS: usize = 4;
 
 /// A lower bound of the time of a run from rest to rest that passes a
@@ -335,7 +337,7 @@ fn reach(start: LinkEnd, end: LinkEnd, t1: f64, t2: f64, lim: Tangential) -> f64
 }
 
 /// Cells [`link_time`] splits at most, and the relative size of the
-/// cell at which it stops.
+/// cell at which it stops (measurements: docs/tuning.md, `LINK_SPLITS`).
 const LINK_SPLITS: usize = 160;
 const LINK_PRECISION: f64 = 1e-3;
 
