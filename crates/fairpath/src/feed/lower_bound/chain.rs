@@ -3,6 +3,7 @@
 //! between them, and every climb turns round at its peak at the jerk
 //! limit.
 
+use super::Limits;
 use alloc::vec::Vec;
 
 /// A stretch of the run where some point is at most `cap` mm/s: the path
@@ -12,14 +13,6 @@ pub(super) struct SlowWindow {
     pub(super) first: usize,
     pub(super) last: usize,
     pub(super) cap: f64,
-}
-
-/// The machine's tangential limits the chain is bounded under.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Tangential {
-    pub(super) feed: f64,
-    pub(super) acc: f64,
-    pub(super) jerk: f64,
 }
 
 /// One end of a link, seen from inside it: the speed there is at most
@@ -73,20 +66,14 @@ pub(super) fn schur_windows(
                 if l >= gates.len() {
                     continue;
                 }
-                let (j, k) = (i + m, l - m);
-                let Some(alpha) = super::turn_between(gates, (i, j), (k, l)) else {
+                let Some(t) = super::schur_turn(gates, (i, i + m), (l - m, l), min_turn) else {
                     continue;
                 };
-                if alpha < min_turn {
-                    continue;
-                }
-                let d = gates[l].at.dist(gates[i].at) + gates[i].radius + gates[l].radius;
                 let delta = gates[l].along - gates[i].along + 2.0 * e;
-                if !(d > 0.0 && delta > 0.0) {
+                if delta <= 0.0 {
                     continue;
                 }
-                let k_need = 2.0 * crate::math::sin(0.5 * alpha.min(core::f64::consts::PI)) / d;
-                let cap = speed_of(k_need.min(2.0 / delta));
+                let cap = speed_of(t.k_need.min(2.0 / delta));
                 if cap < SCHUR_CAP_SHARE * feed {
                     out.push(SlowWindow {
                         first: i,
@@ -147,23 +134,6 @@ pub(super) fn pick_disjoint(
     taken.into_values().collect()
 }
 
-/// Slow windows in gate order, overlapping ones merged: a merged window
-/// holds both points, so it holds one at most the lower cap.
-fn merged(mut slow: Vec<SlowWindow>) -> Vec<SlowWindow> {
-    slow.sort_by_key(|w| w.first);
-    let mut out: Vec<SlowWindow> = Vec::with_capacity(slow.len());
-    for w in slow {
-        match out.last_mut() {
-            Some(prev) if w.first < prev.last => {
-                prev.last = prev.last.max(w.last);
-                prev.cap = prev.cap.min(w.cap);
-            }
-            _ => out.push(w),
-        }
-    }
-    out
-}
-
 /// Parts a slow window is cut into (by its gates) for where its slow
 /// point lies: the link lengths lose at most a part on each side
 /// (measurements: docs/tuning.md, `WINDOW_PARTS`).
@@ -190,16 +160,15 @@ pub(super) fn chain_time(
     slow: Vec<SlowWindow>,
     last_gate: usize,
     length: impl Fn(usize, usize) -> f64,
-    lim: Tangential,
+    lim: Limits,
 ) -> f64 {
-    let slow = merged(slow);
     // A node's states: (gate before the part, gate after it, end into
     // the link before, start of the link after).
     type State = (usize, usize, LinkEnd, LinkEnd);
     let states = |w: &SlowWindow| -> Vec<State> {
         let steep = LinkEnd {
             speed: w.cap,
-            accel: libm_sqrt(2.0 * lim.jerk * w.cap),
+            accel: crate::math::sqrt(2.0 * lim.jmax * w.cap),
         };
         let valley = LinkEnd {
             speed: w.cap,
@@ -238,10 +207,6 @@ pub(super) fn chain_time(
         .fold(f64::INFINITY, f64::min)
 }
 
-fn libm_sqrt(x: f64) -> f64 {
-    crate::math::sqrt(x.max(0.0))
-}
-
 /// One side of a link's peak: from an end `end`, the rise over `t1`
 /// seconds to the peak, where the acceleration is 0. With `a(0) <=
 /// end.accel`, `a(t1) = 0` and `|j| <= J`, `a(s) <= min(end.accel + J s,
@@ -256,8 +221,8 @@ struct Rise {
 }
 
 impl Rise {
-    fn new(end: LinkEnd, t1: f64, lim: Tangential) -> Rise {
-        let (alpha, j, a_max) = (end.accel, lim.jerk, lim.acc);
+    fn new(end: LinkEnd, t1: f64, lim: Limits) -> Rise {
+        let (alpha, j, a_max) = (end.accel, lim.jmax, lim.amax);
         let acc = |s: f64| (alpha + j * s).min(j * (t1 - s)).min(a_max).max(0.0);
         // The bound is the least of three lines: it bends only where two
         // of them cross.
@@ -330,9 +295,9 @@ impl Rise {
 /// `end` that rises for `t1` s to its fastest point and falls for `t2` s
 /// after it: each side's [`Rise::distance`] under the peak speed, at
 /// most the feed and both sides' tops.
-fn reach(start: LinkEnd, end: LinkEnd, t1: f64, t2: f64, lim: Tangential) -> f64 {
+fn reach(start: LinkEnd, end: LinkEnd, t1: f64, t2: f64, lim: Limits) -> f64 {
     let (up, down) = (Rise::new(start, t1, lim), Rise::new(end, t2, lim));
-    let peak = up.top().min(down.top()).min(lim.feed);
+    let peak = up.top().min(down.top()).min(lim.vmax);
     up.distance(peak) + down.distance(peak)
 }
 
@@ -358,18 +323,18 @@ const LINK_PRECISION: f64 = 1e-3;
 /// it does not. A longer link never takes less: a profile over it,
 /// scaled down in speed, runs `d` in the same time within every limit,
 /// its ends' speeds and rates of rise scaled down too.
-pub(super) fn link_time(d: f64, start: LinkEnd, end: LinkEnd, lim: Tangential) -> f64 {
+pub(super) fn link_time(d: f64, start: LinkEnd, end: LinkEnd, lim: Limits) -> f64 {
     if d.is_nan() || d <= 0.0 {
         return 0.0;
     }
     // The fastest point at an end: the speed stays at most the faster
     // end's (the rise bounds below need the acceleration 0 at the peak).
-    let knee = start.speed.max(end.speed).min(lim.feed);
+    let knee = start.speed.max(end.speed).min(lim.vmax);
     let at_ends = if knee > 0.0 { d / knee } else { f64::INFINITY };
     let covers = |t1: f64, t2: f64| reach(start, end, t1, t2, lim) >= d;
     // A side time at which both sides together cover d: every profile
     // with t1 + t2 below `top` has both in [0, top].
-    let mut side = 0.5 * d / lim.feed;
+    let mut side = 0.5 * d / lim.vmax;
     while !covers(side, side) {
         side *= 2.0;
         if !side.is_finite() || side > at_ends {
@@ -420,12 +385,12 @@ pub(super) fn link_time(d: f64, start: LinkEnd, end: LinkEnd, lim: Tangential) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::feed::{DoubleS, Limits};
+    use crate::feed::DoubleS;
 
-    const LIM: Tangential = Tangential {
-        feed: 400.0,
-        acc: 4000.0,
-        jerk: 20000.0,
+    const LIM: Limits = Limits {
+        vmax: 400.0,
+        amax: 4000.0,
+        jmax: 20000.0,
     };
 
     fn valley(speed: f64) -> LinkEnd {
@@ -433,8 +398,7 @@ mod tests {
     }
 
     fn double_s(d: f64, v0: f64, v1: f64) -> Option<f64> {
-        let l = Limits::new(LIM.feed, LIM.acc, LIM.jerk).unwrap();
-        DoubleS::plan(d, v0, v1, &l).ok().map(|p| p.duration())
+        DoubleS::plan(d, v0, v1, &LIM).ok().map(|p| p.duration())
     }
 
     #[test]
@@ -459,13 +423,13 @@ mod tests {
         let mut checked = 0;
         for _ in 0..400 {
             let d = 0.05 + 80.0 * next() * next();
-            let (v0, v1) = (LIM.feed * next() * next(), LIM.feed * next() * next());
+            let (v0, v1) = (LIM.vmax * next() * next(), LIM.vmax * next() * next());
             let Some(exact) = double_s(d, v0, v1) else {
                 continue;
             };
             checked += 1;
             let start = LinkEnd {
-                speed: (v0 * (1.0 + next())).min(LIM.feed),
+                speed: (v0 * (1.0 + next())).min(LIM.vmax),
                 accel: 1000.0 * next(),
             };
             let t = link_time(d, start, valley(v1), LIM);
@@ -493,7 +457,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let picked = pick_disjoint(candidates.clone(), |a, b| 0.3 * (b - a) as f64, LIM.jerk);
+            let picked = pick_disjoint(candidates.clone(), |a, b| 0.3 * (b - a) as f64, LIM.jmax);
             assert!(!picked.is_empty());
             for w in picked.windows(2) {
                 assert!(w[0].last <= w[1].first, "{:?}", w);
@@ -506,7 +470,7 @@ mod tests {
                 .iter()
                 .min_by(|a, b| {
                     let s = |w: &SlowWindow| {
-                        slowness(w.cap, 0.15 * (w.last - w.first) as f64, LIM.jerk)
+                        slowness(w.cap, 0.15 * (w.last - w.first) as f64, LIM.jmax)
                     };
                     s(a).total_cmp(&s(b))
                 })
@@ -530,7 +494,7 @@ mod tests {
         // Each side of the point may be the steep one.
         let steep = LinkEnd {
             speed: 20.0,
-            accel: crate::math::sqrt(2.0 * LIM.jerk * 20.0),
+            accel: crate::math::sqrt(2.0 * LIM.jmax * 20.0),
         };
         let half = link_time(20.0, LinkEnd::REST, valley(20.0), LIM);
         let half_steep = link_time(20.0, LinkEnd::REST, steep, LIM);

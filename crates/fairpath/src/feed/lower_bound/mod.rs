@@ -271,7 +271,7 @@ mod gates;
 mod samples;
 mod walls;
 mod width;
-use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, Tangential};
+use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow};
 pub use gates::in_order_gates_of;
 use gates::{chain_length, gates, polyline, Gate};
 use walls::Corner;
@@ -580,6 +580,36 @@ struct TightTurn {
     k_need: f64,
 }
 
+/// The turn of step 8 between the gate pairs `first` and `second`
+/// (passed in this order), or `None` where it turns by less than
+/// `min_turn`: the least turn `alpha` of the tangent between their mean
+/// directions ([`turn_between`]) and the curvature `k_need = 2 sin(alpha
+/// / 2) / D` the stretch reaches unless it is longer than `pi / K`, with
+/// `D = |q_l - q_i| + rho_i + rho_l` the most its ends can be apart.
+fn schur_turn(
+    gates: &[Gate],
+    first: (usize, usize),
+    second: (usize, usize),
+    min_turn: f64,
+) -> Option<TightTurn> {
+    let alpha = turn_between(gates, first, second)?;
+    if alpha < min_turn {
+        return None;
+    }
+    let (i, l) = (first.0, second.1);
+    let d = gates[l].at.dist(gates[i].at) + gates[i].radius + gates[l].radius;
+    if d <= 0.0 {
+        return None;
+    }
+    let k_need = 2.0 * math::sin(0.5 * alpha.min(core::f64::consts::PI)) / d;
+    Some(TightTurn {
+        first,
+        second,
+        alpha,
+        k_need,
+    })
+}
+
 /// Gates searched on each side of a turn window for step 8, and the
 /// longest end chord, in gates (measurements: docs/tuning.md,
 /// `SCHUR_SPREAD`).
@@ -607,24 +637,10 @@ fn tightest_turn(
         for k in j..hi {
             for i in j.saturating_sub(SCHUR_SPREAD).max(lo)..j {
                 for l in k + 1..=(k + SCHUR_SPREAD).min(hi) {
-                    let Some(alpha) = turn_between(gates, (i, j), (k, l)) else {
-                        continue;
-                    };
-                    if alpha < opts.min_turn {
-                        continue;
-                    }
-                    let d = gates[l].at.dist(gates[i].at) + gates[i].radius + gates[l].radius;
-                    if d <= 0.0 {
-                        continue;
-                    }
-                    let k_need = 2.0 * math::sin(0.5 * alpha.min(core::f64::consts::PI)) / d;
-                    if best.is_none_or(|b| k_need > b.k_need) {
-                        best = Some(TightTurn {
-                            first: (i, j),
-                            second: (k, l),
-                            alpha,
-                            k_need,
-                        });
+                    if let Some(t) = schur_turn(gates, (i, j), (k, l), opts.min_turn) {
+                        if best.is_none_or(|b| t.k_need > b.k_need) {
+                            best = Some(t);
+                        }
                     }
                 }
             }
@@ -685,6 +701,8 @@ pub fn lower_bound_time(
     if pieces.is_empty() || f <= 0.0 {
         return Ok(LowerBound::default());
     }
+    // The tangential limits of steps 6 and 10.
+    let lim = Limits::new(f, m.acc, m.jerk)?;
     let chord = tol * opts.chord_share;
     let e = tol + chord;
     let (pts, s) = polyline(pieces, chord);
@@ -1050,11 +1068,6 @@ pub fn lower_bound_time(
             zone_start = zone_end;
         }
         // Step 10: the chain of slow points over the whole run.
-        let lim = Tangential {
-            feed: f,
-            acc: m.acc,
-            jerk: m.jerk,
-        };
         // Any choice of slow windows bounds the run; a slow point with a
         // high cap may weaken the chain (the speed there is only known
         // to be under it), so the walls' alone are tried too.
@@ -1069,7 +1082,7 @@ pub fn lower_bound_time(
     }
     // Step 6: the rest-to-rest double-S over the run's length.
     if length > 0.0 {
-        let ds = DoubleS::plan(length, 0.0, 0.0, &Limits::new(f, m.acc, m.jerk)?)?;
+        let ds = DoubleS::plan(length, 0.0, 0.0, &lim)?;
         time = time.max(ds.duration() * (1.0 - ROUNDING));
     }
     Ok(LowerBound {
