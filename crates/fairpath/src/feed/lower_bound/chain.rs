@@ -139,6 +139,10 @@ pub(super) fn pick_disjoint(
 /// (measurements: docs/tuning.md, `WINDOW_PARTS`).
 const WINDOW_PARTS: usize = 4;
 
+/// Cells the acceleration at a slow point is cut into, each sign
+/// (measurements: docs/tuning.md, `ALPHA_CELLS`).
+const ALPHA_CELLS: usize = 4;
+
 /// A lower bound of the time of a run from rest to rest that passes a
 /// point of speed at most `cap` inside each window of `slow` (disjoint,
 /// in order), with `length(a, b)` a lower bound of its length between
@@ -147,15 +151,19 @@ const WINDOW_PARTS: usize = 4;
 /// The slow points `y_i` are passed in order. Each lies between two of
 /// its window's cut gates (`WINDOW_PARTS` parts), so the link from one
 /// to the next is at least as long as the run between the facing cut
-/// gates. At each point the acceleration is either at least 0 or at most
-/// 0. If `a(y) = alpha > 0`, the speed rose by at least `alpha^2 / (2 J)`
-/// over the `alpha / J` before (`|j| <= J`, and at the run's start `a =
-/// 0`), so `alpha <= sqrt(2 J cap)`; the same for `a(y) < 0` after it. So
-/// each point is a valley on one side (rate of rise 0 into that link)
-/// and has a rate of rise at most `sqrt(2 J cap)` into the other. The
-/// bound is the least, over every part and sign at every point (a
-/// dynamic programme along the chain), of the sum of [`link_time`] over
-/// the links.
+/// gates; the part itself takes at least its length at the feed. At each
+/// point the acceleration `a` is at least 0 or at most 0, and `|a| <=
+/// sqrt(2 J cap)`: if `a(y) = alpha > 0`, the speed rose by at least
+/// `alpha^2 / (2 J)` over the `alpha / J` before (`|j| <= J`, and at the
+/// run's start `a = 0`). Rising through `y` at `alpha`, the link after it
+/// starts with a rate of rise at most `alpha`, and the link before it
+/// ends with the speed falling into `y` (a rate of rise `-alpha` seen
+/// from inside it); falling, the other way round. `alpha`'s range is cut
+/// into [`ALPHA_CELLS`] cells, each taken at its worst (the top of the
+/// cell for the rise, its bottom for the fall). The bound is the least,
+/// over every part, sign and cell at every point (a dynamic programme
+/// along the chain), of the sum of [`link_time`] over the links and the
+/// parts' times.
 pub(super) fn chain_time(
     slow: Vec<SlowWindow>,
     last_gate: usize,
@@ -165,22 +173,27 @@ pub(super) fn chain_time(
     // A node's states: (gate before the part, gate after it, end into
     // the link before, start of the link after).
     type State = (usize, usize, LinkEnd, LinkEnd);
+    let cells = ALPHA_CELLS;
     let states = |w: &SlowWindow| -> Vec<State> {
-        let steep = LinkEnd {
+        let steepest = crate::math::sqrt(2.0 * lim.jmax * w.cap);
+        let end = |accel: f64| LinkEnd {
             speed: w.cap,
-            accel: crate::math::sqrt(2.0 * lim.jmax * w.cap),
-        };
-        let valley = LinkEnd {
-            speed: w.cap,
-            accel: 0.0,
+            accel,
         };
         let parts = WINDOW_PARTS.min(w.last - w.first).max(1);
         let cut = |p: usize| w.first + (w.last - w.first) * p / parts;
-        let mut out = Vec::with_capacity(2 * parts);
+        let mut out = Vec::with_capacity(2 * parts * cells);
         for p in 0..parts {
             let (a, b) = (cut(p), cut(p + 1));
-            out.push((a, b, valley, steep));
-            out.push((a, b, steep, valley));
+            for c in 0..cells {
+                let lo = steepest * c as f64 / cells as f64;
+                let hi = steepest * (c + 1) as f64 / cells as f64;
+                // Rising through the point at `lo..hi`: the speed falls
+                // into the link before (seen from inside it) and rises
+                // into the one after; falling, the other way round.
+                out.push((a, b, end(-lo), end(hi)));
+                out.push((a, b, end(hi), end(-lo)));
+            }
         }
         out
     };
@@ -189,12 +202,31 @@ pub(super) fn chain_time(
     let mut best: Vec<f64> = alloc::vec![0.0];
     for w in &slow {
         let cur = states(w);
+        // Lengths between gates, each computed once per window (the
+        // states share their parts' gates).
+        let mut lengths: Vec<((usize, usize), f64)> = Vec::new();
+        for &(a, b, _, _) in &cur {
+            for key in prev.iter().map(|p| (p.1, a)).chain([(a, b)]) {
+                if !lengths.iter().any(|(k, _)| *k == key) {
+                    lengths.push((key, length(key.0, key.1)));
+                }
+            }
+        }
+        let length_of = |a: usize, b: usize| -> f64 {
+            lengths
+                .iter()
+                .find(|(k, _)| *k == (a, b))
+                .map_or_else(|| length(a, b), |&(_, l)| l)
+        };
         let next: Vec<f64> = cur
             .iter()
-            .map(|&(a, _, into, _)| {
-                prev.iter()
+            .map(|&(a, b, into, _)| {
+                // The part itself is run at the feed at most.
+                let part = length_of(a, b) / lim.vmax;
+                part + prev
+                    .iter()
                     .zip(&best)
-                    .map(|(&(_, b, _, out), &t)| t + link_time(length(b, a), out, into, lim))
+                    .map(|(&(_, b, _, out), &t)| t + link_time(length_of(b, a), out, into, lim))
                     .fold(f64::INFINITY, f64::min)
             })
             .collect();
@@ -207,102 +239,48 @@ pub(super) fn chain_time(
         .fold(f64::INFINITY, f64::min)
 }
 
-/// One side of a link's peak: from an end `end`, the rise over `t1`
-/// seconds to the peak, where the acceleration is 0. With `a(0) <=
-/// end.accel`, `a(t1) = 0` and `|j| <= J`, `a(s) <= min(end.accel + J s,
-/// J (t1 - s), A)`: the speed at `s` is at most `end.speed + g(s)`, `g`
-/// the integral of that bound.
-struct Rise {
-    speed: f64,
-    /// Break points of the acceleration bound `(s, a)`, from `(0, _)` to
-    /// `(t1, 0)`; linear between them.
-    knots: [(f64, f64); 5],
-    len: usize,
+/// The fastest rise from a link's end to its peak speed `peak`, where
+/// the acceleration is 0, with the speed never above `peak`: its time
+/// and the distance it covers (both grow with `peak`).
+///
+/// A speed `v` with acceleration `a > 0` overshoots `peak` unless `v +
+/// a^2 / (2 J) <= peak`; so of the ends allowed (speed at most
+/// `end.speed`, rate of rise at most `end.accel`, negative where the speed
+/// falls into the link) the rise starts from the highest such one, and
+/// rises at the jerk limit to its top acceleration `ap` (at most `A`)
+/// then falls back to 0: `(ap^2 - a^2) / (2 J) + ap^2 / (2 J) = peak -
+/// v`. At every moment no profile from an allowed end that stays at or
+/// below `peak` is faster than this one (its acceleration is the highest
+/// the jerk allows until it must come down to stop at `peak`), so it
+/// reaches `peak` first and covers the most distance in any time:
+/// `rise + peak * (t - time)` over `t >= time`.
+fn rise(end: LinkEnd, peak: f64, lim: Limits) -> (f64, f64) {
+    let (j, a_max) = (lim.jmax, lim.amax);
+    let v = end.speed.min(peak);
+    let a = end
+        .accel
+        .min(crate::math::sqrt(2.0 * j * (peak - v).max(0.0)))
+        .clamp(-a_max, a_max);
+    let ap = crate::math::sqrt((j * (peak - v) + 0.5 * a * a).max(0.0)).max(a);
+    let (ap, hold) = if ap > a_max {
+        let gained = (a_max * a_max - a * a) / (2.0 * j) + a_max * a_max / (2.0 * j);
+        (a_max, ((peak - v - gained) / a_max).max(0.0))
+    } else {
+        (ap, 0.0)
+    };
+    let (mut time, mut dist, mut speed, mut acc) = (0.0, 0.0, v, a);
+    for (tau, jerk) in [((ap - a) / j, j), (hold, 0.0), (ap / j, -j)] {
+        let tau = tau.max(0.0);
+        dist += speed * tau + 0.5 * acc * tau * tau + jerk * tau * tau * tau / 6.0;
+        speed += acc * tau + 0.5 * jerk * tau * tau;
+        acc += jerk * tau;
+        time += tau;
+    }
+    (time, dist)
 }
 
-impl Rise {
-    fn new(end: LinkEnd, t1: f64, lim: Limits) -> Rise {
-        let (alpha, j, a_max) = (end.accel, lim.jmax, lim.amax);
-        let acc = |s: f64| (alpha + j * s).min(j * (t1 - s)).min(a_max).max(0.0);
-        // The bound is the least of three lines: it bends only where two
-        // of them cross.
-        let mut cuts = [(a_max - alpha) / j, t1 - a_max / j, 0.5 * (t1 - alpha / j)];
-        cuts.sort_by(f64::total_cmp);
-        let mut knots = [(0.0, acc(0.0)); 5];
-        let mut len = 1;
-        for s in cuts {
-            if s > knots[len - 1].0 && s < t1 {
-                knots[len] = (s, acc(s));
-                len += 1;
-            }
-        }
-        knots[len] = (t1, 0.0);
-        Rise {
-            speed: end.speed,
-            knots,
-            len: len + 1,
-        }
-    }
-
-    /// The highest speed the side can reach: at its peak.
-    fn top(&self) -> f64 {
-        self.speed
-            + self.knots[..self.len]
-                .windows(2)
-                .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
-                .sum::<f64>()
-    }
-
-    /// An upper bound of the distance covered over the side with the
-    /// speed also at most `peak`: `int min(speed + g(s), peak) ds`, split
-    /// where the first reaches the second (any split point bounds it).
-    fn distance(&self, peak: f64) -> f64 {
-        let t1 = self.knots[self.len - 1].0;
-        let (mut g, mut dist) = (0.0, 0.0);
-        for w in self.knots[..self.len].windows(2) {
-            let ((s0, a0), (s1, a1)) = (w[0], w[1]);
-            let h = s1 - s0;
-            if h <= 0.0 {
-                continue;
-            }
-            let base = self.speed + g;
-            let g1 = g + 0.5 * (a0 + a1) * h;
-            if self.speed + g1 <= peak {
-                // v = base + a0 t + q t^2 on the piece.
-                dist += base * h + h * h * (2.0 * a0 + a1) / 6.0;
-                g = g1;
-                continue;
-            }
-            // Crosses `peak` on this piece: where base + a0 t + q t^2 =
-            // peak (the stable root), then at the peak to t1.
-            let q = (a1 - a0) / (2.0 * h);
-            let rem = (peak - base).max(0.0);
-            let disc = (a0 * a0 + 4.0 * q * rem).max(0.0);
-            let root = a0 + crate::math::sqrt(disc);
-            let tau = if root > 0.0 {
-                (2.0 * rem / root).min(h)
-            } else {
-                0.0
-            };
-            dist += base * tau + 0.5 * a0 * tau * tau + q * tau * tau * tau / 3.0;
-            return dist + peak * (t1 - (s0 + tau));
-        }
-        dist
-    }
-}
-
-/// An upper bound of the distance covered in a link from `start` to
-/// `end` that rises for `t1` s to its fastest point and falls for `t2` s
-/// after it: each side's [`Rise::distance`] under the peak speed, at
-/// most the feed and both sides' tops.
-fn reach(start: LinkEnd, end: LinkEnd, t1: f64, t2: f64, lim: Limits) -> f64 {
-    let (up, down) = (Rise::new(start, t1, lim), Rise::new(end, t2, lim));
-    let peak = up.top().min(down.top()).min(lim.vmax);
-    up.distance(peak) + down.distance(peak)
-}
-
-/// Cells [`link_time`] splits at most, and the relative size of the
-/// cell at which it stops (measurements: docs/tuning.md, `LINK_SPLITS`).
+/// Cuts of the peak speed [`link_time`] makes at most, and the relative
+/// gap at which it stops (measurements: docs/tuning.md, `LINK_SPLITS`).
 const LINK_SPLITS: usize = 160;
 const LINK_PRECISION: f64 = 1e-3;
 
@@ -310,76 +288,73 @@ const LINK_PRECISION: f64 = 1e-3;
 /// (step 10).
 ///
 /// If the link's fastest point is one of its ends, its speed stays at
-/// most the faster end's cap: `d / max(c1, c2)`. Otherwise let `t1` be
-/// the time from the start to the fastest point (speed `V`, the feed at
-/// most) and `t2` from there to the end. The acceleration there is 0, so
-/// with `|j| <= J` the acceleration `s` after the start is at most
-/// `min(a0 + J s, J (t1 - s), A)`, and likewise before the end: the speed
-/// is under both [`Rise`] bounds and `V`, and the link covers at most
-/// [`reach`]`(t1, t2)`. So `t1 + t2` is at least the least over the `(t1,
-/// t2)` that may cover `d`: found by branch and bound over cells of
-/// `(t1, t2)`, a cell bounded by its lowest `t1 + t2` where [`reach`] at
-/// its highest corner covers `d` (it grows with both) and dropped where
-/// it does not. A longer link never takes less: a profile over it,
+/// most the faster end's cap: `d / max(c1, c2)`. Otherwise its fastest
+/// point has speed `P` (the feed at most) and acceleration 0. The part
+/// before it takes at least the [`rise`] time `T1(P)` from the start and
+/// covers at most `R1(P) + P (t1 - T1(P))` in its `t1`, and the same for
+/// the part after it, seen from the end. So `t1 + t2 >= Phi(P) = T1 +
+/// T2 + max(0, d - R1 - R2) / P` (the double-S's own time when both ends
+/// are at rest), and the link takes at least the least `Phi` over `P`.
+/// Over a range `[Pa, Pb]` of `P`, `Phi >= T1(Pa) + T2(Pa) + max(0, d -
+/// R1(Pb) - R2(Pb)) / Pb` (both grow with `P`): a branch and bound over
+/// ranges of `P`. A longer link never takes less: a profile over it,
 /// scaled down in speed, runs `d` in the same time within every limit,
 /// its ends' speeds and rates of rise scaled down too.
 pub(super) fn link_time(d: f64, start: LinkEnd, end: LinkEnd, lim: Limits) -> f64 {
     if d.is_nan() || d <= 0.0 {
         return 0.0;
     }
-    // The fastest point at an end: the speed stays at most the faster
-    // end's (the rise bounds below need the acceleration 0 at the peak).
     let knee = start.speed.max(end.speed).min(lim.vmax);
     let at_ends = if knee > 0.0 { d / knee } else { f64::INFINITY };
-    let covers = |t1: f64, t2: f64| reach(start, end, t1, t2, lim) >= d;
-    // A side time at which both sides together cover d: every profile
-    // with t1 + t2 below `top` has both in [0, top].
-    let mut side = 0.5 * d / lim.vmax;
-    while !covers(side, side) {
-        side *= 2.0;
-        if !side.is_finite() || side > at_ends {
-            return at_ends;
-        }
-    }
-    let top = 2.0 * side;
-    // Cells by their lowest t1 + t2 (non-negative, so its bits order as
-    // the numbers do): (bits, t1 range, t2 range).
-    type Cell = (u64, [u64; 2], [u64; 2]);
-    let cell = |a: [f64; 2], b: [f64; 2]| -> Cell {
+    // The two sides' rise times and distances at a peak speed `p`.
+    let sides = |p: f64| {
+        let ((t1, r1), (t2, r2)) = (rise(start, p, lim), rise(end, p, lim));
+        (t1 + t2, r1 + r2)
+    };
+    let phi = |p: f64, (t, r): (f64, f64)| t + (d - r).max(0.0) / p;
+    // A range of peak speeds, by its bound (non-negative, so its bits
+    // order as the numbers do): (bound, pa, pb, times at pa, distances
+    // at pb).
+    type Range = (u64, u64, u64, u64, u64);
+    let range = |pa: f64, pb: f64, t: f64, r: f64| -> Range {
+        let bound = if pb > 0.0 {
+            t + (d - r).max(0.0) / pb
+        } else {
+            f64::INFINITY
+        };
         (
-            (a[0] + b[0]).to_bits(),
-            [a[0].to_bits(), a[1].to_bits()],
-            [b[0].to_bits(), b[1].to_bits()],
+            bound.to_bits(),
+            pa.to_bits(),
+            pb.to_bits(),
+            t.to_bits(),
+            r.to_bits(),
         )
     };
-    let mut cells: alloc::collections::BinaryHeap<core::cmp::Reverse<Cell>> =
-        alloc::collections::BinaryHeap::with_capacity(4 * LINK_SPLITS);
-    cells.push(core::cmp::Reverse(cell([0.0, top], [0.0, top])));
+    let (low, high) = (sides(0.0), sides(lim.vmax));
+    let mut ranges: alloc::collections::BinaryHeap<core::cmp::Reverse<Range>> =
+        alloc::collections::BinaryHeap::with_capacity(2 * LINK_SPLITS);
+    ranges.push(core::cmp::Reverse(range(0.0, lim.vmax, low.0, high.1)));
+    let mut best = phi(lim.vmax, high);
     for _ in 0..LINK_SPLITS {
-        let Some(core::cmp::Reverse((lb, r1, r2))) = cells.pop() else {
-            return top.min(at_ends);
+        let Some(&core::cmp::Reverse((lb, pa, pb, t, r))) = ranges.peek() else {
+            break;
         };
-        let (lb, r1, r2) = (
-            f64::from_bits(lb),
-            r1.map(f64::from_bits),
-            r2.map(f64::from_bits),
-        );
-        if (r1[1] - r1[0]) + (r2[1] - r2[0]) <= LINK_PRECISION * lb {
-            return lb.min(top).min(at_ends);
+        if f64::from_bits(lb) >= best * (1.0 - LINK_PRECISION) {
+            break;
         }
-        let (m1, m2) = (0.5 * (r1[0] + r1[1]), 0.5 * (r2[0] + r2[1]));
-        for a in [[r1[0], m1], [m1, r1[1]]] {
-            for b in [[r2[0], m2], [m2, r2[1]]] {
-                if covers(a[1], b[1]) {
-                    cells.push(core::cmp::Reverse(cell(a, b)));
-                }
-            }
-        }
+        ranges.pop();
+        let [pa, pb, t, r] = [pa, pb, t, r].map(f64::from_bits);
+        let m = 0.5 * (pa + pb);
+        let mid = sides(m);
+        best = best.min(phi(m, mid));
+        ranges.push(core::cmp::Reverse(range(pa, m, t, mid.1)));
+        ranges.push(core::cmp::Reverse(range(m, pb, mid.0, r)));
     }
-    cells
+    let lb = ranges
         .peek()
-        .map_or(top, |c| f64::from_bits(c.0 .0).min(top))
-        .min(at_ends)
+        .map_or(best, |r| f64::from_bits(r.0 .0))
+        .min(best);
+    lb.min(at_ends)
 }
 
 #[cfg(test)]
@@ -402,14 +377,14 @@ mod tests {
     }
 
     #[test]
-    fn a_rest_to_rest_link_is_the_double_s_within_two_percent() {
+    fn a_rest_to_rest_link_is_the_double_s_within_a_fifth_of_a_percent() {
         // The bound's two sides are the double-S's own rise and fall when
         // they meet at the peak, so on rest to rest it is close below it.
         for d in [0.5, 5.0, 20.0, 60.0, 400.0] {
             let exact = double_s(d, 0.0, 0.0).unwrap();
             let t = link_time(d, LinkEnd::REST, LinkEnd::REST, LIM);
             assert!(t <= exact * (1.0 + 1e-9), "{d}: {t} above {exact}");
-            assert!(t >= 0.98 * exact, "{d}: {t} loose against {exact}");
+            assert!(t >= 0.998 * exact, "{d}: {t} loose against {exact}");
         }
     }
 
@@ -499,6 +474,80 @@ mod tests {
         let half = link_time(20.0, LinkEnd::REST, valley(20.0), LIM);
         let half_steep = link_time(20.0, LinkEnd::REST, steep, LIM);
         assert!(half_steep < half);
-        assert!((chained - half - half_steep).abs() < 1e-9 * chained);
+        // The acceleration at the point is cut into cells: the steep
+        // side's rise is that of its cell's top, the other side dips by
+        // its cell's bottom; a valley on both sides is slower still.
+        assert!(chained >= half + half_steep, "{chained}");
+        assert!(chained > half + half_steep + 0.01 * chained, "{chained}");
+        assert!(chained <= 2.0 * half, "{chained} against {half}");
+    }
+
+    #[test]
+    fn a_steep_end_bounds_the_slower_starts_it_allows() {
+        // An end at most 20 mm/s rising at most 900 mm/s^2 allows a start
+        // at 5 mm/s and rest: a short double-S from there peaks below 20
+        // + 900^2 / (2 J), where that steep start would overshoot; the
+        // link takes the start that stops at the peak.
+        for d in [0.5, 1.0, 2.0, 4.0] {
+            let exact = double_s(d, 5.0, 5.0).unwrap();
+            let steep = LinkEnd {
+                speed: 20.0,
+                accel: 900.0,
+            };
+            let t = link_time(d, steep, valley(5.0), LIM);
+            assert!(t <= exact * (1.0 + 1e-9), "{d}: {t} above {exact}");
+        }
+    }
+
+    #[test]
+    fn seeded_cuts_of_planned_double_s_are_above_their_links() {
+        // Seeded: a planned double-S cut at a random moment gives two
+        // links whose inner ends are passed with the acceleration there
+        // (a rise out of the cut after it, a fall into it before it, seen
+        // from inside each); each part takes at least its link's bound.
+        let mut rng = crate::seeded::Rng(0x9E37_79B9_7F4A_7C15);
+        let mut next = || rng.next();
+        let mut checked = 0;
+        for _ in 0..400 {
+            let d = 0.05 + 80.0 * next() * next();
+            let (v0, v1) = (LIM.vmax * next() * next(), LIM.vmax * next() * next());
+            let Ok(plan) = DoubleS::plan(d, v0, v1, &LIM) else {
+                continue;
+            };
+            let tc = plan.duration() * next();
+            let cut = plan.eval(tc);
+            if cut.q <= 0.0 || cut.q >= d {
+                continue;
+            }
+            checked += 1;
+            let before = link_time(
+                cut.q,
+                valley(v0),
+                LinkEnd {
+                    speed: cut.v,
+                    accel: -cut.a,
+                },
+                LIM,
+            );
+            assert!(
+                before <= tc * (1.0 + 1e-9),
+                "{d} {v0} {v1} at {tc}: {before}"
+            );
+            let after = link_time(
+                d - cut.q,
+                LinkEnd {
+                    speed: cut.v,
+                    accel: cut.a,
+                },
+                valley(v1),
+                LIM,
+            );
+            let rest = plan.duration() - tc;
+            assert!(
+                after <= rest * (1.0 + 1e-9),
+                "{d} {v0} {v1} at {tc}: {after} above {rest}"
+            );
+        }
+        assert!(checked > 200, "{checked}");
     }
 }

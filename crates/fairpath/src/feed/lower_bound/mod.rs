@@ -212,20 +212,27 @@
 //!     holds curvature `min(k_need, 2 / Delta)`. The `y_i` are passed in
 //!     order; the run's time is the sum over the links between them (the
 //!     run's ends, at rest, included). In a link whose fastest point is
-//!     inside, the acceleration is 0 there, so over the `t1` seconds
-//!     before it the acceleration is at most `min(a0 + J s, J (t1 - s),
-//!     A)` (`s` from the link's start, `a0` its acceleration there), and
-//!     mirrored after it: the link covers at most the integral of the
-//!     speed under both rises and the peak, and its time is at least the
-//!     least `t1 + t2` that covers the link's length (branch and bound
-//!     over cells of `(t1, t2)`, the distance growing with both). A
-//!     fastest point at an end keeps the speed under that end's cap. At
-//!     each `y_i` the acceleration is `>= 0` or `<= 0`; the side it does
-//!     not fall into is a valley (`a0 = 0`), the other has `|a0| <=
-//!     sqrt(2 J cap)` (the speed changed by `a0^2 / (2 J)` within `|a0| /
-//!     J` of it and stays at least 0). Each `y_i` lies in one of a few
-//!     parts of its window (cut at gates), which bounds the links'
-//!     lengths from below; the bound is the least over parts and signs at
+//!     inside, the acceleration is 0 there, at its speed `P`; the part
+//!     before it takes at least the fastest rise from the link's start to
+//!     `P` that never passes `P` (at the jerk limit to its top
+//!     acceleration and back to 0, from the highest start allowed that
+//!     does not overshoot), and covers at most that rise's distance plus
+//!     `P` for the rest of its time, and mirrored after it. So the link
+//!     takes at least `T1(P) + T2(P) + max(0, d - R1(P) - R2(P)) / P`, the
+//!     least over `P` (branch and bound over ranges of `P`; rise times and
+//!     distances grow with `P`): on a link from rest to rest, the
+//!     double-S. A fastest point at an end keeps the speed under that
+//!     end's cap. At each `y_i` the acceleration `a` is `>= 0` or `<= 0`,
+//!     and `|a| <= sqrt(2 J cap)` (the speed changed by `a^2 / (2 J)`
+//!     within `|a| / J` of it and stays at least 0). Rising through `y_i`,
+//!     the link after it starts with a rate of rise at most `a`, and in
+//!     the link before it the speed falls into `y_i` (a rate of rise `-a`
+//!     seen from inside); falling, the other way round. The range of `a`
+//!     is cut into a few cells, each taken at its worst end. Each `y_i`
+//!     lies in one of a few parts of its window (cut at gates), which
+//!     bounds the links' lengths from below, and the part itself takes at
+//!     least its length at the feed; the bound is the least over parts,
+//!     signs and cells of `a` at
 //!     every point (a dynamic programme along the chain). Any choice of
 //!     windows bounds the run, but a point whose cap is high adds little
 //!     and cuts the link it sits in (the speed there is only known to be
