@@ -27,14 +27,14 @@ use crate::{Controller, Format};
 use anyhow::{anyhow, bail, Context, Result};
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::lower_bound::{
-    in_order_gates_of, program_lower_bound, BandPaths, BoundOptions,
+    in_order_gates_of, piece_speed, program_lower_bound, BandPaths, BoundOptions, InOrderGates,
 };
 use fairpath::feed::program::simulate;
 use fairpath::geom::{curvature_variation_energy, Curve};
 use fairpath::path::{Piece, Run};
 use fairpath::pipeline::verify_runs;
 use fairpath::pipeline::PipelineError;
-use fairpath::verify::{follows_in_order, RunReport, VerifyOptions};
+use fairpath::verify::{follows_in_order_within, RunReport, VerifyOptions};
 use fairpath_gcode::pipeline::{plan_curves, smooth_curves, Phases, SmoothOptions, Times};
 use fairpath_gcode::{write_curves, Curves, Program, SmoothProgramError};
 use serde_json::json;
@@ -219,7 +219,7 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
     )
     .context("the in-order lower bound")?
     .time;
-    let gates = InOrderGates::new(&runs, &in_order_opts);
+    let gates = RunGates::new(&runs, &in_order_opts, &opts.machine, opts.override_feed);
     let options = |name: &str, format: Format| -> Result<SmoothOptions> {
         let mut so = smooth_options(opts.tolerance, None, name, Some(format), opts.controller)?;
         so.set_machine(opts.machine, opts.override_feed)
@@ -358,20 +358,29 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
 
 /// The in-order bound's gates of each run of the original, to check the
 /// rows' paths against.
-struct InOrderGates<'a> {
+struct RunGates<'a> {
     original: &'a [Run],
-    gates: Vec<Vec<(fairpath::geom::Vec3, f64)>>,
+    gates: Vec<InOrderGates>,
+    machine: MachineLimits,
+    override_feed: bool,
     accuracy: f64,
 }
 
-impl<'a> InOrderGates<'a> {
-    fn new(original: &'a [Run], o: &BoundOptions) -> Self {
-        InOrderGates {
+impl<'a> RunGates<'a> {
+    fn new(
+        original: &'a [Run],
+        o: &BoundOptions,
+        machine: &MachineLimits,
+        override_feed: bool,
+    ) -> Self {
+        RunGates {
             original,
             gates: original
                 .iter()
-                .map(|r| in_order_gates_of(&r.pieces, o))
+                .map(|r| in_order_gates_of(&r.pieces, o, machine, override_feed))
                 .collect(),
+            machine: *machine,
+            override_feed,
             accuracy: o.tolerance * GATE_CHECK_ACCURACY_SHARE,
         }
     }
@@ -381,14 +390,19 @@ impl<'a> InOrderGates<'a> {
     /// runs do not pair.
     fn followed_by(&self, path: &[Run]) -> Option<bool> {
         let pairs = fairpath_gcode::pipeline::pair_runs(self.original, path).ok()?;
-        Some(
-            pairs
-                .iter()
-                .all(|&(o, c)| follows_in_order(&path[c].pieces, &self.gates[o], self.accuracy)),
-        )
+        Some(pairs.iter().all(|&(o, c)| {
+            let g = &self.gates[o];
+            follows_in_order_within(
+                &path[c].pieces,
+                &g.gates,
+                &g.caps,
+                |p| piece_speed(p, &self.machine, self.override_feed),
+                self.accuracy,
+            )
+        }))
     }
 
-    /// [`InOrderGates::followed_by`] a written program, read back; `None`
+    /// [`RunGates::followed_by`] a written program, read back; `None`
     /// where it cannot be read here (JSON keeps no runs: its curves are
     /// the row's own, checked as such).
     fn followed_by_text(&self, text: &str, format: Format) -> Option<bool> {

@@ -6,10 +6,12 @@
 use crate::common;
 use common::{planned_at_max_feed as planned, polyline_run, v};
 use fairpath::feed::limits::MachineLimits;
-use fairpath::feed::lower_bound::{in_order_gates_of, lower_bound_time, BandPaths, BoundOptions};
+use fairpath::feed::lower_bound::{
+    in_order_gates_of, lower_bound_time, piece_speed, BandPaths, BoundOptions, InOrderGates,
+};
 use fairpath::geom::Vec3;
 use fairpath::path::Piece;
-use fairpath::verify::follows_in_order;
+use fairpath::verify::{follows_in_order, follows_in_order_within};
 use proptest::prelude::*;
 
 const TOL: f64 = 0.05;
@@ -224,10 +226,27 @@ fn bound_in_order(pieces: &[Piece]) -> f64 {
         .time
 }
 
-/// Whether `path` passes the in-order gates of `original` in order.
+/// The in-order gates of `original` on the thesis machine, every feed
+/// overridden (as [`bound_in_order`]).
+fn gates_of(original: &[Piece]) -> InOrderGates {
+    in_order_gates_of(original, &in_order(TOL), &MachineLimits::thesis(), true)
+}
+
+/// Whether `path` passes the in-order gates of `original` in order,
+/// within their feeds.
 fn follows(original: &[Piece], path: &[Piece]) -> bool {
-    let gates = in_order_gates_of(original, &in_order(TOL));
-    follows_in_order(path, &gates, 1e-4 * TOL)
+    let g = gates_of(original);
+    let m = MachineLimits::thesis();
+    let within = follows_in_order_within(
+        path,
+        &g.gates,
+        &g.caps,
+        |p| piece_speed(p, &m, true),
+        1e-4 * TOL,
+    );
+    // The feeds are all the machine's: the order decides.
+    assert_eq!(within, follows_in_order(path, &g.gates, 1e-4 * TOL));
+    within
 }
 
 /// A closed hexagon of radius 10 mm, up and down 3 mm in Z (the shape of
@@ -278,9 +297,14 @@ fn a_shortcut_across_a_raster_follows_it_only_where_the_passes_share_the_band() 
     let cut = polyline_run(&[pts[0], pts[3]]);
     assert!(!follows(&run.pieces, &cut.pieces));
     // Passes 0.06 mm apart share the band: a band path may cut across
-    // there, so no gate stands on them.
-    let close = polyline_run(&raster(2, 20.0, 0.06));
-    assert!(in_order_gates_of(&close.pieces, &in_order(TOL)).is_empty());
+    // there, but a path in order does not, so gates stand on both
+    // passes and the shortcut misses them.
+    let close_pts = raster(2, 20.0, 0.06);
+    let close = polyline_run(&close_pts);
+    assert!(!gates_of(&close.pieces).gates.is_empty());
+    assert!(follows(&close.pieces, &close.pieces));
+    let cut = polyline_run(&[close_pts[0], close_pts[3]]);
+    assert!(!follows(&close.pieces, &cut.pieces));
 }
 
 #[test]
@@ -460,4 +484,73 @@ fn slow_points_in_order_are_chained_over_the_run() {
         assert!(b >= least, "{name}: in-order bound {b} below {least}");
         assert!(b <= t, "{name}: in-order bound {b} above the plan {t}");
     }
+}
+
+/// Three 20 mm moves along X in one run, the middle one at `slow`
+/// mm/min, the others at 1200.
+fn slow_middle(slow: f64) -> Vec<Piece> {
+    let feeds = [1200.0, slow, 1200.0];
+    (0..3)
+        .map(|i| {
+            let mut p = polyline_run(&[
+                v(20.0 * i as f64, 0.0, 0.0),
+                v(20.0 * (i + 1) as f64, 0.0, 0.0),
+            ])
+            .pieces
+            .remove(0);
+            p.feed = Some(feeds[i]);
+            p
+        })
+        .collect()
+}
+
+#[test]
+fn a_slow_feed_inside_a_run_bounds_paths_in_order_that_keep_it() {
+    // 20 mm at F120 (2 mm/s) takes 10 s; the run's largest feed, 20
+    // mm/s, would allow 3 s for the whole run. The stretches next to the
+    // feed change take the faster feed (a few tolerances of slack and a
+    // gate spacing each side).
+    let m = MachineLimits::thesis();
+    let run = slow_middle(120.0);
+    let bound = |o: &BoundOptions| lower_bound_time(&run, o, &m, false).expect("bounds").time;
+    let in_order_bound = bound(&in_order(TOL));
+    assert!(
+        in_order_bound > 0.95 * (10.0 + 40.0 / 20.0),
+        "{in_order_bound}"
+    );
+    assert!(bound(&BoundOptions::new(TOL)) < 4.0);
+    // The original keeps its feeds; the same path run at F1200 all
+    // along does not, and is not a path the bound holds for.
+    let g = in_order_gates_of(&run, &in_order(TOL), &m, false);
+    let speed = |p: &Piece| piece_speed(p, &m, false);
+    assert!(follows_in_order_within(
+        &run,
+        &g.gates,
+        &g.caps,
+        speed,
+        1e-4 * TOL
+    ));
+    let fast = slow_middle(1200.0);
+    assert!(!follows_in_order_within(
+        &fast,
+        &g.gates,
+        &g.caps,
+        speed,
+        1e-4 * TOL
+    ));
+    assert!(follows_in_order(&fast, &g.gates, 1e-4 * TOL));
+    // Planned as the planner plans it, the original takes longer.
+    let opts = fairpath::feed::plan::PlanOptions {
+        limits: m,
+        override_feed: false,
+        window: None,
+        ends: Default::default(),
+    };
+    let planned = fairpath::feed::plan::plan_run(&run, &opts)
+        .expect("plans")
+        .time;
+    assert!(
+        planned >= in_order_bound,
+        "{planned} below {in_order_bound}"
+    );
 }

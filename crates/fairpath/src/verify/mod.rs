@@ -40,7 +40,7 @@ use crate::math;
 use crate::path::Piece;
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
-pub use order::follows_in_order;
+pub use order::{follows_in_order, follows_in_order_within};
 
 /// One joint of the smoothed run.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -26,17 +26,20 @@ struct Segment {
     a: Vec3,
     b: Vec3,
     shrink: f64,
+    /// Index of the path's piece it is part of.
+    piece: usize,
 }
 
 /// The path as segments (see the module docs).
 fn segments(path: &[Piece], accuracy: f64) -> Vec<Segment> {
     let mut out = Vec::new();
-    for p in path {
+    for (piece, p) in path.iter().enumerate() {
         match &p.curve {
             Curve::Line(l) => out.push(Segment {
                 a: l.p0,
                 b: l.p1,
                 shrink: 0.0,
+                piece,
             }),
             c => {
                 let pts: Vec<Vec3> = flatten_params(c, accuracy)
@@ -48,6 +51,7 @@ fn segments(path: &[Piece], accuracy: f64) -> Vec<Segment> {
                         a: w[0],
                         b: w[1],
                         shrink: accuracy,
+                        piece,
                     });
                 }
             }
@@ -87,18 +91,63 @@ fn entry(s: &Segment, q: Vec3, radius: f64, u0: f64) -> Option<f64> {
 /// `true` is never wrong; a path that passes a gate closer than `accuracy`
 /// to its radius may be reported `false`).
 pub fn follows_in_order(path: &[Piece], gates: &[(Vec3, f64)], accuracy: f64) -> bool {
-    let segs = segments(path, accuracy);
+    entries(&segments(path, accuracy), gates).is_some()
+}
+
+/// The segment at which the path enters each gate, taking each as early
+/// as possible after the previous one; `None` where some gate is not
+/// passed in order.
+fn entries(segs: &[Segment], gates: &[(Vec3, f64)]) -> Option<Vec<usize>> {
     let (mut k, mut u) = (0usize, 0.0f64);
+    let mut out = Vec::with_capacity(gates.len());
     'gates: for &(q, radius) in gates {
         while k < segs.len() {
             if let Some(t) = entry(&segs[k], q, radius, u) {
                 u = t;
+                out.push(k);
                 continue 'gates;
             }
             k += 1;
             u = 0.0;
         }
+        return None;
+    }
+    Some(out)
+}
+
+/// [`follows_in_order`], and every piece of the path runs no faster
+/// (`speed_of`, mm/s) than the cap of each stretch between gates it is
+/// part of: `caps[i]` from entering gate `i - 1` to entering gate `i`,
+/// `caps[0]` from the path's start, the last to its end (the feeds of
+/// [`crate::feed::lower_bound::InOrderGates`]). A piece holding a gate's
+/// entry counts on both sides of it. The entries are the earliest ones
+/// in order, as [`follows_in_order`] takes them: `true` is never wrong
+/// (that order of passing has every stretch within its cap), and a path
+/// that some later choice of entries would pass may be reported `false`.
+pub fn follows_in_order_within(
+    path: &[Piece],
+    gates: &[(Vec3, f64)],
+    caps: &[f64],
+    speed_of: impl Fn(&Piece) -> f64,
+    accuracy: f64,
+) -> bool {
+    if caps.len() != gates.len() + 1 || path.is_empty() {
         return false;
+    }
+    let segs = segments(path, accuracy);
+    let Some(at) = entries(&segs, gates) else {
+        return false;
+    };
+    // Piece ranges of each stretch: from the piece holding the previous
+    // entry (or the first) to the one holding the next (or the last).
+    let piece_at = |k: usize| segs.get(k).map_or(path.len() - 1, |s| s.piece);
+    let mut from = 0;
+    for (i, &cap) in caps.iter().enumerate() {
+        let to = at.get(i).map_or(path.len() - 1, |&k| piece_at(k));
+        if path[from..=to.max(from)].iter().any(|p| speed_of(p) > cap) {
+            return false;
+        }
+        from = to;
     }
     true
 }
@@ -126,6 +175,55 @@ mod tests {
         assert!(follows_in_order(&p, &gates, 1e-4));
         let back: Vec<(Vec3, f64)> = gates.iter().rev().copied().collect();
         assert!(!follows_in_order(&p, &back, 1e-4));
+    }
+
+    #[test]
+    fn each_stretch_between_entries_keeps_its_cap() {
+        // Two lines at 10 and 20 mm/s; gates at x = 5 and x = 15.
+        let mut p = [
+            line(Vec3::new(0.0, 0.0, 0.0), Vec3::new(10.0, 0.0, 0.0)),
+            line(Vec3::new(10.0, 0.0, 0.0), Vec3::new(20.0, 0.0, 0.0)),
+        ];
+        p[0].feed = Some(600.0);
+        p[1].feed = Some(1200.0);
+        let speed = |q: &Piece| q.feed.unwrap_or(0.0) / 60.0;
+        let gates = [
+            (Vec3::new(5.0, 0.0, 0.0), 0.01),
+            (Vec3::new(15.0, 0.0, 0.0), 0.01),
+        ];
+        // Between the gates both pieces count, so the middle cap must
+        // allow the faster.
+        assert!(follows_in_order_within(
+            &p,
+            &gates,
+            &[10.0, 20.0, 20.0],
+            speed,
+            1e-4
+        ));
+        assert!(!follows_in_order_within(
+            &p,
+            &gates,
+            &[10.0, 10.0, 20.0],
+            speed,
+            1e-4
+        ));
+        // Before the first gate only the first piece: 10 is enough there;
+        // after the last only the second.
+        assert!(!follows_in_order_within(
+            &p,
+            &gates,
+            &[10.0, 20.0, 10.0],
+            speed,
+            1e-4
+        ));
+        // One cap per stretch, or no answer but `false`.
+        assert!(!follows_in_order_within(
+            &p,
+            &gates,
+            &[20.0, 20.0],
+            speed,
+            1e-4
+        ));
     }
 
     #[test]

@@ -4,9 +4,8 @@
 //! bound.
 
 use super::samples::SampleGrid;
-use super::{BandPaths, BoundOptions, MAX_SAMPLES};
+use super::{BandPaths, BoundOptions, MachineLimits, MAX_SAMPLES};
 use crate::geom::{flatten_params, ParamCurve, Vec3};
-use crate::math;
 use crate::path::Piece;
 use alloc::vec::Vec;
 
@@ -36,9 +35,12 @@ impl Bridges {
     }
 }
 
-/// The polyline of a run within `chord` of it, with arc lengths.
-pub(super) fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>) {
+/// The polyline of a run within `chord` of it, its arc lengths, and the
+/// arc length at which each piece ends.
+pub(super) fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>, Vec<f64>) {
     let mut pts: Vec<Vec3> = Vec::new();
+    // Index of each piece's last point.
+    let mut last = Vec::with_capacity(pieces.len());
     for p in pieces {
         for t in flatten_params(&p.curve, chord) {
             let q = p.curve.eval(t);
@@ -46,6 +48,7 @@ pub(super) fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>) {
                 pts.push(q);
             }
         }
+        last.push(pts.len().saturating_sub(1));
     }
     let mut s = Vec::with_capacity(pts.len());
     let mut acc = 0.0;
@@ -55,7 +58,43 @@ pub(super) fn polyline(pieces: &[Piece], chord: f64) -> (Vec<Vec3>, Vec<f64>) {
         }
         s.push(acc);
     }
-    (pts, s)
+    let ends = last
+        .iter()
+        .map(|&i| s.get(i).copied().unwrap_or(0.0))
+        .collect();
+    (pts, s, ends)
+}
+
+/// Share of the tolerance by which [`feed_caps`] widens each stretch
+/// between gates along the run: a written piece near a gate may come
+/// from a move up to a few tolerances beyond it.
+const FEED_SLACK: f64 = 3.0;
+
+/// The speed cap (mm/s) of a path in order between each two consecutive
+/// gates of `gates` (the run's ends included): the fastest of the
+/// speeds `speeds` of the pieces (ending at arc lengths `ends`) whose
+/// stretch of the run comes within [`FEED_SLACK`] tolerances `tol` of the
+/// stretch between the two gates. Module docs, step 11.
+pub(super) fn feed_caps(gates: &[Gate], ends: &[f64], speeds: &[f64], tol: f64) -> Vec<f64> {
+    let slack = FEED_SLACK * tol;
+    gates
+        .windows(2)
+        .map(|w| {
+            let (lo, hi) = (w[0].along - slack, w[1].along + slack);
+            // The first piece ending at or after `lo`, then on while the
+            // pieces start at or before `hi`.
+            let first = ends.partition_point(|&x| x < lo);
+            let mut cap: f64 = 0.0;
+            for k in first..ends.len() {
+                let start = if k == 0 { 0.0 } else { ends[k - 1] };
+                if start > hi {
+                    break;
+                }
+                cap = cap.max(speeds[k]);
+            }
+            cap
+        })
+        .collect()
 }
 
 /// The point at arc length `x` of the polyline.
@@ -142,33 +181,21 @@ pub(super) fn gates(
 
 /// The inner gates of [`BandPaths::InOrder`] on the polyline `pts` (arc
 /// lengths `s`), each with its arc length: the straight gates of step 1
-/// (every `gate_spacing` tolerances, radius `e + delta`) where no part of
-/// the run farther than the reach `r` along it comes within `2e` of the
-/// gate (sampled, the sampling step added). There the band is the one
-/// straight stretch's, and a path that follows the run in order crosses
-/// it once, through the gate.
+/// (every `gate_spacing` tolerances, radius `e + delta`), also where the
+/// run comes back within `2e` of itself (a raster's close passes, a
+/// closed contour's ends, a there-and-back stroke): a path that follows
+/// the run in order passes each, where a band path could cut across
+/// (such a path fails [`crate::verify::follows_in_order`] instead).
 fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64, Gate)> {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
     let r = o.reach * tol;
     let spacing = (o.gate_spacing * tol).max(total / MAX_SAMPLES as f64);
-    let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
-    let near = 2.0 * e + step;
-    let grid = SampleGrid::new(pts, s, step, near);
-    // Whether a sample farther than `r` along the run from `x` is within
-    // `near` of `q`.
-    let crowded = |x: f64, q: Vec3| {
-        grid.any_near(q, |xj, pj| {
-            math::abs(xj - x) > r - step && q.dist(pj) <= near
-        })
-    };
     let mut out = Vec::new();
     let mut x = r.max(spacing);
     while x < total - r {
         if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
-            if !crowded(x, g.at) {
-                out.push((x, g));
-            }
+            out.push((x, g));
         }
         x += spacing;
     }
@@ -225,19 +252,50 @@ pub(super) fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) 
     best[b - a].max(0.0)
 }
 
-/// The inner gates [`BandPaths::InOrder`] puts on the run `pieces` (the
-/// run's ends left out: they are kept exactly), each a point and its
-/// radius: a path the bound holds for passes within the radius of each, in
-/// order ([`crate::verify::follows_in_order`] checks that).
-pub fn in_order_gates_of(pieces: &[Piece], opts: &BoundOptions) -> Vec<(Vec3, f64)> {
+/// The inner gates [`BandPaths::InOrder`] puts on a run, and the speeds
+/// a path in order keeps to between them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InOrderGates {
+    /// Each gate, a point and its radius (the run's ends left out: they
+    /// are kept exactly). A path the bound holds for passes within the
+    /// radius of each, in order.
+    pub gates: Vec<(Vec3, f64)>,
+    /// Speed caps, mm/s: `caps[i]` between passing gate `i - 1` and gate
+    /// `i`, `caps[0]` from the run's start, the last to its end. A path
+    /// the bound holds for runs no piece faster there (module docs, step
+    /// 11).
+    pub caps: Vec<f64>,
+}
+
+/// The [`InOrderGates`] of the run `pieces` for a machine `m`
+/// ([`crate::verify::follows_in_order_within`] checks a path against
+/// them).
+pub fn in_order_gates_of(
+    pieces: &[Piece],
+    opts: &BoundOptions,
+    m: &MachineLimits,
+    override_feed: bool,
+) -> InOrderGates {
     let chord = opts.tolerance * opts.chord_share;
     let e = opts.tolerance + chord;
-    let (pts, s) = polyline(pieces, chord);
+    let (pts, s, ends) = polyline(pieces, chord);
     if pts.len() < 2 {
-        return Vec::new();
+        return InOrderGates::default();
     }
-    in_order_gates(&pts, &s, e, opts)
-        .into_iter()
-        .map(|(_, g)| (g.at, g.radius))
-        .collect()
+    let opts = BoundOptions {
+        paths: BandPaths::InOrder,
+        ..*opts
+    };
+    let (all, _) = gates(&pts, &s, e, &opts);
+    let speeds: Vec<f64> = pieces
+        .iter()
+        .map(|p| super::piece_speed(p, m, override_feed))
+        .collect();
+    InOrderGates {
+        caps: feed_caps(&all, &ends, &speeds, opts.tolerance),
+        gates: all[1..all.len() - 1]
+            .iter()
+            .map(|g| (g.at, g.radius))
+            .collect(),
+    }
 }

@@ -41,8 +41,10 @@
 //!    follow the run in order ([`BandPaths::InOrder`]: within `e` of
 //!    `c(s)` at a non-decreasing time `tau(s)`, Frechet distance at most
 //!    the tolerance) a gate of radius `e` stands at every point, and the
-//!    steps below hold as they are; [`crate::verify::follows_in_order`]
-//!    checks a path passes those gates in order.
+//!    steps below hold as they are. The bound takes the straight gates
+//!    (radius `e + delta`, as above), also where the run comes back near
+//!    itself; [`crate::verify::follows_in_order`] checks a path passes
+//!    those gates in order (a path that cuts across does not).
 //! 2. **Turns.** Between the gates `a < a+1 <= b < b+1` the mean directions
 //!    of travel over `[tau_a, tau_a+1]` and `[tau_b, tau_b+1]` are within
 //!    `asin((rho_a + rho_a+1) / |q_a+1 - q_a|)` of the chords' directions.
@@ -240,6 +242,17 @@
 //!     and the walls' with step 8's windows of caps below a quarter of the
 //!     feed, picked greedily by how fast a window's slow point could rise
 //!     over half its length.
+//! 11. **Feeds, for paths in order.** Every step above takes the run's
+//!     largest feed. A run may change feed along it (a plunge at the
+//!     plunge feed, then the cut); `smooth` keeps each feed on its
+//!     stretch (a piece that replaces several moves runs at the lowest of
+//!     their feeds). Between consecutive gates the path is capped at the
+//!     largest feed of the moves within a few tolerances of the stretch
+//!     between them ([`InOrderGates::caps`];
+//!     [`crate::verify::follows_in_order_within`] checks a path keeps to
+//!     them), so between passing gates `i < j` it takes at least `(|q_j -
+//!     q_i| - rho_i - rho_j)` over the largest cap between them; the best
+//!     chain of such links bounds the run.
 //!
 //! # Where it is loose
 //! At a sharp turn, step 8 caps the slow point's speed through the gates
@@ -279,8 +292,8 @@ mod samples;
 mod walls;
 mod width;
 use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow};
-pub use gates::in_order_gates_of;
-use gates::{chain_length, gates, polyline, Gate};
+use gates::{chain_length, feed_caps, gates, polyline, Gate};
+pub use gates::{in_order_gates_of, InOrderGates};
 use walls::Corner;
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
 
@@ -693,18 +706,11 @@ pub fn lower_bound_time(
         name: l.name,
         value: l.value,
     })?;
-    let mut f: f64 = 0.0;
-    for p in pieces {
-        let feed = if override_feed {
-            m.max_feed
-        } else {
-            p.feed
-                .map(|v| v / 60.0)
-                .unwrap_or(m.max_feed)
-                .min(m.max_feed)
-        };
-        f = f.max(feed);
-    }
+    let speeds: Vec<f64> = pieces
+        .iter()
+        .map(|p| piece_speed(p, m, override_feed))
+        .collect();
+    let f = speeds.iter().fold(0.0f64, |a, &b| a.max(b));
     if pieces.is_empty() || f <= 0.0 {
         return Ok(LowerBound::default());
     }
@@ -712,7 +718,7 @@ pub fn lower_bound_time(
     let lim = Limits::new(f, m.acc, m.jerk)?;
     let chord = tol * opts.chord_share;
     let e = tol + chord;
-    let (pts, s) = polyline(pieces, chord);
+    let (pts, s, ends) = polyline(pieces, chord);
     if pts.len() < 2 {
         return Ok(LowerBound::default());
     }
@@ -1087,6 +1093,12 @@ pub fn lower_bound_time(
             time = time.max(chain_time(slow, chords.len(), chord_sum, lim));
         }
     }
+    // Step 11: for paths in order, each stretch between gates at its
+    // feed.
+    if opts.paths == BandPaths::InOrder {
+        let caps = feed_caps(&gates, &ends, &speeds, tol);
+        time = time.max(feed_floor(&gates, &caps, opts.max_chain));
+    }
     // Step 6: the rest-to-rest double-S over the run's length.
     if length > 0.0 {
         let ds = DoubleS::plan(length, 0.0, 0.0, &lim)?;
@@ -1098,6 +1110,50 @@ pub fn lower_bound_time(
         turns: windows.len(),
         gates: gates.len(),
     })
+}
+
+/// Step 11: a lower bound of the time of a path in order that runs no
+/// faster than `caps[i]` between passing gates `i` and `i + 1`: between
+/// passing gates `i < j` (at most `max_link` apart) it covers at least
+/// `|q_j - q_i| - rho_i - rho_j` no faster than the highest cap between
+/// them; the best chain of such links (as [`gates::chain_length`]).
+fn feed_floor(gates: &[Gate], caps: &[f64], max_link: usize) -> f64 {
+    let n = gates.len();
+    let mut best = alloc::vec![f64::NEG_INFINITY; n];
+    if n == 0 {
+        return 0.0;
+    }
+    best[0] = 0.0;
+    for i in 0..n - 1 {
+        let bi = best[i];
+        let mut cap: f64 = 0.0;
+        for j in (i + 1)..=(i + max_link).min(n - 1) {
+            cap = cap.max(caps[j - 1]);
+            if cap <= 0.0 {
+                continue;
+            }
+            let link = (gates[j].at.dist(gates[i].at) - gates[i].radius - gates[j].radius).max(0.0);
+            let v = bi + link / cap;
+            if v > best[j] {
+                best[j] = v;
+            }
+        }
+    }
+    best[n - 1].max(0.0)
+}
+
+/// The speed (mm/s) the planner runs a piece at most: its programmed
+/// feed, or the machine's where none is programmed or with
+/// `override_feed`, never above the machine's.
+pub fn piece_speed(p: &Piece, m: &MachineLimits, override_feed: bool) -> f64 {
+    if override_feed {
+        m.max_feed
+    } else {
+        p.feed
+            .map(|v| v / 60.0)
+            .unwrap_or(m.max_feed)
+            .min(m.max_feed)
+    }
 }
 
 /// [`lower_bound_time`] over a program's motions: every run bounded,
