@@ -205,8 +205,12 @@
 //!     acceleration jump from `+A` to `-A` at the top of a speed bump. The
 //!     chain bounds the whole run at once. Take disjoint windows of gates,
 //!     each holding a point `y_i` of speed at most a cap: step 9's walls
-//!     (the nearest gates clear of the cap's reach), and for paths in
-//!     order step 8's turns with both cases closed: a path in order stays
+//!     (the nearest gates clear of the cap's reach outside the turn's
+//!     window; for paths in order, the nearest either side of the vertex
+//!     along the run: such a path passes the vertex after every gate
+//!     before it, and the capped point lies on the stretch of path within
+//!     the cap's reach of that passing, which no clear gate's ball
+//!     touches), and for paths in order step 8's turns with both cases closed: a path in order stays
 //!     within `e` of the run between the window's end gates, a set of
 //!     diameter at most `Delta` (their arc length plus `2e`), and an arc
 //!     of curvature at most `K` and length `pi / K` has its ends `2 / K`
@@ -266,7 +270,7 @@
 //! corner sharper than a right angle holds a bridge, and step 9 gives no
 //! cap), steps 4-5 still let the acceleration reverse at once at the top
 //! of a speed bump. A right angle between 50 mm legs is bounded at 0.720
-//! s (0.801 s for paths in order), where the widest turn inside the band
+//! s (0.824 s for paths in order), where the widest turn inside the band
 //! plans in 0.931 s and `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
 //! On gentle curves (`arc_parabolic.ngc`: arcs of 5 mm radius turning 30
@@ -972,14 +976,22 @@ pub fn lower_bound_time(
             }
             // Step 9: the corner's walls cap the speed near its sharpest
             // vertex, in a window of gates beyond the cap's ball.
-            let wall = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along)
-                .and_then(|x| corner.cap(x, &wall_radii, speed_of));
-            if let Some(w) = wall {
+            let vertex = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along);
+            let wall = vertex.and_then(|x| corner.cap(x, &wall_radii, speed_of));
+            if let (Some(w), Some(x)) = (wall, vertex) {
                 // Step 10's slow window: the nearest gates clear of the
-                // cap's reach, anywhere along the run.
+                // cap's reach outside the turn's window, anywhere along
+                // the run; for paths in order, the nearest either side of
+                // the vertex (module docs, step 10).
                 let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
-                let i = (0..=a).rev().find(|&g| clear(g));
-                let l = (b + 1..gates.len()).find(|&g| clear(g));
+                let (before, after) = if opts.paths == BandPaths::InOrder {
+                    let next = gates.partition_point(|g| g.along <= x);
+                    (next, next)
+                } else {
+                    (a + 1, b + 1)
+                };
+                let i = (0..before).rev().find(|&g| clear(g));
+                let l = (after..gates.len()).find(|&g| clear(g));
                 if let (Some(first), Some(last)) = (i, l) {
                     slow.push(SlowWindow {
                         first,
