@@ -151,8 +151,9 @@ const ALPHA_CELLS: usize = 4;
 /// The slow points `y_i` are passed in order. Each lies between two of
 /// its window's cut gates (`WINDOW_PARTS` parts), so the link from one
 /// to the next is at least as long as the run between the facing cut
-/// gates; the part itself takes at least its length at the feed. At each
-/// point the acceleration `a` is at least 0 or at most 0, and `|a| <=
+/// gates (the part itself is not counted: the links on either side of
+/// the point share it, in shares not known). At each point the
+/// acceleration `a` is at least 0 or at most 0, and `|a| <=
 /// sqrt(2 J cap)`: if `a(y) = alpha > 0`, the speed rose by at least
 /// `alpha^2 / (2 J)` over the `alpha / J` before (`|j| <= J`, and at the
 /// run's start `a = 0`). Rising through `y` at `alpha`, the link after it
@@ -162,8 +163,7 @@ const ALPHA_CELLS: usize = 4;
 /// into [`ALPHA_CELLS`] cells, each taken at its worst (the top of the
 /// cell for the rise, its bottom for the fall). The bound is the least,
 /// over every part, sign and cell at every point (a dynamic programme
-/// along the chain), of the sum of [`link_time`] over the links and the
-/// parts' times.
+/// along the chain), of the sum of [`link_time`] over the links.
 pub(super) fn chain_time(
     slow: Vec<SlowWindow>,
     last_gate: usize,
@@ -220,11 +220,8 @@ pub(super) fn chain_time(
         };
         let next: Vec<f64> = cur
             .iter()
-            .map(|&(a, b, into, _)| {
-                // The part itself is run at the feed at most.
-                let part = length_of(a, b) / lim.vmax;
-                part + prev
-                    .iter()
+            .map(|&(a, _, into, _)| {
+                prev.iter()
                     .zip(&best)
                     .map(|(&(_, b, _, out), &t)| t + link_time(length_of(b, a), out, into, lim))
                     .fold(f64::INFINITY, f64::min)
@@ -279,6 +276,106 @@ fn rise(end: LinkEnd, peak: f64, lim: Limits) -> (f64, f64) {
     (time, dist)
 }
 
+/// A lower bound of the time over `d` mm from the link end `from` to a
+/// fastest point at the other end, whose speed is at most `top`: the
+/// speed `s` after `from` is at most `from.speed + g(s)` (the rate of
+/// rise at most `from.accel + J s` and `A`) and at most `top`, so the
+/// time is at least the `T` at which `int_0^T clamp(from.speed + g(s), 0,
+/// top) ds` reaches `d` (bisection, kept on the side that does not).
+fn climb_time(d: f64, from: LinkEnd, top: f64, lim: Limits) -> f64 {
+    let top = top.min(lim.vmax);
+    if top <= 0.0 {
+        return f64::INFINITY;
+    }
+    let (j, a_max) = (lim.jmax, lim.amax);
+    let a0 = from.accel.min(a_max);
+    // The rate of rise reaches `A` at `s1`; before, v = v0 + a0 s + J
+    // s^2 / 2; after, linear at `A`.
+    let s1 = ((a_max - a0) / j).max(0.0);
+    let covered = |t: f64| {
+        let h1 = t.min(s1);
+        let mut dist = clamped_integral(from.speed, a0, 0.5 * j, h1, top);
+        if t > s1 {
+            let v1 = from.speed + a0 * s1 + 0.5 * j * s1 * s1;
+            dist += clamped_integral(v1, a_max, 0.0, t - s1, top);
+        }
+        dist
+    };
+    // Past the time the speed reaches `top` the distance grows at `top`:
+    // a bracket.
+    let (mut lo, mut hi) = (0.0, d / top);
+    while covered(hi) < d {
+        lo = hi;
+        hi *= 2.0;
+        if !hi.is_finite() {
+            return f64::INFINITY;
+        }
+    }
+    while hi - lo > LINK_PRECISION * 0.25 * hi {
+        let mid = 0.5 * (lo + hi);
+        if covered(mid) < d {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// `int_0^h clamp(b + a t + q t^2, 0, peak) dt`, exactly: the quadratic
+/// is cut where it crosses `0` and `peak`.
+fn clamped_integral(b: f64, a: f64, q: f64, h: f64, peak: f64) -> f64 {
+    if h <= 0.0 {
+        return 0.0;
+    }
+    let v = |t: f64| b + a * t + q * t * t;
+    let prim = |t: f64| b * t + 0.5 * a * t * t + q * t * t * t / 3.0;
+    let mut cuts = [0.0, h, h, h, h, h];
+    let mut n = 1;
+    for level in [0.0, peak] {
+        // Roots of q t^2 + a t + (b - level) in (0, h).
+        let c = b - level;
+        let mut push = |t: f64| {
+            if t > 0.0 && t < h {
+                cuts[n] = t;
+                n += 1;
+            }
+        };
+        if q == 0.0 {
+            if a != 0.0 {
+                push(-c / a);
+            }
+            continue;
+        }
+        let disc = a * a - 4.0 * q * c;
+        if disc < 0.0 {
+            continue;
+        }
+        // The stable pair of roots.
+        let r = -0.5 * (a + crate::math::sqrt(disc).copysign(a));
+        if r != 0.0 {
+            push(r / q);
+            push(c / r);
+        }
+    }
+    cuts[n] = h;
+    let cuts = &mut cuts[..=n];
+    cuts.sort_by(f64::total_cmp);
+    cuts.windows(2)
+        .map(|w| {
+            let (t0, t1) = (w[0], w[1]);
+            let mid = v(0.5 * (t0 + t1));
+            if t1 <= t0 || mid <= 0.0 {
+                0.0
+            } else if mid >= peak {
+                peak * (t1 - t0)
+            } else {
+                prim(t1) - prim(t0)
+            }
+        })
+        .sum()
+}
+
 /// Cuts of the peak speed [`link_time`] makes at most, and the relative
 /// gap at which it stops (measurements: docs/tuning.md, `LINK_SPLITS`).
 const LINK_SPLITS: usize = 160;
@@ -287,8 +384,9 @@ const LINK_PRECISION: f64 = 1e-3;
 /// A lower bound of the time over `d` mm of a link between two ends
 /// (step 10).
 ///
-/// If the link's fastest point is one of its ends, its speed stays at
-/// most the faster end's cap: `d / max(c1, c2)`. Otherwise its fastest
+/// If the link's fastest point is one of its ends, the speed stays under
+/// that end's cap and climbs from the other end no faster than the jerk
+/// and `A` allow ([`climb_time`], either way round). Otherwise its fastest
 /// point has speed `P` (the feed at most) and acceleration 0. The part
 /// before it takes at least the [`rise`] time `T1(P)` from the start and
 /// covers at most `R1(P) + P (t1 - T1(P))` in its `t1`, and the same for
@@ -304,8 +402,7 @@ pub(super) fn link_time(d: f64, start: LinkEnd, end: LinkEnd, lim: Limits) -> f6
     if d.is_nan() || d <= 0.0 {
         return 0.0;
     }
-    let knee = start.speed.max(end.speed).min(lim.vmax);
-    let at_ends = if knee > 0.0 { d / knee } else { f64::INFINITY };
+    let at_ends = climb_time(d, start, end.speed, lim).min(climb_time(d, end, start.speed, lim));
     // The two sides' rise times and distances at a peak speed `p`.
     let sides = |p: f64| {
         let ((t1, r1), (t2, r2)) = (rise(start, p, lim), rise(end, p, lim));
@@ -480,6 +577,29 @@ mod tests {
         assert!(chained >= half + half_steep, "{chained}");
         assert!(chained > half + half_steep + 0.01 * chained, "{chained}");
         assert!(chained <= 2.0 * half, "{chained} against {half}");
+    }
+
+    #[test]
+    fn a_window_capped_at_the_feed_costs_no_more_than_the_runs_double_s() {
+        // A window of half the run in its middle, capped at the feed (or,
+        // on 2 mm, at a speed the run never reaches), allows the run's
+        // own double-S from rest to rest; its fastest point is the
+        // window's, so the links' climbs to it are at the jerk limit.
+        for (d, share) in [(40.0f64, 1.0f64), (400.0, 1.0), (2.0, 0.25)] {
+            let gates = 40;
+            let step = d / gates as f64;
+            let slow = [SlowWindow {
+                first: 10,
+                last: 30,
+                cap: LIM.vmax * share,
+            }];
+            let chained = chain_time(slow.to_vec(), gates, |a, b| step * (b - a) as f64, LIM);
+            let exact = double_s(d, 0.0, 0.0).unwrap();
+            assert!(
+                chained <= exact * (1.0 + 1e-9),
+                "{d}: {chained} above {exact}"
+            );
+        }
     }
 
     #[test]

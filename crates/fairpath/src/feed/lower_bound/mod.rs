@@ -210,8 +210,9 @@
 //!     along the run: such a path passes the vertex after every gate
 //!     before it, and the capped point lies on the stretch of path within
 //!     the cap's reach of that passing, which no clear gate's ball
-//!     touches), and for paths in order step 8's turns with both cases closed: a path in order stays
-//!     within `e` of the run between the window's end gates, a set of
+//!     touches), and for paths in order step 8's turns with both cases
+//!     closed: a path in order stays within `e` of the run between the
+//!     window's end gates, a set of
 //!     diameter at most `Delta` (their arc length plus `2e`), and an arc
 //!     of curvature at most `K` and length `pi / K` has its ends `2 / K`
 //!     apart (Schur), so the long case has `K >= 2 / Delta` and the window
@@ -228,18 +229,20 @@
 //!     least over `P` (branch and bound over ranges of `P`; rise times and
 //!     distances grow with `P`): on a link from rest to rest, the
 //!     double-S. A fastest point at an end keeps the speed under that
-//!     end's cap. At each `y_i` the acceleration `a` is `>= 0` or `<= 0`,
-//!     and `|a| <= sqrt(2 J cap)` (the speed changed by `a^2 / (2 J)`
-//!     within `|a| / J` of it and stays at least 0). Rising through `y_i`,
+//!     end's cap, climbing to it from the other end no faster than the
+//!     jerk and `A` allow. At each `y_i` the acceleration `a` is `>= 0`
+//!     or `<= 0`, and `|a| <= sqrt(2 J cap)` (the speed changed by `a^2
+//!     / (2 J)` within `|a| / J` of it and stays at least 0). Rising
+//!     through `y_i`,
 //!     the link after it starts with a rate of rise at most `a`, and in
 //!     the link before it the speed falls into `y_i` (a rate of rise `-a`
 //!     seen from inside); falling, the other way round. The range of `a`
 //!     is cut into a few cells, each taken at its worst end. Each `y_i`
 //!     lies in one of a few parts of its window (cut at gates), which
-//!     bounds the links' lengths from below, and the part itself takes at
-//!     least its length at the feed; the bound is the least over parts,
-//!     signs and cells of `a` at
-//!     every point (a dynamic programme along the chain). Any choice of
+//!     bounds the links' lengths from below (the part itself is left
+//!     out: the links on either side share it); the bound is the least
+//!     over parts, signs and cells of `a` at every point (a dynamic
+//!     programme along the chain). Any choice of
 //!     windows bounds the run, but a point whose cap is high adds little
 //!     and cuts the link it sits in (the speed there is only known to be
 //!     under the cap), so two choices are tried: the walls' windows alone,
@@ -270,7 +273,7 @@
 //! corner sharper than a right angle holds a bridge, and step 9 gives no
 //! cap), steps 4-5 still let the acceleration reverse at once at the top
 //! of a speed bump. A right angle between 50 mm legs is bounded at 0.720
-//! s (0.824 s for paths in order), where the widest turn inside the band
+//! s (0.823 s for paths in order), where the widest turn inside the band
 //! plans in 0.931 s and `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
 //! On gentle curves (`arc_parabolic.ngc`: arcs of 5 mm radius turning 30
