@@ -594,3 +594,32 @@ fn square_wave_corners_are_slow_points_between_their_nearest_gates() {
         .time;
     assert!(b <= planned, "{b} above {planned}");
 }
+
+#[test]
+fn plotter_owl_hairpin_tip_holds_no_gate_the_corner_methods_cut() {
+    // `gcode-rs/plotter_owl.gcode` line 520: the pen runs 3.1 mm to a tip
+    // and back at 12 degrees. Near the tip both legs share the band, and
+    // every method's corner transition cuts inside it; a gate there (0.4
+    // mm from the tip, 0.08 mm from the other leg) would leave every
+    // smoothed path out of order. Farther along the legs stand apart.
+    let run = polyline_run(&[
+        v(26.55, 35.66, 0.0),
+        v(28.93, 35.11, 0.0),
+        v(31.86, 34.10, 0.0),
+        v(27.84, 34.61, 0.0),
+        v(24.38, 34.43, 0.0),
+    ]);
+    let tip = v(31.86, 34.10, 0.0);
+    let g = gates_of(&run.pieces);
+    assert!(!g.gates.is_empty());
+    assert!(
+        g.gates.iter().all(|(q, _)| q.dist(tip) > 0.5),
+        "{:?}",
+        g.gates
+    );
+    use fairpath::smooth::{BsplineCorner, Smoother};
+    let smoothed = BsplineCorner::default()
+        .smooth_run(&run, TOL)
+        .expect("smooths");
+    assert!(follows(&run.pieces, &smoothed.pieces));
+}

@@ -182,20 +182,41 @@ pub(super) fn gates(
 /// The inner gates of [`BandPaths::InOrder`] on the polyline `pts` (arc
 /// lengths `s`), each with its arc length: the straight gates of step 1
 /// (every `gate_spacing` tolerances, radius `e + delta`), also where the
-/// run comes back within `2e` of itself (a raster's close passes, a
-/// closed contour's ends, a there-and-back stroke): a path that follows
-/// the run in order passes each, where a band path could cut across
-/// (such a path fails [`crate::verify::follows_in_order`] instead).
+/// run comes back within `2e` of itself farther along it than
+/// `hairpin_reach` tolerances (a raster's close passes, a closed
+/// contour's ends, a stroke cut there and back): a path that follows the
+/// run in order passes each, where a band path could cut across (such a
+/// path fails [`crate::verify::follows_in_order`] instead). Nearer, at
+/// the tip of a sharp hairpin that the corner methods cut inside the
+/// band, no gate stands (sampled every `e / 2`, the step added).
 fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64, Gate)> {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
     let r = o.reach * tol;
     let spacing = (o.gate_spacing * tol).max(total / MAX_SAMPLES as f64);
+    let hairpin = o.hairpin_reach * tol;
+    let step = 0.5 * e;
+    let near = 2.0 * e + step;
+    // Whether the run between `r` and `hairpin` along it from `x` comes
+    // within `near` of `q`.
+    let at_hairpin = |x: f64, q: Vec3| {
+        let mut d = r;
+        while d < hairpin {
+            let hit = |y: f64| (0.0..=total).contains(&y) && point_at(pts, s, y).dist(q) <= near;
+            if hit(x + d) || hit(x - d) {
+                return true;
+            }
+            d += step;
+        }
+        false
+    };
     let mut out = Vec::new();
     let mut x = r.max(spacing);
     while x < total - r {
         if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
-            out.push((x, g));
+            if !at_hairpin(x, g.at) {
+                out.push((x, g));
+            }
         }
         x += spacing;
     }

@@ -43,8 +43,10 @@
 //!    the tolerance) a gate of radius `e` stands at every point, and the
 //!    steps below hold as they are. The bound takes the straight gates
 //!    (radius `e + delta`, as above), also where the run comes back near
-//!    itself; [`crate::verify::follows_in_order`] checks a path passes
-//!    those gates in order (a path that cuts across does not).
+//!    itself farther along it than [`BoundOptions::hairpin_reach`] (not
+//!    at a sharp hairpin's tip, which the corner methods cut);
+//!    [`crate::verify::follows_in_order`] checks a path passes those
+//!    gates in order (a path that cuts across does not).
 //! 2. **Turns.** Between the gates `a < a+1 <= b < b+1` the mean directions
 //!    of travel over `[tau_a, tau_a+1]` and `[tau_b, tau_b+1]` are within
 //!    `asin((rho_a + rho_a+1) / |q_a+1 - q_a|)` of the chords' directions.
@@ -348,6 +350,11 @@ pub struct BoundOptions {
     pub max_window: usize,
     /// Longest link of the chains that bound lengths, in gates.
     pub max_chain: usize,
+    /// For paths in order: no gate stands where the run comes back within
+    /// twice the band of it within this arc length, in tolerances (the
+    /// tip of a sharp hairpin, which the corner methods cut; farther
+    /// along, a raster's next pass or a stroke cut back, a gate stands).
+    pub hairpin_reach: f64,
     /// Radii of the balls of the width argument (step 7), in tolerances.
     pub ball_radii: [f64; 2],
     /// Radii of the balls of the walls argument (step 9), in tolerances;
@@ -370,6 +377,7 @@ impl BoundOptions {
             min_turn: 0.05,
             max_window: 6,
             max_chain: 48,
+            hairpin_reach: 20.0,
             ball_radii: [20.0, 100.0],
             wall_radii: [20.0, 30.0, 45.0, 70.0],
         }
