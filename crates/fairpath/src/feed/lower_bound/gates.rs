@@ -255,6 +255,19 @@ fn straight_gate(pts: &[Vec3], s: &[f64], x: f64, r: f64, e: f64, max_delta: f64
 /// gates), each link `|q_i - q_j| - rho_i - rho_j`: a lower bound of the
 /// length of any band path between passing gate `a` and gate `b`.
 pub(super) fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) -> f64 {
+    best_chain(gates, a, b, max_link, |_, _, link| link)
+}
+
+/// The largest sum of `weigh(i, j, |q_j - q_i| - rho_i - rho_j)` over a
+/// chain of gates from `a` to `b`, each link at most `max_link` gates
+/// long ([`chain_length`]'s lengths; step 11's times).
+pub(super) fn best_chain(
+    gates: &[Gate],
+    a: usize,
+    b: usize,
+    max_link: usize,
+    weigh: impl Fn(usize, usize, f64) -> f64,
+) -> f64 {
     if b <= a {
         return 0.0;
     }
@@ -264,7 +277,7 @@ pub(super) fn chain_length(gates: &[Gate], a: usize, b: usize, max_link: usize) 
         let bi = best[i - a];
         for j in (i + 1)..=(i + max_link).min(b) {
             let link = (gates[j].at.dist(gates[i].at) - gates[i].radius - gates[j].radius).max(0.0);
-            let v = bi + link;
+            let v = bi + weigh(i, j, link);
             if v > best[j - a] {
                 best[j - a] = v;
             }

@@ -1139,30 +1139,17 @@ pub fn lower_bound_time(
 /// faster than `caps[i]` between passing gates `i` and `i + 1`: between
 /// passing gates `i < j` (at most `max_link` apart) it covers at least
 /// `|q_j - q_i| - rho_i - rho_j` no faster than the highest cap between
-/// them; the best chain of such links (as [`gates::chain_length`]).
+/// them; the best chain of such links ([`gates::best_chain`]).
 fn feed_floor(gates: &[Gate], caps: &[f64], max_link: usize) -> f64 {
-    let n = gates.len();
-    let mut best = alloc::vec![f64::NEG_INFINITY; n];
-    if n == 0 {
-        return 0.0;
-    }
-    best[0] = 0.0;
-    for i in 0..n - 1 {
-        let bi = best[i];
-        let mut cap: f64 = 0.0;
-        for j in (i + 1)..=(i + max_link).min(n - 1) {
-            cap = cap.max(caps[j - 1]);
-            if cap <= 0.0 {
-                continue;
-            }
-            let link = (gates[j].at.dist(gates[i].at) - gates[i].radius - gates[j].radius).max(0.0);
-            let v = bi + link / cap;
-            if v > best[j] {
-                best[j] = v;
-            }
+    let last = gates.len().saturating_sub(1);
+    gates::best_chain(gates, 0, last, max_link, |i, j, link| {
+        let cap = caps[i..j].iter().fold(0.0f64, |m, &c| m.max(c));
+        if cap > 0.0 {
+            link / cap
+        } else {
+            0.0
         }
-    }
-    best[n - 1].max(0.0)
+    })
 }
 
 /// The speed (mm/s) the planner runs a piece at most: its programmed
