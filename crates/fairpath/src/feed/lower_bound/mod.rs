@@ -193,15 +193,36 @@
 //!    wall both ways along the path (the tangent's angle `beta` to the
 //!    wall's plane falls at most at rate `kappa`, so the path rises
 //!    `(1 - cos beta) / kappa` towards the wall within arc length `beta /
-//!    kappa`): `(n . T)^2 <= 2 kappa w_n`. Averaged over the three walls,
-//!    `kappa >= lambda_min(sum n n^T / w_n) / 6 = K_wall`. So for every
-//!    `kappa < K_wall` whose `S` fits, the curvature exceeds `kappa`
-//!    within `S` of `p`, where the speed is then below that of `kappa`
-//!    under the caps: the least speed of a window holding every path
-//!    point within `S + e + r` of `V` is at most the speed of `K_wall`
-//!    (a right angle's: `1 / (12 e)`, about 21 mm/s on the thesis machine
-//!    at 0.05 mm). The zone is bounded as in step 5 with that window and
-//!    its least speed so capped.
+//!    kappa`): `1 - cos beta <= kappa w_n`, `sin beta = |n . T|`
+//!    (step 7 (ii) before its last weakening). Averaged over the three
+//!    walls (`1 - cos beta >= (n . T)^2 / 2`), `kappa >= lambda_min(sum n
+//!    n^T / w_n) / 6`. **The fan** (`walls.rs`, `fan_walls`): every unit
+//!    `nu` of the turn's plane with `nu . u1 >= 0` and `nu . u2 <= 0` is
+//!    a wall too (both legs run no higher on it than the vertex), from
+//!    `n1` to `n2` at most 30 degrees apart; so is each tilted across the
+//!    plane, `nu' = cos psi nu +- sin psi b`, with `w(nu') <= 2e +
+//!    sqrt((w_nu - 2e)^2 + E^2) = W_nu`, `E` the spread across the plane of
+//!    the points `H` and `m` are taken over (a highest point is
+//!    subadditive in `n`, a lowest superadditive, and `1 <= cos psi + sin
+//!    psi`). With `T = cos chi t + sin chi b`, `t` in the plane, the tilt
+//!    of the best `psi` and sign has `|nu' . T| = sqrt(cos^2 chi (nu .
+//!    t)^2 + sin^2 chi) >= |nu . t|`; so for every direction `t` some wall
+//!    has `1 - sqrt(1 - (nu . t)^2) <= kappa W_nu`, and `kappa` is at
+//!    least the largest `K` at which the arcs of directions with `1 -
+//!    sqrt(1 - (nu . t)^2) >= K W_nu` cover the plane's (bisection). `K_wall`
+//!    is the larger of the two. At a right angle with every `w = 2e` the
+//!    fan gives `(1 - cos 45 deg) / (2e) = 1 / (6.83 e)`, the curvature of
+//!    the circle tangent to both outer walls through the band's inner
+//!    corner (at a turn `theta`, `(1 - cos(theta / 2)) / (2e)` likewise up
+//!    to 150 degrees): no circular turn is wider, so for them the cap is
+//!    exact; the three walls gave `1 / (12 e)`. So for every `kappa <
+//!    K_wall` whose `S` fits, the curvature exceeds `kappa` within `S` of
+//!    `p`, where the speed is then below that of `kappa` under the caps:
+//!    the least speed of a window holding every path point within
+//!    `S + e + r` of `V` is at most the speed of `K_wall` (a right
+//!    angle's, about 13 mm/s on the thesis machine at 0.05 mm). The zone
+//!    is bounded as in step 5 with that window and its least speed so
+//!    capped.
 //! 10. **The chain of slow points** (`chain.rs`). Steps 4-5 bound each
 //!     zone on its own, with the speed free at zone boundaries, and let the
 //!     acceleration jump from `+A` to `-A` at the top of a speed bump. The
@@ -267,21 +288,24 @@
 //! At a sharp turn, step 8 caps the slow point's speed through the gates
 //! nearest the vertex (the nearest straight gates stand a few tolerances
 //! from it, and their radii take some of the turn): a right angle's slow
-//! point near 29 mm/s on the thesis machine at 0.05 mm. Step 9's walls
-//! cap it near 21 mm/s for paths in order, but only somewhere within a
-//! millimetre of the vertex. The widest circular turn inside the band
-//! allows 13 mm/s. For paths in order, step 10 charges the climb to each
+//! point near 29 mm/s on the thesis machine at 0.05 mm. For paths in
+//! order, step 9's fan caps it at the speed of the widest circular turn
+//! inside the band, 13 mm/s, but only somewhere within a millimetre of the
+//! vertex; and a turn that is G2 must also bring its curvature up and down
+//! again (`|dk/ds| v^3 <= J`, dropped here), which the corner methods' turns
+//! pay at a peak curvature 3.6 times the circle's (about 5.5 mm/s; a right
+//! angle between 2.5 mm legs at 0.05 mm). For paths in order, step 10
+//! charges the climb to each
 //! peak and back with the jerk-limited turn-round; for any path (where a
 //! corner sharper than a right angle holds a bridge, and step 9 gives no
 //! cap), steps 4-5 still let the acceleration reverse at once at the top
 //! of a speed bump. A right angle between 50 mm legs is bounded at 0.720
-//! s (0.823 s for paths in order), where the widest turn inside the band
+//! s (0.833 s for paths in order), where the widest turn inside the band
 //! plans in 0.931 s and `auto` writes 0.870 s (test
 //! `the_widest_turn_inside_the_band_of_a_right_angle_takes_at_least_the_bound`).
-//! On gentle curves (`arc_parabolic.ngc`: arcs of 5 mm radius turning 30
-//! degrees) and on noise (`random_lines_0.001in.ngc`) no window turns by
-//! much more than its gates' slack, and `auto` writes 2.3-2.6 times the
-//! bound (docs/lower-bound.md).
+//! On noise (`random_lines_0.001in.ngc`) no window turns by much more
+//! than its gates' slack, and `auto` writes 2.6 times the bound
+//! (docs/lower-bound.md).
 //!
 //! Every threshold is scaled from the tolerance: gate spacing, bridge
 //! reach `r`, straightness `delta` and the flattening chord (a share of it).

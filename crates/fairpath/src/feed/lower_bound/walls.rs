@@ -101,6 +101,106 @@ fn least_eigen_pair(n1: Vec3, w1: f64, n2: Vec3, w2: f64) -> f64 {
     0.5 * (tr - math::sqrt((tr * tr - 4.0 * det).max(0.0)))
 }
 
+/// Widest angle (rad) between neighbouring walls of the fan
+/// ([`fan_walls`]): a tangent inside the fan's cone is then within half of
+/// it of a wall, so `|nu . T| >= cos 15 deg`, above `sin(theta / 2)` for
+/// every turn `theta` up to 150 degrees, where the cone's two edges decide.
+const FAN_STEP: f64 = core::f64::consts::PI / 6.0;
+
+/// Most walls in the fan: a reversal's cone of `pi` at [`FAN_STEP`].
+const FAN_MAX: usize = 7;
+
+/// Halvings of the bisection of [`fan_curvature`]: `2^-48` of its range.
+const FAN_HALVINGS: u32 = 48;
+
+/// Relative margin taken off [`fan_curvature`]'s result for the rounding
+/// of the arcs' ends in [`fan_covers`] (a few ulps of `pi`).
+const FAN_ROUNDING: f64 = 1e-12;
+
+/// The walls in the turn's plane that every corner has (module docs of
+/// [`super`], step 9, "the fan"): the unit normals `nu` with `nu . u1 >= 0`
+/// and `nu . u2 <= 0`, on which the legs' stretch is lowest at the vertex,
+/// from the first leg's outer normal `n1` to the second's `n2`, at most
+/// [`FAN_STEP`] apart. Each comes with its angle in the plane, from `u1`
+/// towards `u2` (`n1` at `-pi / 2`, `n2` at `theta - pi / 2`).
+fn fan_walls(u1: Vec3, u2: Vec3) -> impl Iterator<Item = (f64, Vec3)> {
+    let cos = u1.dot(u2).clamp(-1.0, 1.0);
+    let theta = math::acos(cos);
+    // `y` completes `u1` to the plane's basis: `u2 = cos x + sin y`.
+    let y = (u2 - u1 * cos).normalized(1e-9).unwrap_or(Vec3::ZERO);
+    let gaps = ((theta / FAN_STEP).ceil() as usize).clamp(1, FAN_MAX - 1);
+    (0..=gaps).map(move |k| {
+        let angle = -core::f64::consts::FRAC_PI_2 + theta * k as f64 / gaps as f64;
+        (angle, u1 * math::cos(angle) + y * math::sin(angle))
+    })
+}
+
+/// Whether walls at `(angle, w)` in a plane cover every direction of it
+/// at curvature `k`: each covers the tangents `t` with `1 - sqrt(1 - (nu .
+/// t)^2) >= k w`, the arcs of directions (mod `pi`) within `acos(c)` of
+/// its own, `c = sqrt(1 - (1 - k w)^2)`.
+fn fan_covers(fan: &[(f64, f64)], k: f64) -> bool {
+    use core::f64::consts::PI;
+    let mut arcs = [(0.0, 0.0); 2 * FAN_MAX];
+    let mut n = 0;
+    for &(angle, w) in fan {
+        let q = 1.0 - k * w;
+        if q <= 0.0 {
+            continue;
+        }
+        let half = math::acos(math::sqrt((1.0 - q * q).max(0.0)));
+        if half >= 0.5 * PI {
+            return true;
+        }
+        let start = (angle - half).rem_euclid(PI);
+        let end = start + 2.0 * half;
+        if end > PI {
+            arcs[n] = (start, PI);
+            arcs[n + 1] = (0.0, end - PI);
+            n += 2;
+        } else {
+            arcs[n] = (start, end);
+            n += 1;
+        }
+    }
+    let arcs = &mut arcs[..n];
+    arcs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    let mut reach = 0.0;
+    for &(start, end) in arcs.iter() {
+        if start > reach {
+            return false;
+        }
+        reach = f64::max(reach, end);
+    }
+    reach >= PI
+}
+
+/// A curvature every path through the corner exceeds near the vertex,
+/// from the fan's walls at `(angle, w)` (module docs of [`super`], step 9,
+/// "the fan"): the largest `k` at which they cover every direction of the
+/// plane ([`fan_covers`]), by bisection, the lower end of its last
+/// bracket; 0 where none. At a right angle with every `w = 2e`,
+/// `(1 - cos 45 deg) / (2e)`: the widest circle inside the band.
+fn fan_curvature(fan: &[(f64, f64)]) -> f64 {
+    let widest = fan.iter().map(|f| f.1).fold(f64::INFINITY, f64::min);
+    if fan.is_empty() || !(widest > 0.0 && widest.is_finite()) {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0 / widest);
+    if fan_covers(fan, hi) {
+        return hi * (1.0 - FAN_ROUNDING);
+    }
+    for _ in 0..FAN_HALVINGS {
+        let mid = 0.5 * (lo + hi);
+        if fan_covers(fan, mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo * (1.0 - FAN_ROUNDING)
+}
+
 impl Corner<'_> {
     /// The cap of step 9 at the polyline's point of arc length `x` (a
     /// vertex where the run turns), for balls of radius `radii` (mm)
@@ -143,13 +243,19 @@ impl Corner<'_> {
             // w = e - (n . p - H) at the path's point p passing x: that
             // point is within e of c(x1) and of c(x2), x - r <= x1 <= x
             // <= x2 <= x + r.
+            let top = |n: Vec3| match self.bridges {
+                Some(_) => self.heights.top(v, rb + e, n),
+                None => top_connected(pts, s, x, rb + e, n),
+            };
+            let lows = |n: Vec3| {
+                (
+                    least_along(pts, s, x - r, x, n),
+                    least_along(pts, s, x, x + r, n),
+                )
+            };
             let w = |n: Vec3| {
-                let top = match self.bridges {
-                    Some(_) => self.heights.top(v, rb + e, n),
-                    None => top_connected(pts, s, x, rb + e, n),
-                };
-                let m = least_along(pts, s, x - r, x, n).max(least_along(pts, s, x, x + r, n));
-                2.0 * e + top - m
+                let (lo_a, lo_b) = lows(n);
+                2.0 * e + top(n) - lo_a.max(lo_b)
             };
             let (w1, w2) = (w(n1), w(n2));
             let wb = w(b).min(w(-b));
@@ -158,7 +264,23 @@ impl Corner<'_> {
             }
             // K >= max_i (n_i . T)^2 / (2 w_i) >= lambda_min(sum n_i n_i^T
             // / (6 w_i)) over the three walls.
-            let k_wall = (least_eigen_pair(n1, w1, n2, w2).min(1.0 / wb)) / 6.0;
+            let k_three = (least_eigen_pair(n1, w1, n2, w2).min(1.0 / wb)) / 6.0;
+            // The fan of walls in the turn's plane, tilted across it.
+            let spread = [b, -b]
+                .iter()
+                .map(|&n| {
+                    let (lo_a, lo_b) = lows(n);
+                    top(n) - lo_a.min(lo_b)
+                })
+                .fold(0.0, f64::max);
+            let mut fan = [(0.0, 0.0); FAN_MAX];
+            let mut walls = 0;
+            for (slot, (angle, n)) in fan.iter_mut().zip(fan_walls(u1, u2)) {
+                let lift = w(n) - 2.0 * e;
+                *slot = (angle, 2.0 * e + math::sqrt(lift * lift + spread * spread));
+                walls += 1;
+            }
+            let k_wall = k_three.max(fan_curvature(&fan[..walls]));
             // For every kappa < k_wall whose quarter turn pi / (2 kappa)
             // fits in the ball's room, the curvature exceeds kappa within
             // that arc length of the passing point: its speed is below
@@ -208,10 +330,11 @@ mod tests {
     }
 
     #[test]
-    fn a_right_angle_caps_the_speed_by_a_twelfth_of_the_band() {
-        // Every wall is 2e from where a path in order passes the vertex
-        // (the run's own stretch through the ball, exact): K >= 1 / (6
-        // w).
+    fn a_right_angle_caps_the_speed_at_the_widest_circle_inside_the_band() {
+        // Every wall of the fan is 2e from where a path in order passes
+        // the vertex (the run's own stretch through the ball, exact): K >=
+        // (1 - cos 45 deg) / (2e), the curvature of the circle tangent to
+        // both outer walls through the band's inner corner.
         let (pts, s) = right_angle();
         let e = 0.05;
         let step = 0.5 * e;
@@ -226,12 +349,12 @@ mod tests {
         };
         let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
         let cap = corner.cap(10.0, &[1.0, 1.5, 3.0], speed_of).expect("a cap");
-        let k = 1.0 / (6.0 * (2.0 * e));
-        // The 2x2 eigenvalue loses some digits to its square root.
+        let k = (1.0 - 0.5f64.sqrt()) / (2.0 * e);
         assert!(
-            (cap.speed - speed_of(k)).abs() < 1e-6 * cap.speed,
+            (cap.speed - speed_of(k)).abs() < 1e-9 * cap.speed,
             "{cap:?}"
         );
+        assert!(cap.speed >= speed_of(k), "{cap:?}");
         assert!(cap.at.dist(Vec3::new(10.0, 0.0, 0.0)) < 1e-12);
         // The arc length within which the speed falls below the cap, plus
         // the path's distance from the vertex.
@@ -240,6 +363,145 @@ mod tests {
         // Straight on, no cap; a ball too small for the quarter turn, none.
         assert!(corner.cap(5.0, &[1.0, 1.5, 3.0], speed_of).is_none());
         assert!(corner.cap(10.0, &[0.5], speed_of).is_none());
+    }
+
+    #[test]
+    fn seeded_planar_turns_find_the_widest_circle_inside_the_band() {
+        // With every wall 2e away, the fan's curvature is that of the
+        // circle tangent to both outer walls through the band's inner
+        // corner, (1 - cos(theta / 2)) / (2e): a band path, so no sound
+        // bound exceeds it, and up to 150 degrees the fan's edges reach
+        // it. Sharper, the walls between them cover the cone's middle at
+        // cos 15 deg at least.
+        let mut rng = crate::seeded::Rng(94);
+        for _ in 0..400 {
+            let theta = 1e-3 + (core::f64::consts::PI - 2e-3) * rng.next();
+            let e = rng.decades(-4.0, 0.0);
+            let u1 = Vec3::new(1.0, 0.0, 0.0);
+            let u2 = Vec3::new(math::cos(theta), math::sin(theta), 0.0);
+            let fan: alloc::vec::Vec<(f64, f64)> =
+                fan_walls(u1, u2).map(|(a, _)| (a, 2.0 * e)).collect();
+            let k = fan_curvature(&fan);
+            let circle = (1.0 - math::cos(0.5 * theta)) / (2.0 * e);
+            assert!(
+                k <= circle,
+                "theta {theta}: {k} above the circle's {circle}"
+            );
+            let floor = if theta <= 5.0 * core::f64::consts::PI / 6.0 {
+                circle
+            } else {
+                // `|nu . t| >= cos(FAN_STEP / 2)` for every direction `t`.
+                (1.0 - math::sin(0.5 * FAN_STEP)) / (2.0 * e)
+            };
+            assert!(
+                k >= floor * (1.0 - 1e-9),
+                "theta {theta}: {k} below {floor}"
+            );
+        }
+    }
+
+    #[test]
+    fn seeded_fan_walls_span_the_cone_between_the_outer_normals() {
+        let mut rng = crate::seeded::Rng(9401);
+        for _ in 0..200 {
+            let unit = |rng: &mut crate::seeded::Rng| {
+                Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalized(1e-3)
+            };
+            let (Some(u1), Some(u2)) = (unit(&mut rng), unit(&mut rng)) else {
+                continue;
+            };
+            let cos = u1.dot(u2);
+            if cos.abs() > 1.0 - 1e-6 {
+                continue;
+            }
+            let walls: alloc::vec::Vec<(f64, Vec3)> = fan_walls(u1, u2).collect();
+            assert!(walls.len() >= 2 && walls.len() <= FAN_MAX);
+            let n1 = (u1 * cos - u2).normalized(1e-9).unwrap();
+            let n2 = (u1 - u2 * cos).normalized(1e-9).unwrap();
+            assert!(walls[0].1.dist(n1) < 1e-9 && walls.last().unwrap().1.dist(n2) < 1e-9);
+            for w in walls.windows(2) {
+                assert!(w[1].0 - w[0].0 <= FAN_STEP + 1e-12);
+                assert!((w[1].1.dot(w[0].1) - math::cos(w[1].0 - w[0].0)).abs() < 1e-9);
+            }
+            for &(_, n) in &walls {
+                // A wall: both legs run no higher on it than the vertex.
+                assert!(n.dot(u1) >= -1e-12 && n.dot(u2) <= 1e-12, "{n:?}");
+                assert!((n.norm() - 1.0).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn a_right_angle_turned_in_space_keeps_its_cap() {
+        // The fan's frame comes from the legs alone: a rotated corner has
+        // the same cap (the walls' heights are sampled on the same run).
+        let (pts, s) = right_angle();
+        let e = 0.05;
+        let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
+        let cap_of = |pts: &[Vec3]| {
+            let heights = Heights::new(pts, &s, 0.5 * e, 5.0 + e);
+            let corner = Corner {
+                pts,
+                s: &s,
+                e,
+                reach: 0.0,
+                bridges: None,
+                heights: &heights,
+            };
+            corner
+                .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
+                .expect("a cap")
+                .speed
+        };
+        let flat = cap_of(&pts);
+        let k = Vec3::new(1.0, 2.0, 3.0).normalized(0.0).unwrap();
+        let (sn, cs) = (math::sin(0.7), math::cos(0.7));
+        let turned: alloc::vec::Vec<Vec3> = pts
+            .iter()
+            .map(|&p| p * cs + k.cross(p) * sn + k * (k.dot(p) * (1.0 - cs)))
+            .collect();
+        let spun = cap_of(&turned);
+        assert!((flat - spun).abs() < 1e-9 * flat, "{flat} {spun}");
+    }
+
+    #[test]
+    fn a_leg_out_of_the_turns_plane_lowers_no_cap_below_the_plane_s() {
+        // A third leg out of the plane inside the ball widens the walls
+        // tilted across the plane (the spread); the fan's curvature can
+        // only fall, its speed only rise.
+        let e = 0.05;
+        let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
+        let cap_of = |z: f64| {
+            let pts = alloc::vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(10.0, 0.0, 0.0),
+                Vec3::new(10.0, 0.5, 0.0),
+                Vec3::new(10.0, 10.0, z),
+            ];
+            let s: alloc::vec::Vec<f64> = pts
+                .iter()
+                .scan((0.0, pts[0]), |acc, &p| {
+                    acc.0 += acc.1.dist(p);
+                    acc.1 = p;
+                    Some(acc.0)
+                })
+                .collect();
+            let heights = Heights::new(&pts, &s, 0.5 * e, 5.0 + e);
+            let corner = Corner {
+                pts: &pts,
+                s: &s,
+                e,
+                reach: 0.0,
+                bridges: None,
+                heights: &heights,
+            };
+            corner
+                .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
+                .map(|c| c.speed)
+        };
+        let flat = cap_of(0.0).expect("a cap");
+        let tilted = cap_of(3.0).expect("a cap");
+        assert!(tilted >= flat * (1.0 - 1e-12), "{tilted} {flat}");
     }
 
     #[test]
