@@ -215,7 +215,17 @@
 //!    the circle tangent to both outer walls through the band's inner
 //!    corner (at a turn `theta`, `(1 - cos(theta / 2)) / (2e)` likewise up
 //!    to 150 degrees): no circular turn is wider, so for them the cap is
-//!    exact; the three walls gave `1 / (12 e)`. So for every `kappa <
+//!    exact; the three walls gave `1 / (12 e)`. **The sweep**: followed
+//!    only through a turn `gamma` of its tangent (arc length `gamma /
+//!    kappa`), the path still rises `(cos(max(beta - gamma, 0)) - cos
+//!    beta) / kappa` towards the wall, which grows with `beta`; the fan
+//!    covers with that in place of `1 - cos beta`, and the arc `S` below
+//!    is `gamma / kappa`. A right angle's worst tangent meets its walls at
+//!    45 degrees, so an eighth of a turn proves what a quarter does, at
+//!    half the reach. Of the sweeps `pi / 2`, `pi / 3`, `pi / 4` and `pi /
+//!    6`, each corner gives two caps (`walls::Caps`): the lowest speed
+//!    (the longest sweep that proves it), and within 1% of it the shortest
+//!    reach. So for every `kappa <
 //!    K_wall` whose `S` fits, the curvature exceeds `kappa` within `S` of
 //!    `p`, where the speed is then below that of `kappa` under the caps:
 //!    the least speed of a window holding every path point within
@@ -271,7 +281,9 @@
 //!     under the cap), so two choices are tried: the walls' windows alone,
 //!     and the walls' with step 8's windows of caps below a quarter of the
 //!     feed, picked greedily by how fast a window's slow point could rise
-//!     over half its length.
+//!     over half its length; and each with the corners' lowest caps and
+//!     with their nearest (step 9, the sweep), the chain not being
+//!     monotone in its windows.
 //! 11. **Feeds, for paths in order.** Every step above takes the run's
 //!     largest feed. A run may change feed along it (a plunge at the
 //!     plunge feed, then the cut); `smooth` keeps each feed on its
@@ -863,6 +875,8 @@ pub fn lower_bound_time(
         };
         // Step 10's slow windows, from step 9's caps.
         let mut slow: Vec<SlowWindow> = Vec::new();
+        // The same with each corner's nearest cap (`walls::Caps`).
+        let mut slow_near: Vec<SlowWindow> = Vec::new();
         // Zone boundaries: the chord index where each zone starts.
         let mut zone_start = 0;
         for (w, &(a, b, alpha)) in windows.iter().enumerate() {
@@ -1013,29 +1027,31 @@ pub fn lower_bound_time(
             // vertex, in a window of gates beyond the cap's ball.
             let vertex = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along);
             let wall = vertex.and_then(|x| corner.cap(x, &wall_radii, speed_of));
-            if let (Some(w), Some(x)) = (wall, vertex) {
+            if let (Some(caps), Some(x)) = (wall, vertex) {
                 // Step 10's slow window: the nearest gates clear of the
                 // cap's reach outside the turn's window, anywhere along
                 // the run; for paths in order, the nearest either side of
                 // the vertex (module docs, step 10).
-                let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
                 let (before, after) = if opts.paths == BandPaths::InOrder {
                     let next = gates.partition_point(|g| g.along <= x);
                     (next, next)
                 } else {
                     (a + 1, b + 1)
                 };
-                let i = (0..before).rev().find(|&g| clear(g));
-                let l = (after..gates.len()).find(|&g| clear(g));
-                if let (Some(first), Some(last)) = (i, l) {
-                    slow.push(SlowWindow {
-                        first,
-                        last,
-                        cap: w.speed,
-                    });
+                for (w, into) in [(caps.slowest, &mut slow), (caps.nearest, &mut slow_near)] {
+                    let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
+                    let i = (0..before).rev().find(|&g| clear(g));
+                    let l = (after..gates.len()).find(|&g| clear(g));
+                    if let (Some(first), Some(last)) = (i, l) {
+                        into.push(SlowWindow {
+                            first,
+                            last,
+                            cap: w.speed,
+                        });
+                    }
                 }
             }
-            if let Some(w) = wall {
+            if let Some(w) = wall.map(|c| c.slowest) {
                 let clear = |g: usize| gates[g].at.dist(w.at) > w.reach + gates[g].radius;
                 let i = (zone_start..=a).rev().find(|&g| clear(g));
                 let l = (b + 1..=zone_end).find(|&g| clear(g));
@@ -1131,13 +1147,27 @@ pub fn lower_bound_time(
         // Any choice of slow windows bounds the run; a slow point with a
         // high cap may weaken the chain (the speed there is only known
         // to be under it), so the walls' alone are tried too.
+        // Each corner's two caps give two sets of windows, each tried.
         let along = |a: usize, b: usize| gates[b].along - gates[a].along;
-        let walls = pick_disjoint(slow.clone(), along, m.jerk);
-        time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
-        if opts.paths == BandPaths::InOrder {
-            slow.extend(schur_windows(&gates, e, opts.min_turn, speed_of, f));
-            let slow = pick_disjoint(slow, along, m.jerk);
-            time = time.max(chain_time(slow, chords.len(), chord_sum, lim));
+        let schur = if opts.paths == BandPaths::InOrder {
+            schur_windows(&gates, e, opts.min_turn, speed_of, f)
+        } else {
+            Vec::new()
+        };
+        // Where every corner's two caps give the same windows, once.
+        let sets = if slow_near == slow {
+            alloc::vec![slow]
+        } else {
+            alloc::vec![slow, slow_near]
+        };
+        for mut slow in sets {
+            let walls = pick_disjoint(slow.clone(), along, m.jerk);
+            time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
+            if opts.paths == BandPaths::InOrder {
+                slow.extend_from_slice(&schur);
+                let slow = pick_disjoint(slow, along, m.jerk);
+                time = time.max(chain_time(slow, chords.len(), chord_sum, lim));
+            }
         }
     }
     // Step 11: for paths in order, each stretch between gates at its

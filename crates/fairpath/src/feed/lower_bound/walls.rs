@@ -19,6 +19,17 @@ pub(super) struct WallCap {
     pub(super) reach: f64,
 }
 
+/// Two caps of one corner, each sound: any cap bounds the run, but the
+/// chain of slow points is not monotone in the windows it is given, so
+/// both are tried (module docs of [`super`], step 10).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Caps {
+    /// The lowest speed proved, of the longest sweep that proves it.
+    pub(super) slowest: WallCap,
+    /// Within [`SPEED_SLACK`] of the lowest speed, the shortest reach.
+    pub(super) nearest: WallCap,
+}
+
 /// The polyline's run and the band's constants the walls are built from.
 pub(super) struct Corner<'a> {
     pub(super) pts: &'a [Vec3],
@@ -117,6 +128,40 @@ const FAN_HALVINGS: u32 = 48;
 /// of the arcs' ends in [`fan_covers`] (a few ulps of `pi`).
 const FAN_ROUNDING: f64 = 1e-12;
 
+/// Turns of the tangent (rad) over which the walls' argument follows the
+/// path from where it passes the vertex (module docs of [`super`], step
+/// 9): a quarter turn proves the most curvature, a shorter one keeps the
+/// slow point nearer the vertex and proves as much where the tangent
+/// meets no wall steeper than it (a right angle's worst, 45 degrees).
+const SWEEPS: [f64; 4] = [
+    core::f64::consts::FRAC_PI_2,
+    core::f64::consts::FRAC_PI_3,
+    core::f64::consts::FRAC_PI_4,
+    core::f64::consts::FRAC_PI_6,
+];
+
+/// Caps whose speeds are within this share of the lowest count as equal,
+/// and the one of the shortest reach is taken ([`nearer`]).
+const SPEED_SLACK: f64 = 1e-9;
+
+/// Of two caps, the lower speed, or where they are within
+/// [`SPEED_SLACK`], the shorter reach.
+fn nearer(a: WallCap, b: WallCap) -> WallCap {
+    let slow = a.speed.min(b.speed);
+    let near = |c: &WallCap| c.speed <= slow * (1.0 + SPEED_SLACK);
+    match (near(&a), near(&b)) {
+        (true, true) => {
+            if b.reach < a.reach {
+                b
+            } else {
+                a
+            }
+        }
+        (true, false) => a,
+        _ => b,
+    }
+}
+
 /// The walls in the turn's plane that every corner has (module docs of
 /// [`super`], step 9, "the fan"): the unit normals `nu` with `nu . u1 >= 0`
 /// and `nu . u2 <= 0`, on which the legs' stretch is lowest at the vertex,
@@ -135,20 +180,39 @@ fn fan_walls(u1: Vec3, u2: Vec3) -> impl Iterator<Item = (f64, Vec3)> {
     })
 }
 
+/// The least angle `beta` (rad) between a tangent and a wall that makes
+/// the path rise at least `rise` (curvature times distance, `k w`) towards
+/// it within the turn `gamma` of its tangent (arc length `gamma / k`):
+/// the rise is `cos(max(beta - gamma, 0)) - cos beta`, which grows with
+/// `beta`; `None` where even `pi / 2` does not.
+fn least_angle(rise: f64, gamma: f64) -> Option<f64> {
+    use core::f64::consts::FRAC_PI_2;
+    if rise <= 1.0 - math::cos(gamma) {
+        return Some(math::acos(1.0 - rise));
+    }
+    // cos(beta - gamma) - cos(beta) = 2 sin(beta - gamma / 2) sin(gamma / 2).
+    let x = rise / (2.0 * math::sin(0.5 * gamma));
+    if x > 1.0 {
+        return None;
+    }
+    let beta = 0.5 * gamma + math::atan2(x, math::sqrt(1.0 - x * x));
+    (beta <= FRAC_PI_2).then_some(beta)
+}
+
 /// Whether walls at `(angle, w)` in a plane cover every direction of it
-/// at curvature `k`: each covers the tangents `t` with `1 - sqrt(1 - (nu .
-/// t)^2) >= k w`, the arcs of directions (mod `pi`) within `acos(c)` of
-/// its own, `c = sqrt(1 - (1 - k w)^2)`.
-fn fan_covers(fan: &[(f64, f64)], k: f64) -> bool {
+/// at curvature `k`, the path followed through a turn `gamma` of its
+/// tangent: each covers the tangents `t` whose angle to it, `asin |nu .
+/// t|`, is at least [`least_angle`] of `k w`, the arcs of directions (mod
+/// `pi`) within `pi / 2` less that angle of its own.
+fn fan_covers(fan: &[(f64, f64)], k: f64, gamma: f64) -> bool {
     use core::f64::consts::PI;
     let mut arcs = [(0.0, 0.0); 2 * FAN_MAX];
     let mut n = 0;
     for &(angle, w) in fan {
-        let q = 1.0 - k * w;
-        if q <= 0.0 {
+        let Some(beta) = least_angle(k * w, gamma) else {
             continue;
-        }
-        let half = math::acos(math::sqrt((1.0 - q * q).max(0.0)));
+        };
+        let half = 0.5 * PI - beta;
         if half >= 0.5 * PI {
             return true;
         }
@@ -181,18 +245,18 @@ fn fan_covers(fan: &[(f64, f64)], k: f64) -> bool {
 /// plane ([`fan_covers`]), by bisection, the lower end of its last
 /// bracket; 0 where none. At a right angle with every `w = 2e`,
 /// `(1 - cos 45 deg) / (2e)`: the widest circle inside the band.
-fn fan_curvature(fan: &[(f64, f64)]) -> f64 {
+fn fan_curvature(fan: &[(f64, f64)], gamma: f64) -> f64 {
     let widest = fan.iter().map(|f| f.1).fold(f64::INFINITY, f64::min);
     if fan.is_empty() || !(widest > 0.0 && widest.is_finite()) {
         return 0.0;
     }
     let (mut lo, mut hi) = (0.0, 1.0 / widest);
-    if fan_covers(fan, hi) {
+    if fan_covers(fan, hi, gamma) {
         return hi * (1.0 - FAN_ROUNDING);
     }
     for _ in 0..FAN_HALVINGS {
         let mid = 0.5 * (lo + hi);
-        if fan_covers(fan, mid) {
+        if fan_covers(fan, mid, gamma) {
             lo = mid;
         } else {
             hi = mid;
@@ -202,16 +266,11 @@ fn fan_curvature(fan: &[(f64, f64)]) -> f64 {
 }
 
 impl Corner<'_> {
-    /// The cap of step 9 at the polyline's point of arc length `x` (a
+    /// The caps of step 9 at the polyline's point of arc length `x` (a
     /// vertex where the run turns), for balls of radius `radii` (mm)
-    /// around it: the lowest of the speeds it proves, or `None`. `speed_of`
-    /// gives the largest speed at which a curvature can be run.
-    pub(super) fn cap(
-        &self,
-        x: f64,
-        radii: &[f64],
-        speed_of: impl Fn(f64) -> f64,
-    ) -> Option<WallCap> {
+    /// around it ([`Caps`]), or `None`. `speed_of` gives the largest speed
+    /// at which a curvature can be run.
+    pub(super) fn cap(&self, x: f64, radii: &[f64], speed_of: impl Fn(f64) -> f64) -> Option<Caps> {
         let (pts, s, e, r) = (self.pts, self.s, self.e, self.reach);
         let total = *s.last()?;
         if x - r <= 0.0 || x + r >= total {
@@ -233,7 +292,8 @@ impl Corner<'_> {
         let n2 = (u1 - u2 * cos).normalized(1e-9)?;
         let b = u1.cross(u2).normalized(1e-9)?;
         let (start, end) = (pts[0], *pts.last()?);
-        let mut best: Option<WallCap> = None;
+        let mut slowest: Option<WallCap> = None;
+        let mut nearest: Option<WallCap> = None;
         for &rb in radii {
             // Run ends farther than the ball: the path goes on for at
             // least `rb - (e + r)` either side of where it passes `x`.
@@ -280,26 +340,39 @@ impl Corner<'_> {
                 *slot = (angle, 2.0 * e + math::sqrt(lift * lift + spread * spread));
                 walls += 1;
             }
-            let k_wall = k_three.max(fan_curvature(&fan[..walls]));
-            // For every kappa < k_wall whose quarter turn pi / (2 kappa)
-            // fits in the ball's room, the curvature exceeds kappa within
-            // that arc length of the passing point: its speed is below
-            // the speed of kappa, so at most that of k_wall.
+            // For every kappa < K whose arc gamma / kappa fits in the
+            // ball's room, the curvature exceeds kappa within that arc
+            // length of the passing point: its speed is below the speed of
+            // kappa, so at most that of K.
             let room = rb - e - r;
-            if !(room > 0.0 && k_wall.is_finite() && k_wall > core::f64::consts::PI / (2.0 * room))
-            {
-                continue;
-            }
-            let speed = speed_of(k_wall);
-            if best.is_none_or(|c| speed < c.speed) {
-                best = Some(WallCap {
+            for &gamma in &SWEEPS {
+                let mut k = fan_curvature(&fan[..walls], gamma);
+                if gamma == core::f64::consts::FRAC_PI_2 {
+                    k = k.max(k_three);
+                }
+                if !(room > 0.0 && k.is_finite() && k > 0.0 && gamma / k <= room) {
+                    continue;
+                }
+                let cap = WallCap {
                     at: v,
-                    speed,
-                    reach: core::f64::consts::PI / (2.0 * k_wall) + e + r,
+                    speed: speed_of(k),
+                    reach: gamma / k + e + r,
+                };
+                // The same speed proved by a shorter sweep (up to the
+                // bisection's rounding) leaves the longer one.
+                if slowest.is_none_or(|c| cap.speed < c.speed * (1.0 - FAN_ROUNDING)) {
+                    slowest = Some(cap);
+                }
+                nearest = Some(match nearest {
+                    None => cap,
+                    Some(b) => nearer(b, cap),
                 });
             }
         }
-        best
+        slowest.map(|s| Caps {
+            slowest: s,
+            nearest: nearest.unwrap_or(s),
+        })
     }
 }
 
@@ -348,8 +421,14 @@ mod tests {
             heights: &heights,
         };
         let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
-        let cap = corner.cap(10.0, &[1.0, 1.5, 3.0], speed_of).expect("a cap");
+        let caps = corner.cap(10.0, &[1.0, 1.5, 3.0], speed_of).expect("a cap");
+        let cap = caps.nearest;
         let k = (1.0 - 0.5f64.sqrt()) / (2.0 * e);
+        // The quarter turn proves the same speed, farther out.
+        let far = caps.slowest;
+        assert!((far.speed - cap.speed).abs() < 1e-9 * cap.speed, "{caps:?}");
+        let quarter = core::f64::consts::FRAC_PI_2 / k + e;
+        assert!((far.reach - quarter).abs() < 1e-6, "{caps:?}");
         assert!(
             (cap.speed - speed_of(k)).abs() < 1e-9 * cap.speed,
             "{cap:?}"
@@ -357,12 +436,15 @@ mod tests {
         assert!(cap.speed >= speed_of(k), "{cap:?}");
         assert!(cap.at.dist(Vec3::new(10.0, 0.0, 0.0)) < 1e-12);
         // The arc length within which the speed falls below the cap, plus
-        // the path's distance from the vertex.
-        let reach = core::f64::consts::PI / (2.0 * k) + e;
+        // the path's distance from the vertex: an eighth of a turn proves
+        // as much as a quarter, where the worst tangent meets its walls at
+        // 45 degrees.
+        let reach = core::f64::consts::FRAC_PI_4 / k + e;
         assert!((cap.reach - reach).abs() < 1e-6, "{cap:?}");
-        // Straight on, no cap; a ball too small for the quarter turn, none.
+        // Straight on, no cap; a ball too small for the shortest sweep,
+        // none.
         assert!(corner.cap(5.0, &[1.0, 1.5, 3.0], speed_of).is_none());
-        assert!(corner.cap(10.0, &[0.5], speed_of).is_none());
+        assert!(corner.cap(10.0, &[0.2], speed_of).is_none());
     }
 
     #[test]
@@ -381,7 +463,7 @@ mod tests {
             let u2 = Vec3::new(math::cos(theta), math::sin(theta), 0.0);
             let fan: alloc::vec::Vec<(f64, f64)> =
                 fan_walls(u1, u2).map(|(a, _)| (a, 2.0 * e)).collect();
-            let k = fan_curvature(&fan);
+            let k = fan_curvature(&fan, core::f64::consts::FRAC_PI_2);
             let circle = (1.0 - math::cos(0.5 * theta)) / (2.0 * e);
             assert!(
                 k <= circle,
@@ -398,6 +480,45 @@ mod tests {
                 "theta {theta}: {k} below {floor}"
             );
         }
+    }
+
+    #[test]
+    fn seeded_least_angles_rise_as_the_sweep_allows() {
+        // The rise within a sweep `gamma` at angle `beta`, `cos(max(beta
+        // - gamma, 0)) - cos beta`, is what `least_angle` inverts: the
+        // angle it returns rises exactly that much, and a quarter turn is
+        // `acos(1 - rise)`.
+        let rise = |beta: f64, gamma: f64| math::cos((beta - gamma).max(0.0)) - math::cos(beta);
+        let mut rng = crate::seeded::Rng(9402);
+        for _ in 0..2000 {
+            let gamma = 0.05 + (core::f64::consts::FRAC_PI_2 - 0.05) * rng.next();
+            let beta = core::f64::consts::FRAC_PI_2 * rng.next();
+            let r = rise(beta, gamma);
+            let found = least_angle(r, gamma).expect("an angle");
+            assert!(
+                (found - beta).abs() < 1e-6,
+                "gamma {gamma} beta {beta} found {found}"
+            );
+            let quarter = least_angle(r, core::f64::consts::FRAC_PI_2).unwrap();
+            assert!((quarter - math::acos(1.0 - r)).abs() < 1e-12);
+            // Beyond what a right angle to the wall gives, none.
+            assert!(
+                least_angle(rise(core::f64::consts::FRAC_PI_2, gamma) * 1.001, gamma).is_none()
+            );
+        }
+        // A right angle's fan proves as much within an eighth of a turn as
+        // within a quarter; within a twelfth, less.
+        let u1 = Vec3::new(1.0, 0.0, 0.0);
+        let u2 = Vec3::new(0.0, 1.0, 0.0);
+        let fan: alloc::vec::Vec<(f64, f64)> = fan_walls(u1, u2).map(|(a, _)| (a, 0.1)).collect();
+        let quarter = fan_curvature(&fan, core::f64::consts::FRAC_PI_2);
+        let eighth = fan_curvature(&fan, core::f64::consts::FRAC_PI_4);
+        let twelfth = fan_curvature(&fan, core::f64::consts::FRAC_PI_6);
+        assert!(
+            (quarter - eighth).abs() < 1e-9 * quarter,
+            "{quarter} {eighth}"
+        );
+        assert!(twelfth < 0.95 * quarter, "{twelfth} {quarter}");
     }
 
     #[test]
@@ -451,6 +572,7 @@ mod tests {
             corner
                 .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
                 .expect("a cap")
+                .slowest
                 .speed
         };
         let flat = cap_of(&pts);
@@ -497,7 +619,7 @@ mod tests {
             };
             corner
                 .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
-                .map(|c| c.speed)
+                .map(|c| c.slowest.speed)
         };
         let flat = cap_of(0.0).expect("a cap");
         let tilted = cap_of(3.0).expect("a cap");
