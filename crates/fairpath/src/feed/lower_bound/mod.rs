@@ -302,8 +302,9 @@
 //! from it, and their radii take some of the turn): a right angle's slow
 //! point near 29 mm/s on the thesis machine at 0.05 mm. For paths in
 //! order, step 9's fan caps it at the speed of the widest circular turn
-//! inside the band, 13 mm/s, but only somewhere within a millimetre of the
-//! vertex; and a turn that is G2 must also bring its curvature up and down
+//! inside the band, 13 mm/s, but only somewhere within about 0.3 mm of the
+//! vertex (an eighth of a turn at that curvature, the sweep, and the
+//! band); and a turn that is G2 must also bring its curvature up and down
 //! again (`|dk/ds| v^3 <= J`, dropped here), which the corner methods' turns
 //! pay at a peak curvature 3.6 times the circle's (about 5.5 mm/s; a right
 //! angle between 2.5 mm legs at 0.05 mm). For paths in order, step 10
