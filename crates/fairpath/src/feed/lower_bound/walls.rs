@@ -173,7 +173,7 @@ fn fan_walls(u1: Vec3, u2: Vec3) -> impl Iterator<Item = (f64, Vec3)> {
     let theta = math::acos(cos);
     // `y` completes `u1` to the plane's basis: `u2 = cos x + sin y`.
     let y = (u2 - u1 * cos).normalized(1e-9).unwrap_or(Vec3::ZERO);
-    let gaps = ((theta / FAN_STEP).ceil() as usize).clamp(1, FAN_MAX - 1);
+    let gaps = (math::ceil(theta / FAN_STEP) as usize).clamp(1, FAN_MAX - 1);
     (0..=gaps).map(move |k| {
         let angle = -core::f64::consts::FRAC_PI_2 + theta * k as f64 / gaps as f64;
         (angle, u1 * math::cos(angle) + y * math::sin(angle))
@@ -206,7 +206,7 @@ fn least_angle(rise: f64, gamma: f64) -> Option<f64> {
 /// `pi`) within `pi / 2` less that angle of its own.
 fn fan_covers(fan: &[(f64, f64)], k: f64, gamma: f64) -> bool {
     use core::f64::consts::PI;
-    let mut arcs = [(0.0, 0.0); 2 * FAN_MAX];
+    let mut arcs = [(0.0f64, 0.0f64); 2 * FAN_MAX];
     let mut n = 0;
     for &(angle, w) in fan {
         let Some(beta) = least_angle(k * w, gamma) else {
@@ -216,7 +216,8 @@ fn fan_covers(fan: &[(f64, f64)], k: f64, gamma: f64) -> bool {
         if half >= 0.5 * PI {
             return true;
         }
-        let start = (angle - half).rem_euclid(PI);
+        let x = angle - half;
+        let start = x - PI * math::floor(x / PI);
         let end = start + 2.0 * half;
         if end > PI {
             arcs[n] = (start, PI);
