@@ -393,6 +393,21 @@ mod tests {
         assert!((l - 5.0).abs() < 1e-9, "{l}");
     }
 
+    /// The caps at arc length 10 of the run `pts` (arc lengths `s`) for
+    /// paths in order, balls of 1, 1.5 and 3 mm, under `k^2 v^3 <= 20000`.
+    fn caps_at_ten(pts: &[Vec3], s: &[f64], e: f64) -> Option<Caps> {
+        let heights = Heights::new(pts, s, 0.5 * e, 5.0 + e);
+        let corner = Corner {
+            pts,
+            s,
+            e,
+            reach: 0.0,
+            bridges: None,
+            heights: &heights,
+        };
+        corner.cap(10.0, &[1.0, 1.5, 3.0], |k| math::cbrt(20000.0 / (k * k)))
+    }
+
     /// The right angle (0,0) -> (10,0) -> (10,10) in the plane z = 0.
     fn right_angle() -> (alloc::vec::Vec<Vec3>, alloc::vec::Vec<f64>) {
         let pts = alloc::vec![
@@ -559,23 +574,7 @@ mod tests {
         // the same cap (the walls' heights are sampled on the same run).
         let (pts, s) = right_angle();
         let e = 0.05;
-        let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
-        let cap_of = |pts: &[Vec3]| {
-            let heights = Heights::new(pts, &s, 0.5 * e, 5.0 + e);
-            let corner = Corner {
-                pts,
-                s: &s,
-                e,
-                reach: 0.0,
-                bridges: None,
-                heights: &heights,
-            };
-            corner
-                .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
-                .expect("a cap")
-                .slowest
-                .speed
-        };
+        let cap_of = |pts: &[Vec3]| caps_at_ten(pts, &s, e).expect("a cap").slowest.speed;
         let flat = cap_of(&pts);
         let k = Vec3::new(1.0, 2.0, 3.0).normalized(0.0).unwrap();
         let (sn, cs) = (math::sin(0.7), math::cos(0.7));
@@ -593,7 +592,6 @@ mod tests {
         // tilted across the plane (the spread); the fan's curvature can
         // only fall, its speed only rise.
         let e = 0.05;
-        let speed_of = |k: f64| math::cbrt(20000.0 / (k * k));
         let cap_of = |z: f64| {
             let pts = alloc::vec![
                 Vec3::new(0.0, 0.0, 0.0),
@@ -609,18 +607,7 @@ mod tests {
                     Some(acc.0)
                 })
                 .collect();
-            let heights = Heights::new(&pts, &s, 0.5 * e, 5.0 + e);
-            let corner = Corner {
-                pts: &pts,
-                s: &s,
-                e,
-                reach: 0.0,
-                bridges: None,
-                heights: &heights,
-            };
-            corner
-                .cap(10.0, &[1.0, 1.5, 3.0], speed_of)
-                .map(|c| c.slowest.speed)
+            caps_at_ten(&pts, &s, e).map(|c| c.slowest.speed)
         };
         let flat = cap_of(0.0).expect("a cap");
         let tilted = cap_of(3.0).expect("a cap");
