@@ -224,8 +224,8 @@
 //!    45 degrees, so an eighth of a turn proves what a quarter does, at
 //!    half the reach. Of the sweeps `pi / 2`, `pi / 3`, `pi / 4` and `pi /
 //!    6`, each corner gives two caps (`walls::Caps`): the lowest speed
-//!    (the longest sweep that proves it), and within 1% of it the shortest
-//!    reach. So for every `kappa <
+//!    (the longest sweep that proves it), and the same speed (up to the
+//!    bisection's rounding) at the shortest reach. So for every `kappa <
 //!    K_wall` whose `S` fits, the curvature exceeds `kappa` within `S` of
 //!    `p`, where the speed is then below that of `kappa` under the caps:
 //!    the least speed of a window holding every path point within

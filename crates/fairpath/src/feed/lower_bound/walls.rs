@@ -26,7 +26,7 @@ pub(super) struct WallCap {
 pub(super) struct Caps {
     /// The lowest speed proved, of the longest sweep that proves it.
     pub(super) slowest: WallCap,
-    /// Within [`SPEED_SLACK`] of the lowest speed, the shortest reach.
+    /// The lowest speed (within [`SPEED_SLACK`]) at the shortest reach.
     pub(super) nearest: WallCap,
 }
 
@@ -140,8 +140,9 @@ const SWEEPS: [f64; 4] = [
     core::f64::consts::FRAC_PI_6,
 ];
 
-/// Caps whose speeds are within this share of the lowest count as equal,
-/// and the one of the shortest reach is taken ([`nearer`]).
+/// Caps whose speeds are within this share of the lowest count as equal
+/// (the bisections' rounding), and the one of the shortest reach is taken
+/// ([`nearer`]).
 const SPEED_SLACK: f64 = 1e-9;
 
 /// Of two caps, the lower speed, or where they are within
