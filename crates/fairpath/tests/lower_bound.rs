@@ -655,3 +655,50 @@ fn plotter_owl_hairpin_tip_holds_no_gate_the_corner_methods_cut() {
         .expect("smooths");
     assert!(follows(&run.pieces, &smoothed.pieces));
 }
+
+/// LinuxCNC's `line-arc-burnin.ngc` (`arc-intersections`), `bumps` arcs
+/// long: lines of 2.54 mm each followed by an arc of 60 degrees and 2.54
+/// mm radius, bulging 0.34 mm up and down in turn (each meets its lines
+/// at 30 degrees), the arcs in chords of 1.5 degrees; it ends on an arc.
+fn line_arc_burnin(bumps: usize) -> Vec<Vec3> {
+    let (r, chord) = (2.54, 2.54);
+    let h = (r * r - chord * chord / 4.0f64).sqrt();
+    let mut pts = vec![v(0.0, 0.0, 0.0)];
+    let mut x = 0.0;
+    for k in 0..bumps {
+        x += chord;
+        pts.push(v(x, 0.0, 0.0));
+        // The centre below the chord for a bump up, above for one down.
+        let up = if k % 2 == 0 { 1.0 } else { -1.0 };
+        let (cx, cy) = (x + chord / 2.0, -up * h);
+        let (a0, a1) = ((0.0 - cy).atan2(x - cx), (0.0 - cy).atan2(x + chord - cx));
+        for i in 1..=40 {
+            let a = a0 + (a1 - a0) * i as f64 / 40.0;
+            pts.push(v(cx + r * a.cos(), cy + r * a.sin(), 0.0));
+        }
+        x += chord;
+    }
+    pts
+}
+
+#[test]
+fn line_arc_burnin_bumps_are_slow_points_of_the_half_feed_windows() {
+    // No turn window holds a bump (its gates' slack swallows the 30-degree
+    // kinks) and step 9's walls cap none (the arcs leave the walls' planes
+    // within the sweep's reach), so its slow points are step 8's windows
+    // over the bumps, capped between a quarter and 0.4 of the feed on the
+    // thesis machine. In order, with the windows below a quarter of the
+    // feed alone (stop 94): 0.545 s; with those below half of it in a
+    // chain of their own: 0.748 s.
+    let run = polyline_run(&line_arc_burnin(20));
+    let b = bound_in_order(&run.pieces);
+    assert!(b > 0.7, "{b}: the windows below half the feed are lost");
+    // Still a bound: the run itself, and `bspline-fit`'s smoothing of it
+    // (a band path that follows it in order), plan no faster.
+    use fairpath::smooth::{BsplineFit, Smoother};
+    let fit = BsplineFit::default().smooth_run(&run, TOL).expect("fits");
+    assert!(follows(&run.pieces, &fit.pieces));
+    for t in [planned(&run.pieces), planned(&fit.pieces)] {
+        assert!(b <= t, "bound {b} above the plan {t}");
+    }
+}

@@ -36,9 +36,12 @@ impl LinkEnd {
 const SCHUR_CHORDS: [usize; 5] = [1, 2, 4, 8, 16];
 /// Lengths of those turns' windows, in end chords.
 const SCHUR_SPANS: [usize; 5] = [2, 3, 4, 6, 8];
-/// Share of the feed below which a Schur cap makes a slow point
-/// (measurements: docs/tuning.md, `SCHUR_CAP_SHARE`).
-const SCHUR_CAP_SHARE: f64 = 0.25;
+/// Shares of the feed below which a Schur cap makes a slow point: each
+/// share's windows join the walls' in a chain of their own, and the
+/// largest bound is kept (a window with a high cap may weaken the chain,
+/// so the higher share is tried beside the lower, not in its place;
+/// measurements: docs/tuning.md, `SCHUR_CAP_SHARE`).
+pub(super) const SCHUR_CAP_SHARES: [f64; 2] = [0.25, 0.5];
 
 /// Slow windows of paths in order from Schur's comparison (module docs,
 /// step 10): for gates `i < j <= k < l` the tangent turns by at least
@@ -50,13 +53,15 @@ const SCHUR_CAP_SHARE: f64 = 0.25;
 /// length `pi / K` has its ends `2 / K` apart (Schur again), so in the
 /// second case `K >= 2 / Delta`. Either way the window holds a point of
 /// curvature at least `min(k_need, 2 / Delta)`, whose speed is at most
-/// `speed_of` that.
+/// `speed_of` that. Only windows whose cap is below `share` of the feed
+/// are returned.
 pub(super) fn schur_windows(
     gates: &[super::Gate],
     e: f64,
     min_turn: f64,
     speed_of: impl Fn(f64) -> f64,
     feed: f64,
+    share: f64,
 ) -> Vec<SlowWindow> {
     let mut out = Vec::new();
     for i in 0..gates.len() {
@@ -74,7 +79,7 @@ pub(super) fn schur_windows(
                     continue;
                 }
                 let cap = speed_of(t.k_need.min(2.0 / delta));
-                if cap < SCHUR_CAP_SHARE * feed {
+                if cap < share * feed {
                     out.push(SlowWindow {
                         first: i,
                         last: l,

@@ -278,12 +278,14 @@
 //!     programme along the chain). Any choice of
 //!     windows bounds the run, but a point whose cap is high adds little
 //!     and cuts the link it sits in (the speed there is only known to be
-//!     under the cap), so two choices are tried: the walls' windows alone,
-//!     and the walls' with step 8's windows of caps below a quarter of the
-//!     feed, picked greedily by how fast a window's slow point could rise
-//!     over half its length; and each with the corners' lowest caps and
-//!     with their nearest (step 9, the sweep), the chain not being
-//!     monotone in its windows.
+//!     under the cap), so several choices are tried: the walls' windows
+//!     alone, the walls' with step 8's windows of caps below a quarter of
+//!     the feed, and with those below half of it (`SCHUR_CAP_SHARES`:
+//!     bumps of a few millimetres cap the speed between the two), each
+//!     picked greedily by how fast a window's slow point could rise over
+//!     half its length; and each with the corners' lowest caps and with
+//!     their nearest (step 9, the sweep), the chain not being monotone in
+//!     its windows.
 //! 11. **Feeds, for paths in order.** Every step above takes the run's
 //!     largest feed. A run may change feed along it (a plunge at the
 //!     plunge feed, then the cut); `smooth` keeps each feed on its
@@ -337,7 +339,7 @@ mod gates;
 mod samples;
 mod walls;
 mod width;
-use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow};
+use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, SCHUR_CAP_SHARES};
 use gates::{chain_length, feed_caps, gates, polyline, Gate};
 pub use gates::{in_order_gates_of, InOrderGates};
 use walls::Corner;
@@ -1150,8 +1152,11 @@ pub fn lower_bound_time(
         // to be under it), so the walls' alone are tried too.
         // Each corner's two caps give two sets of windows, each tried.
         let along = |a: usize, b: usize| gates[b].along - gates[a].along;
+        // Step 8's windows up to the highest share, each share's taken
+        // from them.
+        let top_share = SCHUR_CAP_SHARES.iter().fold(0.0f64, |a, &b| a.max(b));
         let schur = if opts.paths == BandPaths::InOrder {
-            schur_windows(&gates, e, opts.min_turn, speed_of, f)
+            schur_windows(&gates, e, opts.min_turn, speed_of, f, top_share)
         } else {
             Vec::new()
         };
@@ -1161,13 +1166,28 @@ pub fn lower_bound_time(
         } else {
             alloc::vec![slow, slow_near]
         };
-        for mut slow in sets {
+        for slow in sets {
             let walls = pick_disjoint(slow.clone(), along, m.jerk);
             time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
             if opts.paths == BandPaths::InOrder {
-                slow.extend_from_slice(&schur);
-                let slow = pick_disjoint(slow, along, m.jerk);
-                time = time.max(chain_time(slow, chords.len(), chord_sum, lim));
+                // A share that adds no window to the one before is the
+                // same chain.
+                let mut taken = None;
+                for share in SCHUR_CAP_SHARES {
+                    let below: Vec<SlowWindow> = schur
+                        .iter()
+                        .filter(|w| w.cap < share * f)
+                        .copied()
+                        .collect();
+                    if taken == Some(below.len()) {
+                        continue;
+                    }
+                    taken = Some(below.len());
+                    let mut with = slow.clone();
+                    with.extend(below);
+                    let with = pick_disjoint(with, along, m.jerk);
+                    time = time.max(chain_time(with, chords.len(), chord_sum, lim));
+                }
             }
         }
     }
