@@ -36,11 +36,11 @@ impl LinkEnd {
 const SCHUR_CHORDS: [usize; 5] = [1, 2, 4, 8, 16];
 /// Lengths of those turns' windows, in end chords.
 const SCHUR_SPANS: [usize; 5] = [2, 3, 4, 6, 8];
-/// Shares of the feed below which a Schur cap makes a slow point: each
-/// share's windows join the walls' in a chain of their own, and the
-/// largest bound is kept (a window with a high cap may weaken the chain,
-/// so the higher share is tried beside the lower, not in its place;
-/// measurements: docs/tuning.md, `SCHUR_CAP_SHARE`).
+/// Shares of the feed below which a Schur cap makes a slow point, in
+/// ascending order: each share's windows join the walls' in a chain of
+/// their own, and the largest bound is kept (a window with a high cap may
+/// weaken the chain, so the higher share is tried beside the lower, not in
+/// its place; measurements: docs/tuning.md, `SCHUR_CAP_SHARES`).
 pub(super) const SCHUR_CAP_SHARES: [f64; 2] = [0.25, 0.5];
 
 /// Slow windows of paths in order from Schur's comparison (module docs,

@@ -1152,9 +1152,9 @@ pub fn lower_bound_time(
         // to be under it), so the walls' alone are tried too.
         // Each corner's two caps give two sets of windows, each tried.
         let along = |a: usize, b: usize| gates[b].along - gates[a].along;
-        // Step 8's windows up to the highest share, each share's taken
-        // from them.
-        let top_share = SCHUR_CAP_SHARES.iter().fold(0.0f64, |a, &b| a.max(b));
+        // Step 8's windows up to the highest share (the last), each
+        // share's taken from them.
+        let top_share = SCHUR_CAP_SHARES[SCHUR_CAP_SHARES.len() - 1];
         let schur = if opts.paths == BandPaths::InOrder {
             schur_windows(&gates, e, opts.min_turn, speed_of, f, top_share)
         } else {
@@ -1170,8 +1170,8 @@ pub fn lower_bound_time(
             let walls = pick_disjoint(slow.clone(), along, m.jerk);
             time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
             if opts.paths == BandPaths::InOrder {
-                // A share that adds no window to the one before is the
-                // same chain.
+                // The shares ascend, so their sets are nested: one that
+                // adds no window to the one before is the same chain.
                 let mut taken = None;
                 for share in SCHUR_CAP_SHARES {
                     let below: Vec<SlowWindow> = schur
