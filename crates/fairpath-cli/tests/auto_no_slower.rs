@@ -28,6 +28,10 @@
 //! `line-contouring-xz.ngc`: narrow U-turns at its step-overs turned G2.
 //! `spiral_tight_circular.ngc`: `fair` (with its peak pass) wrote it
 //! 0.028% faster than `auto`, whose `fair` candidate goes without it.
+//! `3D_Chips.ngc` at 0.02 mm: `auto` ranked by the default curvature
+//! step a mix the writer's finer step wrote slower than `bspline-fit`.
+//! `tight-corner-tolerance.ngc` at 0.1 mm: `ctm`, not a candidate then,
+//! wrote it 1.9% faster than `auto`.
 
 use fairpath_cli::compare::{compare, CompareOptions};
 use fairpath_cli::{Controller, Format};
@@ -175,6 +179,51 @@ fn three_d_chips_auto_keeps_the_fits_knot_insertion_finds() {
         let w = &rows.iter().find(|r| r.method == "auto").unwrap().written[0];
         assert!(w.verified);
         assert!(w.time <= 65.73, "auto wrote 3D_Chips.ngc in {} s", w.time);
+    });
+}
+
+/// `3D_Chips.ngc` at 0.02 mm: `auto` ranked a mix of sections 0.6% ahead
+/// of its best whole-run fit at the default curvature step, but the
+/// writer renders each run again at the finer step, where the fit gained
+/// more, and the program `auto` wrote (68.027 s) was slower than
+/// `bspline-fit`'s (67.966 s). `auto` now judges the candidates near its
+/// best as the writer finally writes them (`choose::FINER_STEP_MARGIN`).
+#[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
+fn three_d_chips_at_0_02mm_auto_judges_near_candidates_at_the_finer_step() {
+    with_shared("linuxcnc/performance/3D_Chips.ngc", |p| {
+        let opts = CompareOptions {
+            tolerance: 0.02,
+            machine: fairpath::feed::limits::MachineLimits::thesis(),
+            methods: vec!["auto".to_string(), "bspline-fit".to_string()],
+            override_feed: false,
+            formats: vec![Format::Arcs],
+            controller: Controller::Generic,
+        };
+        let rows = compare(p, &opts).unwrap();
+        let written = |m: &str| {
+            let w = &rows.iter().find(|r| r.method == m).unwrap().written[0];
+            assert!(w.verified, "{m}: not verified");
+            w.time
+        };
+        let (auto, fit) = (written("auto"), written("bspline-fit"));
+        assert!(
+            auto <= fit * (1.0 + TIE),
+            "auto {auto:.4} s, bspline-fit {fit:.4} s"
+        );
+    });
+}
+
+/// `tight-corner-tolerance.ngc` at 0.1 mm: a star of 1-inch strokes out
+/// and back, every vertex a near-reversal. Every candidate of `auto` was
+/// kept as the run was written (77.198 s); `ctm`, which `auto` did not
+/// offer, sizes its transitions differently from `bspline-corner` and
+/// wrote 75.738 s. `ctm` is now a candidate.
+#[test]
+#[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
+fn tight_corner_tolerance_at_0_1mm_auto_is_no_slower_than_ctm() {
+    with_shared("linuxcnc/performance/tight-corner-tolerance.ngc", |p| {
+        check_at("tight-corner-tolerance", p, 0.1)
     });
 }
 

@@ -84,7 +84,7 @@ const PARALLEL_FEEDS_PIECES: usize = 10_000;
 /// the all-G1 candidate is not tried where the arcs fell back to lines on
 /// fewer than [`LINES_CANDIDATE_SHARE`] of its curves. Each plan of such a
 /// run costs seconds (`docs/scale.md`).
-const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
+pub(crate) const LONG_RUN_PIECES: usize = PARALLEL_FEEDS_PIECES;
 
 /// Share of a long run's curves whose arcs fell back to G1 below which
 /// the all-G1 rendering is not tried: where arcs follow nearly all of a

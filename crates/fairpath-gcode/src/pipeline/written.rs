@@ -140,6 +140,14 @@ pub fn objective_for(
         .any(|&f| f == CurveForm::Lines)
         .then(|| render_options(opts, CurveForm::Lines, budget.output, units, &wo));
     written.corners = opts.judged_by;
+    // What the writer tries beyond those (`emit::choose_run`).
+    written.writer_tries = Some(fairpath::choose::WriterTries {
+        finer_share: crate::emit::FINER_STEP,
+        long_pieces: crate::emit::LONG_RUN_PIECES,
+        lines_without_arcs: budget
+            .finer_lines_output()
+            .map(|chord| render_options(opts, CurveForm::Lines, chord, units, &wo)),
+    });
     written.observer = memo.map(|m| m as Arc<dyn fairpath::choose::RenderObserver>);
     Arc::new(written)
 }

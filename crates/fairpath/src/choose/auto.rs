@@ -29,11 +29,18 @@
 //!   arcs between corners over more length; and through corners with a
 //!   lighter jerk term, [`THROUGH_JERK_FAIRNESS`](super::candidates::THROUGH_JERK_FAIRNESS). These are offered on
 //!   runs of lines too (the survey found each chosen somewhere).
-//! * the corner methods `bspline-corner` and `lotm` (not `ctm`: with its
-//!   default coefficient its transitions are `bspline-corner`'s uniform
-//!   cubic B-splines, at more smoothing and planning time): on the run as it is when it has only lines; on the same
-//!   sampled run (with the same share of the tolerance) when it has arcs,
-//!   so that they too leave no joint next to an arc that is not G2.
+//! * the corner methods `bspline-corner`, `lotm` and `ctm`: on the run as
+//!   it is when it has only lines; on the same sampled run (with the same
+//!   share of the tolerance) when it has arcs, so that they too leave no
+//!   joint next to an arc that is not G2. `ctm` (seed 001's baseline) with
+//!   its default coefficient makes `bspline-corner`'s uniform cubic
+//!   B-splines, but sizes them differently (each segment shared between
+//!   two transitions split in halves, where `bspline-corner` gives each
+//!   corner the room the one before left): on LinuxCNC's
+//!   `tight-corner-tolerance.ngc` at 0.1 mm, a star of near-reversals,
+//!   its program plans 75.738 s where every other candidate was kept as
+//!   the run was written (77.198 s). Last in the table, so it wins only
+//!   where strictly faster.
 //! * **fair**: method `fair` (seed 003, the thesis' fairing inside the
 //!   tolerance tube) with its default options. On a run with B-spline
 //!   pieces it works on the run as it is, with the whole tolerance: the
@@ -130,6 +137,19 @@
 //! so `auto` stays no slower than any candidate; a mix whose cheap bound
 //! ([`Objective::bound`]) is not below the best time found is not costed.
 //!
+//! **As the writer writes.** The objective costs each candidate by the
+//! renderings a writer makes first; a G-code writer then also tries its
+//! all-G1 alternative and a finer curvature step, which gain more on one
+//! smoothing than on another. The candidates and mixes that came within
+//! [`FINAL_COST_MARGIN`] of the best (at most
+//! [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS), the cheapest)
+//! are judged again by [`Objective::final_cost`], the time of what the
+//! writer would write, and the least of those is kept
+//! ([`super::written_choice`]). Only for a run the writer takes whole:
+//! the runs between near-reversals (below) are parts of one, which the
+//! writer renders as one, so there the split and the whole run's best
+//! are judged so instead.
+//!
 //! **Near-reversals.** A run of up to [`SECTION_MAX_PIECES`] pieces that
 //! turns by [`AutoOptions::reversal_turn`] or more at some vertex (160
 //! degrees by default), and has at most [`REVERSAL_PIECES_PER_CUT`](super::REVERSAL_PIECES_PER_CUT)
@@ -156,6 +176,7 @@ use super::reversals::{cut_sets_bounded, split_at};
 use super::sections::{
     meets_cut_lines, split_at_long_lines, Mix, SectionCache, MIXES, SECTION_MAX_PIECES,
 };
+use super::written_choice::{fastest_written, FINAL_COST_MARGIN};
 use crate::geom::{Curve, JointTolerances, ParamCurve};
 use crate::path::{Piece, Run};
 use crate::smooth::{
@@ -313,10 +334,25 @@ impl Smoother for Auto {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
-        let (time, best) = self.smooth_whole(run, tolerance)?;
-        Ok(self
-            .between_reversals(run, (time, &best), tolerance)?
-            .unwrap_or(best))
+        let (time, best) = self.smooth_whole(run, tolerance, true)?;
+        // Split at its near-reversals where that costs less; of the two,
+        // where they come near, the one the writer writes faster.
+        Ok(
+            match self.between_reversals(run, (time, &best), tolerance)? {
+                Some((t, split)) => match time {
+                    Some(tw) => {
+                        fastest_written(
+                            self.objective.as_ref(),
+                            (t, split),
+                            alloc::vec![(tw, best)],
+                        )
+                        .1
+                    }
+                    None => split,
+                },
+                None => best,
+            },
+        )
     }
 
     /// A window of a longer run: its fastest candidate that meets the cut
@@ -355,11 +391,15 @@ impl Smoother for Auto {
 impl Auto {
     /// The cheapest smoothing of `run` as one run, with its cost: the
     /// candidates, the section mixes and the fallback (see the module
-    /// documentation).
+    /// documentation). With `written`, of the candidates and mixes near
+    /// the best, the one the writer writes fastest ([`fastest_written`]):
+    /// for a run the writer takes whole, not for a part of one (the
+    /// writer's renderings are the whole run's).
     fn smooth_whole(
         &self,
         run: &Run,
         tolerance: f64,
+        written: bool,
     ) -> Result<(Option<f64>, SmoothedRun), SmoothError> {
         let lines = self.options.section_lines;
         // The fits and fairings of the run and of its sections, shared
@@ -370,13 +410,24 @@ impl Auto {
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
         let peaked = self.fair_with_peak_pass(run, &list, &ranking, time, &memo)?;
         drop(list);
+        // The candidates costed near the best, to be judged again as the
+        // writer finally writes them ([`fastest_written`]).
+        let mut others = match time {
+            Some(t) if written => ranking.near(i, t * (1.0 + FINAL_COST_MARGIN)),
+            _ => Vec::new(),
+        };
         let mut best = core::mem::take(&mut ranking.cands[i]);
         drop(ranking);
         if let Some((t, cand)) = peaked {
-            (time, best) = (Some(t), cand);
+            if let (Some(tb), true) = (time, written) {
+                others.push((tb, core::mem::replace(&mut best, cand)));
+            } else {
+                best = cand;
+            }
+            time = Some(t);
         }
         if run.pieces.len() > SECTION_MAX_PIECES {
-            return Ok((time, best));
+            return Ok(self.finally_written(time, best, others));
         }
         let mut cache = SectionCache::default();
         let mut tried: Vec<usize> = Vec::new();
@@ -417,17 +468,41 @@ impl Auto {
                     if t < tw {
                         wanted[Mix::FitsOnly as usize] |=
                             mixed.chosen.iter().any(|n| is_corner_method(n));
-                        (time, best) = (Some(t), mixed);
+                        let before = core::mem::replace(&mut best, mixed);
+                        if written {
+                            others.push((tw, before));
+                        }
+                        time = Some(t);
+                    } else if written {
+                        others.push((t, mixed));
                     }
                 }
             }
         }
+        (time, best) = self.finally_written(time, best, others);
         if let Some((t, kept)) =
             self.curves_as_written_fallback(run, tolerance, (&best, time), &memo)?
         {
             (time, best) = (Some(t), kept);
         }
         Ok((time, best))
+    }
+
+    /// `best` (of cost `time`), or the one of `others` (each with its
+    /// cost) near it that the writer writes fastest ([`fastest_written`]).
+    fn finally_written(
+        &self,
+        time: Option<f64>,
+        best: SmoothedRun,
+        others: Vec<(f64, SmoothedRun)>,
+    ) -> (Option<f64>, SmoothedRun) {
+        match time {
+            Some(t) => {
+                let (t, best) = fastest_written(self.objective.as_ref(), (t, best), others);
+                (Some(t), best)
+            }
+            None => (None, best),
+        }
     }
 
     /// `fair`'s candidates on a run of lines (or of sampled arcs) made
@@ -497,8 +572,8 @@ impl Auto {
     /// `run` smoothed as the runs between its near-reversals, or between
     /// those and the corners of its narrow U-turns ([`cut_sets_bounded`]:
     /// the cheaper), each by [`Auto::smooth_whole`], those vertices
-    /// kept as corners, where that costs less than `time` (the best
-    /// smoothing of the whole run); `None` where there is no such vertex,
+    /// kept as corners, with its cost, where that costs less than `time`
+    /// (the best smoothing of the whole run); `None` where there is no such vertex,
     /// the run is longer than [`SECTION_MAX_PIECES`] or than
     /// [`REVERSAL_PIECES_PER_CUT`](super::REVERSAL_PIECES_PER_CUT) pieces per such vertex, or it costs no
     /// less.
@@ -507,7 +582,7 @@ impl Auto {
         run: &Run,
         (time, whole): (Option<f64>, &SmoothedRun),
         tolerance: f64,
-    ) -> Result<Option<SmoothedRun>, SmoothError> {
+    ) -> Result<Option<(f64, SmoothedRun)>, SmoothError> {
         let Some(time) = time else {
             return Ok(None);
         };
@@ -549,7 +624,7 @@ impl Auto {
         for cuts in &sets {
             let mut out = SmoothedRun::default();
             for (i, part) in split_at(run, cuts).iter().enumerate() {
-                let (_, best) = between.smooth_whole(part, tolerance)?;
+                let (_, best) = between.smooth_whole(part, tolerance, false)?;
                 if i > 0 {
                     let before = &run.pieces[cuts[i - 1] - 1];
                     out.kept_corners.push(KeptCorner {
@@ -572,7 +647,7 @@ impl Auto {
                 best = Some((t, out));
             }
         }
-        Ok(best.map(|(_, out)| out))
+        Ok(best)
     }
 }
 

@@ -7,7 +7,7 @@ use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Fair,
+    shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Ctm, Fair,
     FairOptions, LineFit, Lotm, RunMemo, SectionOptions, SmoothError, SmoothedRun, Smoother,
 };
 use alloc::vec::Vec;
@@ -19,6 +19,8 @@ pub enum CornerMethod {
     BsplineCorner,
     /// `lotm` (seed 001).
     Lotm,
+    /// `ctm` (seed 001).
+    Ctm,
 }
 
 impl CornerMethod {
@@ -27,6 +29,7 @@ impl CornerMethod {
         match self {
             CornerMethod::BsplineCorner => "bspline-corner",
             CornerMethod::Lotm => "lotm",
+            CornerMethod::Ctm => "ctm",
         }
     }
 
@@ -34,6 +37,7 @@ impl CornerMethod {
         match self {
             CornerMethod::BsplineCorner => BsplineCorner::default().smooth_run(run, tol),
             CornerMethod::Lotm => Lotm::default().smooth_run(run, tol),
+            CornerMethod::Ctm => Ctm::default().smooth_run(run, tol),
         }
     }
 }
@@ -338,6 +342,11 @@ pub const CANDIDATES: &[CandidateRow] = &[
         name: CURVES_AS_WRITTEN[1],
         kind: Kind::CornerInPlace(CornerMethod::Lotm),
         offered: Offered::OnCurves,
+    },
+    CandidateRow {
+        name: "ctm",
+        kind: Kind::Corner(CornerMethod::Ctm),
+        offered: Offered::Always,
     },
 ];
 

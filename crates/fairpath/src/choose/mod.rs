@@ -18,6 +18,7 @@ mod registry;
 mod reversals;
 mod same_pieces;
 mod sections;
+mod written_choice;
 
 pub use auto::{sample_curves, Auto, ARC_SHARE};
 pub use auto_options::AutoOptions;
@@ -40,3 +41,4 @@ pub use reversals::{
 };
 pub use same_pieces::{pieces_digest, same_pieces};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};
+pub use written_choice::{WriterTries, FINAL_COST_CONTENDERS, FINAL_COST_MARGIN};

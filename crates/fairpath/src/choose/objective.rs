@@ -10,6 +10,7 @@
 //! [`WrittenTime`], the time of the curves as a G-code writer will render
 //! them (what a G-code program carries).
 
+use super::written_choice::WriterTries;
 use crate::feed::limits::MachineLimits;
 use crate::feed::plan::{plan_run, Corners, PlanOptions};
 use crate::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
@@ -111,6 +112,16 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
     /// feed ([`crate::smooth::FairOptions::programmed_feeds`]).
     fn feeds_overridden(&self) -> bool {
         false
+    }
+
+    /// The cost of `pieces` (of cost `cost`, [`Objective::cost`]) as a
+    /// writer finally writes them, where it tries more than the objective
+    /// ranks by: `cost` by default. [`WrittenTime`] with
+    /// [`WrittenTime::writer_tries`]: the time of the rendering the
+    /// writer chooses among those and its own. `auto` reads it to choose
+    /// among the candidates nearest its best ([`super::FINAL_COST_MARGIN`]).
+    fn final_cost(&self, _pieces: &[Piece], cost: f64) -> f64 {
+        cost
     }
 }
 
@@ -310,6 +321,13 @@ pub struct WrittenTime {
     /// the maximum feed and gain as G1 at both feeds, and `auto` kept the
     /// run as written, slower than `fair`).
     pub lines_alternative: Option<RenderOptions>,
+    /// What the writer tries beyond these renderings: its all-G1
+    /// alternative and a finer curvature step (`None`, the default: not
+    /// known). [`Objective::cost`] does not render them (it would render
+    /// and plan every candidate two to four times more);
+    /// [`Objective::final_cost`] does, for the candidates `auto` finds
+    /// nearest its best ([`super::FINAL_COST_MARGIN`]).
+    pub writer_tries: Option<WriterTries>,
 }
 
 /// Curves rendered at a time where [`WrittenTime`] costs a candidate: the
@@ -335,6 +353,8 @@ impl PartialEq for WrittenTime {
             && self.kept_rendering_pieces == o.kept_rendering_pieces
             && self.renders == o.renders
             && self.corners == o.corners
+            && self.lines_alternative == o.lines_alternative
+            && self.writer_tries == o.writer_tries
             && match (&self.observer, &o.observer) {
                 (None, None) => true,
                 (Some(a), Some(b)) => Arc::ptr_eq(a, b),
@@ -378,6 +398,7 @@ impl WrittenTime {
             render_gain: RENDER_GAIN,
             kept_rendering_pieces: None,
             lines_alternative: None,
+            writer_tries: None,
         }
     }
 
@@ -408,7 +429,7 @@ impl WrittenTime {
 
     /// The speed the renderer reads for `pieces`: planned on
     /// [`WrittenTime::shape`], as the writer plans the curves.
-    fn shaping_speed(&self, pieces: &[Piece]) -> Option<Arc<PlannedSpeed>> {
+    pub(super) fn shaping_speed(&self, pieces: &[Piece]) -> Option<Arc<PlannedSpeed>> {
         let plan = plan_run(pieces, &self.shape).ok()?;
         Some(Arc::new(PlannedSpeed::new(
             pieces.len(),
@@ -431,12 +452,12 @@ impl WrittenTime {
 
     /// The planned time of a rendering on [`WrittenTime::plan`] (LinuxCNC's
     /// G5.2 blocks as LinuxCNC runs them).
-    fn rendered_time(&self, pieces: &[Piece], form: CurveForm) -> Option<f64> {
+    pub(super) fn rendered_time(&self, pieces: &[Piece], form: CurveForm) -> Option<f64> {
         self.rendered_time_on(pieces, form, &self.plan)
     }
 
     /// [`WrittenTime::rendered_time`] planned on `plan`.
-    fn rendered_time_on(
+    pub(super) fn rendered_time_on(
         &self,
         pieces: &[Piece],
         form: CurveForm,
@@ -602,7 +623,7 @@ impl WrittenTime {
     /// (with its index and options, and the speed), until `each` returns
     /// false. `None` where the curves cannot be planned or a form cannot
     /// render them.
-    fn each_rendering(
+    pub(super) fn each_rendering(
         &self,
         pieces: &[Piece],
         mut each: impl FnMut(usize, &RenderOptions, Rendered, &Arc<PlannedSpeed>) -> bool,
@@ -677,6 +698,11 @@ impl Objective for WrittenTime {
     fn written_as_lines(&self, candidate: &[Piece], run: &[Piece], own: f64) -> bool {
         self.own_at_max(run)
             .is_some_and(|m| self.lines_gain(candidate, (own, m), rewrite_margin(run)))
+    }
+
+    /// The rendering the writer chooses ([`WrittenTime::writer_tries`]).
+    fn final_cost(&self, pieces: &[Piece], cost: f64) -> f64 {
+        self.writer_cost(pieces, cost)
     }
 }
 

@@ -96,6 +96,20 @@ impl<'o> Ranking<'o> {
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
     }
 
+    /// The candidates costed at most `limit`, but `best` and those with
+    /// its pieces, each result once (the first of its pieces), taken out
+    /// with their costs.
+    pub(super) fn near(&mut self, best: usize, limit: f64) -> Vec<(f64, SmoothedRun)> {
+        let same = self.first_same[best];
+        (0..self.cands.len())
+            .filter(|&i| self.first_same[i] == i && i != same)
+            .filter_map(|i| match self.costs[i] {
+                Some(Some(c)) if c <= limit => Some((c, core::mem::take(&mut self.cands[i]))),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// [`Ranking::fastest`], by index only: where `eligible` accepts
     /// candidates of one result only, the first of them, costed by nothing.
     pub(super) fn cheapest(&mut self, eligible: impl Fn(&SmoothedRun) -> bool) -> Option<usize> {

@@ -240,7 +240,8 @@ mod tests {
         for row in CANDIDATES.iter() {
             let n = row.name;
             let fair = n == FAIR || n == FAIR_THROUGH_SHALLOW || n == FAIR_STRAIGHTENED;
-            let corner = matches!(n, "bspline-corner" | "lotm") || CURVES_AS_WRITTEN.contains(&n);
+            let corner =
+                matches!(n, "bspline-corner" | "lotm" | "ctm") || CURVES_AS_WRITTEN.contains(&n);
             assert!(Mix::All.admits(n), "{n}");
             assert_eq!(Mix::WithoutFair.admits(n), !fair, "{n}");
             assert_eq!(Mix::FitsOnly.admits(n), !fair && !corner, "{n}");

@@ -481,7 +481,7 @@ fn left_out_candidates_are_never_chosen() {
 fn leave_out_keeps_a_candidate_for_every_run() {
     let always: Vec<&str> = CandidateSet::always_offered().names().collect();
     // The names `AutoOptions::validate`'s message lists.
-    assert_eq!(always, ["bspline-fit", "bspline-corner", "lotm"]);
+    assert_eq!(always, ["bspline-fit", "bspline-corner", "lotm", "ctm"]);
     let opts = |names: &[&str]| AutoOptions {
         leave_out: CandidateSet::of_names(names.iter().copied()).unwrap(),
         ..AutoOptions::default()
@@ -502,7 +502,7 @@ proptest::proptest! {
     fn auto_with_one_candidate_is_that_method(
         pts in proptest::collection::vec((0.0f64..40.0, 0.0f64..40.0, 0.0f64..2.0), 3..12),
         tol in 0.005f64..0.2,
-        lotm in proptest::bool::ANY,
+        which in 0usize..3,
     ) {
         let pieces: Vec<Piece> = pts
             .windows(2)
@@ -518,10 +518,10 @@ proptest::proptest! {
             })
             .collect();
         let run = Run::new(pieces);
-        let (name, method): (&str, &dyn Smoother) = if lotm {
-            ("lotm", &crate::smooth::Lotm::default())
-        } else {
-            ("bspline-corner", &crate::smooth::BsplineCorner::default())
+        let (name, method): (&str, &dyn Smoother) = match which {
+            0 => ("lotm", &crate::smooth::Lotm::default()),
+            1 => ("ctm", &crate::smooth::Ctm::default()),
+            _ => ("bspline-corner", &crate::smooth::BsplineCorner::default()),
         };
         let auto = Auto::new(
             AutoOptions {

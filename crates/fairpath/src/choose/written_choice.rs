@@ -1,0 +1,370 @@
+//! The writer's own choice of a run's rendering, as `auto` judges its
+//! nearest candidates by it.
+//!
+//! [`WrittenTime`] costs a candidate by the renderings a G-code writer
+//! makes first: each form the format allows at the default curvature
+//! step. The writer then tries more (`fairpath_gcode`'s
+//! `emit::choose_run`): the all-G1 alternative where the arcs fell back to
+//! lines on some curve, and the winning form again at a finer curvature
+//! step, kept where it plans [`KEEP_MARGIN`] faster at every feed it
+//! judges at. What they gain differs between smoothings of one run: on
+//! `3D_Chips.ngc` at 0.02 mm the mix of sections `auto` ranked 0.6% ahead
+//! of its best whole-run fit gained 1.4% at the finer step and the fit
+//! 2.2%, so the program `auto` wrote was slower than the fit alone; at
+//! 0.1 mm the writer wrote the best candidate's main run as G1, faster
+//! than any candidate's arcs at either step. Costing every candidate so
+//! would render and plan each two to four times more; `auto` judges only
+//! the candidates that come within [`FINAL_COST_MARGIN`] of its best, at
+//! most [`FINAL_COST_CONTENDERS`] of them, by [`Objective::final_cost`]
+//! (measurements: docs/tuning.md, `FINAL_COST_MARGIN`).
+
+use super::objective::{Objective, WrittenTime, KEEP_MARGIN};
+use crate::path::Piece;
+use crate::render::{render_run, CurveForm, RenderOptions, Rendered};
+use crate::smooth::SmoothedRun;
+use alloc::vec::Vec;
+
+/// What a G-code writer tries for a run beyond [`WrittenTime::renders`]
+/// ([`WrittenTime::writer_tries`]; with [`WrittenTime::lines_alternative`],
+/// its all-G1 rendering where the arcs fell back to lines).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WriterTries {
+    /// The factor on the winning rendering's
+    /// [`RenderOptions::step_share`] at which it is rendered again
+    /// (`fairpath_gcode`'s `FINER_STEP`, 0.5), in `(0, 1)`.
+    pub finer_share: f64,
+    /// A run of at least this many curves is long: the writer renders it
+    /// once (`fairpath_gcode`'s `LONG_RUN_PIECES`); a G1 alternative to
+    /// arcs of at least this many pieces is rendered as it is written,
+    /// and not again at the finer step.
+    pub long_pieces: usize,
+    /// The all-G1 alternative where the arcs rendering holds no arc (the
+    /// writer's finer chord of G1 output), if the budget gives one; else
+    /// [`WrittenTime::lines_alternative`].
+    pub lines_without_arcs: Option<RenderOptions>,
+}
+
+/// Share of the best cost within which `auto`'s other candidates (whole
+/// runs and mixes of sections) are judged again by
+/// [`Objective::final_cost`]: 2% (measurements: docs/tuning.md,
+/// `FINAL_COST_MARGIN`).
+pub const FINAL_COST_MARGIN: f64 = 0.02;
+
+/// Most candidates judged by [`Objective::final_cost`] for one run, the
+/// best included: each costs the writer's renderings again (up to four,
+/// each planned at up to two feeds).
+pub const FINAL_COST_CONTENDERS: usize = 3;
+
+/// A rendering the writer chose, with its options, its time at the
+/// writer's first feed and at [`WrittenTime::plan`].
+struct Chosen {
+    ro: RenderOptions,
+    rendered: Rendered,
+    first: f64,
+    plan: f64,
+}
+
+impl WrittenTime {
+    /// [`Objective::final_cost`]: the time on [`WrittenTime::plan`] of the
+    /// rendering the writer chooses for `pieces`, as `emit::choose_run`
+    /// chooses for a run that is not long: each form of
+    /// [`WrittenTime::renders`], then the all-G1 alternative where the
+    /// best so far fell back to lines on some curve, each kept where it
+    /// is faster at the writer's first feed (the machine's maximum); then
+    /// the winner at the finer step where that plans [`KEEP_MARGIN`]
+    /// faster at every feed the writer judges at ([`WrittenTime::plan`]
+    /// and, where it differs, [`WrittenTime::shape`]): arcs that hold an
+    /// arc, or G1 that was not streamed. `cost` where the writer's tries
+    /// are not known or a rendering fails. The writer's own test against
+    /// the run as written is not made here: it is the same for every
+    /// candidate.
+    pub(super) fn writer_cost(&self, pieces: &[Piece], cost: f64) -> f64 {
+        let Some(tries) = self.writer_tries else {
+            return cost;
+        };
+        if pieces.len() >= tries.long_pieces
+            || !(tries.finer_share > 0.0 && tries.finer_share < 1.0)
+        {
+            return cost;
+        }
+        let Some(speed) = self.shaping_speed(pieces) else {
+            return cost;
+        };
+        // The writer's first feed is the machine's maximum.
+        let times = |r: &Rendered, ro: &RenderOptions| {
+            let first = self.rendered_time_on(&r.pieces, ro.form, &self.shape)?;
+            let plan = if self.plan == self.shape {
+                first
+            } else {
+                self.rendered_time_on(&r.pieces, ro.form, &self.plan)?
+            };
+            Some((first, plan))
+        };
+        let mut best: Option<Chosen> = None;
+        let mut arcs_all_lines = false;
+        let mut streamed = false;
+        let forms = self.renders.iter().copied().map(|ro| (ro, false));
+        let alternative = self.lines_alternative.map(|ro| (ro, true));
+        for (ro, is_alternative) in forms.chain(alternative) {
+            if let Some(b) = &best {
+                let fell_back = b.rendered.stats.fallback_lines > 0 || b.rendered.stats.chained > 0;
+                let nurbs = matches!(b.ro.form, CurveForm::Nurbs(_));
+                if nurbs || (ro.form == CurveForm::Lines && !fell_back) {
+                    continue;
+                }
+            }
+            let ro = match tries.lines_without_arcs {
+                Some(finer) if is_alternative && arcs_all_lines => finer,
+                _ => ro,
+            };
+            let Ok(r) = render_run(pieces, &speed, &ro) else {
+                return cost;
+            };
+            if ro.form == CurveForm::Arcs {
+                arcs_all_lines = r.stats.arcs == 0;
+            }
+            let Some((first, plan)) = times(&r, &ro) else {
+                continue;
+            };
+            if best.as_ref().is_some_and(|b| first >= b.first) {
+                continue;
+            }
+            streamed = is_alternative
+                && best
+                    .as_ref()
+                    .is_some_and(|b| b.rendered.pieces.len() >= tries.long_pieces);
+            best = Some(Chosen {
+                ro,
+                rendered: r,
+                first,
+                plan,
+            });
+        }
+        let Some(b) = best else {
+            return cost;
+        };
+        let again = match b.ro.form {
+            CurveForm::Arcs => b.rendered.stats.arcs > 0,
+            CurveForm::Lines => !streamed,
+            _ => false,
+        };
+        if !again {
+            return b.plan;
+        }
+        let fro = RenderOptions {
+            step_share: b.ro.step_share * tries.finer_share,
+            ..b.ro
+        };
+        let Ok(fine) = render_run(pieces, &speed, &fro) else {
+            return b.plan;
+        };
+        let gains = |f: f64, d: f64| f * (1.0 + KEEP_MARGIN) < d;
+        match times(&fine, &fro) {
+            Some((first, plan)) if gains(first, b.first) && gains(plan, b.plan) => plan,
+            _ => b.plan,
+        }
+    }
+}
+
+/// Of `best` (cost `time`) and `others` (each with its cost), the one the
+/// writer writes fastest by [`Objective::final_cost`], with its cost by
+/// [`Objective::cost`]: the others considered are those within
+/// [`FINAL_COST_MARGIN`] of `time`, the cheapest first, up to
+/// [`FINAL_COST_CONTENDERS`] with `best`. A tie goes to `best`, then to
+/// the cheaper.
+pub(super) fn fastest_written(
+    objective: &dyn Objective,
+    (time, best): (f64, SmoothedRun),
+    mut others: Vec<(f64, SmoothedRun)>,
+) -> (f64, SmoothedRun) {
+    others.retain(|(t, _)| *t <= time * (1.0 + FINAL_COST_MARGIN));
+    if others.is_empty() {
+        return (time, best);
+    }
+    others.sort_by(|a, b| a.0.total_cmp(&b.0));
+    others.truncate(FINAL_COST_CONTENDERS - 1);
+    let mut all = Vec::with_capacity(others.len() + 1);
+    all.push((time, best));
+    all.extend(others);
+    let finals: Vec<f64> = super::candidate_threads::map_candidates(all.len(), |k| {
+        objective.final_cost(&all[k].1.pieces, all[k].0)
+    });
+    let mut pick = 0;
+    for k in 1..all.len() {
+        if finals[k] < finals[pick] {
+            pick = k;
+        }
+    }
+    all.swap_remove(pick)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::feed::limits::MachineLimits;
+    use crate::geom::{Curve, Line, ParamCurve, Vec3};
+    use crate::path::Run;
+    use crate::render::RenderOptions;
+    use crate::smooth::{BsplineCorner, Smoother};
+    use proptest::prelude::*;
+
+    /// Costs and final costs by the first piece's end `x`.
+    #[derive(Debug)]
+    struct Table {
+        costs: Vec<f64>,
+        finals: Vec<f64>,
+    }
+
+    fn result(pieces: &[Piece]) -> usize {
+        pieces[0].curve.end().x as usize
+    }
+
+    impl Objective for Table {
+        fn cost(&self, pieces: &[Piece]) -> Option<f64> {
+            Some(self.costs[result(pieces)])
+        }
+        fn final_cost(&self, pieces: &[Piece], _cost: f64) -> f64 {
+            self.finals[result(pieces)]
+        }
+    }
+
+    fn candidate(r: usize) -> SmoothedRun {
+        SmoothedRun {
+            pieces: alloc::vec![Piece {
+                curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(r as f64, 1.0, 0.0))),
+                rapid: false,
+                source_lines: (1, 1),
+                feed: None,
+            }],
+            ..SmoothedRun::default()
+        }
+    }
+
+    proptest! {
+        /// The choice is the least final cost among the best and the
+        /// others within the margin (the cheapest of them, up to the
+        /// contenders' count), the best on a tie, then the cheaper; it
+        /// comes with its own cost.
+        #[test]
+        fn the_least_final_cost_among_the_near_contenders_wins(
+            costs in proptest::collection::vec(100u32..110, 6),
+            finals in proptest::collection::vec(90u32..110, 6),
+        ) {
+            let costs: Vec<f64> = costs.iter().map(|&c| f64::from(c)).collect();
+            let finals: Vec<f64> = finals.iter().map(|&c| f64::from(c)).collect();
+            let table = Table { costs: costs.clone(), finals: finals.clone() };
+            let best = (0..6).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).unwrap();
+            let others: Vec<(f64, SmoothedRun)> =
+                (0..6).filter(|&r| r != best).map(|r| (costs[r], candidate(r))).collect();
+            let (t, chosen) =
+                fastest_written(&table, (costs[best], candidate(best)), others);
+            let r = result(&chosen.pieces);
+            prop_assert_eq!(t, costs[r]);
+            let mut near: Vec<usize> = (0..6)
+                .filter(|&o| o != best && costs[o] <= costs[best] * (1.0 + FINAL_COST_MARGIN))
+                .collect();
+            near.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
+            near.truncate(FINAL_COST_CONTENDERS - 1);
+            let mut want = best;
+            for &o in &near {
+                if finals[o] < finals[want] {
+                    want = o;
+                }
+            }
+            prop_assert_eq!(r, want);
+        }
+    }
+
+    /// A wavy raster of `points` points, its corners replaced by
+    /// `bspline-corner`'s transitions.
+    fn corner_curves(points: usize) -> Vec<Piece> {
+        let pts: Vec<Vec3> = (0..points)
+            .map(|k| {
+                let x = 0.5 * k as f64;
+                Vec3::new(x, 0.3 * (0.7 * x).sin(), 0.02 * (1.3 * x).cos())
+            })
+            .collect();
+        let run = Run::polyline(&pts, Some(6000.0));
+        BsplineCorner::default()
+            .smooth_run(&run, 0.045)
+            .unwrap()
+            .pieces
+    }
+
+    fn written_time(override_feed: bool, tries: Option<WriterTries>) -> WrittenTime {
+        let limits = MachineLimits::thesis();
+        let ro = |form| RenderOptions {
+            form,
+            chord: 0.005,
+            limits,
+            min_block_periods: 1.02,
+            min_radius: 0.00254,
+            step_share: crate::render::arcs::STEP_SHARE,
+            min_arc_length: 4e-6,
+        };
+        let mut w = WrittenTime::new(
+            limits,
+            override_feed,
+            alloc::vec![ro(CurveForm::Arcs), ro(CurveForm::Lines)],
+        );
+        w.writer_tries = tries;
+        w
+    }
+
+    /// Without a finer step, or on a run the writer takes as long, the
+    /// final cost is the cost; with one, it is the cost or a time at
+    /// least [`KEEP_MARGIN`] below it: the finer rendering of the form
+    /// that won, planned as the writer plans it, where it gains at every
+    /// feed.
+    #[test]
+    fn the_finer_step_is_taken_only_where_the_writer_keeps_it() {
+        let finer = WriterTries {
+            finer_share: 0.5,
+            long_pieces: usize::MAX,
+            lines_without_arcs: None,
+        };
+        let line = candidate(30).pieces;
+        let mut seen = [false; 2];
+        for pieces in [corner_curves(120), line] {
+            for override_feed in [true, false] {
+                let plain = written_time(override_feed, None);
+                let cost = plain.cost(&pieces).unwrap();
+                assert_eq!(plain.final_cost(&pieces, cost), cost);
+                let long = WriterTries {
+                    long_pieces: pieces.len(),
+                    ..finer
+                };
+                let w = written_time(override_feed, Some(long));
+                assert_eq!(w.final_cost(&pieces, cost), cost);
+                let w = written_time(override_feed, Some(finer));
+                let f = w.final_cost(&pieces, cost);
+                // The oracle: the arcs at half the step, planned on the plan
+                // (and the shape where it differs).
+                let speed = w.shaping_speed(&pieces).unwrap();
+                let ro = w.renders[0];
+                let half = RenderOptions {
+                    step_share: ro.step_share * 0.5,
+                    ..ro
+                };
+                let fine = render_run(&pieces, &speed, &half).unwrap();
+                let plain_r = render_run(&pieces, &speed, &ro).unwrap();
+                let t = |p: &[Piece], on: &crate::feed::plan::PlanOptions| {
+                    w.rendered_time_on(p, CurveForm::Arcs, on).unwrap()
+                };
+                let gains = t(&fine.pieces, &w.plan) * (1.0 + KEEP_MARGIN)
+                    < t(&plain_r.pieces, &w.plan)
+                    && t(&fine.pieces, &w.shape) * (1.0 + KEEP_MARGIN)
+                        < t(&plain_r.pieces, &w.shape);
+                assert_eq!(t(&plain_r.pieces, &w.plan), cost, "arcs won");
+                if gains {
+                    assert_eq!(f, t(&fine.pieces, &w.plan));
+                } else {
+                    assert_eq!(f, cost);
+                }
+                seen[usize::from(gains)] = true;
+            }
+        }
+        // Both ways taken: the raster gains, the line does not.
+        assert_eq!(seen, [true, true]);
+    }
+}
