@@ -90,10 +90,12 @@ impl WrittenTime {
         let Some(speed) = self.shaping_speed(pieces) else {
             return cost;
         };
-        // The writer's first feed is the machine's maximum.
+        // The writer's first feed is the machine's maximum; where no
+        // programmed feed is below it, the two plans are one.
+        let one_feed = self.one_feed(pieces);
         let times = |r: &Rendered, ro: &RenderOptions| {
             let first = self.rendered_time_on(&r.pieces, ro.form, &self.shape)?;
-            let plan = if self.plan == self.shape {
+            let plan = if one_feed {
                 first
             } else {
                 self.rendered_time_on(&r.pieces, ro.form, &self.plan)?
@@ -163,6 +165,27 @@ impl WrittenTime {
             Some((first, plan)) if gains(first, b.first) && gains(plan, b.plan) => plan,
             _ => b.plan,
         }
+    }
+}
+
+impl WrittenTime {
+    /// Whether `pieces`, and any rendering of them (which keeps their
+    /// feeds), plan the same on [`WrittenTime::plan`] as on
+    /// [`WrittenTime::shape`]: the same options, or options that differ
+    /// only in overriding the feeds and no programmed feed below the
+    /// machine's maximum (the planner caps each feed at it,
+    /// [`crate::feed::limits::speed_cap`]).
+    fn one_feed(&self, pieces: &[Piece]) -> bool {
+        let overridden = crate::feed::plan::PlanOptions {
+            override_feed: true,
+            ..self.plan
+        };
+        let max = self.plan.limits.max_feed;
+        self.plan == self.shape
+            || (overridden == self.shape
+                && pieces
+                    .iter()
+                    .all(|p| p.feed.is_none_or(|f| f / 60.0 >= max)))
     }
 }
 
@@ -366,5 +389,36 @@ mod tests {
         }
         // Both ways taken: the raster gains, the line does not.
         assert_eq!(seen, [true, true]);
+    }
+
+    /// Where no programmed feed is below the machine's maximum, the
+    /// programmed feeds plan as the maximum does: one plan serves both
+    /// feeds, and the final cost is the one the overriding objective
+    /// finds; below it, both are planned.
+    #[test]
+    fn feeds_at_the_maximum_plan_once() {
+        let tries = Some(WriterTries {
+            finer_share: 0.5,
+            long_pieces: usize::MAX,
+            lines_without_arcs: None,
+        });
+        let slow = corner_curves(120);
+        let max_mm_min = MachineLimits::thesis().max_feed * 60.0;
+        let fast: Vec<Piece> = slow
+            .iter()
+            .map(|p| Piece {
+                feed: Some(max_mm_min),
+                ..p.clone()
+            })
+            .collect();
+        let (at_feeds, at_max) = (written_time(false, tries), written_time(true, tries));
+        assert!(!at_feeds.one_feed(&slow));
+        assert!(at_feeds.one_feed(&fast) && at_max.one_feed(&slow));
+        let cost = at_max.cost(&fast).unwrap();
+        assert_eq!(at_feeds.cost(&fast), Some(cost));
+        assert_eq!(
+            at_feeds.final_cost(&fast, cost),
+            at_max.final_cost(&fast, cost)
+        );
     }
 }
