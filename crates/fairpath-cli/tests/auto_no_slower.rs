@@ -56,6 +56,28 @@ fn check(rel: &str, p: &Path) {
     check_at(rel, p, 0.05)
 }
 
+/// The times of the programs `methods` write for `p` at `tolerance` mm
+/// (arcs, generic controller, the thesis' machine), each verified.
+fn written_times(rel: &str, p: &Path, tolerance: f64, methods: &[&str]) -> Vec<f64> {
+    let opts = CompareOptions {
+        tolerance,
+        machine: fairpath::feed::limits::MachineLimits::thesis(),
+        methods: methods.iter().map(|m| m.to_string()).collect(),
+        override_feed: false,
+        formats: vec![Format::Arcs],
+        controller: Controller::Generic,
+    };
+    let rows = compare(p, &opts).unwrap();
+    methods
+        .iter()
+        .map(|&m| {
+            let w = &rows.iter().find(|r| r.method == m).unwrap().written[0];
+            assert!(w.verified, "{rel} {m}: not verified");
+            w.time
+        })
+        .collect()
+}
+
 /// [`check`] at `tolerance` mm.
 fn check_at(rel: &str, p: &Path, tolerance: f64) {
     let methods = [
@@ -66,24 +88,15 @@ fn check_at(rel: &str, p: &Path, tolerance: f64) {
         "bspline-fit",
         "fair",
     ];
-    let opts = CompareOptions {
-        tolerance,
-        machine: fairpath::feed::limits::MachineLimits::thesis(),
-        methods: methods.iter().map(|m| m.to_string()).collect(),
-        override_feed: false,
-        formats: vec![Format::Arcs],
-        controller: Controller::Generic,
-    };
-    let rows = compare(p, &opts).unwrap();
-    let written = |m: &str| {
-        let r = rows.iter().find(|r| r.method == m).unwrap();
-        let w = &r.written[0];
-        assert!(w.verified, "{rel} {m}: not verified");
-        w.time
-    };
-    let auto = written("auto");
-    for m in &methods[1..] {
-        let t = written(m);
+    check_methods(rel, p, tolerance, &methods);
+}
+
+/// `auto` (the first of `methods`) writes `p` at `tolerance` mm no slower
+/// than each of the others.
+fn check_methods(rel: &str, p: &Path, tolerance: f64, methods: &[&str]) {
+    let times = written_times(rel, p, tolerance, methods);
+    let auto = times[0];
+    for (m, &t) in methods.iter().zip(&times).skip(1) {
         assert!(
             auto <= t * (1.0 + TIE),
             "{rel}: auto {auto:.4} s, slower than {m} {t:.4} s"
@@ -167,18 +180,8 @@ fn line_contouring_xz_auto_keeps_its_step_over_corners() {
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn three_d_chips_auto_keeps_the_fits_knot_insertion_finds() {
     with_shared("linuxcnc/performance/3D_Chips.ngc", |p| {
-        let opts = CompareOptions {
-            tolerance: 0.05,
-            machine: fairpath::feed::limits::MachineLimits::thesis(),
-            methods: vec!["auto".to_string()],
-            override_feed: false,
-            formats: vec![Format::Arcs],
-            controller: Controller::Generic,
-        };
-        let rows = compare(p, &opts).unwrap();
-        let w = &rows.iter().find(|r| r.method == "auto").unwrap().written[0];
-        assert!(w.verified);
-        assert!(w.time <= 65.73, "auto wrote 3D_Chips.ngc in {} s", w.time);
+        let auto = written_times("3D_Chips", p, 0.05, &["auto"])[0];
+        assert!(auto <= 65.73, "auto wrote 3D_Chips.ngc in {auto} s");
     });
 }
 
@@ -192,25 +195,7 @@ fn three_d_chips_auto_keeps_the_fits_knot_insertion_finds() {
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn three_d_chips_at_0_02mm_auto_judges_near_candidates_at_the_finer_step() {
     with_shared("linuxcnc/performance/3D_Chips.ngc", |p| {
-        let opts = CompareOptions {
-            tolerance: 0.02,
-            machine: fairpath::feed::limits::MachineLimits::thesis(),
-            methods: vec!["auto".to_string(), "bspline-fit".to_string()],
-            override_feed: false,
-            formats: vec![Format::Arcs],
-            controller: Controller::Generic,
-        };
-        let rows = compare(p, &opts).unwrap();
-        let written = |m: &str| {
-            let w = &rows.iter().find(|r| r.method == m).unwrap().written[0];
-            assert!(w.verified, "{m}: not verified");
-            w.time
-        };
-        let (auto, fit) = (written("auto"), written("bspline-fit"));
-        assert!(
-            auto <= fit * (1.0 + TIE),
-            "auto {auto:.4} s, bspline-fit {fit:.4} s"
-        );
+        check_methods("3D_Chips", p, 0.02, &["auto", "bspline-fit"])
     });
 }
 

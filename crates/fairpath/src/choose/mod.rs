@@ -18,6 +18,8 @@ mod registry;
 mod reversals;
 mod same_pieces;
 mod sections;
+#[cfg(test)]
+mod test_support;
 mod written_choice;
 
 pub use auto::{sample_curves, Auto, ARC_SHARE};

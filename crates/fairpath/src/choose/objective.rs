@@ -758,10 +758,8 @@ impl WrittenTime {
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_support::{corner_curves, render_options};
     use super::*;
-    use crate::geom::Vec3;
-    use crate::path::Run;
-    use crate::smooth::{BsplineCorner, Smoother};
     use std::sync::Mutex;
 
     /// Records each rendering handed over: its options' index, its
@@ -782,35 +780,10 @@ mod tests {
         }
     }
 
-    /// A wavy raster of `points` points, its corners replaced by
-    /// `bspline-corner`'s transitions.
-    fn corner_curves(points: usize) -> Vec<Piece> {
-        let pts: Vec<Vec3> = (0..points)
-            .map(|k| {
-                let x = 0.5 * k as f64;
-                Vec3::new(x, 0.3 * (0.7 * x).sin(), 0.02 * (1.3 * x).cos())
-            })
-            .collect();
-        let run = Run::polyline(&pts, Some(6000.0));
-        BsplineCorner::default()
-            .smooth_run(&run, 0.045)
-            .unwrap()
-            .pieces
-    }
-
     fn written_time(observer: &Arc<Recorder>, kept: Option<usize>) -> WrittenTime {
-        let limits = MachineLimits::thesis();
-        let ro = |form| RenderOptions {
-            form,
-            chord: 0.005,
-            limits,
-            min_block_periods: 1.02,
-            min_radius: 0.00254,
-            step_share: crate::render::arcs::STEP_SHARE,
-            min_arc_length: 4e-6,
-        };
+        let ro = render_options;
         let mut w = WrittenTime::new(
-            limits,
+            MachineLimits::thesis(),
             false,
             vec![ro(CurveForm::Arcs), ro(CurveForm::Lines)],
         );

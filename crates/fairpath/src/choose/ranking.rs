@@ -209,8 +209,8 @@ fn fill(
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_support::{line_candidate as candidate, result};
     use super::*;
-    use crate::geom::{Curve, Line, ParamCurve, Vec3};
     use crate::path::Piece;
     use proptest::prelude::*;
 
@@ -223,10 +223,6 @@ mod tests {
         slack: f64,
     }
 
-    fn result(pieces: &[Piece]) -> usize {
-        pieces[0].curve.end().x as usize
-    }
-
     impl Objective for Table {
         fn cost(&self, pieces: &[Piece]) -> Option<f64> {
             self.costs[result(pieces)]
@@ -236,18 +232,6 @@ mod tests {
         }
         fn bound_slack(&self) -> f64 {
             self.slack
-        }
-    }
-
-    fn candidate(r: usize) -> SmoothedRun {
-        SmoothedRun {
-            pieces: alloc::vec![Piece {
-                curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(r as f64, 1.0, 0.0))),
-                rapid: false,
-                source_lines: (1, 1),
-                feed: None,
-            }],
-            ..SmoothedRun::default()
         }
     }
 

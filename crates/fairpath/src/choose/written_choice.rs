@@ -223,12 +223,11 @@ pub(super) fn fastest_written(
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_support::{
+        corner_curves, line_candidate as candidate, render_options, result,
+    };
     use super::*;
     use crate::feed::limits::MachineLimits;
-    use crate::geom::{Curve, Line, ParamCurve, Vec3};
-    use crate::path::Run;
-    use crate::render::RenderOptions;
-    use crate::smooth::{BsplineCorner, Smoother};
     use proptest::prelude::*;
 
     /// Costs and final costs by the first piece's end `x`.
@@ -238,28 +237,12 @@ mod tests {
         finals: Vec<f64>,
     }
 
-    fn result(pieces: &[Piece]) -> usize {
-        pieces[0].curve.end().x as usize
-    }
-
     impl Objective for Table {
         fn cost(&self, pieces: &[Piece]) -> Option<f64> {
             Some(self.costs[result(pieces)])
         }
         fn final_cost(&self, pieces: &[Piece], _cost: f64) -> f64 {
             self.finals[result(pieces)]
-        }
-    }
-
-    fn candidate(r: usize) -> SmoothedRun {
-        SmoothedRun {
-            pieces: alloc::vec![Piece {
-                curve: Curve::Line(Line::new(Vec3::ZERO, Vec3::new(r as f64, 1.0, 0.0))),
-                rapid: false,
-                source_lines: (1, 1),
-                feed: None,
-            }],
-            ..SmoothedRun::default()
         }
     }
 
@@ -298,35 +281,10 @@ mod tests {
         }
     }
 
-    /// A wavy raster of `points` points, its corners replaced by
-    /// `bspline-corner`'s transitions.
-    fn corner_curves(points: usize) -> Vec<Piece> {
-        let pts: Vec<Vec3> = (0..points)
-            .map(|k| {
-                let x = 0.5 * k as f64;
-                Vec3::new(x, 0.3 * (0.7 * x).sin(), 0.02 * (1.3 * x).cos())
-            })
-            .collect();
-        let run = Run::polyline(&pts, Some(6000.0));
-        BsplineCorner::default()
-            .smooth_run(&run, 0.045)
-            .unwrap()
-            .pieces
-    }
-
     fn written_time(override_feed: bool, tries: Option<WriterTries>) -> WrittenTime {
-        let limits = MachineLimits::thesis();
-        let ro = |form| RenderOptions {
-            form,
-            chord: 0.005,
-            limits,
-            min_block_periods: 1.02,
-            min_radius: 0.00254,
-            step_share: crate::render::arcs::STEP_SHARE,
-            min_arc_length: 4e-6,
-        };
+        let ro = render_options;
         let mut w = WrittenTime::new(
-            limits,
+            MachineLimits::thesis(),
             override_feed,
             alloc::vec![ro(CurveForm::Arcs), ro(CurveForm::Lines)],
         );
