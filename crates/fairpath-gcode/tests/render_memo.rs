@@ -32,8 +32,13 @@ fn written(text: &str, format: Format, memo: bool) -> (String, JobTimes, usize) 
     (output.text, report.times, memo.map_or(0, |m| m.taken()))
 }
 
+/// Where `auto` keeps a candidate other than the one whose rendering
+/// planned fastest (its final choice, `choose::FINAL_COST_MARGIN`), the
+/// memo holds no rendering of it and the writer renders it itself: the
+/// same text either way, and the memo used on most cases.
 #[test]
 fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
+    let (mut cases, mut used) = (0, 0);
     for text in [
         include_str!("../../../examples/pocket-corners.ngc"),
         include_str!("../../../examples/rhombus.ngc"),
@@ -43,7 +48,8 @@ fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
             let (with, _, taken) = written(text, format, true);
             let (without, times, none) = written(text, format, false);
             assert_eq!(none, 0);
-            assert!(taken > 0, "{format:?}: no rendering taken");
+            cases += 1;
+            used += usize::from(taken > 0);
             assert_eq!(with, without, "{format:?}");
             // The whole job, whose writer also plans no run it takes the
             // rendering of (and plans a run it must render after all).
@@ -56,6 +62,7 @@ fn the_writer_takes_autos_renderings_and_writes_the_same_text() {
             assert_eq!(report.times, times, "{format:?}");
         }
     }
+    assert!(2 * used > cases, "the memo used on {used} of {cases} cases");
 }
 
 /// The memo holds renderings of the runs the writer will write only, not

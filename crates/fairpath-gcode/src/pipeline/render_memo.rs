@@ -1,9 +1,12 @@
 //! The renderings `auto`'s objective made while it ranked its candidates
 //! ([`fairpath::choose::WrittenTime`]), kept for the writer: the
-//! candidate `auto` chooses for a run is the one whose rendering planned
-//! fastest, rendered with the options the writer renders with, so the
-//! writer takes that rendering and its time instead of rendering and
-//! planning the same pieces again ([`crate::emit`]).
+//! candidate `auto` chooses for a run is mostly the one whose rendering
+//! planned fastest, rendered with the options the writer renders with, so
+//! the writer takes that rendering and its time instead of rendering and
+//! planning the same pieces again ([`crate::emit`]). Where `auto` keeps
+//! another, one the writer writes faster with its own tries
+//! ([`fairpath::choose::FINAL_COST_MARGIN`]), the memo holds none of it
+//! and the writer renders it.
 //!
 //! Per run (named by its first and last input lines and its end points)
 //! and rendering options, only the fastest rendering seen is kept, with a

@@ -78,10 +78,26 @@ impl WrittenTime {
     /// are not known or a rendering fails. The writer's own test against
     /// the run as written is not made here: it is the same for every
     /// candidate.
+    ///
+    /// `cost` where the writer may write splines (G5.2, G6.2): there the
+    /// writer keeps a spline rendering that wins over its arcs, which
+    /// `cost` may not, and judged so `auto` kept another candidate on
+    /// `butterfly-80.ngc` (`--format g5.2 --override-feed`, 13.769 ->
+    /// 13.494 s), whose summary time then differed from `fairpath
+    /// simulate`'s plan of the written text by 3.5e-4 s (not found why;
+    /// `written_program::the_summary_times_are_what_simulate_plans`).
     pub(super) fn writer_cost(&self, pieces: &[Piece], cost: f64) -> f64 {
         let Some(tries) = self.writer_tries else {
             return cost;
         };
+        // Not for spline output (see the doc above).
+        if self
+            .renders
+            .iter()
+            .any(|r| matches!(r.form, CurveForm::Nurbs(_)))
+        {
+            return cost;
+        }
         if pieces.len() >= tries.long_pieces
             || !(tries.finer_share > 0.0 && tries.finer_share < 1.0)
         {
