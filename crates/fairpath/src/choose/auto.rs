@@ -339,17 +339,10 @@ impl Smoother for Auto {
         // where they come near, the one the writer writes faster.
         Ok(
             match self.between_reversals(run, (time, &best), tolerance)? {
-                Some((t, split)) => match time {
-                    Some(tw) => {
-                        fastest_written(
-                            self.objective.as_ref(),
-                            (t, split),
-                            alloc::vec![(tw, best)],
-                        )
-                        .1
-                    }
-                    None => split,
-                },
+                Some((t, split)) => {
+                    let whole = time.map(|tw| (tw, best)).into_iter().collect();
+                    self.finally_written(Some(t), split, whole).1
+                }
                 None => best,
             },
         )

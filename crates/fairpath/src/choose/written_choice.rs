@@ -126,8 +126,7 @@ impl WrittenTime {
         for (ro, is_alternative) in forms.chain(alternative) {
             if let Some(b) = &best {
                 let fell_back = b.rendered.stats.fallback_lines > 0 || b.rendered.stats.chained > 0;
-                let nurbs = matches!(b.ro.form, CurveForm::Nurbs(_));
-                if nurbs || (ro.form == CurveForm::Lines && !fell_back) {
+                if ro.form == CurveForm::Lines && !fell_back {
                     continue;
                 }
             }
