@@ -38,7 +38,9 @@ commit, command). Exit status 1 if a case fails.
 Usage: scripts/independent-check.py [--tolerance 0.05mm] [--methods auto,...]
           [--formats arcs,g1] [--continuity] [--generated] [--max-kb N]
           [--markdown FILE] [PROGRAM or DIRECTORY...]
-(--generated adds the programs scripts/check-programs.py writes.)
+(--generated adds the programs scripts/check-programs.py writes. A bare
+--tolerance number is in mm here, also for inch programs, and is passed
+to fairpath with its unit.)
 Needs `rs274` (apt-get install linuxcnc-uspace) and a release build
 (cargo build --release -p fairpath-cli; FAIRPATH_BIN for another).
 """
@@ -527,13 +529,16 @@ def main():
         ap.error("--formats: arcs and g1 only (rs274 of Debian's LinuxCNC reads no G6.2, "
                  "and its G5.2 is not measured here)")
     tol = tolerance_mm(a.tolerance)
+    # fairpath reads a bare number in the program's units (inches in a G20
+    # program); this check reads it in mm, so fairpath is given mm too.
+    tol_arg = f"{tol!r}mm"
     rows, failed = [], 0
     with tempfile.TemporaryDirectory() as tmp:
         for prog in a.programs:
             for method in a.methods.split(","):
                 for fmt in a.formats.split(","):
                     out = os.path.join(tmp, "out.ngc")
-                    r = subprocess.run([BIN, "smooth", prog, "-t", a.tolerance, "-m", method,
+                    r = subprocess.run([BIN, "smooth", prog, "-t", tol_arg, "-m", method,
                                         "-f", fmt, "-o", out, *a.smooth_args.split()],
                                        capture_output=True, text=True)
                     name = os.path.basename(prog)
@@ -558,7 +563,7 @@ def main():
                 if a.continuity:
                     name = os.path.basename(prog)
                     try:
-                        text, bad = continuity_check(prog, method, a.tolerance, tol, tmp,
+                        text, bad = continuity_check(prog, method, tol_arg, tol, tmp,
                                                      a.smooth_args.split())
                     except ValueError as e:
                         text, bad = f"not checked: {e}", False
