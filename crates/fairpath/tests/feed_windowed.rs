@@ -202,3 +202,55 @@ fn short_runs_bounded_look_ahead_and_ends_at_the_cap_are_planned_whole() {
         assert_eq!(whole.unwrap().to_bits(), w.unwrap().to_bits());
     }
 }
+
+/// Runs of chords much shorter than the windows' overlap is long (a
+/// Lissajous curve in chords of 10 um to 0.2 mm: SMALL's overlap is 1.3
+/// to 26 mm of them, where the machine needs up to 50 mm to reach its
+/// feed), at one programmed feed: the time in windows is the whole
+/// plan's, to the bit, stitched or planned whole. (With the feed changing
+/// from piece to piece it is not: see the module docs of
+/// `feed::windowed`, "Where windows are not the whole plan".)
+#[test]
+fn seeded_random_runs_of_chords_far_shorter_than_the_overlap_plan_as_whole() {
+    let mut rng = Rng(61565);
+    let mut stitched = 0;
+    for case in 0..24 {
+        let step = 0.01 * (20.0f64).powf(rng.unit());
+        let (a, b, phase) = (
+            20.0 + 20.0 * rng.unit(),
+            10.0 + 20.0 * rng.unit(),
+            rng.unit(),
+        );
+        let at = |t: f64| Vec3::new(a * t.sin(), b * (2.0 * t + phase).sin(), 0.0);
+        let n = (150.0 / step) as usize;
+        let pts: Vec<Vec3> = (0..=n)
+            .map(|k| at(k as f64 / n as f64 * core::f64::consts::TAU))
+            .collect();
+        let run = common::polyline_run_with_feeds(&pts, &[3000.0]);
+        let m = MachineLimits {
+            max_feed: 100.0 + rng.unit() * 300.0,
+            acc: 1000.0 + rng.unit() * 5000.0,
+            jerk: 10000.0 + rng.unit() * 40000.0,
+            ..MachineLimits::thesis()
+        };
+        let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
+        let pieces = &run.pieces;
+        assert!(SMALL.windows(pieces.len()), "case {case}: one window");
+        for override_feed in [false, true] {
+            let po = opts(m, override_feed);
+            let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
+            let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
+            assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
+            let streamed = streamed_time(&mut rng, pieces, &po, corners, SMALL);
+            match plan_time_in_windows(pieces, &po, corners, SMALL).unwrap() {
+                Some(t) => {
+                    stitched += 1;
+                    assert_eq!(streamed, Some(t.to_bits()), "case {case}");
+                }
+                None => assert_eq!(streamed, None, "case {case}"),
+            }
+        }
+    }
+    // Many are stitched (22 of 48 when written), not planned whole.
+    assert!(stitched >= 12, "{stitched} stitched");
+}
