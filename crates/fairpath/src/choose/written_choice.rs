@@ -84,8 +84,12 @@ impl WrittenTime {
     /// `cost` may not, and judged so `auto` kept another candidate on
     /// `butterfly-80.ngc` (`--format g5.2 --override-feed`, 13.769 ->
     /// 13.494 s), whose summary time then differed from `fairpath
-    /// simulate`'s plan of the written text by 3.5e-4 s (not found why;
-    /// `written_program::the_summary_times_are_what_simulate_plans`).
+    /// simulate`'s plan of the written text by 3.5e-4 s
+    /// (`written_program::the_summary_times_are_what_simulate_plans`):
+    /// the writer's check times the run, 61,565 chords read back as
+    /// LinuxCNC runs G5.2, in windows, which there differ from the whole
+    /// plan `simulate` makes ([`crate::feed::windowed`], "Where windows
+    /// are not the whole plan").
     pub(super) fn writer_cost(&self, pieces: &[Piece], cost: f64) -> f64 {
         let Some(tries) = self.writer_tries else {
             return cost;
