@@ -6,6 +6,7 @@ use crate::common;
 use common::Rng;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_time_shaped, Corners, PlanOptions, RunEnds};
+use fairpath::feed::program::Motion;
 use fairpath::feed::shaping::Shaping;
 use fairpath::feed::windowed::{
     plan_time_in_windows, plan_time_windowed, PlanWindows, WindowedTimer,
@@ -253,4 +254,35 @@ fn seeded_random_runs_of_chords_far_shorter_than_the_overlap_plan_as_whole() {
     }
     // Many are stitched (22 of 48 when written), not planned whole.
     assert!(stitched >= 12, "{stitched} stitched");
+}
+
+/// A run longer than a default window whose windows are not its whole
+/// plan (chords of 4 um, the feed changing from piece to piece: every
+/// joint a minimum of the cap) is timed by `simulate` as its windows
+/// are, the time every other plan of fairpath gives it (the writer's
+/// check, `auto`'s objective, the plans carried across parts); its
+/// segments stay the whole plan's. (`butterfly-80.ngc` written as G5.2
+/// with `--override-feed`: the summary said 13.493901 s where `simulate`
+/// planned the whole run, 13.493546 s.)
+#[test]
+fn simulate_times_a_long_run_by_its_default_windows() {
+    let step = 0.004;
+    let at = |t: f64| Vec3::new(30.0 * t.sin(), 20.0 * (2.0 * t + 0.3).sin(), 0.0);
+    let n = (150.0 / step) as usize;
+    let pts: Vec<Vec3> = (0..=n)
+        .map(|k| at(k as f64 / n as f64 * core::f64::consts::TAU))
+        .collect();
+    let run = common::polyline_run_with_feeds(&pts, &[6000.0, 3000.0]);
+    let w = PlanWindows::DEFAULT;
+    assert!(w.windows(run.pieces.len()));
+    let m = MachineLimits::thesis();
+    let po = opts(m, false);
+    let sim =
+        fairpath::feed::program::simulate(&[Motion::Feed(run.clone())], &m, false, None).unwrap();
+    let windows = plan_time_in_windows(&run.pieces, &po, Corners::Blended, w).unwrap();
+    let whole = fairpath::feed::plan::plan_run(&run.pieces, &po).unwrap();
+    assert_eq!(Some(sim.feed_time), windows);
+    assert_eq!(sim.plans[0].1.segments.len(), whole.segments.len());
+    // Here the windows are not the whole plan (else this tests nothing).
+    assert_ne!(windows, Some(whole.time));
 }

@@ -10,7 +10,7 @@ use super::{PlanError, SmoothOptions, SmoothResult};
 use crate::Program;
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_rapid, plan_run, Corners, PlanOptions, RunPlan};
-use fairpath::feed::program::{simulate, ProgramPlanError, Simulation};
+use fairpath::feed::program::{run_time, simulate, ProgramPlanError, Simulation};
 use fairpath::feed::windowed::{plan_time_windowed, PlanWindows, WindowedTimer};
 use fairpath::geom::{Curve, Line};
 use fairpath::path::{Piece, Run};
@@ -102,32 +102,13 @@ std::thread_local! {
         const { core::cell::Cell::new(false) };
 }
 
-/// The windows the carried plans of the input and of the curves are made
-/// in: smaller than [`PlanWindows::DEFAULT`] (a carried plan holds up to a
-/// window and two overlaps of pieces, and a job holds three: the input's,
-/// the curves' and the written text's), with the same overlap. Windows
-/// that stitch give the whole run's time to the bit whatever their step
-/// ([`fairpath::feed::windowed`]), so the time is `simulate`'s all the
-/// same; a step of four overlaps plans each piece 1.5 times.
-const CARRIED_WINDOWS: PlanWindows = PlanWindows {
-    step: 4 * PlanWindows::DEFAULT.overlap,
-    overlap: PlanWindows::DEFAULT.overlap,
-};
-
-/// The windows the carried plan of the written text is made in: twice
-/// [`CARRIED_WINDOWS`]' overlap. Two windows stitch only where both hold
-/// a few segments alike inside their overlap, and a raster written fast
-/// enough to run a whole pass at the maximum feed is one segment for
-/// thousands of arcs: with 2,048 pieces of overlap, `auto`'s written
-/// `surface-raster-large.ngc` at 0.05 mm did not stitch (since the
-/// renderer's lines capped by their neighbours), and the job was done
-/// again without windows: 38.4 s and 548 MB instead of about 20 s and 60
-/// MB. The other plans keep the smaller windows, which hold less
-/// (docs/tuning.md, `CARRIED_WINDOWS`).
-const WRITTEN_CARRIED_WINDOWS: PlanWindows = PlanWindows {
-    step: 4 * 2 * PlanWindows::DEFAULT.overlap,
-    overlap: 2 * PlanWindows::DEFAULT.overlap,
-};
+/// The windows the carried plans (the input's, the curves' and the
+/// written text's) are made in: those every run's time is planned in
+/// ([`PlanWindows::DEFAULT`], [`run_time`]), so that a run cut into parts
+/// has the time `simulate` gives the whole file. (Smaller windows held
+/// less, but their stitches differ from the default's where windows are
+/// not the whole plan: `fairpath::feed::windowed`.)
+const CARRIED_WINDOWS: PlanWindows = PlanWindows::DEFAULT;
 
 /// How [`carry_runs`] takes a part's runs.
 struct Carrying<'a> {
@@ -372,11 +353,12 @@ fn motion_times(
             match k.filter(|_| keep_plans) {
                 Some(k) => {
                     let plan = plan_run(pieces, &po).map_err(run_error)?;
-                    Ok(Some((plan.time, 0.0, Some((k, plan)))))
+                    let time = run_time(pieces, &po, &plan).map_err(run_error)?;
+                    Ok(Some((time, 0.0, Some((k, plan)))))
                 }
                 None => {
-                    // Window by window on a long run (the same time, to
-                    // the bit, in a window's memory: `feed::windowed`).
+                    // Window by window on a long run, in a window's
+                    // memory: `simulate`'s time ([`run_time`]).
                     let time =
                         plan_time_windowed(pieces, &po, Corners::Blended, PlanWindows::DEFAULT)
                             .map_err(run_error)?;
@@ -832,7 +814,7 @@ pub fn plan_written_carried(
             cut,
             join: Some(dropped),
             po: &po,
-            windows: WRITTEN_CARRIED_WINDOWS,
+            windows: CARRIED_WINDOWS,
             what,
         };
         carry_runs(&mut done, carry, c)?;

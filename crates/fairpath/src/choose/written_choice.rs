@@ -77,31 +77,12 @@ impl WrittenTime {
     /// arc, or G1 that was not streamed. `cost` where the writer's tries
     /// are not known or a rendering fails. The writer's own test against
     /// the run as written is not made here: it is the same for every
-    /// candidate.
-    ///
-    /// `cost` where the writer may write splines (G5.2, G6.2): there the
-    /// writer keeps a spline rendering that wins over its arcs, which
-    /// `cost` may not, and judged so `auto` kept another candidate on
-    /// `butterfly-80.ngc` (`--format g5.2 --override-feed`, 13.769 ->
-    /// 13.494 s), whose summary time then differed from `fairpath
-    /// simulate`'s plan of the written text by 3.5e-4 s
-    /// (`written_program::the_summary_times_are_what_simulate_plans`):
-    /// the writer's check times the run, 61,565 chords read back as
-    /// LinuxCNC runs G5.2, in windows, which there differ from the whole
-    /// plan `simulate` makes ([`crate::feed::windowed`], "Where windows
-    /// are not the whole plan").
+    /// candidate. Where a spline rendering (G5.2, G6.2) wins, the writer
+    /// tries nothing after it, and neither does this.
     pub(super) fn writer_cost(&self, pieces: &[Piece], cost: f64) -> f64 {
         let Some(tries) = self.writer_tries else {
             return cost;
         };
-        // Not for spline output (see the doc above).
-        if self
-            .renders
-            .iter()
-            .any(|r| matches!(r.form, CurveForm::Nurbs(_)))
-        {
-            return cost;
-        }
         if pieces.len() >= tries.long_pieces
             || !(tries.finer_share > 0.0 && tries.finer_share < 1.0)
         {
@@ -130,7 +111,8 @@ impl WrittenTime {
         for (ro, is_alternative) in forms.chain(alternative) {
             if let Some(b) = &best {
                 let fell_back = b.rendered.stats.fallback_lines > 0 || b.rendered.stats.chained > 0;
-                if ro.form == CurveForm::Lines && !fell_back {
+                let nurbs = matches!(b.ro.form, CurveForm::Nurbs(_));
+                if nurbs || (ro.form == CurveForm::Lines && !fell_back) {
                     continue;
                 }
             }

@@ -8,7 +8,8 @@
 //! `fairpath-gcode` (`Program::motions`) on [`program_motions`].
 
 use crate::feed::limits::MachineLimits;
-use crate::feed::plan::{plan_rapid, plan_run, PlanOptions, RunPlan};
+use crate::feed::plan::{plan_rapid, plan_run, Corners, PlanOptions, RunPlan};
+use crate::feed::windowed::{plan_time_in_windows, PlanWindows};
 use crate::feed::FeedError;
 use crate::path::{Piece, Run};
 use alloc::collections::BTreeMap;
@@ -186,7 +187,9 @@ fn simulate_each(
                 let line = run.pieces.first().map(|p| p.source_lines.0).unwrap_or(0);
                 let plan = plan_run(&run.pieces, &opts)
                     .map_err(|source| ProgramPlanError::Run { line, source })?;
-                sim.feed_time += plan.time;
+                let time = run_time(&run.pieces, &opts, &plan)
+                    .map_err(|source| ProgramPlanError::Run { line, source })?;
+                sim.feed_time += time;
                 sim.feed_length += plan.segments.iter().map(|s| s.length).sum::<f64>();
                 sim.max_acc = sim.max_acc.max(plan.max_acc);
                 sim.max_jerk = sim.max_jerk.max(plan.max_jerk);
@@ -214,6 +217,22 @@ fn simulate_each(
         }
     }
     Ok(sim)
+}
+
+/// The planned time of a run whose whole plan is `plan`: the time of its
+/// windows where it is planned in [`PlanWindows::DEFAULT`]
+/// ([`plan_time_in_windows`]), else `plan`'s. A long run's time is its
+/// windows' wherever fairpath times a run (the writer's check, `auto`'s
+/// objective, the plans carried across a program's parts), so that every
+/// figure of a program is the same plan's; the windows' time can differ
+/// from the whole plan's (the module docs of [`super::windowed`], "Where
+/// windows are not the whole plan"), the segments kept are the whole
+/// plan's.
+pub fn run_time(pieces: &[Piece], opts: &PlanOptions, plan: &RunPlan) -> Result<f64, FeedError> {
+    Ok(
+        plan_time_in_windows(pieces, opts, Corners::Blended, PlanWindows::DEFAULT)?
+            .unwrap_or(plan.time),
+    )
 }
 
 impl Simulation {

@@ -58,6 +58,13 @@
 //! speeds its ends allow, and fewer boundaries let a window's plan go
 //! faster than the whole plan further in. At one feed, chords of 10 um
 //! are stitched to the bit (`tests/feed_windowed.rs`).
+//!
+//! So a long run's time is defined as its time in
+//! [`PlanWindows::DEFAULT`] wherever fairpath plans it, `fairpath
+//! simulate` included ([`crate::feed::program::run_time`]): the stitched
+//! windows are a plan the machine can run (each window's plan is, and
+//! they meet at segments alike), and every figure of a program is that
+//! plan's. Windows of another size stitch elsewhere, so none is used.
 
 use super::plan::{plan_time_shaped, plan_window, At, Corners, PlanOptions, RunEnds};
 use super::shaping::Shaping;
@@ -77,14 +84,20 @@ pub struct PlanWindows {
 }
 
 impl PlanWindows {
-    /// 32,768 pieces a step, 2,048 of overlap: 12.5% more planning than
-    /// the run whole. The overlap is 100 mm of the shortest written arcs
-    /// (0.05 mm), well past the 20 to 40 mm in which the machine reaches
+    /// 16,384 pieces a step, 4,096 of overlap: 50% more planning than
+    /// the run whole. The overlap is 200 mm of the shortest written arcs
+    /// (0.05 mm), well past the 20 to 60 mm in which the machine reaches
     /// its feed (400 mm/s at 4000 mm/s^2 and 20000 mm/s^3: 20 mm for the
-    /// acceleration, `v^2 / 2A`, plus the jerk phases).
+    /// acceleration, `v^2 / 2A`, plus the jerk phases), and lets
+    /// `auto`'s written `surface-raster-large.ngc` stitch (a pass at the
+    /// maximum feed is one segment over thousands of arcs; 2,048 did
+    /// not). Every plan of a long run in fairpath is made in these
+    /// windows, `simulate`'s included ([`crate::feed::program::run_time`]):
+    /// the plans carried across a program's parts hold three windows at
+    /// a time (measurements: docs/tuning.md, `PlanWindows::DEFAULT`).
     pub const DEFAULT: PlanWindows = PlanWindows {
-        step: 1 << 15,
-        overlap: 1 << 11,
+        step: 1 << 14,
+        overlap: 1 << 12,
     };
 
     /// Whether a run of `n` pieces is planned in windows (more than one
