@@ -1,5 +1,7 @@
 //! A long run's time planned window by window
-//! (`fairpath::feed::windowed`) is the whole plan's, to the bit.
+//! (`fairpath::feed::windowed`): the whole plan's, to the bit, where the
+//! windows agree with it (not always: the module docs), the same however
+//! its pieces come, and the time `simulate` gives the run.
 
 use crate::common;
 

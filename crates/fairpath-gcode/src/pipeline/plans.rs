@@ -81,9 +81,10 @@ pub struct RunCarry {
 }
 
 /// The plan of a run that goes on into the next part: made a window at a
-/// time ([`WindowedTimer`], which plans as [`plan_time_windowed`] does, so
-/// the time is the whole run's to the bit wherever its windows stitch;
-/// elsewhere [`PlanError::Unstitched`]).
+/// time ([`WindowedTimer`], which plans as [`plan_time_windowed`] does, in
+/// the same windows, so the time is the one `simulate` gives the whole
+/// run, [`run_time`], wherever its windows stitch; elsewhere
+/// [`PlanError::Unstitched`]).
 #[derive(Clone)]
 pub struct CarriedPlan {
     timer: WindowedTimer,
