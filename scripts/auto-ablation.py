@@ -38,7 +38,7 @@ PROGRAMS = [
 LEFT_OUT = [
     "bspline-corner", "bspline-fit, wide wiggles", "bspline-fit, through corners",
     "bspline-fit, through corners, jerk-faired", "bspline-fit, jerk-faired", "lotm",
-    "fair", "fair, through shallow corners", "fair, straightened",
+    "fair", "fair, through shallow corners", "fair, straightened", "ctm",
 ]
 
 
