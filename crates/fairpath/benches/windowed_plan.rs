@@ -2,7 +2,7 @@
 //! (`fairpath::feed::windowed`) costs against planning it whole: the same
 //! time to the bit where the windows are the whole plan (not always:
 //! the module docs), in a window's memory, for the overlap planned twice
-//! (50% more pieces planned with the default windows) and the segments
+//! (twice the pieces planned with the default windows) and the segments
 //! each window keeps. A zigzag raster of 0.5 mm moves over a bumpy
 //! surface, smoothed by `bspline-corner`, of about 40,000 to 400,000
 //! pieces. Run with `cargo bench -p fairpath --bench windowed_plan`.

@@ -84,19 +84,22 @@ pub struct PlanWindows {
 }
 
 impl PlanWindows {
-    /// 16,384 pieces a step, 4,096 of overlap: 50% more planning than
-    /// the run whole. The overlap is 200 mm of the shortest written arcs
+    /// 8,192 pieces a step, 4,096 of overlap (windows of 16,384): twice
+    /// the planning of the run whole, which on `surface-raster-large.ngc`
+    /// (`auto`, 0.05 mm) cost no CPU to speak of (23.64 -> 24.00 s with
+    /// 32,768/2,048). The overlap is 200 mm of the shortest written arcs
     /// (0.05 mm), well past the 20 to 60 mm in which the machine reaches
     /// its feed (400 mm/s at 4000 mm/s^2 and 20000 mm/s^3: 20 mm for the
     /// acceleration, `v^2 / 2A`, plus the jerk phases), and lets
     /// `auto`'s written `surface-raster-large.ngc` stitch (a pass at the
     /// maximum feed is one segment over thousands of arcs; 2,048 did
     /// not). Every plan of a long run in fairpath is made in these
-    /// windows, `simulate`'s included ([`crate::feed::program::run_time`]):
-    /// the plans carried across a program's parts hold three windows at
-    /// a time (measurements: docs/tuning.md, `PlanWindows::DEFAULT`).
+    /// windows, `simulate`'s included ([`crate::feed::program::run_time`]),
+    /// and the plans carried across a program's parts hold three windows
+    /// at a time: with a step of 16,384 the peak memory went over issue
+    /// 19's target (measurements: docs/tuning.md, `PlanWindows::DEFAULT`).
     pub const DEFAULT: PlanWindows = PlanWindows {
-        step: 1 << 14,
+        step: 1 << 13,
         overlap: 1 << 12,
     };
 
