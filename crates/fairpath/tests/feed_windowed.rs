@@ -78,35 +78,53 @@ fn seeded_random_rasters_plan_the_same_time_in_windows_as_whole() {
         };
         let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
         for pieces in [&run.pieces, &smoothed.pieces] {
-            assert!(SMALL.windows(pieces.len()), "case {case}: one window");
-            for override_feed in [false, true] {
-                let po = opts(m, override_feed);
-                let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
-                let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
-                assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
-                // The same pieces handed to a timer in parts of random
-                // sizes (from 1 piece to several windows).
-                // Also with a step longer than two overlaps (the default's
-                // shape), where the last window ends short of a step.
-                for w in [SMALL, LONG_STEP] {
-                    let streamed = streamed_time(&mut rng, pieces, &po, corners, w);
-                    match plan_time_in_windows(pieces, &po, corners, w).unwrap() {
-                        Some(t) => assert_eq!(streamed, Some(t.to_bits()), "case {case}"),
-                        None => assert_eq!(streamed, None, "case {case}"),
-                    }
-                }
-                cases += 1;
-                if plan_time_in_windows(pieces, &po, corners, SMALL)
-                    .unwrap()
-                    .is_some()
-                {
-                    stitched += 1;
-                }
-            }
+            // Also with a step longer than two overlaps (the default's
+            // shape), where the last window ends short of a step.
+            stitched +=
+                check_against_whole(&mut rng, pieces, m, corners, &[SMALL, LONG_STEP], case);
+            cases += 2;
         }
     }
     // The windows were stitched, not planned whole, in nearly every case.
     assert!(stitched * 10 >= cases * 9, "{stitched} of {cases} stitched");
+}
+
+/// `pieces` planned on `m` with `corners`, at the programmed feeds and
+/// overridden: in SMALL windows the time is the whole plan's, to the bit,
+/// and a timer handed the pieces in parts of random sizes (from 1 piece
+/// to several windows) gives the time in each of `windows` that
+/// `plan_time_in_windows` gives, or says it could not stitch them as it
+/// does. Returns how many of the two plans SMALL windows stitched.
+fn check_against_whole(
+    rng: &mut Rng,
+    pieces: &[Piece],
+    m: MachineLimits,
+    corners: Corners,
+    windows: &[PlanWindows],
+    case: usize,
+) -> usize {
+    assert!(SMALL.windows(pieces.len()), "case {case}: one window");
+    let mut stitched = 0;
+    for override_feed in [false, true] {
+        let po = opts(m, override_feed);
+        let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
+        let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
+        assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
+        for &w in windows {
+            let streamed = streamed_time(rng, pieces, &po, corners, w);
+            match plan_time_in_windows(pieces, &po, corners, w).unwrap() {
+                Some(t) => assert_eq!(streamed, Some(t.to_bits()), "case {case}"),
+                None => assert_eq!(streamed, None, "case {case}"),
+            }
+        }
+        if plan_time_in_windows(pieces, &po, corners, SMALL)
+            .unwrap()
+            .is_some()
+        {
+            stitched += 1;
+        }
+    }
+    stitched
 }
 
 /// The time a [`WindowedTimer`] gives `pieces` handed to it in parts of
@@ -237,22 +255,7 @@ fn seeded_random_runs_of_chords_far_shorter_than_the_overlap_plan_as_whole() {
             ..MachineLimits::thesis()
         };
         let corners = [Corners::Blended, Corners::Followed, Corners::BlockCapped][case % 3];
-        let pieces = &run.pieces;
-        assert!(SMALL.windows(pieces.len()), "case {case}: one window");
-        for override_feed in [false, true] {
-            let po = opts(m, override_feed);
-            let whole = plan_time_shaped(pieces, &po, &Shaping::none(), corners).unwrap();
-            let w = plan_time_windowed(pieces, &po, corners, SMALL).unwrap();
-            assert_eq!(whole.to_bits(), w.to_bits(), "case {case}: {whole} {w}");
-            let streamed = streamed_time(&mut rng, pieces, &po, corners, SMALL);
-            match plan_time_in_windows(pieces, &po, corners, SMALL).unwrap() {
-                Some(t) => {
-                    stitched += 1;
-                    assert_eq!(streamed, Some(t.to_bits()), "case {case}");
-                }
-                None => assert_eq!(streamed, None, "case {case}"),
-            }
-        }
+        stitched += check_against_whole(&mut rng, &run.pieces, m, corners, &[SMALL], case);
     }
     // Many are stitched (22 of 48 when written), not planned whole.
     assert!(stitched >= 12, "{stitched} stitched");
