@@ -35,29 +35,18 @@
 //!
 //! The locality above is not a theorem of this planner, and windows that
 //! agree on [`STITCH_SEGMENTS`] segments can both differ from the whole
-//! plan. Found at stop 97:
-//!
-//! * `butterfly-80.ngc` written as G5.2 (`--override-feed`) and read back
-//!   as LinuxCNC runs it: one run of 61,565 chords of about 6 um, whose
-//!   overlap of 2,048 pieces is 12 mm where the machine needs 57 mm to
-//!   reach its feed. In windows 13.268232 s, whole 13.267877 s (overlaps
-//!   of 512 and 4,096 pieces or more gave the whole plan's time). So
-//!   `smooth`'s summary, which times the written run in windows, would
-//!   have said 13.493901 s where `fairpath simulate` says 13.493546 s.
-//! * Chords of 10 um to 0.2 mm with the feed changing from piece to piece
-//!   (every joint a minimum of the cap): 4 of 24 seeded cases differ by
-//!   3.4e-5 to 1.1e-3 of the time, the windows faster.
-//!
-//! Two ways were tried and did not make it exact: overlaps grown to three
-//! times the distance the machine needs to reach its feed, with the
-//! stitch that far from both ends (1.2e-5 off on a seeded case), and
-//! stitches only between boundaries where the speed is the cap in every
-//! round of the look-ahead (worse). The look-ahead drops a minimum of the
-//! cap that the speed does not reach, and splits where a profile passes
-//! a cap, round by round: which boundaries a window keeps depends on the
-//! speeds its ends allow, and fewer boundaries let a window's plan go
-//! faster than the whole plan further in. At one feed, chords of 10 um
-//! are stitched to the bit (`tests/feed_windowed.rs`).
+//! plan: the look-ahead drops a minimum of the cap that the speed does
+//! not reach, and splits where a profile passes a cap, round by round,
+//! so which boundaries a window keeps depends on the speeds its ends
+//! allow, and fewer boundaries let a window's plan go faster than the
+//! whole plan further in. It happens on runs of chords far shorter than
+//! the overlap is long (G5.2 blocks read back as LinuxCNC runs them) and
+//! where the feed changes from piece to piece; at one feed, chords of 10
+//! um are stitched to the bit (`tests/feed_windowed.rs`). Stitching only
+//! far from both windows' ends, or only between boundaries where the
+//! speed is the cap in every round, did not make windows exact (cases,
+//! figures and what was tried: docs/performance.md, "One set of windows
+//! for every plan").
 //!
 //! So a long run's time is defined as its time in
 //! [`PlanWindows::DEFAULT`] wherever fairpath plans it, `fairpath
@@ -86,8 +75,8 @@ pub struct PlanWindows {
 impl PlanWindows {
     /// 8,192 pieces a step, 4,096 of overlap (windows of 16,384): twice
     /// the planning of the run whole, which on `surface-raster-large.ngc`
-    /// (`auto`, 0.05 mm) cost no CPU to speak of (23.64 -> 24.00 s with
-    /// 32,768/2,048). The overlap is 200 mm of the shortest written arcs
+    /// cost `auto` no CPU to speak of. The overlap is 200 mm of the
+    /// shortest written arcs
     /// (0.05 mm), well past the 20 to 60 mm in which the machine reaches
     /// its feed (400 mm/s at 4000 mm/s^2 and 20000 mm/s^3: 20 mm for the
     /// acceleration, `v^2 / 2A`, plus the jerk phases), and lets
