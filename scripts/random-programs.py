@@ -15,11 +15,19 @@ Kinds (one per program, in turn):
   mixed    G91 step-overs, feed changes inside a run, comments, N numbers
            and block-delete lines between the moves;
   circles  circles sampled as chords and rounded to 3 or 4 decimals
-           (CAM noise), with tangent lead-in lines.
+           (CAM noise), with tangent lead-in lines;
+  engrave  engraving and V-carving, mm or inch: glyphs 1 to 20 mm across,
+           closed outlines of straight and bulged edges or single-line
+           strokes with sharp corners that run back over themselves, in
+           chords of 0.01 to 0.3 mm; on some glyphs V-carve corner spikes
+           (out along the bisector and up to Z0 at each sharp corner, and
+           back), ramped entries; each glyph plunged from a clearance
+           height and left by a rapid. Not in the default rotation.
 
-Usage: scripts/random-programs.py OUTDIR [COUNT] [SEED]
-COUNT defaults to 30 and SEED to 1; the same arguments write the same
-files.
+Usage: scripts/random-programs.py OUTDIR [COUNT] [SEED] [KINDS]
+COUNT defaults to 30 and SEED to 1; KINDS, a comma-separated list of the
+kinds above, defaults to the first six (raster to circles), which the
+programs take in turn. The same arguments write the same files.
 """
 import math
 import os
@@ -224,7 +232,105 @@ def circles(rng):
     return "circles", out
 
 
+def engrave(rng):
+    inch = rng.random() < 0.4
+    u = 25.4 if inch else 1.0
+    places = rng.choice([4, 5]) if inch else rng.choice([3, 4])
+    depth = rng.uniform(0.05, 1.5)
+    clear = rng.choice([0.25, 1.0, 5.0])
+    out = ["%s G90 G17" % ("G20" if inch else "G21"), "G64 P%s" % num(rng.choice([0.005, 0.01, 0.05]) / u, places),
+           "F%s" % num(rng.choice([100, 300, 800, 2000]) / u, 2), "M3 S18000", "(engraving)",
+           "G0 Z%s" % num(clear / u, places)]
+    chord = rng.uniform(0.01, 0.3)
+
+    def p(x, y, z=None):
+        w = "X%s Y%s" % (num(x / u, places), num(y / u, places))
+        return w + ("" if z is None else " Z%s" % num(z / u, places))
+
+    def edge(a, b):
+        # Chords from a to b (b included): straight, or bulged to an arc.
+        bulge = 0.0 if rng.random() < 0.5 else rng.uniform(-0.3, 0.3)
+        (xa, ya), (xb, yb) = a, b
+        n = max(1, int(math.hypot(xb - xa, yb - ya) / chord))
+        pts = []
+        for i in range(1, n + 1):
+            t = i / n
+            h = 4 * bulge * t * (1 - t) * math.hypot(xb - xa, yb - ya)
+            nx, ny = -(yb - ya), xb - xa
+            nn = math.hypot(nx, ny) or 1.0
+            pts.append((xa + t * (xb - xa) + h * nx / nn, ya + t * (yb - ya) + h * ny / nn))
+        return pts
+
+    ox = 0.0
+    for _ in range(rng.randint(2, 6)):
+        size = rng.uniform(1.0, 20.0)
+        cx, cy = ox + size, rng.uniform(-5, 5)
+        ox += 2.5 * size
+        corners = []
+        if rng.random() < 0.5:
+            # A glyph outline: a closed polygon of straight and bulged edges.
+            k = rng.randint(3, 8)
+            vs = []
+            for i in range(k):
+                t = 2 * math.pi * (i + rng.uniform(-0.3, 0.3)) / k
+                r = 0.5 * size * rng.uniform(0.4, 1.0)
+                vs.append((cx + r * math.cos(t), cy + r * math.sin(t)))
+            pts = [vs[0]]
+            for i in range(k):
+                pts += edge(vs[i], vs[(i + 1) % k])
+                corners.append(len(pts) - 1)
+            corners.pop()
+        else:
+            # A single-line stroke with sharp corners, running back over itself.
+            pts = [(cx, cy)]
+            heading = rng.uniform(0, 2 * math.pi)
+            for _ in range(rng.randint(3, 12)):
+                if rng.random() < 0.25:
+                    heading += math.pi  # back along the stroke
+                else:
+                    heading += rng.choice([-1, 1]) * rng.uniform(0.5, 2.6)
+                length = rng.uniform(0.2, size)
+                x0, y0 = pts[-1]
+                pts += edge((x0, y0), (x0 + length * math.cos(heading), y0 + length * math.sin(heading)))
+                corners.append(len(pts) - 1)
+            corners.pop()
+        spikes = rng.random() < 0.6
+        x0, y0 = pts[0]
+        out.append("G0 " + p(x0, y0))
+        if rng.random() < 0.4 and len(pts) > 3:
+            # A ramped entry: down to depth along the first chords.
+            out.append("G1 Z0")
+            k = min(len(pts) - 1, rng.randint(2, 6))
+            for j in range(1, k + 1):
+                out.append("G1 " + p(*pts[j], z=-depth * j / k))
+            start = k + 1
+        else:
+            out.append("G1 Z%s" % num(-depth / u, places))
+            start = 1
+        for j in range(start, len(pts)):
+            x, y = pts[j]
+            out.append("G1 " + p(x, y, z=-depth if rng.random() < 0.3 else None))
+            if spikes and j in corners and j + 1 < len(pts):
+                # A V-carve corner spike (90-degree bit): out along the
+                # corner's bisector as far as it is deep, up to Z0, and back.
+                (xa, ya), (xb, yb) = pts[j - 1], pts[j + 1]
+                da, db = math.hypot(x - xa, y - ya) or 1.0, math.hypot(xb - x, yb - y) or 1.0
+                bx, by = (x - xa) / da - (xb - x) / db, (y - ya) / da - (yb - y) / db
+                nb = math.hypot(bx, by)
+                if nb > 0.5:
+                    out.append("G1 " + p(x + depth * bx / nb, y + depth * by / nb, z=0.0))
+                    out.append("G1 " + p(x, y, z=-depth))
+        out.append("G0 Z%s" % num(clear / u, places))
+    return "engrave", out
+
+
+ALL_KINDS = {f.__name__: f for f in [raster, pocket, spiral, walk, mixed, circles, engrave]}
 KINDS = [raster, pocket, spiral, walk, mixed, circles]
+if len(sys.argv) > 4:
+    try:
+        KINDS = [ALL_KINDS[k] for k in sys.argv[4].split(",")]
+    except KeyError as e:
+        sys.exit("unknown kind %s (kinds: %s)" % (e, ", ".join(ALL_KINDS)))
 for i in range(COUNT):
     rng = random.Random(SEED * 1000003 + i)
     name, lines = KINDS[i % len(KINDS)](rng)
