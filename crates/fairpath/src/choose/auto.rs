@@ -334,18 +334,17 @@ impl Smoother for Auto {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
-        let (time, best) = self.smooth_whole(run, tolerance, true)?;
+        let (time, best, in_place_of_kept) = self.smooth_whole(run, tolerance, true)?;
         // Split at its near-reversals where that costs less; of the two,
         // where they come near, the one the writer writes faster.
-        Ok(
-            match self.between_reversals(run, (time, &best), tolerance)? {
-                Some((t, split)) => {
-                    let whole = time.map(|tw| (tw, best)).into_iter().collect();
-                    self.finally_written(Some(t), split, whole).1
-                }
-                None => best,
-            },
-        )
+        let chosen = match self.between_reversals(run, (time, &best), tolerance)? {
+            Some((t, split)) => {
+                let whole = time.map(|tw| (tw, best)).into_iter().collect();
+                self.finally_written(Some(t), split, whole)
+            }
+            None => (time, best),
+        };
+        Ok(self.unless_kept(run, chosen, in_place_of_kept).1)
     }
 
     /// A window of a longer run: its fastest candidate that meets the cut
@@ -381,19 +380,26 @@ impl Smoother for Auto {
     }
 }
 
+/// [`Auto::smooth_whole`]'s answer: the best's cost and the best, and
+/// the cheapest candidate the writer would write where it would keep the
+/// run as written in place of the best, with its cost.
+type WholeRun = (Option<f64>, SmoothedRun, Option<(f64, SmoothedRun)>);
+
 impl Auto {
     /// The cheapest smoothing of `run` as one run, with its cost: the
     /// candidates, the section mixes and the fallback (see the module
     /// documentation). With `written`, of the candidates and mixes near
     /// the best, the one the writer writes fastest ([`fastest_written`]):
     /// for a run the writer takes whole, not for a part of one (the
-    /// writer's renderings are the whole run's).
+    /// writer's renderings are the whole run's); and then, where the best
+    /// would be kept as written, the cheapest candidate the writer would
+    /// write with its cost ([`Auto::written_in_place_of_kept`]).
     fn smooth_whole(
         &self,
         run: &Run,
         tolerance: f64,
         written: bool,
-    ) -> Result<(Option<f64>, SmoothedRun), SmoothError> {
+    ) -> Result<WholeRun, SmoothError> {
         let lines = self.options.section_lines;
         // The fits and fairings of the run and of its sections, shared
         // between the candidates, the sections that cut a stretch alike
@@ -401,6 +407,15 @@ impl Auto {
         let memo = RunMemo::default();
         let (mut ranking, list) = self.ranked_candidates(run, tolerance, (false, false), &memo)?;
         let (mut time, i) = ranking.fastest(|_| true).ok_or(SmoothError::NoCandidate)?;
+        // Where the best would be kept as written, the cheapest candidate
+        // the writer would write, handed back with the best: it replaces
+        // the final choice where the writer would still keep the run as
+        // written ([`Auto::unless_kept`]; after the near-reversals, which
+        // offer the candidates the best chose).
+        let in_place_of_kept = written
+            .then(|| self.written_in_place_of_kept(run, &mut ranking, (time, i)))
+            .flatten()
+            .map(|(t, k)| (t, ranking.cands[k].clone()));
         let peaked = self.fair_with_peak_pass(run, &list, &ranking, time, &memo)?;
         drop(list);
         // The candidates costed near the best, to be judged again as the
@@ -420,7 +435,8 @@ impl Auto {
             time = Some(t);
         }
         if run.pieces.len() > SECTION_MAX_PIECES {
-            return Ok(self.finally_written(time, best, others));
+            let (time, best) = self.finally_written(time, best, others);
+            return Ok((time, best, in_place_of_kept));
         }
         let mut cache = SectionCache::default();
         let mut tried: Vec<usize> = Vec::new();
@@ -478,7 +494,82 @@ impl Auto {
         {
             (time, best) = (Some(t), kept);
         }
-        Ok((time, best))
+        Ok((time, best, in_place_of_kept))
+    }
+
+    /// `best` (of cost `time`), or `alternative` (one the writer would
+    /// write, [`Auto::written_in_place_of_kept`]) where the writer would
+    /// keep `run` as the program wrote it in place of `best`
+    /// ([`Objective::written_instead`] false) and `alternative` costs
+    /// [`KEEP_MARGIN`] less than the run as written and than the best as
+    /// the writer finally writes it ([`Objective::final_cost`]).
+    fn unless_kept(
+        &self,
+        run: &Run,
+        (time, best): (Option<f64>, SmoothedRun),
+        alternative: Option<(f64, SmoothedRun)>,
+    ) -> (Option<f64>, SmoothedRun) {
+        let Some((ta, alt)) = alternative else {
+            return (time, best);
+        };
+        let objective = self.objective.as_ref();
+        let Some(own) = objective.as_written(&run.pieces) else {
+            return (time, best);
+        };
+        // Kept as written by the objective's rule, and the alternative
+        // cheaper, by the writers' margin, than what the writer makes of
+        // the best with all its tries (it may write it all the same, at
+        // a finer step: on one of 56 generated programs a mix of
+        // sections the objective judged kept was written a millionth
+        // faster than the alternative).
+        let replaced = match time {
+            None => true,
+            Some(t) => {
+                !objective.written_instead(&best.pieces, t, &run.pieces, own)
+                    && ta * (1.0 + KEEP_MARGIN) < own.min(objective.final_cost(&best.pieces, t))
+            }
+        };
+        if replaced {
+            (Some(ta), alt)
+        } else {
+            (time, best)
+        }
+    }
+
+    /// Where the ranking's cheapest candidate `best` (of cost `time`)
+    /// would leave `run` as the program wrote it ([`Objective::written_instead`]
+    /// false), every candidate costed and the cheapest the writer would
+    /// write, with its cost; `None` where the best would be written, or
+    /// none would.
+    ///
+    /// Why: the ranking skips the candidates whose [`Objective::bound`]
+    /// (their curves' planned time, less the share a rendering has been
+    /// measured to gain) exceeds the least cost found, and a rendering can
+    /// gain far more than that share. A corner method on a dense 3D raster
+    /// puts a short transition at every vertex of a pass, where the
+    /// curvature ramps cap the exact curves' speed; rendered within the
+    /// output's share they become the pass's lines again, which the
+    /// planner blends at its junction deviation: the curves plan twice as
+    /// long as their program (`scripts/random-programs.py /tmp/gras 8
+    /// 9702 raster`, `r001_raster.ngc`). There the fit the ranking kept
+    /// lost on its rendering (its passes bend out of their plane next to
+    /// the step-overs, so they are written as G1), the run was kept as
+    /// the program wrote it, and `bspline-corner` and `ctm` alone wrote
+    /// faster programs.
+    fn written_in_place_of_kept(
+        &self,
+        run: &Run,
+        ranking: &mut Ranking,
+        (time, best): (Option<f64>, usize),
+    ) -> Option<(f64, usize)> {
+        let t = time?;
+        let objective = self.objective.as_ref();
+        let own = objective.as_written(&run.pieces)?;
+        if objective.written_instead(&ranking.cands[best].pieces, t, &run.pieces, own) {
+            return None;
+        }
+        ranking
+            .cheapest_kept_aside(|c, t| objective.written_instead(&c.pieces, t, &run.pieces, own))
     }
 
     /// `best` (of cost `time`), or the one of `others` (each with its
@@ -617,7 +708,7 @@ impl Auto {
         for cuts in &sets {
             let mut out = SmoothedRun::default();
             for (i, part) in split_at(run, cuts).iter().enumerate() {
-                let (_, best) = between.smooth_whole(part, tolerance, false)?;
+                let (_, best, _) = between.smooth_whole(part, tolerance, false)?;
                 if i > 0 {
                     let before = &run.pieces[cuts[i - 1] - 1];
                     out.kept_corners.push(KeptCorner {

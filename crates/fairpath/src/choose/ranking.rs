@@ -90,10 +90,26 @@ impl<'o> Ranking<'o> {
     ) -> Option<(f64, usize)> {
         let all: Vec<usize> = (0..self.cands.len()).map(|i| self.first_same[i]).collect();
         self.cost(&all);
-        (0..self.cands.len())
+        // Cheapest first, so that `keep` (which may render and plan) is
+        // asked only until it accepts one.
+        let mut costed: Vec<(f64, usize)> = (0..self.cands.len())
             .filter_map(|i| self.costs[self.first_same[i]].flatten().map(|c| (c, i)))
-            .filter(|&(c, i)| keep(&self.cands[i], c))
-            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .collect();
+        costed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        costed.into_iter().find(|&(c, i)| keep(&self.cands[i], c))
+    }
+
+    /// [`Ranking::cheapest_kept`], with the costs it computes forgotten
+    /// after: what is costed later (the candidates [`Ranking::near`] the
+    /// best) stays what the bounds left in the race.
+    pub(super) fn cheapest_kept_aside(
+        &mut self,
+        keep: impl Fn(&SmoothedRun, f64) -> bool,
+    ) -> Option<(f64, usize)> {
+        let known = self.costs.clone();
+        let found = self.cheapest_kept(keep);
+        self.costs = known;
+        found
     }
 
     /// The candidates costed at most `limit`, but `best` and those with
@@ -277,6 +293,54 @@ mod tests {
             let want = want.map(|(t, i)| (Some(t), i)).or(fallback.map(|i| (None, i)));
             let mut ranking = Ranking::new(&table, cands);
             prop_assert_eq!(ranking.fastest(eligible), want);
+        }
+
+        /// `cheapest_kept` keeps the cheapest candidate `keep` accepts
+        /// (the earlier on a tie), whatever the bounds (here none holds:
+        /// each lies above its cost, so the bounds alone would cost one),
+        /// and asks `keep` only of candidates no dearer than it;
+        /// `cheapest_kept_aside` keeps the same and forgets the costs it
+        /// computed.
+        #[test]
+        fn the_cheapest_kept_is_found_whatever_the_bounds(
+            results in proptest::collection::vec(0usize..6, 1..10),
+            costs in proptest::collection::vec(proptest::option::weighted(0.9, 0u32..8), 6),
+            accepted in proptest::collection::vec(any::<bool>(), 6),
+            aside in any::<bool>(),
+        ) {
+            let costs: Vec<Option<f64>> = costs.iter().map(|c| c.map(f64::from)).collect();
+            let bounds = costs.iter().map(|c| c.map(|c| c + 100.0)).collect();
+            let table = Table { costs: costs.clone(), bounds, slack: 0.0 };
+            let cands: Vec<SmoothedRun> = results.iter().map(|&r| candidate(r)).collect();
+            let want = results
+                .iter()
+                .enumerate()
+                .filter_map(|(i, &r)| costs[r].filter(|_| accepted[r]).map(|c| (c, i)))
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let mut ranking = Ranking::new(&table, cands);
+            let before: Vec<Option<Option<f64>>> =
+                (0..results.len()).map(|i| ranking.cost_of(i)).collect();
+            let asked = std::sync::Mutex::new(Vec::new());
+            let keep = |c: &SmoothedRun, t: f64| {
+                asked.lock().unwrap().push(t);
+                accepted[result(&c.pieces)]
+            };
+            let got = if aside {
+                ranking.cheapest_kept_aside(keep)
+            } else {
+                ranking.cheapest_kept(keep)
+            };
+            prop_assert_eq!(got, want);
+            if let Some((t, _)) = got {
+                prop_assert!(asked.lock().unwrap().iter().all(|&a| a <= t));
+            }
+            for (i, b) in before.iter().enumerate() {
+                if aside {
+                    prop_assert_eq!(ranking.cost_of(i), *b);
+                } else {
+                    prop_assert_eq!(ranking.cost_of(i), Some(costs[results[i]]));
+                }
+            }
         }
     }
 }
