@@ -812,7 +812,8 @@ fn design_wave_faired_in_0_025_plans_no_faster_as_arcs_than_as_curves() {
     // for the curves they render (`fairpath stream`, which samples the
     // motion at the period, took 5.279 s). Capped by
     // `feed::junction::step_cap`, the written program plans no faster than
-    // its curves.
+    // its curves (within 3%, the most the reference programs' renderings
+    // gain: docs/render-gain.md).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ngc");
     let o = smooth(
@@ -828,7 +829,7 @@ fn design_wave_faired_in_0_025_plans_no_faster_as_arcs_than_as_curves() {
         v["written_time_s"].as_f64().unwrap(),
     );
     assert!(
-        written >= (1.0 - fairpath::choose::RENDER_GAIN) * curves,
+        written >= (1.0 - 0.03) * curves,
         "written {written:.3} s, curves {curves:.3} s"
     );
 }

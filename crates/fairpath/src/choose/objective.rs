@@ -335,14 +335,19 @@ pub struct WrittenTime {
 /// the parts render as the whole.
 pub const COST_PART_PIECES: usize = crate::render::CHAIN_PIECES;
 
-/// The default [`WrittenTime::render_gain`]: 3%, above the largest gain of
-/// a written program over its curves that `scripts/render-gain.sh` finds
-/// on the reference programs (`docs/render-gain.md`; the largest is
-/// `fair`'s on LinuxCNC's `zigzag_0.002_0.0005.ngc`). What it costs: the
-/// candidates whose curves plan within 3% of the fastest rendering are
-/// rendered and planned too (on `surface-raster-large.ngc`, a second
-/// rendering; measurements: docs/tuning.md, `RENDER_GAIN`).
-pub const RENDER_GAIN: f64 = 0.03;
+/// The default [`WrittenTime::render_gain`]: 30%. On the reference
+/// programs a written program plans at most a few percent faster than its
+/// curves (`scripts/render-gain.sh`, `docs/render-gain.md`); on dense 3D
+/// zigzag rasters far more: a fit whose passes the renderer writes as G1
+/// (they bend out of their plane, where helical arcs would kink), or a
+/// corner method's transition at every vertex of a pass, rendered as the
+/// pass's lines again, which the planner blends at its junction
+/// deviation, where the exact curves' curvature ramps cap the speed. A
+/// candidate so pruned was written faster than `auto`'s choice. What it
+/// costs: the candidates whose curves plan within 30% of the fastest
+/// rendering are rendered and planned too (measurements: docs/tuning.md,
+/// `RENDER_GAIN`).
+pub const RENDER_GAIN: f64 = 0.3;
 
 impl PartialEq for WrittenTime {
     /// The same options (and the same observer, if any).
