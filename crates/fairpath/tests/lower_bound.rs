@@ -702,3 +702,137 @@ fn line_arc_burnin_bumps_are_slow_points_of_the_half_feed_windows() {
         assert!(b <= t, "bound {b} above the plan {t}");
     }
 }
+
+/// A V-carved corner as `scripts/random-programs.py`'s engravings write
+/// it: a stroke of `chord`-mm moves into the corner, a spike out along
+/// the bisector of the turn `turn_deg` and up by `rise` mm over a leg of
+/// `leg` mm, back down the same leg (an exact reversal), and the stroke
+/// on out of the corner.
+fn v_carved_corner(chord: f64, turn_deg: f64, leg: f64, rise: f64) -> Vec<Vec3> {
+    let n = (3.0 / chord).ceil() as usize;
+    let mut pts: Vec<Vec3> = (0..=n).map(|i| v(i as f64 * chord, 0.0, 0.0)).collect();
+    let corner = *pts.last().expect("points");
+    let turn = turn_deg.to_radians();
+    // The bisector of the inside of the corner.
+    let half = 0.5 * (core::f64::consts::PI + turn);
+    let flat = (leg * leg - rise * rise).max(0.0).sqrt();
+    pts.push(corner + v(flat * half.cos(), flat * half.sin(), rise));
+    pts.push(corner);
+    for i in 1..=n {
+        let d = i as f64 * chord;
+        pts.push(corner + v(d * turn.cos(), d * turn.sin(), 0.0));
+    }
+    pts
+}
+
+#[test]
+fn v_carve_spike_tip_holds_a_gate_and_raises_the_bound() {
+    // `r010_engrave.ngc` of `random-programs.py /tmp/eng 12 9701 engrave`:
+    // spikes of 1.3 mm legs rising 0.92 mm at 93-degree corners of
+    // strokes in 0.175 mm chords. Every method keeps the spike's tip (an
+    // exact reversal) and stops there; with no gate within `hairpin_reach`
+    // of the tip the bound charged at most the last 0.3 mm of each leg.
+    let pts = v_carved_corner(0.175, 93.0, 1.3, 0.92);
+    let tip = pts[pts.len() / 2];
+    let run = polyline_run(&pts);
+    let g = gates_of(&run.pieces);
+    assert!(
+        g.gates
+            .iter()
+            .any(|&(q, r)| q.dist(tip) < 1e-12 && r >= TOL),
+        "no gate on the tip {tip:?}: {:?}",
+        g.gates
+    );
+    let without = BoundOptions {
+        reversal_half_angle: 0.0,
+        ..in_order(TOL)
+    };
+    let m = MachineLimits::thesis();
+    let b_without = lower_bound_time(&run.pieces, &without, &m, true)
+        .expect("bounds")
+        .time;
+    let b = bound_in_order(&run.pieces);
+    println!("in-order bound {b:.4} s, {b_without:.4} s without the tip gate");
+    assert!(
+        b > 1.2 * b_without,
+        "{b} against {b_without} without the tip"
+    );
+    assert!(b <= planned(&run.pieces), "{b}");
+    assert!(follows(&run.pieces, &run.pieces));
+    use fairpath::smooth::{BsplineCorner, BsplineFit, Smoother};
+    for smoothed in [
+        BsplineCorner::default()
+            .smooth_run(&run, TOL)
+            .expect("smooths"),
+        BsplineFit::default().smooth_run(&run, TOL).expect("fits"),
+    ] {
+        assert!(follows(&run.pieces, &smoothed.pieces));
+        assert!(b <= planned(&smoothed.pieces));
+    }
+}
+
+#[test]
+fn seeded_v_carved_corners_stay_above_their_in_order_bound() {
+    // Spikes of 0.02 to 3 mm (shorter than the band to many tolerances)
+    // at turns of 20 to 160 degrees, strokes in chords of 0.01 to 0.4 mm:
+    // the run itself and its corner and fit smoothings (which keep the
+    // tips) pass the tip gates in order and plan no faster than the bound.
+    use fairpath::smooth::{BsplineCorner, BsplineFit, Smoother};
+    let mut next = seeded(0x0c4e_5a11_7e57_0b1d);
+    for case in 0..24 {
+        let chord = 0.01 + 0.39 * next();
+        let turn = 20.0 + 140.0 * next();
+        let leg = 0.02 + 2.98 * next();
+        let rise = leg * 0.8 * next();
+        let pts = v_carved_corner(chord, turn, leg, rise);
+        let run = polyline_run(&pts);
+        let b = bound_in_order(&run.pieces);
+        let t = planned(&run.pieces);
+        assert!(b <= t, "case {case}: bound {b} above the plan {t}: {pts:?}");
+        assert!(follows(&run.pieces, &run.pieces), "case {case}");
+        for (name, smoothed) in [
+            (
+                "bspline-corner",
+                BsplineCorner::default().smooth_run(&run, TOL),
+            ),
+            ("bspline-fit", BsplineFit::default().smooth_run(&run, TOL)),
+        ] {
+            let smoothed = smoothed.expect("smooths");
+            assert!(
+                follows(&run.pieces, &smoothed.pieces),
+                "case {case}: {name} misses a gate (chord {chord}, turn {turn}, leg {leg}, rise {rise})"
+            );
+            let ts = planned(&smoothed.pieces);
+            assert!(
+                b <= ts,
+                "case {case}: {name} plans {ts} below the bound {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn regression_r001_engrave_plunge_corner_is_no_reversal() {
+    // `r001_engrave.ngc` (`random-programs.py /tmp/eng 12 9701 engrave`):
+    // a plunge of 5.676 mm and a stroke at right angles. The plunge's end,
+    // evaluated a rounding away from the stroke's start, left a leg of
+    // 2e-16 mm pointing back up the plunge: the corner was taken for a
+    // reversal's tip, whose gate `lotm`'s transition (inside the band)
+    // passes outside.
+    let run = polyline_run(&[
+        v(105.543, 2.17, 5.0),
+        v(105.543, 2.17, -0.676),
+        v(105.422, 2.186, -0.676),
+        v(105.301, 2.202, -0.676),
+    ]);
+    let corner = v(105.543, 2.17, -0.676);
+    let g = gates_of(&run.pieces);
+    assert!(
+        g.gates.iter().all(|(q, _)| q.dist(corner) > 0.1),
+        "{:?}",
+        g.gates
+    );
+    use fairpath::smooth::{Lotm, Smoother};
+    let smoothed = Lotm::default().smooth_run(&run, TOL).expect("smooths");
+    assert!(follows(&run.pieces, &smoothed.pieces));
+}

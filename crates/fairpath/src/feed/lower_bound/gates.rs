@@ -189,6 +189,14 @@ pub(super) fn gates(
 /// path fails [`crate::verify::follows_in_order`] instead). Nearer, at
 /// the tip of a sharp hairpin that the corner methods cut inside the
 /// band, no gate stands (sampled every `e / 2`, the step added).
+///
+/// An exact reversal ([`reversal_tips`]: a V-carve corner's spike out
+/// and back, a stroke retraced) is no such hairpin: every method keeps
+/// its tip as a corner, the path stops there. A gate of radius `e`
+/// stands on the tip (a path in order comes within `e` of every point of
+/// the run), and the run coming back along the same legs does not take
+/// the straight gates off them (a hit at the mirror image, about a tip
+/// between them, of the gate's place along the run).
 fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64, Gate)> {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
@@ -197,12 +205,25 @@ fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64
     let hairpin = o.hairpin_reach * tol;
     let step = 0.5 * e;
     let near = 2.0 * e + step;
+    let tips = reversal_tips(pts, s, o.reversal_half_angle, o.chord_share * tol);
+    // Whether the run at `y` is the leg through `x` coming back from a
+    // tip between them.
+    let retraced = |x: f64, y: f64| {
+        let (lo, hi) = if x < y { (x, y) } else { (y, x) };
+        let first = tips.partition_point(|&(t, _)| t <= lo);
+        tips[first..]
+            .iter()
+            .take_while(|&&(t, _)| t < hi)
+            .any(|&(t, _)| (x + y - 2.0 * t).abs() <= near + step)
+    };
     // Whether the run between `r` and `hairpin` along it from `x` comes
-    // within `near` of `q`.
+    // within `near` of `q`, other than back along a retraced leg.
     let at_hairpin = |x: f64, q: Vec3| {
         let mut d = r;
         while d < hairpin {
-            let hit = |y: f64| (0.0..=total).contains(&y) && point_at(pts, s, y).dist(q) <= near;
+            let hit = |y: f64| {
+                (0.0..=total).contains(&y) && point_at(pts, s, y).dist(q) <= near && !retraced(x, y)
+            };
             if hit(x + d) || hit(x - d) {
                 return true;
             }
@@ -212,15 +233,74 @@ fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64
     };
     let mut out = Vec::new();
     let mut x = r.max(spacing);
+    let mut next_tip = tips.iter().peekable();
     while x < total - r {
         if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
             if !at_hairpin(x, g.at) {
+                while let Some(&&(t, at)) = next_tip.peek().filter(|&&&(t, _)| t < x) {
+                    out.push((t, tip_gate(t, at, e)));
+                    next_tip.next();
+                }
                 out.push((x, g));
             }
         }
         x += spacing;
     }
+    out.extend(next_tip.map(|&(t, at)| (t, tip_gate(t, at, e))));
     out
+}
+
+/// The gate of radius `e` on the tip `at` of a reversal, `t` along the
+/// run.
+fn tip_gate(t: f64, at: Vec3, e: f64) -> Gate {
+    Gate {
+        at,
+        radius: e,
+        along: t,
+    }
+}
+
+/// The inner vertices of the polyline `pts` (arc lengths `s`) where it
+/// turns back on itself: the half-angle between the legs in and out
+/// (the angle between the way back and the way out, halved) is below
+/// `max_half_angle` rad. A leg is taken to the nearest point farther
+/// than `min_leg` mm (the flattening chord: a piece's end evaluated a
+/// rounding away from the next one's start leaves a leg of a few
+/// `1e-16` mm, on any heading), and of points that close the last one
+/// stands for them. Each with its arc length, in order.
+pub(super) fn reversal_tips(
+    pts: &[Vec3],
+    s: &[f64],
+    max_half_angle: f64,
+    min_leg: f64,
+) -> Vec<(f64, Vec3)> {
+    let n = pts.len();
+    // The leg from `pts[i]` to the nearest point farther than `min_leg`
+    // before it (`back`) or after it (a few points at most: more that
+    // close are a cluster).
+    let leg = |i: usize, back: bool| {
+        let mut j = i;
+        for _ in 0..4 {
+            j = if back { j.checked_sub(1)? } else { j + 1 };
+            let q = *pts.get(j)?;
+            if q.dist(pts[i]) > min_leg {
+                return Some(q - pts[i]);
+            }
+        }
+        None
+    };
+    (1..n.saturating_sub(1))
+        .filter(|&i| {
+            if pts[i + 1].dist(pts[i]) <= min_leg {
+                return false;
+            }
+            match (leg(i, true), leg(i, false)) {
+                (Some(back), Some(on)) => 0.5 * back.angle_to(on) < max_half_angle,
+                _ => false,
+            }
+        })
+        .map(|i| (s[i], pts[i]))
+        .collect()
 }
 
 /// A gate at arc length `x` if the polyline is straight enough around it.

@@ -44,7 +44,11 @@
 //!    steps below hold as they are. The bound takes the straight gates
 //!    (radius `e + delta`, as above), also where the run comes back near
 //!    itself farther along it than [`BoundOptions::hairpin_reach`] (not
-//!    at a sharp hairpin's tip, which the corner methods cut);
+//!    at a sharp hairpin's tip, which the corner methods cut), and a gate
+//!    of radius `e` on the tip of every exact reversal
+//!    ([`BoundOptions::reversal_half_angle`]: a V-carve spike, a stroke
+//!    retraced), which every method keeps as a corner, with the straight
+//!    gates along its legs (the leg coming back is no hairpin);
 //!    [`crate::verify::follows_in_order`] checks a path passes those
 //!    gates in order (a path that cuts across does not).
 //! 2. **Turns.** Between the gates `a < a+1 <= b < b+1` the mean directions
@@ -394,6 +398,12 @@ pub struct BoundOptions {
     /// tip of a sharp hairpin, which the corner methods cut; farther
     /// along, a raster's next pass or a stroke cut back, a gate stands).
     pub hairpin_reach: f64,
+    /// For paths in order: a vertex where the run turns back on itself
+    /// with a half-angle between its legs below this (rad) is a reversal
+    /// whose tip every path in order passes (a gate on it), not a hairpin
+    /// the corner methods cut: the corner methods' own threshold for the
+    /// reversals they keep (`BsplineCornerOptions::min_half_angle`).
+    pub reversal_half_angle: f64,
     /// Radii of the balls of the width argument (step 7), in tolerances.
     pub ball_radii: [f64; 2],
     /// Radii of the balls of the walls argument (step 9), in tolerances;
@@ -417,6 +427,7 @@ impl BoundOptions {
             max_window: 6,
             max_chain: 48,
             hairpin_reach: 20.0,
+            reversal_half_angle: 1e-6,
             ball_radii: [20.0, 100.0],
             wall_radii: [20.0, 30.0, 45.0, 70.0],
         }
