@@ -836,3 +836,43 @@ fn regression_r001_engrave_plunge_corner_is_no_reversal() {
     let smoothed = Lotm::default().smooth_run(&run, TOL).expect("smooths");
     assert!(follows(&run.pieces, &smoothed.pieces));
 }
+
+#[test]
+fn regression_cereal_v_carve_spike_dipping_at_its_tip_holds_no_tip_gate() {
+    // `linuxcnc/performance/Cereal.ngc` line 2034: a V-carve spike up to
+    // Z-0.169 that dips 0.035 mm and comes back up before running back
+    // down its leg. The dip's bottom is an exact reversal on legs shorter
+    // than a short move: the corner methods absorb the dip and round the
+    // tip, 0.19 mm from it. A gate there left `auto`'s program out of
+    // order.
+    let p = |x: f64, y: f64, z: f64| v(x, y, z);
+    let pts = [
+        p(42.593, -35.765, -1.019),
+        p(42.990, -35.768, -1.013),
+        p(43.485, -36.254, -0.172),
+        p(43.485, -36.254, -0.208),
+        p(43.485, -36.254, -0.172),
+        p(43.000, -35.768, -1.013),
+        p(43.487, -35.281, -0.169),
+        p(43.487, -35.281, -0.204),
+        p(43.487, -35.281, -0.169),
+        p(43.000, -35.768, -1.013),
+        p(42.301, -35.759, -1.030),
+        p(41.872, -35.734, -1.073),
+    ];
+    let run = polyline_run(&pts);
+    let g = gates_of(&run.pieces);
+    for dip in [pts[3], pts[7]] {
+        assert!(
+            g.gates.iter().all(|(q, _)| q.dist(dip) > 0.01),
+            "a gate on the dip {dip:?}: {:?}",
+            g.gates
+        );
+    }
+    use fairpath::smooth::{BsplineCorner, Smoother};
+    let smoothed = BsplineCorner::default()
+        .smooth_run(&run, TOL)
+        .expect("smooths");
+    assert!(follows(&run.pieces, &smoothed.pieces));
+    assert!(bound_in_order(&run.pieces) <= planned(&smoothed.pieces));
+}

@@ -205,7 +205,13 @@ fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64
     let hairpin = o.hairpin_reach * tol;
     let step = 0.5 * e;
     let near = 2.0 * e + step;
-    let tips = reversal_tips(pts, s, o.reversal_half_angle, o.chord_share * tol);
+    let tips = reversal_tips(
+        pts,
+        s,
+        o.reversal_half_angle,
+        o.chord_share * tol,
+        o.reversal_min_leg * tol,
+    );
     // Whether the run at `y` is the leg through `x` coming back from a
     // tip between them.
     let retraced = |x: f64, y: f64| {
@@ -263,16 +269,18 @@ fn tip_gate(t: f64, at: Vec3, e: f64) -> Gate {
 /// The inner vertices of the polyline `pts` (arc lengths `s`) where it
 /// turns back on itself: the half-angle between the legs in and out
 /// (the angle between the way back and the way out, halved) is below
-/// `max_half_angle` rad. A leg is taken to the nearest point farther
-/// than `min_leg` mm (the flattening chord: a piece's end evaluated a
-/// rounding away from the next one's start leaves a leg of a few
-/// `1e-16` mm, on any heading), and of points that close the last one
-/// stands for them. Each with its arc length, in order.
+/// `max_half_angle` rad and both legs are longer than `long_leg` mm. A
+/// leg is taken to the nearest point farther than `min_leg` mm (the
+/// flattening chord: a piece's end evaluated a rounding away from the
+/// next one's start leaves a leg of a few `1e-16` mm, on any heading),
+/// and of points that close the last one stands for them. Each with its
+/// arc length, in order.
 pub(super) fn reversal_tips(
     pts: &[Vec3],
     s: &[f64],
     max_half_angle: f64,
     min_leg: f64,
+    long_leg: f64,
 ) -> Vec<(f64, Vec3)> {
     let n = pts.len();
     // The leg from `pts[i]` to the nearest point farther than `min_leg`
@@ -295,7 +303,11 @@ pub(super) fn reversal_tips(
                 return false;
             }
             match (leg(i, true), leg(i, false)) {
-                (Some(back), Some(on)) => 0.5 * back.angle_to(on) < max_half_angle,
+                (Some(back), Some(on)) => {
+                    back.norm() > long_leg
+                        && on.norm() > long_leg
+                        && 0.5 * back.angle_to(on) < max_half_angle
+                }
                 _ => false,
             }
         })
