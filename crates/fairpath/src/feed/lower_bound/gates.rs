@@ -425,3 +425,74 @@ pub fn in_order_gates_of(
             .collect(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64, z: f64) -> Vec3 {
+        Vec3::new(x, y, z)
+    }
+
+    /// The arc lengths of a polyline.
+    fn lengths(pts: &[Vec3]) -> Vec<f64> {
+        let mut s = alloc::vec![0.0];
+        for w in pts.windows(2) {
+            s.push(s.last().copied().unwrap_or(0.0) + w[0].dist(w[1]));
+        }
+        s
+    }
+
+    const HALF_ANGLE: f64 = 1e-6;
+    const CHORD: f64 = 5e-5;
+    const LONG: f64 = 0.1;
+
+    #[test]
+    fn a_spike_has_one_tip_even_with_its_tip_point_twice() {
+        // The tip evaluated at the end of the way out and again, a
+        // rounding away, at the start of the way back.
+        let tip = v(1.0, 1.0, 0.5);
+        let pts = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            tip,
+            tip + v(0.0, 0.0, 2e-16),
+            v(1.0, 0.0, 0.0),
+            v(2.0, 0.0, 0.0),
+        ];
+        let tips = reversal_tips(&pts, &lengths(&pts), HALF_ANGLE, CHORD, LONG);
+        assert_eq!(tips.len(), 1, "{tips:?}");
+        assert!(tips[0].1.dist(tip) < 1e-12);
+    }
+
+    #[test]
+    fn a_corner_with_a_rounding_leg_is_no_tip() {
+        // A plunge's end a rounding short of the stroke's start: the leg
+        // of 2e-16 mm between them points back up the plunge.
+        let pts = [
+            v(0.0, 0.0, 5.0),
+            v(0.0, 0.0, -0.676 - 2e-16),
+            v(0.0, 0.0, -0.676),
+            v(-0.121, 0.016, -0.676),
+        ];
+        assert!(reversal_tips(&pts, &lengths(&pts), HALF_ANGLE, CHORD, LONG).is_empty());
+    }
+
+    #[test]
+    fn a_reversal_on_a_short_leg_is_no_tip() {
+        let pts = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 0.0, -0.035),
+            v(1.0, 0.0, 0.0),
+            v(2.0, 0.0, 0.0),
+        ];
+        assert!(reversal_tips(&pts, &lengths(&pts), HALF_ANGLE, CHORD, LONG).is_empty());
+        // The same dip, deep enough: a tip.
+        let deep = [pts[0], pts[1], v(1.0, 0.0, -0.2), pts[3], pts[4]];
+        assert_eq!(
+            reversal_tips(&deep, &lengths(&deep), HALF_ANGLE, CHORD, LONG).len(),
+            1
+        );
+    }
+}
