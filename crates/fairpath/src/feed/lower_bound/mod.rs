@@ -347,7 +347,7 @@ mod samples;
 mod walls;
 mod width;
 use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, SCHUR_CAP_SHARES};
-use gates::{chain_length, feed_caps, gates, polyline, Gate};
+use gates::{chain_length, feed_caps, gates, polyline, reversal_tips, Gate};
 pub use gates::{in_order_gates_of, InOrderGates};
 use walls::Corner;
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
@@ -783,7 +783,7 @@ pub fn lower_bound_time(
     override_feed: bool,
 ) -> Result<LowerBound, BoundError> {
     let with = bound_over_gates(pieces, opts, m, override_feed)?;
-    if opts.paths != BandPaths::InOrder || opts.reversal_half_angle <= 0.0 {
+    if opts.paths != BandPaths::InOrder || !has_reversal_tips(pieces, opts) {
         return Ok(with);
     }
     let without = BoundOptions {
@@ -792,6 +792,24 @@ pub fn lower_bound_time(
     };
     let other = bound_over_gates(pieces, &without, m, override_feed)?;
     Ok(if other.time > with.time { other } else { with })
+}
+
+/// Whether the run `pieces` has a reversal's tip that paths in order
+/// pass a gate on (step 1).
+fn has_reversal_tips(pieces: &[Piece], opts: &BoundOptions) -> bool {
+    if opts.reversal_half_angle <= 0.0 {
+        return false;
+    }
+    let chord = opts.tolerance * opts.chord_share;
+    let (pts, s, _) = polyline(pieces, chord);
+    !reversal_tips(
+        &pts,
+        &s,
+        opts.reversal_half_angle,
+        chord,
+        opts.reversal_min_leg * opts.tolerance,
+    )
+    .is_empty()
 }
 
 /// [`lower_bound_time`] over the gates `opts` puts on the run.
