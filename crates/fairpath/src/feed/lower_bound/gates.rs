@@ -266,6 +266,11 @@ fn tip_gate(t: f64, at: Vec3, e: f64) -> Gate {
     }
 }
 
+/// Most polyline points [`reversal_tips`] looks past for a leg: more
+/// than that within the flattening chord of a vertex are a cluster (moves
+/// far inside the band, not a reversal's tip).
+const TIP_CLUSTER: usize = 4;
+
 /// The inner vertices of the polyline `pts` (arc lengths `s`) where it
 /// turns back on itself: the half-angle between the legs in and out
 /// (the angle between the way back and the way out, halved) is below
@@ -284,11 +289,10 @@ pub(super) fn reversal_tips(
 ) -> Vec<(f64, Vec3)> {
     let n = pts.len();
     // The leg from `pts[i]` to the nearest point farther than `min_leg`
-    // before it (`back`) or after it (a few points at most: more that
-    // close are a cluster).
+    // before it (`back`) or after it.
     let leg = |i: usize, back: bool| {
         let mut j = i;
-        for _ in 0..4 {
+        for _ in 0..TIP_CLUSTER {
             j = if back { j.checked_sub(1)? } else { j + 1 };
             let q = *pts.get(j)?;
             if q.dist(pts[i]) > min_leg {

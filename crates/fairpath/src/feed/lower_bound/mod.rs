@@ -774,8 +774,7 @@ fn asin(x: f64) -> f64 {
 /// others, so a path that passes them all passes either set, but the
 /// turn windows are picked greedily over the chords between gates, and a
 /// short chord next to a tip can break a window the set without it had
-/// (`r008_engrave.ngc` of `scripts/random-programs.py /tmp/eng 12 9701
-/// engrave`: 2% lower with the tips' gates alone).
+/// (measurements: docs/tuning.md, "Gates on reversals' tips").
 pub fn lower_bound_time(
     pieces: &[Piece],
     opts: &BoundOptions,
