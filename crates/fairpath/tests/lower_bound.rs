@@ -279,6 +279,33 @@ fn follows(original: &[Piece], path: &[Piece]) -> bool {
     within
 }
 
+/// Asserts that no gate of `g` stands within `dist` mm of `at`.
+fn assert_no_gate_within(g: &InOrderGates, at: Vec3, dist: f64) {
+    assert!(
+        g.gates.iter().all(|(q, _)| q.dist(at) > dist),
+        "a gate within {dist} mm of {at:?}: {:?}",
+        g.gates
+    );
+}
+
+/// `bspline-corner`'s smoothing of `run` at [`TOL`].
+fn bspline_corner_of(run: &fairpath::path::Run) -> Vec<Piece> {
+    use fairpath::smooth::{BsplineCorner, Smoother};
+    BsplineCorner::default()
+        .smooth_run(run, TOL)
+        .expect("smooths")
+        .pieces
+}
+
+/// `bspline-fit`'s smoothing of `run` at [`TOL`].
+fn bspline_fit_of(run: &fairpath::path::Run) -> Vec<Piece> {
+    use fairpath::smooth::{BsplineFit, Smoother};
+    BsplineFit::default()
+        .smooth_run(run, TOL)
+        .expect("fits")
+        .pieces
+}
+
 /// A closed hexagon of radius 10 mm, up and down 3 mm in Z (the shape of
 /// `synthetic/hexagon-3d.ngc`).
 fn hexagon() -> Vec<Vec3> {
@@ -644,16 +671,8 @@ fn plotter_owl_hairpin_tip_holds_no_gate_the_corner_methods_cut() {
     let tip = v(31.86, 34.10, 0.0);
     let g = gates_of(&run.pieces);
     assert!(!g.gates.is_empty());
-    assert!(
-        g.gates.iter().all(|(q, _)| q.dist(tip) > 0.5),
-        "{:?}",
-        g.gates
-    );
-    use fairpath::smooth::{BsplineCorner, Smoother};
-    let smoothed = BsplineCorner::default()
-        .smooth_run(&run, TOL)
-        .expect("smooths");
-    assert!(follows(&run.pieces, &smoothed.pieces));
+    assert_no_gate_within(&g, tip, 0.5);
+    assert!(follows(&run.pieces, &bspline_corner_of(&run)));
 }
 
 /// LinuxCNC's `line-arc-burnin.ngc` (`arc-intersections`), `bumps` arcs
@@ -759,15 +778,9 @@ fn v_carve_spike_tip_holds_a_gate_and_raises_the_bound() {
     );
     assert!(b <= planned(&run.pieces), "{b}");
     assert!(follows(&run.pieces, &run.pieces));
-    use fairpath::smooth::{BsplineCorner, BsplineFit, Smoother};
-    for smoothed in [
-        BsplineCorner::default()
-            .smooth_run(&run, TOL)
-            .expect("smooths"),
-        BsplineFit::default().smooth_run(&run, TOL).expect("fits"),
-    ] {
-        assert!(follows(&run.pieces, &smoothed.pieces));
-        assert!(b <= planned(&smoothed.pieces));
+    for smoothed in [bspline_corner_of(&run), bspline_fit_of(&run)] {
+        assert!(follows(&run.pieces, &smoothed));
+        assert!(b <= planned(&smoothed));
     }
 }
 
@@ -777,7 +790,6 @@ fn seeded_v_carved_corners_stay_above_their_in_order_bound() {
     // at turns of 20 to 160 degrees, strokes in chords of 0.01 to 0.4 mm:
     // the run itself and its corner and fit smoothings (which keep the
     // tips) pass the tip gates in order and plan no faster than the bound.
-    use fairpath::smooth::{BsplineCorner, BsplineFit, Smoother};
     let mut next = seeded(0x0c4e_5a11_7e57_0b1d);
     for case in 0..24 {
         let chord = 0.01 + 0.39 * next();
@@ -791,18 +803,14 @@ fn seeded_v_carved_corners_stay_above_their_in_order_bound() {
         assert!(b <= t, "case {case}: bound {b} above the plan {t}: {pts:?}");
         assert!(follows(&run.pieces, &run.pieces), "case {case}");
         for (name, smoothed) in [
-            (
-                "bspline-corner",
-                BsplineCorner::default().smooth_run(&run, TOL),
-            ),
-            ("bspline-fit", BsplineFit::default().smooth_run(&run, TOL)),
+            ("bspline-corner", bspline_corner_of(&run)),
+            ("bspline-fit", bspline_fit_of(&run)),
         ] {
-            let smoothed = smoothed.expect("smooths");
             assert!(
-                follows(&run.pieces, &smoothed.pieces),
+                follows(&run.pieces, &smoothed),
                 "case {case}: {name} misses a gate (chord {chord}, turn {turn}, leg {leg}, rise {rise})"
             );
-            let ts = planned(&smoothed.pieces);
+            let ts = planned(&smoothed);
             assert!(
                 b <= ts,
                 "case {case}: {name} plans {ts} below the bound {b}"
@@ -825,13 +833,7 @@ fn regression_r001_engrave_plunge_corner_is_no_reversal() {
         v(105.422, 2.186, -0.676),
         v(105.301, 2.202, -0.676),
     ]);
-    let corner = v(105.543, 2.17, -0.676);
-    let g = gates_of(&run.pieces);
-    assert!(
-        g.gates.iter().all(|(q, _)| q.dist(corner) > 0.1),
-        "{:?}",
-        g.gates
-    );
+    assert_no_gate_within(&gates_of(&run.pieces), v(105.543, 2.17, -0.676), 0.1);
     use fairpath::smooth::{Lotm, Smoother};
     let smoothed = Lotm::default().smooth_run(&run, TOL).expect("smooths");
     assert!(follows(&run.pieces, &smoothed.pieces));
@@ -845,34 +847,26 @@ fn regression_cereal_v_carve_spike_dipping_at_its_tip_holds_no_tip_gate() {
     // than a short move: the corner methods absorb the dip and round the
     // tip, 0.19 mm from it. A gate there left `auto`'s program out of
     // order.
-    let p = |x: f64, y: f64, z: f64| v(x, y, z);
-    let pts = [
-        p(42.593, -35.765, -1.019),
-        p(42.990, -35.768, -1.013),
-        p(43.485, -36.254, -0.172),
-        p(43.485, -36.254, -0.208),
-        p(43.485, -36.254, -0.172),
-        p(43.000, -35.768, -1.013),
-        p(43.487, -35.281, -0.169),
-        p(43.487, -35.281, -0.204),
-        p(43.487, -35.281, -0.169),
-        p(43.000, -35.768, -1.013),
-        p(42.301, -35.759, -1.030),
-        p(41.872, -35.734, -1.073),
-    ];
+    // Up a spike to `tip`, down `dip` mm and back up, and down to `base`.
+    let spike = |tip: Vec3, dip: f64, base: Vec3| [tip, tip - v(0.0, 0.0, dip), tip, base];
+    let mut pts = vec![v(42.593, -35.765, -1.019), v(42.990, -35.768, -1.013)];
+    pts.extend(spike(
+        v(43.485, -36.254, -0.172),
+        0.036,
+        v(43.0, -35.768, -1.013),
+    ));
+    pts.extend(spike(
+        v(43.487, -35.281, -0.169),
+        0.035,
+        v(43.0, -35.768, -1.013),
+    ));
+    pts.extend([v(42.301, -35.759, -1.030), v(41.872, -35.734, -1.073)]);
     let run = polyline_run(&pts);
     let g = gates_of(&run.pieces);
     for dip in [pts[3], pts[7]] {
-        assert!(
-            g.gates.iter().all(|(q, _)| q.dist(dip) > 0.01),
-            "a gate on the dip {dip:?}: {:?}",
-            g.gates
-        );
+        assert_no_gate_within(&g, dip, 0.01);
     }
-    use fairpath::smooth::{BsplineCorner, Smoother};
-    let smoothed = BsplineCorner::default()
-        .smooth_run(&run, TOL)
-        .expect("smooths");
-    assert!(follows(&run.pieces, &smoothed.pieces));
-    assert!(bound_in_order(&run.pieces) <= planned(&smoothed.pieces));
+    let smoothed = bspline_corner_of(&run);
+    assert!(follows(&run.pieces, &smoothed));
+    assert!(bound_in_order(&run.pieces) <= planned(&smoothed));
 }
