@@ -142,6 +142,7 @@ pub(super) fn gates(
     s: &[f64],
     e: f64,
     o: &BoundOptions,
+    tips: &[(f64, Vec3)],
 ) -> (Vec<Gate>, Option<Bridges>) {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
@@ -153,7 +154,11 @@ pub(super) fn gates(
     }];
     let spacing = o.gate_spacing * tol;
     if o.paths == BandPaths::InOrder {
-        out.extend(in_order_gates(pts, s, e, o).into_iter().map(|(_, g)| g));
+        out.extend(
+            in_order_gates(pts, s, e, o, tips)
+                .into_iter()
+                .map(|(_, g)| g),
+        );
         out.push(Gate {
             at: *pts.last().unwrap_or(&pts[0]),
             radius: 0.0,
@@ -190,14 +195,20 @@ pub(super) fn gates(
 /// the tip of a sharp hairpin that the corner methods cut inside the
 /// band, no gate stands (sampled every `e / 2`, the step added).
 ///
-/// An exact reversal ([`reversal_tips`]: a V-carve corner's spike out
+/// An exact reversal (`tips`, [`tips_of`]: a V-carve corner's spike out
 /// and back, a stroke retraced) is no such hairpin: every method keeps
 /// its tip as a corner, the path stops there. A gate of radius `e`
 /// stands on the tip (a path in order comes within `e` of every point of
 /// the run), and the run coming back along the same legs does not take
 /// the straight gates off them (a hit at the mirror image, about a tip
 /// between them, of the gate's place along the run).
-fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64, Gate)> {
+fn in_order_gates(
+    pts: &[Vec3],
+    s: &[f64],
+    e: f64,
+    o: &BoundOptions,
+    tips: &[(f64, Vec3)],
+) -> Vec<(f64, Gate)> {
     let tol = o.tolerance;
     let total = *s.last().unwrap_or(&0.0);
     let r = o.reach * tol;
@@ -205,13 +216,6 @@ fn in_order_gates(pts: &[Vec3], s: &[f64], e: f64, o: &BoundOptions) -> Vec<(f64
     let hairpin = o.hairpin_reach * tol;
     let step = 0.5 * e;
     let near = 2.0 * e + step;
-    let tips = reversal_tips(
-        pts,
-        s,
-        o.reversal_half_angle,
-        o.chord_share * tol,
-        o.reversal_min_leg * tol,
-    );
     // Whether the run at `y` is the leg through `x` coming back from a
     // tip between them.
     let retraced = |x: f64, y: f64| {
@@ -264,6 +268,24 @@ fn tip_gate(t: f64, at: Vec3, e: f64) -> Gate {
         radius: e,
         along: t,
     }
+}
+
+/// The tips of the reversals of the polyline `pts` (arc lengths `s`)
+/// that paths in order pass a gate on, as `opts` says
+/// ([`BoundOptions::reversal_half_angle`],
+/// [`BoundOptions::reversal_min_leg`]; none for [`BandPaths::Any`]).
+pub(super) fn tips_of(pts: &[Vec3], s: &[f64], opts: &BoundOptions) -> Vec<(f64, Vec3)> {
+    if opts.paths != BandPaths::InOrder || opts.reversal_half_angle <= 0.0 {
+        return Vec::new();
+    }
+    let tol = opts.tolerance;
+    reversal_tips(
+        pts,
+        s,
+        opts.reversal_half_angle,
+        opts.chord_share * tol,
+        opts.reversal_min_leg * tol,
+    )
 }
 
 /// Most polyline points [`reversal_tips`] looks past for a leg: more
@@ -416,7 +438,7 @@ pub fn in_order_gates_of(
         paths: BandPaths::InOrder,
         ..*opts
     };
-    let (all, _) = gates(&pts, &s, e, &opts);
+    let (all, _) = gates(&pts, &s, e, &opts, &tips_of(&pts, &s, &opts));
     let speeds: Vec<f64> = pieces
         .iter()
         .map(|p| super::piece_speed(p, m, override_feed))

@@ -347,7 +347,7 @@ mod samples;
 mod walls;
 mod width;
 use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, SCHUR_CAP_SHARES};
-use gates::{chain_length, feed_caps, gates, polyline, reversal_tips, Gate};
+use gates::{chain_length, feed_caps, gates, polyline, tips_of, Gate};
 pub use gates::{in_order_gates_of, InOrderGates};
 use walls::Corner;
 use width::{curvature_cap, rise, rise_time, GateHeight, Heights};
@@ -781,43 +781,6 @@ pub fn lower_bound_time(
     m: &MachineLimits,
     override_feed: bool,
 ) -> Result<LowerBound, BoundError> {
-    let with = bound_over_gates(pieces, opts, m, override_feed)?;
-    if opts.paths != BandPaths::InOrder || !has_reversal_tips(pieces, opts) {
-        return Ok(with);
-    }
-    let without = BoundOptions {
-        reversal_half_angle: 0.0,
-        ..*opts
-    };
-    let other = bound_over_gates(pieces, &without, m, override_feed)?;
-    Ok(if other.time > with.time { other } else { with })
-}
-
-/// Whether the run `pieces` has a reversal's tip that paths in order
-/// pass a gate on (step 1).
-fn has_reversal_tips(pieces: &[Piece], opts: &BoundOptions) -> bool {
-    if opts.reversal_half_angle <= 0.0 {
-        return false;
-    }
-    let chord = opts.tolerance * opts.chord_share;
-    let (pts, s, _) = polyline(pieces, chord);
-    !reversal_tips(
-        &pts,
-        &s,
-        opts.reversal_half_angle,
-        chord,
-        opts.reversal_min_leg * opts.tolerance,
-    )
-    .is_empty()
-}
-
-/// [`lower_bound_time`] over the gates `opts` puts on the run.
-fn bound_over_gates(
-    pieces: &[Piece],
-    opts: &BoundOptions,
-    m: &MachineLimits,
-    override_feed: bool,
-) -> Result<LowerBound, BoundError> {
     let tol = opts.tolerance;
     if !(tol.is_finite() && tol > 0.0) {
         return Err(BoundError::Tolerance(tol));
@@ -834,21 +797,59 @@ fn bound_over_gates(
     if pieces.is_empty() || f <= 0.0 {
         return Ok(LowerBound::default());
     }
-    // The tangential limits of steps 6 and 10.
-    let lim = Limits::new(f, m.acc, m.jerk)?;
     let chord = tol * opts.chord_share;
-    let e = tol + chord;
     let (pts, s, ends) = polyline(pieces, chord);
     if pts.len() < 2 {
         return Ok(LowerBound::default());
     }
-    let (gates, bridges) = gates(&pts, &s, e, opts);
+    let run = RunPolyline {
+        pts: &pts,
+        s: &s,
+        ends: &ends,
+        speeds: &speeds,
+        feed: f,
+    };
+    let tips = tips_of(&pts, &s, opts);
+    let with = bound_over_gates(&run, &tips, opts, m)?;
+    if tips.is_empty() {
+        return Ok(with);
+    }
+    let other = bound_over_gates(&run, &[], opts, m)?;
+    Ok(if other.time > with.time { other } else { with })
+}
+
+/// A run as the bound sees it: its polyline (points `pts` at arc lengths
+/// `s`), the arc length at which each piece ends, each piece's speed and
+/// the largest (`feed`, mm/s).
+struct RunPolyline<'a> {
+    pts: &'a [Vec3],
+    s: &'a [f64],
+    ends: &'a [f64],
+    speeds: &'a [f64],
+    feed: f64,
+}
+
+/// [`lower_bound_time`] of `run` over the gates `opts` puts on it, with
+/// gates on the reversals' tips `tips`.
+fn bound_over_gates(
+    run: &RunPolyline,
+    tips: &[(f64, Vec3)],
+    opts: &BoundOptions,
+    m: &MachineLimits,
+) -> Result<LowerBound, BoundError> {
+    let (pts, s, ends, speeds, f) = (run.pts, run.s, run.ends, run.speeds, run.feed);
+    let tol = opts.tolerance;
+    // The tangential limits of steps 6 and 10.
+    let lim = Limits::new(f, m.acc, m.jerk)?;
+    let chord = tol * opts.chord_share;
+    let e = tol + chord;
+    let (gates, bridges) = gates(pts, s, e, opts, tips);
     // The largest ball of steps 7 and 9.
     let rmax = opts.ball_radii.iter().fold(0.0f64, |a, &b| a.max(b)) * tol;
     let heights = {
         let total = *s.last().unwrap_or(&0.0);
         let step = (0.5 * e).max(total / MAX_SAMPLES as f64);
-        Heights::new(&pts, &s, step, rmax + e + step)
+        Heights::new(pts, s, step, rmax + e + step)
     };
     // Chords between consecutive gates: length lower bound, direction,
     // angular slack.
@@ -917,8 +918,8 @@ fn bound_over_gates(
             .collect();
         let jerk = m.jerk_on_curves.then_some(m.jerk);
         let corner = Corner {
-            pts: &pts,
-            s: &s,
+            pts,
+            s,
             e,
             reach: match opts.paths {
                 BandPaths::Any => opts.reach * tol,
@@ -1094,7 +1095,7 @@ fn bound_over_gates(
             }
             // Step 9: the corner's walls cap the speed near its sharpest
             // vertex, in a window of gates beyond the cap's ball.
-            let vertex = sharpest_vertex(&pts, &s, gates[a].along, gates[b + 1].along);
+            let vertex = sharpest_vertex(pts, s, gates[a].along, gates[b + 1].along);
             let wall = vertex.and_then(|x| corner.cap(x, &wall_radii, speed_of));
             if let (Some(caps), Some(x)) = (wall, vertex) {
                 // Step 10's slow window: the nearest gates clear of the
@@ -1260,7 +1261,7 @@ fn bound_over_gates(
     // Step 11: for paths in order, each stretch between gates at its
     // feed.
     if opts.paths == BandPaths::InOrder {
-        let caps = feed_caps(&gates, &ends, &speeds, tol);
+        let caps = feed_caps(&gates, ends, speeds, tol);
         time = time.max(feed_floor(&gates, &caps, opts.max_chain));
     }
     // Step 6: the rest-to-rest double-S over the run's length.
