@@ -870,3 +870,98 @@ fn regression_cereal_v_carve_spike_dipping_at_its_tip_holds_no_tip_gate() {
     assert!(follows(&run.pieces, &smoothed));
     assert!(bound_in_order(&run.pieces) <= planned(&smoothed));
 }
+
+/// `pts` with its spike's tip (the vertex `tip`, an exact reversal) turned
+/// round on a half circle of radius `rho` inside the band's sleeve: up
+/// the leg to `rho` below the tip, offset by `rho` along `side` (a unit
+/// across the leg), round the half circle whose top is the tip, and back
+/// down the other side to the vertex before the tip. A path in order
+/// within `rho` of the run that never stops.
+fn u_turned(pts: &[Vec3], tip: usize, rho: f64, side: Vec3) -> Vec<Piece> {
+    use fairpath::geom::{Arc, Curve, Line};
+    let (foot, top) = (pts[tip - 1], pts[tip]);
+    let up = (top - foot).normalized(0.0).expect("leg");
+    let w = (side - up * side.dot(up)).normalized(0.0).expect("across");
+    let c = top - up * rho;
+    let (s1, s2) = (c + w * rho, c - w * rho);
+    let line = |a: Vec3, b: Vec3| Curve::Line(Line::new(a, b));
+    let arc = Arc::from_center(s1, s2, c, w.cross(up), false, 1, 1e-12).expect("arc");
+    let mut curves: Vec<Curve> = pts[..tip].windows(2).map(|p| line(p[0], p[1])).collect();
+    curves.push(line(foot, s1));
+    curves.push(Curve::Arc(Box::new(arc)));
+    curves.push(line(s2, pts[tip + 1]));
+    curves.extend(pts[tip + 1..].windows(2).map(|p| line(p[0], p[1])));
+    curves
+        .into_iter()
+        .map(|curve| Piece {
+            curve,
+            rapid: false,
+            source_lines: (1, 1),
+            feed: Some(1000.0),
+        })
+        .collect()
+}
+
+#[test]
+fn seeded_u_turns_inside_a_spikes_sleeve_plan_no_faster_than_the_bound() {
+    // Step 12 caps the speed at a reversal's tip as if the path must turn
+    // round inside the sleeve of width `2e` around its legs: paths that do
+    // (half circles of 0.2 to 0.95 tolerances on the V-carved corners of
+    // the test above, in random planes through the leg) pass the gates in
+    // order, stay within the tolerance and plan no faster than the bound.
+    let mut next = seeded(0x7195_0f5c_a11e_0b1d);
+    let mut cases = 0;
+    for case in 0..24 {
+        let chord = 0.02 + 0.3 * next();
+        let turn = 20.0 + 140.0 * next();
+        let leg = 0.3 + 2.7 * next();
+        let rise = leg * 0.8 * next();
+        let pts = v_carved_corner(chord, turn, leg, rise);
+        let tip = pts.len() / 2;
+        let rho = TOL * (0.2 + 0.75 * next());
+        let spin = core::f64::consts::TAU * next();
+        let side = v(spin.cos(), spin.sin(), next() - 0.5);
+        let run = polyline_run(&pts);
+        let path = u_turned(&pts, tip, rho, side);
+        let check = fairpath::verify::verify_run(
+            &run.pieces,
+            &path,
+            &fairpath::verify::VerifyOptions::new(TOL),
+        );
+        assert!(check.within(TOL), "case {case}: {check:?}");
+        assert!(follows(&run.pieces, &path), "case {case}");
+        let b = bound_in_order(&run.pieces);
+        let t = planned(&path);
+        assert!(
+            b <= t,
+            "case {case}: the U-turn plans {t} below the bound {b} (chord {chord}, turn {turn}, leg {leg}, rise {rise}, rho {rho})"
+        );
+        cases += 1;
+    }
+    assert_eq!(cases, 24);
+}
+
+#[test]
+fn a_spike_is_bounded_near_its_two_stops() {
+    // Up a 3 mm leg and straight back: every path in order turns round
+    // inside the sleeve of width `2e` around the leg, and step 12 caps
+    // its speed there near a U-turn's (5.8 mm/s on the thesis machine at
+    // 0.05 mm), so the bound comes near the two rest-to-rest moves the
+    // corner methods plan; without the tip's gate (and so its slow point)
+    // it charges little of the turn.
+    let pts = [v(0.0, 0.0, 0.0), v(2.0, 1.0, 2.0), v(0.0, 0.0, 0.0)];
+    let run = polyline_run(&pts);
+    let t = planned(&run.pieces);
+    let b = bound_in_order(&run.pieces);
+    let without = BoundOptions {
+        reversal_half_angle: 0.0,
+        ..in_order(TOL)
+    };
+    let b_without = lower_bound_time(&run.pieces, &without, &MachineLimits::thesis(), true)
+        .expect("bounds")
+        .time;
+    println!("spike: planned {t:.4} s, bound {b:.4} s, {b_without:.4} s without the tip");
+    assert!(b <= t, "{b} above the plan {t}");
+    assert!(b >= 0.88 * t, "{b} against the plan {t}");
+    assert!(b_without < 0.8 * t, "{b_without} against the plan {t}");
+}

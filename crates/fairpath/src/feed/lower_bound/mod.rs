@@ -304,6 +304,27 @@
 //!     them), so between passing gates `i < j` it takes at least `(|q_j -
 //!     q_i| - rho_i - rho_j)` over the largest cap between them; the best
 //!     chain of such links bounds the run.
+//! 12. **A reversal's tip, for paths in order** (`tip.rs`). A path in
+//!     order passes the gates `a < b < c` next to a tip's gate `b` in
+//!     order and stays within `e` of the run between `a` and `c`: up one
+//!     leg and back down the other, inside a sleeve as wide as the band
+//!     around them. Let `u` point from the midpoint of `q_a` and `q_c`
+//!     to `q_b`, and `K` be the path's largest curvature there. If the
+//!     stretch is no longer than `pi / K`, `h = u . x` rises by at least
+//!     the tip's height over the outer gates less the radii, `H`, while
+//!     `|h''| <= K` (`K L^2 >= 8 H`), and Schur's comparison (step 8)
+//!     keeps the ends at most `D = |q_c - q_a| + rho_a + rho_c` apart:
+//!     `asin(K D / 2)^2 >= 2 H K` or `K D >= 2`. Otherwise the tangent,
+//!     which points up `u` on average before `b` and down it after, is
+//!     across `u` at some point, and on one side of it an arc of length
+//!     `pi / (2K)` advances at least `1 / K` across `u`, no more than the
+//!     sleeve's width `W`: `K >= 1 / W`. On straight legs `W = 2e`, so
+//!     the tip's window holds a speed of at most that of curvature `1 /
+//!     (2e)` (5.8 mm/s on the thesis machine at 0.05 mm, where a U-turn
+//!     of radius `e` inside the sleeve runs at 3.7). These windows join
+//!     step 10's sets, and make a set of their own: the walls' windows
+//!     between two tips, whose caps are far higher, weaken the chain
+//!     there (see step 10).
 //!
 //! # Where it is loose
 //! At a sharp turn, step 8 caps the slow point's speed through the gates
@@ -344,6 +365,7 @@ use alloc::vec::Vec;
 mod chain;
 mod gates;
 mod samples;
+mod tip;
 mod walls;
 mod width;
 use chain::{chain_time, pick_disjoint, schur_windows, SlowWindow, SCHUR_CAP_SHARES};
@@ -1213,6 +1235,15 @@ fn bound_over_gates(
             time += zone;
             zone_start = zone_end;
         }
+        // Step 12: for paths in order, the slow point at each reversal's
+        // tip.
+        let at_tips = if opts.paths == BandPaths::InOrder {
+            tip::tip_windows(&gates, tips, pts, s, e, speed_of)
+        } else {
+            Vec::new()
+        };
+        slow.extend(at_tips.iter().copied());
+        slow_near.extend(at_tips.iter().copied());
         // Step 10: the chain of slow points over the whole run.
         // Any choice of slow windows bounds the run; a slow point with a
         // high cap may weaken the chain (the speed there is only known
@@ -1228,11 +1259,14 @@ fn bound_over_gates(
             Vec::new()
         };
         // Where every corner's two caps give the same windows, once.
-        let sets = if slow_near == slow {
+        let mut sets = if slow_near == slow {
             alloc::vec![slow]
         } else {
             alloc::vec![slow, slow_near]
         };
+        if !at_tips.is_empty() {
+            sets.push(at_tips);
+        }
         for slow in sets {
             let walls = pick_disjoint(slow.clone(), along, m.jerk);
             time = time.max(chain_time(walls, chords.len(), chord_sum, lim));
