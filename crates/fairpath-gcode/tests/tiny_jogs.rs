@@ -106,9 +106,9 @@ fn check_at(with_jogs: &[Vec3], inch: bool, without: &[Vec3], tols: &[f64]) {
             let (k, peak) = smooth(&text, method, tol);
             let total: usize = k.iter().map(|(_, n)| n).sum();
             // `auto` may keep the corners of the narrow U-turns of the
-            // path without its jogs (a raster's step-overs), as
-            // reversals, where that plans faster; nothing else.
-            let reversals = kept(&k, CornerReason::Reversal);
+            // path without its jogs (a raster's step-overs; near-reversals
+            // among them), where that plans faster; nothing else.
+            let reversals = kept(&k, CornerReason::Reversal) + kept(&k, CornerReason::UTurn);
             let allowed = if method == "auto" {
                 u_turns(without, tol)
             } else {
@@ -340,8 +340,8 @@ proptest! {
             let (k, peak) = smooth(&text, method, tol);
             let total: usize = k.iter().map(|(_, n)| n).sum();
             // (`auto` may keep the corners of the narrow U-turns of the
-            // polyline without its jogs, as reversals; nothing else.)
-            let reversals = kept(&k, CornerReason::Reversal);
+            // polyline without its jogs; nothing else.)
+            let reversals = kept(&k, CornerReason::Reversal) + kept(&k, CornerReason::UTurn);
             let allowed = if method == "auto" { u_turns(&pts, tol) } else { 0 };
             prop_assert!(
                 total == reversals && reversals <= allowed,

@@ -273,6 +273,15 @@ fn narrow_u_turns_are_kept_where_that_plans_faster() {
     );
     // Here they are kept: 2.461 s against 2.623 s when this was written.
     assert!(out.kept_corners.len() > none.kept_corners.len());
+    // Reported as what they are: each turns by a right angle, no
+    // near-reversal (`REVERSAL_TURN`).
+    assert!(
+        out.kept_corners
+            .iter()
+            .all(|k| k.reason == CornerReason::UTurn),
+        "{:?}",
+        out.kept_corners
+    );
     assert!(t < t0, "{t} vs {t0}");
     for bad in [-1.0, f64::NAN] {
         let auto = Auto {

@@ -100,14 +100,7 @@ impl Evidence {
             pieces_out: 0,
             curves_out: 0,
             transitions: 0,
-            kept_corners: [
-                CornerReason::Reversal,
-                CornerReason::NoRoom,
-                CornerReason::ArcJoint,
-            ]
-            .into_iter()
-            .map(|r| (r, 0))
-            .collect(),
+            kept_corners: CornerReason::ALL.into_iter().map(|r| (r, 0)).collect(),
             corners_in_kept_runs: 0,
             chosen: Vec::new(),
             unfaired: Vec::new(),

@@ -129,11 +129,7 @@ impl Report {
     /// Corners kept as corners, by reason.
     pub fn kept_corners(&self) -> Vec<(CornerReason, usize)> {
         let mut kept = Vec::new();
-        for reason in [
-            CornerReason::Reversal,
-            CornerReason::NoRoom,
-            CornerReason::ArcJoint,
-        ] {
+        for reason in CornerReason::ALL {
             let n = self
                 .result
                 .runs

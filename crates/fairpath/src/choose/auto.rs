@@ -172,7 +172,7 @@ use super::candidates::{
 };
 use super::objective::{fair_on, Objective, PlannedTime, KEEP_MARGIN};
 use super::ranking::Ranking;
-use super::reversals::{cut_sets_bounded, split_at};
+use super::reversals::{cut_sets_bounded, reversal_cuts, split_at};
 use super::sections::{
     meets_cut_lines, split_at_long_lines, Mix, SectionCache, MIXES, SECTION_MAX_PIECES,
 };
@@ -704,6 +704,9 @@ impl Auto {
             },
             objective: self.objective.clone(),
         };
+        // The cuts that are near-reversals; the others are U-turns'
+        // corners.
+        let reversals = reversal_cuts(run, self.options.reversal_turn, tolerance);
         let mut best: Option<(f64, SmoothedRun)> = None;
         for cuts in &sets {
             let mut out = SmoothedRun::default();
@@ -711,10 +714,15 @@ impl Auto {
                 let (_, best, _) = between.smooth_whole(part, tolerance, false)?;
                 if i > 0 {
                     let before = &run.pieces[cuts[i - 1] - 1];
+                    let reason = if reversals.contains(&cuts[i - 1]) {
+                        CornerReason::Reversal
+                    } else {
+                        CornerReason::UTurn
+                    };
                     out.kept_corners.push(KeptCorner {
                         at: before.curve.end(),
                         source_line: before.source_lines.1,
-                        reason: CornerReason::Reversal,
+                        reason,
                     });
                 }
                 out.append(&best);

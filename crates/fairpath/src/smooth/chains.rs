@@ -29,14 +29,29 @@ pub enum CornerReason {
     /// A joint next to an arc or curve of the input, which keeps the
     /// continuity it had (arcs stay arcs in this method).
     ArcJoint,
+    /// A corner of a narrow U-turn (a step-over between passes, two
+    /// sharp corners a few millimetres apart), kept by `auto` where the
+    /// run plans faster so (`choose::u_turn_cuts`): at the step-over's
+    /// scale the path turns back, and inside the band a G2 path through
+    /// each corner crawls.
+    UTurn,
 }
 
 impl CornerReason {
+    /// Every reason, in the order reports list them.
+    pub const ALL: [CornerReason; 4] = [
+        CornerReason::Reversal,
+        CornerReason::UTurn,
+        CornerReason::NoRoom,
+        CornerReason::ArcJoint,
+    ];
+
     pub fn as_str(self) -> &'static str {
         match self {
             CornerReason::Reversal => "reversal",
             CornerReason::NoRoom => "no room",
             CornerReason::ArcJoint => "next to an arc",
+            CornerReason::UTurn => "at a U-turn",
         }
     }
 }
