@@ -543,7 +543,7 @@ pub fn text(rows: &[Row]) -> String {
     if !fmts.is_empty() {
         let _ = writeln!(
             out,
-            "(time s: the exact curves; <format> s: the program smooth writes in that format, as simulate plans it)"
+            "(time s: the exact curves; <format> s: the program smooth writes in that format, as simulate plans it; auto chooses again for each format, as smooth does: its joints, length, peak curvature and time s are those of its choice of exact curves, and the program it writes in a format may be another choice)"
         );
     }
     out
