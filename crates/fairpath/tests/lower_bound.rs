@@ -965,3 +965,32 @@ fn a_spike_is_bounded_near_its_two_stops() {
     assert!(b >= 0.88 * t, "{b} against the plan {t}");
     assert!(b_without < 0.8 * t, "{b_without} against the plan {t}");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Polylines that go out and straight back along some of their moves
+    /// (exact reversals, each a tip of step 12), with moves from a
+    /// hundredth of the tolerance to 5 mm: the in-order bound stays
+    /// below the plan of the run itself, which stops at every tip.
+    #[test]
+    fn the_in_order_bound_with_tips_never_exceeds_the_plan(
+        steps in prop::collection::vec(
+            ((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), 0.0005f64..5.0, any::<bool>()),
+            1..10
+        )
+    ) {
+        let mut pts = vec![v(0.0, 0.0, 0.0)];
+        for ((x, y, z), len, back) in steps {
+            let Some(d) = v(x, y, z).normalized(1e-3) else { continue };
+            let last = *pts.last().expect("points");
+            pts.push(last + d * len);
+            if back {
+                pts.push(last);
+            }
+        }
+        prop_assume!(pts.len() >= 3);
+        let run = polyline_run(&pts);
+        let (t, b) = (planned(&run.pieces), bound_in_order(&run.pieces));
+        prop_assert!(b <= t, "in-order bound {} above the plan {}: {:?}", b, t, pts);
+    }
+}
