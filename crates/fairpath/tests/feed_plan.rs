@@ -847,3 +847,63 @@ fn a_spiral_plans_as_the_spirals_it_is_cut_into() {
         );
     }
 }
+
+/// Regression: a cubic B-spline with a control point repeated three times
+/// (the way some CAM systems put a sharp corner into one spline block, and
+/// the shape a JSON path or a G6.2 block can carry) has a corner at the
+/// knot where it passes that point, and straight stretches either side:
+/// its sampled curvature is zero everywhere the planner looked, so it ran
+/// through the corner at the feed (20 mm of path with a right angle in
+/// the middle planned as fast as 20 mm of straight line, 0.3175 s). The
+/// corner is now passed as a corner followed exactly: the plan takes as
+/// long as the same path as two lines with [`Corners::Followed`].
+#[test]
+fn regression_a_triple_control_point_is_a_corner_not_a_straight() {
+    use fairpath::geom::Nurbs;
+    let q = Vec3::new(10.0, 0.0, 0.0);
+    let ctrl = vec![
+        Vec3::new(9.8, 0.0, 0.0),
+        Vec3::new(9.9, 0.0, 0.0),
+        q,
+        q,
+        q,
+        Vec3::new(10.0, 0.1, 0.0),
+        Vec3::new(10.0, 0.2, 0.0),
+    ];
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0];
+    let curve = Curve::from(Nurbs::new(3, knots, ctrl, None).unwrap());
+    let piece = |c: Curve| Piece {
+        curve: c,
+        rapid: false,
+        source_lines: (1, 1),
+        feed: Some(24000.0),
+    };
+    let with_spline = vec![
+        piece(Curve::Line(Line::new(Vec3::ZERO, Vec3::new(9.8, 0.0, 0.0)))),
+        piece(curve),
+        piece(Curve::Line(Line::new(
+            Vec3::new(10.0, 0.2, 0.0),
+            Vec3::new(10.0, 10.0, 0.0),
+        ))),
+    ];
+    let as_lines = run_of(&[Vec3::ZERO, q, Vec3::new(10.0, 10.0, 0.0)], &[24000.0]);
+    let straight = run_of(&[Vec3::ZERO, Vec3::new(20.0, 0.0, 0.0)], &[24000.0]);
+    let m = MachineLimits::thesis();
+    let opts = PlanOptions {
+        limits: m,
+        override_feed: false,
+        window: None,
+        ends: Default::default(),
+    };
+    let time =
+        |p: &[Piece], corners| plan_time_shaped(p, &opts, &Shaping::none(), corners).unwrap();
+    let spline = time(&with_spline, Corners::Blended);
+    let lines = time(&as_lines.pieces, Corners::Followed);
+    let line = time(&straight.pieces, Corners::Blended);
+    assert!(
+        (spline - lines).abs() <= 1e-3 * lines,
+        "spline {spline} s, two lines through the corner {lines} s"
+    );
+    assert!(spline > 1.4 * line, "spline {spline} s, straight {line} s");
+    check_limits(&with_spline, &m);
+}

@@ -12,6 +12,11 @@
 //!   ([`super::junction`]), a corner followed exactly
 //!   ([`followed_corner_cap`]), or a block's rest-to-rest peak speed
 //!   ([`block_cap`]).
+//! * At a corner inside a spline ([`crate::geom::inner_corners`]: a
+//!   breakpoint where the tangent turns, as at a control point repeated
+//!   `degree` times): the cap of a corner followed exactly, whatever
+//!   [`Corners`] says of the joints between pieces (the sampled caps
+//!   either side of it see straight stretches and no turn).
 //!
 //! This is where the machine's limits meet the geometry. The rest of the
 //! planner (segments, look-ahead, profiles) sees only the stretches with
@@ -424,6 +429,9 @@ pub(super) fn stretches(
     // measured and sampled on its Bezier form (`CubicBezier`).
     let mut beziers: Vec<CubicBezier> = Vec::new();
     let mut span_of: Vec<usize> = Vec::new();
+    // A spline's corners inside it (`inner_corners`): where, and the cap
+    // of each, in order.
+    let mut inner: Vec<(f64, f64)> = Vec::new();
     type Known = Option<(PathPoint, f64)>;
     let mut todo: Vec<(f64, f64, u32, Known, Known, usize)> = Vec::new();
     for (vi, &(pi, len_total)) in valid.iter().enumerate() {
@@ -463,6 +471,9 @@ pub(super) fn stretches(
         caps.clear();
         beziers.clear();
         span_of.clear();
+        inner.clear();
+        // The next of `inner` not yet applied.
+        let mut next_inner = 0usize;
         match c {
             Curve::Line(_) => {
                 let (tin, tout) = (jin.tangent_length, jout.tangent_length);
@@ -537,6 +548,24 @@ pub(super) fn stretches(
                 if beziers.len() + 1 != breaks.len() {
                     beziers.clear();
                 }
+                // A corner inside the spline (a repeated control point, a
+                // full knot where the polygon bends) is passed as a path
+                // followed exactly passes a corner, whatever `corners`
+                // says of the joints between pieces: the program asked
+                // for the curve itself, corner included, and a controller
+                // blends the joints between its blocks, not the inside of
+                // one. Its curvature is not defined there, and the
+                // sampled caps either side see no turn.
+                let found = if points.is_empty() {
+                    crate::geom::inner_corners(n, &jcaps.jt)
+                } else {
+                    crate::geom::corners_between_spans(&breaks, points, &jcaps.jt)
+                };
+                inner.extend(
+                    found
+                        .iter()
+                        .map(|k| (k.t, followed_corner_cap(m, k.tangent_in, k.tangent_out))),
+                );
                 ts.push(breaks[0]);
                 span_of.push(usize::MAX);
                 for (i, w) in breaks.windows(2).enumerate() {
@@ -580,6 +609,10 @@ pub(super) fn stretches(
                     .unwrap_or((f64::INFINITY, 0.0, f64::INFINITY));
             if matches!(c, Curve::Line(_)) {
                 jcap = jcap.min(entry);
+            }
+            while let Some(&(_, cap)) = inner.get(next_inner).filter(|k| k.0 <= t0) {
+                jcap = jcap.min(cap);
+                next_inner += 1;
             }
             let len = match c {
                 Curve::Line(_) if blend_len > 0.0 => blend_len,

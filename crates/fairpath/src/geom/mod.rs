@@ -19,6 +19,7 @@ pub mod fit;
 mod fit_bound;
 mod fit_knots;
 mod g2_quintic;
+mod inner_corners;
 mod knot_insertion;
 pub mod least_squares;
 mod line;
@@ -41,6 +42,7 @@ pub use curve::{
 };
 pub use fairness::curvature_variation_energy;
 pub use g2_quintic::{bezier_nurbs, g2_quintic_points, EndState};
+pub use inner_corners::{corners_between_spans, inner_corners, InnerCorner};
 pub use line::Line;
 pub use nurbs::{Nurbs, NurbsError};
 pub use plane::Plane;
