@@ -436,3 +436,39 @@ fn run_ends_at_cap_and_the_thesis_metrics() {
     assert!((k - pi / (100.0 + 10.0 * pi)).abs() < 1e-6, "{k}");
     assert!((v["feed_length_mm"].as_f64().unwrap() - (100.0 + 10.0 * pi)).abs() < 1e-6);
 }
+
+/// Regression: a G6.2 block whose control point at X10 is repeated three
+/// times turns there by 90 degrees (a corner inside one spline block),
+/// between a 9.8 mm line and a 9.8 mm line. `simulate` planned it as 20
+/// mm of straight line (0.3175 s); the corner is passed as a corner
+/// followed exactly (0.5038 s).
+#[test]
+fn regression_g6_2_with_a_triple_control_point_turns_at_its_corner() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("tri.ngc");
+    std::fs::write(
+        &p,
+        "G21 G90 G17\nG0 X0 Y0 Z0\nG1 X9.8 F24000\n\
+         G6.2 X9.8 Y0 R1 K0 P4 Q1\n X9.9 Y0 R1 K0\n X10 Y0 R1 K0\n X10 Y0 R1 K0\n\
+         X10 Y0 R1 K1\n X10 Y0.1 R1 K2\n X10 Y0.2 R1 K3\n K4\n K4\n K4\n K4\n\
+         G1 X10 Y10\nM2\n",
+    )
+    .unwrap();
+    let time = |path: &Path| {
+        let o = bin()
+            .args(["simulate", path.to_str().unwrap(), "--format", "json"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["time_s"].as_f64().unwrap()
+    };
+    let spline = time(&p);
+    let straight = dir.path().join("straight.ngc");
+    std::fs::write(&straight, "G21 G90 G17\nG0 X0 Y0 Z0\nG1 X20 F24000\nM2\n").unwrap();
+    let line = time(&straight);
+    assert!(
+        spline > 1.5 * line,
+        "spline {spline} s, straight line {line} s"
+    );
+}
