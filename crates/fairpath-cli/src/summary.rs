@@ -274,8 +274,8 @@ impl Summary {
         );
         let cusps = match self.e.cusps {
             0 => String::new(),
-            1 => "; 1 cusp, a reversal the path stops at inside a curve".to_string(),
-            n => format!("; {n} cusps, reversals the path stops at inside curves"),
+            1 => "; 1 cusp, a point inside a curve where the path stops and turns".to_string(),
+            n => format!("; {n} cusps, points inside curves where the path stops and turns"),
         };
         if self.e.peak_curvature > 0.0 {
             let _ = writeln!(

@@ -471,4 +471,18 @@ fn regression_g6_2_with_a_triple_control_point_turns_at_its_corner() {
         spline > 1.5 * line,
         "spline {spline} s, straight line {line} s"
     );
+    // `smooth` reports the corner as a cusp, not as curvature.
+    let out = dir.path().join("out.ngc");
+    let o = bin()
+        .args(["smooth", p.to_str().unwrap(), "-t", "0.05mm", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary =
+        String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(
+        summary.contains("1 cusp, a point inside a curve where the path stops and turns"),
+        "{summary}"
+    );
 }

@@ -53,7 +53,8 @@ pub struct Evidence {
     pub length_before: f64,
     pub length_after: f64,
     pub peak_curvature: f64,
-    /// Cusps inside curves (reversals the path stops at).
+    /// Cusps inside curves (points where the path stops and turns: a
+    /// reversal, or a corner such as a spline's repeated control point).
     pub cusps: usize,
     /// Planned times of the input, the exact curves and the written text.
     pub times: JobTimes,

@@ -75,10 +75,12 @@ pub struct RunReport {
     /// lower bound of the true peak.
     pub peak_curvature: f64,
     /// Cusps found inside curves: points where a curve stops and turns
-    /// back (its derivative vanishes, or it turns on a radius below a
-    /// millionth of the tolerance), as a fit through a reversal of the
-    /// program must. The path stops there, as at a kept corner; curvature
-    /// is not defined there (rounding makes it anything up to 1e28).
+    /// (its derivative vanishes, or it turns on a radius below a
+    /// millionth of the tolerance): back, as a fit through a reversal of
+    /// the program must, or aside, as a spline with a control point
+    /// repeated `degree` times does. The path stops there, as at a kept
+    /// corner; curvature is not defined there (rounding makes it anything
+    /// up to 1e28).
     pub cusps: usize,
 }
 
