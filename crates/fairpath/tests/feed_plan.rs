@@ -907,3 +907,69 @@ fn regression_a_triple_control_point_is_a_corner_not_a_straight() {
     assert!(spline > 1.4 * line, "spline {spline} s, straight {line} s");
     check_limits(&with_spline, &m);
 }
+
+/// Regression: a cubic span whose derivative vanishes inside it (control
+/// points (0,0), (1,1), (0,1), (1,0): it stops at its middle and turns
+/// back, as a least-squares fit through a reversal of a program does)
+/// between two lines. The samples either side of the cusp saw a curvature
+/// that let the plan through it at 1.1 mm/s, where turning back within a
+/// period needs the speed of a reversal followed exactly (about 0.05
+/// mm/s on this machine): the motion streamed at the servo period broke
+/// the jerk limit there, and streaming LinuxCNC's `130207L.ngc` as the
+/// exact curves `auto` fits to it (a V-carving, fits through the tips of
+/// its strokes) took 249 s where the plan said 128 s. The cusp is now a
+/// cut of the plan with the cap of a corner followed exactly.
+#[test]
+fn regression_a_cusp_inside_a_span_is_passed_as_a_reversal() {
+    use fairpath::geom::Nurbs;
+    let v = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+    let cusp = Nurbs::new(
+        3,
+        knots,
+        vec![v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0), v(1.0, 0.0)],
+        None,
+    )
+    .unwrap();
+    let piece = |c: Curve| Piece {
+        curve: c,
+        rapid: false,
+        source_lines: (1, 1),
+        feed: Some(24000.0),
+    };
+    let pieces = vec![
+        piece(Curve::Line(Line::new(v(-5.0, -5.0), v(0.0, 0.0)))),
+        piece(Curve::from(cusp)),
+        piece(Curve::Line(Line::new(v(1.0, 0.0), v(6.0, -5.0)))),
+    ];
+    let m = MachineLimits::thesis();
+    let plan = plan_run(
+        &pieces,
+        &PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+            ends: Default::default(),
+        },
+    )
+    .unwrap();
+    // `Corners::Followed`: `min(A Ts, 5 J Ts^2) / (2 sin(phi / 2))`, phi = pi.
+    let reversal = (m.acc * m.period).min(5.0 * m.jerk * m.period * m.period) / 2.0;
+    let at_cusp: Vec<_> = plan
+        .segments
+        .iter()
+        .flat_map(|s| s.parts.iter())
+        .filter(|p| p.piece == 1 && (p.t0 - 0.5).abs() < 1e-6)
+        .collect();
+    // The turn is taken between the tangents a 32nd of the span either
+    // side of the cusp: 179.4 degrees here.
+    let slowest = at_cusp
+        .iter()
+        .map(|p| p.entry_cap)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        slowest <= reversal * 1.01,
+        "{slowest} mm/s at the cusp, a reversal {reversal}"
+    );
+    check_limits(&pieces, &m);
+}

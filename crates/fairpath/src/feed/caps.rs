@@ -14,9 +14,11 @@
 //!   ([`block_cap`]).
 //! * At a corner inside a spline ([`crate::geom::inner_corners`]: a
 //!   breakpoint where the tangent turns, as at a control point repeated
-//!   `degree` times): the cap of a corner followed exactly, whatever
-//!   [`Corners`] says of the joints between pieces (the sampled caps
-//!   either side of it see straight stretches and no turn).
+//!   `degree` times), and at a sharp turn inside a polynomial cubic span
+//!   ([`crate::geom::sharp_turns_in_span`]: a cusp, where a fit through a
+//!   reversal stops and turns back): the cap of a corner followed
+//!   exactly, whatever [`Corners`] says of the joints between pieces (the
+//!   sampled caps either side of it see little or nothing of the turn).
 //!
 //! This is where the machine's limits meet the geometry. The rest of the
 //! planner (segments, look-ahead, profiles) sees only the stretches with
@@ -569,18 +571,40 @@ pub(super) fn stretches(
                 ts.push(breaks[0]);
                 span_of.push(usize::MAX);
                 for (i, w) in breaks.windows(2).enumerate() {
+                    let first = ts.len();
                     if points.get(i).is_some_and(|b| flat_span(b, m.chord_error)) {
                         ts.push(w[1]);
                         span_of.push(i);
-                        continue;
+                    } else {
+                        let span = match beziers.get(i) {
+                            Some(b) => flatten_params_between(b, w[0], w[1], m.chord_error),
+                            None => flatten_params_between(c, w[0], w[1], m.chord_error),
+                        };
+                        ts.extend_from_slice(&span[1..]);
+                        span_of.extend(core::iter::repeat_n(i, span.len() - 1));
                     }
-                    let span = match beziers.get(i) {
-                        Some(b) => flatten_params_between(b, w[0], w[1], m.chord_error),
-                        None => flatten_params_between(c, w[0], w[1], m.chord_error),
-                    };
-                    ts.extend_from_slice(&span[1..]);
-                    span_of.extend(core::iter::repeat_n(i, span.len() - 1));
+                    // A sharp turn inside a span (a cusp where a fit runs
+                    // through a reversal: the curve stops and turns back)
+                    // is passed as a corner followed exactly, at a cut of
+                    // its own: its curvature is not defined where the
+                    // curve stops, and the samples either side of it may
+                    // see little of the turn. Turns on radii below the
+                    // chord error are what the flattening does not resolve.
+                    let Some(q) = points.get(i) else { continue };
+                    for (u, tin, tout) in crate::geom::sharp_turns_in_span(q, m.chord_error) {
+                        let t = w[0] + u * (w[1] - w[0]);
+                        if !(t > w[0] && t < w[1]) {
+                            continue;
+                        }
+                        let at = first + ts[first..].partition_point(|&x| x < t);
+                        if ts.get(at) != Some(&t) {
+                            ts.insert(at, t);
+                            span_of.insert(at, i);
+                        }
+                        inner.push((t, followed_corner_cap(m, tin, tout)));
+                    }
                 }
+                inner.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
             _ => ts.extend(flatten_params(c, m.chord_error)),
         }

@@ -15,8 +15,15 @@
 //! qp`, `C(t) - qp` is led by the first non-zero `qp - q(p-k)`, `k = 1 ..
 //! p` (times a positive power of `1 - t`; for a rational span, times a
 //! positive weight too), so the tangent there points along it; likewise
-//! `q(k) - q0` at the start. A corner strictly inside a span (a cusp of a
-//! single cubic) is not found here.
+//! `q(k) - q0` at the start.
+//!
+//! Inside a span, a polynomial cubic turns sharply only where its
+//! derivative, the quadratic hodograph `H(u) = 3 ((1-u)^2 D0 + 2u(1-u) D1 +
+//! u^2 D2)` (`Di = q(i+1) - q(i)`), nearly vanishes: a cusp where it
+//! stops and turns back, as a least-squares fit through a reversal of the
+//! program has one. [`sharp_turns_in_span`] finds the points where the
+//! span turns on a radius below a given one; a span whose hodograph stays
+//! away from zero along the chord is passed over on a sure bound.
 
 use super::{JointTolerances, Nurbs, Vec3};
 use alloc::vec::Vec;
@@ -99,6 +106,101 @@ pub fn corners_between_spans<S: AsRef<[Vec3]>>(
     out
 }
 
+/// Number of samples of `|H|^2` per span in [`sharp_turns_in_span`]; each
+/// local minimum among them is refined in the two sample intervals around
+/// it (`|H|^2` is a quartic: at most two local minima).
+const TURN_SAMPLES: usize = 32;
+
+/// Golden-section steps of that refinement: the bracket shrinks to
+/// `0.618^40`, about `4e-9`, of two sample intervals.
+const TURN_REFINE_STEPS: usize = 40;
+
+/// The points strictly inside the cubic Bezier span `q` (local parameter
+/// `u` in `(0, 1)`) where its speed `|H|` has a local minimum and it turns
+/// there on a radius below `radius` mm (or stops: `H(u) = 0`), each with the unit tangents a sample interval
+/// (`1 / TURN_SAMPLES` of the span) before and after it, which the turn
+/// lies between. Bounds: a span whose control-point differences `Di` all
+/// lead along its chord by at least `m` has `|H| >= 3 m` everywhere and
+/// `|H'| <= 6 M` (`M` the larger of `|D1 - D0|`, `|D2 - D1|`), so its
+/// curvature `|H x H'| / |H|^3 <= 2 M / (3 m^2)`; where that is at most
+/// `1 / radius` nothing is sampled. Otherwise the minima of `|H|^2` are
+/// found by `TURN_SAMPLES` (32) samples and golden-section refinement, and a
+/// minimum whose curvature exceeds `1 / radius` is reported (two minima
+/// closer than a sample interval may show as one). A curvature peak where
+/// the speed has no minimum is a bend the planner's sampling sees; the
+/// turn at a minimum of the speed is concentrated where the speed is
+/// least, and can fall between samples.
+pub fn sharp_turns_in_span(q: &[Vec3; 4], radius: f64) -> Vec<(f64, Vec3, Vec3)> {
+    let d = [q[1] - q[0], q[2] - q[1], q[3] - q[2]];
+    let chord = q[3] - q[0];
+    let big_m = (d[1] - d[0]).norm().max((d[2] - d[1]).norm());
+    if let Some(c) = chord.normalized(0.0) {
+        let m = d.iter().map(|x| x.dot(c)).fold(f64::INFINITY, f64::min);
+        if m > 0.0 && 2.0 * big_m * radius <= 3.0 * m * m {
+            return Vec::new();
+        }
+    }
+    let h = |u: f64| {
+        (d[0] * ((1.0 - u) * (1.0 - u)) + d[1] * (2.0 * u * (1.0 - u)) + d[2] * (u * u)) * 3.0
+    };
+    let dh = |u: f64| ((d[1] - d[0]) * (1.0 - u) + (d[2] - d[1]) * u) * 6.0;
+    let f = |u: f64| h(u).norm_sq();
+    let step = 1.0 / TURN_SAMPLES as f64;
+    let fs: Vec<f64> = (0..=TURN_SAMPLES).map(|k| f(k as f64 * step)).collect();
+    let mut out = Vec::new();
+    for k in 0..=TURN_SAMPLES {
+        let left = k == 0 || fs[k] <= fs[k - 1];
+        let right = k == TURN_SAMPLES || fs[k] < fs[k + 1];
+        if !(left && right) {
+            continue;
+        }
+        // Golden-section search for the minimum in [u(k-1), u(k+1)]
+        // (within the span).
+        let a0 = k.saturating_sub(1) as f64 * step;
+        let b0 = ((k + 1) as f64 * step).min(1.0);
+        let (mut a, mut b) = (a0, b0);
+        let g = 0.5 * (crate::math::sqrt(5.0) - 1.0);
+        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+        let (mut f1, mut f2) = (f(x1), f(x2));
+        for _ in 0..TURN_REFINE_STEPS {
+            if f1 <= f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = f(x1);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = f(x2);
+            }
+        }
+        let u = 0.5 * (a + b);
+        // A minimum at an end of the span is the breakpoint's
+        // ([`corners_between_spans`]).
+        if u - a0 <= (b0 - a0) * 1e-6 && k == 0 || b0 - u <= (b0 - a0) * 1e-6 && k == TURN_SAMPLES {
+            continue;
+        }
+        let (d1, d2) = (h(u), dh(u));
+        let sharp = d1.norm_sq() == 0.0 || super::curvature_from(d1, d2) * radius > 1.0;
+        if !sharp {
+            continue;
+        }
+        let before = h((u - step).max(0.0))
+            .normalized(0.0)
+            .or_else(|| start_tangent(q, 0.0));
+        let after = h((u + step).min(1.0))
+            .normalized(0.0)
+            .or_else(|| end_tangent(q, 0.0));
+        if let (Some(tin), Some(tout)) = (before, after) {
+            out.push((u, tin, tout));
+        }
+    }
+    out
+}
+
 /// The corners inside `n` ([`corners_between_spans`] of its Bezier spans).
 pub fn inner_corners(n: &Nurbs, jt: &JointTolerances) -> Vec<InnerCorner> {
     if let Some((breaks, spans)) = n.cubic_bezier_points() {
@@ -171,6 +273,83 @@ mod tests {
         ];
         let n = Nurbs::new(2, knots, straight, None).expect("valid");
         assert!(inner_corners(&n, &jt()).is_empty());
+    }
+
+    /// A span whose hodograph passes through zero (control points (0,0),
+    /// (1,1), (0,1), (1,0)) stops at `u = 1/2` and turns back; a nearly
+    /// straight span and a circle-like bend have no sharp turn.
+    #[test]
+    fn a_cusp_inside_a_span_is_a_sharp_turn_and_a_bend_is_not() {
+        let v = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+        let cusp = [v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0), v(1.0, 0.0)];
+        let t = sharp_turns_in_span(&cusp, 1e-3);
+        assert_eq!(t.len(), 1, "{t:?}");
+        assert!((t[0].0 - 0.5).abs() < 1e-6, "{t:?}");
+        assert!(t[0].1.dot(t[0].2) < -0.9, "turns back: {t:?}");
+        let straight = [v(0.0, 0.0), v(1.0, 0.01), v(2.0, -0.01), v(3.0, 0.0)];
+        assert!(sharp_turns_in_span(&straight, 1e-3).is_empty());
+        // A quarter turn of radius about 1: sharp only for a radius above 1.
+        let bend = [v(1.0, 0.0), v(1.0, 0.552), v(0.552, 1.0), v(0.0, 1.0)];
+        assert!(sharp_turns_in_span(&bend, 0.5).is_empty());
+        assert_eq!(sharp_turns_in_span(&bend, 2.0).len(), 1);
+    }
+
+    /// Seeded random cubic spans: wherever the speed `|H|` of a span has
+    /// a local minimum inside it (found by dense sampling) where the span
+    /// turns on a radius below half of `radius`, a sharp turn is reported
+    /// there; none is reported where the curvature stays below
+    /// `1 / radius` everywhere.
+    #[test]
+    fn seeded_random_spans_report_their_sharp_turns() {
+        let mut rng = crate::seeded::Rng(22);
+        let (mut found, mut smooth) = (0, 0);
+        for case in 0..1200 {
+            let q: [Vec3; 4] = core::array::from_fn(|_| {
+                Vec3::new(
+                    2.0 * rng.next(),
+                    2.0 * rng.next(),
+                    (case % 2) as f64 * rng.next(),
+                )
+            });
+            let radius = [1e-3, 1e-2, 0.1][case % 3];
+            let span = Nurbs::new(
+                3,
+                vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+                q.to_vec(),
+                None,
+            )
+            .expect("a span");
+            let n = 20_000;
+            let at = |k: usize| span.derivs12(k as f64 / n as f64);
+            let speed = |k: usize| at(k).0.norm();
+            let mut peak = 0.0f64;
+            let mut sharp_min: Option<f64> = None;
+            for k in 1..n {
+                let (d1, d2) = at(k);
+                let kappa = crate::geom::curvature_from(d1, d2);
+                peak = peak.max(kappa);
+                if speed(k) <= speed(k - 1) && speed(k) < speed(k + 1) && kappa * radius > 2.0 {
+                    sharp_min = Some(k as f64 / n as f64);
+                }
+            }
+            let turns = sharp_turns_in_span(&q, radius);
+            if let Some(u) = sharp_min {
+                found += 1;
+                assert!(
+                    turns
+                        .iter()
+                        .any(|t| (t.0 - u).abs() < 2.0 / TURN_SAMPLES as f64),
+                    "case {case}: sharp at {u}, found {turns:?}"
+                );
+            } else if peak * radius < 1.0 {
+                smooth += 1;
+                assert!(turns.is_empty(), "case {case}: {turns:?}, peak {peak}");
+            }
+        }
+        assert!(
+            found > 100 && smooth > 400,
+            "{found} sharp, {smooth} smooth"
+        );
     }
 
     /// Seeded random smooth cubics (simple knots, control points apart)

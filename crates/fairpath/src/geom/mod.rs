@@ -42,7 +42,7 @@ pub use curve::{
 };
 pub use fairness::curvature_variation_energy;
 pub use g2_quintic::{bezier_nurbs, g2_quintic_points, EndState};
-pub use inner_corners::{corners_between_spans, inner_corners, InnerCorner};
+pub use inner_corners::{corners_between_spans, inner_corners, sharp_turns_in_span, InnerCorner};
 pub use line::Line;
 pub use nurbs::{Nurbs, NurbsError};
 pub use plane::Plane;
