@@ -111,9 +111,9 @@ pub fn corners_between_spans<S: AsRef<[Vec3]>>(
 /// it (`|H|^2` is a quartic: at most two local minima).
 const TURN_SAMPLES: usize = 32;
 
-/// Golden-section steps of that refinement: the bracket shrinks to
-/// `0.618^40`, about `4e-9`, of two sample intervals.
-const TURN_REFINE_STEPS: usize = 40;
+/// Width, as a share of the two sample intervals it starts from, to which
+/// that refinement narrows the bracket of a minimum.
+const TURN_ACCURACY: f64 = 1e-9;
 
 /// The points strictly inside the cubic Bezier span `q` (local parameter
 /// `u` in `(0, 1)`) where its speed `|H|` has a local minimum and it turns
@@ -155,29 +155,10 @@ pub fn sharp_turns_in_span(q: &[Vec3; 4], radius: f64) -> Vec<(f64, Vec3, Vec3)>
             continue;
         }
         // Golden-section search for the minimum in [u(k-1), u(k+1)]
-        // (within the span).
+        // (within the span): `golden_max` of `-|H|^2`.
         let a0 = k.saturating_sub(1) as f64 * step;
         let b0 = ((k + 1) as f64 * step).min(1.0);
-        let (mut a, mut b) = (a0, b0);
-        let g = 0.5 * (crate::math::sqrt(5.0) - 1.0);
-        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
-        let (mut f1, mut f2) = (f(x1), f(x2));
-        for _ in 0..TURN_REFINE_STEPS {
-            if f1 <= f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = f(x1);
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = f(x2);
-            }
-        }
-        let u = 0.5 * (a + b);
+        let (_, u) = super::sampled_peak::golden_max(|u| -f(u), a0, b0, (b0 - a0) * TURN_ACCURACY);
         // A minimum at an end of the span is the breakpoint's
         // ([`corners_between_spans`]).
         if u - a0 <= (b0 - a0) * 1e-6 && k == 0 || b0 - u <= (b0 - a0) * 1e-6 && k == TURN_SAMPLES {
