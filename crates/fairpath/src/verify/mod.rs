@@ -75,8 +75,8 @@ pub struct RunReport {
     /// lower bound of the true peak.
     pub peak_curvature: f64,
     /// Cusps found inside curves: points where a curve stops and turns
-    /// (its derivative vanishes, or it turns on a radius below a
-    /// millionth of the tolerance): back, as a fit through a reversal of
+    /// (its derivative vanishes, or it turns on a radius below 1e-4 of
+    /// the tolerance): back, as a fit through a reversal of
     /// the program must, or aside, as a spline with a control point
     /// repeated `degree` times does. The path stops there, as at a kept
     /// corner; curvature is not defined there (rounding makes it anything
@@ -351,8 +351,11 @@ impl SecondDerivative {
 /// Share of the tolerance below which a curve's motion over its whole
 /// domain, at the parametric speed of a point, counts as stopped there,
 /// and below which a radius of curvature counts as a turn on the spot (a
-/// cusp: [`RunReport::cusps`]).
-const CUSP_SHARE: f64 = 1e-6;
+/// cusp: [`RunReport::cusps`]): 5 nm at 0.05 mm, where any feed turns
+/// within one servo period (a corner followed exactly on the default
+/// machine is passed at 0.05 mm/s and more, 50 nm a period), as the
+/// planner takes it.
+const CUSP_SHARE: f64 = 1e-4;
 
 /// How far (a share of a spline's parameter domain) a narrow peak between
 /// its samples is refined for [`RunReport::peak_curvature`]: a
@@ -483,11 +486,11 @@ pub fn report_measuring(
     for p in smoothed {
         if !matches!(p.curve, Curve::Line(_)) {
             let (t0, t1) = p.curve.domain();
-            // Below this parametric speed the curve moves less than a
-            // millionth of the tolerance over its whole domain: stopped.
+            // Below this parametric speed the curve moves less than
+            // `CUSP_SHARE` of the tolerance over its whole domain: stopped.
             let stopped = CUSP_SHARE * opts.tolerance / (t1 - t0);
-            // Above this curvature the curve turns within a millionth of
-            // the tolerance: it stops and turns back there, a cusp as
+            // Above this curvature the curve turns within `CUSP_SHARE` of
+            // the tolerance: it stops and turns there, a cusp as
             // much as where its speed vanishes (a fit through a reversal
             // whose control points are not exactly in line).
             let turned = 1.0 / (CUSP_SHARE * opts.tolerance);
