@@ -848,6 +848,16 @@ fn a_spiral_plans_as_the_spirals_it_is_cut_into() {
     }
 }
 
+/// A feed move along `c` at the default machine's maximum feed.
+fn piece(c: Curve) -> Piece {
+    Piece {
+        curve: c,
+        rapid: false,
+        source_lines: (1, 1),
+        feed: Some(24000.0),
+    }
+}
+
 /// Regression: a cubic B-spline with a control point repeated three times
 /// (the way some CAM systems put a sharp corner into one spline block, and
 /// the shape a JSON path or a G6.2 block can carry) has a corner at the
@@ -872,12 +882,6 @@ fn regression_a_triple_control_point_is_a_corner_not_a_straight() {
     ];
     let knots = vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0];
     let curve = Curve::from(Nurbs::new(3, knots, ctrl, None).unwrap());
-    let piece = |c: Curve| Piece {
-        curve: c,
-        rapid: false,
-        source_lines: (1, 1),
-        feed: Some(24000.0),
-    };
     let with_spline = vec![
         piece(Curve::Line(Line::new(Vec3::ZERO, Vec3::new(9.8, 0.0, 0.0)))),
         piece(curve),
@@ -931,12 +935,6 @@ fn regression_a_cusp_inside_a_span_is_passed_as_a_reversal() {
         None,
     )
     .unwrap();
-    let piece = |c: Curve| Piece {
-        curve: c,
-        rapid: false,
-        source_lines: (1, 1),
-        feed: Some(24000.0),
-    };
     let pieces = vec![
         piece(Curve::Line(Line::new(v(-5.0, -5.0), v(0.0, 0.0)))),
         piece(Curve::from(cusp)),
