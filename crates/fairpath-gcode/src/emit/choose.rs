@@ -6,7 +6,7 @@
 
 use super::emitter::{Choice, Emitter};
 use super::{
-    Result, KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES, RENDER_PART_PIECES,
+    Result, FINER_KEEP_MARGIN, LONG_RUN_PIECES, PARALLEL_FEEDS_PIECES, RENDER_PART_PIECES,
     STREAMED_PART_RENDERED,
 };
 use fairpath::path::Run;
@@ -213,8 +213,8 @@ pub(super) fn choose_run(
     // speed they were shaped for at the cost of more blocks, and kept where
     // that plans faster at every feed (not at the first alone, as the forms
     // are: the finer pieces must not slow the programmed feeds), by
-    // [`KEEP_MARGIN`]: their written coordinates round by a larger share
-    // of their length. Not on a long run (it would be rendered and
+    // [`FINER_KEEP_MARGIN`]: their written text reads back further from
+    // their rendering. Not on a long run (it would be rendered and
     // planned twice more) nor on arcs that hold no arc.
     if let Some((t_best, c)) = &best {
         let form = match c.form {
@@ -232,7 +232,7 @@ pub(super) fn choose_run(
             for &f in feeds.iter() {
                 let t = rendered_time(&finer, f)?;
                 let fi = ts.len();
-                if t * (1.0 + margin) > own[fi] || t * (1.0 + KEEP_MARGIN) >= t_best[fi] {
+                if t * (1.0 + margin) > own[fi] || t * (1.0 + FINER_KEEP_MARGIN) >= t_best[fi] {
                     break;
                 }
                 ts.push(t);

@@ -136,7 +136,7 @@ pub const RETRIES: usize = 3;
 /// faster than the run as the program wrote it (the library's rule, which
 /// `auto` also reads). A run of splines needs only to plan no slower (the
 /// written text is then checked to be no slower): see `choose`.
-pub use fairpath::choose::KEEP_MARGIN;
+pub use fairpath::choose::{FINER_KEEP_MARGIN, KEEP_MARGIN};
 
 /// The written program (its text went to the [`TextOut`] it was written
 /// to).

@@ -34,7 +34,7 @@ pub use candidates::{
 pub use judged_fair::JudgedFair;
 pub use objective::{
     fair_on, peak_pass_for, rewrite_margin, Objective, PlannedTime, RenderObserver, WrittenTime,
-    COST_PART_PIECES, KEEP_MARGIN, RENDER_GAIN,
+    COST_PART_PIECES, FINER_KEEP_MARGIN, KEEP_MARGIN, RENDER_GAIN,
 };
 pub use registry::{by_name, method, Method, METHODS};
 pub use reversals::{

@@ -132,6 +132,20 @@ pub trait Objective: core::fmt::Debug + Send + Sync {
 /// blocks, for nothing).
 pub const KEEP_MARGIN: f64 = 1e-3;
 
+/// Share of its time by which a writer's rendering at its finer curvature
+/// step ([`super::WriterTries::finer_share`]) must plan faster than the one
+/// it would replace, at every feed the writer judges at, to be written
+/// instead. The renderings are judged as rendered, and the finer one's
+/// plan drifts further from its written text's (its more, shorter pieces
+/// read back with rounded coordinates): on a chirp smoothed by
+/// `bspline-corner` (`fairpath_gcode`'s test
+/// `the_finer_step_is_never_slower`, amplitude 8, growth 1, F3000) the
+/// finer arcs were judged 0.10% faster (0.16% at the programmed feed)
+/// and read back 0.21% slower; [`KEEP_MARGIN`] let that through. 0.5%
+/// also turned away finer renderings that read back faster (measurements:
+/// docs/tuning.md, `FINER_KEEP_MARGIN`).
+pub const FINER_KEEP_MARGIN: f64 = 2e-3;
+
 /// The machining time (s) planned by the jerk-limited look-ahead planner
 /// ([`plan_run`]) on one machine: `auto`'s objective in the CLI, with the
 /// user's `--machine`.

@@ -6,7 +6,7 @@
 //! step. The writer then tries more (`fairpath_gcode`'s
 //! `emit::choose_run`): the all-G1 alternative where the arcs fell back to
 //! lines on some curve, and the winning form again at a finer curvature
-//! step, kept where it plans [`KEEP_MARGIN`] faster at every feed it
+//! step, kept where it plans [`FINER_KEEP_MARGIN`] faster at every feed it
 //! judges at. What they gain differs between smoothings of one run: on
 //! `3D_Chips.ngc` at 0.02 mm the mix of sections `auto` ranked 0.6% ahead
 //! of its best whole-run fit gained 1.4% at the finer step and the fit
@@ -18,7 +18,7 @@
 //! most [`FINAL_COST_CONTENDERS`] of them, by [`Objective::final_cost`]
 //! (measurements: docs/tuning.md, `FINAL_COST_MARGIN`).
 
-use super::objective::{Objective, WrittenTime, KEEP_MARGIN};
+use super::objective::{Objective, WrittenTime, FINER_KEEP_MARGIN};
 use crate::path::Piece;
 use crate::render::{render_run, CurveForm, RenderOptions, Rendered};
 use crate::smooth::SmoothedRun;
@@ -71,7 +71,7 @@ impl WrittenTime {
     /// [`WrittenTime::renders`], then the all-G1 alternative where the
     /// best so far fell back to lines on some curve, each kept where it
     /// is faster at the writer's first feed (the machine's maximum); then
-    /// the winner at the finer step where that plans [`KEEP_MARGIN`]
+    /// the winner at the finer step where that plans [`FINER_KEEP_MARGIN`]
     /// faster at every feed the writer judges at ([`WrittenTime::plan`]
     /// and, where it differs, [`WrittenTime::shape`]): arcs that hold an
     /// arc, or G1 that was not streamed. `cost` where the writer's tries
@@ -161,7 +161,7 @@ impl WrittenTime {
         let Ok(fine) = render_run(pieces, &speed, &fro) else {
             return b.plan;
         };
-        let gains = |f: f64, d: f64| f * (1.0 + KEEP_MARGIN) < d;
+        let gains = |f: f64, d: f64| f * (1.0 + FINER_KEEP_MARGIN) < d;
         match times(&fine, &fro) {
             Some((first, plan)) if gains(first, b.first) && gains(plan, b.plan) => plan,
             _ => b.plan,
@@ -295,7 +295,7 @@ mod tests {
 
     /// Without a finer step, or on a run the writer takes as long, the
     /// final cost is the cost; with one, it is the cost or a time at
-    /// least [`KEEP_MARGIN`] below it: the finer rendering of the form
+    /// least [`FINER_KEEP_MARGIN`] below it: the finer rendering of the form
     /// that won, planned as the writer plans it, where it gains at every
     /// feed.
     #[test]
@@ -333,9 +333,9 @@ mod tests {
                 let t = |p: &[Piece], on: &crate::feed::plan::PlanOptions| {
                     w.rendered_time_on(p, CurveForm::Arcs, on).unwrap()
                 };
-                let gains = t(&fine.pieces, &w.plan) * (1.0 + KEEP_MARGIN)
+                let gains = t(&fine.pieces, &w.plan) * (1.0 + FINER_KEEP_MARGIN)
                     < t(&plain_r.pieces, &w.plan)
-                    && t(&fine.pieces, &w.shape) * (1.0 + KEEP_MARGIN)
+                    && t(&fine.pieces, &w.shape) * (1.0 + FINER_KEEP_MARGIN)
                         < t(&plain_r.pieces, &w.shape);
                 assert_eq!(t(&plain_r.pieces, &w.plan), cost, "arcs won");
                 if gains {
