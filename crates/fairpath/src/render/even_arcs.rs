@@ -611,9 +611,34 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn a_rising_curvature_gets_even_steps_and_the_curves_ends() {
-        let c = ramp();
+    /// A right-angle corner between 11 mm straights, rounded by a cubic
+    /// B-spline whose legs at the corner are 1 mm: a long curve whose
+    /// curvature rises and falls sharply where the machine is slow.
+    fn corner() -> Curve {
+        let p = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+        Curve::from(
+            Nurbs::new(
+                3,
+                alloc::vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0],
+                alloc::vec![
+                    p(0.0, 0.0),
+                    p(6.0, 0.0),
+                    p(11.0, 0.0),
+                    p(12.0, 0.0),
+                    p(12.0, 1.0),
+                    p(12.0, 6.0),
+                    p(12.0, 12.0)
+                ],
+                None,
+            )
+            .unwrap(),
+        )
+    }
+
+    /// `c` as a run of one piece, its plan at the thesis' machine (every
+    /// feed at the maximum, at rest at both ends) and the planned speed
+    /// along it.
+    fn planned(c: &Curve) -> (Piece, PlanOptions, crate::feed::plan::RunPlan, PlannedSpeed) {
         let piece = Piece {
             curve: c.clone(),
             rapid: false,
@@ -628,16 +653,28 @@ mod tests {
         };
         let plan = plan_run(core::slice::from_ref(&piece), &po).unwrap();
         let speed = PlannedSpeed::new(1, &plan, 1e-3);
+        (piece, po, plan, speed)
+    }
+
+    /// [`even_arcs`] of `c` at [`opts`], and the speed over each arc.
+    fn even(c: &Curve, speed: &PlannedSpeed) -> Option<(Vec<Curve>, Vec<f64>)> {
         let o = opts();
-        let (arcs, _) = even_arcs(
-            &c,
+        even_arcs(
+            c,
             0,
-            &speed,
+            speed,
             &o,
             super::super::arcs::STRAIGHT_CURVATURE_CHORD / o.chord,
             o.chord * 1e-3,
         )
-        .unwrap();
+    }
+
+    #[test]
+    fn a_rising_curvature_gets_even_steps_and_the_curves_ends() {
+        let c = ramp();
+        let (_, _, _, speed) = planned(&c);
+        let o = opts();
+        let (arcs, _) = even(&c, &speed).unwrap();
         assert!(arcs.len() >= MIN_ARCS);
         assert_eq!(arcs[0].start(), c.start());
         assert_eq!(arcs[arcs.len() - 1].end(), c.end());
@@ -678,23 +715,6 @@ mod tests {
     #[test]
     fn samples_are_added_only_where_slow_and_bending_faster() {
         let p = |x: f64, y: f64| Vec3::new(x, y, 0.0);
-        let corner = Curve::from(
-            Nurbs::new(
-                3,
-                alloc::vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0],
-                alloc::vec![
-                    p(0.0, 0.0),
-                    p(6.0, 0.0),
-                    p(11.0, 0.0),
-                    p(12.0, 0.0),
-                    p(12.0, 1.0),
-                    p(12.0, 6.0),
-                    p(12.0, 12.0)
-                ],
-                None,
-            )
-            .unwrap(),
-        );
         let line = Curve::Line(crate::geom::Line::new(p(0.0, 0.0), p(20.0, 0.0)));
         let circle = Curve::from(
             crate::geom::Arc::from_center(
@@ -708,26 +728,13 @@ mod tests {
             )
             .unwrap(),
         );
-        let po = PlanOptions {
-            limits: MachineLimits::thesis(),
-            override_feed: true,
-            window: None,
-            ends: Default::default(),
-        };
         let o = opts();
         for (name, c, want_more) in [
-            ("corner", &corner, true),
+            ("corner", &corner(), true),
             ("line", &line, false),
             ("circle", &circle, false),
         ] {
-            let piece = Piece {
-                curve: c.clone(),
-                rapid: false,
-                source_lines: (1, 1),
-                feed: None,
-            };
-            let plan = plan_run(core::slice::from_ref(&piece), &po).unwrap();
-            let speed = PlannedSpeed::new(1, &plan, 1e-3);
+            let (_, _, _, speed) = planned(c);
             let (t0, t1) = c.domain();
             let ts: Vec<f64> = (0..=64).map(|i| t0 + (t1 - t0) * i as f64 / 64.0).collect();
             let dense = densify_where_slow(c, ts.clone(), 0, &speed, &o);
@@ -762,48 +769,10 @@ mod tests {
         // at the arcs' ends, 0.98 with samples a block apart where it is
         // slow; the biarcs, which were written, planned 1.4% slower than
         // the curve.
-        let p = |x: f64, y: f64| Vec3::new(x, y, 0.0);
-        let c = Curve::from(
-            Nurbs::new(
-                3,
-                alloc::vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0],
-                alloc::vec![
-                    p(0.0, 0.0),
-                    p(6.0, 0.0),
-                    p(11.0, 0.0),
-                    p(12.0, 0.0),
-                    p(12.0, 1.0),
-                    p(12.0, 6.0),
-                    p(12.0, 12.0)
-                ],
-                None,
-            )
-            .unwrap(),
-        );
-        let piece = Piece {
-            curve: c.clone(),
-            rapid: false,
-            source_lines: (1, 1),
-            feed: None,
-        };
-        let po = PlanOptions {
-            limits: MachineLimits::thesis(),
-            override_feed: true,
-            window: None,
-            ends: Default::default(),
-        };
-        let plan = plan_run(core::slice::from_ref(&piece), &po).unwrap();
-        let speed = PlannedSpeed::new(1, &plan, 1e-3);
+        let c = corner();
+        let (piece, po, plan, speed) = planned(&c);
         let o = opts();
-        let (arcs, v) = even_arcs(
-            &c,
-            0,
-            &speed,
-            &o,
-            super::super::arcs::STRAIGHT_CURVATURE_CHORD / o.chord,
-            o.chord * 1e-3,
-        )
-        .unwrap();
+        let (arcs, v) = even(&c, &speed).unwrap();
         let ends = (c.curvature_vector(0.0), c.curvature_vector(1.0));
         // (`render_run` writes whichever of the even arcs and the biarcs
         // passes its slowest joint faster.)
