@@ -266,14 +266,17 @@ pub(crate) fn even_arcs<C: ParamCurve + ?Sized>(
     if h.iter().any(|&v| v < opts.min_arc_length) {
         return None;
     }
-    // The curve's parameter at in-plane arc length `x` (linear between
-    // samples: parameter and arc length are smooth functions of each other).
-    let param_at = |x: f64| {
+    // The samples `j - 1` and `j` around in-plane arc length `x`, and where
+    // `x` lies between them (0 to 1 inside).
+    let bracket = |x: f64| {
         let j = s.partition_point(|&v| v <= x).clamp(1, n - 1);
         let (sa, sb) = (s[j - 1], s[j]);
-        let f = if sb > sa { (x - sa) / (sb - sa) } else { 0.0 };
-        ts[j - 1] + (ts[j] - ts[j - 1]) * f.clamp(0.0, 1.0)
+        (j, if sb > sa { (x - sa) / (sb - sa) } else { 0.0 })
     };
+    // The curve's parameter there (linear between samples: parameter and
+    // arc length are smooth functions of each other).
+    let param_of = |(j, f): (usize, f64)| ts[j - 1] + (ts[j] - ts[j - 1]) * f.clamp(0.0, 1.0);
+    let param_at = |x: f64| param_of(bracket(x));
     // The curve's direction at in-plane arc length `x`: its tangent there,
     // unwrapped next to the samples' directions interpolated. (The
     // interpolation alone takes the curvature as constant between samples,
@@ -281,12 +284,10 @@ pub(crate) fn even_arcs<C: ParamCurve + ?Sized>(
     // samples' spacing, as on a corner's curvature ramp, every third or
     // fourth arc stepped by the change over a whole sample interval.)
     let theta_at = |x: f64| {
-        let j = s.partition_point(|&v| v <= x).clamp(1, n - 1);
-        let (sa, sb) = (s[j - 1], s[j]);
-        let f = if sb > sa { (x - sa) / (sb - sa) } else { 0.0 };
+        let (j, f) = bracket(x);
         let near = theta[j - 1] + (theta[j] - theta[j - 1]) * f;
         let exact = c
-            .unit_tangent(param_at(x))
+            .unit_tangent(param_of((j, f)))
             .and_then(|u| in_plane_direction(plane, u, MIN_IN_PLANE));
         match exact {
             Some(d) => {
