@@ -397,6 +397,7 @@ mod tests {
     use super::*;
     use crate::Controller;
     use fairpath::feed::limits::MachineLimits;
+    use fairpath::geom::Curve;
     use std::cell::Cell;
 
     thread_local! {
@@ -724,6 +725,46 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The lines of a micrometre or two that `bspline-corner` leaves
+    /// between transitions on a chirp hold no sample of the plan; taken as
+    /// passed at rest, they were written with the run's 7 decimals, whose
+    /// rounding turned their direction by some 40 urad, and the joints next
+    /// to them were planned as corners (read back 0.8% slower than the
+    /// rendering as judged). Passed at their neighbours' speed, they get the
+    /// decimals of a piece shorter than a few periods of travel.
+    #[test]
+    fn regression_chirp_micrometre_lines_are_written_finely() {
+        let text = chirp(8.0, 1.0, 3000.0);
+        let opts =
+            crate::SmoothOptions::new(0.05, None, "bspline-corner", None, Controller::Generic)
+                .unwrap();
+        let (out, report) = crate::smooth_program(&text, &opts).unwrap();
+        assert!(report.written.within);
+        let written = crate::parse(out.text.as_bytes()).unwrap();
+        let lines: Vec<&str> = out.text.lines().collect();
+        let mut tiny = 0;
+        for run in written.runs() {
+            for p in &run.pieces {
+                let (Curve::Line(l), (a, b)) = (&p.curve, p.source_lines) else {
+                    continue;
+                };
+                if a != b || l.length() >= 3e-3 {
+                    continue;
+                }
+                tiny += 1;
+                let text = lines[a - 1];
+                for word in text
+                    .split_whitespace()
+                    .filter(|w| w.starts_with(['X', 'Y']))
+                {
+                    let decimals = word.split('.').nth(1).map_or(0, str::len);
+                    assert!(decimals >= 10, "line {a}: {text}");
+                }
+            }
+        }
+        assert!(tiny > 0, "no line shorter than 3 um to look at");
     }
 
     #[test]

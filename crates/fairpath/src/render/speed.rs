@@ -137,7 +137,7 @@ impl PlannedSpeed {
             return 0.0;
         };
         if s.is_empty() {
-            return 0.0;
+            return self.between(i);
         }
         let k = s.partition_point(|x| x.0 < t);
         if k == 0 {
@@ -154,6 +154,21 @@ impl PlannedSpeed {
         }
     }
 
+    /// The speed on piece `i` that holds no sample (shorter than the travel
+    /// of one sampling step): the higher of the last sample before it and
+    /// the first after it on the run, between which the machine passes it.
+    /// (Taken as 0, as at rest, a piece of a micrometre between two
+    /// transitions was written with the run's decimals, whose rounding
+    /// kinked its joints: `regression_chirp_a_micrometre_line_is_passed_at_its_neighbours_speed`.)
+    fn between(&self, i: usize) -> f64 {
+        let Some(&k) = self.starts.get(i) else {
+            return 0.0;
+        };
+        let before = k.checked_sub(1).and_then(|b| self.samples.get(b));
+        let after = self.samples.get(k);
+        before.map_or(0.0, |b| b.1).max(after.map_or(0.0, |a| a.1))
+    }
+
     /// The largest planned speed on piece `i` over parameters `[t0, t1]`.
     pub fn max_over(&self, i: usize, t0: f64, t1: f64) -> f64 {
         let mut v = self.at(i, t0).max(self.at(i, t1));
@@ -167,5 +182,58 @@ impl PlannedSpeed {
             }
         }
         v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::feed::limits::MachineLimits;
+    use crate::feed::plan::{plan_run, PlanOptions};
+    use crate::geom::{Curve, Line, Vec3};
+    use crate::path::Piece;
+
+    /// A line of a micrometre between two long ones (what a corner
+    /// transition leaves of a move) holds no sample of a plan sampled
+    /// every millisecond; it was taken as passed at rest (speed 0), so the
+    /// writer gave it no more decimals than the run's, and their rounding
+    /// kinked its joints (a chirp smoothed by `bspline-corner`: written
+    /// 2.5% slower, `spiral_lines.ngc` 24% slower).
+    #[test]
+    fn regression_chirp_a_micrometre_line_is_passed_at_its_neighbours_speed() {
+        let pts = [
+            Vec3::ZERO,
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(10.001, 0.0, 0.0),
+            Vec3::new(20.0, 0.0, 0.0),
+        ];
+        let pieces: Vec<Piece> = pts
+            .windows(2)
+            .enumerate()
+            .map(|(i, w)| Piece {
+                curve: Curve::Line(Line::new(w[0], w[1])),
+                rapid: false,
+                source_lines: (i + 1, i + 1),
+                feed: Some(24000.0),
+            })
+            .collect();
+        let m = MachineLimits::thesis();
+        let opts = PlanOptions {
+            limits: m,
+            override_feed: false,
+            window: None,
+            ends: Default::default(),
+        };
+        let plan = plan_run(&pieces, &opts).unwrap();
+        let speed = PlannedSpeed::new(pieces.len(), &plan, m.period);
+        assert_eq!(speed.piece(1).map(<[_]>::len), Some(0));
+        let (before, after) = (speed.at(0, 1.0), speed.at(2, 0.0));
+        let v = speed.at(1, 0.5);
+        assert!(v > 0.0, "{v}");
+        assert_eq!(v, speed.max_over(1, 0.0, 1.0));
+        assert!(
+            v >= before.min(after) && v <= before.max(after),
+            "{v}: {before}, {after}"
+        );
     }
 }
