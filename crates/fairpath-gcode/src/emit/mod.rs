@@ -727,13 +727,13 @@ mod tests {
         }
     }
 
-    /// The lines of a micrometre or two that `bspline-corner` leaves
-    /// between transitions on a chirp hold no sample of the plan; taken as
-    /// passed at rest, they were written with the run's 7 decimals, whose
-    /// rounding turned their direction by some 40 urad, and the joints next
-    /// to them were planned as corners (read back 0.8% slower than the
-    /// rendering as judged). Passed at their neighbours' speed, they get the
-    /// decimals of a piece shorter than a few periods of travel.
+    // The lines of a micrometre or two that `bspline-corner` leaves
+    // between transitions on a chirp hold no sample of the plan; taken as
+    // passed at rest, they were written with the run's 7 decimals, whose
+    // rounding turned their direction by some 40 urad, and the joints next
+    // to them were planned as corners (read back 0.8% slower than the
+    // rendering as judged). Passed at their neighbours' speed, they get the
+    // decimals of a piece shorter than a few periods of travel.
     #[test]
     fn regression_chirp_micrometre_lines_are_written_finely() {
         let text = chirp(8.0, 1.0, 3000.0);
