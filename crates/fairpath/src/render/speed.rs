@@ -190,8 +190,8 @@ mod tests {
     use super::*;
     use crate::feed::limits::MachineLimits;
     use crate::feed::plan::{plan_run, PlanOptions};
-    use crate::geom::{Curve, Line, Vec3};
-    use crate::path::Piece;
+    use crate::geom::Vec3;
+    use crate::path::Run;
 
     // A line of a micrometre between two long ones (what a corner
     // transition leaves of a move) holds no sample of a plan sampled
@@ -207,16 +207,7 @@ mod tests {
             Vec3::new(10.001, 0.0, 0.0),
             Vec3::new(20.0, 0.0, 0.0),
         ];
-        let pieces: Vec<Piece> = pts
-            .windows(2)
-            .enumerate()
-            .map(|(i, w)| Piece {
-                curve: Curve::Line(Line::new(w[0], w[1])),
-                rapid: false,
-                source_lines: (i + 1, i + 1),
-                feed: Some(24000.0),
-            })
-            .collect();
+        let pieces = Run::polyline(&pts, Some(24000.0)).pieces;
         let m = MachineLimits::thesis();
         let opts = PlanOptions {
             limits: m,
