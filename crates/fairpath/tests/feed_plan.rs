@@ -971,3 +971,52 @@ fn regression_a_cusp_inside_a_span_is_passed_as_a_reversal() {
     );
     check_limits(&pieces, &m);
 }
+
+/// A circle of radius 5 mm, a quarter of it as an arc and the next
+/// quarter as chords of 0.02 mm (arcs that give way to G1 where a curve
+/// leaves their plane, as on LinuxCNC's `blur_torus.ngc`): the chords'
+/// blends fill them and go on at the circle's curvature, so the joint
+/// between the arc and the first chord is no curvature jump. Taken as a
+/// jump from the arc's curvature to a line's (and the first blend's on
+/// top) it capped the joint at `sqrt(J Ts / 1.5 k)`, 8 mm/s, where the
+/// circle runs at 100.
+#[test]
+fn regression_blur_torus_an_arc_going_on_as_short_moves_keeps_its_curvature() {
+    use fairpath::geom::Arc;
+    let r = 5.0;
+    let at = |th: f64| Vec3::new(r * th.cos(), r * th.sin(), 0.0);
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let arc = |a: f64, b: f64| {
+        Curve::from(Arc::from_center(at(a), at(b), Vec3::ZERO, Vec3::Z, false, 0, 1e-9).unwrap())
+    };
+    let n = (r * quarter / 0.02).round() as usize;
+    let chords = |from: f64| -> Vec<Curve> {
+        (0..n)
+            .map(|i| {
+                let th = |i: usize| from + quarter * i as f64 / n as f64;
+                Curve::Line(Line::new(at(th(i)), at(th(i + 1))))
+            })
+            .collect()
+    };
+    let opts = PlanOptions {
+        limits: MachineLimits::thesis(),
+        override_feed: false,
+        window: None,
+        ends: Default::default(),
+    };
+    let time = |curves: Vec<Curve>| {
+        let pieces: Vec<Piece> = curves.into_iter().map(piece).collect();
+        check_limits(&pieces, &opts.limits);
+        plan_run(&pieces, &opts).unwrap().time
+    };
+    let arcs = time(vec![arc(0.0, quarter), arc(quarter, 2.0 * quarter)]);
+    let lines = time([chords(0.0), chords(quarter)].concat());
+    let mixed = time([vec![arc(0.0, quarter)], chords(quarter)].concat());
+    let mixed_back = time([chords(0.0), vec![arc(quarter, 2.0 * quarter)]].concat());
+    for (name, t) in [("arc then chords", mixed), ("chords then arc", mixed_back)] {
+        assert!(
+            t <= arcs.max(lines) * 1.005,
+            "{name}: {t} s, all arcs {arcs} s, all chords {lines} s"
+        );
+    }
+}

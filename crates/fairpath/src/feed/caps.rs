@@ -375,8 +375,16 @@ impl<'a> JointCaps<'a> {
                 let exit = jump(after, k_out);
                 // Next to an arc or curve the circle's ends are not
                 // modelled as stretches: all of its caps at the joint, the
-                // curvature change across it as one jump.
+                // curvature change across it as one jump, from what comes
+                // before the circle to what comes after it. A line that
+                // this circle and the next one's fill is not what comes
+                // after: the curvature goes on to the next circle's (an arc
+                // that goes on as short moves sampling the same curve
+                // keeps its curvature; taken as a jump to a line's, its
+                // joint was capped at a tenth of the curve's speed).
                 let lines = self.is_line(j) && self.is_line(j + 1);
+                let k_in = before.map_or(k_in, |b| b.curvature);
+                let k_out = after.map_or(k_out, |b| b.curvature);
                 let circle = bl.curvature - (k_in + k_out) * 0.5;
                 let across = jump_cap(m, corner_jump(circle, k_in, k_out));
                 JointCap {

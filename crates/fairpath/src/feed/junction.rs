@@ -21,7 +21,10 @@
 //!   one jump of their difference plus the circle's own curvature
 //!   ([`corner_jump`]): a kink of rounding size between two arcs costs
 //!   about what their own curvature jump costs, not the jump from their
-//!   curvature to a nearly straight circle.
+//!   curvature to a nearly straight circle. Where the neighbour is a short
+//!   line that this circle and the next one fill, the jump is to the next
+//!   circle's curvature, not to the line's (`caps.rs`): an arc that goes on
+//!   as short moves along the same curve keeps its curvature.
 //! * Where the circle meets what comes before and after it the curvature
 //!   vector jumps by `dk`, and the normal acceleration steps by `v^2 dk`
 //!   within one interpolation period `Ts`: `v <= sqrt(J Ts / dk)`, at
