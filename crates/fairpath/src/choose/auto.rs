@@ -141,9 +141,9 @@
 //! renderings a writer makes first; a G-code writer then also tries its
 //! all-G1 alternative and a finer curvature step, which gain more on one
 //! smoothing than on another. The candidates and mixes that came within
-//! [`FINAL_COST_MARGIN`] of the best (at most
-//! [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS), the cheapest)
-//! are judged again by [`Objective::final_cost`], the time of what the
+//! [`AutoOptions::final_cost_margin`] of the best (2% by default; at most
+//! [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS), the cheapest,
+//! a smoothing reached twice counted once) are judged again by [`Objective::final_cost`], the time of what the
 //! writer would write, and the least of those is kept
 //! ([`super::written_choice`]). Only for a run the writer takes whole:
 //! the runs between near-reversals (below) are parts of one, which the
@@ -176,7 +176,7 @@ use super::reversals::{cut_sets_bounded, reversal_cuts, split_at};
 use super::sections::{
     meets_cut_lines, split_at_long_lines, Mix, SectionCache, MIXES, SECTION_MAX_PIECES,
 };
-use super::written_choice::{fastest_written, FINAL_COST_MARGIN};
+use super::written_choice::fastest_written;
 use crate::geom::{Curve, JointTolerances, ParamCurve};
 use crate::path::{Piece, Run};
 use crate::smooth::{
@@ -334,10 +334,10 @@ impl Smoother for Auto {
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         self.options.validate()?;
-        let (time, best, in_place_of_kept) = self.smooth_whole(run, tolerance, true)?;
+        let (time, best, in_place_of_kept, cheapest) = self.smooth_whole(run, tolerance, true)?;
         // Split at its near-reversals where that costs less; of the two,
         // where they come near, the one the writer writes faster.
-        let chosen = match self.between_reversals(run, (time, &best), tolerance)? {
+        let chosen = match self.between_reversals(run, (time, &best), &cheapest, tolerance)? {
             Some((t, split)) => {
                 let whole = time.map(|tw| (tw, best)).into_iter().collect();
                 self.finally_written(Some(t), split, whole)
@@ -380,10 +380,17 @@ impl Smoother for Auto {
     }
 }
 
-/// [`Auto::smooth_whole`]'s answer: the best's cost and the best, and
-/// the cheapest candidate the writer would write where it would keep the
-/// run as written in place of the best, with its cost.
-type WholeRun = (Option<f64>, SmoothedRun, Option<(f64, SmoothedRun)>);
+/// [`Auto::smooth_whole`]'s answer: the best's cost and the best; the
+/// cheapest candidate the writer would write where it would keep the
+/// run as written in place of the best, with its cost; and the candidates
+/// the cheapest by cost chose (before the writer's judgement picked among
+/// those near it: [`Auto::between_reversals`] offers both's).
+type WholeRun = (
+    Option<f64>,
+    SmoothedRun,
+    Option<(f64, SmoothedRun)>,
+    Vec<&'static str>,
+);
 
 impl Auto {
     /// The cheapest smoothing of `run` as one run, with its cost: the
@@ -421,7 +428,7 @@ impl Auto {
         // The candidates costed near the best, to be judged again as the
         // writer finally writes them ([`fastest_written`]).
         let mut others = match time {
-            Some(t) if written => ranking.near(i, t * (1.0 + FINAL_COST_MARGIN)),
+            Some(t) if written => ranking.near(i, t * (1.0 + self.options.final_cost_margin)),
             _ => Vec::new(),
         };
         let mut best = core::mem::take(&mut ranking.cands[i]);
@@ -435,8 +442,9 @@ impl Auto {
             time = Some(t);
         }
         if run.pieces.len() > SECTION_MAX_PIECES {
+            let cheapest = best.chosen.clone();
             let (time, best) = self.finally_written(time, best, others);
-            return Ok((time, best, in_place_of_kept));
+            return Ok((time, best, in_place_of_kept, cheapest));
         }
         let mut cache = SectionCache::default();
         let mut tried: Vec<usize> = Vec::new();
@@ -488,13 +496,14 @@ impl Auto {
                 }
             }
         }
+        let cheapest = best.chosen.clone();
         (time, best) = self.finally_written(time, best, others);
         if let Some((t, kept)) =
             self.curves_as_written_fallback(run, tolerance, (&best, time), &memo)?
         {
             (time, best) = (Some(t), kept);
         }
-        Ok((time, best, in_place_of_kept))
+        Ok((time, best, in_place_of_kept, cheapest))
     }
 
     /// `best` (of cost `time`), or `alternative` (one the writer would
@@ -582,7 +591,8 @@ impl Auto {
     ) -> (Option<f64>, SmoothedRun) {
         match time {
             Some(t) => {
-                let (t, best) = fastest_written(self.objective.as_ref(), (t, best), others);
+                let margin = self.options.final_cost_margin;
+                let (t, best) = fastest_written(self.objective.as_ref(), margin, (t, best), others);
                 (Some(t), best)
             }
             None => (None, best),
@@ -665,6 +675,7 @@ impl Auto {
         &self,
         run: &Run,
         (time, whole): (Option<f64>, &SmoothedRun),
+        cheapest: &[&'static str],
         tolerance: f64,
     ) -> Result<Option<(f64, SmoothedRun)>, SmoothError> {
         let Some(time) = time else {
@@ -685,10 +696,19 @@ impl Auto {
         // The runs between get the candidates the whole run's best
         // smoothing chose somewhere, and the plain fit: every candidate
         // again would double `auto`'s work on such runs for gains the
-        // survey did not find (docs/tuning.md, `REVERSAL_TURN`).
+        // survey did not find (docs/tuning.md, `REVERSAL_TURN`). Also
+        // those the cheapest by cost chose (`cheapest`), where the
+        // writer's judgement kept another: on `line-contouring-xz.ngc`
+        // with `final_cost_margin` 0.03 the one kept was the plain fit
+        // alone, and offered only that, the runs between its U-turns
+        // wrote 12.889 s against 12.489 s (docs/tuning.md,
+        // `FINAL_COST_CONTENDERS`).
         let mut leave_out = self.options.leave_out;
         for (k, row) in CANDIDATES.iter().enumerate() {
-            if row.name != "bspline-fit" && !whole.chosen.contains(&row.name) {
+            if row.name != "bspline-fit"
+                && !whole.chosen.contains(&row.name)
+                && !cheapest.contains(&row.name)
+            {
                 leave_out.insert_row(k);
             }
         }
@@ -711,7 +731,7 @@ impl Auto {
         for cuts in &sets {
             let mut out = SmoothedRun::default();
             for (i, part) in split_at(run, cuts).iter().enumerate() {
-                let (_, best, _) = between.smooth_whole(part, tolerance, false)?;
+                let (_, best, _, _) = between.smooth_whole(part, tolerance, false)?;
                 if i > 0 {
                     let before = &run.pieces[cuts[i - 1] - 1];
                     let reason = if reversals.contains(&cuts[i - 1]) {

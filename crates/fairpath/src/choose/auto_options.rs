@@ -5,6 +5,7 @@ use super::auto::ARC_SHARE;
 use super::candidate_set::CandidateSet;
 use super::reversals::{REVERSAL_TURN, U_TURN_WIDTH};
 use super::sections::SECTION_LINES;
+use super::written_choice::FINAL_COST_MARGIN;
 use crate::smooth::{require, OptionError};
 
 /// Options of [`Auto`](super::Auto).
@@ -49,6 +50,11 @@ pub struct AutoOptions {
     /// `docs/auto-ablation.md`). At least one of those offered on every
     /// run must stay.
     pub leave_out: CandidateSet,
+    /// Share of the best cost within which the other candidates of a run
+    /// are judged again as the writer finally writes them, the cheapest
+    /// [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS) of them
+    /// ([`FINAL_COST_MARGIN`] by default, 0.02; at least 0: none).
+    pub final_cost_margin: f64,
 }
 
 impl AutoOptions {
@@ -86,6 +92,14 @@ impl AutoOptions {
             w,
             "must be a width (mm) of 0 or more, or infinite",
         )?;
+        let m = self.final_cost_margin;
+        require(
+            m >= 0.0 && m.is_finite(),
+            "auto",
+            "final_cost_margin",
+            m,
+            "must be a share of 0 or more",
+        )?;
         require(
             !self.leave_out.holds_every_one_always_offered(),
             "auto",
@@ -106,6 +120,28 @@ impl Default for AutoOptions {
             reversal_turn: REVERSAL_TURN,
             u_turn_width: U_TURN_WIDTH,
             leave_out: CandidateSet::EMPTY,
+            final_cost_margin: FINAL_COST_MARGIN,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A margin is a share of 0 or more: a negative, infinite or NaN one
+    /// is refused at the front door; 0 (no contender judged) is taken.
+    #[test]
+    fn final_cost_margin_is_a_finite_share_of_0_or_more() {
+        let with = |m: f64| AutoOptions {
+            final_cost_margin: m,
+            ..AutoOptions::default()
+        };
+        for bad in [-0.01, f64::INFINITY, f64::NAN] {
+            assert!(with(bad).validate().is_err(), "{bad}");
+        }
+        for good in [0.0, FINAL_COST_MARGIN, 0.5] {
+            assert!(with(good).validate().is_ok(), "{good}");
         }
     }
 }

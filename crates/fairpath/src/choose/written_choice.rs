@@ -206,17 +206,18 @@ impl WrittenTime {
 
 /// Of `best` (cost `time`) and `others` (each with its cost), the one the
 /// writer writes fastest by [`Objective::final_cost`], with its cost by
-/// [`Objective::cost`]: the others considered are those within
-/// [`FINAL_COST_MARGIN`] of `time`, the cheapest first, up to
+/// [`Objective::cost`]: the others considered are those within `margin`
+/// of `time` ([`FINAL_COST_MARGIN`] by default), the cheapest first, up to
 /// [`FINAL_COST_CONTENDERS`] with `best`, each costing more than the one
 /// before by over [`SAME_COST_SHARE`] of `time` (the others are taken for
 /// it). A tie goes to `best`, then to the cheaper.
 pub(super) fn fastest_written(
     objective: &dyn Objective,
+    margin: f64,
     (time, best): (f64, SmoothedRun),
     mut others: Vec<(f64, SmoothedRun)>,
 ) -> (f64, SmoothedRun) {
-    others.retain(|(t, _)| *t <= time * (1.0 + FINAL_COST_MARGIN));
+    others.retain(|(t, _)| *t <= time * (1.0 + margin));
     if others.is_empty() {
         return (time, best);
     }
@@ -287,7 +288,7 @@ mod tests {
             let others: Vec<(f64, SmoothedRun)> =
                 (0..12).filter(|&r| r != best).map(|r| (costs[r], candidate(r))).collect();
             let (t, chosen) =
-                fastest_written(&table, (costs[best], candidate(best)), others);
+                fastest_written(&table, FINAL_COST_MARGIN, (costs[best], candidate(best)), others);
             let r = result(&chosen.pieces);
             prop_assert_eq!(t, costs[r]);
             let mut near: Vec<usize> = (0..12)
@@ -333,7 +334,8 @@ mod tests {
             finals,
         };
         let others = (1..n).map(|r| (costs[r], candidate(r))).collect();
-        let (t, chosen) = fastest_written(&table, (costs[0], candidate(0)), others);
+        let (t, chosen) =
+            fastest_written(&table, FINAL_COST_MARGIN, (costs[0], candidate(0)), others);
         assert_eq!(result(&chosen.pieces), n - 1);
         assert_eq!(t, 101.0);
     }
