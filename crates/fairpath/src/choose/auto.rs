@@ -143,8 +143,9 @@
 //! smoothing than on another. The candidates and mixes that came within
 //! [`AutoOptions::final_cost_margin`] of the best (2% by default; at most
 //! [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS), the cheapest,
-//! a smoothing reached twice counted once) are judged again by [`Objective::final_cost`], the time of what the
-//! writer would write, and the least of those is kept
+//! a smoothing reached twice counted once) are judged again by
+//! [`Objective::final_cost`], the time of what the writer would write,
+//! and the least of those is kept
 //! ([`super::written_choice`]). Only for a run the writer takes whole:
 //! the runs between near-reversals (below) are parts of one, which the
 //! writer renders as one, so there the split and the whole run's best
