@@ -214,20 +214,27 @@ pub(super) fn choose_run(
     // that plans faster at every feed (not at the first alone, as the forms
     // are: the finer pieces must not slow the programmed feeds), by
     // [`FINER_KEEP_MARGIN`]: their written text reads back further from
-    // their rendering. Not on a long run (it would be rendered and
-    // planned twice more) nor on arcs that hold no arc.
-    if let Some((t_best, c)) = &best {
+    // their rendering; then finer again while each gains on the one before,
+    // up to [`super::FINER_STEPS`] times. Not on a long run (it would be
+    // rendered and planned twice more) nor on arcs that hold no arc.
+    if let Some((t_first, c)) = &best {
         let form = match c.form {
             Some(CurveForm::Arcs) if c.stats.arcs > 0 => Some(CurveForm::Arcs),
             Some(CurveForm::Lines) => Some(CurveForm::Lines),
             _ => None,
         }
-        .filter(|_| !c.streamed);
-        let share = opts.step_share * super::FINER_STEP;
+        .filter(|_| !c.streamed && !em.is_long(k));
         #[cfg(test)]
-        let form = form.filter(|_| !super::tests::NO_FINER_STEP.with(|n| n.get()));
-        if let Some(form) = form.filter(|_| !em.is_long(k) && share > 0.0) {
-            let finer = em.render(k, form, c.chord, Some(share))?;
+        let steps = super::tests::FINER_STEPS_TRIED.with(|n| n.get());
+        #[cfg(not(test))]
+        let steps = super::FINER_STEPS;
+        let (chord, mut t_best, mut share) = (c.chord, t_first.clone(), opts.step_share);
+        for _ in 0..steps {
+            share *= super::FINER_STEP;
+            let Some(form) = form.filter(|_| share > 0.0) else {
+                break;
+            };
+            let finer = em.render(k, form, chord, Some(share))?;
             let mut ts = Vec::with_capacity(feeds.len());
             for &f in feeds.iter() {
                 let t = rendered_time(&finer, f)?;
@@ -237,9 +244,11 @@ pub(super) fn choose_run(
                 }
                 ts.push(t);
             }
-            if ts.len() == feeds.len() {
-                best = Some((ts, finer));
+            if ts.len() < feeds.len() {
+                break;
             }
+            t_best.clone_from(&ts);
+            best = Some((ts, finer));
         }
     }
     Ok(best.map_or(Choice::original(opts.budget.output), |b| b.1))

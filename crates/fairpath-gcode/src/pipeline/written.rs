@@ -143,6 +143,7 @@ pub fn objective_for(
     // What the writer tries beyond those (`emit::choose_run`).
     written.writer_tries = Some(fairpath::choose::WriterTries {
         finer_share: crate::emit::FINER_STEP,
+        finer_steps: crate::emit::FINER_STEPS,
         long_pieces: crate::emit::LONG_RUN_PIECES,
         lines_without_arcs: budget
             .finer_lines_output()

@@ -33,6 +33,10 @@ pub struct WriterTries {
     /// [`RenderOptions::step_share`] at which it is rendered again
     /// (`fairpath_gcode`'s `FINER_STEP`, 0.5), in `(0, 1)`.
     pub finer_share: f64,
+    /// How many times the winning rendering is rendered again, each at
+    /// `finer_share` of the share before and kept while it gains
+    /// (`fairpath_gcode`'s `FINER_STEPS`, 2).
+    pub finer_steps: usize,
     /// A run of at least this many curves is long: the writer renders it
     /// once (`fairpath_gcode`'s `LONG_RUN_PIECES`); a G1 alternative to
     /// arcs of at least this many pieces is rendered as it is written,
@@ -87,8 +91,10 @@ impl WrittenTime {
     /// is faster at the writer's first feed (the machine's maximum); then
     /// the winner at the finer step where that plans [`FINER_KEEP_MARGIN`]
     /// faster at every feed the writer judges at ([`WrittenTime::plan`]
-    /// and, where it differs, [`WrittenTime::shape`]): arcs that hold an
-    /// arc, or G1 that was not streamed. `cost` where the writer's tries
+    /// and, where it differs, [`WrittenTime::shape`]), and finer again
+    /// while each gains on the one before, up to
+    /// [`WriterTries::finer_steps`] times: arcs that hold an arc, or G1
+    /// that was not streamed. `cost` where the writer's tries
     /// are not known or a rendering fails. The writer's own test against
     /// the run as written is not made here: it is the same for every
     /// candidate. Where a spline rendering (G5.2, G6.2) wins, the writer
@@ -168,18 +174,23 @@ impl WrittenTime {
         if !again {
             return b.plan;
         }
-        let fro = RenderOptions {
-            step_share: b.ro.step_share * tries.finer_share,
-            ..b.ro
-        };
-        let Ok(fine) = render_run(pieces, &speed, &fro) else {
-            return b.plan;
-        };
         let gains = |f: f64, d: f64| f * (1.0 + FINER_KEEP_MARGIN) < d;
-        match times(&fine, &fro) {
-            Some((first, plan)) if gains(first, b.first) && gains(plan, b.plan) => plan,
-            _ => b.plan,
+        let (mut first, mut plan, mut share) = (b.first, b.plan, b.ro.step_share);
+        for _ in 0..tries.finer_steps {
+            share *= tries.finer_share;
+            let fro = RenderOptions {
+                step_share: share,
+                ..b.ro
+            };
+            let Ok(fine) = render_run(pieces, &speed, &fro) else {
+                break;
+            };
+            match times(&fine, &fro) {
+                Some((f, p)) if gains(f, first) && gains(p, plan) => (first, plan) = (f, p),
+                _ => break,
+            }
         }
+        plan
     }
 }
 
@@ -360,6 +371,7 @@ mod tests {
     fn the_finer_step_is_taken_only_where_the_writer_keeps_it() {
         let finer = WriterTries {
             finer_share: 0.5,
+            finer_steps: 1,
             long_pieces: usize::MAX,
             lines_without_arcs: None,
         };
@@ -408,6 +420,58 @@ mod tests {
         assert_eq!(seen, [true, true]);
     }
 
+    /// With two finer steps the final cost follows the writer down the
+    /// halvings: the arcs at a quarter of the step share where they gain
+    /// on those at half, which gained on the first (each by
+    /// [`FINER_KEEP_MARGIN`] on the plan and the shape); else the last
+    /// that gained. Never above the cost with one step.
+    #[test]
+    fn the_finer_steps_go_on_while_each_gains() {
+        let tries = |finer_steps| WriterTries {
+            finer_share: 0.5,
+            finer_steps,
+            long_pieces: usize::MAX,
+            lines_without_arcs: None,
+        };
+        let mut both = false;
+        for pieces in [corner_curves(120), candidate(30).pieces] {
+            for override_feed in [true, false] {
+                let cost = written_time(override_feed, None).cost(&pieces).unwrap();
+                let one = written_time(override_feed, Some(tries(1))).final_cost(&pieces, cost);
+                let w = written_time(override_feed, Some(tries(2)));
+                let two = w.final_cost(&pieces, cost);
+                let speed = w.shaping_speed(&pieces).unwrap();
+                let ro = w.renders[0];
+                let times = |share: f64| {
+                    let o = RenderOptions {
+                        step_share: ro.step_share * share,
+                        ..ro
+                    };
+                    let r = render_run(&pieces, &speed, &o).unwrap();
+                    let t = |on| w.rendered_time_on(&r.pieces, CurveForm::Arcs, on).unwrap();
+                    (t(&w.shape), t(&w.plan))
+                };
+                let gains = |a: (f64, f64), b: (f64, f64)| {
+                    a.0 * (1.0 + FINER_KEEP_MARGIN) < b.0 && a.1 * (1.0 + FINER_KEEP_MARGIN) < b.1
+                };
+                let (t1, t2, t4) = (times(1.0), times(0.5), times(0.25));
+                assert_eq!(t1.1, cost, "arcs won");
+                let expected = match (gains(t2, t1), gains(t4, t2)) {
+                    (false, _) => t1.1,
+                    (true, false) => t2.1,
+                    (true, true) => {
+                        both = true;
+                        t4.1
+                    }
+                };
+                assert_eq!(two, expected);
+                assert!(two <= one, "{two} s against {one} s");
+            }
+        }
+        // The raster's corners gain at both halvings.
+        assert!(both);
+    }
+
     /// Where no programmed feed is below the machine's maximum, the
     /// programmed feeds plan as the maximum does: one plan serves both
     /// feeds, and the final cost is the one the overriding objective
@@ -416,6 +480,7 @@ mod tests {
     fn feeds_at_the_maximum_plan_once() {
         let tries = Some(WriterTries {
             finer_share: 0.5,
+            finer_steps: 1,
             long_pieces: usize::MAX,
             lines_without_arcs: None,
         });
