@@ -134,10 +134,11 @@ pub const FINER_STEP: f64 = 0.5;
 /// faster at every feed than the one before (the first that does not
 /// ends the tries): two, so down to a quarter of the step share. The
 /// second halving gains where fits' curvature changes fast and the first
-/// already gained (`Cereal.ngc` at peer settings 93.579 -> 93.106 s,
-/// `r027_engrave.ngc` 14.899 -> 14.731 s, a chirp 2.212 -> 2.165 s) and
-/// costs a rendering and its plan only on the runs the first halving won
-/// (measurements: docs/tuning.md, `FINER_STEPS`).
+/// already gained (dense 3D finishing, engravings, chirps), and costs a
+/// rendering and its plan only on the runs the first halving won; at a
+/// quarter share the joints' designed curvature steps are small enough
+/// that kinks of the written coordinates' rounding can cost what the
+/// rendering gained (measurements: docs/tuning.md, `FINER_STEPS`).
 pub const FINER_STEPS: usize = 2;
 
 /// Times a failing run is rendered again with half the chord.
@@ -718,8 +719,9 @@ mod tests {
 
     /// A second finer step is kept where it gains again: `auto` on a
     /// chirp of amplitude 8, growth 2 at F12000 writes faster with two
-    /// halvings of the step share than with one (2.165 against 2.212 s
-    /// when measured), in more blocks, within the tolerance as read back.
+    /// halvings of the step share than with one (by 2% when measured,
+    /// docs/tuning.md, `FINER_STEPS`), in more blocks, within the
+    /// tolerance as read back.
     #[test]
     fn a_second_finer_step_is_kept_where_it_gains_again() {
         let text = chirp(8.0, 2.0, 12000.0);
