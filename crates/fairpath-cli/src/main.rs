@@ -194,8 +194,9 @@ enum Command {
         /// How much curvature step a joint of written pieces may take, as a
         /// share of what the planned speed passes without slowing down
         /// (`J Ts / v^2`): 0.5 (default) keeps the curves' speed; a run
-        /// written as arcs or G1 is also rendered at half the share and
-        /// gets the faster at every feed; larger writes fewer, longer arcs or lines
+        /// written as arcs or G1 is also rendered at half the share, and
+        /// where that gains at a quarter, and gets the faster at every
+        /// feed; larger writes fewer, longer arcs or lines
         /// that slow the machine at their joints; `inf` leaves only the
         /// tolerance.
         #[arg(long, default_value_t = fairpath::render::arcs::STEP_SHARE)]

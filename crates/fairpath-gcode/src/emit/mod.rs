@@ -120,7 +120,8 @@ fn streamed_group_parts() -> usize {
 /// The finer curvature step share arcs are also rendered at, as a share
 /// of [`crate::pipeline::EmitOptions::step_share`] (`--step-share`, default
 /// [`fairpath::render::arcs::STEP_SHARE`]): each run written as arcs or
-/// G1 gets the faster of the two. At half the share a joint of arcs passes at
+/// G1 gets the faster of the two (and where the half won, a quarter is
+/// tried after it: [`FINER_STEPS`]). At half the share a joint of arcs passes at
 /// `sqrt(2)` times the speed the curves were planned for, which leaves
 /// the planner room where chains of short arcs and block lengths bind; it
 /// costs more blocks, and where the share is already small the extra
