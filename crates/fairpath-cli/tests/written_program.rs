@@ -337,3 +337,31 @@ fn tangent_check_arcs_are_no_slower_than_g1_where_chains_are_written() {
         }
     }
 }
+
+/// Regression, `examples/pocket-corners.ngc` with `-m bspline-corner
+/// --format g6.2`: between two corner transitions of its dense quarter
+/// circle that nearly meet, a G1 of 0.8 um followed a G6.2 block whose
+/// last control point had the run's 7 decimals, so the short move read
+/// back turned by 1e-4 rad against the blocks either side; its main run
+/// read back 16% slower than rendered (5.03 s against 4.33 s at the
+/// maximum feed) and was kept as the program wrote it, the whole program
+/// written at the input's 17.735 s. The block before a short move now
+/// ends with that move's decimals, and the block after it starts where
+/// the move ends: every run is written and plans as its curves.
+#[test]
+fn regression_pocket_corners_g6_2_transitions_read_back_as_rendered() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ngc");
+    let args = ["-m", "bspline-corner", "--format", "g6.2"];
+    let s = smooth(&example("pocket-corners.ngc"), &out, &args);
+    let (written, curves) = (
+        s["written_time_s"].as_f64().unwrap(),
+        s["curves_time_s"].as_f64().unwrap(),
+    );
+    assert!(written < 1.0001 * curves, "{s}");
+    assert!(written < 0.98 * s["input_time_s"].as_f64().unwrap(), "{s}");
+    // The short moves are written finer than the run, and every G6.2
+    // block starts where the move before it ended.
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.lines().any(|l| l.starts_with("G1 X3.48898")), "{text}");
+}

@@ -10,6 +10,7 @@ use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
 use crate::error::WriteError;
 use crate::program::MotionMode;
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
+use fairpath::path::Piece;
 
 /// Periods of travel at its planned speed below which a rendered piece
 /// gets more decimals, its rounding scaled by the square of its length
@@ -94,16 +95,47 @@ impl RunWriter<'_> {
     /// is shorter than [`FINE_PERIODS`] periods of travel at its speed
     /// ([`super::GcodeWriteOptions::period_s`]).
     fn piece_decimals(&self, length: f64) -> usize {
-        let period = match (self.opts.period_s, self.speed) {
+        self.finer_decimals(length, self.speed)
+            .unwrap_or(self.decimals)
+    }
+
+    /// The decimals [`RunWriter::piece_decimals`] gives a piece `length`
+    /// mm long passed at `speed` where that is more than the run's.
+    fn finer_decimals(&self, length: f64, speed: Option<f64>) -> Option<usize> {
+        let period = match (self.opts.period_s, speed) {
             (Some(ts), Some(v)) => FINE_PERIODS * v * ts,
-            _ => return self.decimals,
+            _ => return None,
         };
-        if length > 0.0 && length < period {
+        (length > 0.0 && length < period).then(|| {
             let limit = rounding_mm(self.decimals, self.scale) * (length / period).powi(2);
             decimals_within(self.decimals, self.scale, limit)
-        } else {
-            self.decimals
-        }
+        })
+    }
+
+    /// The decimals the piece before `next` (passed at `speed`) ends
+    /// with, so that `next` starts where it should to the precision it is
+    /// itself written with: a short move's direction turns by the rounding
+    /// of its start over its length, as by that of its end. Between two
+    /// corner transitions of `bspline-corner` that nearly meet, a G1 of
+    /// 0.8 um followed a G6.2 block whose last control point had 7
+    /// decimals: the move's own 12 decimals left it turned by 1e-4 rad
+    /// against the blocks either side, a corner the planner passes at 11
+    /// mm/s, and `examples/pocket-corners.ngc` written so read back 16%
+    /// slower than its rendering on one run (measurements:
+    /// docs/tuning.md, `RunWriter::start_decimals`).
+    pub(super) fn start_decimals(&self, next: &Piece, speed: Option<f64>) -> usize {
+        let length = match &next.curve {
+            Curve::Line(l) => l.p0.dist(l.p1),
+            Curve::Arc(a) => a.p0.dist(a.p1).min(a.r0.min(a.r1)),
+            Curve::Nurbs(n) => n
+                .points
+                .windows(2)
+                .map(|w| w[0].dist(w[1]))
+                .filter(|&d| d > 0.0)
+                .fold(f64::INFINITY, f64::min),
+        };
+        self.finer_decimals(length, speed.or(self.speed))
+            .unwrap_or(0)
     }
 
     /// [`RunWriter::piece_decimals`] for a move, and in an incremental run
@@ -111,7 +143,7 @@ impl RunWriter<'_> {
     /// written position is then on that finer grid, and only increments on
     /// it land on the run's end exactly.
     fn move_decimals(&mut self, length: f64, run_end: bool) -> usize {
-        let mut d = self.piece_decimals(length);
+        let mut d = self.piece_decimals(length).max(self.end_decimals);
         if self.run.incremental && run_end {
             d = d.max(self.finest);
         }
@@ -233,7 +265,7 @@ impl RunWriter<'_> {
         let kind = self.opts.nurbs.expect("called with NURBS blocks on");
         let feed_text = self.due_feed(feed);
         let decimals = match kind {
-            NurbsBlocks::G6_2Fanuc { .. } => self.spline_decimals(&n.points),
+            NurbsBlocks::G6_2Fanuc { .. } => self.spline_decimals(&n.points).max(self.end_decimals),
             // In LinuxCNC's plane, within half a unit of the run's last
             // decimal (`write_spline`'s plane check).
             NurbsBlocks::G6_2Linuxcnc | NurbsBlocks::G5_2 => self.decimals,
@@ -373,7 +405,11 @@ impl RunWriter<'_> {
         if self.cur.dist(p0) > rounding_mm(self.decimals.min(decimals), self.scale) {
             return (None, None);
         }
-        match (decimals + 1..=MAX_DECIMALS).find(|&d| same(d, self.cur)) {
+        // From `decimals` itself: a block written finer than the move
+        // before it (its end is where a short move starts,
+        // [`RunWriter::start_decimals`]) starts where that move left the
+        // tool, which those decimals say exactly.
+        match (decimals..=MAX_DECIMALS.max(decimals)).find(|&d| same(d, self.cur)) {
             Some(d) => (Some(self.cur), Some(d)),
             None => (None, None),
         }

@@ -110,6 +110,9 @@ pub(super) struct RunWriter<'a> {
     pub(super) speed: Option<f64>,
     /// The most decimals a move of the run has been written with so far.
     pub(super) finest: usize,
+    /// The fewest decimals the end of the piece being written gets: those
+    /// the next piece needs at its start ([`RunWriter::start_decimals`]).
+    pub(super) end_decimals: usize,
 }
 
 impl<'a> RunWriter<'a> {
@@ -167,6 +170,7 @@ impl<'a> RunWriter<'a> {
             arc_incremental,
             speed: None,
             finest: decimals,
+            end_decimals: 0,
         })
     }
 
@@ -198,6 +202,8 @@ impl<'a> RunWriter<'a> {
         let n_pieces = pieces.len();
         for (pi, piece) in pieces.iter().enumerate() {
             let last = pi + 1 == n_pieces;
+            let next = pieces.get(pi + 1).map(|p| (p, speeds.get(pi + 1).copied()));
+            self.end_decimals = next.map_or(0, |(p, v)| self.start_decimals(p, v));
             self.piece(&mut next_line, piece, speeds.get(pi).copied(), last)?;
         }
         self.finish(next_line)
@@ -219,11 +225,13 @@ impl<'a> RunWriter<'a> {
             let mut speeds = speeds.into_iter();
             for piece in pieces {
                 let speed = if with_speeds { speeds.next() } else { None };
+                self.end_decimals = self.start_decimals(&piece, speed);
                 if let Some((p, v)) = held.replace((piece, speed)) {
                     self.piece(&mut next_line, &p, v, false)?;
                 }
             }
         }
+        self.end_decimals = 0;
         if let Some((p, v)) = held {
             self.piece(&mut next_line, &p, v, true)?;
         }
