@@ -6,7 +6,8 @@
 use crate::common;
 use common::polyline_run;
 use fairpath::choose::{
-    keeps_arc_joints, sample_curves, Auto, AutoOptions, CURVES_AS_WRITTEN, KEEP_MARGIN,
+    keeps_arc_joints, sample_curves, Auto, AutoOptions, CandidateSet, CURVES_AS_WRITTEN,
+    KEEP_MARGIN, OUTER_CORNERS,
 };
 use fairpath::feed::limits::MachineLimits;
 use fairpath::feed::plan::{plan_run, PlanOptions};
@@ -118,6 +119,43 @@ fn planned_on(pieces: &[Piece], limits: MachineLimits) -> f64 {
     )
     .unwrap()
     .time
+}
+
+/// A zigzag of `legs` moves of `len` mm, turning by `turn` rad left and
+/// right in turn.
+fn zigzag(legs: usize, len: f64, turn: f64) -> Run {
+    let mut pts = vec![Vec3::ZERO];
+    let mut heading: f64 = 0.0;
+    for i in 0..legs {
+        let p = *pts.last().unwrap();
+        pts.push(p + Vec3::new(heading.cos(), heading.sin(), 0.0) * len);
+        heading += if i % 2 == 0 { turn } else { -turn };
+    }
+    polyline_run(&pts)
+}
+
+/// Issue 21, item 1: on a zigzag of 5 mm moves turning by 1 rad (the
+/// corners of an engraving's glyphs), the corner transitions on the
+/// outer-edge guide cut across both sides of the band and plan faster
+/// than anything else `auto` has: it chooses them, and without them it
+/// is more than 5% slower.
+#[test]
+fn shallow_corners_use_both_sides_of_the_band() {
+    let (run, tol) = (zigzag(8, 5.0, 1.0), 0.05);
+    let out = Auto::default().smooth_run(&run, tol).unwrap();
+    check(&run, &out, tol);
+    assert!(out.chosen.contains(&OUTER_CORNERS), "{:?}", out.chosen);
+    let without = Auto {
+        options: AutoOptions {
+            leave_out: CandidateSet::of_names([OUTER_CORNERS]).unwrap(),
+            ..AutoOptions::default()
+        },
+        ..Auto::default()
+    }
+    .smooth_run(&run, tol)
+    .unwrap();
+    let (t, t0) = (planned(&out.pieces), planned(&without.pieces));
+    assert!(t < 0.95 * t0, "{t} s with the outer edges, {t0} s without");
 }
 
 /// Regression, LinuxCNC `performance/zigzag_0.002_0.001.ngc`: a zigzag of
@@ -517,6 +555,27 @@ proptest! {
         let out = Auto::default().smooth_run(&run, tol).unwrap();
         check(&run, &out, tol);
         prop_assert!(planned(&out.pieces) <= corner_methods_time(&run, tol) * (1.0 + 1e-12));
+    }
+
+    /// Random zigzags and turning polylines: the outer-edge candidate is
+    /// within the tolerance (the independent verifier), keeps the ends
+    /// and is G2 wherever it moved a corner, whatever the turns.
+    #[test]
+    fn the_outer_edge_candidate_stays_in_the_band(
+        legs in prop::collection::vec((0.1f64..8.0, -2.5f64..2.5), 2..12),
+        tol in 0.005f64..0.3,
+    ) {
+        let mut pts = vec![Vec3::ZERO];
+        let mut heading: f64 = 0.0;
+        for (len, turn) in legs {
+            let p = *pts.last().unwrap();
+            pts.push(p + Vec3::new(heading.cos(), heading.sin(), 0.0) * len);
+            heading += turn;
+        }
+        let run = polyline_run(&pts);
+        let all = Auto::default().candidates(&run, tol).unwrap();
+        let (_, outer) = all.iter().find(|(n, _)| *n == OUTER_CORNERS).unwrap();
+        check(&run, outer, tol);
     }
 
     /// Random zigzags whose tips turn back by 150 to 179.9 degrees: within

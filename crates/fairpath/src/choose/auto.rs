@@ -41,6 +41,17 @@
 //!   its program plans 75.738 s where every other candidate was kept as
 //!   the run was written (77.198 s). Last in the table, so it wins only
 //!   where strictly faster.
+//! * **bspline-corner, outer edges**, on runs of at most
+//!   [`THROUGH_MAX_PIECES`] pieces: `bspline-corner` on the run with its
+//!   corners moved outward ([`crate::smooth::outer_guide`]), with the
+//!   tolerance raised by the shift, so that each transition starts on the
+//!   band's outer edge and cuts across to its inner edge (about twice the
+//!   depth, issue 21's "use the band"), verified against the run and
+//!   `bspline-corner` itself where it does not stay in the band
+//!   ([`OUTER_SHIFT_SHARES`](super::candidates::OUTER_SHIFT_SHARES)). It gains most where corners turn by
+//!   half a radian to a radian between moves long enough for the deeper
+//!   cut, as an engraving's glyphs do; last in the table, so it wins only
+//!   where strictly faster.
 //! * **fair**: method `fair` (seed 003, the thesis' fairing inside the
 //!   tolerance tube) with its default options. On a run with B-spline
 //!   pieces it works on the run as it is, with the whole tolerance: the

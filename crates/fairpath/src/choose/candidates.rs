@@ -7,9 +7,11 @@ use crate::geom::Curve;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
 use crate::path::Run;
 use crate::smooth::{
-    shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions, CornerReason, Ctm, Fair,
-    FairOptions, LineFit, Lotm, RunMemo, SectionOptions, SmoothError, SmoothedRun, Smoother,
+    outer_guide, shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions,
+    CornerReason, Ctm, Fair, FairOptions, LineFit, Lotm, OuterGuide, RunMemo, SectionOptions,
+    SmoothError, SmoothedRun, Smoother,
 };
+use crate::verify::{Verifier, VerifyOptions};
 use alloc::vec::Vec;
 
 /// A corner method `auto` offers, with its default options.
@@ -99,6 +101,27 @@ pub const JERK_FAIRNESS: f64 = 3e4;
 /// spreads the curvature of the corners too far).
 pub const THROUGH_JERK_FAIRNESS: f64 = 3.0;
 
+/// The name of the corner candidate on the run's outer-edge guide
+/// ([`Kind::OuterCorner`]).
+pub const OUTER_CORNERS: &str = "bspline-corner, outer edges";
+
+/// Shares of the tolerance by which [`Kind::OuterCorner`] moves the
+/// moves' lines outward at a corner ([`OuterGuide::shift`]), tried in
+/// turn until the result verifies within the tolerance: nine tenths (the
+/// transitions then cut across nearly twice the band), then half that.
+/// Where neither verifies, the candidate is the corner method on the run
+/// itself (the same as its own row).
+pub const OUTER_SHIFT_SHARES: [f64; 2] = [0.9, 0.45];
+
+/// [`OuterGuide::max_turn`] of [`Kind::OuterCorner`]: 2 rad (115
+/// degrees). The gain of a deeper cut falls as the turn sharpens (the
+/// machine nearly stops at a sharp corner whatever its transition) while
+/// the vertex moves `1 / cos(theta / 2)` times the shift: a zigzag of 5
+/// mm moves gained 9% at 0.5 rad turns, 5% at 1 rad, 2% at 2 rad and 1%
+/// at right angles in a prototype (measurements: docs/tuning.md,
+/// `OUTER_CORNERS`).
+pub const OUTER_MAX_TURN: f64 = 2.0;
+
 /// Largest run (pieces after sampling) of lines on which `fair` is a
 /// candidate: it fits the lines (the plain least-squares fit) and fairs
 /// every fit by the thesis' iteration, work that grows with the run; the
@@ -183,6 +206,8 @@ pub(super) enum Candidate {
     Corner(CornerMethod),
     /// A corner method on the run as it is, arcs and curves kept.
     CornerInPlace(CornerMethod),
+    /// A corner method on the run's outer-edge guide ([`Kind::OuterCorner`]).
+    OuterCorner(CornerMethod),
     /// The run as it is ([`Offered::AlreadyG2`]).
     AsIs,
 }
@@ -215,6 +240,13 @@ pub enum Kind {
     /// ([`CornerReason::ArcJoint`]). Offered only with
     /// [`super::AutoOptions::curves_as_written`], which says why.
     CornerInPlace(CornerMethod),
+    /// A corner method on the run with its sparse corners moved outward
+    /// ([`crate::smooth::outer_guide`]: the moves' lines by a share of the
+    /// tolerance, [`OUTER_SHIFT_SHARES`]) and the tolerance raised by the
+    /// same, so that each transition starts on the band's outer edge and
+    /// cuts to its inner edge at the corner; verified against the run,
+    /// and the corner method on the run itself where no share verifies.
+    OuterCorner(CornerMethod),
     /// Method `fair` (seed 003) with its default options, fitting runs of
     /// lines as this says.
     Fair(LineFit),
@@ -348,6 +380,11 @@ pub const CANDIDATES: &[CandidateRow] = &[
         kind: Kind::Corner(CornerMethod::Ctm),
         offered: Offered::Always,
     },
+    CandidateRow {
+        name: OUTER_CORNERS,
+        kind: Kind::OuterCorner(CornerMethod::BsplineCorner),
+        offered: Offered::OnShortRuns,
+    },
 ];
 
 impl SectionRule {
@@ -376,6 +413,7 @@ impl Kind {
             }),
             Kind::Corner(m) => Candidate::Corner(m),
             Kind::CornerInPlace(m) => Candidate::CornerInPlace(m),
+            Kind::OuterCorner(m) => Candidate::OuterCorner(m),
             // With `bspline-fit`'s sections only: the fits through the
             // corners are candidates of their own here, and faired again
             // they made `auto` far slower on `makerblock_tinycnc.gcode`
@@ -432,6 +470,7 @@ impl Candidate {
             .smooth_run_with(input, tol, memo),
             Candidate::Corner(m) => m.smooth_run(input, tol),
             Candidate::CornerInPlace(m) => m.smooth_run(original, tolerance),
+            Candidate::OuterCorner(m) => outer_corners(*m, input, tol),
             Candidate::Fair(o) => {
                 let fit = BsplineFitOptions {
                     line_at_start: cut_ends.0,
@@ -473,6 +512,56 @@ impl Candidate {
         }
     }
 }
+
+/// [`Candidate::OuterCorner`]: `m` on the outer-edge guide of `input`
+/// with the tolerance `tol` raised by the guide's shift, at the first of
+/// [`OUTER_SHIFT_SHARES`] whose result verifies within `tol` of `input`
+/// (its deviation bound); else `m` on `input` itself. Where a result
+/// leaves the band by a little (a transition is not a circle, so its
+/// farthest point from the original need not lie on the bisector where
+/// the argument places it), the raised tolerance is lowered by what it
+/// left by, [`OUTER_TRIES`] times at most.
+fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+    let verifier = Verifier::new(&input.pieces, &VerifyOptions::new(tol));
+    for share in OUTER_SHIFT_SHARES {
+        let g = OuterGuide {
+            shift: share * tol,
+            max_turn: OUTER_MAX_TURN,
+            depth: tol + share * tol,
+            straight: OUTER_STRAIGHT_SHARE * tol,
+        };
+        let Some(guide) = outer_guide(input, &g) else {
+            break;
+        };
+        let mut raised = tol + g.shift;
+        for _ in 0..OUTER_TRIES {
+            let out = m.smooth_run(&guide, raised)?;
+            let over = verifier.deviation(&out.pieces).bound - tol;
+            if over <= 0.0 {
+                return Ok(out);
+            }
+            // Lowered by twice the excess (the apex moves with the
+            // tolerance one to one; twice leaves room for the bound).
+            raised -= 2.0 * over;
+            if raised <= tol {
+                break;
+            }
+        }
+    }
+    m.smooth_run(input, tol)
+}
+
+/// [`OuterGuide::straight`] of [`Kind::OuterCorner`], as a share of the
+/// tolerance: moves that go straight on within 5% of it are one move for
+/// the guide (an engraving's straight edges, written as moves of a few
+/// tenths of a millimetre with 3 decimals, wobble by half a micrometre;
+/// as separate moves they leave each corner the room of one of them).
+pub const OUTER_STRAIGHT_SHARE: f64 = 0.05;
+
+/// Most smoothings [`Kind::OuterCorner`] makes at each share of
+/// [`OUTER_SHIFT_SHARES`]: the first, and two with the raised tolerance
+/// lowered by what the one before left the band by.
+pub const OUTER_TRIES: usize = 3;
 
 /// Whether `run` has a B-spline (NURBS) piece.
 pub(super) fn has_splines(run: &Run) -> bool {

@@ -28,7 +28,8 @@ pub use candidate_set::{candidate_names, CandidateSet};
 pub use candidates::{
     keeps_arc_joints, through_corners_sections, CandidateRow, CornerMethod, Kind, Offered,
     SectionRule, CANDIDATES, CURVES_AS_WRITTEN, FAIR_CURVES_AS_WRITTEN, FAIR_MAX_PIECES,
-    FAIR_STRAIGHTENED, JERK_FAIRNESS, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
+    FAIR_STRAIGHTENED, JERK_FAIRNESS, OUTER_CORNERS, OUTER_MAX_TURN, OUTER_SHIFT_SHARES,
+    OUTER_STRAIGHT_SHARE, OUTER_TRIES, THROUGH_JERK_FAIRNESS, THROUGH_MAX_PIECES, THROUGH_MAX_TURN,
     WIDE_WIGGLE_PER_TOL,
 };
 pub use judged_fair::JudgedFair;

@@ -30,6 +30,7 @@ mod kept_joints;
 mod lotm;
 mod none;
 mod options;
+mod outer_guide;
 mod run_memo;
 mod unfaired;
 
@@ -68,6 +69,7 @@ pub use lotm::{
 pub use none::{NoSmoothing, NONE_GAP_SHARE};
 pub(crate) use options::require;
 pub use options::OptionError;
+pub use outer_guide::{outer_guide, OuterGuide};
 pub use run_memo::RunMemo;
 pub use unfaired::{Unfaired, UnfairedReason};
 
