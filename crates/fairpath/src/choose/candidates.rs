@@ -107,11 +107,16 @@ pub const OUTER_CORNERS: &str = "bspline-corner, outer edges";
 
 /// Shares of the tolerance by which [`Kind::OuterCorner`] moves the
 /// moves' lines outward at a corner ([`OuterGuide::shift`]), tried in
-/// turn until the result verifies within the tolerance: nine tenths (the
-/// transitions then cut across nearly twice the band), then half that.
-/// Where neither verifies, the candidate is the corner method on the run
-/// itself (the same as its own row).
-pub const OUTER_SHIFT_SHARES: [f64; 2] = [0.9, 0.45];
+/// turn until the result verifies within the tolerance: the whole band
+/// (the transitions then cut across twice the band; it verifies where
+/// the guide's moves cross from one side to the other between corners
+/// that turn opposite ways, so that none runs along the band's edge),
+/// nine tenths, then half that. Where none verifies, the candidate is the
+/// corner method on the run itself (the same as its own row). Starting
+/// at nine tenths gave up 0.5% on a zigzag of 5 mm moves turning 0.5
+/// rad and 1.1% at 1 rad; at seven tenths 2.4% and 3.3% (measurements:
+/// docs/tuning.md, `OUTER_CORNERS`).
+pub const OUTER_SHIFT_SHARES: [f64; 3] = [1.0, 0.9, 0.45];
 
 /// [`OuterGuide::max_turn`] of [`Kind::OuterCorner`]: 2 rad (115
 /// degrees). The gain of a deeper cut falls as the turn sharpens (the
