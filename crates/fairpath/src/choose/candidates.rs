@@ -114,7 +114,7 @@ pub const OUTER_CORNERS: &str = "bspline-corner, outer edges";
 /// nine tenths, then half that. Where none verifies, the candidate is the
 /// corner method on the run itself (the same as its own row). Starting
 /// at nine tenths gave up 0.5% on a zigzag of 5 mm moves turning 0.5
-/// rad and 1.1% at 1 rad; at seven tenths 2.4% and 3.3% (measurements:
+/// rad and 1.1% at 1 rad; at seven tenths 2.9% and 4.4% (measurements:
 /// docs/tuning.md, `OUTER_CORNERS`).
 pub const OUTER_SHIFT_SHARES: [f64; 3] = [1.0, 0.9, 0.45];
 
@@ -122,8 +122,9 @@ pub const OUTER_SHIFT_SHARES: [f64; 3] = [1.0, 0.9, 0.45];
 /// degrees). The gain of a deeper cut falls as the turn sharpens (the
 /// machine nearly stops at a sharp corner whatever its transition) while
 /// the vertex moves `1 / cos(theta / 2)` times the shift: a zigzag of 5
-/// mm moves gained 9% at 0.5 rad turns, 5% at 1 rad, 2% at 2 rad and 1%
-/// at right angles in a prototype (measurements: docs/tuning.md,
+/// mm moves gained 11% at 0.5 rad turns, 5% at 1 rad, 2% at 2 rad (and
+/// left the band there at nine tenths of it) and 1% at right angles in a
+/// prototype (measurements: docs/tuning.md,
 /// `OUTER_CORNERS`).
 pub const OUTER_MAX_TURN: f64 = 2.0;
 
