@@ -127,12 +127,7 @@ impl RunWriter<'_> {
         let length = match &next.curve {
             Curve::Line(l) => l.p0.dist(l.p1),
             Curve::Arc(a) => a.p0.dist(a.p1).min(a.r0.min(a.r1)),
-            Curve::Nurbs(n) => n
-                .points
-                .windows(2)
-                .map(|w| w[0].dist(w[1]))
-                .filter(|&d| d > 0.0)
-                .fold(f64::INFINITY, f64::min),
+            Curve::Nurbs(n) => shortest_leg(&n.points),
         };
         self.finer_decimals(length, speed.or(self.speed))
             .unwrap_or(0)
@@ -373,11 +368,7 @@ impl RunWriter<'_> {
     /// thesis' design wave by `auto` read back slower than its curves
     /// (measurements: docs/tuning.md, `RunWriter::spline_decimals`).
     fn spline_decimals(&self, pts: &[Vec3]) -> usize {
-        let leg = pts
-            .windows(2)
-            .map(|w| w[0].dist(w[1]))
-            .filter(|&d| d > 0.0)
-            .fold(f64::INFINITY, f64::min);
+        let leg = shortest_leg(pts);
         if leg.is_finite() {
             self.piece_decimals(leg)
         } else {
@@ -495,6 +486,15 @@ impl RunWriter<'_> {
         self.push_line(&line);
         Ok(())
     }
+}
+
+/// The shortest leg of a control polygon `pts` that has a length (mm);
+/// infinite where none has.
+fn shortest_leg(pts: &[Vec3]) -> f64 {
+    pts.windows(2)
+        .map(|w| w[0].dist(w[1]))
+        .filter(|&d| d > 0.0)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The points after the start of a curve at which G1 lines end.

@@ -25,7 +25,8 @@
 //! against the run it smooths and falls back where it leaves the band
 //! (`choose::candidates`, `Candidate::OuterCorner`).
 
-use crate::geom::{point_segment_distance, Curve, Line, Vec3};
+use super::chains::{merge_collinear, LineChain};
+use crate::geom::{Curve, Line, Vec3};
 use crate::path::{Piece, Run};
 use alloc::vec::Vec;
 
@@ -122,36 +123,27 @@ pub fn outer_guide(run: &Run, g: &OuterGuide) -> Option<Run> {
 }
 
 /// `pieces` (lines) with every run of moves that goes straight on within
-/// `straight` mm (each inner vertex within it of the merged move, the
-/// same feed, no reversal) merged into one move.
+/// `straight` mm merged into one move, by the cleaning's own rule
+/// ([`super::chains::merge_collinear`]: each removed vertex within
+/// `straight` of the merged move, the same feed, no reversal).
 fn merged_straight(pieces: &[Piece], straight: f64) -> Vec<Piece> {
-    let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
-    // The inner vertices of the move being merged.
-    let mut inner: Vec<Vec3> = Vec::new();
-    for p in pieces {
-        let Some(last) = out.last_mut() else {
-            out.push(p.clone());
-            continue;
-        };
-        let (a, b) = (last.start(), p.end());
-        let (d_in, d_out) = (last.end() - a, p.end() - p.start());
-        let on = last.feed == p.feed
-            && d_in.dot(d_out) > 0.0
-            && (b - a).dot(d_out) > 0.0
-            && inner
-                .iter()
-                .chain(core::iter::once(&last.end()))
-                .all(|&q| point_segment_distance(q, a, b) <= straight);
-        if on {
-            inner.push(last.end());
-            last.curve = Curve::Line(Line::new(a, b));
-            last.source_lines.1 = p.source_lines.1;
-        } else {
-            inner.clear();
-            out.push(p.clone());
-        }
-    }
-    out
+    let mut chain = LineChain {
+        pts: core::iter::once(pieces[0].start())
+            .chain(pieces.iter().map(|p| p.end()))
+            .collect(),
+        lines: pieces.iter().map(|p| p.source_lines).collect(),
+        feed: pieces.iter().map(|p| p.feed).collect(),
+        absorbed: Vec::new(),
+    };
+    merge_collinear(&mut chain, straight);
+    (0..chain.segments())
+        .map(|i| Piece {
+            curve: Curve::Line(Line::new(chain.pts[i], chain.pts[i + 1])),
+            rapid: false,
+            source_lines: chain.lines[i],
+            feed: chain.feed[i],
+        })
+        .collect()
 }
 
 #[cfg(test)]
