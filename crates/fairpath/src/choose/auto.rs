@@ -152,7 +152,7 @@
 //! renderings a writer makes first; a G-code writer then also tries its
 //! all-G1 alternative and a finer curvature step, which gain more on one
 //! smoothing than on another. The candidates and mixes that came within
-//! [`AutoOptions::final_cost_margin`] of the best (2% by default; at most
+//! [`AutoOptions::final_cost_margin`] of the best (10% by default; at most
 //! [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS), the cheapest,
 //! a smoothing reached twice counted once) are judged again by
 //! [`Objective::final_cost`], the time of what the writer would write,

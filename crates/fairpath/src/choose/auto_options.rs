@@ -53,7 +53,7 @@ pub struct AutoOptions {
     /// Share of the best cost within which the other candidates of a run
     /// are judged again as the writer finally writes them, the cheapest
     /// [`FINAL_COST_CONTENDERS`](super::FINAL_COST_CONTENDERS) of them
-    /// ([`FINAL_COST_MARGIN`] by default, 0.02; at least 0: none).
+    /// ([`FINAL_COST_MARGIN`] by default, 0.1; at least 0: none).
     pub final_cost_margin: f64,
 }
 

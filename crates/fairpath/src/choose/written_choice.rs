@@ -50,9 +50,13 @@ pub struct WriterTries {
 
 /// Share of the best cost within which `auto`'s other candidates (whole
 /// runs and mixes of sections) are judged again by
-/// [`Objective::final_cost`]: 2% (measurements: docs/tuning.md,
+/// [`Objective::final_cost`]: 10%. The writer's tries (its all-G1
+/// alternative, the finer step) can gain more on one candidate than on
+/// another by several percent: on `r027_engrave.ngc` a mix of sections
+/// costing 3.3% more than the best (which the writer wrote as costed)
+/// was written 1.4% faster than it (measurements: docs/tuning.md,
 /// `FINAL_COST_MARGIN`).
-pub const FINAL_COST_MARGIN: f64 = 0.02;
+pub const FINAL_COST_MARGIN: f64 = 0.1;
 
 /// Most candidates judged by [`Objective::final_cost`] for one run, the
 /// best included: each costs the writer's renderings again (up to four,
@@ -289,7 +293,7 @@ mod tests {
         /// comes with its own cost.
         #[test]
         fn the_least_final_cost_among_the_near_contenders_wins(
-            costs in proptest::collection::vec(1000u32..1030, 12),
+            costs in proptest::collection::vec(1000u32..1150, 12),
             finals in proptest::collection::vec(900u32..1100, 12),
         ) {
             let costs: Vec<f64> = costs.iter().map(|&c| f64::from(c)).collect();
@@ -349,6 +353,29 @@ mod tests {
             fastest_written(&table, FINAL_COST_MARGIN, (costs[0], candidate(0)), others);
         assert_eq!(result(&chosen.pieces), n - 1);
         assert_eq!(t, 101.0);
+    }
+
+    /// `r027_engrave.ngc` (`scripts/random-programs.py /tmp/sw 28 9711
+    /// raster,pocket,spiral,walk,mixed,circles,engrave`, peer settings):
+    /// on one glyph the outer-edge candidate cost 2.3259 s and was written
+    /// so; a mix of sections cost 2.4033 s (3.3% more) and the writer's
+    /// tries wrote it in 2.2930 s. With a 2% margin the mix was not
+    /// judged, and the program wrote 14.767 s where it had written
+    /// 14.731 s before that candidate existed; it is judged now.
+    #[test]
+    fn regression_r027_engrave_a_mix_costed_3_percent_behind_is_judged() {
+        let table = Table {
+            costs: alloc::vec![2.3259, 2.4033],
+            finals: alloc::vec![2.3259, 2.2930],
+        };
+        let (t, chosen) = fastest_written(
+            &table,
+            FINAL_COST_MARGIN,
+            (2.3259, candidate(0)),
+            alloc::vec![(2.4033, candidate(1))],
+        );
+        assert_eq!(result(&chosen.pieces), 1);
+        assert_eq!(t, 2.4033);
     }
 
     fn written_time(override_feed: bool, tries: Option<WriterTries>) -> WrittenTime {
