@@ -189,16 +189,18 @@ fn line_contouring_xz_auto_keeps_its_step_over_corners() {
 /// one of the plain fit alone, and the runs between the corners of its
 /// U-turns, which are offered the candidates the whole run's best chose,
 /// got the plain fit alone: 12.889 s against 12.489 s at the default
-/// margin. They are now also offered those the cheapest by cost chose.
+/// margin (then 0.02). They are now also offered those the cheapest by
+/// cost chose: the default margin (0.1 since stop 107) and a wider one
+/// write no slower than that (to its millisecond).
 #[test]
 #[ignore = "corpus: run by .ci/run (cargo test --workspace -- --include-ignored)"]
 fn line_contouring_xz_a_wider_final_cost_margin_keeps_the_split_candidates() {
     with_shared("linuxcnc/performance/line-contouring-xz.ngc", |p| {
         let t = |o| summary(p, "auto", o)["written_time_s"].as_f64().unwrap();
-        let (wide, default) = (t(Some("final_cost_margin = 0.03\n")), t(None));
+        let (wide, default) = (t(Some("final_cost_margin = 0.2\n")), t(None));
         assert!(
-            wide <= default * (1.0 + TIE),
-            "margin 0.03: {wide} s, default: {default} s"
+            default < 12.4895 && wide <= default * (1.0 + TIE),
+            "margin 0.2: {wide} s, default: {default} s"
         );
     });
 }
