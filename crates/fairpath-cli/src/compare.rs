@@ -19,7 +19,8 @@
 //! closed contour or a raster of close passes needs: there a band path may
 //! cut across), where the row's path passes that bound's gates in order
 //! (`fairpath::verify::follows_in_order`, checked on the curves and on
-//! each written program read back): `x order`.
+//! each written program read back; the gates at the tolerance and at each
+//! wider one the bound is also taken at, `BoundOptions::wider`): `x order`.
 
 use crate::read::read_program;
 use crate::smooth::{option_error, options as smooth_options};
@@ -357,10 +358,11 @@ pub fn compare_program(path: &Path, program: &Program, opts: &CompareOptions) ->
 }
 
 /// The in-order bound's gates of each run of the original, to check the
-/// rows' paths against.
+/// rows' paths against: at the tolerance and at each wider one the bound
+/// also takes ([`BoundOptions::wider`]), a path passing them all in order.
 struct RunGates<'a> {
     original: &'a [Run],
-    gates: Vec<InOrderGates>,
+    gates: Vec<Vec<InOrderGates>>,
     machine: MachineLimits,
     override_feed: bool,
     accuracy: f64,
@@ -373,11 +375,27 @@ impl<'a> RunGates<'a> {
         machine: &MachineLimits,
         override_feed: bool,
     ) -> Self {
+        let tolerances: Vec<f64> = core::iter::once(o.tolerance)
+            .chain(
+                o.wider
+                    .iter()
+                    .filter(|k| k.is_finite() && **k > 1.0)
+                    .map(|k| o.tolerance * k),
+            )
+            .collect();
         RunGates {
             original,
             gates: original
                 .iter()
-                .map(|r| in_order_gates_of(&r.pieces, o, machine, override_feed))
+                .map(|r| {
+                    tolerances
+                        .iter()
+                        .map(|&tolerance| {
+                            let o = BoundOptions { tolerance, ..*o };
+                            in_order_gates_of(&r.pieces, &o, machine, override_feed)
+                        })
+                        .collect()
+                })
                 .collect(),
             machine: *machine,
             override_feed,
@@ -391,14 +409,15 @@ impl<'a> RunGates<'a> {
     fn followed_by(&self, path: &[Run]) -> Option<bool> {
         let pairs = fairpath_gcode::pipeline::pair_runs(self.original, path).ok()?;
         Some(pairs.iter().all(|&(o, c)| {
-            let g = &self.gates[o];
-            follows_in_order_within(
-                &path[c].pieces,
-                &g.gates,
-                &g.caps,
-                |p| piece_speed(p, &self.machine, self.override_feed),
-                self.accuracy,
-            )
+            self.gates[o].iter().all(|g| {
+                follows_in_order_within(
+                    &path[c].pieces,
+                    &g.gates,
+                    &g.caps,
+                    |p| piece_speed(p, &self.machine, self.override_feed),
+                    self.accuracy,
+                )
+            })
         }))
     }
 

@@ -994,3 +994,74 @@ proptest! {
         prop_assert!(b <= t, "in-order bound {} above the plan {}: {:?}", b, t, pts);
     }
 }
+
+/// `scripts/fillet-radius.py`'s pass: a 30 x 20 mm rectangle from the
+/// corner of its lower edge's fillet around, its corners rounded by G3
+/// quarter circles of radius `r`, every move at `feed` mm/min.
+fn filleted_rectangle(r: f64, feed: f64) -> Vec<Piece> {
+    use fairpath::geom::{Arc, Curve, Line};
+    let (w, h) = (30.0, 20.0);
+    let corners = [(w - r, r), (w - r, h - r), (r, h - r), (r, r)];
+    let mut pieces = Vec::new();
+    let mut at = v(r, 0.0, 0.0);
+    for (k, &(cx, cy)) in corners.iter().enumerate() {
+        let a0 = (-90.0 + 90.0 * k as f64).to_radians();
+        let (start, end) = (
+            v(cx + r * a0.cos(), cy + r * a0.sin(), 0.0),
+            v(cx - r * a0.sin(), cy + r * a0.cos(), 0.0),
+        );
+        for curve in [
+            Curve::Line(Line::new(at, start)),
+            Curve::from(
+                Arc::from_center(start, end, v(cx, cy, 0.0), Vec3::Z, false, 1, 1e-9).unwrap(),
+            ),
+        ] {
+            pieces.push(Piece {
+                curve,
+                rapid: false,
+                source_lines: (1, 1),
+                feed: Some(feed),
+            });
+        }
+        at = end;
+    }
+    pieces
+}
+
+/// `scripts/fillet-radius.py`'s pass at 0.005 mm: every length of the
+/// bound's argument is a multiple of the tolerance, so at a tolerance
+/// small against a fillet (radius 0.92 mm, 184 tolerances) its windows
+/// span only part of the turn, and the in-order bound of the filleted
+/// rectangle at 100 mm/s was 1.118 s at 0.005 mm against 1.244 s at
+/// 0.02 mm on the thesis machine (its plan: 1.929 s; `fairpath compare`
+/// on the script's program, default machine: 1.231 against 1.357 s).
+/// A path within 0.005 mm is within 0.02 mm: the bound now
+/// takes the largest at the tolerance and at 4 and 16 times it
+/// (`BoundOptions::wider`), and still does not exceed the plan of the
+/// run itself (a path within every band of it).
+#[test]
+fn regression_fillet_radius_a_small_tolerance_bounds_no_less_than_a_wider_one() {
+    let run = filleted_rectangle(0.92, 6000.0);
+    let m = MachineLimits::thesis();
+    let at = |tol: f64, wider: [f64; 2]| {
+        let o = BoundOptions {
+            wider,
+            ..in_order(tol)
+        };
+        lower_bound_time(&run, &o, &m, false).expect("bounds").time
+    };
+    let alone = |tol: f64| at(tol, [1.0, 1.0]);
+    let small = at(0.005, BoundOptions::new(0.005).wider);
+    let opts = fairpath::feed::plan::PlanOptions {
+        limits: m,
+        override_feed: false,
+        window: None,
+        ends: Default::default(),
+    };
+    let t = fairpath::feed::plan::plan_run(&run, &opts)
+        .expect("plans")
+        .time;
+    assert!(small >= alone(0.01) && small >= alone(0.02), "{small}");
+    assert!(small > alone(0.005), "{small}");
+    assert!(small <= t, "bound {small} above the plan {t}");
+}
