@@ -375,22 +375,13 @@ impl<'a> RunGates<'a> {
         machine: &MachineLimits,
         override_feed: bool,
     ) -> Self {
-        let tolerances: Vec<f64> = core::iter::once(o.tolerance)
-            .chain(
-                o.wider
-                    .iter()
-                    .filter(|k| k.is_finite() && **k > 1.0)
-                    .map(|k| o.tolerance * k),
-            )
-            .collect();
         RunGates {
             original,
             gates: original
                 .iter()
                 .map(|r| {
-                    tolerances
-                        .iter()
-                        .map(|&tolerance| {
+                    o.tolerances()
+                        .map(|tolerance| {
                             let o = BoundOptions { tolerance, ..*o };
                             in_order_gates_of(&r.pieces, &o, machine, override_feed)
                         })

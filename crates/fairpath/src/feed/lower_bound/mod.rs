@@ -475,6 +475,18 @@ impl BoundOptions {
             wider: [4.0, 16.0],
         }
     }
+
+    /// The tolerances the bound is taken at: the tolerance, then each of
+    /// [`BoundOptions::wider`] times it (multiples not above 1 skipped).
+    pub fn tolerances(&self) -> impl Iterator<Item = f64> + '_ {
+        let tol = self.tolerance;
+        core::iter::once(tol).chain(
+            self.wider
+                .iter()
+                .filter(|k| k.is_finite() && **k > 1.0)
+                .map(move |k| tol * k),
+        )
+    }
 }
 
 /// A lower bound and what it rests on.
@@ -823,20 +835,23 @@ pub fn lower_bound_time(
     if !(tol.is_finite() && tol > 0.0) {
         return Err(BoundError::Tolerance(tol));
     }
-    let mut best = bound_at(pieces, opts, m, override_feed)?;
-    for k in opts.wider {
-        if !(k.is_finite() && k > 1.0) {
-            continue;
-        }
-        let wide = BoundOptions {
-            tolerance: tol * k,
-            ..*opts
-        };
-        let b = bound_at(pieces, &wide, m, override_feed)?;
-        if b.time > best.time {
-            best = b;
+    m.validate().map_err(|l| FeedError::BadLimit {
+        name: l.name,
+        value: l.value,
+    })?;
+    let mut best: Option<LowerBound> = None;
+    for tolerance in opts.tolerances() {
+        let b = bound_at(
+            pieces,
+            &BoundOptions { tolerance, ..*opts },
+            m,
+            override_feed,
+        )?;
+        if best.is_none_or(|w| b.time > w.time) {
+            best = Some(b);
         }
     }
+    let mut best = best.unwrap_or_default();
     best.time *= 1.0 - PLAN_ACCURACY;
     Ok(best)
 }
@@ -852,7 +867,7 @@ pub fn lower_bound_time(
 /// (docs/tuning.md, `BoundOptions::wider`).
 const PLAN_ACCURACY: f64 = 1e-5;
 
-/// [`lower_bound_time`] at `opts.tolerance` alone.
+/// [`lower_bound_time`] at `opts.tolerance` alone, `m` validated.
 ///
 /// For paths in order, the larger of the bounds with and without the
 /// gates of the run's reversals (step 1): those gates are added to the
@@ -867,10 +882,6 @@ fn bound_at(
     override_feed: bool,
 ) -> Result<LowerBound, BoundError> {
     let tol = opts.tolerance;
-    m.validate().map_err(|l| FeedError::BadLimit {
-        name: l.name,
-        value: l.value,
-    })?;
     let speeds: Vec<f64> = pieces
         .iter()
         .map(|p| piece_speed(p, m, override_feed))
