@@ -1065,3 +1065,144 @@ fn regression_fillet_radius_a_small_tolerance_bounds_no_less_than_a_wider_one() 
     assert!(small > alone(0.005), "{small}");
     assert!(small <= t, "bound {small} above the plan {t}");
 }
+
+/// A planar spiral from radius `r0` growing by `pitch` per turn over
+/// `turns` turns, in chords of about `chord` mm, led in from its centre.
+fn spiral(r0: f64, pitch: f64, turns: f64, chord: f64) -> Vec<Vec3> {
+    let mut pts = vec![v(0.0, 0.0, 0.0)];
+    let mut a: f64 = 0.0;
+    while a <= turns * core::f64::consts::TAU {
+        let r = r0 + pitch * a / core::f64::consts::TAU;
+        pts.push(v(r * a.cos(), r * a.sin(), 0.0));
+        a += chord / r;
+    }
+    pts
+}
+
+/// The in-order bound of `pieces` with the curved gates turned off.
+fn bound_in_order_straight(pieces: &[Piece]) -> f64 {
+    let opts = BoundOptions {
+        curved_turn: 0.0,
+        ..in_order(TOL)
+    };
+    lower_bound_time(pieces, &opts, &MachineLimits::thesis(), true)
+        .expect("bounds")
+        .time
+}
+
+#[test]
+fn a_small_spiral_in_order_is_bounded_through_its_curved_gates() {
+    // `130207L.ngc`'s glyphs turn at radii of 0.2 to 0.5 mm, never
+    // straight within half a tolerance over the reach: no straight gate
+    // stood on them, and their in-order bound was little more than their
+    // length's. A spiral from 0.3 mm, 0.2 mm apart per turn (passes
+    // farther apart than the band), three turns in 0.02 mm chords.
+    let run = polyline_run(&spiral(0.3, 0.2, 3.0, 0.02));
+    let b = bound_in_order(&run.pieces);
+    let b_straight = bound_in_order_straight(&run.pieces);
+    println!("in-order bound {b:.4} s, {b_straight:.4} s with straight gates only");
+    assert!(b > 1.3 * b_straight, "{b} against {b_straight}");
+    assert!(follows(&run.pieces, &run.pieces));
+    assert!(b <= planned(&run.pieces), "{b}");
+    for smoothed in [bspline_corner_of(&run), bspline_fit_of(&run)] {
+        assert!(follows(&run.pieces, &smoothed));
+        assert!(b <= planned(&smoothed), "{b}");
+    }
+}
+
+#[test]
+fn corners_hold_no_curved_gate_their_cuts_pass_outside() {
+    // A right angle cut at 0.045 mm from its legs passes the vertex at
+    // 0.064 mm, outside a gate of radius e there: the hexagon's corners
+    // (60 degrees, and 3 mm up or down) and a square's hold none (the
+    // gates are the straight ones), so the corner methods' transitions
+    // follow their gates.
+    let straight = BoundOptions {
+        curved_turn: 0.0,
+        ..in_order(TOL)
+    };
+    for pts in [
+        hexagon(),
+        vec![
+            v(0.0, 0.0, 0.0),
+            v(10.0, 0.0, 0.0),
+            v(10.0, 10.0, 0.0),
+            v(0.0, 10.0, 0.0),
+            v(0.0, 0.5, 0.0),
+        ],
+    ] {
+        let run = polyline_run(&pts);
+        let g = gates_of(&run.pieces);
+        let m = MachineLimits::thesis();
+        let g_straight = in_order_gates_of(&run.pieces, &straight, &m, true);
+        assert_eq!(g.gates, g_straight.gates);
+        for smoothed in [bspline_corner_of(&run), bspline_fit_of(&run)] {
+            assert!(follows(&run.pieces, &smoothed));
+        }
+    }
+}
+
+#[test]
+fn seeded_small_loops_stay_above_their_in_order_bound() {
+    // Spirals from 0.1 to 2 mm, 0.12 to 1 mm apart per turn, one to three
+    // turns, in chords of 0.005 to 0.1 mm: every path that follows the
+    // curved gates in order (the run itself, its corner and fit
+    // smoothings) plans no faster than the bound.
+    let mut next = seeded(0x5b1a_c0de_0f1e_2ad5);
+    for case in 0..16 {
+        let r0 = 0.1 + 1.9 * next();
+        let pitch = 0.12 + 0.88 * next();
+        let turns = 1.0 + 2.0 * next();
+        let chord = 0.005 + 0.095 * next();
+        let run = polyline_run(&spiral(r0, pitch, turns, chord));
+        let b = bound_in_order(&run.pieces);
+        assert!(follows(&run.pieces, &run.pieces), "case {case}");
+        let t = planned(&run.pieces);
+        assert!(b <= t, "case {case}: bound {b} above the plan {t}");
+        for (name, smoothed) in [
+            ("bspline-corner", bspline_corner_of(&run)),
+            ("bspline-fit", bspline_fit_of(&run)),
+        ] {
+            if follows(&run.pieces, &smoothed) {
+                let ts = planned(&smoothed);
+                assert!(b <= ts, "case {case}: {name} plans {ts} below {b}");
+            } else {
+                println!(
+                    "case {case}: {name} does not follow (r0 {r0}, pitch {pitch}, chord {chord})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn regression_butterfly_80_a_coarse_vertex_holds_no_curved_gate() {
+    // `butterfly-80.ngc`'s vertices turn by 10 to 60 degrees between
+    // chords of millimetres: one of 54 degrees turns by less than
+    // `curved_turn` over 2e, and `bspline-corner`'s cut there passed 0.0507
+    // mm from a curved gate of radius 0.05005 mm beside the vertex. A
+    // zigzag turning 55 degrees left and right between legs of 2 to 3 mm
+    // likewise: with a limit on each vertex's turn no curved gate stands
+    // by its vertices and the cuts follow; without one they do not.
+    let mut pts = vec![v(0.0, 0.0, 0.0)];
+    let mut heading: f64 = 0.0;
+    for k in 0..40 {
+        let len = 2.0 + (0.37 * k as f64) % 1.0;
+        let last = pts[pts.len() - 1];
+        pts.push(last + v(len * heading.cos(), len * heading.sin(), 0.0));
+        heading += if k % 2 == 0 { 55f64 } else { -55f64 }.to_radians();
+    }
+    let run = polyline_run(&pts);
+    let cut = bspline_corner_of(&run);
+    let m = MachineLimits::thesis();
+    let follows_with = |opts: &BoundOptions| {
+        let g = in_order_gates_of(&run.pieces, opts, &m, true);
+        follows_in_order(&cut, &g.gates, 1e-4 * TOL)
+    };
+    assert!(follows(&run.pieces, &cut));
+    let any_vertex = BoundOptions {
+        curved_vertex_turn: 10.0,
+        ..in_order(TOL)
+    };
+    assert!(!follows_with(&any_vertex));
+}

@@ -3,6 +3,7 @@
 //! of the run where nothing else of it comes near; and the lengths they
 //! bound.
 
+use super::curved::{curved_gate, windowed_turning};
 use super::samples::SampleGrid;
 use super::{BandPaths, BoundOptions, MachineLimits, MAX_SAMPLES};
 use crate::geom::{flatten_params, ParamCurve, Vec3};
@@ -241,11 +242,26 @@ fn in_order_gates(
         }
         false
     };
+    // Step 1's curved gates (`curved.rs`): where no straight gate stands
+    // and the run turns gently.
+    let turning = (o.curved_turn > 0.0).then(|| windowed_turning(pts, s, 2.0 * e));
     let mut out = Vec::new();
     let mut x = r.max(spacing);
     let mut next_tip = tips.iter().peekable();
     while x < total - r {
-        if let Some(g) = straight_gate(pts, s, x, r, e, o.straightness * tol) {
+        let gate = straight_gate(pts, s, x, r, e, o.straightness * tol).or_else(|| {
+            let turning = turning.as_ref()?;
+            curved_gate(
+                pts,
+                s,
+                x,
+                r,
+                e,
+                turning,
+                (o.curved_turn, o.curved_vertex_turn),
+            )
+        });
+        if let Some(g) = gate {
             if !at_hairpin(x, g.at) {
                 while let Some(&&(t, at)) = next_tip.peek().filter(|&&&(t, _)| t < x) {
                     out.push((t, tip_gate(t, at, e)));

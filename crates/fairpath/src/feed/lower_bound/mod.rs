@@ -44,7 +44,10 @@
 //!    steps below hold as they are. The bound takes the straight gates
 //!    (radius `e + delta`, as above), also where the run comes back near
 //!    itself farther along it than [`BoundOptions::hairpin_reach`] (not
-//!    at a sharp hairpin's tip, which the corner methods cut), and a gate
+//!    at a sharp hairpin's tip, which the corner methods cut), where no
+//!    straight gate stands but the run turns gently (a glyph's bowl, a
+//!    small loop; [`BoundOptions::curved_turn`], `curved.rs`) a gate of
+//!    radius `e` on it, and a gate
 //!    of radius `e` on the tip of every exact reversal on legs longer
 //!    than a short move ([`BoundOptions::reversal_half_angle`],
 //!    [`BoundOptions::reversal_min_leg`]: a V-carve spike, a stroke
@@ -368,6 +371,7 @@ use crate::path::Piece;
 use alloc::vec::Vec;
 
 mod chain;
+mod curved;
 mod gates;
 mod samples;
 mod tip;
@@ -441,6 +445,18 @@ pub struct BoundOptions {
     /// reversal on such a leg (`Cereal.ngc`'s V-carve spikes dip 0.035
     /// mm at their tips and come back up).
     pub reversal_min_leg: f64,
+    /// For paths in order: where the run is not straight enough for a
+    /// straight gate, a gate of radius `e` stands on it if it turns by at
+    /// most this (rad) over every stretch of twice the tolerance within
+    /// the reach (a curve of radius above about `2e` over this); not at a
+    /// sharper turn, whose vertex a corner method's cut passes farther
+    /// than `e` (`curved.rs`). 0: straight gates only. Measurements:
+    /// docs/tuning.md, `BoundOptions::curved_turn`.
+    pub curved_turn: f64,
+    /// ... and by at most this (rad) at each of its vertices there: a
+    /// coarse polyline's vertex is a corner the corner methods cut, and a
+    /// cut `h` deep passes the vertex at `h / cos(turn / 2)`.
+    pub curved_vertex_turn: f64,
     /// Radii of the balls of the width argument (step 7), in tolerances.
     pub ball_radii: [f64; 2],
     /// Radii of the balls of the walls argument (step 9), in tolerances;
@@ -470,6 +486,8 @@ impl BoundOptions {
             hairpin_reach: 20.0,
             reversal_half_angle: 1e-6,
             reversal_min_leg: crate::budget::SHORT_MOVE_SHARE,
+            curved_turn: 1.0,
+            curved_vertex_turn: 0.2,
             ball_radii: [20.0, 100.0],
             wall_radii: [20.0, 30.0, 45.0, 70.0],
             wider: [4.0, 16.0],
@@ -874,7 +892,10 @@ const PLAN_ACCURACY: f64 = 1e-5;
 /// others, so a path that passes them all passes either set, but the
 /// turn windows are picked greedily over the chords between gates, and a
 /// short chord next to a tip can break a window the set without it had
-/// (measurements: docs/tuning.md, "Gates on reversals' tips").
+/// (measurements: docs/tuning.md, "Gates on reversals' tips"). The
+/// curved gates can do the same, by a tenth of a percent on a few runs;
+/// the bound without them is not taken too, which would double the
+/// in-order bound's cost (docs/tuning.md, `BoundOptions::curved_turn`).
 fn bound_at(
     pieces: &[Piece],
     opts: &BoundOptions,
