@@ -44,4 +44,6 @@ pub use reversals::{
 };
 pub use same_pieces::{pieces_digest, same_pieces};
 pub use sections::{split_at_long_lines, SECTION_LINES, SECTION_MAX_PIECES};
-pub use written_choice::{WriterTries, FINAL_COST_CONTENDERS, FINAL_COST_MARGIN, SAME_COST_SHARE};
+pub use written_choice::{
+    WriterTries, FINAL_COST_CONTENDERS, FINAL_COST_MARGIN, FINAL_TIE_SHARE, SAME_COST_SHARE,
+};
