@@ -74,9 +74,9 @@ pub const FINAL_COST_CONTENDERS: usize = 6;
 /// checks), and within a hair they rank by noise. On `arc-arc-test.ngc`
 /// (LinuxCNC) a mix of sections costing 3.7% more than the best was
 /// judged 7.6e-5 of the time faster and written 1.06% slower; at 1e-3
-/// it is not taken, and of the 44 programs the margin was measured on
-/// only `LHchips4.ngc` moves, 252.133 -> 252.137 s (measurements:
-/// docs/tuning.md, `FINAL_COST_MARGIN`).
+/// it is not taken, and the programs the margin was measured on lose at
+/// most 2e-5 of their time (measurements: docs/tuning.md,
+/// `FINAL_COST_MARGIN`).
 pub const FINAL_TIE_SHARE: f64 = 1e-3;
 
 /// Share of the best cost within which two contenders' costs are taken
