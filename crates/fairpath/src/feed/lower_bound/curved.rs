@@ -21,9 +21,10 @@
 //! within the reach (a radius of at least `2e / curved_turn`) and by at
 //! most [`super::BoundOptions::curved_vertex_turn`] at each vertex (a
 //! coarse polyline's vertex is a corner the corner methods cut: at 0.2
-//! rad a cut at the full tolerance passes it within 1.005 of it, the
-//! tolerance's flattening chord and the blending share keep that inside
-//! `e`).
+//! rad a cut `h` deep passes it within `1.005 h`, inside `e` for every
+//! cut less than 0.4% short of the tolerance). The limits only choose
+//! which written paths the bound applies to; `compare` checks each
+//! (measurements: docs/tuning.md, `BoundOptions::curved_turn`).
 
 use super::gates::{point_at, Gate};
 use crate::geom::Vec3;
