@@ -21,10 +21,10 @@
 //! within the reach (a radius of at least `2e / curved_turn`) and by at
 //! most [`super::BoundOptions::curved_vertex_turn`] at each vertex (a
 //! coarse polyline's vertex is a corner the corner methods cut: at 0.2
-//! rad a cut `h` deep passes it within `1.005 h`, inside `e` for every
-//! cut less than 0.4% short of the tolerance). The limits only choose
-//! which written paths the bound applies to; `compare` checks each
-//! (measurements: docs/tuning.md, `BoundOptions::curved_turn`).
+//! rad a cut `h` deep passes it within `1.005 h`, inside `e` wherever
+//! the cut is at least 0.4% shallower than the tolerance). The limits
+//! only choose which written paths the bound applies to; `compare`
+//! checks each (measurements: docs/tuning.md, `BoundOptions::curved_turn`).
 
 use super::gates::{point_at, Gate};
 use crate::geom::Vec3;
