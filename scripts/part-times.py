@@ -11,9 +11,11 @@ method, the part's lines and feed runs, and its share of the whole.
   scripts/part-times.py PROGRAM [--tolerance 0.05mm] [--methods none,auto]
                         [--top 10] [--markdown FILE]
 
-The parts start at the origin with their first rapid, not where the
-program was: only rapids differ from the program (never smoothed), so the
-feed runs, and what each method does with them, are the program's.
+Each part starts with a rapid to where the program was at the cut (the
+axes the program had set, in absolute mode), then its own lines: only
+rapids differ from the program (never smoothed), so the feed runs, and
+what each method does with them, are the program's. (A part cut from an
+incremental stretch, G91, starts from the origin instead.)
 FAIRPATH_BIN names the binary (default: target/release/fairpath).
 """
 
@@ -33,6 +35,7 @@ MODAL = {
 FEED = re.compile(r"\bF\s*([-+]?[\d.]+)", re.I)
 RAPID = re.compile(r"\bG\s*0*0(?![.\d])", re.I)
 MOTION = re.compile(r"\b[XYZ]\s*[-+]?[\d.]", re.I)
+AXIS = re.compile(r"\b([XYZ])\s*([-+]?[\d.]+)", re.I)
 
 
 def code(line):
@@ -42,7 +45,8 @@ def code(line):
 
 def split(lines):
     """(header, parts): each part a list of lines, with the modal words in
-    force before it."""
+    force before it and the position (`at_X`, `at_Y`, `at_Z`) where the
+    program was."""
     first_motion = next((i for i, l in enumerate(lines) if MOTION.search(code(l))), len(lines))
     header = [l for l in lines[:first_motion] if not RAPID.search(code(l))]
     parts, cur, state, before = [], [], {}, {}
@@ -54,6 +58,9 @@ def split(lines):
         if not cur:
             before = dict(state)
         cur.append(line)
+        for axis, value in AXIS.findall(c):
+            if state.get("distance", "G90") == "G90":
+                state["at_" + axis.upper()] = value
         for k, rx in MODAL.items():
             m = rx.findall(c)
             if m:
@@ -64,6 +71,20 @@ def split(lines):
     if cur:
         parts.append((before, cur))
     return header, parts
+
+
+def preamble(state):
+    """The lines that put a standalone part where the program was: the
+    modal words, the position as one rapid, the feed on a line of its
+    own (no motion)."""
+    modal = " ".join(state[m] for m in ("units", "plane", "distance") if m in state)
+    pre = [modal] if modal else []
+    at = " ".join(a + state["at_" + a] for a in "XYZ" if "at_" + a in state)
+    if at and state.get("distance", "G90") == "G90":
+        pre.append("G0 " + at)
+    if "feed" in state:
+        pre.append(state["feed"])
+    return pre
 
 
 def main():
@@ -82,11 +103,7 @@ def main():
     with tempfile.TemporaryDirectory() as d:
         for k, (state, part) in enumerate(parts, 1):
             path = os.path.join(d, f"part{k}.ngc")
-            modal = " ".join(state[m] for m in ("units", "plane", "distance") if m in state)
-            pre = [modal] if modal else []
-            # The feed in force at the cut, on a line of its own (no motion).
-            if "feed" in state:
-                pre.append(state["feed"])
+            pre = preamble(state)
             with open(path, "w") as f:
                 f.write("\n".join(header + pre + part + ["M2"]) + "\n")
             row = {"part": k, "first": None, "lines": len(part), "runs": "", "secs": {}}
