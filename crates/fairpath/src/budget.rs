@@ -165,6 +165,20 @@ pub const SHORT_MOVE_SHARE: f64 = 2.0;
 /// a full-band result always verifies.
 pub const BAND_USE: f64 = 0.998;
 
+/// How far from its corner point a corner transition's apex may lie, in
+/// the transition's band (`BAND_USE` of its share of the tolerance): the
+/// band's own corner at a right angle, `sqrt(2)`. A transition within
+/// `delta` of its two moves has its apex within `delta / sin(theta)` of
+/// the corner (`theta` the half corner angle: the point where the curve
+/// crosses the bisector is within `delta` of both moves), which grows
+/// without bound at a sharp corner: at a turn of 160 degrees 5.8 `delta`,
+/// at 179.5 degrees the whole move (the tip of a spike or of a V-carve's
+/// stroke, inside the band one-sidedly, would not be cut). Sharper than a
+/// right angle the band is narrowed so the apex stays within this reach;
+/// up to a right angle nothing changes (`smooth/corner_engine.rs`,
+/// `Reach`).
+pub const CORNER_REACH_SHARE: f64 = core::f64::consts::SQRT_2;
+
 /// Share of the tolerance `arc-fit`'s blocks use: the rest covers the
 /// cleaning of the run and the rounding of written centres.
 pub const ARC_FIT_SHARE: f64 = 0.9;

@@ -16,6 +16,7 @@ mod bspline_fit_props;
 mod closed_forms;
 mod common;
 mod constructor_props;
+mod corner_reach;
 mod derivatives;
 mod doc_diaries;
 mod double_s;

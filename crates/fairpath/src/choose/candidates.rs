@@ -4,14 +4,15 @@
 
 use crate::geom::tube_fair::PeakPass;
 use crate::geom::Curve;
+use crate::geom::Vec3;
 use crate::geom::{classify_joint, Continuity, JointTolerances, ParamCurve};
-use crate::path::Run;
+use crate::path::{Piece, Run};
 use crate::smooth::{
     outer_guide, shallow_corner_sections, BsplineCorner, BsplineFit, BsplineFitOptions,
-    CornerReason, Ctm, Fair, FairOptions, LineFit, Lotm, OuterGuide, RunMemo, SectionOptions,
-    SmoothError, SmoothedRun, Smoother,
+    CornerReason, Ctm, Fair, FairOptions, LineFit, Lotm, OuterGuide, Reach, RunMemo,
+    SectionOptions, SmoothError, SmoothedRun,
 };
-use crate::verify::{Verifier, VerifyOptions};
+use crate::verify::{follows_in_order, Verifier, VerifyOptions};
 use alloc::vec::Vec;
 
 /// A corner method `auto` offers, with its default options.
@@ -36,10 +37,23 @@ impl CornerMethod {
     }
 
     fn smooth_run(self, run: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_reaching(run, tol, None)
+    }
+
+    /// The method on `run` with every transition's apex held to `reach`
+    /// (the band's own when `None`).
+    fn smooth_run_reaching(
+        self,
+        run: &Run,
+        tol: f64,
+        reach: Option<Reach>,
+    ) -> Result<SmoothedRun, SmoothError> {
         match self {
-            CornerMethod::BsplineCorner => BsplineCorner::default().smooth_run(run, tol),
-            CornerMethod::Lotm => Lotm::default().smooth_run(run, tol),
-            CornerMethod::Ctm => Ctm::default().smooth_run(run, tol),
+            CornerMethod::BsplineCorner => {
+                BsplineCorner::default().smooth_run_reaching(run, tol, reach)
+            }
+            CornerMethod::Lotm => Lotm::default().smooth_run_reaching(run, tol, reach),
+            CornerMethod::Ctm => Ctm::default().smooth_run_reaching(run, tol, reach),
         }
     }
 }
@@ -529,6 +543,9 @@ impl Candidate {
 /// left by, [`OUTER_TRIES`] times at most.
 fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, SmoothError> {
     let verifier = Verifier::new(&input.pieces, &VerifyOptions::new(tol));
+    // Every corner of the input passed within the reach, in order: what
+    // the reach in the smoothing aims at (`Reach`), checked.
+    let corners = corner_gates(input, tol);
     for share in OUTER_SHIFT_SHARES {
         let g = OuterGuide {
             shift: share * tol,
@@ -539,12 +556,25 @@ fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, 
         let Some(guide) = outer_guide(input, &g) else {
             break;
         };
+        // Every apex within the reach of the band `tol` has of its
+        // original corner, moved or not.
+        let reach = Reach {
+            radius: crate::budget::CORNER_REACH_SHARE * crate::budget::BAND_USE * tol,
+            shift: g.shift,
+            moved_from: 0.5 * (core::f64::consts::PI - g.max_turn),
+        };
         let mut raised = tol + g.shift;
         for _ in 0..OUTER_TRIES {
-            let out = m.smooth_run(&guide, raised)?;
+            let out = m.smooth_run_reaching(&guide, raised, Some(reach))?;
             let over = verifier.deviation(&out.pieces).bound - tol;
             if over <= 0.0 {
-                return Ok(out);
+                if reaches_corners(&out.pieces, &corners, tol) {
+                    return Ok(out);
+                }
+                // A corner next to a move the guide tilted (one end moved,
+                // the other not) is passed a little beyond the reach: the
+                // next share's smaller shift tilts it less.
+                break;
             }
             // Lowered by twice the excess (the apex moves with the
             // tolerance one to one; twice leaves room for the bound).
@@ -555,6 +585,30 @@ fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, 
         }
     }
     m.smooth_run(input, tol)
+}
+
+/// How closely, as a share of the tolerance, the check that
+/// [`Kind::OuterCorner`]'s result passes every corner within the reach
+/// ([`reaches_corners`]) flattens its curves: a thousandth, under the 0.2% the corner transitions leave
+/// of the reach ([`crate::budget::BAND_USE`]).
+const REACH_ACCURACY: f64 = 1e-3;
+
+/// A gate at every inner vertex of `run` (each piece's end but the
+/// last's), of the corner reach of the tolerance `tol`
+/// ([`crate::budget::CORNER_REACH_SHARE`]).
+fn corner_gates(run: &Run, tol: f64) -> Vec<(Vec3, f64)> {
+    let radius = crate::budget::CORNER_REACH_SHARE * tol;
+    run.pieces[..run.pieces.len().saturating_sub(1)]
+        .iter()
+        .map(|p| (p.end(), radius))
+        .collect()
+}
+
+/// Whether `path` passes every gate of [`corner_gates`] (of `tol`) in
+/// order, its curves flattened within [`REACH_ACCURACY`] of `tol`: the
+/// smoothing turns back short of no corner.
+fn reaches_corners(path: &[Piece], gates: &[(Vec3, f64)], tol: f64) -> bool {
+    follows_in_order(path, gates, REACH_ACCURACY * tol)
 }
 
 /// [`OuterGuide::straight`] of [`Kind::OuterCorner`], as a share of the

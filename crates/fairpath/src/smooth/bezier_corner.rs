@@ -82,7 +82,7 @@
 use super::bspline_corner::{transition_curve, BAND_USE};
 use super::chains::smooth_by_chains;
 use super::corner_engine::{
-    self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Room, Undirected,
+    self, Band, ChainCorners, Corner, CornerPlan, CornerRules, Reach, Room, Undirected,
 };
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Nurbs, Vec3};
@@ -228,10 +228,24 @@ impl Smoother for Ctm {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_reaching(run, tolerance, None)
+    }
+}
+
+impl Ctm {
+    /// [`Smoother::smooth_run`] with every transition's apex held to
+    /// `reach` instead of the band's own.
+    pub(crate) fn smooth_run_reaching(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        reach: Option<Reach>,
+    ) -> Result<SmoothedRun, SmoothError> {
         let o = self.options;
         o.validate()?;
-        let mut out =
-            smooth_run_by_corners(run, tolerance, o.min_half_angle, &|cc| ctm_plan(cc, o.c))?;
+        let mut out = smooth_run_by_corners(run, tolerance, o.min_half_angle, reach, &|cc| {
+            ctm_plan(cc, o.c)
+        })?;
         o.arc_joints.apply(&mut out, tolerance);
         Ok(out)
     }
@@ -263,15 +277,17 @@ pub(crate) fn ctm_plan(cc: &ChainCorners, c: f64) -> Vec<Planned> {
 
 /// The driver shared by `ctm` and `lotm`: cleans the run, plans every chain
 /// of lines with `plan`, and emits lines and transitions through the corner
-/// engine.
+/// engine, every apex held to `reach` (the band's own when `None`).
 pub(crate) fn smooth_run_by_corners(
     run: &Run,
     tolerance: f64,
     min_half_angle: f64,
+    reach: Option<Reach>,
     plan: &dyn Fn(&ChainCorners) -> Vec<Planned>,
 ) -> Result<SmoothedRun, SmoothError> {
     check_tolerance(tolerance)?;
     let band = Band::new(tolerance, tolerance * BAND_USE);
+    let band = reach.map_or(band, |r| band.with_reach(r));
     // Lengths planned per chain on whole segments; exact reversals kept
     // (module docs, "Degenerate corners").
     let rules = CornerRules {

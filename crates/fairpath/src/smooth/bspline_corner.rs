@@ -54,7 +54,7 @@
 //! file gives it the transition above (`UniformPlan`) and its rules.
 
 use super::chains::{smooth_by_chains, LineChain};
-use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Room, Undirected};
+use super::corner_engine::{self, Band, Corner, CornerPlan, CornerRules, Reach, Room, Undirected};
 use super::{check_tolerance, SmoothError, SmoothedRun, Smoother};
 use crate::geom::{Nurbs, Vec3};
 use crate::math;
@@ -188,19 +188,31 @@ impl Smoother for BsplineCorner {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_reaching(run, tolerance, None)
+    }
+}
+
+impl BsplineCorner {
+    /// [`Smoother::smooth_run`] with every transition's apex held to
+    /// `reach` instead of the band's own ([`Band::new`]).
+    pub(crate) fn smooth_run_reaching(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        reach: Option<Reach>,
+    ) -> Result<SmoothedRun, SmoothError> {
         check_tolerance(tolerance)?;
         let o = &self.options;
         o.validate()?;
         let band = Band::new(tolerance, tolerance * BAND_USE);
+        let band = reach.map_or(band, |r| band.with_reach(r));
         let mut out = smooth_by_chains(run, tolerance, |chain, out| {
             self.smooth_chain(chain, band, out)
         })?;
         o.arc_joints.apply(&mut out, tolerance);
         Ok(out)
     }
-}
 
-impl BsplineCorner {
     /// Smooths one chain of segments (its end vertices kept exactly) in
     /// `band`; `bspline-fit` calls it for the sparse parts between fitted
     /// sections.

@@ -89,9 +89,21 @@ impl CornerRules {
     /// Why the corner at half-angle `theta` is kept, with `room_in` and
     /// `len_out` mm on its two sides (see [`Room`]), or `None` when it is
     /// blended: a reversal, or no room on one side (no longer than the
-    /// zero-length threshold `min_seg`).
-    fn keep(&self, theta: f64, room_in: f64, len_out: f64, min_seg: f64) -> Option<CornerReason> {
-        if theta < self.min_half_angle || (self.keep_exact_reversal && theta == 0.0) {
+    /// zero-length threshold `min_seg`). A corner whose band `delta`,
+    /// narrowed to the reach, is no wider than `min_seg` is a reversal too
+    /// (the tip of a spike: a transition there would turn on the spot).
+    fn keep(
+        &self,
+        theta: f64,
+        room_in: f64,
+        len_out: f64,
+        min_seg: f64,
+        delta: f64,
+    ) -> Option<CornerReason> {
+        if theta < self.min_half_angle
+            || (self.keep_exact_reversal && theta == 0.0)
+            || delta <= min_seg
+        {
             Some(CornerReason::Reversal)
         } else if room_in <= min_seg || len_out <= min_seg {
             Some(CornerReason::NoRoom)
@@ -113,13 +125,55 @@ pub(crate) struct Band {
     pub min_seg: f64,
     /// The jogs absorbed before the walk (`absorb.rs`).
     pub jogs: JogTolerances,
+    /// How far from its corner point a transition's apex may lie.
+    pub reach: Reach,
+}
+
+/// How far a transition's apex may lie from its corner point: the band at
+/// a corner of half-angle `theta` is narrowed to `radius sin(theta)` (a
+/// transition within `delta` of both moves crosses the bisector within
+/// `delta / sin(theta)` of the corner, [`crate::budget::CORNER_REACH_SHARE`]),
+/// less what absorbed jogs moved the corner.
+///
+/// On the outer-edge guide (`outer_guide.rs`) a moved corner lies
+/// `shift / sin(theta)` outside the original one on its bisector (each
+/// move's line moved out by `shift`), so its band may be `shift` wider for
+/// the apex to keep the same reach of the original corner: `shift +
+/// radius sin(theta)`. The guide moves no corner of half-angle below
+/// `moved_from` (turns sharper than its largest), which keep `radius
+/// sin(theta)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Reach {
+    /// The apex's largest distance from the (original) corner point, mm.
+    pub radius: f64,
+    /// How far the guide moved the lines of the corners of half-angle at
+    /// least `moved_from`, mm (0 off the guide).
+    pub shift: f64,
+    /// The least half-angle of a moved corner (0 off the guide).
+    pub moved_from: f64,
+}
+
+impl Reach {
+    /// The band `delta` at a corner of half-angle `theta`, less `spent` mm
+    /// that absorbing jogs moved it, narrowed to this reach.
+    fn narrowed(&self, delta: f64, theta: f64, spent: f64) -> f64 {
+        let reach = (self.radius - spent).max(0.0) * crate::math::sin(theta);
+        let moved = if theta >= self.moved_from {
+            self.shift
+        } else {
+            0.0
+        };
+        delta.min(moved + reach)
+    }
 }
 
 impl Band {
     /// The band of transitions that may use `delta` mm of the tolerance
     /// `tolerance`: zero-length moves as the cleaning's, jogs absorbed
     /// within [`absorb_limit`], short moves up to
-    /// [`crate::budget::SHORT_MOVE_SHARE`] tolerances considered.
+    /// [`crate::budget::SHORT_MOVE_SHARE`] tolerances considered, every
+    /// apex within [`crate::budget::CORNER_REACH_SHARE`] `delta` of its
+    /// corner.
     pub fn new(tolerance: f64, delta: f64) -> Band {
         let min_seg = CleanTolerances::from_tolerance(tolerance).min_segment;
         let short = tolerance * crate::budget::SHORT_MOVE_SHARE;
@@ -128,7 +182,17 @@ impl Band {
             min_seg,
             jogs: JogTolerances::new(absorb_limit(tolerance, delta), short, min_seg)
                 .merging(CleanTolerances::from_tolerance(tolerance).collinear),
+            reach: Reach {
+                radius: crate::budget::CORNER_REACH_SHARE * delta,
+                shift: 0.0,
+                moved_from: 0.0,
+            },
         }
+    }
+
+    /// This band with its apexes held to `reach`.
+    pub fn with_reach(self, reach: Reach) -> Band {
+        Band { reach, ..self }
     }
 }
 
@@ -226,8 +290,6 @@ pub(crate) fn smooth_chain(
         return;
     }
     let min_seg = band.min_seg;
-    // The band at vertex `k`, less what absorbing jogs spent next to it.
-    let delta_at = |k: usize| band.delta - chain.absorbed_max(k.saturating_sub(1)..(k + 1).min(n));
     // Directions and half-angle at every inner vertex that has both.
     let geometry: Vec<Option<(Vec3, Vec3, f64)>> = (0..=n)
         .map(|k| {
@@ -239,6 +301,15 @@ pub(crate) fn smooth_chain(
             Some((a, b, 0.5 * a.angle_to(b)))
         })
         .collect();
+    // The band at vertex `k`, less what absorbing jogs spent next to it,
+    // narrowed to the reach.
+    let delta_at = |k: usize| {
+        let spent = chain.absorbed_max(k.saturating_sub(1)..(k + 1).min(n));
+        match geometry[k] {
+            Some((_, _, theta)) => band.reach.narrowed(band.delta - spent, theta, spent),
+            None => band.delta - spent,
+        }
+    };
     // Which vertices a whole-chain plan blends (the same rule as the walk's,
     // with the whole segments as room).
     let blend = if rules.room == Room::WholeSegment {
@@ -249,7 +320,7 @@ pub(crate) fn smooth_chain(
             if let Some((_, _, th)) = geometry[k] {
                 theta[k] = th;
                 blend[k] = rules
-                    .keep(th, seg_len[k - 1], seg_len[k], min_seg)
+                    .keep(th, seg_len[k - 1], seg_len[k], min_seg, delta_at(k))
                     .is_none();
             }
         }
@@ -304,7 +375,7 @@ pub(crate) fn smooth_chain(
             last: k == n - 1,
             delta: delta_at(k),
         };
-        if let Some(reason) = rules.keep(theta, c.room_in, c.len_out, min_seg) {
+        if let Some(reason) = rules.keep(theta, c.room_in, c.len_out, min_seg, c.delta) {
             push_line(out, cursor, qk, k - 1);
             out.kept_corners.push(KeptCorner {
                 at: qk,

@@ -61,6 +61,7 @@ use super::bezier_corner::{
     smooth_run_by_corners, Planned,
 };
 use super::corner_engine::ChainCorners;
+use super::corner_engine::Reach;
 use super::{SmoothError, SmoothedRun, Smoother};
 use crate::geom::golden_max;
 use crate::math;
@@ -285,9 +286,22 @@ impl Smoother for Lotm {
     }
 
     fn smooth_run(&self, run: &Run, tolerance: f64) -> Result<SmoothedRun, SmoothError> {
+        self.smooth_run_reaching(run, tolerance, None)
+    }
+}
+
+impl Lotm {
+    /// [`Smoother::smooth_run`] with every transition's apex held to
+    /// `reach` instead of the band's own.
+    pub(crate) fn smooth_run_reaching(
+        &self,
+        run: &Run,
+        tolerance: f64,
+        reach: Option<Reach>,
+    ) -> Result<SmoothedRun, SmoothError> {
         let m = self.options.min_half_angle;
         self.options.validate()?;
-        let mut out = smooth_run_by_corners(run, tolerance, m, &lotm_plan)?;
+        let mut out = smooth_run_by_corners(run, tolerance, m, reach, &lotm_plan)?;
         self.options.arc_joints.apply(&mut out, tolerance);
         Ok(out)
     }

@@ -53,6 +53,7 @@ pub use bspline_fit::{
     SectionFit, FAIRNESS_RAISE, FAIRNESS_RAISES,
 };
 pub use chains::{CornerReason, KeptCorner};
+pub(crate) use corner_engine::Reach;
 pub use fair::{Fair, FairAlternatives};
 pub use fair_measures::{
     run_peak_curvature, run_turning, sampled_demand, sampled_demands, shallow_corner_sections,
