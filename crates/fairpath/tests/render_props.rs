@@ -914,3 +914,62 @@ proptest! {
         check(&curves, &opts(CurveForm::Arcs, chord))?;
     }
 }
+
+/// Regression, LinuxCNC's `Cereal.ngc` (a V-carve; `auto` at 0.05 mm
+/// written as G1 with a 0.001 mm output share): a section cut on a spur's
+/// leg left a fit that runs up the leg to the tip and straight back to
+/// where it started, a closed piece whose control points all lie on the
+/// leg. Its curvature is zero wherever sampled, so its spacing was its
+/// whole length, one move from its start to its end, and a move that ends
+/// where it starts was dropped unlooked-at: the written program turned
+/// back 0.218 mm short of the spur's tip (within the band of the leg).
+/// Here the same curve (its knots, and its control points' distances
+/// along the leg) on the x axis, where its curvature is zero exactly.
+#[test]
+fn regression_cereal_a_closed_piece_is_written_to_its_tip() {
+    let x = |x: f64| Vec3::new(x, 0.0, 0.0);
+    let knots = vec![
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.17814677324136774,
+        0.25295861992589336,
+        0.327770466610419,
+        0.5059172398517867,
+        0.5059172398517867,
+        0.5059172398517867,
+        0.5059172398517867,
+    ];
+    let points = [0.0, 0.05938, 0.1437, 0.1864, 0.1437, 0.05938, 0.0].map(x);
+    let spur = Nurbs::new(3, knots, points.to_vec(), None).unwrap();
+    let (t0, t1) = spur.domain();
+    let tip = (0..=2000)
+        .map(|k| spur.eval(t0 + (t1 - t0) * k as f64 / 2000.0))
+        .max_by(|a, b| a.x.total_cmp(&b.x))
+        .unwrap();
+    assert!(tip.x > 0.15, "{tip:?}");
+    let pieces = vec![
+        piece(Curve::Line(Line::new(x(-0.3274), x(0.0)))),
+        piece(Curve::from(spur)),
+        piece(Curve::Line(Line::new(x(0.0), x(-0.3274)))),
+    ];
+    let chord = 0.001;
+    for form in [CurveForm::Lines, CurveForm::Arcs] {
+        let out = render(&pieces, &opts(form, chord));
+        let reach = out
+            .iter()
+            .flat_map(|q| match &q.curve {
+                Curve::Line(l) => vec![l.p0, l.p1],
+                c => {
+                    let (a, b) = c.domain();
+                    (0..=64)
+                        .map(|k| c.eval(a + (b - a) * k as f64 / 64.0))
+                        .collect()
+                }
+            })
+            .map(|q| q.dist(tip))
+            .fold(f64::INFINITY, f64::min);
+        assert!(reach <= chord, "{form:?}: the tip passed {reach} mm off");
+    }
+}

@@ -433,9 +433,6 @@ fn emit<C: ParamCurve + ?Sized>(
     stats: &mut RenderStats,
     depth: u32,
 ) {
-    if pa == pb {
-        return;
-    }
     let tm = 0.5 * (ta + tb);
     let pm = c.eval(tm);
     let off = [0.25, 0.5, 0.75]
@@ -452,6 +449,14 @@ fn emit<C: ParamCurve + ?Sized>(
         .iter()
         .map(|&q| point_segment_distance(q, pa, pb))
         .fold(off, f64::max);
+    // A move that ends where it starts writes nothing; the curve between
+    // may still go somewhere (a closed piece: a fit through a spur's tip
+    // and back, from a section's cut on one leg to the same point on the
+    // other), and is then cut, as any move it leaves by more than the
+    // share.
+    if pa == pb && (off <= chord || depth >= 24) {
+        return;
+    }
     if off > chord && depth < 24 {
         emit(
             c,
