@@ -567,14 +567,17 @@ fn smooth_with_another_machine_changes_what_auto_keeps() {
 }
 
 /// The bundled `examples/options/auto-quick.toml` is a valid options file
-/// for `auto` that cuts no run into sections: on `rhombus.ngc` (one run,
+/// for `auto` that cuts no run into sections: on `zigzag.ngc` (one run,
 /// cut into sections by default) `auto` keeps one choice for the run, and
-/// the output verifies. (`zigzag.ngc` was cut by default until the even
-/// arcs followed its corners as fast as its sections' choices.)
+/// the output verifies. (`zigzag.ngc` was not cut from the even arcs of
+/// stop 102, which followed its corners as fast as its sections' choices,
+/// until stop 109 held the corner transitions sharper than a right angle
+/// to the corner reach; `rhombus.ngc`, cut until then, now takes the
+/// outer-edge candidate whole.)
 #[test]
 fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
     let dir = tempfile::tempdir().unwrap();
-    let input = example("rhombus.ngc");
+    let input = example("zigzag.ngc");
     let quick = example("options/auto-quick.toml");
     let out = dir.path().join("out.ngc");
     let sections = |extra: &[&str]| -> u64 {
@@ -582,7 +585,7 @@ fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
         assert_eq!(runs, 1);
         chose.iter().map(|(_, sections)| sections).sum()
     };
-    assert!(sections(&[]) > 1, "rhombus.ngc is no longer cut by default");
+    assert!(sections(&[]) > 1, "zigzag.ngc is no longer cut by default");
     assert_eq!(sections(&["--options", quick.to_str().unwrap()]), 1);
 }
 

@@ -5,6 +5,7 @@
 //! what the real turns of the path need inside the band
 //! ([`turn_curvature`]), through the library's verified pipeline.
 
+use fairpath::budget::CORNER_REACH_SHARE;
 use fairpath::choose::{u_turn_cuts, REVERSAL_TURN, U_TURN_WIDTH};
 use fairpath::geom::{turn_curvature, Vec3};
 use fairpath::path::Run;
@@ -50,18 +51,25 @@ fn program(pts: &[Vec3], inch: bool) -> String {
 }
 
 /// The least curvature the turns of `pts` need inside `band` mm
-/// ([`turn_curvature`] at each vertex, legs shared by two corners halved).
+/// ([`turn_curvature`] at each vertex, legs shared by two corners halved),
+/// the band narrowed at a corner sharper than a right angle as the corner
+/// methods narrow it to keep their apex within the corner reach
+/// (`CORNER_REACH_SHARE` times the band at half corner angle `theta`:
+/// `CORNER_REACH_SHARE band sin(theta)`, `sin(theta)` the cosine of half the
+/// turn).
 fn needed_curvature(pts: &[Vec3], band: f64) -> f64 {
     (1..pts.len() - 1)
         .map(|k| {
             let (a, b) = (pts[k] - pts[k - 1], pts[k + 1] - pts[k]);
+            let turn = a.angle_to(b);
+            let band = band.min(CORNER_REACH_SHARE * band * (0.5 * turn).cos());
             let leg_in = if k == 1 { a.norm() } else { 0.5 * a.norm() };
             let leg_out = if k + 2 == pts.len() {
                 b.norm()
             } else {
                 0.5 * b.norm()
             };
-            turn_curvature(a.angle_to(b), band, leg_in.min(leg_out))
+            turn_curvature(turn, band, leg_in.min(leg_out))
         })
         .fold(0.0, f64::max)
 }
