@@ -155,6 +155,79 @@ fn an_arc_shorter_than_the_rounding_is_a_line_not_a_full_circle() {
     assert!(back.iter().all(|p| matches!(p.curve, Curve::Line(_))));
 }
 
+/// `/tmp/sw2/r004_mixed.ngc` (`scripts/random-programs.py /tmp/sw2 21
+/// 20261207 ...`) at 0.2 mm had `G2 X-21.4100696191 Z-0.5210075646
+/// I-0.0000005024 J4049924.5898498651`: a 2 nm move on a radius of 4 km,
+/// its ends apart in the 10 decimals it was given. Its angle (5e-13 rad)
+/// is below a controller's arithmetic: LinuxCNC's printed points put the
+/// end before the start, a full circle of 4 km.
+#[test]
+fn regression_r004_mixed_an_arc_flatter_than_its_rounding_is_a_line() {
+    let r = 4.05e6;
+    let center = Vec3::new(-21.41, r, 0.0);
+    let start = Vec3::new(-21.41, 0.0, 0.0);
+    let angle = 2e-6 / r;
+    let end = center + Vec3::new(-r * angle.sin(), -r * angle.cos(), 0.0);
+    let arc = Arc::from_center(start, end, center, Vec3::Z, true, 1, 0.0).unwrap();
+    assert!(arc.sweep < 1e-12, "{}", arc.sweep);
+    let line = Line::new(arc.p1, Vec3::new(-30.0, 1.0, 0.0));
+    let text = "G21 G90\nG0 X-21.41 Y0\nG1 X-30 Y1 F600\nM2\n";
+    let (out, back) = write_one(
+        text,
+        vec![piece(Curve::from(arc)), piece(Curve::Line(line))],
+        &arcs_opts(),
+    );
+    let arc_line = |out: &str| {
+        out.lines()
+            .any(|l| l.starts_with("G2 ") || l.starts_with("G3 "))
+    };
+    assert!(!arc_line(&out), "{out}");
+    assert!(back.iter().all(|p| matches!(p.curve, Curve::Line(_))));
+    assert!(back[0].end().dist(end) < 1e-6, "{out}");
+    // An arc of the same chord's length whose sagitta the words can hold
+    // stays an arc: a 2 um move on a radius of 0.01 mm.
+    let small = Arc::from_center(
+        Vec3::new(0.01, 0.0, 0.0),
+        Vec3::new(0.01 * 0.2f64.cos(), 0.01 * 0.2f64.sin(), 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let line = Line::new(small.p1, Vec3::new(1.0, 1.0, 0.0));
+    let text = "G21 G90\nG0 X0.01 Y0\nG1 X1 Y1 F600\nM2\n";
+    let (out, _) = write_one(
+        text,
+        vec![piece(Curve::from(small)), piece(Curve::Line(line))],
+        &arcs_opts(),
+    );
+    assert!(arc_line(&out), "{out}");
+    // 1.2 rad on a radius of 1 um: 175 nm from its chord, more than the
+    // words' rounding, but `r^2 sin(sweep)` is 9.3e-7 mm^2, below
+    // LinuxCNC's `CART_FUZZ` of older versions (1e-6), whose `pmCircleInit`
+    // then runs it as a full circle less 1.2 rad: a line.
+    let tiny = Arc::from_center(
+        Vec3::new(0.001, 0.0, 0.0),
+        Vec3::new(0.001 * 1.2f64.cos(), 0.001 * 1.2f64.sin(), 0.0),
+        Vec3::ZERO,
+        Vec3::Z,
+        false,
+        1,
+        0.0,
+    )
+    .unwrap();
+    let line = Line::new(tiny.p1, Vec3::new(1.0, 1.0, 0.0));
+    let text = "G21 G90\nG0 X0.001 Y0\nG1 X1 Y1 F600\nM2\n";
+    let (out, _) = write_one(
+        text,
+        vec![piece(Curve::from(tiny)), piece(Curve::Line(line))],
+        &arcs_opts(),
+    );
+    assert!(!arc_line(&out), "{out}");
+}
+
 #[test]
 fn full_circles_keep_their_turns() {
     let arc = Arc::from_center(

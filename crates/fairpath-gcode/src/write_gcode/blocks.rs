@@ -440,6 +440,18 @@ impl RunWriter<'_> {
             // full circle. The arc is shorter than the rounding: a line.
             return self.write_g1(a.p1, run_end, feed);
         }
+        if !full_turn
+            && (arc_sagitta(a) <= rounding_mm(decimals, self.scale)
+                || controller_full_circle(a, self.scale))
+        {
+            // Flatter than the rounding of its own words (its written
+            // centre alone moves it by as much), or so short for its
+            // radius that a controller takes it for a full circle: a line.
+            // (`r004_mixed.ngc` at 0.2 mm had a 2 nm G2 on a radius of
+            // 4 km: its angle, 5e-13 rad, is below the rounding of the
+            // points a controller computes it from.)
+            return self.write_g1(a.p1, run_end, feed);
+        }
         let ccw = a.normal == plane.normal();
         // A plane change on a line of its own: on the move's line it would
         // make the move a state change, which readers keep out of runs.
@@ -486,6 +498,38 @@ impl RunWriter<'_> {
         self.push_line(&line);
         Ok(())
     }
+}
+
+/// The largest distance (mm) of an arc from its chord,
+/// `r (1 - cos(sweep / 2))` for a sweep up to a half turn (the radius for a
+/// larger one), with the larger of its end radii.
+fn arc_sagitta(a: &Arc) -> f64 {
+    let half = 0.5 * a.sweep.min(std::f64::consts::PI);
+    // 1 - cos(x) = 2 sin^2(x / 2), exact for small angles.
+    2.0 * a.r0.max(a.r1) * (0.5 * half).sin().powi(2)
+}
+
+/// LinuxCNC's `CART_FUZZ` in machine units (posemath.h: 1e-8 on master,
+/// 1e-6 in older copies of posemath). Its `pmCircleInit` takes an arc's angle as `2 pi` minus
+/// the angle between start and end about the centre wherever
+/// `((start - centre) x (end - centre)) . normal < CART_FUZZ`, and as a full
+/// circle where start and end are closer than it in the plane: an arc of a
+/// small sweep with `r^2 sin(sweep)` below it runs as a full circle less
+/// that sweep. The larger value is the one held to: such an arc is at most
+/// 0.3 um from its chord (the largest `r (1 - cos(sweep / 2))` with
+/// `r^2 sin(sweep) < 1e-6 mm^2`, at a 1 um radius), which the re-read
+/// verification bounds with the rest.
+const CONTROLLER_CROSS_FUZZ: f64 = 1e-6;
+
+/// Whether a controller would run `a`, an arc of less than a full turn,
+/// as a full circle ([`CONTROLLER_CROSS_FUZZ`]; `mm_per_unit` the program's
+/// unit, in which the controller computes).
+fn controller_full_circle(a: &Arc, mm_per_unit: f64) -> bool {
+    if a.sweep >= 0.5 * std::f64::consts::PI {
+        return false;
+    }
+    let r = a.r0.min(a.r1) / mm_per_unit;
+    r * r * a.sweep.sin() < CONTROLLER_CROSS_FUZZ
 }
 
 /// The shortest leg of a control polygon `pts` that has a length (mm);
