@@ -158,11 +158,11 @@ fn an_arc_shorter_than_the_rounding_is_a_line_not_a_full_circle() {
 /// `/tmp/sw2/r004_mixed.ngc` (`scripts/random-programs.py /tmp/sw2 21
 /// 20261207 ...`) at 0.2 mm had `G2 X-21.4100696191 Z-0.5210075646
 /// I-0.0000005024 J4049924.5898498651`: a 2 nm move on a radius of 4 km,
-/// its ends apart in the 10 decimals it was given. Its angle (5e-13 rad)
-/// is below a controller's arithmetic: LinuxCNC's printed points put the
-/// end before the start, a full circle of 4 km.
+/// a sweep of 5e-13 rad. LinuxCNC up to 2.8 runs an arc of less than 1e-6
+/// rad (`CIRCLE_FUZZ`) as a full circle (its issue #1528), and the
+/// independent check's flattening (`scripts/independent-check.py`) did.
 #[test]
-fn regression_r004_mixed_an_arc_flatter_than_its_rounding_is_a_line() {
+fn regression_r004_mixed_an_arc_a_controller_runs_as_a_full_circle_is_a_line() {
     let r = 4.05e6;
     let center = Vec3::new(-21.41, r, 0.0);
     let start = Vec3::new(-21.41, 0.0, 0.0);
@@ -184,7 +184,7 @@ fn regression_r004_mixed_an_arc_flatter_than_its_rounding_is_a_line() {
     assert!(!arc_line(&out), "{out}");
     assert!(back.iter().all(|p| matches!(p.curve, Curve::Line(_))));
     assert!(back[0].end().dist(end) < 1e-6, "{out}");
-    // An arc of the same chord's length whose sagitta the words can hold
+    // A short arc of a small radius that no version reads as a full circle
     // stays an arc: a 2 um move on a radius of 0.01 mm.
     let small = Arc::from_center(
         Vec3::new(0.01, 0.0, 0.0),
@@ -204,13 +204,13 @@ fn regression_r004_mixed_an_arc_flatter_than_its_rounding_is_a_line() {
         &arcs_opts(),
     );
     assert!(arc_line(&out), "{out}");
-    // 1.2 rad on a radius of 1 um: 175 nm from its chord, more than the
-    // words' rounding, but `r^2 sin(sweep)` is 9.3e-7 mm^2, below
-    // LinuxCNC's `CART_FUZZ` of older versions (1e-6), whose `pmCircleInit`
-    // then runs it as a full circle less 1.2 rad: a line.
+    // 1.2 rad on a radius of 0.1 um: 18 nm from its chord, but
+    // `r^2 sin(sweep)` is 9.3e-9 mm^2, below LinuxCNC's `CART_FUZZ` (1e-8
+    // machine units), whose `pmCircleInit` then runs it as a full circle
+    // less 1.2 rad: a line.
     let tiny = Arc::from_center(
-        Vec3::new(0.001, 0.0, 0.0),
-        Vec3::new(0.001 * 1.2f64.cos(), 0.001 * 1.2f64.sin(), 0.0),
+        Vec3::new(1e-4, 0.0, 0.0),
+        Vec3::new(1e-4 * 1.2f64.cos(), 1e-4 * 1.2f64.sin(), 0.0),
         Vec3::ZERO,
         Vec3::Z,
         false,
@@ -219,7 +219,7 @@ fn regression_r004_mixed_an_arc_flatter_than_its_rounding_is_a_line() {
     )
     .unwrap();
     let line = Line::new(tiny.p1, Vec3::new(1.0, 1.0, 0.0));
-    let text = "G21 G90\nG0 X0.001 Y0\nG1 X1 Y1 F600\nM2\n";
+    let text = "G21 G90\nG0 X0.0001 Y0\nG1 X1 Y1 F600\nM2\n";
     let (out, _) = write_one(
         text,
         vec![piece(Curve::from(tiny)), piece(Curve::Line(line))],

@@ -9,6 +9,7 @@ use super::{ArcWords, NurbsBlocks};
 use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
 use crate::error::WriteError;
 use crate::program::MotionMode;
+use fairpath::geom::continuity::TANGENT_ANGLE;
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
 
@@ -440,16 +441,12 @@ impl RunWriter<'_> {
             // full circle. The arc is shorter than the rounding: a line.
             return self.write_g1(a.p1, run_end, feed);
         }
-        if !full_turn
-            && (arc_sagitta(a) <= rounding_mm(decimals, self.scale)
-                || controller_full_circle(a, self.scale))
-        {
-            // Flatter than the rounding of its own words (its written
-            // centre alone moves it by as much), or so short for its
-            // radius that a controller takes it for a full circle: a line.
-            // (`r004_mixed.ngc` at 0.2 mm had a 2 nm G2 on a radius of
-            // 4 km: its angle, 5e-13 rad, is below the rounding of the
-            // points a controller computes it from.)
+        if !full_turn && controller_full_circle(a, self.scale) {
+            // So short for its radius that a controller takes it for a
+            // full circle: a line. (`r004_mixed.ngc` at 0.2 mm had a 2 nm
+            // G2 on a radius of 4 km, a sweep of 5e-13 rad: LinuxCNC 2.8
+            // runs it as a full circle, and so did the independent
+            // check's flattening.)
             return self.write_g1(a.p1, run_end, feed);
         }
         let ccw = a.normal == plane.normal();
@@ -500,36 +497,42 @@ impl RunWriter<'_> {
     }
 }
 
-/// The largest distance (mm) of an arc from its chord,
-/// `r (1 - cos(sweep / 2))` for a sweep up to a half turn (the radius for a
-/// larger one), with the larger of its end radii.
-fn arc_sagitta(a: &Arc) -> f64 {
-    let half = 0.5 * a.sweep.min(std::f64::consts::PI);
-    // 1 - cos(x) = 2 sin^2(x / 2), exact for small angles.
-    2.0 * a.r0.max(a.r1) * (0.5 * half).sin().powi(2)
-}
+/// LinuxCNC's `CIRCLE_FUZZ` (rad, posemath.h): up to 2.8 its
+/// `pmCircleInit` ran an arc whose angle between start and end is below
+/// it as a full circle (changed by LinuxCNC's issue #1528, 2022: "short
+/// arcs of very large radius were being interpreted as full circles").
+const CONTROLLER_CIRCLE_FUZZ: f64 = 1e-6;
 
-/// LinuxCNC's `CART_FUZZ` in machine units (posemath.h: 1e-8 on master,
-/// 1e-6 in older copies of posemath). Its `pmCircleInit` takes an arc's angle as `2 pi` minus
-/// the angle between start and end about the centre wherever
-/// `((start - centre) x (end - centre)) . normal < CART_FUZZ`, and as a full
-/// circle where start and end are closer than it in the plane: an arc of a
-/// small sweep with `r^2 sin(sweep)` below it runs as a full circle less
-/// that sweep. The larger value is the one held to: such an arc is at most
-/// 0.3 um from its chord (the largest `r (1 - cos(sweep / 2))` with
-/// `r^2 sin(sweep) < 1e-6 mm^2`, at a 1 um radius), which the re-read
-/// verification bounds with the rest.
-const CONTROLLER_CROSS_FUZZ: f64 = 1e-6;
+// Such an arc, written as its chord, leaves every joint in its class: the
+// chord turns from it by half its sweep at each end.
+const _: () = assert!(CONTROLLER_CIRCLE_FUZZ <= TANGENT_ANGLE);
 
-/// Whether a controller would run `a`, an arc of less than a full turn,
-/// as a full circle ([`CONTROLLER_CROSS_FUZZ`]; `mm_per_unit` the program's
-/// unit, in which the controller computes).
+/// LinuxCNC's `CART_FUZZ` (posemath.h, in the machine's units): since 2022
+/// `pmCircleInit` runs an arc whose start and end are closer than it as a
+/// full circle, and since 2024 one whose
+/// `((start - centre) x (end - centre)) . normal`, about `r^2 sin(sweep)`,
+/// is below it as a full circle less its sweep.
+const CONTROLLER_CART_FUZZ: f64 = 1e-8;
+
+/// Whether LinuxCNC (any of the versions of [`CONTROLLER_CIRCLE_FUZZ`] and
+/// [`CONTROLLER_CART_FUZZ`], each with a factor of two for the rounding of
+/// the written words) would run `a`, an arc of less than a full turn, as a
+/// full circle; `mm_per_unit` the program's unit, the machine's as far as
+/// is known here. Such an arc is a line within a micrometre: its chord
+/// turns from it by at most half its sweep, a microradian (the joint
+/// classes' tangent threshold, [`TANGENT_ANGLE`]), or the arc is shorter than 2e-8 units, or
+/// its `r^2 sin(sweep)` below 2e-8 units^2 puts it within
+/// `r (1 - cos(sweep / 2)) <= 0.15 um` of its chord (the largest, at a
+/// radius of 0.14 um and a quarter turn; the re-read verification bounds it
+/// with the rest).
 fn controller_full_circle(a: &Arc, mm_per_unit: f64) -> bool {
     if a.sweep >= 0.5 * std::f64::consts::PI {
         return false;
     }
     let r = a.r0.min(a.r1) / mm_per_unit;
-    r * r * a.sweep.sin() < CONTROLLER_CROSS_FUZZ
+    a.sweep <= 2.0 * CONTROLLER_CIRCLE_FUZZ
+        || r * a.sweep < 2.0 * CONTROLLER_CART_FUZZ
+        || r * r * a.sweep.sin() < 2.0 * CONTROLLER_CART_FUZZ
 }
 
 /// The shortest leg of a control polygon `pts` that has a length (mm);

@@ -30,6 +30,10 @@ impl Continuity {
     }
 }
 
+/// The largest angle (rad) between unit tangents that
+/// [`JointTolerances::from_tolerance`] counts as tangent: 1 microradian.
+pub const TANGENT_ANGLE: f64 = 1e-6;
+
 /// Thresholds for classing joints.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointTolerances {
@@ -52,7 +56,7 @@ impl JointTolerances {
     pub fn from_tolerance(tol: f64) -> Self {
         JointTolerances {
             position: tol * 1e-6,
-            angle: 1e-6,
+            angle: TANGENT_ANGLE,
             curvature_rel: 1e-6,
             curvature_abs: 1e-6 / tol,
         }
