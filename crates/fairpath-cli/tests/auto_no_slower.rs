@@ -374,6 +374,19 @@ fn curva_chitarra_p1_auto_is_no_slower_than_fair() {
     });
 }
 
+/// LinuxCNC's `simple_blend.ngc` (inch: four right angles): once the
+/// outer-edge candidate's corners were held to the corner reach, its
+/// right angles next to the run's ends, on moves the guide tilts, fell
+/// 0.2% beyond the reach at the largest shift, and `auto` wrote 1.3913 s
+/// against `bspline-corner`'s 1.3906 s (docs/lower-bound-all.md, stop
+/// 109). The candidate now tries a narrower reach (`OUTER_REACH_RETRY`).
+#[test]
+fn simple_blend_auto_is_no_slower_than_any_method() {
+    with_shared("linuxcnc/diagnostic/simple_blend.ngc", |p| {
+        check("simple_blend", p)
+    });
+}
+
 /// LinuxCNC's `helix_slowdown.ngc` at 0.05 mm: `auto`'s best G2
 /// candidate (fits) loses as arcs at the maximum feed and gains as G1;
 /// `auto` falls back to the corner methods on the curves as written

@@ -558,7 +558,7 @@ fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, 
         };
         // Every apex within the reach of the band `tol` has of its
         // original corner, moved or not.
-        let reach = Reach {
+        let mut reach = Reach {
             radius: crate::budget::CORNER_REACH_SHARE * crate::budget::BAND_USE * tol,
             shift: g.shift,
             moved_from: 0.5 * (core::f64::consts::PI - g.max_turn),
@@ -572,9 +572,11 @@ fn outer_corners(m: CornerMethod, input: &Run, tol: f64) -> Result<SmoothedRun, 
                     return Ok(out);
                 }
                 // A corner next to a move the guide tilted (one end moved,
-                // the other not) is passed a little beyond the reach: the
-                // next share's smaller shift tilts it less.
-                break;
+                // the other not) is passed a little beyond the reach,
+                // which places the original corner as if both moves were
+                // moved: narrowed, the apex comes back inside it.
+                reach.radius *= OUTER_REACH_RETRY;
+                continue;
             }
             // Lowered by twice the excess (the apex moves with the
             // tolerance one to one; twice leaves room for the bound).
@@ -617,6 +619,15 @@ fn reaches_corners(path: &[Piece], gates: &[(Vec3, f64)], tol: f64) -> bool {
 /// tenths of a millimetre with 3 decimals, wobble by half a micrometre;
 /// as separate moves they leave each corner the room of one of them).
 pub const OUTER_STRAIGHT_SHARE: f64 = 0.05;
+
+/// The reach [`Kind::OuterCorner`] tries again with where its result
+/// passes a corner beyond it, as a share of the one before: 5% narrower.
+/// The guide tilts a move whose one end it moves and the other not (next to
+/// a run's ends and to corners it keeps), and the original corner at such a
+/// move's moved end lies off where the reach places it; a right angle's
+/// apex sits at the reach itself (`BAND_USE` of it, 0.2% inside the check),
+/// so any tilt shows there (LinuxCNC's `simple_blend.ngc`).
+pub const OUTER_REACH_RETRY: f64 = 0.95;
 
 /// Most smoothings [`Kind::OuterCorner`] makes at each share of
 /// [`OUTER_SHIFT_SHARES`]: the first, and two with the raised tolerance
