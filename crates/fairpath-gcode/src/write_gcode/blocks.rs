@@ -518,13 +518,16 @@ const CONTROLLER_CART_FUZZ: f64 = 1e-8;
 /// [`CONTROLLER_CART_FUZZ`], each with a factor of two for the rounding of
 /// the written words) would run `a`, an arc of less than a full turn, as a
 /// full circle; `mm_per_unit` the program's unit, the machine's as far as
-/// is known here. Such an arc is a line within a micrometre: its chord
-/// turns from it by at most half its sweep, a microradian (the joint
-/// classes' tangent threshold, [`TANGENT_ANGLE`]), or the arc is shorter than 2e-8 units, or
+/// is known here. Such an arc is about a line: its chord turns from it by
+/// at most half its sweep, a microradian (the joint classes' tangent
+/// threshold, [`TANGENT_ANGLE`]), or the arc is shorter than 2e-8 units, or
 /// its `r^2 sin(sweep)` below 2e-8 units^2 puts it within
-/// `r (1 - cos(sweep / 2)) <= 0.15 um` of its chord (the largest, at a
-/// radius of 0.14 um and a quarter turn; the re-read verification bounds it
-/// with the rest).
+/// `r (1 - cos(sweep / 2))` of its chord, at most 0.04 um in mm and 1.05 um
+/// in inch (a quarter turn of radius 1.4e-4 units; the re-read verification
+/// bounds it with the rest). Past a quarter turn such an arc is left: read
+/// as a full circle less its sweep it would end at most its diameter from
+/// its end (0.3 um in mm, 7 um in inch), and as a line it would leave its
+/// chord by up to its radius.
 fn controller_full_circle(a: &Arc, mm_per_unit: f64) -> bool {
     if a.sweep >= 0.5 * std::f64::consts::PI {
         return false;
