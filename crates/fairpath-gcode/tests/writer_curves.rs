@@ -177,40 +177,26 @@ fn regression_r004_mixed_an_arc_a_controller_runs_as_a_full_circle_is_a_line() {
         vec![piece(Curve::from(arc)), piece(Curve::Line(line))],
         &arcs_opts(),
     );
-    let arc_line = |out: &str| {
-        out.lines()
-            .any(|l| l.starts_with("G2 ") || l.starts_with("G3 "))
-    };
     assert!(!arc_line(&out), "{out}");
     assert!(back.iter().all(|p| matches!(p.curve, Curve::Line(_))));
     assert!(back[0].end().dist(end) < 1e-6, "{out}");
     // A short arc of a small radius that no version reads as a full circle
     // stays an arc: a 2 um move on a radius of 0.01 mm.
-    let small = Arc::from_center(
-        Vec3::new(0.01, 0.0, 0.0),
-        Vec3::new(0.01 * 0.2f64.cos(), 0.01 * 0.2f64.sin(), 0.0),
-        Vec3::ZERO,
-        Vec3::Z,
-        false,
-        1,
-        0.0,
-    )
-    .unwrap();
-    let line = Line::new(small.p1, Vec3::new(1.0, 1.0, 0.0));
-    let text = "G21 G90\nG0 X0.01 Y0\nG1 X1 Y1 F600\nM2\n";
-    let (out, _) = write_one(
-        text,
-        vec![piece(Curve::from(small)), piece(Curve::Line(line))],
-        &arcs_opts(),
-    );
-    assert!(arc_line(&out), "{out}");
+    assert!(writes_an_arc(0.01, 0.2));
     // 1.2 rad on a radius of 0.1 um: 18 nm from its chord, but
     // `r^2 sin(sweep)` is 9.3e-9 mm^2, below LinuxCNC's `CART_FUZZ` (1e-8
     // machine units), whose `pmCircleInit` then runs it as a full circle
     // less 1.2 rad: a line.
-    let tiny = Arc::from_center(
-        Vec3::new(1e-4, 0.0, 0.0),
-        Vec3::new(1e-4 * 1.2f64.cos(), 1e-4 * 1.2f64.sin(), 0.0),
+    assert!(!writes_an_arc(1e-4, 1.2));
+}
+
+/// Whether the counter-clockwise arc of radius `r` mm about the origin from
+/// the x axis through `sweep` rad, followed by a line, is written as an
+/// arc.
+fn writes_an_arc(r: f64, sweep: f64) -> bool {
+    let arc = Arc::from_center(
+        Vec3::new(r, 0.0, 0.0),
+        Vec3::new(r * sweep.cos(), r * sweep.sin(), 0.0),
         Vec3::ZERO,
         Vec3::Z,
         false,
@@ -218,14 +204,20 @@ fn regression_r004_mixed_an_arc_a_controller_runs_as_a_full_circle_is_a_line() {
         0.0,
     )
     .unwrap();
-    let line = Line::new(tiny.p1, Vec3::new(1.0, 1.0, 0.0));
-    let text = "G21 G90\nG0 X0.0001 Y0\nG1 X1 Y1 F600\nM2\n";
+    let line = Line::new(arc.p1, Vec3::new(1.0, 1.0, 0.0));
+    let text = format!("G21 G90\nG0 X{r} Y0\nG1 X1 Y1 F600\nM2\n");
     let (out, _) = write_one(
-        text,
-        vec![piece(Curve::from(tiny)), piece(Curve::Line(line))],
+        &text,
+        vec![piece(Curve::from(arc)), piece(Curve::Line(line))],
         &arcs_opts(),
     );
-    assert!(!arc_line(&out), "{out}");
+    arc_line(&out)
+}
+
+/// Whether `out` has a G2 or G3 block.
+fn arc_line(out: &str) -> bool {
+    out.lines()
+        .any(|l| l.starts_with("G2 ") || l.starts_with("G3 "))
 }
 
 #[test]
