@@ -567,17 +567,22 @@ fn smooth_with_another_machine_changes_what_auto_keeps() {
 }
 
 /// The bundled `examples/options/auto-quick.toml` is a valid options file
-/// for `auto` that cuts no run into sections: on `zigzag.ngc` (one run,
-/// cut into sections by default) `auto` keeps one choice for the run, and
-/// the output verifies. (`zigzag.ngc` was not cut from the even arcs of
-/// stop 102, which followed its corners as fast as its sections' choices,
-/// until stop 109 held the corner transitions sharper than a right angle
-/// to the corner reach; `rhombus.ngc`, cut until then, now takes the
-/// outer-edge candidate whole.)
+/// for `auto` that cuts no run into sections: on LinuxCNC's
+/// `line-arc.ngc` (one run: a line, a half circle, a line; cut into
+/// sections by default) `auto` keeps one choice for the run, and the
+/// output verifies. (The bundled examples are no longer cut by default:
+/// `zigzag.ngc`, cut until stop 109, takes the outer-edge candidate whole
+/// since its reach is tried again narrower, stop 110; `rhombus.ngc` since
+/// stop 109.)
 #[test]
 fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
     let dir = tempfile::tempdir().unwrap();
-    let input = example("zigzag.ngc");
+    let input = dir.path().join("line-arc.ngc");
+    std::fs::write(
+        &input,
+        "G20 G90 G64\n\nG0 X0 Y1 Z0\nG1 Y0 F999\nG3 X2 I1 F999\nG1 x0\nM2\n",
+    )
+    .unwrap();
     let quick = example("options/auto-quick.toml");
     let out = dir.path().join("out.ngc");
     let sections = |extra: &[&str]| -> u64 {
@@ -585,7 +590,10 @@ fn the_bundled_quick_auto_options_keep_one_choice_per_run() {
         assert_eq!(runs, 1);
         chose.iter().map(|(_, sections)| sections).sum()
     };
-    assert!(sections(&[]) > 1, "zigzag.ngc is no longer cut by default");
+    assert!(
+        sections(&[]) > 1,
+        "line-arc.ngc is no longer cut by default"
+    );
     assert_eq!(sections(&["--options", quick.to_str().unwrap()]), 1);
 }
 

@@ -9,9 +9,9 @@ use super::{ArcWords, NurbsBlocks};
 use crate::axes::{axis, set_axis, AXIS_LETTERS, CENTER_LETTERS};
 use crate::error::WriteError;
 use crate::program::MotionMode;
-use fairpath::geom::continuity::TANGENT_ANGLE;
 use fairpath::geom::{flatten_params, Arc, Curve, ParamCurve, Plane, Vec3};
 use fairpath::path::Piece;
+use fairpath::render::flat_arcs::FLAT_ARC_SWEEP;
 
 /// Periods of travel at its planned speed below which a rendered piece
 /// gets more decimals, its rounding scaled by the square of its length
@@ -497,16 +497,6 @@ impl RunWriter<'_> {
     }
 }
 
-/// LinuxCNC's `CIRCLE_FUZZ` (rad, posemath.h): up to 2.8 its
-/// `pmCircleInit` ran an arc whose angle between start and end is below
-/// it as a full circle (changed by LinuxCNC's issue #1528, 2022: "short
-/// arcs of very large radius were being interpreted as full circles").
-const CONTROLLER_CIRCLE_FUZZ: f64 = 1e-6;
-
-// Such an arc, written as its chord, leaves every joint in its class: the
-// chord turns from it by half its sweep at each end.
-const _: () = assert!(CONTROLLER_CIRCLE_FUZZ <= TANGENT_ANGLE);
-
 /// LinuxCNC's `CART_FUZZ` (posemath.h, in the machine's units): since 2022
 /// `pmCircleInit` runs an arc whose start and end are closer than it as a
 /// full circle, and since 2024 one whose
@@ -514,26 +504,27 @@ const _: () = assert!(CONTROLLER_CIRCLE_FUZZ <= TANGENT_ANGLE);
 /// is below it as a full circle less its sweep.
 const CONTROLLER_CART_FUZZ: f64 = 1e-8;
 
-/// Whether LinuxCNC (any of the versions of [`CONTROLLER_CIRCLE_FUZZ`] and
+/// Whether LinuxCNC (any of the versions of
+/// [`fairpath::render::flat_arcs::CONTROLLER_CIRCLE_FUZZ`] and
 /// [`CONTROLLER_CART_FUZZ`], each with a factor of two for the rounding of
 /// the written words) would run `a`, an arc of less than a full turn, as a
 /// full circle; `mm_per_unit` the program's unit, the machine's as far as
-/// is known here. Such an arc is about a line: its chord turns from it by
-/// at most half its sweep, a microradian (the joint classes' tangent
-/// threshold, [`TANGENT_ANGLE`]), or the arc is shorter than 2e-8 units, or
-/// its `r^2 sin(sweep)` below 2e-8 units^2 puts it within
-/// `r (1 - cos(sweep / 2))` of its chord, at most 0.04 um in mm and 1.05 um
-/// in inch (a quarter turn of radius 1.4e-4 units; the re-read verification
-/// bounds it with the rest). Past a quarter turn such an arc is left: read
-/// as a full circle less its sweep it would end at most its diameter from
-/// its end (0.3 um in mm, 7 um in inch), and as a line it would leave its
-/// chord by up to its radius.
+/// is known here. Such an arc is about a line: a sweep up to
+/// [`FLAT_ARC_SWEEP`] (which the renderer writes as lines already, where
+/// the short ones are merged into their neighbours), or a chord below 2e-8
+/// units, or an `r^2 sin(sweep)` below 2e-8 units^2, which puts the arc
+/// within `r (1 - cos(sweep / 2))` of its chord, at most 0.04 um in mm and
+/// 1.05 um in inch (a quarter turn of radius 1.4e-4 units; the re-read
+/// verification bounds it with the rest). Past a quarter turn such an arc
+/// is left: read as a full circle less its sweep it would end at most its
+/// diameter from its end (0.3 um in mm, 7 um in inch), and as a line it
+/// would leave its chord by up to its radius.
 fn controller_full_circle(a: &Arc, mm_per_unit: f64) -> bool {
     if a.sweep >= 0.5 * std::f64::consts::PI {
         return false;
     }
     let r = a.r0.min(a.r1) / mm_per_unit;
-    a.sweep <= 2.0 * CONTROLLER_CIRCLE_FUZZ
+    a.sweep <= FLAT_ARC_SWEEP
         || r * a.sweep < 2.0 * CONTROLLER_CART_FUZZ
         || r * r * a.sweep.sin() < 2.0 * CONTROLLER_CART_FUZZ
 }

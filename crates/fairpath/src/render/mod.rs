@@ -20,6 +20,7 @@ pub mod absorb;
 pub mod arcs;
 mod chain_arcs;
 mod even_arcs;
+pub mod flat_arcs;
 pub mod lines;
 pub mod speed;
 
@@ -518,6 +519,8 @@ pub fn render_range(
                 feed: p.feed,
             }));
     }
+    // Before the short lines are merged: such a chord may be one.
+    flat_arcs::flat_arcs_as_lines(&mut out.pieces, &mut out.stats);
     Ok(out)
 }
 
